@@ -1,0 +1,2 @@
+// placeholder: filled in by its area
+namespace csf_placeholder {}

@@ -1,0 +1,2 @@
+/* placeholder */
+typedef int csflut_placeholder_b;

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package csfcal needs to build, test and run (as root, or with sudo),
+# then configures the build directories. Safe to run again.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  meson ninja-build pkg-config gcc g++ clang libclang-rt-14-dev
+  libglfw3-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
+  libsqlite3-dev sqlite3 libcairo2-dev libpng-dev
+  libopencolorio-dev opencolorio-tools liblcms2-dev liblcms2-utils
+  libusb-1.0-0-dev libhidapi-dev
+  xvfb xauth x11-xserver-utils
+  python3 poppler-utils
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# Release build for users; the test build (sanitizers, warnings as errors) lives in build-test.
+[ -f build/build.ninja ] || meson setup build --buildtype=release >/dev/null
+ninja -C build >/dev/null
+echo "setup: built build/calib/csfcal"

@@ -1,0 +1,2 @@
+/* placeholder: filled in by its area */
+typedef int csf_placeholder_geometry;

@@ -1,0 +1,22 @@
+#include <math.h>
+
+#include "results/csf_model.h"
+#include "tests/check.h"
+
+int main(void)
+{
+    csf_model_params p = csf_model_default();
+    /* Peak at fmax in the fovea. */
+    CHECK_NEAR(csf_model_sensitivity(&p, 3.0, 0), 250.0, 1e-9);
+    /* Half height one half-bandwidth (1.5 octaves) above the peak. */
+    CHECK_NEAR(csf_model_sensitivity(&p, 3.0 * pow(2, 1.5), 0), 125.0, 1e-6);
+    /* Truncation below the peak: never more than delta below Smax. */
+    CHECK_NEAR(csf_model_log10_sensitivity(&p, 0.05, 0), log10(250) - 0.5, 1e-12);
+    /* Eccentricity factor 10^-(a + b f) e. */
+    CHECK_NEAR(csf_model_log10_sensitivity(&p, 4.0, 10) - csf_model_log10_sensitivity(&p, 4.0, 0),
+               -(0.0297 + 0.0190 * 4.0) * 10, 1e-12);
+    csf_model_use_nasal_field(&p);
+    CHECK_NEAR(p.ecc_a, 0.0114, 0);
+    CHECK_NEAR(csf_model_threshold(&p, 3.0, 0) * csf_model_sensitivity(&p, 3.0, 0), 1.0, 1e-12);
+    return CHECK_RESULT();
+}
