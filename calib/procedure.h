@@ -1,0 +1,84 @@
+/* Adaptive psychophysical procedures behind one interface (fade-in, 2AFC, joint Bayesian).
+ * A procedure sees only what an experimenter would: the stimuli it chose and the responses.
+ * Determinism contract: next() depends only on the procedure's state and the trial index (random
+ * choices come from results/rng.h keyed by setup->seed and the trial index), so replaying the
+ * stored trials through update() rebuilds exactly the state an uninterrupted run had — that is
+ * how sessions resume. */
+#ifndef CSF_PROCEDURE_H
+#define CSF_PROCEDURE_H
+
+#include <stdint.h>
+
+#include "results/csf_status.h"
+
+typedef struct {
+    double freq_cpd, ecc_deg;
+} csf_cell;
+
+typedef enum {
+    CSF_TASK_FADE = 0,  /* yes/no detection of a grating fading in: response = pressed, rt along the ramp */
+    CSF_TASK_2AFC = 1,  /* two intervals (or locations): response = chosen interval 0/1 */
+} csf_task;
+
+typedef struct {
+    const csf_cell *cells;  /* the grid to measure */
+    int n_cells;
+    int trial_budget;       /* planned number of trials (procedures may stop earlier) */
+    uint64_t seed;
+    double max_contrast;    /* highest Michelson contrast the display can show at the mean luminance */
+    double min_contrast;    /* lowest meaningful contrast (luminance resolution limit) */
+    /* Psychometric assumptions (Weibull in log10 contrast), from DESIGN.md. */
+    double slope_beta;      /* default 3.5 */
+    double lapse;           /* default 0.02 */
+    double guess;           /* 0.5 for 2AFC; false-alarm rate for detection */
+    /* fade-in ramp: log10 contrast rises linearly from start to end over ramp_s */
+    double ramp_start_log10, ramp_end_log10, ramp_s;
+} csf_procedure_setup;
+
+typedef struct {
+    int cell;               /* index into cells */
+    csf_task task;
+    double contrast;        /* 2AFC: the contrast shown; fade: the ramp's final (max) contrast */
+    double ramp_start_log10, ramp_s; /* fade only: ramp from 10^start to contrast over ramp_s */
+    int is_catch;           /* fade: no grating is shown */
+    int signal_interval;    /* 2AFC: 0 or 1 */
+    double polar_deg;       /* where on the eccentricity ring */
+} csf_trial_plan;
+
+typedef struct {
+    int response;           /* fade: 1 pressed, 0 not; 2AFC: interval chosen (0/1) */
+    double rt_s;            /* fade: time from ramp start to the press */
+    double contrast_at_response; /* fade: contrast on screen at the press, corrected by the caller
+                                    for the presenter's actual frames (NaN if no press) */
+    int valid;              /* 0 when the trial is invalid (click too far, frame drops, ...) */
+} csf_trial_outcome;
+
+typedef struct {
+    double threshold;       /* Michelson at the criterion; INFINITY = not visible at any contrast */
+    double stderr_log10;    /* NaN when unknown */
+    int n_trials;
+} csf_cell_estimate;
+
+typedef struct csf_procedure csf_procedure;
+
+typedef struct {
+    const char *name;       /* "fade", "2afc", "bayes" */
+    csf_task task;
+    csf_status (*create)(const csf_procedure_setup *setup, void **state, csf_error *err);
+    /* Plans trial number trial_index (0-based). Returns CSF_OK, or CSF_E_ABORTED when the
+     * procedure has finished early (all cells stable). */
+    csf_status (*next)(void *state, int trial_index, csf_trial_plan *plan);
+    void (*update)(void *state, int trial_index, const csf_trial_plan *plan, const csf_trial_outcome *outcome);
+    /* Fills out[n_cells] from the current state. */
+    csf_status (*estimate)(void *state, csf_cell_estimate *out, csf_error *err);
+    void (*destroy)(void *state);
+} csf_procedure_ops;
+
+/* Registry: returns NULL for an unknown name. */
+const csf_procedure_ops *csf_procedure_find(const char *name);
+
+extern const csf_procedure_ops csf_procedure_fade;
+extern const csf_procedure_ops csf_procedure_2afc;
+extern const csf_procedure_ops csf_procedure_bayes;
+
+#endif
