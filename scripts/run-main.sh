@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 mkdir -p out
-export EGL_PLATFORM=surfaceless
+
 ./build/calib/csfcal display calibrate --photometer sim:display=lcd --seed 1 \
   --store out/csfcal.sqlite --out out/display.profile
 ./build/calib/csfcal observer calibrate --observer sim --seed 1 --trials 120 \

@@ -6,9 +6,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh || { echo "0 passed, 1 failed"; exit 1; }
 
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-export EGL_PLATFORM=surfaceless
+# Sanitizer options and the EGL platform come from the default test setup in meson.build.
 
 if [ ! -f build-test/build.ninja ]; then
   meson setup build-test -Dwerror=true -Db_sanitize=address,undefined -Db_lundef=false \
