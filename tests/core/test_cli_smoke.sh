@@ -10,4 +10,16 @@ for c in observer display stimulus lut study sessions report devices; do
 done
 if "$exe" nosuchcommand 2>/dev/null; then echo "unknown command accepted"; fail=1; fi
 "$exe" nosuchcommand 2>&1 | grep -q "unknown command" || { echo "no message for unknown command"; fail=1; }
+# A bad station configuration is refused with file, line and the allowed range, exit status 2.
+tmp=$(mktemp)
+printf 'screen_width_mm = 600\nviewing_distance_mm = -3\n' > "$tmp"
+"$exe" devices --headless --config "$tmp" >/dev/null 2>"$tmp.err"
+rc=$?
+[ "$rc" -eq 2 ] || { echo "bad config: exit $rc, expected 2"; fail=1; }
+grep -q "$tmp:2: viewing_distance_mm = -3 is out of range (allowed 100 to 20000 mm)" "$tmp.err" \
+  || { echo "bad config message: $(cat "$tmp.err")"; fail=1; }
+# Command-line overrides are range-checked too.
+"$exe" devices --headless --distance-mm 5 >/dev/null 2>"$tmp.err" && { echo "--distance-mm 5 accepted"; fail=1; }
+grep -q "allowed 100 to 20000" "$tmp.err" || { echo "override message: $(cat "$tmp.err")"; fail=1; }
+rm -f "$tmp" "$tmp.err"
 exit $fail
