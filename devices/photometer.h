@@ -1,0 +1,96 @@
+/* Photometers: one instrument per file behind one struct of function pointers (the shape of
+ * libusb's os backends and ArgyllCMS's instruments). A driver is split into protocol (bytes) and
+ * transport (libusb / hidapi / serial / process) so real meters can be tested against emulators
+ * that speak the same bytes; the simulated meter needs neither.
+ *
+ * Open by spec: "sim[:key=value,...]" (see devices/photometer_sim.c and docs/display-profile.md).
+ * Errors: CSF_E_TOO_DARK, CSF_E_SATURATED, CSF_E_TIMEOUT, CSF_E_GONE, CSF_E_PROTOCOL, each with a
+ * sentence in the csf_error. */
+#ifndef CSF_PHOTOMETER_H
+#define CSF_PHOTOMETER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "results/csf_status.h"
+
+typedef struct csf_photometer csf_photometer;
+
+typedef struct {
+    double lum_cdm2;   /* luminance, cd/m2 */
+    double xyz[3];     /* CIE 1931 XYZ (Y = lum_cdm2) when has_xyz */
+    int has_xyz;
+    double t_s;        /* instrument clock at the end of the reading (virtual for the simulator) */
+    double integration_s;
+} csf_photometer_reading;
+
+/* How an instrument learns what is on screen. A real instrument just measures the light; the
+ * simulated one asks this source what is under its sensor and runs it through its display model.
+ * Give at least one of the two callbacks:
+ *  - patch: the drive values (0..1) of a uniform patch under the sensor (the calibration
+ *    procedure, which shows uniform patches);
+ *  - pixels: the framebuffer pixels under the sensor as packed RGB triples of `bits` per channel
+ *    (8: unsigned char; 9..16: uint16_t), e.g. the presenter's readback of the rendered frame;
+ *    the simulator averages luminance (not drive) over them, as a real sensor integrates light. */
+typedef struct {
+    csf_status (*patch)(void *user, double rgb01[3]);
+    csf_status (*pixels)(void *user, const void **rgb, size_t *n_px, int *bits);
+    void *user;
+} csf_screen_source;
+
+/* Capabilities. */
+enum { CSF_PHOT_CAP_XYZ = 1, CSF_PHOT_CAP_SIMULATED = 2 };
+
+/* The driver interface: one static instance per instrument file. `state` is the driver's own. */
+typedef struct csf_photometer_driver {
+    const char *name;         /* spec prefix: "sim", later "colorcal2", "colorhug2", "spotread" */
+    const char *description;
+    int caps;
+    csf_status (*open)(const char *options /* text after "name:" or "" */, uint64_t seed,
+                       void **state, csf_error *err);
+    /* Model, serial number, firmware: one line. */
+    csf_status (*identify)(void *state, char *buf, size_t len, csf_error *err);
+    csf_status (*measure)(void *state, const csf_screen_source *src, csf_photometer_reading *out,
+                          csf_error *err);
+    /* Tells the instrument how many readings were already taken in this session and at which
+     * clock time, so a resumed session continues where it left off (the simulator's noise draw
+     * index is the reading number). May be NULL. */
+    void (*resume_at)(void *state, uint64_t reading_index, double t_s);
+    void (*close)(void *state);
+} csf_photometer_driver;
+
+/* Byte transport for real instruments (USB bulk/HID/serial/process pipe); protocols are written
+ * against it so emulators can stand in for the device in tests. */
+typedef struct csf_transport {
+    csf_status (*write)(struct csf_transport *t, const uint8_t *buf, size_t len, double timeout_s,
+                        csf_error *err);
+    /* Reads up to cap bytes; *got is what arrived before the timeout. */
+    csf_status (*read)(struct csf_transport *t, uint8_t *buf, size_t cap, size_t *got,
+                       double timeout_s, csf_error *err);
+    void (*close)(struct csf_transport *t);
+    void *user;
+} csf_transport;
+
+/* Opens by spec "name[:options]". Unknown name: CSF_E_NOT_FOUND with the list of known ones. */
+csf_status csf_photometer_open(const char *spec, uint64_t seed, csf_photometer **out, csf_error *err);
+void csf_photometer_close(csf_photometer *p);
+csf_status csf_photometer_identify(csf_photometer *p, char *buf, size_t len, csf_error *err);
+/* Measures what the current screen source shows. */
+csf_status csf_photometer_measure(csf_photometer *p, csf_photometer_reading *out, csf_error *err);
+/* Sets the screen source (copied); NULL restores the built-in uniform patch source. */
+void csf_photometer_set_source(csf_photometer *p, const csf_screen_source *src);
+/* Built-in source: a uniform patch with these drive values (what the calibration shows). */
+void csf_photometer_show_patch(csf_photometer *p, double r01, double g01, double b01);
+void csf_photometer_resume_at(csf_photometer *p, uint64_t reading_index, double t_s);
+int csf_photometer_caps(const csf_photometer *p);
+const char *csf_photometer_driver_name(const csf_photometer *p);
+/* The spec the photometer was opened with (for the store / profile). */
+const char *csf_photometer_spec(const csf_photometer *p);
+
+/* Registered drivers (NULL-terminated), for `csfcal devices`. */
+const csf_photometer_driver *const *csf_photometer_drivers(void);
+
+/* The simulator's driver (devices/photometer_sim.c). */
+extern const csf_photometer_driver csf_photometer_sim_driver;
+
+#endif

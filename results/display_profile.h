@@ -1,0 +1,90 @@
+/* Display profile: what luminance each drive value produces on one monitor, measured with a
+ * photometer (contract [C]). File format: docs/display-profile.md ("csfcal-display-profile 1",
+ * key = value lines then CSV sections).
+ *
+ * The model per curve (grey R=G=B, and r, g, b when measured) is a monotone cubic Hermite
+ * interpolant (Fritsch–Carlson slopes) through (drive01, lum_cdm2) knots; its inverse is solved
+ * exactly on the same piecewise cubic, so csf_profile_grey_lum(csf_profile_grey_drive(L)) == L
+ * to rounding inside [black, max]. Luminances are absolute cd/m2, including the black level. */
+#ifndef CSF_DISPLAY_PROFILE_H
+#define CSF_DISPLAY_PROFILE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "results/csf_status.h"
+
+typedef struct csf_display_profile csf_display_profile;
+
+enum { CSF_CH_R = 0, CSF_CH_G = 1, CSF_CH_B = 2, CSF_CH_GREY = 3, CSF_CH_COUNT = 4 };
+
+/* Loads a profile file; refuses malformed files with the line and the problem. */
+csf_status csf_profile_load(const char *path, csf_display_profile **out, csf_error *err);
+/* Parses a profile held in memory (what csf_profile_load does after reading the file). */
+csf_status csf_profile_parse(const char *text, size_t len, csf_display_profile **out, csf_error *err);
+csf_status csf_profile_save(const csf_display_profile *p, const char *path, csf_error *err);
+/* Serialises to a malloc'd NUL-terminated string (caller frees). */
+csf_status csf_profile_to_text(const csf_display_profile *p, char **out, csf_error *err);
+
+/* The documented default display, used when no profile is given: sRGB-like gain-offset-gamma,
+ * gamma 2.2, black 0.2 cd/m2, white 100 cd/m2, Rec.709 luminance weights per channel. Its id is
+ * "default-gamma2.2-100cdm2". Returns NULL only when out of memory. */
+csf_display_profile *csf_profile_default(void);
+void csf_profile_free(csf_display_profile *p);
+
+/* Stable id for table metadata: "<display>-<date>-<hash of the model>". */
+const char *csf_profile_id(const csf_display_profile *p);
+double csf_profile_lum_black(const csf_display_profile *p); /* cd/m2, grey at drive 0 */
+double csf_profile_lum_max(const csf_display_profile *p);   /* cd/m2, grey at drive 1 */
+/* Forward model, R=G=B=drive01 (clamped to [0,1]). */
+double csf_profile_grey_lum(const csf_display_profile *p, double drive01);
+/* Exact inverse of the forward model; luminance outside [black, max] is clamped to [0,1]. */
+double csf_profile_grey_drive(const csf_display_profile *p, double lum_cdm2);
+/* 1 when per-channel curves were measured (or modelled, for the default profile). */
+int csf_profile_has_channels(const csf_display_profile *p);
+/* Channel curves: luminance of channel ch alone at drive01, *excluding* the black level, so that
+ * black + r + g + b predicts an additive mix. Inverse takes the same black-excluded luminance.
+ * Without channels: NAN. */
+double csf_profile_channel_lum(const csf_display_profile *p, int ch, double drive01);
+double csf_profile_channel_drive(const csf_display_profile *p, int ch, double lum_cdm2);
+/* Days since the profile was measured (from its created_utc), against the current time. */
+double csf_profile_age_days(const csf_display_profile *p);
+
+/* --- building a profile from readings (the calibration procedure) --- */
+
+typedef struct {
+    int channel;       /* CSF_CH_R/G/B/GREY; the dark reading is GREY at drive 0 */
+    double drive01;
+    double lum_cdm2;
+    double xyz[3];
+    int has_xyz;
+} csf_profile_reading;
+
+typedef struct {
+    const char *display_name;   /* e.g. "sim:display=lcd" or a monitor name; id prefix */
+    const char *instrument;     /* photometer identification string */
+    const char *created_utc;    /* "YYYY-MM-DDTHH:MM:SSZ"; NULL = now */
+    const char *tool_version;   /* NULL = CSF_VERSION */
+    double additivity_error;    /* relative (R+G+B+black vs white - 1); NAN if not measured */
+} csf_profile_meta;
+
+/* Builds a profile from raw readings: averages repeats at the same drive, enforces monotonicity
+ * (pool-adjacent-violators when noise makes neighbours cross; reported as CSF_E_INSUFFICIENT if a
+ * curve is decreasing by more than noise), fits the Hermite model. Needs >= 2 grey levels
+ * including 0 and 1. Keeps the readings in the profile. */
+csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
+                             const csf_profile_meta *meta, csf_display_profile **out,
+                             csf_error *err);
+
+/* Knots of one curve (model), for plots/exports. Returns the count; arrays owned by p. */
+size_t csf_profile_knots(const csf_display_profile *p, int ch, const double **drive01,
+                         const double **lum_cdm2);
+/* Raw readings kept in the profile. */
+size_t csf_profile_readings(const csf_display_profile *p, const csf_profile_reading **out);
+/* Primaries (and white) XYZ at full drive, black subtracted; returns 0 when unknown. */
+int csf_profile_primaries_xyz(const csf_display_profile *p, double rgbw_xyz[4][3]);
+double csf_profile_additivity_error(const csf_display_profile *p); /* NAN if unknown */
+const char *csf_profile_instrument(const csf_display_profile *p);
+const char *csf_profile_created_utc(const csf_display_profile *p);
+
+#endif
