@@ -1,0 +1,172 @@
+/* Results store: every photometer reading and every trial is written to one SQLite database file
+ * the moment it is made, so a crash, a power cut or an Escape loses nothing that was reported as
+ * stored, and any unfinished session can be resumed from its stored trials.
+ *
+ * Durability contract: WAL journal, synchronous=FULL, foreign keys on. Every csf_store_add_* and
+ * csf_store_put_* call runs in its own transaction and is durably committed when it returns
+ * CSF_OK; a caller may show the next stimulus only after that.
+ *
+ * Portability: the schema uses only INTEGER, REAL, TEXT and BLOB columns and plain SQL (no
+ * SQLite-only types or functions in the schema), so a PostgreSQL backend can sit behind this same
+ * interface later. The schema is versioned (table schema_version) and migrated forward on open.
+ *
+ * Open refuses, with a message naming the file and the cause, a read-only file or directory, a
+ * file that is not a database or is malformed, and a full disk: before anything is shown.
+ * All functions return csf_status and fill *err (may be NULL) on failure. A csf_store is not
+ * shared between threads. */
+#ifndef CSF_STORE_H
+#define CSF_STORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "results/csf_status.h"
+
+typedef struct csf_store csf_store;
+
+/* Newest schema version this build writes (older stores are migrated forward on open; a newer
+ * one is refused rather than misread). */
+#define CSF_STORE_SCHEMA_VERSION 3
+
+/* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
+ * written (a probe write inside a transaction that is rolled back). */
+csf_status csf_store_open(const char *path, csf_store **out, csf_error *err);
+void csf_store_close(csf_store *s);
+
+/* Schema version stored in the open database (after migration: CSF_STORE_SCHEMA_VERSION). */
+int csf_store_schema_version(csf_store *s);
+/* Path the store was opened with. */
+const char *csf_store_path(const csf_store *s);
+
+/* ---- sessions ---------------------------------------------------------------------------- */
+
+typedef struct {
+    int64_t id;
+    char kind[16];        /* "display", "observer", "study" */
+    char state[16];       /* "running", "paused", "finished", "aborted" */
+    char observer[64];    /* observer name (observer/study sessions), "" otherwise */
+    char display[64];     /* display name / profile id */
+    char *settings_json;  /* malloc'd; the settings the session was started with */
+    uint64_t seed;
+    char tool_version[32];
+    char created_utc[32]; /* ISO 8601, e.g. 2026-11-22T05:31:00Z */
+    int n_trials, n_readings;
+} csf_session_info;
+
+void csf_session_info_free(csf_session_info *s); /* frees settings_json */
+
+/* Starts a session in state "running". observer/display may be NULL or "" (stored as ""); named
+ * observers and displays are also recorded in their own tables. settings_json NULL = "{}". */
+csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
+                                   const char *display, const char *settings_json, uint64_t seed,
+                                   int64_t *id, csf_error *err);
+csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
+/* state: "running", "paused", "finished", "aborted"; also updates the session's updated time. */
+csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err);
+/* All sessions, oldest first. *out is malloc'd; free each with csf_session_info_free, then free(*out). */
+csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
+/* Free a list from csf_store_list_sessions. */
+void csf_session_list_free(csf_session_info *list, size_t n);
+
+/* Timestamps (ISO 8601 UTC) of a session: created, last updated (state change or any row added). */
+csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32],
+                                   char updated_utc[32], csf_error *err);
+
+/* ---- photometer readings ----------------------------------------------------------------- */
+
+typedef struct {
+    int64_t session_id;
+    int seq;              /* 0, 1, 2 ... per session; unique */
+    char channel[8];      /* "dark", "white", "grey", "r", "g", "b" */
+    double drive01;       /* drive level in [0, 1] */
+    double lum_cdm2;      /* measured luminance, NaN if the reading failed */
+    double X, Y, Z;       /* CIE XYZ (Y in cd/m2) when has_xyz */
+    int has_xyz;
+    double t_s;           /* seconds since the session started */
+    char status[16];      /* "ok", "too_dark", "saturated", "timeout", "error" */
+} csf_reading;
+
+csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *err);
+/* Ordered by seq. *out is malloc'd (free()). */
+csf_status csf_store_get_readings(csf_store *s, int64_t session_id, csf_reading **out, size_t *n,
+                                  csf_error *err);
+
+/* ---- trials ------------------------------------------------------------------------------ */
+
+typedef struct {
+    int64_t session_id;
+    int seq;                      /* 0, 1, 2 ... per session; unique; the resume point is max+1 */
+    char method[16];              /* "fade", "2afc", "bayes", ... */
+    double freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2;
+    int is_catch, is_practice;
+    double contrast_requested;    /* Michelson */
+    double contrast_shown_mean, contrast_shown_max; /* measured on the frames actually shown */
+    int frames_planned, frames_shown, frames_missed;
+    int signal_interval;          /* 2AFC: 1 or 2; 0 = not applicable */
+    int response;                 /* method-specific code (e.g. 1 seen / 0 not, chosen interval) */
+    double rt_s;                  /* response time, seconds; NaN = none */
+    double click_x_deg, click_y_deg; /* click position in visual angle; NaN = none */
+    int valid;                    /* 0 = excluded (missed frames, lapse of attention ...) */
+    char flags[64];               /* comma-separated problems, e.g. "missed_frames,late" */
+} csf_trial;
+
+csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err);
+/* Ordered by seq (what a resumed procedure replays). *out is malloc'd (free()). */
+csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
+                                csf_error *err);
+
+/* Frame-to-frame intervals (seconds) of one trial, in order. */
+csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int trial_seq,
+                                         const double *interval_s, int n, csf_error *err);
+/* All frame intervals of a session (every trial, in trial then frame order). *out malloc'd. */
+csf_status csf_store_get_frame_intervals(csf_store *s, int64_t session_id, double **out, size_t *n,
+                                         csf_error *err);
+
+/* ---- thresholds -------------------------------------------------------------------------- */
+
+typedef struct {
+    double freq_cpd, ecc_deg, velocity_dps, lum_cdm2;
+    double threshold;     /* Michelson; INFINITY = never visible */
+    double stderr_log10;  /* NaN = unknown */
+    int n_trials;
+} csf_threshold_row;
+
+/* Replaces the session's thresholds with these rows (one transaction). */
+csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_threshold_row *rows,
+                                    size_t n, csf_error *err);
+/* Ordered by lum, velocity, ecc, freq. *out is malloc'd (free()). */
+csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_threshold_row **out,
+                                    size_t *n, csf_error *err);
+
+/* ---- artifacts (files written from a session, kept with their bytes) --------------------- */
+
+/* kind: "csflut", "profile", "plot" (others allowed, up to 15 chars). blob may be NULL (len 0). */
+csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
+                                  const char *path, const void *blob, size_t len, csf_error *err);
+/* Newest artifact of that kind for the session: *blob malloc'd (free()), path copied into
+ * path_out (may be NULL). CSF_E_NOT_FOUND if there is none. */
+csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *kind,
+                                  void **blob, size_t *len, char *path_out, size_t path_len,
+                                  csf_error *err);
+
+/* ---- displays, observers, studies, participants ------------------------------------------ */
+
+/* Records (or finds) a display by name; profile_id may be NULL. */
+csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *profile_id,
+                                    int64_t *id, csf_error *err);
+/* Records (or finds) an observer by name. */
+csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err);
+
+/* Studies (2AFC user studies; the study runner comes later). design_json NULL = "{}". */
+csf_status csf_store_create_study(csf_store *s, const char *name, const char *design_json,
+                                  int64_t *id, csf_error *err);
+csf_status csf_store_find_study(csf_store *s, const char *name, int64_t *id, csf_error *err);
+/* code: a pseudonymous participant code, unique within the study. */
+csf_status csf_store_add_participant(csf_store *s, int64_t study_id, const char *code,
+                                     int64_t *id, csf_error *err);
+csf_status csf_store_count_participants(csf_store *s, int64_t study_id, int *n, csf_error *err);
+/* Ties a session to a study participant (study sessions). */
+csf_status csf_store_link_session_participant(csf_store *s, int64_t session_id,
+                                              int64_t participant_id, csf_error *err);
+
+#endif
