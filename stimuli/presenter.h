@@ -1,0 +1,186 @@
+/* Stimulus presenter (contract [D]): draws fixation, Gabors, windowed gratings, drifting and
+ * moving patches, PNG images and text screens, in exact visual degrees (stimuli/geometry.h), with
+ * luminance computed in cd/m2 per fragment, mapped through the display profile's inverse and
+ * dithered (spatially and temporally) to the framebuffer depth, so that the mean luminance of a
+ * patch over frames matches the request far below one drive step.
+ *
+ * Two back ends share all drawing code:
+ *   windowed  GLFW fullscreen on a chosen monitor, OpenGL through EGL (GLFW_EGL_CONTEXT_API),
+ *             vsync, cursor hidden, OS gamma ramp set to identity and restored on every exit path
+ *             (stimuli/gamma_guard.h); frames are timestamped after the swap on CLOCK_MONOTONIC.
+ *   headless  EGL surfaceless (Mesa) with an offscreen framebuffer object; time runs on a VIRTUAL
+ *             clock that advances by 1/refresh_hz per frame, and missed frames can be injected
+ *             (csf_presenter_inject_missed / csf_presenter_set_miss_rate) to test the flagging.
+ *
+ * Luminance pipeline (fragment shader): L(x) in cd/m2 -> drive estimate from an inverse-profile
+ * float texture -> bracketing framebuffer levels k, k+1 whose true luminances come from a second
+ * texture built from the forward profile -> choose k+1 with probability (L - L_k)/(L_k+1 - L_k)
+ * using an R2 low-discrepancy spatial mask plus a golden-ratio per-frame offset. The expectation
+ * of the emitted luminance is therefore exactly L (to float precision), whatever the gamma.
+ *
+ * PERFORMANCE (for the observer area, simulated sessions): rasterising every frame at 1920x1080
+ * on llvmpipe costs several ms; a 120-trial session must take < 10 s. Use
+ *     cfg.headless = 1; cfg.render_width_px = 64; cfg.render_height_px = 36;  (cheap raster)
+ *     cfg.render_every = -1;   (bookkeeping only: no rasterisation after validation)
+ * With render_every = -1, csf_presenter_draw / csf_presenter_run_trial still validate the
+ * stimulus, advance the virtual clock, apply injected misses and record the contrast per frame,
+ * but skip GL work; render_every = N > 1 rasterises every N-th frame. Geometry checks (Nyquist,
+ * off-screen) always use the full configured geometry, never the reduced render size. */
+#ifndef CSF_STIMULI_PRESENTER_H
+#define CSF_STIMULI_PRESENTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "results/csf_status.h"
+#include "results/display_profile.h"
+#include "stimuli/geometry.h"
+#include "stimuli/image.h"
+
+enum {
+    CSF_STIM_GABOR = 1,   /* sine carrier x Gaussian envelope (sigma_deg) */
+    CSF_STIM_GRATING = 2, /* sine carrier in a circular window, raised-cosine edge */
+    CSF_STIM_IMAGE = 3,   /* PNG image (stimuli/image.h) as luminance around the mean */
+    CSF_STIM_DISC = 4     /* uniform disc of luminance mean*(1+contrast): luminance steps */
+};
+
+/* One stimulus. Unused fields may be 0. Conventions:
+ *  orientation_deg  direction of the carrier's modulation in angle space, counter-clockwise from
+ *                   horizontal: 0 = vertical bars, 90 = horizontal bars.
+ *  phase_deg        carrier phase at the patch centre (0 = cosine peak, luminance maximum).
+ *  ecc_deg/polar_deg  patch centre (geometry.h conventions).
+ *  contrast         Michelson, fraction (0..1); the envelope multiplies it.
+ *  mean_lum_cdm2    background and patch mean; <= 0 means the display's mid luminance
+ *                   (black + max)/2.
+ *  drift_hz         carrier drift (temporal frequency), phase advances 360*drift_hz*time_s.
+ *  velocity_dps     patch moves along motion_dir_deg at this speed (deg/s of eccentricity space,
+ *                   i.e. the centre direction rotates), from (ecc, polar) at time_s = 0.
+ *  time_s           seconds since stimulus onset; csf_presenter_run_trial sets it per frame. */
+typedef struct {
+    int kind;
+    double freq_cpd, orientation_deg, phase_deg, sigma_deg, ecc_deg, polar_deg, contrast,
+        mean_lum_cdm2, drift_hz, velocity_dps;
+    /* additions beyond the contract's list */
+    double motion_dir_deg; /* polar-angle convention direction of patch motion */
+    double radius_deg;     /* GRATING window radius, DISC/IMAGE radius (0 = 2 deg); GABOR: ignored */
+    double edge_deg;       /* GRATING/DISC raised-cosine edge width (0 = 0.25 deg) */
+    double time_s;
+    const csf_image *image; /* CSF_STIM_IMAGE */
+} csf_stimulus;
+
+typedef struct {
+    long frame_index;      /* 0-based, counts frames presented since open */
+    double t_s;            /* presentation time (virtual in headless mode) */
+    double interval_s;     /* since the previous frame (0 for the first) */
+    int missed;            /* interval > 1.5 refresh periods */
+    int rendered;          /* 1 when rasterised (see render_every) */
+    double contrast_shown; /* Michelson contrast drawn in this frame (0 for a blank field) */
+} csf_frame_info;
+
+enum { CSF_DITHER_NOISE = 0, CSF_DITHER_NONE = 1, CSF_DITHER_BITSTEAL = 2 };
+
+typedef struct {
+    int headless;
+    csf_geometry geometry;      /* from csf_geometry_init (CSF_GEOMETRY_FROM_CONFIG(cfg)) */
+    double refresh_hz;          /* 0 = 60 */
+    const csf_display_profile *profile; /* NULL = csf_profile_default(), reported as such */
+    /* Optional forward luminance (cd/m2, R=G=B) overriding the profile, e.g. a simulated display
+     * model in tests; must be increasing on [0,1]. */
+    double (*grey_lum_fn)(void *ctx, double drive01);
+    void *grey_lum_ctx;
+    int framebuffer_bits;       /* 8 or 10; 0 = 8. Windowed 10-bit falls back to 8 when refused */
+    int render_width_px, render_height_px; /* headless only: 0 = geometry size */
+    int render_every;           /* 0/1 every frame, N every N-th, -1 never (see PERFORMANCE) */
+    int dither;                 /* CSF_DITHER_* */
+    const char *monitor;        /* windowed: index ("0", "1") or name substring; NULL = primary */
+    uint64_t seed;              /* per-run dither offset and miss-rate draws */
+} csf_presenter_config;
+
+typedef struct csf_presenter csf_presenter;
+
+/* Fills defaults (headless, 60 Hz, 8 bit, default geometry 531x299 mm, 1920x1080, 570 mm). */
+void csf_presenter_config_defaults(csf_presenter_config *cfg);
+
+csf_status csf_presenter_open(const csf_presenter_config *cfg, csf_presenter **out, csf_error *err);
+void csf_presenter_close(csf_presenter *p);
+
+/* Refuses a stimulus above the local Nyquist limit (anywhere inside its envelope), off-screen,
+ * with bad parameters, or with a luminance outside the display's range; the message states the
+ * limit that was broken. */
+csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_error *err);
+
+/* Draws one frame (NULL stimulus = blank field at the display's mid luminance), fixation mark if
+ * fixation != 0, presents it (swap, or glFinish offscreen) and timestamps it. */
+csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixation,
+                              csf_frame_info *out, csf_error *err);
+
+/* ---- temporal envelopes and trials ---- */
+enum { CSF_ENV_FIXED = 0, CSF_ENV_RAISED_COSINE = 1, CSF_ENV_FADE_LOG = 2 };
+typedef struct {
+    int kind;
+    double duration_s;     /* total presentation time */
+    double ramp_s;         /* RAISED_COSINE: on and off ramp duration each */
+    double start_contrast; /* FADE_LOG: contrast at t = 0; rises linearly in log10 contrast to the
+                              stimulus contrast at duration_s */
+} csf_envelope;
+
+/* Contrast planned at time t_s after onset (0 outside [0, duration]). */
+double csf_envelope_contrast(const csf_envelope *e, double peak_contrast, double t_s);
+
+/* Called after every frame of a trial; return non-zero to end the trial (a response). */
+typedef int (*csf_trial_stop_fn)(void *ctx, const csf_frame_info *frame);
+
+typedef struct {
+    int frames_planned;        /* duration * refresh */
+    int frames_shown;          /* refresh periods the stimulus was on screen (missed = repeats) */
+    int frames_drawn;          /* frames actually produced */
+    int frames_missed;
+    double contrast_shown_mean, contrast_shown_max, contrast_shown_last;
+    double max_abs_deviation;  /* max |shown - planned| contrast per refresh period */
+    double t_onset_s, t_end_s;
+    int stopped_by_callback;
+    double *contrast_per_period; /* malloc'd, frames_shown entries */
+    double *interval_s;          /* malloc'd, frames_drawn entries */
+    int deviated;              /* presentation differed from the plan (missed frames during the
+                                  stimulus, or |shown - planned| > 1 % relative) */
+    char flags[64];            /* e.g. "missed_frames,contrast_dev" ("" when fine) */
+} csf_trial_record;
+
+/* Runs one trial: frames from onset until the envelope's duration or until stop returns
+ * non-zero. Contrast per frame = envelope at the frame's (virtual or real) time. */
+csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, const csf_envelope *env,
+                                   int fixation, csf_trial_stop_fn stop, void *stop_ctx,
+                                   csf_trial_record *out, csf_error *err);
+void csf_trial_record_free(csf_trial_record *r);
+
+/* Headless only: the frame with index frame_index is presented `periods` refresh periods late. */
+csf_status csf_presenter_inject_missed(csf_presenter *p, long frame_index, int periods,
+                                       csf_error *err);
+/* Headless only: each frame is late by one period with this probability (counter RNG on seed). */
+void csf_presenter_set_miss_rate(csf_presenter *p, double probability);
+
+/* ---- readback and properties ---- */
+void csf_presenter_render_size(const csf_presenter *p, int *w, int *h);
+int csf_presenter_bits(const csf_presenter *p);
+/* Last frame, top row first: w*h*3 bytes (8-bit values; 10-bit framebuffers are scaled). */
+csf_status csf_presenter_readback_rgb8(csf_presenter *p, unsigned char *rgb, csf_error *err);
+/* Last frame as framebuffer levels 0..2^bits-1, w*h*3 uint16, top row first. */
+csf_status csf_presenter_readback_levels(csf_presenter *p, uint16_t *rgb, csf_error *err);
+/* Luminance the presenter believes level k (R=G=B) produces. */
+double csf_presenter_level_lum(const csf_presenter *p, int level);
+void csf_presenter_lum_range(const csf_presenter *p, double *black_cdm2, double *max_cdm2);
+const char *csf_presenter_profile_id(const csf_presenter *p); /* "default-..." when no profile */
+const csf_geometry *csf_presenter_geometry(const csf_presenter *p);
+double csf_presenter_refresh_hz(const csf_presenter *p);
+double csf_presenter_time(const csf_presenter *p); /* now, on the presenter's clock */
+
+/* Windowed only: GLFWwindow* for responders (NULL headless); cursor shown while a response
+ * needs it. */
+void *csf_presenter_window(csf_presenter *p);
+void csf_presenter_show_cursor(csf_presenter *p, int show);
+
+/* Text screen (instructions, breaks, progress) drawn with cairo, centred, on the mean-grey field;
+ * presented as one frame. Lines separated by '\n'. */
+csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_error *err);
+
+#endif
