@@ -56,6 +56,9 @@ typedef struct csf_photometer_driver {
      * clock time, so a resumed session continues where it left off (the simulator's noise draw
      * index is the reading number). May be NULL. */
     void (*resume_at)(void *state, uint64_t reading_index, double t_s);
+    /* Lets time pass (warm-up). NULL: the caller sleeps on the real clock. The simulator
+     * advances its virtual clock instead. */
+    void (*wait)(void *state, double seconds);
     void (*close)(void *state);
 } csf_photometer_driver;
 
@@ -82,6 +85,8 @@ void csf_photometer_set_source(csf_photometer *p, const csf_screen_source *src);
 /* Built-in source: a uniform patch with these drive values (what the calibration shows). */
 void csf_photometer_show_patch(csf_photometer *p, double r01, double g01, double b01);
 void csf_photometer_resume_at(csf_photometer *p, uint64_t reading_index, double t_s);
+/* Waits (real time for real instruments, virtual time for the simulator). */
+void csf_photometer_wait(csf_photometer *p, double seconds);
 int csf_photometer_caps(const csf_photometer *p);
 const char *csf_photometer_driver_name(const csf_photometer *p);
 /* The spec the photometer was opened with (for the store / profile). */

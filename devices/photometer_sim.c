@@ -1,2 +1,274 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_photometer_sim;
+/* Simulated photometer: a display model (devices/display_model.h) seen through an instrument
+ * model. The instrument has relative and absolute noise, a warm-up drift that decays with a time
+ * constant, an integration time on a virtual clock, a floor below which it reports "too dark",
+ * a saturation level, and injectable faults. Every random draw comes from results/rng.h with the
+ * reading number as index, so a resumed session draws what an uninterrupted one would have.
+ *
+ * Options (sim:key=value,...):
+ *   display=crt|lcd|oled|file=PATH.csv|PATH.csv   the simulated monitor (default lcd)
+ *   lmax= black= gamma= interaction=              passed to the display model
+ *   noise=REL (0.0005)  abs_noise=CDM2 (0.001)   per-reading sd, relative and absolute
+ *   warmup_s=S (20)  drift=REL (0.01)            reading scale 1 - drift*exp(-t/warmup_s)
+ *   integration_s=S (0.5)                        virtual time per reading
+ *   floor_cdm2=L (0.01)  sat_cdm2=L (2000)       measuring range
+ *   fault=KIND@N                                 KIND: unplug, timeout, garbage, dark, saturate;
+ *                                                from reading number N (0-based). timeout and
+ *                                                garbage hit reading N only; the others persist. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "devices/display_model.h"
+#include "devices/photometer.h"
+#include "results/rng.h"
+
+enum { FAULT_NONE, FAULT_UNPLUG, FAULT_TIMEOUT, FAULT_GARBAGE, FAULT_DARK, FAULT_SATURATE };
+static const char *fault_names[] = {"none", "unplug", "timeout", "garbage", "dark", "saturate"};
+
+/* rng streams: what is being drawn */
+enum { STREAM_REL = 0x5e01, STREAM_ABS, STREAM_X, STREAM_Z };
+
+typedef struct {
+    csf_display_model *display;
+    char display_spec[600];
+    uint64_t seed;
+    double noise_rel, noise_abs_cdm2, warmup_s, drift, integration_s, floor_cdm2, sat_cdm2;
+    int fault;
+    uint64_t fault_at;
+    uint64_t n;   /* readings attempted so far: the rng index of the next one */
+    double t_s;   /* virtual clock */
+} sim_state;
+
+static int num(const char *v, double lo, double hi, double *out)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    if (errno || end == v || *end || !isfinite(x) || x < lo || x > hi) return -1;
+    *out = x;
+    return 0;
+}
+
+static csf_status sim_open(const char *options, uint64_t seed, void **state, csf_error *err)
+{
+    sim_state *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    s->seed = seed;
+    s->noise_rel = 0.0005;
+    s->noise_abs_cdm2 = 0.001;
+    s->warmup_s = 20;
+    s->drift = 0.01;
+    s->integration_s = 0.5;
+    s->floor_cdm2 = 0.01;
+    s->sat_cdm2 = 2000;
+    char kind[512] = "lcd", extra[512] = "";
+    char buf[1024];
+    csf_status st = CSF_OK;
+    if (strlen(options) >= sizeof buf) {
+        free(s);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer options longer than %zu characters",
+                             sizeof buf - 1);
+    }
+    strcpy(buf, options);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok && !st; tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        if (!eq) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer option '%s' is not key=value", tok);
+            break;
+        }
+        *eq = 0;
+        const char *k = tok, *v = eq + 1;
+        double x;
+#define RANGE(lo, hi, field, what)                                                                 \
+    do {                                                                                           \
+        if (num(v, lo, hi, &x))                                                                    \
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer: %s=%s out of range (%s %g to %g)", \
+                               k, v, what, (double)(lo), (double)(hi));                             \
+        else                                                                                       \
+            s->field = x;                                                                          \
+    } while (0)
+        if (strcmp(k, "display") == 0) {
+            snprintf(kind, sizeof kind, "%s", v);
+        } else if (strcmp(k, "file") == 0) {
+            snprintf(kind, sizeof kind, "file=%s", v);
+        } else if (!strcmp(k, "lmax") || !strcmp(k, "black") || !strcmp(k, "gamma") || !strcmp(k, "interaction")) {
+            size_t l = strlen(extra);
+            snprintf(extra + l, sizeof extra - l, ",%s=%s", k, v);
+        } else if (strcmp(k, "noise") == 0) RANGE(0, 0.2, noise_rel, "relative sd");
+        else if (strcmp(k, "abs_noise") == 0) RANGE(0, 10, noise_abs_cdm2, "cd/m2");
+        else if (strcmp(k, "warmup_s") == 0) RANGE(0.001, 3600, warmup_s, "seconds");
+        else if (strcmp(k, "drift") == 0) RANGE(0, 0.5, drift, "relative");
+        else if (strcmp(k, "integration_s") == 0) RANGE(0.001, 60, integration_s, "seconds");
+        else if (strcmp(k, "floor_cdm2") == 0) RANGE(0, 100, floor_cdm2, "cd/m2");
+        else if (strcmp(k, "sat_cdm2") == 0) RANGE(1, 1e6, sat_cdm2, "cd/m2");
+        else if (strcmp(k, "fault") == 0) {
+            const char *at = strchr(v, '@');
+            size_t kl = at ? (size_t)(at - v) : strlen(v);
+            s->fault = -1;
+            for (int f = 1; f <= FAULT_SATURATE; f++)
+                if (strlen(fault_names[f]) == kl && strncmp(v, fault_names[f], kl) == 0) s->fault = f;
+            if (s->fault < 0 || !at || num(at + 1, 0, 1e9, &x) || x != floor(x)) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG,
+                                   "sim photometer: fault=%s not understood (KIND@N, KIND one of unplug, "
+                                   "timeout, garbage, dark, saturate; N a reading number >= 0)", v);
+            } else {
+                s->fault_at = (uint64_t)x;
+            }
+        } else {
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "sim photometer: unknown option '%s' (known: display, lmax, black, gamma, "
+                               "interaction, noise, abs_noise, warmup_s, drift, integration_s, floor_cdm2, "
+                               "sat_cdm2, fault)", k);
+        }
+#undef RANGE
+    }
+    if (!st) {
+        snprintf(s->display_spec, sizeof s->display_spec, "%s%s", kind, extra);
+        st = csf_display_model_create(s->display_spec, &s->display, err);
+    }
+    if (st) {
+        free(s);
+        return st;
+    }
+    *state = s;
+    return CSF_OK;
+}
+
+static void sim_close(void *state)
+{
+    sim_state *s = state;
+    if (!s) return;
+    csf_display_model_free(s->display);
+    free(s);
+}
+
+static csf_status sim_identify(void *state, char *buf, size_t len, csf_error *err)
+{
+    sim_state *s = state;
+    (void)err;
+    snprintf(buf, len, "csfcal simulated photometer (display=%s, noise=%g, abs_noise=%g cd/m2, "
+             "integration %g s)", s->display_spec, s->noise_rel, s->noise_abs_cdm2, s->integration_s);
+    return CSF_OK;
+}
+
+static void sim_resume_at(void *state, uint64_t reading_index, double t_s)
+{
+    sim_state *s = state;
+    s->n = reading_index;
+    if (t_s > s->t_s) s->t_s = t_s;
+}
+
+static void sim_wait(void *state, double seconds)
+{
+    sim_state *s = state;
+    s->t_s += seconds;
+}
+
+/* True light under the sensor: from the uniform patch, or averaged over framebuffer pixels. */
+static csf_status sensed_light(sim_state *s, const csf_screen_source *src, double xyz[3], csf_error *err)
+{
+    if (src && src->pixels) {
+        const void *px;
+        size_t n_px = 0;
+        int bits = 8;
+        csf_status st = src->pixels(src->user, &px, &n_px, &bits);
+        if (st) return csf_error_set(err, st, "screen source failed to give the pixels under the sensor");
+        if (n_px == 0 || bits < 1 || bits > 16)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "screen source gave %zu pixels of %d bits "
+                                 "(need >= 1 pixel, 1 to 16 bits)", n_px, bits);
+        double maxv = (double)((1u << bits) - 1);
+        double acc[3] = {0, 0, 0};
+        for (size_t i = 0; i < n_px; i++) {
+            double v[3], x[3];
+            for (int c = 0; c < 3; c++)
+                v[c] = bits <= 8 ? ((const unsigned char *)px)[3 * i + c] / maxv
+                                 : ((const uint16_t *)px)[3 * i + c] / maxv;
+            csf_display_model_xyz(s->display, v[0], v[1], v[2], x);
+            for (int k = 0; k < 3; k++) acc[k] += x[k];
+        }
+        for (int k = 0; k < 3; k++) xyz[k] = acc[k] / (double)n_px;
+        return CSF_OK;
+    }
+    if (src && src->patch) {
+        double rgb[3];
+        csf_status st = src->patch(src->user, rgb);
+        if (st) return csf_error_set(err, st, "screen source failed to give the patch under the sensor");
+        csf_display_model_xyz(s->display, rgb[0], rgb[1], rgb[2], xyz);
+        return CSF_OK;
+    }
+    return csf_error_set(err, CSF_E_INVALID_ARG, "simulated photometer has no screen source");
+}
+
+static csf_status sim_measure(void *state, const csf_screen_source *src, csf_photometer_reading *out,
+                              csf_error *err)
+{
+    sim_state *s = state;
+    uint64_t i = s->n++;
+    s->t_s += s->integration_s;
+    out->t_s = s->t_s;
+    out->integration_s = s->integration_s;
+    if (s->fault && i >= s->fault_at) {
+        switch (s->fault) {
+        case FAULT_UNPLUG:
+            return csf_error_set(err, CSF_E_GONE, "photometer disconnected at reading %llu "
+                                 "(reconnect it and resume the session)", (unsigned long long)i);
+        case FAULT_TIMEOUT:
+            if (i == s->fault_at)
+                return csf_error_set(err, CSF_E_TIMEOUT, "photometer did not answer reading %llu within "
+                                     "%.1f s", (unsigned long long)i, 10 * s->integration_s + 2);
+            break;
+        case FAULT_GARBAGE:
+            if (i == s->fault_at)
+                return csf_error_set(err, CSF_E_PROTOCOL, "photometer sent an unreadable answer to "
+                                     "reading %llu (bytes 0x%02x 0x%02x ...)", (unsigned long long)i,
+                                     (unsigned)(csf_rng_u64(s->seed, 7, i) & 0xff),
+                                     (unsigned)((csf_rng_u64(s->seed, 7, i) >> 8) & 0xff));
+            break;
+        default:
+            break;
+        }
+    }
+    double xyz[3];
+    csf_status st = sensed_light(s, src, xyz, err);
+    if (st) return st;
+    if (s->fault == FAULT_SATURATE && i >= s->fault_at) {
+        /* e.g. the sensor slipped onto a brighter light source */
+        for (int k = 0; k < 3; k++) xyz[k] = s->sat_cdm2 * 2;
+    }
+    if (s->fault == FAULT_DARK && i >= s->fault_at) {
+        /* e.g. the sensor fell off the screen, facing the desk */
+        for (int k = 0; k < 3; k++) xyz[k] = 0;
+    }
+    if (xyz[1] > s->sat_cdm2)
+        return csf_error_set(err, CSF_E_SATURATED, "photometer saturated at reading %llu (above its "
+                             "%g cd/m2 range)", (unsigned long long)i, s->sat_cdm2);
+    double drift = 1.0 - s->drift * exp(-s->t_s / s->warmup_s);
+    double rel = 1.0 + s->noise_rel * csf_rng_normal(s->seed, STREAM_REL, i);
+    double absn = s->noise_abs_cdm2 * csf_rng_normal(s->seed, STREAM_ABS, i);
+    double Y = xyz[1] * drift * rel + absn;
+    if (Y < s->floor_cdm2)
+        return csf_error_set(err, CSF_E_TOO_DARK, "too dark for the photometer at reading %llu "
+                             "(below its %g cd/m2 floor)", (unsigned long long)i, s->floor_cdm2);
+    double scale = xyz[1] > 0 ? Y / xyz[1] : 1.0;
+    out->lum_cdm2 = Y;
+    out->xyz[0] = xyz[0] * scale * (1.0 + 0.5 * s->noise_rel * csf_rng_normal(s->seed, STREAM_X, i));
+    out->xyz[1] = Y;
+    out->xyz[2] = xyz[2] * scale * (1.0 + 0.5 * s->noise_rel * csf_rng_normal(s->seed, STREAM_Z, i));
+    out->has_xyz = 1;
+    return CSF_OK;
+}
+
+const csf_photometer_driver csf_photometer_sim_driver = {
+    .name = "sim",
+    .description = "simulated photometer and display (noise, drift, range, faults)",
+    .caps = CSF_PHOT_CAP_XYZ | CSF_PHOT_CAP_SIMULATED,
+    .open = sim_open,
+    .identify = sim_identify,
+    .measure = sim_measure,
+    .resume_at = sim_resume_at,
+    .wait = sim_wait,
+    .close = sim_close,
+};

@@ -1,2 +1,1025 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_display_profile;
+/* Display profile: monotone piecewise-cubic model of luminance vs drive, its exact inverse, and
+ * the versioned text file that carries it (docs/display-profile.md).
+ *
+ * Why a transformed space: display curves are close to power laws, so interpolating
+ * y = ((L - black)/top)^(1/g) instead of L makes the curve nearly straight, and a monotone cubic
+ * through a few knots then reaches 0.1 %-level accuracy where a cubic in raw luminance would need
+ * many more readings. g is fitted per curve and stored, so the model is fully determined by the
+ * file and the inverse is exact on the same piecewise cubic. */
+#include "results/display_profile.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifndef CSF_VERSION
+#define CSF_VERSION "unknown"
+#endif
+
+#define MAX_KNOTS 4096
+#define MAX_READINGS 100000
+#define MAX_FILE_BYTES (16u << 20)
+
+typedef struct {
+    int n;
+    double *v;       /* drive01, strictly increasing, v[0] = 0, v[n-1] = 1 */
+    double *lum;     /* cd/m2; grey includes black, channels exclude it */
+    double *y;       /* transformed luminance in [0,1] */
+    double *m;       /* Fritsch–Carlson slopes dy/dv */
+    double base, top; /* lum = base + top * y^g */
+    double g;        /* transform exponent */
+} curve;
+
+struct csf_display_profile {
+    char id[160];
+    char display[256];
+    char instrument[256];
+    char created_utc[32];
+    char tool_version[32];
+    double additivity_error;
+    int has_channels;
+    int has_primaries;
+    double rgbw_xyz[4][3];
+    curve c[CSF_CH_COUNT];
+    csf_profile_reading *readings;
+    size_t n_readings;
+};
+
+static const char *ch_names[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
+
+/* ---------- curve maths ---------- */
+
+static void curve_free(curve *c)
+{
+    free(c->v);
+    free(c->lum);
+    free(c->y);
+    free(c->m);
+    memset(c, 0, sizeof *c);
+}
+
+static int curve_alloc(curve *c, int n)
+{
+    c->n = n;
+    c->v = calloc((size_t)n, sizeof(double));
+    c->lum = calloc((size_t)n, sizeof(double));
+    c->y = calloc((size_t)n, sizeof(double));
+    c->m = calloc((size_t)n, sizeof(double));
+    return c->v && c->lum && c->y && c->m ? 0 : -1;
+}
+
+/* Fritsch–Carlson (1980) slopes: a cubic Hermite with these slopes is monotone wherever the data
+ * are. */
+static void fc_slopes(const double *x, const double *y, double *m, int n)
+{
+    if (n < 2) {
+        if (n == 1) m[0] = 0;
+        return;
+    }
+    double d_prev = 0;
+    for (int i = 0; i < n - 1; i++) {
+        double d = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
+        if (i == 0) m[0] = d;
+        else m[i] = (d_prev * d <= 0) ? 0 : (d_prev + d) / 2;
+        d_prev = d;
+    }
+    m[n - 1] = d_prev;
+    for (int i = 0; i < n - 1; i++) {
+        double d = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
+        if (d == 0) {
+            m[i] = m[i + 1] = 0;
+            continue;
+        }
+        double a = m[i] / d, b = m[i + 1] / d;
+        double s = a * a + b * b;
+        if (s > 9) {
+            double t = 3 / sqrt(s);
+            m[i] = t * a * d;
+            m[i + 1] = t * b * d;
+        }
+    }
+}
+
+static double hermite(const curve *c, int i, double t)
+{
+    double h = c->v[i + 1] - c->v[i];
+    double t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * c->y[i] + (t3 - 2 * t2 + t) * h * c->m[i] +
+           (-2 * t3 + 3 * t2) * c->y[i + 1] + (t3 - t2) * h * c->m[i + 1];
+}
+
+static int find_seg(const curve *c, double v)
+{
+    int lo = 0, hi = c->n - 1;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (c->v[mid] <= v) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+static double curve_y(const curve *c, double v)
+{
+    if (!(v > 0)) v = 0;
+    if (v > 1) v = 1;
+    int i = find_seg(c, v);
+    if (i >= c->n - 1) return c->y[c->n - 1];
+    double t = (v - c->v[i]) / (c->v[i + 1] - c->v[i]);
+    double y = hermite(c, i, t);
+    return y < 0 ? 0 : y;
+}
+
+static double curve_lum(const curve *c, double v)
+{
+    return c->base + c->top * pow(curve_y(c, v), c->g);
+}
+
+static double curve_drive(const curve *c, double lum)
+{
+    if (!(lum > c->base)) {
+        /* lowest drive giving the black level (flat start of a cut-off display) */
+        int i = 0;
+        while (i + 1 < c->n && c->y[i + 1] <= 0) i++;
+        return c->v[i];
+    }
+    if (lum >= c->base + c->top) return 1.0;
+    double y = pow((lum - c->base) / c->top, 1.0 / c->g);
+    /* first knot with y_k >= y: the segment before it holds the answer */
+    int lo = 0, hi = c->n - 1;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (c->y[mid] < y) lo = mid;
+        else hi = mid;
+    }
+    if (c->y[hi] == y) {
+        int k = hi;
+        while (k > 0 && c->y[k - 1] == y) k--;
+        return c->v[k];
+    }
+    /* bisection on the monotone cubic: converges to the last bit of the double */
+    double a = 0, b = 1;
+    for (int it = 0; it < 80; it++) {
+        double t = 0.5 * (a + b);
+        if (hermite(c, lo, t) < y) a = t;
+        else b = t;
+        if (b - a < 1e-17) break;
+    }
+    return c->v[lo] + 0.5 * (a + b) * (c->v[lo + 1] - c->v[lo]);
+}
+
+/* Fills y/m from v/lum; base is lum[0] (grey) or 0 (channels); g fitted when g_fit <= 0. */
+static int curve_finish(curve *c, int is_channel, double g_fixed)
+{
+    if (c->n < 2 || c->v[0] != 0.0 || c->v[c->n - 1] != 1.0) return -1;
+    c->base = is_channel ? 0.0 : c->lum[0];
+    c->top = c->lum[c->n - 1] - c->base;
+    if (!(c->top > 0)) return -1;
+    if (g_fixed > 0) {
+        c->g = g_fixed;
+    } else {
+        /* log-log slope through knots in the upper part of the range, where relative accuracy
+         * matters; clamped to a sane range */
+        double sx = 0, sy = 0, sxx = 0, sxy = 0;
+        int k = 0;
+        for (int i = 1; i < c->n - 1; i++) {
+            double r = (c->lum[i] - c->base) / c->top;
+            if (r < 0.05 || c->v[i] <= 0) continue;
+            double lx = log(c->v[i]), ly = log(r);
+            sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly;
+            k++;
+        }
+        double g = 2.2;
+        /* fit through the origin of log-log (v=1 -> r=1) */
+        if (k >= 1 && sxx > 0) g = sxy / sxx;
+        (void)sx; (void)sy;
+        if (!(g >= 1.0)) g = 1.0;
+        if (g > 4.0) g = 4.0;
+        c->g = g;
+    }
+    for (int i = 0; i < c->n; i++) {
+        double r = (c->lum[i] - c->base) / c->top;
+        if (r < 0) r = 0;
+        if (r > 1) r = 1;
+        c->y[i] = pow(r, 1.0 / c->g);
+    }
+    for (int i = 1; i < c->n; i++)
+        if (c->y[i] < c->y[i - 1]) c->y[i] = c->y[i - 1]; /* rounding only: data are monotone */
+    fc_slopes(c->v, c->y, c->m, c->n);
+    return 0;
+}
+
+/* ---------- accessors ---------- */
+
+const char *csf_profile_id(const csf_display_profile *p) { return p->id; }
+double csf_profile_lum_black(const csf_display_profile *p) { return p->c[CSF_CH_GREY].base; }
+double csf_profile_lum_max(const csf_display_profile *p)
+{
+    return p->c[CSF_CH_GREY].base + p->c[CSF_CH_GREY].top;
+}
+double csf_profile_grey_lum(const csf_display_profile *p, double drive01)
+{
+    return curve_lum(&p->c[CSF_CH_GREY], drive01);
+}
+double csf_profile_grey_drive(const csf_display_profile *p, double lum_cdm2)
+{
+    return curve_drive(&p->c[CSF_CH_GREY], lum_cdm2);
+}
+int csf_profile_has_channels(const csf_display_profile *p) { return p->has_channels; }
+double csf_profile_channel_lum(const csf_display_profile *p, int ch, double drive01)
+{
+    if (!p->has_channels || ch < 0 || ch > 2) return NAN;
+    return curve_lum(&p->c[ch], drive01);
+}
+double csf_profile_channel_drive(const csf_display_profile *p, int ch, double lum_cdm2)
+{
+    if (!p->has_channels || ch < 0 || ch > 2) return NAN;
+    return curve_drive(&p->c[ch], lum_cdm2);
+}
+size_t csf_profile_knots(const csf_display_profile *p, int ch, const double **drive01,
+                         const double **lum_cdm2)
+{
+    if (ch < 0 || ch >= CSF_CH_COUNT || (ch < 3 && !p->has_channels)) return 0;
+    if (drive01) *drive01 = p->c[ch].v;
+    if (lum_cdm2) *lum_cdm2 = p->c[ch].lum;
+    return (size_t)p->c[ch].n;
+}
+size_t csf_profile_readings(const csf_display_profile *p, const csf_profile_reading **out)
+{
+    if (out) *out = p->readings;
+    return p->n_readings;
+}
+int csf_profile_primaries_xyz(const csf_display_profile *p, double rgbw_xyz[4][3])
+{
+    if (!p->has_primaries) return 0;
+    memcpy(rgbw_xyz, p->rgbw_xyz, sizeof p->rgbw_xyz);
+    return 1;
+}
+double csf_profile_additivity_error(const csf_display_profile *p) { return p->additivity_error; }
+const char *csf_profile_instrument(const csf_display_profile *p) { return p->instrument; }
+const char *csf_profile_created_utc(const csf_display_profile *p) { return p->created_utc; }
+
+static int parse_utc(const char *s, time_t *out)
+{
+    struct tm tm;
+    memset(&tm, 0, sizeof tm);
+    int Y, M, D, h, mi, se;
+    char z;
+    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d:%2d%c", &Y, &M, &D, &h, &mi, &se, &z) != 7 || z != 'Z')
+        return -1;
+    if (Y < 1970 || Y > 9999 || M < 1 || M > 12 || D < 1 || D > 31 || h > 23 || mi > 59 || se > 60 ||
+        h < 0 || mi < 0 || se < 0)
+        return -1;
+    tm.tm_year = Y - 1900; tm.tm_mon = M - 1; tm.tm_mday = D;
+    tm.tm_hour = h; tm.tm_min = mi; tm.tm_sec = se;
+    *out = timegm(&tm);
+    return 0;
+}
+
+double csf_profile_age_days(const csf_display_profile *p)
+{
+    time_t t;
+    if (parse_utc(p->created_utc, &t)) return NAN;
+    return difftime(time(NULL), t) / 86400.0;
+}
+
+void csf_profile_free(csf_display_profile *p)
+{
+    if (!p) return;
+    for (int c = 0; c < CSF_CH_COUNT; c++) curve_free(&p->c[c]);
+    free(p->readings);
+    free(p);
+}
+
+/* FNV-1a over the knot values: the id changes when the model does. */
+static void make_id(csf_display_profile *p)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < CSF_CH_COUNT; c++)
+        for (int i = 0; i < p->c[c].n; i++) {
+            double pair[2] = {p->c[c].v[i], p->c[c].lum[i]};
+            const unsigned char *b = (const unsigned char *)pair;
+            for (size_t k = 0; k < sizeof pair; k++) h = (h ^ b[k]) * 1099511628211ull;
+        }
+    char disp[64];
+    size_t j = 0;
+    for (const char *s = p->display; *s && j < sizeof disp - 1; s++)
+        disp[j++] = (isalnum((unsigned char)*s) || *s == '.' || *s == '_') ? *s : '-';
+    disp[j] = 0;
+    char date[16] = "undated";
+    if (strlen(p->created_utc) >= 10)
+        snprintf(date, sizeof date, "%.4s%.2s%.2s", p->created_utc, p->created_utc + 5,
+                 p->created_utc + 8);
+    snprintf(p->id, sizeof p->id, "%s-%s-%08x", disp[0] ? disp : "display", date,
+             (unsigned)(h ^ (h >> 32)));
+}
+
+static void now_utc(char *buf, size_t len)
+{
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+static void copy_str(char *dst, size_t cap, const char *src)
+{
+    snprintf(dst, cap, "%s", src ? src : "");
+    for (char *s = dst; *s; s++)
+        if (*s == '\n' || *s == '\r') *s = ' ';
+}
+
+/* ---------- default profile ---------- */
+
+csf_display_profile *csf_profile_default(void)
+{
+    csf_display_profile *p = calloc(1, sizeof *p);
+    if (!p) return NULL;
+    copy_str(p->display, sizeof p->display, "default");
+    copy_str(p->instrument, sizeof p->instrument, "none (documented default display)");
+    copy_str(p->created_utc, sizeof p->created_utc, "2026-01-01T00:00:00Z");
+    copy_str(p->tool_version, sizeof p->tool_version, CSF_VERSION);
+    p->additivity_error = 0;
+    p->has_channels = 1;
+    static const double w[3] = {0.2126, 0.7152, 0.0722};
+    const double black = 0.2, white = 100.0, g = 2.2;
+    const int n = 17;
+    for (int c = 0; c < CSF_CH_COUNT; c++) {
+        if (curve_alloc(&p->c[c], n)) {
+            csf_profile_free(p);
+            return NULL;
+        }
+        for (int i = 0; i < n; i++) {
+            double v = (double)i / (n - 1);
+            double rel = pow(v, g);
+            p->c[c].v[i] = v;
+            p->c[c].lum[i] = c == CSF_CH_GREY ? black + (white - black) * rel : (white - black) * w[c] * rel;
+        }
+        curve_finish(&p->c[c], c != CSF_CH_GREY, g);
+    }
+    snprintf(p->id, sizeof p->id, "default-gamma2.2-100cdm2");
+    return p;
+}
+
+/* ---------- building from readings ---------- */
+
+static int cmp_reading(const void *a, const void *b)
+{
+    const csf_profile_reading *x = a, *y = b;
+    return (x->drive01 > y->drive01) - (x->drive01 < y->drive01);
+}
+
+/* Averages repeats, then pool-adjacent-violators so the knots are non-decreasing (noise can make
+ * two close levels cross; the display itself does not). */
+static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, int ch, double black,
+                              csf_error *err)
+{
+    csf_profile_reading *sel = malloc((n ? n : 1) * sizeof *sel);
+    if (!sel) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++)
+        if (r[i].channel == ch && isfinite(r[i].lum_cdm2) && r[i].drive01 >= 0 && r[i].drive01 <= 1)
+            sel[k++] = r[i];
+    if (ch != CSF_CH_GREY) {
+        /* channel curves include the shared black point (drive 0 of every channel is black) */
+        for (size_t i = 0; i < n; i++)
+            if (r[i].channel == CSF_CH_GREY && r[i].drive01 == 0 && isfinite(r[i].lum_cdm2)) {
+                sel = realloc(sel, (k + 1) * sizeof *sel);
+                sel[k] = r[i];
+                sel[k].channel = ch;
+                k++;
+            }
+    }
+    qsort(sel, k, sizeof *sel, cmp_reading);
+    double *v = malloc((k ? k : 1) * sizeof(double)), *L = malloc((k ? k : 1) * sizeof(double)),
+           *wt = malloc((k ? k : 1) * sizeof(double));
+    int m = 0;
+    for (size_t i = 0; i < k;) {
+        size_t j = i;
+        double s = 0;
+        while (j < k && sel[j].drive01 == sel[i].drive01) s += sel[j++].lum_cdm2;
+        v[m] = sel[i].drive01;
+        L[m] = s / (double)(j - i) - (ch == CSF_CH_GREY ? 0 : black);
+        wt[m] = (double)(j - i);
+        m++;
+        i = j;
+    }
+    free(sel);
+    if (m < 2 || v[0] != 0 || v[m - 1] != 1) {
+        free(v); free(L); free(wt);
+        return csf_error_set(err, CSF_E_INSUFFICIENT,
+                             "%s curve needs readings at drive 0 and 1 (has %d distinct levels)",
+                             ch_names[ch], m);
+    }
+    if (m > MAX_KNOTS) {
+        free(v); free(L); free(wt);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve has %d levels (limit %d)", ch_names[ch],
+                             m, MAX_KNOTS);
+    }
+    /* PAV: blocks of pooled values, then expanded back per knot */
+    double *bv = malloc((size_t)m * sizeof(double)), *bw = malloc((size_t)m * sizeof(double));
+    int *bn = malloc((size_t)m * sizeof(int));
+    int nb = 0;
+    for (int i = 0; i < m; i++) {
+        bv[nb] = L[i]; bw[nb] = wt[i]; bn[nb] = 1; nb++;
+        while (nb > 1 && bv[nb - 2] > bv[nb - 1]) {
+            double w2 = bw[nb - 2] + bw[nb - 1];
+            bv[nb - 2] = (bv[nb - 2] * bw[nb - 2] + bv[nb - 1] * bw[nb - 1]) / w2;
+            bw[nb - 2] = w2;
+            bn[nb - 2] += bn[nb - 1];
+            nb--;
+        }
+    }
+    int idx = 0;
+    for (int b = 0; b < nb; b++)
+        for (int j = 0; j < bn[b]; j++) L[idx++] = bv[b];
+    free(bv); free(bw); free(bn);
+    csf_status st = CSF_OK;
+    if (curve_alloc(c, m)) {
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    } else {
+        memcpy(c->v, v, (size_t)m * sizeof(double));
+        memcpy(c->lum, L, (size_t)m * sizeof(double));
+        if (ch != CSF_CH_GREY && c->lum[0] < 0) c->lum[0] = 0;
+        for (int i = 1; ch != CSF_CH_GREY && i < m; i++)
+            if (c->lum[i] < 0) c->lum[i] = 0;
+        if (curve_finish(c, ch != CSF_CH_GREY, 0))
+            st = csf_error_set(err, CSF_E_INSUFFICIENT,
+                               "%s curve does not rise: full drive is not brighter than drive 0 "
+                               "(is the sensor on the patch?)", ch_names[ch]);
+    }
+    free(v); free(L); free(wt);
+    return st;
+}
+
+csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
+                             const csf_profile_meta *meta, csf_display_profile **out, csf_error *err)
+{
+    *out = NULL;
+    if (n > MAX_READINGS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%zu readings (limit %d)", n, MAX_READINGS);
+    csf_display_profile *p = calloc(1, sizeof *p);
+    if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    copy_str(p->display, sizeof p->display, meta && meta->display_name ? meta->display_name : "display");
+    copy_str(p->instrument, sizeof p->instrument, meta && meta->instrument ? meta->instrument : "unknown");
+    if (meta && meta->created_utc) copy_str(p->created_utc, sizeof p->created_utc, meta->created_utc);
+    else now_utc(p->created_utc, sizeof p->created_utc);
+    copy_str(p->tool_version, sizeof p->tool_version,
+             meta && meta->tool_version ? meta->tool_version : CSF_VERSION);
+    p->additivity_error = meta ? meta->additivity_error : NAN;
+    csf_status st = build_curve(&p->c[CSF_CH_GREY], readings, n, CSF_CH_GREY, 0, err);
+    if (st) {
+        csf_profile_free(p);
+        return st;
+    }
+    double black = p->c[CSF_CH_GREY].lum[0];
+    int have[3] = {0, 0, 0};
+    for (size_t i = 0; i < n; i++)
+        if (readings[i].channel >= 0 && readings[i].channel < 3 && readings[i].drive01 == 1) have[readings[i].channel] = 1;
+    if (have[0] && have[1] && have[2]) {
+        for (int c = 0; c < 3; c++) {
+            st = build_curve(&p->c[c], readings, n, c, black, err);
+            if (st) {
+                csf_profile_free(p);
+                return st;
+            }
+        }
+        p->has_channels = 1;
+    }
+    /* primaries: mean XYZ at full drive minus black XYZ */
+    double acc[5][3] = {{0}};
+    int cnt[5] = {0};
+    for (size_t i = 0; i < n; i++) {
+        const csf_profile_reading *r = &readings[i];
+        if (!r->has_xyz) continue;
+        int slot = -1;
+        if (r->drive01 == 1 && r->channel >= 0 && r->channel <= CSF_CH_GREY) slot = r->channel;
+        else if (r->drive01 == 0 && r->channel == CSF_CH_GREY) slot = 4;
+        if (slot < 0) continue;
+        for (int k = 0; k < 3; k++) acc[slot][k] += r->xyz[k];
+        cnt[slot]++;
+    }
+    if (cnt[0] && cnt[1] && cnt[2] && cnt[3]) {
+        p->has_primaries = 1;
+        for (int s = 0; s < 4; s++)
+            for (int k = 0; k < 3; k++)
+                p->rgbw_xyz[s][k] = acc[s][k] / cnt[s] - (cnt[4] ? acc[4][k] / cnt[4] : 0);
+    }
+    p->readings = malloc((n ? n : 1) * sizeof *p->readings);
+    if (!p->readings) {
+        csf_profile_free(p);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    if (n) memcpy(p->readings, readings, n * sizeof *readings);
+    p->n_readings = n;
+    make_id(p);
+    *out = p;
+    return CSF_OK;
+}
+
+/* ---------- text format ---------- */
+
+typedef struct {
+    char *buf;
+    size_t len, cap;
+    int oom;
+} sbuf;
+
+static void sb_printf(sbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void sb_printf(sbuf *b, const char *fmt, ...)
+{
+    if (b->oom) return;
+    for (;;) {
+        va_list ap;
+        va_start(ap, fmt);
+        int n = vsnprintf(b->buf + b->len, b->cap - b->len, fmt, ap);
+        va_end(ap);
+        if (n < 0) {
+            b->oom = 1;
+            return;
+        }
+        if ((size_t)n < b->cap - b->len) {
+            b->len += (size_t)n;
+            return;
+        }
+        size_t nc = b->cap * 2 + (size_t)n + 256;
+        char *nb = realloc(b->buf, nc);
+        if (!nb) {
+            b->oom = 1;
+            return;
+        }
+        b->buf = nb;
+        b->cap = nc;
+    }
+}
+
+static void sb_num(sbuf *b, double x)
+{
+    if (isnan(x)) sb_printf(b, "nan");
+    else sb_printf(b, "%.17g", x);
+}
+
+csf_status csf_profile_to_text(const csf_display_profile *p, char **out, csf_error *err)
+{
+    sbuf b = {malloc(4096), 0, 4096, 0};
+    if (!b.buf) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    b.buf[0] = 0;
+    sb_printf(&b, "csfcal-display-profile 1\n");
+    sb_printf(&b, "# luminance per drive value of one monitor; see docs/display-profile.md\n");
+    sb_printf(&b, "id = %s\ndisplay = %s\ninstrument = %s\ncreated_utc = %s\ntool_version = %s\n",
+              p->id, p->display, p->instrument, p->created_utc, p->tool_version);
+    sb_printf(&b, "lum_black_cdm2 = ");
+    sb_num(&b, csf_profile_lum_black(p));
+    sb_printf(&b, "\nlum_max_cdm2 = ");
+    sb_num(&b, csf_profile_lum_max(p));
+    sb_printf(&b, "\nadditivity_error = ");
+    sb_num(&b, p->additivity_error);
+    sb_printf(&b, "\nhas_channels = %d\n", p->has_channels);
+    if (p->has_primaries) {
+        static const char *pn[4] = {"primary_r_xyz", "primary_g_xyz", "primary_b_xyz", "white_xyz"};
+        for (int s = 0; s < 4; s++) {
+            sb_printf(&b, "%s = ", pn[s]);
+            for (int k = 0; k < 3; k++) {
+                sb_num(&b, p->rgbw_xyz[s][k]);
+                sb_printf(&b, k < 2 ? "," : "\n");
+            }
+        }
+    }
+    for (int ch = CSF_CH_GREY; ch >= 0; ch--) {
+        if (ch < 3 && !p->has_channels) break;
+        const curve *c = &p->c[ch];
+        sb_printf(&b, "\n[curve %s]\ntransform_gamma = ", ch_names[ch]);
+        sb_num(&b, c->g);
+        sb_printf(&b, "\ndrive01,lum_cdm2\n");
+        for (int i = 0; i < c->n; i++) {
+            sb_num(&b, c->v[i]);
+            sb_printf(&b, ",");
+            sb_num(&b, c->lum[i]);
+            sb_printf(&b, "\n");
+        }
+    }
+    sb_printf(&b, "\n[readings]\nchannel,drive01,lum_cdm2,X,Y,Z\n");
+    for (size_t i = 0; i < p->n_readings; i++) {
+        const csf_profile_reading *r = &p->readings[i];
+        sb_printf(&b, "%s,", ch_names[r->channel >= 0 && r->channel < CSF_CH_COUNT ? r->channel : CSF_CH_GREY]);
+        sb_num(&b, r->drive01);
+        sb_printf(&b, ",");
+        sb_num(&b, r->lum_cdm2);
+        for (int k = 0; k < 3; k++) {
+            sb_printf(&b, ",");
+            if (r->has_xyz) sb_num(&b, r->xyz[k]);
+        }
+        sb_printf(&b, "\n");
+    }
+    if (b.oom) {
+        free(b.buf);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory writing profile");
+    }
+    *out = b.buf;
+    return CSF_OK;
+}
+
+csf_status csf_profile_save(const csf_display_profile *p, const char *path, csf_error *err)
+{
+    char *text;
+    csf_status st = csf_profile_to_text(p, &text, err);
+    if (st) return st;
+    /* write to a temporary then rename, so a crash never leaves half a profile */
+    size_t pl = strlen(path);
+    char *tmp = malloc(pl + 16);
+    if (!tmp) {
+        free(text);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    snprintf(tmp, pl + 16, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        st = csf_error_set(err, CSF_E_IO, "cannot write profile %s: %s", path, strerror(errno));
+    } else {
+        size_t len = strlen(text);
+        int ok = fwrite(text, 1, len, f) == len;
+        ok = (fflush(f) == 0) && ok;
+        ok = (fclose(f) == 0) && ok;
+        if (!ok || rename(tmp, path) != 0) {
+            st = csf_error_set(err, CSF_E_IO, "cannot write profile %s: %s", path, strerror(errno));
+            remove(tmp);
+        }
+    }
+    free(tmp);
+    free(text);
+    return st;
+}
+
+/* Parser state for one line-oriented pass. */
+typedef struct {
+    const char *name;
+    int line;
+    csf_error *err;
+} pctx;
+
+static csf_status perr(pctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static csf_status perr(pctx *c, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return csf_error_set(c->err, CSF_E_FORMAT, "%s:%d: %s", c->name, c->line, msg);
+}
+
+static int parse_dbl(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    while (*s == ' ') s++;
+    if (strncmp(s, "nan", 3) == 0 && (s[3] == 0 || s[3] == ',' || s[3] == ' ')) {
+        *out = NAN;
+        return 3;
+    }
+    double v = strtod(s, &end);
+    if (end == s || errno || !isfinite(v)) return -1;
+    *out = v;
+    return (int)(end - s);
+}
+
+/* Splits a CSV row of up to max doubles (empty fields = NAN). Returns count or -1. */
+static int split_nums(char *s, double *out, int max, int *empty_mask)
+{
+    int n = 0;
+    *empty_mask = 0;
+    for (;;) {
+        if (n >= max) return -1;
+        char *comma = strchr(s, ',');
+        if (comma) *comma = 0;
+        char *t = s;
+        while (*t == ' ') t++;
+        if (!*t) {
+            out[n] = NAN;
+            *empty_mask |= 1 << n;
+        } else {
+            int used = parse_dbl(t, &out[n]);
+            if (used < 0) return -1;
+            t += used;
+            while (*t == ' ') t++;
+            if (*t) return -1;
+        }
+        n++;
+        if (!comma) break;
+        s = comma + 1;
+    }
+    return n;
+}
+
+static int channel_from_name(const char *s)
+{
+    for (int c = 0; c < CSF_CH_COUNT; c++)
+        if (strcmp(s, ch_names[c]) == 0) return c;
+    return -1;
+}
+
+static char *trim(char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    size_t l = strlen(s);
+    while (l && (s[l - 1] == ' ' || s[l - 1] == '\t' || s[l - 1] == '\r')) s[--l] = 0;
+    return s;
+}
+
+static csf_status parse_named(const char *text, size_t len, const char *name,
+                              csf_display_profile **out, csf_error *err)
+{
+    *out = NULL;
+    pctx pc = {name, 0, err};
+    if (len > MAX_FILE_BYTES)
+        return csf_error_set(err, CSF_E_FORMAT, "%s: %zu bytes (limit %u)", name, len, MAX_FILE_BYTES);
+    csf_display_profile *p = calloc(1, sizeof *p);
+    if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    p->additivity_error = NAN;
+    size_t cap_r = 0;
+    int section = -1; /* -1 header keys, 0..3 curve, 4 readings */
+    int section_line = 0; /* lines seen in this section */
+    int seen_curve[CSF_CH_COUNT] = {0};
+    int cap_k[CSF_CH_COUNT] = {0};
+    int declared_channels = -1;
+    int seen_prim = 0;
+    double gam[CSF_CH_COUNT] = {0};
+    csf_status st = CSF_OK;
+    char line[1024];
+    size_t pos = 0;
+    while (pos < len && st == CSF_OK) {
+        size_t start = pos;
+        while (pos < len && text[pos] != '\n') pos++;
+        size_t l = pos - start;
+        if (pos < len) pos++;
+        pc.line++;
+        if (l >= sizeof line) {
+            st = perr(&pc, "line longer than %zu characters", sizeof line - 1);
+            break;
+        }
+        memcpy(line, text + start, l);
+        line[l] = 0;
+        if (strlen(line) != l) {
+            st = perr(&pc, "NUL byte in text");
+            break;
+        }
+        char *s = trim(line);
+        if (pc.line == 1) {
+            int ver;
+            char extra;
+            if (sscanf(s, "csfcal-display-profile %d%c", &ver, &extra) != 1) {
+                st = perr(&pc, "not a csfcal display profile (first line must be 'csfcal-display-profile 1')");
+            } else if (ver != 1) {
+                st = csf_error_set(err, CSF_E_UNSUPPORTED,
+                                   "%s: profile format version %d; this csfcal reads version 1", name, ver);
+            }
+            continue;
+        }
+        if (!*s || *s == '#') continue;
+        if (*s == '[') {
+            char *close = strchr(s, ']');
+            if (!close || close[1]) {
+                st = perr(&pc, "malformed section header");
+                break;
+            }
+            *close = 0;
+            if (strcmp(s + 1, "readings") == 0) {
+                section = 4;
+            } else if (strncmp(s + 1, "curve ", 6) == 0) {
+                int c = channel_from_name(s + 7);
+                if (c < 0) {
+                    st = perr(&pc, "unknown curve '%s' (r, g, b, grey)", s + 7);
+                    break;
+                }
+                if (seen_curve[c]) {
+                    st = perr(&pc, "curve %s given twice", s + 7);
+                    break;
+                }
+                seen_curve[c] = 1;
+                section = c;
+            } else {
+                st = perr(&pc, "unknown section [%s]", s + 1);
+                break;
+            }
+            section_line = 0;
+            continue;
+        }
+        if (section == -1) {
+            char *eq = strchr(s, '=');
+            if (!eq) {
+                st = perr(&pc, "expected key = value");
+                break;
+            }
+            *eq = 0;
+            char *k = trim(s), *v = trim(eq + 1);
+            double x;
+            if (strcmp(k, "id") == 0) copy_str(p->id, sizeof p->id, v);
+            else if (strcmp(k, "display") == 0) copy_str(p->display, sizeof p->display, v);
+            else if (strcmp(k, "instrument") == 0) copy_str(p->instrument, sizeof p->instrument, v);
+            else if (strcmp(k, "created_utc") == 0) {
+                time_t t;
+                if (parse_utc(v, &t)) {
+                    st = perr(&pc, "created_utc must be YYYY-MM-DDTHH:MM:SSZ");
+                    break;
+                }
+                copy_str(p->created_utc, sizeof p->created_utc, v);
+            } else if (strcmp(k, "tool_version") == 0) copy_str(p->tool_version, sizeof p->tool_version, v);
+            else if (strcmp(k, "lum_black_cdm2") == 0 || strcmp(k, "lum_max_cdm2") == 0) {
+                /* derived from the grey curve; checked for being a number only */
+                if (parse_dbl(v, &x) < 0) st = perr(&pc, "%s is not a number", k);
+            } else if (strcmp(k, "additivity_error") == 0) {
+                if (parse_dbl(v, &x) < 0 || (isfinite(x) && fabs(x) > 10)) st = perr(&pc, "additivity_error must be a number in -10..10 or nan");
+                else p->additivity_error = x;
+            } else if (strcmp(k, "has_channels") == 0) {
+                if (strcmp(v, "0") && strcmp(v, "1")) st = perr(&pc, "has_channels must be 0 or 1");
+                else declared_channels = v[0] - '0';
+            } else if (strcmp(k, "primary_r_xyz") == 0 || strcmp(k, "primary_g_xyz") == 0 ||
+                       strcmp(k, "primary_b_xyz") == 0 || strcmp(k, "white_xyz") == 0) {
+                int slot = k[0] == 'w' ? 3 : (k[8] == 'r' ? 0 : k[8] == 'g' ? 1 : 2);
+                double xyz[3];
+                int em;
+                if (split_nums(v, xyz, 3, &em) != 3 || em || !isfinite(xyz[0]) || !isfinite(xyz[1]) || !isfinite(xyz[2])) {
+                    st = perr(&pc, "%s must be three numbers X,Y,Z", k);
+                    break;
+                }
+                memcpy(p->rgbw_xyz[slot], xyz, sizeof xyz);
+                seen_prim |= 1 << slot;
+            } else {
+                /* unknown keys are allowed: later minor additions must not break older readers */
+            }
+            continue;
+        }
+        section_line++;
+        if (section < 4) {
+            curve *c = &p->c[section];
+            if (section_line == 1) {
+                char *eq = strchr(s, '=');
+                if (!eq || (*eq = 0, strcmp(trim(s), "transform_gamma") != 0) ||
+                    parse_dbl(trim(eq + 1), &gam[section]) < 0 || !(gam[section] >= 1 && gam[section] <= 4)) {
+                    st = perr(&pc, "curve must start with transform_gamma = G (1 to 4)");
+                }
+                continue;
+            }
+            if (section_line == 2) {
+                if (strcmp(s, "drive01,lum_cdm2") != 0) st = perr(&pc, "expected header drive01,lum_cdm2");
+                continue;
+            }
+            double f[2];
+            int em;
+            if (split_nums(s, f, 2, &em) != 2 || em || isnan(f[0]) || isnan(f[1])) {
+                st = perr(&pc, "expected drive01,lum_cdm2");
+                break;
+            }
+            if (c->n >= MAX_KNOTS) {
+                st = perr(&pc, "more than %d knots in a curve", MAX_KNOTS);
+                break;
+            }
+            if (f[0] < 0 || f[0] > 1 || f[1] < 0 || f[1] > 1e5) {
+                st = perr(&pc, "drive %g or luminance %g out of range (0..1, 0..100000 cd/m2)", f[0], f[1]);
+                break;
+            }
+            if (c->n > 0 && (f[0] <= c->v[c->n - 1] || f[1] < c->lum[c->n - 1])) {
+                st = perr(&pc, "knots must rise: drive strictly, luminance never falling");
+                break;
+            }
+            if (c->n == cap_k[section]) {
+                int nc = cap_k[section] ? cap_k[section] * 2 : 32;
+                double *a = realloc(c->v, (size_t)nc * sizeof(double));
+                if (a) c->v = a;
+                double *b2 = realloc(c->lum, (size_t)nc * sizeof(double));
+                if (b2) c->lum = b2;
+                if (!a || !b2) {
+                    st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+                    break;
+                }
+                cap_k[section] = nc;
+            }
+            c->v[c->n] = f[0];
+            c->lum[c->n] = f[1];
+            c->n++;
+            continue;
+        }
+        /* readings */
+        if (section_line == 1) {
+            if (strcmp(s, "channel,drive01,lum_cdm2,X,Y,Z") != 0) st = perr(&pc, "expected header channel,drive01,lum_cdm2,X,Y,Z");
+            continue;
+        }
+        char *comma = strchr(s, ',');
+        if (!comma) {
+            st = perr(&pc, "expected channel,drive01,lum_cdm2,X,Y,Z");
+            break;
+        }
+        *comma = 0;
+        int ch = channel_from_name(s);
+        double f[5];
+        int em;
+        if (ch < 0 || split_nums(comma + 1, f, 5, &em) != 5 || (em & 3) || (em && em != 0x1c)) {
+            st = perr(&pc, "expected channel,drive01,lum_cdm2,X,Y,Z (X,Y,Z all or none)");
+            break;
+        }
+        if (!(f[0] >= 0 && f[0] <= 1)) {
+            st = perr(&pc, "reading drive %g out of range 0..1", f[0]);
+            break;
+        }
+        if (p->n_readings >= MAX_READINGS) {
+            st = perr(&pc, "more than %d readings", MAX_READINGS);
+            break;
+        }
+        if (p->n_readings == cap_r) {
+            size_t nc = cap_r ? cap_r * 2 : 64;
+            csf_profile_reading *a = realloc(p->readings, nc * sizeof *a);
+            if (!a) {
+                st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+                break;
+            }
+            p->readings = a;
+            cap_r = nc;
+        }
+        csf_profile_reading *r = &p->readings[p->n_readings++];
+        r->channel = ch;
+        r->drive01 = f[0];
+        r->lum_cdm2 = f[1];
+        r->has_xyz = em == 0;
+        for (int k = 0; k < 3; k++) r->xyz[k] = r->has_xyz ? f[2 + k] : NAN;
+    }
+    if (st == CSF_OK && pc.line == 0) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty file", name);
+    if (st == CSF_OK && !seen_curve[CSF_CH_GREY]) st = csf_error_set(err, CSF_E_FORMAT, "%s: no [curve grey] section", name);
+    int chans = seen_curve[0] + seen_curve[1] + seen_curve[2];
+    if (st == CSF_OK && chans != 0 && chans != 3)
+        st = csf_error_set(err, CSF_E_FORMAT, "%s: channel curves must be all of r, g, b or none", name);
+    if (st == CSF_OK && declared_channels >= 0 && declared_channels != (chans == 3))
+        st = csf_error_set(err, CSF_E_FORMAT, "%s: has_channels = %d but %d channel curves given", name,
+                           declared_channels, chans);
+    for (int c = 0; st == CSF_OK && c < CSF_CH_COUNT; c++) {
+        if (!seen_curve[c]) continue;
+        curve *cv = &p->c[c];
+        int n = cv->n;
+        double *v = cv->v, *L = cv->lum;
+        cv->v = NULL; cv->lum = NULL;
+        if (n < 2 || v[0] != 0 || v[n - 1] != 1 || !(L[n - 1] > (c == CSF_CH_GREY ? L[0] : 0))) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "%s: curve %s needs knots at drive 0 and 1 with luminance rising", name, ch_names[c]);
+        } else if (curve_alloc(cv, n)) {
+            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        } else {
+            memcpy(cv->v, v, (size_t)n * sizeof(double));
+            memcpy(cv->lum, L, (size_t)n * sizeof(double));
+            if (curve_finish(cv, c != CSF_CH_GREY, gam[c]))
+                st = csf_error_set(err, CSF_E_FORMAT, "%s: curve %s is not usable", name, ch_names[c]);
+        }
+        free(v);
+        free(L);
+    }
+    if (st) {
+        csf_profile_free(p);
+        return st;
+    }
+    p->has_channels = chans == 3;
+    p->has_primaries = seen_prim == 15;
+    if (!p->created_utc[0]) copy_str(p->created_utc, sizeof p->created_utc, "1970-01-01T00:00:00Z");
+    if (!p->id[0]) make_id(p);
+    *out = p;
+    return CSF_OK;
+}
+
+csf_status csf_profile_parse(const char *text, size_t len, csf_display_profile **out, csf_error *err)
+{
+    return parse_named(text, len, "profile", out, err);
+}
+
+csf_status csf_profile_load(const char *path, csf_display_profile **out, csf_error *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return csf_error_set(err, CSF_E_IO, "cannot open display profile %s: %s", path, strerror(errno));
+    size_t cap = 65536, n = 0;
+    char *buf = malloc(cap);
+    csf_status st = CSF_OK;
+    while (buf) {
+        if (n == cap) {
+            if (cap > MAX_FILE_BYTES) break;
+            char *nb = realloc(buf, cap * 2);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0) break;
+    }
+    if (ferror(f)) st = csf_error_set(err, CSF_E_IO, "cannot read display profile %s", path);
+    fclose(f);
+    if (!buf) return csf_error_set(err, CSF_E_NOMEM, "out of memory reading %s", path);
+    if (!st) st = parse_named(buf, n, path, out, err);
+    free(buf);
+    return st;
+}
