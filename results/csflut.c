@@ -1,2 +1,879 @@
-/* placeholder */
-typedef int csflut_placeholder_a;
+/* csflut reader: parses and validates .csflut files (docs/csflut.md), derives the conservative
+ * view, and answers threshold / perceptibility / inverse queries by multilinear interpolation.
+ * libc + libm only. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/csflut.h"
+#include "results/csflut_internal.h"
+
+static const char *const axis_names[4] = {"freq", "ecc", "velocity", "luminance"};
+static const char *const axis_units[4] = {"cpd", "deg", "deg/s", "cd/m2"};
+
+const char *csflut_strerror(csflut_status s)
+{
+    switch (s) {
+    case CSFLUT_OK: return "success";
+    case CSFLUT_E_ARG: return "invalid argument";
+    case CSFLUT_E_NOMEM: return "out of memory";
+    case CSFLUT_E_IO: return "cannot read or write the file";
+    case CSFLUT_E_TRUNCATED: return "file is truncated";
+    case CSFLUT_E_BAD_MAGIC: return "not a csflut threshold table (bad magic number)";
+    case CSFLUT_E_BAD_VERSION: return "unsupported csflut format version";
+    case CSFLUT_E_BAD_CHECKSUM: return "checksum mismatch: the file is corrupted";
+    case CSFLUT_E_BAD_HEADER: return "inconsistent header or section layout";
+    case CSFLUT_E_BAD_AXIS: return "absurd axis (count, id, scale or number of points)";
+    case CSFLUT_E_NONMONOTONE: return "grid points are not strictly increasing";
+    case CSFLUT_E_BAD_VALUE: return "non-finite, zero or negative value";
+    case CSFLUT_E_BAD_METADATA: return "bad metadata";
+    case CSFLUT_E_CSV: return "CSV input refused";
+    case CSFLUT_E_UNREACHABLE: return "unreachable";
+    }
+    return "unknown csflut status";
+}
+
+const char *csflut_axis_name(csflut_axis a) { return (unsigned)a < 4 ? axis_names[a] : "?"; }
+const char *csflut_axis_unit(csflut_axis a) { return (unsigned)a < 4 ? axis_units[a] : "?"; }
+
+void csflut_diag_set(csflut_diag *d, csflut_status code, size_t where, const char *fmt, ...)
+{
+    if (!d) return;
+    d->code = code;
+    d->where = where;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, sizeof d->message, fmt, ap);
+    va_end(ap);
+}
+
+/* Bitwise CRC-32 (IEEE 802.3, reflected, poly 0xEDB88320): tables are small, a lookup table
+ * would buy nothing measurable and would need initialisation. */
+uint32_t csflut_crc32(const unsigned char *p, size_t n)
+{
+    uint32_t c = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; i++) {
+        c ^= p[i];
+        for (int k = 0; k < 8; k++) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xFFFFFFFFu;
+}
+
+/* log2 by exponent extraction and the atanh series on a mantissa in [sqrt(1/2), sqrt(2)):
+ * |s| <= 0.1716, so ten terms leave a truncation error below 1e-17. Faster than libm's log2 in a
+ * tight loop and identical in every query path. */
+double csflut_log2(double x)
+{
+    if (!(x > 0)) return x != x ? x : -HUGE_VAL;
+    if (x == HUGE_VAL) return HUGE_VAL;
+    int e = 0;
+    if (x < 0x1p-1000) { /* subnormal range: scale up first */
+        x *= 0x1p100;
+        e = -100;
+    }
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    e += (int)((bits >> 52) & 0x7ff) - 1023;
+    bits = (bits & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull;
+    double m;
+    memcpy(&m, &bits, sizeof m);
+    if (m > 1.4142135623730951) {
+        m *= 0.5;
+        e += 1;
+    }
+    double s = (m - 1.0) / (m + 1.0), z = s * s;
+    double p = 1.0 / 21;
+    p = p * z + 1.0 / 19;
+    p = p * z + 1.0 / 17;
+    p = p * z + 1.0 / 15;
+    p = p * z + 1.0 / 13;
+    p = p * z + 1.0 / 11;
+    p = p * z + 1.0 / 9;
+    p = p * z + 1.0 / 7;
+    p = p * z + 1.0 / 5;
+    p = p * z + 1.0 / 3;
+    double ln_m = 2.0 * s + 2.0 * s * z * p;
+    return (double)e + ln_m * 1.4426950408889634074;
+}
+
+/* ---- little-endian reading with bounds checks ---------------------------------------------- */
+typedef struct {
+    const unsigned char *p;
+    size_t len, pos;
+} rd;
+
+static int rd_has(const rd *r, size_t n) { return n <= r->len - r->pos; }
+static uint32_t get_u32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static uint64_t get_u64(const unsigned char *p)
+{
+    return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
+}
+static double get_f64(const unsigned char *p)
+{
+    uint64_t u = get_u64(p);
+    double d;
+    memcpy(&d, &u, sizeof d);
+    return d;
+}
+
+/* ---- validation shared with the writer ------------------------------------------------------ */
+csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, csflut_diag *diag,
+                                size_t where)
+{
+    const char *nm = axis_names[which];
+    int required = which < 2;
+    if (n < (required ? 1 : 0) || n > CSFLUT_MAX_POINTS) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_AXIS, where,
+                        "%s axis has %d points (allowed %d to %d)", nm, n, required ? 1 : 0,
+                        CSFLUT_MAX_POINTS);
+        return CSFLUT_E_BAD_AXIS;
+    }
+    int want_scale = which == 1 ? CSFLUT_SCALE_LINEAR : CSFLUT_SCALE_LOG;
+    if (scale != want_scale && !(which == 2 && scale == CSFLUT_SCALE_LINEAR)) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_AXIS, where, "%s axis has scale %d (must be %s)", nm,
+                        scale, want_scale ? "log" : "linear");
+        return CSFLUT_E_BAD_AXIS;
+    }
+    for (int i = 0; i < n; i++) {
+        double v = pts[i];
+        int bad = !isfinite(v) || v < 0 || (scale == CSFLUT_SCALE_LOG && v <= 0);
+        if (bad) {
+            csflut_diag_set(diag, CSFLUT_E_BAD_VALUE, where,
+                            "%s grid point %d is %g (must be finite and %s 0)", nm, i, v,
+                            scale == CSFLUT_SCALE_LOG ? ">" : ">=");
+            return CSFLUT_E_BAD_VALUE;
+        }
+        if (i > 0 && !(v > pts[i - 1])) {
+            csflut_diag_set(diag, CSFLUT_E_NONMONOTONE, where,
+                            "%s grid point %d (%g) is not above point %d (%g): grids must be "
+                            "strictly increasing", nm, i, v, i - 1, pts[i - 1]);
+            return CSFLUT_E_NONMONOTONE;
+        }
+    }
+    if (scale == CSFLUT_SCALE_LOG && n >= 2) {
+        /* log2 spacing must be representable: neighbours closer than ~1e-12 relative would make
+         * the interpolation weights meaningless. */
+        for (int i = 1; i < n; i++)
+            if (!(csflut_log2(pts[i]) > csflut_log2(pts[i - 1]))) {
+                csflut_diag_set(diag, CSFLUT_E_NONMONOTONE, where,
+                                "%s grid points %d and %d are too close to tell apart", nm, i - 1,
+                                i);
+                return CSFLUT_E_NONMONOTONE;
+            }
+    }
+    return CSFLUT_OK;
+}
+
+csflut_status csflut_check_values(const double *thr, const double *se, size_t n_nodes,
+                                  csflut_diag *diag, size_t where_thr, size_t where_se)
+{
+    for (size_t i = 0; i < n_nodes; i++) {
+        double v = thr[i];
+        if (!(v > 0)) { /* NaN, zero, negative, -inf */
+            csflut_diag_set(diag, CSFLUT_E_BAD_VALUE, where_thr + 8 * i,
+                            "threshold at node %zu is %g (must be > 0, or +inf for never "
+                            "visible)", i, v);
+            return CSFLUT_E_BAD_VALUE;
+        }
+    }
+    if (se)
+        for (size_t i = 0; i < n_nodes; i++) {
+            double v = se[i];
+            if (v != v) continue; /* unknown */
+            if (!isfinite(v) || v < 0) {
+                csflut_diag_set(diag, CSFLUT_E_BAD_VALUE, where_se + 8 * i,
+                                "stderr_log10 at node %zu is %g (must be finite and >= 0, or "
+                                "NaN for unknown)", i, v);
+                return CSFLUT_E_BAD_VALUE;
+            }
+        }
+    return CSFLUT_OK;
+}
+
+/* ---- derived data --------------------------------------------------------------------------- */
+static csflut_status axis_fast_init(csflut_axis_fast *a, const double *pts, int n, int logscale)
+{
+    a->n = n < 2 ? 2 : n;
+    a->node = malloc(sizeof(double) * (size_t)a->n);
+    a->inv_step = malloc(sizeof(double) * (size_t)(a->n - 1));
+    if (!a->node || !a->inv_step) return CSFLUT_E_NOMEM;
+    for (int i = 0; i < n; i++) a->node[i] = logscale ? csflut_log2(pts[i]) : pts[i];
+    if (n == 1) a->node[1] = a->node[0] + 1.0; /* padded node carries the same values */
+    for (int i = 0; i + 1 < a->n; i++) a->inv_step[i] = 1.0 / (a->node[i + 1] - a->node[i]);
+    a->lo = a->node[0];
+    a->hi = a->node[a->n - 1];
+    a->bucket_scale = CSFLUT_BUCKETS / (a->hi - a->lo);
+    if (!isfinite(a->bucket_scale)) a->bucket_scale = 0; /* only 0 * ... buckets: still correct */
+    int seg = 0;
+    for (int b = 0; b < CSFLUT_BUCKETS; b++) {
+        double start = a->lo + (a->hi - a->lo) * b / CSFLUT_BUCKETS;
+        while (seg < a->n - 2 && start >= a->node[seg + 1]) seg++;
+        a->bucket[b] = (unsigned short)seg;
+    }
+    return CSFLUT_OK;
+}
+
+/* Finds the cell and weight of x (already in the interpolation coordinate, clamped). */
+static inline int axis_fast_locate(const csflut_axis_fast *a, double x, double *w)
+{
+    int b = (int)((x - a->lo) * a->bucket_scale);
+    if (b < 0) b = 0;
+    if (b > CSFLUT_BUCKETS - 1) b = CSFLUT_BUCKETS - 1;
+    int i = a->bucket[b];
+    while (i < a->n - 2 && x >= a->node[i + 1]) i++;
+    while (i > 0 && x < a->node[i]) i--;
+    *w = (x - a->node[i]) * a->inv_step[i];
+    return i;
+}
+
+static inline double clampd(double x, double lo, double hi)
+{
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* Linear interpolation that never makes NaN from infinities: the end points are returned exactly
+ * at w = 0 and w = 1, and an infinite end point makes the open interval infinite. */
+static inline double lerp_safe(double a, double b, double w)
+{
+    if (w == 0) return a;
+    if (w == 1) return b;
+    return (1 - w) * a + w * b;
+}
+
+/* Generic locate on any axis (used by the N-D path): index i0, i1 and weight. */
+static void axis_locate(const csflut_table *t, int ax, double x, int *i0, int *i1, double *w)
+{
+    int n = t->n[ax];
+    if (n <= 1) {
+        *i0 = *i1 = 0;
+        *w = 0;
+        return;
+    }
+    const double *p = t->pts[ax];
+    if (ax == CSFLUT_AXIS_FREQ) { /* reuse the fast axis so 2-D and N-D agree bit for bit */
+        double u = clampd(csflut_log2(x), t->fx.lo, t->fx.hi);
+        *i0 = axis_fast_locate(&t->fx, u, w);
+        *i1 = *i0 + 1;
+        return;
+    }
+    if (ax == CSFLUT_AXIS_ECC) {
+        double e = clampd(x, t->ex.lo, t->ex.hi);
+        *i0 = axis_fast_locate(&t->ex, e, w);
+        *i1 = *i0 + 1;
+        return;
+    }
+    int lg = t->scale[ax] == CSFLUT_SCALE_LOG;
+    double lo = p[0], hi = p[n - 1];
+    double xc = x < lo ? lo : (x > hi ? hi : x);
+    int i = 0;
+    while (i < n - 2 && xc >= p[i + 1]) i++;
+    *i0 = i;
+    *i1 = i + 1;
+    if (lg) *w = (csflut_log2(xc) - csflut_log2(p[i])) / (csflut_log2(p[i + 1]) - csflut_log2(p[i]));
+    else *w = (xc - p[i]) / (p[i + 1] - p[i]);
+    if (*w < 0) *w = 0;
+    if (*w > 1) *w = 1;
+}
+
+static size_t node_index(const csflut_table *t, int f, int e, int v, int l)
+{
+    size_t nf = (size_t)t->n[0], ne = (size_t)t->n[1];
+    size_t nv = t->n[2] > 0 ? (size_t)t->n[2] : 1;
+    return (((size_t)l * nv + (size_t)v) * ne + (size_t)e) * nf + (size_t)f;
+}
+
+/* Full multilinear interpolation, nested freq, ecc, velocity, luminance. */
+static double interp_nd(const csflut_table *t, const double *vals, double f, double e, double v,
+                        double l)
+{
+    if (f != f || e != e) return NAN;
+    int f0, f1, e0, e1, v0 = 0, v1 = 0, l0 = 0, l1 = 0;
+    double wf, we, wv = 0, wl = 0;
+    axis_locate(t, CSFLUT_AXIS_FREQ, f, &f0, &f1, &wf);
+    axis_locate(t, CSFLUT_AXIS_ECC, e, &e0, &e1, &we);
+    if (t->n[2] > 0) {
+        if (v != v) return NAN;
+        axis_locate(t, CSFLUT_AXIS_VEL, v, &v0, &v1, &wv);
+    }
+    if (t->n[3] > 0) {
+        if (l != l) return NAN;
+        axis_locate(t, CSFLUT_AXIS_LUM, l, &l0, &l1, &wl);
+    }
+    if (t->n[0] == 1) f1 = f0;
+    if (t->n[1] == 1) e1 = e0;
+    double byl[2];
+    for (int li = 0; li < 2; li++) {
+        int L = li ? l1 : l0;
+        double byv[2];
+        for (int vi = 0; vi < 2; vi++) {
+            int V = vi ? v1 : v0;
+            double r0 = lerp_safe(vals[node_index(t, f0, e0, V, L)], vals[node_index(t, f1, e0, V, L)], wf);
+            double r1 = lerp_safe(vals[node_index(t, f0, e1, V, L)], vals[node_index(t, f1, e1, V, L)], wf);
+            byv[vi] = lerp_safe(r0, r1, we);
+        }
+        byl[li] = lerp_safe(byv[0], byv[1], wv);
+    }
+    return lerp_safe(byl[0], byl[1], wl);
+}
+
+static void compute_conservative(csflut_table *t)
+{
+    size_t nf = (size_t)t->n[0], ne = (size_t)t->n[1];
+    size_t slices = t->n_nodes / (nf * ne);
+    for (size_t k = 0; k < t->n_nodes; k++) {
+        double v = t->raw[k];
+        if (t->se && t->k_shift > 0 && isfinite(t->se[k]) && isfinite(v))
+            v *= pow(10.0, -t->k_shift * t->se[k]);
+        t->cons[k] = v;
+    }
+    /* min over the quadrant of higher-or-equal frequency and eccentricity */
+    for (size_t s = 0; s < slices; s++) {
+        double *c = t->cons + s * nf * ne;
+        for (size_t e = ne; e-- > 0;)
+            for (size_t f = nf; f-- > 0;) {
+                double m = c[e * nf + f];
+                if (f + 1 < nf && c[e * nf + f + 1] < m) m = c[e * nf + f + 1];
+                if (e + 1 < ne && c[(e + 1) * nf + f] < m) m = c[(e + 1) * nf + f];
+                c[e * nf + f] = m;
+            }
+    }
+}
+
+/* The 2-D slice at the default velocity/luminance, padded to >= 2 points per axis. */
+static void compute_slice(csflut_table *t, const double *vals, double *slice)
+{
+    int nf = t->fx.n, ne = t->ex.n;
+    for (int e = 0; e < ne; e++)
+        for (int f = 0; f < nf; f++) {
+            int fs = f < t->n[0] ? f : t->n[0] - 1, es = e < t->n[1] ? e : t->n[1] - 1;
+            double r;
+            if (t->n[2] == 0 && t->n[3] == 0) {
+                r = vals[node_index(t, fs, es, 0, 0)];
+            } else {
+                int v0 = 0, v1 = 0, l0 = 0, l1 = 0;
+                double wv = 0, wl = 0;
+                if (t->n[2] > 0) axis_locate(t, CSFLUT_AXIS_VEL, t->def_vel, &v0, &v1, &wv);
+                if (t->n[3] > 0) axis_locate(t, CSFLUT_AXIS_LUM, t->def_lum, &l0, &l1, &wl);
+                double a = lerp_safe(vals[node_index(t, fs, es, v0, l0)],
+                                     vals[node_index(t, fs, es, v1, l0)], wv);
+                double b = lerp_safe(vals[node_index(t, fs, es, v0, l1)],
+                                     vals[node_index(t, fs, es, v1, l1)], wv);
+                r = lerp_safe(a, b, wl);
+            }
+            slice[(size_t)e * (size_t)nf + (size_t)f] = r;
+        }
+}
+
+csflut_status csflut_table_finish(csflut_table *t)
+{
+    t->conservative = 1;
+    t->def_vel = t->n[2] > 0 ? t->pts[2][0] : 0;
+    t->def_lum = t->n[3] > 0 ? (isfinite(t->mean_lum) && t->mean_lum > 0 ? t->mean_lum : t->pts[3][0])
+                             : (isfinite(t->mean_lum) ? t->mean_lum : 0);
+    t->cons = malloc(sizeof(double) * t->n_nodes);
+    if (!t->cons) return CSFLUT_E_NOMEM;
+    csflut_status st = axis_fast_init(&t->fx, t->pts[0], t->n[0], 1);
+    if (st) return st;
+    st = axis_fast_init(&t->ex, t->pts[1], t->n[1], 0);
+    if (st) return st;
+    size_t ns = (size_t)t->fx.n * (size_t)t->ex.n;
+    t->slice_raw = malloc(sizeof(double) * ns);
+    t->slice_cons = malloc(sizeof(double) * ns);
+    if (!t->slice_raw || !t->slice_cons) return CSFLUT_E_NOMEM;
+    compute_conservative(t);
+    compute_slice(t, t->raw, t->slice_raw);
+    compute_slice(t, t->cons, t->slice_cons);
+    return CSFLUT_OK;
+}
+
+void csflut_close(csflut_table *t)
+{
+    if (!t) return;
+    for (int a = 0; a < 4; a++) free(t->pts[a]);
+    free(t->raw);
+    free(t->cons);
+    free(t->se);
+    for (int i = 0; i < CSFLUT_N_STRINGS; i++) free(t->str[i]);
+    free(t->fx.node);
+    free(t->fx.inv_step);
+    free(t->ex.node);
+    free(t->ex.inv_step);
+    free(t->slice_raw);
+    free(t->slice_cons);
+    free(t);
+}
+
+/* ---- parsing -------------------------------------------------------------------------------- */
+static csflut_status fail(csflut_diag *d, csflut_status code, size_t where, const char *msg)
+{
+    csflut_diag_set(d, code, where, "%s", msg);
+    return code;
+}
+
+static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, csflut_diag *d)
+{
+    if (len < CSFLUT_MAGIC_LEN) {
+        if (memcmp(p, CSFLUT_MAGIC, len) == 0)
+            return fail(d, CSFLUT_E_TRUNCATED, len, "file is shorter than the 8-byte magic number");
+        return fail(d, CSFLUT_E_BAD_MAGIC, 0, "not a csflut file: the magic number is missing");
+    }
+    if (memcmp(p, CSFLUT_MAGIC, CSFLUT_MAGIC_LEN) != 0)
+        return fail(d, CSFLUT_E_BAD_MAGIC, 0,
+                    "not a csflut file: the first 8 bytes are not \\x89CSFLUT\\n");
+    if (len < 12) return fail(d, CSFLUT_E_TRUNCATED, len, "file ends inside the version field");
+    t->vmaj = (int)(p[8] | p[9] << 8);
+    t->vmin = (int)(p[10] | p[11] << 8);
+    if (t->vmaj != CSFLUT_VERSION_MAJOR) {
+        csflut_diag_set(d, CSFLUT_E_BAD_VERSION, 8,
+                        "format version %d.%d is not supported (this library reads %d.x)",
+                        t->vmaj, t->vmin, CSFLUT_VERSION_MAJOR);
+        return CSFLUT_E_BAD_VERSION;
+    }
+    if (len < CSFLUT_HEADER_SIZE + 4) {
+        csflut_diag_set(d, CSFLUT_E_TRUNCATED, len,
+                        "file is %zu bytes, shorter than the %d-byte header and checksum", len,
+                        CSFLUT_HEADER_SIZE + 4);
+        return CSFLUT_E_TRUNCATED;
+    }
+    uint32_t header_size = get_u32(p + 12);
+    uint64_t file_size = get_u64(p + 16);
+    if (file_size > len) {
+        csflut_diag_set(d, CSFLUT_E_TRUNCATED, len,
+                        "file is %zu bytes but its header says %llu: truncated", len,
+                        (unsigned long long)file_size);
+        return CSFLUT_E_TRUNCATED;
+    }
+    if (file_size < len) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, (size_t)file_size,
+                        "file is %zu bytes but its header says %llu: trailing bytes", len,
+                        (unsigned long long)file_size);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    uint32_t crc_file = get_u32(p + len - 4), crc = csflut_crc32(p, len - 4);
+    if (crc != crc_file) {
+        csflut_diag_set(d, CSFLUT_E_BAD_CHECKSUM, len - 4,
+                        "CRC-32 is %08x but the file stores %08x: the file is corrupted",
+                        (unsigned)crc, (unsigned)crc_file);
+        return CSFLUT_E_BAD_CHECKSUM;
+    }
+    /* From here on the bytes are what the writer wrote, but a hostile writer can still lie. */
+    if (header_size < CSFLUT_HEADER_SIZE || header_size > len - 4) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 12, "header size %u is impossible (minimum %d)",
+                        (unsigned)header_size, CSFLUT_HEADER_SIZE);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    uint32_t n_axes = get_u32(p + 24), flags = get_u32(p + 28);
+    if (n_axes < 2 || n_axes > 4) {
+        csflut_diag_set(d, CSFLUT_E_BAD_AXIS, 24, "%u axes (allowed 2 to 4)", (unsigned)n_axes);
+        return CSFLUT_E_BAD_AXIS;
+    }
+    if (flags & ~CSFLUT_FLAG_STDERR) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 28, "unknown flags 0x%x", (unsigned)flags);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    t->dist_mm = get_f64(p + 32);
+    t->mean_lum = get_f64(p + 40);
+    uint32_t trials = get_u32(p + 48);
+    if (!(t->dist_mm != t->dist_mm || (isfinite(t->dist_mm) && t->dist_mm > 0)))
+        return fail(d, CSFLUT_E_BAD_METADATA, 32,
+                    "viewing distance must be finite and > 0 mm, or NaN for unknown");
+    if (!(t->mean_lum != t->mean_lum || (isfinite(t->mean_lum) && t->mean_lum > 0)))
+        return fail(d, CSFLUT_E_BAD_METADATA, 40,
+                    "mean luminance must be finite and > 0 cd/m2, or NaN for unknown");
+    if (trials > 0x7FFFFFFFu) return fail(d, CSFLUT_E_BAD_METADATA, 48, "trial count above 2^31-1");
+    t->trials = (int)trials;
+
+    rd r = {p, len - 4, header_size};
+    int prev_id = -1;
+    for (uint32_t k = 0; k < n_axes; k++) {
+        size_t at = r.pos;
+        if (!rd_has(&r, CSFLUT_AXIS_RECORD_SIZE))
+            return fail(d, CSFLUT_E_BAD_HEADER, at, "axis record runs past the end of the file");
+        uint32_t id = get_u32(p + at), scale = get_u32(p + at + 4), n = get_u32(p + at + 8);
+        if (id > 3 || (int)id <= prev_id || (k < 2 && id != k)) {
+            csflut_diag_set(d, CSFLUT_E_BAD_AXIS, at,
+                            "axis record %u has id %u (frequency 0 and eccentricity 1 first, then "
+                            "velocity 2 and/or luminance 3, each once, in order)",
+                            (unsigned)k, (unsigned)id);
+            return CSFLUT_E_BAD_AXIS;
+        }
+        prev_id = (int)id;
+        if (n < 1 || n > CSFLUT_MAX_POINTS) {
+            csflut_diag_set(d, CSFLUT_E_BAD_AXIS, at + 8, "%s axis has %u points (allowed 1 to %d)",
+                            axis_names[id], (unsigned)n, CSFLUT_MAX_POINTS);
+            return CSFLUT_E_BAD_AXIS;
+        }
+        if (scale > 1) {
+            csflut_diag_set(d, CSFLUT_E_BAD_AXIS, at + 4, "%s axis has unknown scale %u",
+                            axis_names[id], (unsigned)scale);
+            return CSFLUT_E_BAD_AXIS;
+        }
+        r.pos += CSFLUT_AXIS_RECORD_SIZE;
+        if (!rd_has(&r, 8 * (size_t)n))
+            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "axis points run past the end of the file");
+        t->n[id] = (int)n;
+        t->scale[id] = (int)scale;
+        t->pts[id] = malloc(sizeof(double) * n);
+        if (!t->pts[id]) return CSFLUT_E_NOMEM;
+        for (uint32_t i = 0; i < n; i++) t->pts[id][i] = get_f64(p + r.pos + 8 * (size_t)i);
+        csflut_status st = csflut_check_axis((int)id, (int)n, t->pts[id], (int)scale, d, r.pos);
+        if (st) return st;
+        r.pos += 8 * (size_t)n;
+    }
+    size_t nodes = 1;
+    for (int a = 0; a < 4; a++) {
+        if (t->n[a] > 0) nodes *= (size_t)t->n[a];
+        if (nodes > CSFLUT_MAX_NODES) {
+            csflut_diag_set(d, CSFLUT_E_BAD_AXIS, header_size,
+                            "the grid has more than %u nodes", (unsigned)CSFLUT_MAX_NODES);
+            return CSFLUT_E_BAD_AXIS;
+        }
+    }
+    t->n_nodes = nodes;
+    size_t where_thr = r.pos;
+    if (!rd_has(&r, 8 * nodes))
+        return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "threshold values run past the end of the file");
+    t->raw = malloc(sizeof(double) * nodes);
+    if (!t->raw) return CSFLUT_E_NOMEM;
+    for (size_t i = 0; i < nodes; i++) t->raw[i] = get_f64(p + r.pos + 8 * i);
+    r.pos += 8 * nodes;
+    size_t where_se = r.pos;
+    if (flags & CSFLUT_FLAG_STDERR) {
+        if (!rd_has(&r, 8 * nodes))
+            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "stderr values run past the end of the file");
+        t->se = malloc(sizeof(double) * nodes);
+        if (!t->se) return CSFLUT_E_NOMEM;
+        for (size_t i = 0; i < nodes; i++) t->se[i] = get_f64(p + r.pos + 8 * i);
+        r.pos += 8 * nodes;
+    }
+    csflut_status st = csflut_check_values(t->raw, t->se, nodes, d, where_thr, where_se);
+    if (st) return st;
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
+        if (!rd_has(&r, 4))
+            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "metadata runs past the end of the file");
+        uint32_t sl = get_u32(p + r.pos);
+        if (sl > CSFLUT_MAX_STRING) {
+            csflut_diag_set(d, CSFLUT_E_BAD_METADATA, r.pos,
+                            "metadata string %d is %u bytes (at most %d)", k, (unsigned)sl,
+                            CSFLUT_MAX_STRING);
+            return CSFLUT_E_BAD_METADATA;
+        }
+        r.pos += 4;
+        if (!rd_has(&r, sl))
+            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "metadata string runs past the end of the file");
+        if (memchr(p + r.pos, 0, sl))
+            return fail(d, CSFLUT_E_BAD_METADATA, r.pos, "metadata string contains a NUL byte");
+        t->str[k] = malloc(sl + 1);
+        if (!t->str[k]) return CSFLUT_E_NOMEM;
+        memcpy(t->str[k], p + r.pos, sl);
+        t->str[k][sl] = 0;
+        r.pos += sl;
+    }
+    if (r.pos != r.len) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, r.pos,
+                        "%zu unexplained bytes before the checksum", r.len - r.pos);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    return csflut_table_finish(t);
+}
+
+csflut_status csflut_open_memory_diag(const void *buf, size_t len, csflut_table **out,
+                                      csflut_diag *diag)
+{
+    if (diag) memset(diag, 0, sizeof *diag);
+    if (!out || (!buf && len)) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL argument");
+        return CSFLUT_E_ARG;
+    }
+    *out = NULL;
+    csflut_table *t = calloc(1, sizeof *t);
+    if (!t) return CSFLUT_E_NOMEM;
+    static const unsigned char empty[1] = {0};
+    csflut_status st = parse(buf ? (const unsigned char *)buf : empty, len, t, diag);
+    if (st == CSFLUT_E_NOMEM) csflut_diag_set(diag, st, 0, "out of memory");
+    if (st) {
+        csflut_close(t);
+        return st;
+    }
+    *out = t;
+    return CSFLUT_OK;
+}
+
+csflut_status csflut_open_memory(const void *buf, size_t len, csflut_table **out)
+{
+    return csflut_open_memory_diag(buf, len, out, NULL);
+}
+
+csflut_status csflut_open_file_diag(const char *path, csflut_table **out, csflut_diag *diag)
+{
+    if (diag) memset(diag, 0, sizeof *diag);
+    if (!path || !out) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL argument");
+        return CSFLUT_E_ARG;
+    }
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot open %s", path);
+        return CSFLUT_E_IO;
+    }
+    /* Read in chunks rather than trusting fseek/ftell (pipes, /proc files); cap at a size no
+     * valid table reaches so a huge file cannot exhaust memory. */
+    const size_t cap = (size_t)CSFLUT_MAX_NODES * 16 + (size_t)4 * CSFLUT_MAX_POINTS * 8 + (1u << 20);
+    size_t len = 0, alloc = 0;
+    unsigned char *buf = NULL;
+    for (;;) {
+        if (len == alloc) {
+            size_t na = alloc ? alloc * 2 : 65536;
+            unsigned char *nb = realloc(buf, na);
+            if (!nb) {
+                free(buf);
+                fclose(f);
+                csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory reading %s", path);
+                return CSFLUT_E_NOMEM;
+            }
+            buf = nb;
+            alloc = na;
+        }
+        size_t got = fread(buf + len, 1, alloc - len, f);
+        len += got;
+        if (got == 0) break;
+        if (len > cap) {
+            free(buf);
+            fclose(f);
+            csflut_diag_set(diag, CSFLUT_E_BAD_HEADER, cap,
+                            "%s is larger than any valid table (%zu bytes)", path, cap);
+            return CSFLUT_E_BAD_HEADER;
+        }
+    }
+    int err = ferror(f);
+    fclose(f);
+    if (err) {
+        free(buf);
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "read error on %s", path);
+        return CSFLUT_E_IO;
+    }
+    csflut_status st = csflut_open_memory_diag(buf, len, out, diag);
+    free(buf);
+    return st;
+}
+
+csflut_status csflut_open_file(const char *path, csflut_table **out)
+{
+    return csflut_open_file_diag(path, out, NULL);
+}
+
+/* ---- views ------------------------------------------------------------------------------------ */
+void csflut_set_conservative(csflut_table *t, int on)
+{
+    if (t) t->conservative = on != 0;
+}
+int csflut_get_conservative(const csflut_table *t) { return t ? t->conservative : 0; }
+
+csflut_status csflut_set_stderr_shift(csflut_table *t, double k)
+{
+    if (!t || !isfinite(k) || k < 0 || k > 10) return CSFLUT_E_ARG;
+    t->k_shift = k;
+    compute_conservative(t);
+    compute_slice(t, t->cons, t->slice_cons);
+    return CSFLUT_OK;
+}
+double csflut_get_stderr_shift(const csflut_table *t) { return t ? t->k_shift : 0; }
+
+/* ---- queries ------------------------------------------------------------------------------------ */
+static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)
+{
+    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;
+    double u = clampd(csflut_log2(freq_cpd), t->fx.lo, t->fx.hi);
+    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi);
+    double wf, we;
+    int i = axis_fast_locate(&t->fx, u, &wf);
+    int j = axis_fast_locate(&t->ex, e, &we);
+    int nf = t->fx.n;
+    const double *v = (t->conservative ? t->slice_cons : t->slice_raw) + (size_t)j * (size_t)nf + i;
+    double r0 = (1 - wf) * v[0] + wf * v[1];
+    double r1 = (1 - wf) * v[nf] + wf * v[nf + 1];
+    double r = (1 - we) * r0 + we * r1;
+    if (r != r) { /* an infinite node met a zero weight: redo without 0 * inf */
+        r0 = lerp_safe(v[0], v[1], wf);
+        r1 = lerp_safe(v[nf], v[nf + 1], wf);
+        r = lerp_safe(r0, r1, we);
+    }
+    return r;
+}
+
+double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg)
+{
+    return t ? q2(t, freq_cpd, ecc_deg) : NAN;
+}
+
+double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
+                         double lum_cdm2)
+{
+    if (!t) return NAN;
+    if (t->n[2] == 0 && t->n[3] == 0) return q2(t, freq_cpd, ecc_deg);
+    return interp_nd(t, t->conservative ? t->cons : t->raw, freq_cpd, ecc_deg, vel_dps, lum_cdm2);
+}
+
+int csflut_perceptible(const csflut_table *t, double freq_cpd, double contrast, double ecc_deg)
+{
+    double th = csflut_threshold(t, freq_cpd, ecc_deg);
+    return contrast >= th;
+}
+
+/* Highest frequency whose interpolated threshold is <= c, given the column of thresholds at the
+ * frequency nodes (already interpolated over the other axes). */
+static double invert_column(const csflut_table *t, const double *col, double c)
+{
+    int n = t->fx.n;
+    if (c != c) return NAN;
+    if (col[n - 1] <= c) return HUGE_VAL;
+    for (int i = n - 2; i >= 0; i--) {
+        if (col[i] <= c) {
+            double a = col[i], b = col[i + 1];
+            /* the crossing is the node itself: return the stored grid point exactly */
+            if (!isfinite(b) || a == c) return t->pts[0][i < t->n[0] ? i : t->n[0] - 1];
+            double w = (c - a) / (b - a);
+            return exp2(t->fx.node[i] + w * (t->fx.node[i + 1] - t->fx.node[i]));
+        }
+    }
+    return 0.0;
+}
+
+double csflut_max_frequency(const csflut_table *t, double contrast, double ecc_deg)
+{
+    if (!t || ecc_deg != ecc_deg) return NAN;
+    double col[CSFLUT_MAX_POINTS + 1];
+    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi), we;
+    int j = axis_fast_locate(&t->ex, e, &we), nf = t->fx.n;
+    const double *s = (t->conservative ? t->slice_cons : t->slice_raw) + (size_t)j * (size_t)nf;
+    for (int i = 0; i < nf; i++) col[i] = lerp_safe(s[i], s[i + nf], we);
+    return invert_column(t, col, contrast);
+}
+
+double csflut_max_frequency4(const csflut_table *t, double contrast, double ecc_deg,
+                             double vel_dps, double lum_cdm2)
+{
+    if (!t) return NAN;
+    if (t->n[2] == 0 && t->n[3] == 0) return csflut_max_frequency(t, contrast, ecc_deg);
+    double col[CSFLUT_MAX_POINTS + 1];
+    int nf = t->fx.n;
+    for (int i = 0; i < nf; i++) {
+        int fi = i < t->n[0] ? i : t->n[0] - 1;
+        col[i] = interp_nd(t, t->conservative ? t->cons : t->raw, t->pts[0][fi], ecc_deg,
+                           vel_dps, lum_cdm2);
+        if (col[i] != col[i]) return NAN;
+    }
+    return invert_column(t, col, contrast);
+}
+
+double csflut_peak_frequency(const csflut_table *t, double ecc_deg)
+{
+    if (!t || ecc_deg != ecc_deg) return NAN;
+    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi), we;
+    int j = axis_fast_locate(&t->ex, e, &we), nf = t->n[0];
+    const double *s = (t->conservative ? t->slice_cons : t->slice_raw) + (size_t)j * (size_t)t->fx.n;
+    int best = 0;
+    double bv = HUGE_VAL;
+    for (int i = 0; i < nf; i++) {
+        double v = lerp_safe(s[i], s[i + t->fx.n], we);
+        if (v <= bv) {
+            bv = v;
+            best = i;
+        }
+    }
+    return t->pts[0][best];
+}
+
+#define DEG_PER_RAD 57.295779513082320876798
+double csflut_threshold_cpr(const csflut_table *t, double freq_cpr, double ecc_rad)
+{
+    return csflut_threshold(t, freq_cpr / DEG_PER_RAD, ecc_rad * DEG_PER_RAD);
+}
+double csflut_threshold_wavelength(const csflut_table *t, double wavelength_rad, double ecc_rad)
+{
+    return csflut_threshold(t, 1.0 / (wavelength_rad * DEG_PER_RAD), ecc_rad * DEG_PER_RAD);
+}
+int csflut_perceptible_cpr(const csflut_table *t, double freq_cpr, double contrast, double ecc_rad)
+{
+    return contrast >= csflut_threshold_cpr(t, freq_cpr, ecc_rad);
+}
+int csflut_perceptible_wavelength(const csflut_table *t, double wavelength_rad, double contrast,
+                                  double ecc_rad)
+{
+    return contrast >= csflut_threshold_wavelength(t, wavelength_rad, ecc_rad);
+}
+double csflut_max_frequency_cpr(const csflut_table *t, double contrast, double ecc_rad)
+{
+    return csflut_max_frequency(t, contrast, ecc_rad * DEG_PER_RAD) * DEG_PER_RAD;
+}
+double csflut_min_wavelength(const csflut_table *t, double contrast, double ecc_rad)
+{
+    double f = csflut_max_frequency_cpr(t, contrast, ecc_rad);
+    if (f != f) return f;
+    return 1.0 / f; /* inf -> 0 (every wavelength visible), 0 -> inf (none) */
+}
+
+void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+                            double *out, size_t n)
+{
+    if (!t || !freq_cpd || !ecc_deg || !out) return;
+    for (size_t i = 0; i < n; i++) out[i] = q2(t, freq_cpd[i], ecc_deg[i]);
+}
+
+void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+                             const double *vel_dps, const double *lum_cdm2, double *out, size_t n)
+{
+    if (!t || !freq_cpd || !ecc_deg || !out) return;
+    for (size_t i = 0; i < n; i++)
+        out[i] = csflut_threshold4(t, freq_cpd[i], ecc_deg[i], vel_dps ? vel_dps[i] : t->def_vel,
+                                   lum_cdm2 ? lum_cdm2[i] : t->def_lum);
+}
+
+void csflut_perceptible_batch(const csflut_table *t, const double *freq_cpd,
+                              const double *contrast, const double *ecc_deg, unsigned char *out,
+                              size_t n)
+{
+    if (!t || !freq_cpd || !contrast || !ecc_deg || !out) return;
+    for (size_t i = 0; i < n; i++) out[i] = contrast[i] >= q2(t, freq_cpd[i], ecc_deg[i]);
+}
+
+/* ---- accessors -------------------------------------------------------------------------------- */
+int csflut_axis_size(const csflut_table *t, csflut_axis a)
+{
+    return t && (unsigned)a < 4 ? t->n[a] : 0;
+}
+const double *csflut_axis_points(const csflut_table *t, csflut_axis a)
+{
+    return t && (unsigned)a < 4 ? t->pts[a] : NULL;
+}
+csflut_scale csflut_axis_scale(const csflut_table *t, csflut_axis a)
+{
+    return t && (unsigned)a < 4 ? (csflut_scale)t->scale[a] : CSFLUT_SCALE_LINEAR;
+}
+size_t csflut_node_count(const csflut_table *t) { return t ? t->n_nodes : 0; }
+const double *csflut_raw_thresholds(const csflut_table *t) { return t ? t->raw : NULL; }
+const double *csflut_conservative_thresholds(const csflut_table *t) { return t ? t->cons : NULL; }
+const double *csflut_stderr_log10(const csflut_table *t) { return t ? t->se : NULL; }
+int csflut_version_major(const csflut_table *t) { return t ? t->vmaj : 0; }
+int csflut_version_minor(const csflut_table *t) { return t ? t->vmin : 0; }
+static const char *str_or_empty(const csflut_table *t, int k)
+{
+    return t && t->str[k] ? t->str[k] : "";
+}
+const char *csflut_observer(const csflut_table *t) { return str_or_empty(t, 0); }
+const char *csflut_display_profile_id(const csflut_table *t) { return str_or_empty(t, 1); }
+const char *csflut_method(const csflut_table *t) { return str_or_empty(t, 2); }
+const char *csflut_date_utc(const csflut_table *t) { return str_or_empty(t, 3); }
+const char *csflut_tool_version(const csflut_table *t) { return str_or_empty(t, 4); }
+double csflut_viewing_distance_mm(const csflut_table *t) { return t ? t->dist_mm : NAN; }
+double csflut_mean_lum_cdm2(const csflut_table *t) { return t ? t->mean_lum : NAN; }
+int csflut_trials(const csflut_table *t) { return t ? t->trials : 0; }
+double csflut_default_velocity(const csflut_table *t) { return t ? t->def_vel : NAN; }
+double csflut_default_luminance(const csflut_table *t) { return t ? t->def_lum : NAN; }

@@ -1,2 +1,258 @@
-/* placeholder */
-typedef int csflut_placeholder_b;
+/* csflut writer: validates a csflut_build with the reader's rules and serialises it in the
+ * little-endian v1 layout of docs/csflut.md, CRC-32 last. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/csflut.h"
+#include "results/csflut_internal.h"
+
+static const char *const axis_name16[4] = {"freq", "ecc", "velocity", "luminance"};
+static const char *const axis_unit16[4] = {"cpd", "deg", "deg/s", "cd/m2"};
+
+static int vel_scale(const csflut_build *b)
+{
+    /* log velocity unless the grid includes 0 deg/s (a static stimulus), which log cannot hold */
+    for (int i = 0; i < b->n_vel; i++)
+        if (!(b->vel_dps[i] > 0)) return CSFLUT_SCALE_LINEAR;
+    return CSFLUT_SCALE_LOG;
+}
+
+static size_t build_nodes(const csflut_build *b)
+{
+    return (size_t)b->n_freq * (size_t)b->n_ecc * (size_t)(b->n_vel > 0 ? b->n_vel : 1) *
+           (size_t)(b->n_lum > 0 ? b->n_lum : 1);
+}
+
+static const char *build_str(const csflut_build *b, int k)
+{
+    const char *s[CSFLUT_N_STRINGS] = {b->observer, b->display_profile_id, b->method, b->date_utc,
+                                       b->tool_version};
+    return s[k] ? s[k] : "";
+}
+
+static const char *const string_names[CSFLUT_N_STRINGS] = {
+    "observer", "display_profile_id", "method", "date_utc", "tool_version"};
+
+csflut_status csflut_validate_build(const csflut_build *b, csflut_diag *diag)
+{
+    if (diag) memset(diag, 0, sizeof *diag);
+    if (!b) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL build description");
+        return CSFLUT_E_ARG;
+    }
+    const int n[4] = {b->n_freq, b->n_ecc, b->n_vel, b->n_lum};
+    const double *p[4] = {b->freq_cpd, b->ecc_deg, b->vel_dps, b->lum_cdm2};
+    for (int a = 0; a < 4; a++) {
+        if (n[a] > 0 && !p[a]) {
+            csflut_diag_set(diag, CSFLUT_E_ARG, 0, "%s axis has %d points but no array",
+                            axis_name16[a], n[a]);
+            return CSFLUT_E_ARG;
+        }
+        int scale = a == 1 ? CSFLUT_SCALE_LINEAR : (a == 2 ? vel_scale(b) : CSFLUT_SCALE_LOG);
+        csflut_status st = csflut_check_axis(a, n[a], p[a], scale, diag, 0);
+        if (st) return st;
+    }
+    size_t nodes = 1;
+    for (int a = 0; a < 4; a++) {
+        if (n[a] > 0) nodes *= (size_t)n[a];
+        if (nodes > CSFLUT_MAX_NODES) {
+            csflut_diag_set(diag, CSFLUT_E_BAD_AXIS, 0, "the grid has more than %u nodes",
+                            (unsigned)CSFLUT_MAX_NODES);
+            return CSFLUT_E_BAD_AXIS;
+        }
+    }
+    if (!b->threshold) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "no threshold array");
+        return CSFLUT_E_ARG;
+    }
+    csflut_status st = csflut_check_values(b->threshold, b->stderr_log10, nodes, diag, 0, 0);
+    if (st) return st;
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
+        size_t sl = strlen(build_str(b, k));
+        if (sl > CSFLUT_MAX_STRING) {
+            csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, 0, "%s is %zu bytes (at most %d)",
+                            string_names[k], sl, CSFLUT_MAX_STRING);
+            return CSFLUT_E_BAD_METADATA;
+        }
+    }
+    double dist = b->viewing_distance_mm, lum = b->mean_lum_cdm2;
+    if (!(dist != dist || dist == 0 || (isfinite(dist) && dist > 0))) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, 0,
+                        "viewing distance %g mm (must be > 0, or 0/NaN for unknown)", dist);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    if (!(lum != lum || lum == 0 || (isfinite(lum) && lum > 0))) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, 0,
+                        "mean luminance %g cd/m2 (must be > 0, or 0/NaN for unknown)", lum);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    if (b->trials < 0) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, 0, "trials %d (must be >= 0)", b->trials);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    return CSFLUT_OK;
+}
+
+/* ---- little-endian output ------------------------------------------------------------------ */
+static unsigned char *put_u32(unsigned char *o, uint32_t v)
+{
+    o[0] = (unsigned char)v;
+    o[1] = (unsigned char)(v >> 8);
+    o[2] = (unsigned char)(v >> 16);
+    o[3] = (unsigned char)(v >> 24);
+    return o + 4;
+}
+static unsigned char *put_u64(unsigned char *o, uint64_t v)
+{
+    put_u32(o, (uint32_t)v);
+    return put_u32(o + 4, (uint32_t)(v >> 32)) ;
+}
+static unsigned char *put_f64(unsigned char *o, double d)
+{
+    uint64_t u;
+    memcpy(&u, &d, sizeof u);
+    return put_u64(o, u);
+}
+
+csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **out, size_t *len,
+                                       csflut_diag *diag)
+{
+    if (!out || !len) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL output pointer");
+        return CSFLUT_E_ARG;
+    }
+    *out = NULL;
+    *len = 0;
+    csflut_status st = csflut_validate_build(b, diag);
+    if (st) return st;
+    const int n[4] = {b->n_freq, b->n_ecc, b->n_vel, b->n_lum};
+    const double *p[4] = {b->freq_cpd, b->ecc_deg, b->vel_dps, b->lum_cdm2};
+    size_t nodes = build_nodes(b);
+    int n_axes = 0;
+    size_t size = CSFLUT_HEADER_SIZE;
+    for (int a = 0; a < 4; a++)
+        if (n[a] > 0) {
+            n_axes++;
+            size += CSFLUT_AXIS_RECORD_SIZE + 8 * (size_t)n[a];
+        }
+    size += 8 * nodes * (b->stderr_log10 ? 2 : 1);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) size += 4 + strlen(build_str(b, k));
+    size += 4;
+    unsigned char *buf = calloc(1, size);
+    if (!buf) {
+        csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory");
+        return CSFLUT_E_NOMEM;
+    }
+    unsigned char *o = buf;
+    memcpy(o, CSFLUT_MAGIC, CSFLUT_MAGIC_LEN);
+    o[8] = CSFLUT_VERSION_MAJOR;
+    o[10] = CSFLUT_VERSION_MINOR;
+    put_u32(o + 12, CSFLUT_HEADER_SIZE);
+    put_u64(o + 16, size);
+    put_u32(o + 24, (uint32_t)n_axes);
+    put_u32(o + 28, b->stderr_log10 ? CSFLUT_FLAG_STDERR : 0);
+    double dist = b->viewing_distance_mm > 0 ? b->viewing_distance_mm : NAN;
+    double lum = b->mean_lum_cdm2 > 0 ? b->mean_lum_cdm2 : NAN;
+    put_f64(o + 32, dist);
+    put_f64(o + 40, lum);
+    put_u32(o + 48, (uint32_t)b->trials);
+    o += CSFLUT_HEADER_SIZE;
+    for (int a = 0; a < 4; a++) {
+        if (n[a] == 0) continue;
+        int scale = a == 1 ? CSFLUT_SCALE_LINEAR : (a == 2 ? vel_scale(b) : CSFLUT_SCALE_LOG);
+        put_u32(o, (uint32_t)a);
+        put_u32(o + 4, (uint32_t)scale);
+        put_u32(o + 8, (uint32_t)n[a]);
+        memcpy(o + 16, axis_name16[a], strlen(axis_name16[a]));
+        memcpy(o + 32, axis_unit16[a], strlen(axis_unit16[a]));
+        o += CSFLUT_AXIS_RECORD_SIZE;
+        for (int i = 0; i < n[a]; i++) o = put_f64(o, p[a][i]);
+    }
+    for (size_t i = 0; i < nodes; i++) o = put_f64(o, b->threshold[i]);
+    if (b->stderr_log10)
+        for (size_t i = 0; i < nodes; i++) o = put_f64(o, b->stderr_log10[i]);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
+        const char *s = build_str(b, k);
+        size_t sl = strlen(s);
+        o = put_u32(o, (uint32_t)sl);
+        memcpy(o, s, sl);
+        o += sl;
+    }
+    put_u32(o, csflut_crc32(buf, size - 4));
+    *out = buf;
+    *len = size;
+    return CSFLUT_OK;
+}
+
+csflut_status csflut_write_memory(const csflut_build *b, unsigned char **out, size_t *len)
+{
+    return csflut_write_memory_diag(b, out, len, NULL);
+}
+
+csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag)
+{
+    if (!path) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL path");
+        return CSFLUT_E_ARG;
+    }
+    unsigned char *buf;
+    size_t len;
+    csflut_status st = csflut_write_memory_diag(b, &buf, &len, diag);
+    if (st) return st;
+    /* Write a temporary file and rename it, so a reader never sees half a table and a failed
+     * write never destroys the previous one. */
+    size_t pl = strlen(path);
+    char *tmp = malloc(pl + 16);
+    if (!tmp) {
+        free(buf);
+        csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory");
+        return CSFLUT_E_NOMEM;
+    }
+    snprintf(tmp, pl + 16, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    int ok = f != NULL;
+    if (ok) ok = fwrite(buf, 1, len, f) == len;
+    if (f && fclose(f) != 0) ok = 0;
+    if (ok) ok = rename(tmp, path) == 0;
+    if (!ok) {
+        remove(tmp);
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s", path);
+        st = CSFLUT_E_IO;
+    }
+    free(tmp);
+    free(buf);
+    return st;
+}
+
+csflut_status csflut_write_file(const csflut_build *b, const char *path)
+{
+    return csflut_write_file_diag(b, path, NULL);
+}
+
+void csflut_table_to_build(const csflut_table *t, csflut_build *b)
+{
+    if (!b) return;
+    memset(b, 0, sizeof *b);
+    if (!t) return;
+    b->n_freq = t->n[0];
+    b->n_ecc = t->n[1];
+    b->n_vel = t->n[2];
+    b->n_lum = t->n[3];
+    b->freq_cpd = t->pts[0];
+    b->ecc_deg = t->pts[1];
+    b->vel_dps = t->pts[2];
+    b->lum_cdm2 = t->pts[3];
+    b->threshold = t->raw;
+    b->stderr_log10 = t->se;
+    b->observer = csflut_observer(t);
+    b->display_profile_id = csflut_display_profile_id(t);
+    b->method = csflut_method(t);
+    b->date_utc = csflut_date_utc(t);
+    b->tool_version = csflut_tool_version(t);
+    b->viewing_distance_mm = t->dist_mm;
+    b->mean_lum_cdm2 = t->mean_lum;
+    b->trials = t->trials;
+}
