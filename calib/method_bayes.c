@@ -1,2 +1,709 @@
-/* placeholder: joint Bayesian procedure (owner: bayes) */
-typedef int csf_placeholder_method_bayes;
+/* Joint Bayesian CSF procedure ("bayes", 2AFC).
+ *
+ * Model. For cell c (frequency f, eccentricity e) the log10 threshold is
+ *     t_c = m(f, e; theta) + o_c
+ * where m is the truncated log-parabola x stelaCSF surface of results/csf_model.h with
+ * theta = (log10 Smax, log10 fmax, log10 beta, delta, ecc_a, ecc_b), and o_c is a per-cell
+ * offset with a heavy-tailed prior (mixture of a narrow and a wide normal). The offsets let an
+ * observer whose surface is not of the model's form still be recovered: the surface carries
+ * information between cells, the offset lets each cell's own trials move its estimate.
+ *
+ * Posterior. theta is represented by weighted particles. Each cell's data enter theta's posterior
+ * only through Z_c(m) = integral K(t - m) L_c(t) dt (K = offset prior, L_c = the cell's
+ * likelihood over a grid of t), which is tabulated on the t grid once per trial of that cell.
+ * So a trial costs one convolution for its cell plus one interpolation per particle, and the
+ * full posterior density of any theta costs one interpolation per cell: that makes resample-move
+ * (Metropolis steps on theta) cheap whenever the particle set degenerates.
+ * Each cell's threshold posterior is p(t_c|D) ~ L_c(t) * sum_i w_i/Z_c(theta_i) K(t - m_ci),
+ * i.e. the surface prediction from all other cells' data times the cell's own likelihood.
+ *
+ * Stimulus choice. Responses depend on theta and the offsets only through t_c, so the mutual
+ * information between the next response and the whole posterior equals I(r; t_c) under the
+ * current marginal of t_c. It is computed for every cell and every contrast on the grid; the
+ * trial goes to a near-best cell (random among those within 15 % of the best, rng keyed by seed
+ * and trial index) at that cell's most informative contrast.
+ *
+ * Determinism: every random draw comes from results/rng.h keyed by the seed and the trial index,
+ * and the state depends only on the sequence of update() calls, so replaying stored trials
+ * rebuilds exactly the same state and the same next plans. */
+#include "calib/method_bayes.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/csf_model.h"
+#include "results/rng.h"
+
+enum { NPAR = 6 };
+enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_RESAMPLE = 0x42a4 };
+
+/* Tunables (documented in docs/bayes-method.md). */
+#define GRID_STEP_LOG10 0.02   /* threshold grid resolution */
+#define CAND_STRIDE 2          /* candidate contrasts every 2 grid nodes (0.04 log10) */
+#define N_PARTICLES 2000
+/* log10: how far a cell departs from the surface. Hierarchical: each particle carries one of these
+ * levels, so the data decide how closely this observer follows the parametric form. */
+static const double offset_sd_levels[] = {0.03, 0.06, 0.10, 0.15, 0.22};
+enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
+#define OFFSET_SD_WIDE 0.40    /* log10: the tail for cells the surface cannot describe */
+#define OFFSET_WIDE_WEIGHT 0.10
+#define MH_STEPS 4
+#define NEAR_BEST_FRACTION 0.85
+#define INVISIBLE_PROB 0.5     /* P(t > log10 max contrast) above which a cell is reported invisible */
+#define MISFIT_LOG10_BF 1.0    /* 10:1 for the per-cell model over the surface */
+#define MIN_LAPSE 1e-3         /* a zero lapse rate would make one wrong answer at high contrast fatal */
+
+/* Prior on theta: independent normals (truncated where physics demands). */
+static const double prior_mean[NPAR] = {2.25, 0.45, 0.477, 0.5, 0.03, 0.02};
+static const double prior_sd[NPAR] = {0.35, 0.25, 0.15, 0.3, 0.02, 0.01};
+static const double prior_lo[NPAR] = {0.5, -0.7, 0.0, 0.0, 0.0, 0.0};
+static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1};
+
+typedef struct {
+    int n_cells;
+    csf_cell *cells;
+    uint64_t seed;
+    int trial_budget;
+    double slope, lapse, guess;
+    double log_cmax, log_cmin;
+
+    /* threshold grid: t_g = lo + g*step, g = 0..n_grid-1; log_cmax is node g_cmax */
+    int n_grid, g_cmax, g_cmin;
+    double lo, step;
+    /* offset prior K_l = (1-eps) N(0, sd_l) + eps N(0, wide), as weights on the grid; one narrow
+     * kernel per level (half-width kn_half[l] nodes) and the shared wide one (kw_half) */
+    int kn_half[N_LEVELS], kw_half;
+    double *kn[N_LEVELS], *kw;
+    /* P(correct) and its binary entropy by grid-index difference (x node - t node) + n_grid - 1 */
+    double *ptab, *htab;
+
+    /* per cell */
+    double *loglik;  /* [n_cells*n_grid] log L_c(t_g) */
+    double *logconv; /* [N_LEVELS][n_cells*n_grid] log Z_c(m = t_g) per offset level */
+    int *n_trials;
+
+    /* particles */
+    int n_part;
+    double *theta;   /* [n_part*NPAR] */
+    int *level;      /* [n_part] offset-sd level */
+    double *m;       /* [n_part*n_cells] surface log10 threshold */
+    double *logz;    /* [n_part*n_cells] log Z_c(m_ic) */
+    double *logw;    /* [n_part] importance log weights since the last resample-move */
+
+    /* cache of per-cell threshold posteriors (normalised over the grid) */
+    double *post;    /* [n_cells*n_grid] */
+    double *surf;    /* [n_cells*n_grid] surface prior for the cell (leave-cell-out), normalised */
+    double *hist;    /* [N_LEVELS*n_grid] scratch for refresh_cache */
+    int cache_valid;
+
+    /* scratch */
+    double *scratch_a, *scratch_b; /* [max(n_grid, n_part)] */
+    int *scratch_idx;
+} bayes_state;
+
+static double clampd(double v, double lo, double hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+static void theta_to_params(const double *th, csf_model_params *p)
+{
+    p->smax = pow(10.0, th[0]);
+    p->fmax_cpd = pow(10.0, th[1]);
+    p->beta_oct = pow(10.0, th[2]);
+    p->delta_log10 = th[3];
+    p->ecc_a = th[4];
+    p->ecc_b = th[5];
+}
+
+static double log_prior(const double *th)
+{
+    double lp = 0.0;
+    for (int k = 0; k < NPAR; k++) {
+        if (th[k] < prior_lo[k] || th[k] > prior_hi[k]) return -INFINITY;
+        double z = (th[k] - prior_mean[k]) / prior_sd[k];
+        lp -= 0.5 * z * z;
+    }
+    return lp;
+}
+
+/* Probability of a correct 2AFC answer at log10 contrast x for log10 threshold t. */
+static double p_correct(const bayes_state *s, double x, double t)
+{
+    double e = exp(-pow(10.0, s->slope * (x - t)));
+    return s->guess + (1.0 - s->guess - s->lapse) * (1.0 - e);
+}
+
+/* Linear interpolation of a per-node table at continuous log10 value v (clamped to the grid). */
+static double interp_grid(const bayes_state *s, const double *tab, double v)
+{
+    double u = (v - s->lo) / s->step;
+    if (u <= 0.0) return tab[0];
+    if (u >= s->n_grid - 1) return tab[s->n_grid - 1];
+    int g = (int)u;
+    double a = u - g;
+    return tab[g] * (1.0 - a) + tab[g + 1] * a;
+}
+
+static void surface_for_particle(bayes_state *s, int i)
+{
+    csf_model_params p;
+    theta_to_params(&s->theta[(size_t)i * NPAR], &p);
+    for (int c = 0; c < s->n_cells; c++) {
+        double ls = csf_model_log10_sensitivity(&p, s->cells[c].freq_cpd, s->cells[c].ecc_deg);
+        s->m[(size_t)i * s->n_cells + c] = -ls;
+    }
+}
+
+/* Convolution of lin[] with a symmetric kernel of half-width kh, added (times scale) into acc[]. */
+static void convolve_add(const bayes_state *s, const double *lin, const double *kern, int kh,
+                         double *acc)
+{
+    int G = s->n_grid;
+    for (int j = 0; j < G; j++) {
+        double a = 0.0;
+        int g0 = j - kh < 0 ? 0 : j - kh;
+        int g1 = j + kh > G - 1 ? G - 1 : j + kh;
+        for (int g = g0; g <= g1; g++) a += kern[g - j + kh] * lin[g];
+        acc[j] += a;
+    }
+}
+
+/* Recompute log Z_c on the grid, for every offset level, from the cell's likelihood. */
+static void recompute_logconv(bayes_state *s, int c)
+{
+    int G = s->n_grid;
+    const double *ll = &s->loglik[(size_t)c * G];
+    double mx = -INFINITY;
+    for (int g = 0; g < G; g++)
+        if (ll[g] > mx) mx = ll[g];
+    double *lin = s->scratch_a, *wide = s->scratch_b;
+    for (int g = 0; g < G; g++) lin[g] = exp(ll[g] - mx), wide[g] = 0.0;
+    convolve_add(s, lin, s->kw, s->kw_half, wide);
+    for (int l = 0; l < N_LEVELS; l++) {
+        double *lc = &s->logconv[((size_t)l * s->n_cells + c) * G];
+        for (int g = 0; g < G; g++) lc[g] = wide[g];
+        convolve_add(s, lin, s->kn[l], s->kn_half[l], lc);
+        for (int g = 0; g < G; g++) lc[g] = log(lc[g] > 1e-300 ? lc[g] : 1e-300) + mx;
+    }
+}
+
+static const double *logconv_of(const bayes_state *s, int level, int c)
+{
+    return &s->logconv[((size_t)level * s->n_cells + c) * s->n_grid];
+}
+
+static double log_target(const bayes_state *s, const double *th, int level, double *m_out,
+                         double *logz_out)
+{
+    double lp = log_prior(th);
+    if (!isfinite(lp)) return -INFINITY;
+    csf_model_params p;
+    theta_to_params(th, &p);
+    for (int c = 0; c < s->n_cells; c++) {
+        double m = -csf_model_log10_sensitivity(&p, s->cells[c].freq_cpd, s->cells[c].ecc_deg);
+        m_out[c] = m;
+        double lz = s->n_trials[c] ? interp_grid(s, logconv_of(s, level, c), m) : 0.0;
+        logz_out[c] = lz;
+        lp += lz;
+    }
+    return lp;
+}
+
+static double ess(const bayes_state *s)
+{
+    double mx = -INFINITY;
+    for (int i = 0; i < s->n_part; i++)
+        if (s->logw[i] > mx) mx = s->logw[i];
+    double sw = 0.0, sw2 = 0.0;
+    for (int i = 0; i < s->n_part; i++) {
+        double w = exp(s->logw[i] - mx);
+        sw += w;
+        sw2 += w * w;
+    }
+    return sw * sw / sw2;
+}
+
+/* Systematic resampling, then Metropolis random-walk steps on the full posterior of theta. */
+static void resample_move(bayes_state *s, int trial_index)
+{
+    int n = s->n_part, nc = s->n_cells;
+    double mx = -INFINITY;
+    for (int i = 0; i < n; i++)
+        if (s->logw[i] > mx) mx = s->logw[i];
+    double *w = s->scratch_a;
+    double sw = 0.0;
+    for (int i = 0; i < n; i++) sw += (w[i] = exp(s->logw[i] - mx));
+    /* weighted sd of each parameter sets the proposal scale */
+    double mean[NPAR] = {0}, sd[NPAR] = {0};
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < NPAR; k++) mean[k] += w[i] / sw * s->theta[(size_t)i * NPAR + k];
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < NPAR; k++) {
+            double d = s->theta[(size_t)i * NPAR + k] - mean[k];
+            sd[k] += w[i] / sw * d * d;
+        }
+    for (int k = 0; k < NPAR; k++) {
+        sd[k] = sqrt(sd[k]);
+        if (sd[k] < 0.02 * prior_sd[k]) sd[k] = 0.02 * prior_sd[k];
+    }
+
+    int *idx = s->scratch_idx;
+    double u0 = csf_rng_uniform(s->seed, STREAM_RESAMPLE, (uint64_t)trial_index) / n;
+    double cum = 0.0;
+    int j = 0;
+    for (int i = 0; i < n; i++) {
+        double target = (u0 + (double)i / n) * sw;
+        while (j < n - 1 && cum + w[j] < target) cum += w[j++];
+        idx[i] = j;
+    }
+    double *nt = malloc(sizeof(double) * (size_t)n * NPAR);
+    double *nm = malloc(sizeof(double) * (size_t)n * nc);
+    double *nz = malloc(sizeof(double) * (size_t)n * nc);
+    int *nl = malloc(sizeof(int) * (size_t)n);
+    double *prop = malloc(sizeof(double) * (2 * (size_t)nc + NPAR));
+    if (!nt || !nm || !nz || !nl || !prop) { /* out of memory: keep the weighted set as it is */
+        free(nt), free(nm), free(nz), free(nl), free(prop);
+        return;
+    }
+    for (int i = 0; i < n; i++) {
+        memcpy(&nt[(size_t)i * NPAR], &s->theta[(size_t)idx[i] * NPAR], sizeof(double) * NPAR);
+        memcpy(&nm[(size_t)i * nc], &s->m[(size_t)idx[i] * nc], sizeof(double) * nc);
+        memcpy(&nz[(size_t)i * nc], &s->logz[(size_t)idx[i] * nc], sizeof(double) * nc);
+        nl[i] = s->level[idx[i]];
+    }
+    double *pm = prop, *pz = prop + nc, *pth = prop + 2 * nc;
+    const double scale = 2.38 / sqrt((double)NPAR);
+    csf_rng r;
+    csf_rng_init(&r, s->seed ^ ((uint64_t)trial_index * 0x9e3779b97f4a7c15ULL), STREAM_MOVE);
+    for (int i = 0; i < n; i++) {
+        double *th = &nt[(size_t)i * NPAR];
+        double cur = log_prior(th);
+        for (int c = 0; c < nc; c++) cur += nz[(size_t)i * nc + c];
+        for (int step = 0; step < MH_STEPS; step++) {
+            for (int k = 0; k < NPAR; k++) pth[k] = th[k] + scale * sd[k] * csf_rng_next_normal(&r);
+            /* the offset level moves to a neighbour on every other step (symmetric proposal;
+             * off the ends is rejected through the prior) */
+            int lv = nl[i];
+            double ul = csf_rng_next_uniform(&r);
+            if (step % 2 == 1) lv += ul < 0.5 ? -1 : 1;
+            double cand = lv < 0 || lv >= N_LEVELS ? -INFINITY : log_target(s, pth, lv, pm, pz);
+            double u = csf_rng_next_uniform(&r);
+            if (isfinite(cand) && log(u) < cand - cur) {
+                memcpy(th, pth, sizeof(double) * NPAR);
+                nl[i] = lv;
+                memcpy(&nm[(size_t)i * nc], pm, sizeof(double) * nc);
+                memcpy(&nz[(size_t)i * nc], pz, sizeof(double) * nc);
+                cur = cand;
+            }
+        }
+    }
+    free(s->theta), free(s->m), free(s->logz), free(s->level), free(prop);
+    s->theta = nt, s->m = nm, s->logz = nz, s->level = nl;
+    for (int i = 0; i < n; i++) s->logw[i] = 0.0;
+}
+
+/* Per-cell surface prior (leave-cell-out) and posterior on the grid, for all cells. */
+static void refresh_cache(bayes_state *s)
+{
+    if (s->cache_valid) return;
+    int n = s->n_part, nc = s->n_cells, G = s->n_grid;
+    double *hist = s->hist; /* [N_LEVELS][G] */
+    double *all = s->scratch_b;
+    for (int c = 0; c < nc; c++) {
+        double mx = -INFINITY;
+        for (int i = 0; i < n; i++) {
+            double lw = s->logw[i] - s->logz[(size_t)i * nc + c];
+            if (lw > mx) mx = lw;
+        }
+        for (int g = 0; g < N_LEVELS * G; g++) hist[g] = 0.0;
+        for (int i = 0; i < n; i++) {
+            double w = exp(s->logw[i] - s->logz[(size_t)i * nc + c] - mx);
+            double u = clampd((s->m[(size_t)i * nc + c] - s->lo) / s->step, 0.0, G - 1.000001);
+            int g = (int)u;
+            double a = u - g;
+            double *h = &hist[(size_t)s->level[i] * G];
+            h[g] += w * (1.0 - a);
+            h[g + 1] += w * a;
+        }
+        double *sp = &s->surf[(size_t)c * G];
+        for (int g = 0; g < G; g++) {
+            all[g] = 0.0;
+            for (int l = 0; l < N_LEVELS; l++) all[g] += hist[(size_t)l * G + g];
+            sp[g] = 0.0;
+        }
+        convolve_add(s, all, s->kw, s->kw_half, sp);
+        for (int l = 0; l < N_LEVELS; l++)
+            convolve_add(s, &hist[(size_t)l * G], s->kn[l], s->kn_half[l], sp);
+        double tot = 0.0;
+        for (int j = 0; j < G; j++) tot += sp[j];
+        for (int j = 0; j < G; j++) sp[j] /= tot;
+        const double *ll = &s->loglik[(size_t)c * G];
+        double lmx = -INFINITY;
+        for (int g = 0; g < G; g++)
+            if (ll[g] > lmx) lmx = ll[g];
+        double *po = &s->post[(size_t)c * G];
+        double pt = 0.0;
+        for (int g = 0; g < G; g++) pt += (po[g] = sp[g] * exp(ll[g] - lmx));
+        for (int g = 0; g < G; g++) po[g] /= pt;
+    }
+    s->cache_valid = 1;
+}
+
+static double h2(double p)
+{
+    if (p <= 0.0 || p >= 1.0) return 0.0;
+    return -(p * log(p) + (1.0 - p) * log(1.0 - p));
+}
+
+static void bayes_destroy(void *state)
+{
+    bayes_state *s = state;
+    if (!s) return;
+    free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials);
+    for (int l = 0; l < N_LEVELS; l++) free(s->kn[l]);
+    free(s->kw), free(s->ptab), free(s->htab), free(s->level), free(s->hist);
+    free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf);
+    free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
+    free(s);
+}
+
+static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf_error *err)
+{
+    if (!setup || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: no setup given");
+    *out = NULL;
+    if (setup->n_cells < 1 || setup->n_cells > 4096 || !setup->cells)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "bayes: the grid has %d cells; it needs 1 to 4096", setup->n_cells);
+    for (int c = 0; c < setup->n_cells; c++) {
+        double f = setup->cells[c].freq_cpd, e = setup->cells[c].ecc_deg;
+        if (!(f >= 0.01 && f <= 200.0))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "bayes: cell %d frequency %g cpd is outside 0.01-200 cpd", c, f);
+        if (!(e >= 0.0 && e <= 120.0))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "bayes: cell %d eccentricity %g deg is outside 0-120 deg", c, e);
+    }
+    if (!(setup->max_contrast > 0.0 && setup->max_contrast <= 1.0))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "bayes: max contrast %g is outside (0, 1] (Michelson)", setup->max_contrast);
+    if (!(setup->min_contrast >= 0.0 && setup->min_contrast < setup->max_contrast))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "bayes: min contrast %g must be >= 0 and below the max contrast %g",
+                             setup->min_contrast, setup->max_contrast);
+    double slope = setup->slope_beta == 0.0 ? 3.5 : setup->slope_beta;
+    double guess = setup->guess == 0.0 ? 0.5 : setup->guess;
+    if (!(slope >= 0.3 && slope <= 20.0))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: Weibull slope %g is outside 0.3-20", slope);
+    if (!(setup->lapse >= 0.0 && setup->lapse <= 0.2))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: lapse rate %g is outside 0-0.2", setup->lapse);
+    if (!(guess > 0.0 && guess < 0.9))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: guess rate %g is outside (0, 0.9)", guess);
+    if (setup->trial_budget < 0 || setup->trial_budget > 100000)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "bayes: trial budget %d is outside 0-100000", setup->trial_budget);
+
+    bayes_state *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory");
+    s->n_cells = setup->n_cells;
+    s->seed = setup->seed;
+    s->trial_budget = setup->trial_budget;
+    s->slope = slope;
+    s->guess = guess;
+    s->lapse = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
+    s->log_cmax = log10(setup->max_contrast);
+    /* below 1e-4 Michelson nobody sees anything; it also bounds the grid */
+    s->log_cmin = log10(setup->min_contrast > 1e-4 ? setup->min_contrast : 1e-4);
+    s->step = GRID_STEP_LOG10;
+    /* grid from well below the most sensitive plausible observer to 1 log unit above the display's
+     * reach (thresholds up there all look the same: never visible) */
+    double lo_want = fmin(s->log_cmin, -3.0) - 0.7;
+    s->g_cmax = (int)ceil((s->log_cmax - lo_want) / s->step);
+    s->lo = s->log_cmax - s->g_cmax * s->step;
+    s->n_grid = s->g_cmax + (int)ceil(1.0 / s->step) + 1;
+    s->g_cmin = (int)ceil((s->log_cmin - s->lo) / s->step - 1e-9);
+    if (s->g_cmin > s->g_cmax) s->g_cmin = s->g_cmax;
+    s->kw_half = (int)ceil(4.0 * OFFSET_SD_WIDE / s->step);
+    for (int l = 0; l < N_LEVELS; l++) s->kn_half[l] = (int)ceil(4.0 * offset_sd_levels[l] / s->step);
+    s->n_part = N_PARTICLES;
+
+    int G = s->n_grid, nc = s->n_cells, n = s->n_part;
+    int scratch_n = G > n ? G : n;
+    s->cells = malloc(sizeof(csf_cell) * (size_t)nc);
+    s->kw = malloc(sizeof(double) * (size_t)(2 * s->kw_half + 1));
+    int kn_ok = 1;
+    for (int l = 0; l < N_LEVELS; l++)
+        kn_ok &= (s->kn[l] = malloc(sizeof(double) * (size_t)(2 * s->kn_half[l] + 1))) != NULL;
+    s->ptab = malloc(sizeof(double) * (size_t)(2 * G - 1));
+    s->htab = malloc(sizeof(double) * (size_t)(2 * G - 1));
+    s->level = malloc(sizeof(int) * (size_t)n);
+    s->hist = malloc(sizeof(double) * (size_t)N_LEVELS * G);
+    s->loglik = calloc((size_t)nc * G, sizeof(double));
+    s->logconv = calloc((size_t)N_LEVELS * nc * G, sizeof(double));
+    s->n_trials = calloc((size_t)nc, sizeof(int));
+    s->theta = malloc(sizeof(double) * (size_t)n * NPAR);
+    s->m = malloc(sizeof(double) * (size_t)n * nc);
+    s->logz = calloc((size_t)n * nc, sizeof(double));
+    s->logw = calloc((size_t)n, sizeof(double));
+    s->post = malloc(sizeof(double) * (size_t)nc * G);
+    s->surf = malloc(sizeof(double) * (size_t)nc * G);
+    s->scratch_a = malloc(sizeof(double) * (size_t)scratch_n);
+    s->scratch_b = malloc(sizeof(double) * (size_t)scratch_n);
+    s->scratch_idx = malloc(sizeof(int) * (size_t)scratch_n);
+    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
+        !s->logz || !s->logw || !s->post || !s->surf || !s->scratch_a || !s->scratch_b ||
+        !s->scratch_idx) {
+        bayes_destroy(s);
+        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+    }
+    memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
+    /* offset-prior weights on the grid (density x step) */
+    for (int k = -s->kw_half; k <= s->kw_half; k++) {
+        double z = k * s->step / OFFSET_SD_WIDE;
+        s->kw[k + s->kw_half] = OFFSET_WIDE_WEIGHT * exp(-0.5 * z * z) / OFFSET_SD_WIDE * s->step /
+                                sqrt(2.0 * M_PI);
+    }
+    for (int l = 0; l < N_LEVELS; l++)
+        for (int k = -s->kn_half[l]; k <= s->kn_half[l]; k++) {
+            double z = k * s->step / offset_sd_levels[l];
+            s->kn[l][k + s->kn_half[l]] = (1.0 - OFFSET_WIDE_WEIGHT) * exp(-0.5 * z * z) /
+                                          offset_sd_levels[l] * s->step / sqrt(2.0 * M_PI);
+        }
+    for (int d = -(G - 1); d <= G - 1; d++) {
+        double pr = p_correct(s, d * s->step, 0.0);
+        s->ptab[d + G - 1] = pr;
+        s->htab[d + G - 1] = h2(pr);
+    }
+    /* particles from the prior (rejection for the truncation), deterministic in the seed */
+    csf_rng r;
+    csf_rng_init(&r, s->seed, STREAM_INIT);
+    for (int i = 0; i < n; i++) {
+        double *th = &s->theta[(size_t)i * NPAR];
+        for (int k = 0; k < NPAR; k++) {
+            double v;
+            int tries = 0;
+            do v = prior_mean[k] + prior_sd[k] * csf_rng_next_normal(&r);
+            while ((v < prior_lo[k] || v > prior_hi[k]) && ++tries < 1000);
+            th[k] = clampd(v, prior_lo[k], prior_hi[k]);
+        }
+        s->level[i] = (int)(csf_rng_next_uniform(&r) * N_LEVELS) % N_LEVELS;
+        surface_for_particle(s, i);
+    }
+    *out = s;
+    return CSF_OK;
+}
+
+static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
+{
+    bayes_state *s = state;
+    memset(plan, 0, sizeof *plan);
+    plan->task = CSF_TASK_2AFC;
+    if (trial_index < 0) return CSF_E_INVALID_ARG;
+    if (s->trial_budget > 0 && trial_index >= s->trial_budget) return CSF_E_ABORTED;
+    refresh_cache(s);
+    int G = s->n_grid;
+    double best_info = -1.0;
+    double *cell_info = s->scratch_a;   /* n_cells <= 4096; scratch is >= n_part = 2000 ... */
+    int *cell_x = s->scratch_idx;
+    double *info_buf = NULL;
+    if (s->n_cells > (G > s->n_part ? G : s->n_part)) {
+        info_buf = malloc(sizeof(double) * (size_t)s->n_cells);
+        cell_x = malloc(sizeof(int) * (size_t)s->n_cells);
+        if (!info_buf || !cell_x) {
+            free(info_buf), free(cell_x);
+            return CSF_E_NOMEM;
+        }
+        cell_info = info_buf;
+    }
+    for (int c = 0; c < s->n_cells; c++) {
+        const double *po = &s->post[(size_t)c * G];
+        /* only nodes with non-negligible posterior mass matter */
+        int g0 = 0, g1 = G - 1;
+        double pmax = 0.0;
+        for (int g = 0; g < G; g++)
+            if (po[g] > pmax) pmax = po[g];
+        while (g0 < g1 && po[g0] < 1e-7 * pmax) g0++;
+        while (g1 > g0 && po[g1] < 1e-7 * pmax) g1--;
+        double ci = -1.0;
+        int cx = s->g_cmax;
+        for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
+            const double *pt = &s->ptab[gx + G - 1], *ht = &s->htab[gx + G - 1];
+            double pc = 0.0, hc = 0.0;
+            for (int g = g0; g <= g1; g++) {
+                pc += po[g] * pt[-g];
+                hc += po[g] * ht[-g];
+            }
+            double info = h2(pc) - hc;
+            if (info > ci) ci = info, cx = gx;
+        }
+        cell_info[c] = ci;
+        cell_x[c] = cx;
+        if (ci > best_info) best_info = ci;
+    }
+    int n_near = 0;
+    for (int c = 0; c < s->n_cells; c++)
+        if (cell_info[c] >= NEAR_BEST_FRACTION * best_info) n_near++;
+    int pick = (int)(csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4) * n_near);
+    if (pick >= n_near) pick = n_near - 1;
+    int chosen = 0;
+    for (int c = 0, k = 0; c < s->n_cells; c++)
+        if (cell_info[c] >= NEAR_BEST_FRACTION * best_info) {
+            if (k == pick) {
+                chosen = c;
+                break;
+            }
+            k++;
+        }
+    plan->cell = chosen;
+    plan->contrast = pow(10.0, s->lo + cell_x[chosen] * s->step);
+    if (plan->contrast > pow(10.0, s->log_cmax)) plan->contrast = pow(10.0, s->log_cmax);
+    plan->signal_interval = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1) < 0.5;
+    plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
+    plan->is_catch = 0;
+    plan->ramp_start_log10 = NAN;
+    plan->ramp_s = 0.0;
+    if (info_buf) free(info_buf), free(cell_x);
+    return CSF_OK;
+}
+
+static void bayes_update(void *state, int trial_index, const csf_trial_plan *plan,
+                         const csf_trial_outcome *outcome)
+{
+    bayes_state *s = state;
+    if (!s || !plan || !outcome || !outcome->valid) return;
+    int c = plan->cell;
+    if (c < 0 || c >= s->n_cells || !(plan->contrast > 0.0) || !isfinite(plan->contrast)) return;
+    if (outcome->response != 0 && outcome->response != 1) return;
+    int correct = outcome->response == plan->signal_interval;
+    double x = log10(plan->contrast);
+    int G = s->n_grid;
+    double *ll = &s->loglik[(size_t)c * G];
+    for (int g = 0; g < G; g++) {
+        double pr = p_correct(s, x, s->lo + g * s->step);
+        ll[g] += log(correct ? pr : 1.0 - pr);
+    }
+    s->n_trials[c]++;
+    recompute_logconv(s, c);
+    for (int i = 0; i < s->n_part; i++) {
+        size_t k = (size_t)i * s->n_cells + c;
+        double nz = interp_grid(s, logconv_of(s, s->level[i], c), s->m[k]);
+        s->logw[i] += nz - s->logz[k];
+        s->logz[k] = nz;
+    }
+    if (ess(s) < 0.5 * s->n_part) resample_move(s, trial_index);
+    s->cache_valid = 0;
+}
+
+/* Posterior mean / sd / P(invisible) of a normalised grid density. */
+static void summarise(const bayes_state *s, const double *p, double *mean, double *sd, double *p_inv)
+{
+    double m = 0.0, m2 = 0.0, pi = 0.0;
+    for (int g = 0; g < s->n_grid; g++) {
+        double t = s->lo + g * s->step;
+        m += p[g] * t;
+        m2 += p[g] * t * t;
+        if (g > s->g_cmax) pi += p[g];
+    }
+    *mean = m;
+    *sd = sqrt(fmax(m2 - m * m, 0.0));
+    *p_inv = pi;
+}
+
+/* log10 evidence of a cell's data under the flat per-cell prior and under the surface prior;
+ * with the flat-prior posterior in flat_post when asked. */
+static void cell_evidence(bayes_state *s, int c, double *log10_bf, double *flat_post)
+{
+    int G = s->n_grid;
+    const double *ll = &s->loglik[(size_t)c * G];
+    const double *sp = &s->surf[(size_t)c * G];
+    double mx = -INFINITY;
+    for (int g = 0; g < G; g++)
+        if (ll[g] > mx) mx = ll[g];
+    double ev_s = 0.0, ev_f = 0.0;
+    /* flat prior over the thresholds the display could test, plus the never-visible region */
+    for (int g = 0; g < G; g++) {
+        double l = exp(ll[g] - mx);
+        ev_s += sp[g] * l;
+        ev_f += l;
+        if (flat_post) flat_post[g] = l;
+    }
+    ev_f /= G;
+    *log10_bf = log10(ev_f / ev_s);
+    if (flat_post) {
+        double t = 0.0;
+        for (int g = 0; g < G; g++) t += flat_post[g];
+        for (int g = 0; g < G; g++) flat_post[g] /= t;
+    }
+}
+
+static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error *err)
+{
+    bayes_state *s = state;
+    if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: estimate without state");
+    refresh_cache(s);
+    double *flat = s->scratch_b;
+    for (int c = 0; c < s->n_cells; c++) {
+        const double *po = &s->post[(size_t)c * s->n_grid];
+        double bf;
+        cell_evidence(s, c, &bf, flat);
+        if (bf > MISFIT_LOG10_BF && s->n_trials[c] > 0) po = flat;
+        double mean, sd, p_inv;
+        summarise(s, po, &mean, &sd, &p_inv);
+        out[c].n_trials = s->n_trials[c];
+        if (p_inv > INVISIBLE_PROB) {
+            out[c].threshold = INFINITY;
+            out[c].stderr_log10 = NAN;
+        } else {
+            out[c].threshold = pow(10.0, fmin(mean, s->log_cmax));
+            out[c].stderr_log10 = sd;
+        }
+    }
+    return CSF_OK;
+}
+
+csf_status csf_bayes_check(void *state, csf_bayes_cell_check *out, csf_error *err)
+{
+    bayes_state *s = state;
+    if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: check without state");
+    refresh_cache(s);
+    for (int c = 0; c < s->n_cells; c++) {
+        double bf, mean, sd, p_inv;
+        cell_evidence(s, c, &bf, NULL);
+        summarise(s, &s->surf[(size_t)c * s->n_grid], &mean, &sd, &p_inv);
+        out[c].surface_log10 = mean;
+        out[c].log10_bayes_factor = s->n_trials[c] ? bf : 0.0;
+        out[c].misfit = s->n_trials[c] > 0 && bf > MISFIT_LOG10_BF;
+        out[c].n_trials = s->n_trials[c];
+    }
+    return CSF_OK;
+}
+
+double csf_bayes_effective_particles(void *state)
+{
+    return state ? ess(state) : 0.0;
+}
+
+void csf_bayes_surface_mean(void *state, double out[6])
+{
+    bayes_state *s = state;
+    double mx = -INFINITY, sw = 0.0;
+    for (int k = 0; k < NPAR; k++) out[k] = 0.0;
+    for (int i = 0; i < s->n_part; i++)
+        if (s->logw[i] > mx) mx = s->logw[i];
+    for (int i = 0; i < s->n_part; i++) {
+        double w = exp(s->logw[i] - mx);
+        sw += w;
+        for (int k = 0; k < NPAR; k++) out[k] += w * s->theta[(size_t)i * NPAR + k];
+    }
+    for (int k = 0; k < NPAR; k++) out[k] /= sw;
+    out[2] = pow(10.0, out[2]); /* report beta in octaves, as csf_model_params has it */
+}
+
+const csf_procedure_ops csf_procedure_bayes = {
+    .name = "bayes",
+    .task = CSF_TASK_2AFC,
+    .create = bayes_create,
+    .next = bayes_next,
+    .update = bayes_update,
+    .estimate = bayes_estimate,
+    .destroy = bayes_destroy,
+};

@@ -1,0 +1,29 @@
+/* Joint Bayesian CSF procedure ("bayes"): extra read-outs beyond calib/procedure.h.
+ * The procedure itself is csf_procedure_bayes (see procedure.h); these functions take the state
+ * pointer its create() returned, for sessions and reports that want to show the model check. */
+#ifndef CSF_METHOD_BAYES_H
+#define CSF_METHOD_BAYES_H
+
+#include "calib/procedure.h"
+
+/* Per-cell model check. The surface (log-parabola x stelaCSF with a per-cell offset) predicts the
+ * cell's threshold; the cell's own trials either agree with that prediction or not. */
+typedef struct {
+    double surface_log10;       /* surface-only prediction of log10 threshold (posterior mean) */
+    double log10_bayes_factor;  /* log10 evidence(flat per-cell prior) / evidence(surface prior);
+                                   > 1 (10:1) means the surface does not explain this cell */
+    int misfit;                 /* 1: estimate() fell back to the per-cell estimate */
+    int n_trials;
+} csf_bayes_cell_check;
+
+/* Fills out[n_cells] (n_cells of the setup). state = the pointer create() returned. */
+csf_status csf_bayes_check(void *state, csf_bayes_cell_check *out, csf_error *err);
+
+/* Effective number of particles behind the surface posterior right now (diagnostic). */
+double csf_bayes_effective_particles(void *state);
+
+/* Posterior mean of the surface parameters (log10 Smax, log10 fmax, beta octaves, delta,
+ * ecc_a, ecc_b), for reports. */
+void csf_bayes_surface_mean(void *state, double out[6]);
+
+#endif
