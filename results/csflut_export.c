@@ -1,0 +1,359 @@
+/* Exports of a csflut table: CSV (re-importable, every axis, raw values, %.17g so a round trip is
+ * bit-exact), JSON, a self-contained C header and a GLSL function. The C and GLSL forms hold the
+ * 2-D (frequency, eccentricity) view at the table's default velocity and luminance and reproduce
+ * csflut_threshold: same nodes (C: hex floats, bit-exact), same cell search, same nested lerp. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/csflut.h"
+#include "results/csflut_internal.h"
+
+typedef struct {
+    char *s;
+    size_t len, cap;
+    int oom;
+} sbuf;
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void sb_printf(sbuf *b, const char *fmt, ...)
+{
+    if (b->oom) return;
+    for (;;) {
+        va_list ap;
+        va_start(ap, fmt);
+        size_t room = b->cap - b->len;
+        int n = vsnprintf(b->s ? b->s + b->len : NULL, b->s ? room : 0, fmt, ap);
+        va_end(ap);
+        if (n < 0) {
+            b->oom = 1;
+            return;
+        }
+        if ((size_t)n < room && b->s) {
+            b->len += (size_t)n;
+            return;
+        }
+        size_t nc = b->cap ? b->cap * 2 : 4096;
+        while (nc < b->len + (size_t)n + 1) nc *= 2;
+        char *ns = realloc(b->s, nc);
+        if (!ns) {
+            b->oom = 1;
+            return;
+        }
+        b->s = ns;
+        b->cap = nc;
+    }
+}
+
+/* %.17g, with inf/nan spelled the way the CSV importer reads them. */
+static void sb_num(sbuf *b, double v)
+{
+    if (v != v) sb_printf(b, "nan");
+    else if (isinf(v)) sb_printf(b, v > 0 ? "inf" : "-inf");
+    else sb_printf(b, "%.17g", v);
+}
+
+static void sb_json_str(sbuf *b, const char *s)
+{
+    sb_printf(b, "\"");
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '"' || *p == '\\') sb_printf(b, "\\%c", *p);
+        else if (*p < 0x20) sb_printf(b, "\\u%04x", *p);
+        else sb_printf(b, "%c", *p);
+    }
+    sb_printf(b, "\"");
+}
+
+/* JSON has no infinity or NaN: null stands for "never visible" in thresholds and "unknown" in
+ * stderr and metadata numbers. */
+static void sb_json_num(sbuf *b, double v)
+{
+    if (!isfinite(v)) sb_printf(b, "null");
+    else sb_printf(b, "%.17g", v);
+}
+
+static const char *const csv_cols[4] = {"freq_cpd", "ecc_deg", "velocity_dps", "lum_cdm2"};
+
+/* Comment text may not break out of its comment: newlines become spaces. */
+static void sb_comment_str(sbuf *b, const char *s)
+{
+    for (; *s; s++) sb_printf(b, "%c", (*s == '\n' || *s == '\r') ? ' ' : *s);
+}
+
+static void export_csv(const csflut_table *t, sbuf *b)
+{
+    const char *keys[5] = {"observer", "display_profile_id", "method", "date_utc", "tool_version"};
+    const char *vals[5] = {csflut_observer(t), csflut_display_profile_id(t), csflut_method(t),
+                           csflut_date_utc(t), csflut_tool_version(t)};
+    sb_printf(b, "# csflut %d.%d threshold table\n", t->vmaj, t->vmin);
+    for (int k = 0; k < 5; k++) {
+        sb_printf(b, "# %s: ", keys[k]);
+        sb_comment_str(b, vals[k]);
+        sb_printf(b, "\n");
+    }
+    sb_printf(b, "# viewing_distance_mm: ");
+    sb_num(b, t->dist_mm);
+    sb_printf(b, "\n# mean_lum_cdm2: ");
+    sb_num(b, t->mean_lum);
+    sb_printf(b, "\n# trials: %d\n", t->trials);
+    for (int a = 0; a < 4; a++)
+        if (t->n[a] > 0) sb_printf(b, "%s,", csv_cols[a]);
+    sb_printf(b, "threshold%s\n", t->se ? ",stderr_log10" : "");
+    size_t nf = (size_t)t->n[0], ne = (size_t)t->n[1], nv = t->n[2] > 0 ? (size_t)t->n[2] : 1;
+    for (size_t k = 0; k < t->n_nodes; k++) {
+        size_t idx[4] = {k % nf, (k / nf) % ne, (k / nf / ne) % nv, k / nf / ne / nv};
+        for (int a = 0; a < 4; a++)
+            if (t->n[a] > 0) {
+                sb_num(b, t->pts[a][idx[a]]);
+                sb_printf(b, ",");
+            }
+        sb_num(b, t->raw[k]);
+        if (t->se) {
+            sb_printf(b, ",");
+            if (t->se[k] == t->se[k]) sb_num(b, t->se[k]);
+        }
+        sb_printf(b, "\n");
+    }
+}
+
+static void sb_json_array(sbuf *b, const double *v, size_t n)
+{
+    sb_printf(b, "[");
+    for (size_t i = 0; i < n; i++) {
+        if (i) sb_printf(b, ",");
+        sb_json_num(b, v[i]);
+    }
+    sb_printf(b, "]");
+}
+
+static void export_json(const csflut_table *t, sbuf *b)
+{
+    sb_printf(b, "{\n  \"format\": \"csflut\",\n  \"version\": \"%d.%d\",\n", t->vmaj, t->vmin);
+    sb_printf(b, "  \"metadata\": {\"observer\": ");
+    sb_json_str(b, csflut_observer(t));
+    sb_printf(b, ", \"display_profile_id\": ");
+    sb_json_str(b, csflut_display_profile_id(t));
+    sb_printf(b, ", \"method\": ");
+    sb_json_str(b, csflut_method(t));
+    sb_printf(b, ", \"date_utc\": ");
+    sb_json_str(b, csflut_date_utc(t));
+    sb_printf(b, ", \"tool_version\": ");
+    sb_json_str(b, csflut_tool_version(t));
+    sb_printf(b, ", \"viewing_distance_mm\": ");
+    sb_json_num(b, t->dist_mm);
+    sb_printf(b, ", \"mean_lum_cdm2\": ");
+    sb_json_num(b, t->mean_lum);
+    sb_printf(b, ", \"trials\": %d},\n  \"axes\": [", t->trials);
+    int first = 1;
+    for (int a = 0; a < 4; a++) {
+        if (t->n[a] == 0) continue;
+        sb_printf(b, "%s\n    {\"name\": \"%s\", \"unit\": \"%s\", \"scale\": \"%s\", \"points\": ",
+                  first ? "" : ",", csflut_axis_name((csflut_axis)a),
+                  csflut_axis_unit((csflut_axis)a), t->scale[a] ? "log" : "linear");
+        sb_json_array(b, t->pts[a], (size_t)t->n[a]);
+        sb_printf(b, "}");
+        first = 0;
+    }
+    sb_printf(b, "\n  ],\n  \"index\": \"((lum*n_vel + vel)*n_ecc + ecc)*n_freq + freq\",\n");
+    sb_printf(b, "  \"threshold\": ");
+    sb_json_array(b, t->raw, t->n_nodes);
+    sb_printf(b, ",\n  \"threshold_conservative\": ");
+    sb_json_array(b, t->cons, t->n_nodes);
+    sb_printf(b, ",\n  \"conservative_stderr_shift\": %.17g", t->k_shift);
+    if (t->se) {
+        sb_printf(b, ",\n  \"stderr_log10\": ");
+        sb_json_array(b, t->se, t->n_nodes);
+    }
+    sb_printf(b, "\n}\n");
+}
+
+static void sb_c_double(sbuf *b, double v)
+{
+    if (isinf(v)) sb_printf(b, "HUGE_VAL");
+    else sb_printf(b, "%a", v);
+}
+
+static void export_c(const csflut_table *t, const char *px, sbuf *b)
+{
+    const csflut_axis_fast *F = &t->fx, *E = &t->ex;
+    const double *v = t->conservative ? t->slice_cons : t->slice_raw;
+    sb_printf(b, "/* Generated by csflut from a csfcal threshold table: do not edit.\n"
+                 " * Observer: ");
+    sb_comment_str(b, csflut_observer(t));
+    sb_printf(b, "; display: ");
+    sb_comment_str(b, csflut_display_profile_id(t));
+    sb_printf(b, "; view: %s.\n"
+                 " * %s_threshold(freq_cpd, ecc_deg) returns the threshold Michelson contrast,\n"
+                 " * interpolated in log2 frequency and linear eccentricity, clamped to the grid\n"
+                 " * edges; HUGE_VAL means never visible. Identical to csflut_threshold(). */\n",
+              t->conservative ? "conservative" : "raw", px);
+    sb_printf(b, "#ifndef %s_H\n#define %s_H\n#include <math.h>\n\n", px, px);
+    sb_printf(b, "#define %s_NF %d\n#define %s_NE %d\n", px, F->n, px, E->n);
+    sb_printf(b, "static const double %s_freq_log2[%d] = {", px, F->n);
+    for (int i = 0; i < F->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_c_double(b, F->node[i]);
+    }
+    sb_printf(b, "};\nstatic const double %s_freq_inv_step[%d] = {", px, F->n - 1);
+    for (int i = 0; i + 1 < F->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_c_double(b, F->inv_step[i]);
+    }
+    sb_printf(b, "};\nstatic const double %s_ecc_deg[%d] = {", px, E->n);
+    for (int i = 0; i < E->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_c_double(b, E->node[i]);
+    }
+    sb_printf(b, "};\nstatic const double %s_ecc_inv_step[%d] = {", px, E->n - 1);
+    for (int i = 0; i + 1 < E->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_c_double(b, E->inv_step[i]);
+    }
+    sb_printf(b, "};\n/* [ecc][freq] */\nstatic const double %s_values[%d] = {", px, F->n * E->n);
+    for (int i = 0; i < F->n * E->n; i++) {
+        sb_printf(b, i % 4 ? ", " : (i ? ",\n    " : "\n    "));
+        sb_c_double(b, v[i]);
+    }
+    sb_printf(b, "};\n\n");
+    sb_printf(b,
+              "static inline double %s_lerp(double a, double b, double w)\n"
+              "{\n"
+              "    if (w == 0) return a;\n"
+              "    if (w == 1) return b;\n"
+              "    return (1 - w) * a + w * b;\n"
+              "}\n\n", px);
+    sb_printf(b,
+              "static inline double %s_threshold(double freq_cpd, double ecc_deg)\n"
+              "{\n"
+              "    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;\n"
+              "    double u = freq_cpd > 0 ? log2(freq_cpd) : -HUGE_VAL;\n"
+              "    if (u < %s_freq_log2[0]) u = %s_freq_log2[0];\n"
+              "    if (u > %s_freq_log2[%s_NF - 1]) u = %s_freq_log2[%s_NF - 1];\n"
+              "    double e = ecc_deg;\n"
+              "    if (e < %s_ecc_deg[0]) e = %s_ecc_deg[0];\n"
+              "    if (e > %s_ecc_deg[%s_NE - 1]) e = %s_ecc_deg[%s_NE - 1];\n"
+              "    int i = 0, j = 0;\n"
+              "    while (i < %s_NF - 2 && u >= %s_freq_log2[i + 1]) i++;\n"
+              "    while (j < %s_NE - 2 && e >= %s_ecc_deg[j + 1]) j++;\n"
+              "    double wf = (u - %s_freq_log2[i]) * %s_freq_inv_step[i];\n"
+              "    double we = (e - %s_ecc_deg[j]) * %s_ecc_inv_step[j];\n"
+              "    const double *v = %s_values + j * %s_NF + i;\n"
+              "    double r0 = %s_lerp(v[0], v[1], wf);\n"
+              "    double r1 = %s_lerp(v[%s_NF], v[%s_NF + 1], wf);\n"
+              "    return %s_lerp(r0, r1, we);\n"
+              "}\n\n",
+              px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px,
+              px, px, px, px, px, px, px);
+    sb_printf(b,
+              "/* 1 if a pattern of this contrast at this frequency and eccentricity is visible. */\n"
+              "static inline int %s_perceptible(double freq_cpd, double contrast, double ecc_deg)\n"
+              "{\n"
+              "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
+              "}\n\n#endif\n", px, px);
+}
+
+static void sb_glsl_float(sbuf *b, double v)
+{
+    /* -1.0 marks "never visible" (GLSL has no infinity literal); see PREFIX_lerp */
+    if (isinf(v)) sb_printf(b, "-1.0");
+    else sb_printf(b, "%.9e", v);
+}
+
+static void export_glsl(const csflut_table *t, const char *px, sbuf *b)
+{
+    const csflut_axis_fast *F = &t->fx, *E = &t->ex;
+    const double *v = t->conservative ? t->slice_cons : t->slice_raw;
+    sb_printf(b, "// Generated by csflut from a csfcal threshold table: do not edit.\n"
+                 "// %s_threshold(freq_cpd, ecc_deg): threshold Michelson contrast (float32), log2\n"
+                 "// frequency x linear eccentricity, clamped to the grid; +inf = never visible.\n"
+                 "// GLSL 3.30 / ES 3.00 or later (uintBitsToFloat). View: %s.\n",
+              px, t->conservative ? "conservative" : "raw");
+    sb_printf(b, "const int %s_NF = %d;\nconst int %s_NE = %d;\n", px, F->n, px, E->n);
+    sb_printf(b, "const float %s_freq_log2[%d] = float[%d](", px, F->n, F->n);
+    for (int i = 0; i < F->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_glsl_float(b, F->node[i]);
+    }
+    sb_printf(b, ");\nconst float %s_ecc_deg[%d] = float[%d](", px, E->n, E->n);
+    for (int i = 0; i < E->n; i++) {
+        sb_printf(b, i ? ", " : "");
+        sb_glsl_float(b, E->node[i]);
+    }
+    sb_printf(b, ");\nconst float %s_values[%d] = float[%d](", px, F->n * E->n, F->n * E->n);
+    for (int i = 0; i < F->n * E->n; i++) {
+        sb_printf(b, i % 4 ? ", " : (i ? ",\n    " : "\n    "));
+        sb_glsl_float(b, v[i]);
+    }
+    sb_printf(b, ");\n\n");
+    sb_printf(b,
+              "float %s_lerp(float a, float b, float w)\n"
+              "{\n"
+              "    if (w <= 0.0) return a;\n"
+              "    if (w >= 1.0) return b;\n"
+              "    if (a < 0.0 || b < 0.0) return -1.0;\n"
+              "    return (1.0 - w) * a + w * b;\n"
+              "}\n\n", px);
+    sb_printf(b,
+              "float %s_threshold(float freq_cpd, float ecc_deg)\n"
+              "{\n"
+              "    float u = clamp(log2(max(freq_cpd, 1e-30)), %s_freq_log2[0], %s_freq_log2[%s_NF - 1]);\n"
+              "    float e = clamp(ecc_deg, %s_ecc_deg[0], %s_ecc_deg[%s_NE - 1]);\n"
+              "    int i = 0, j = 0;\n"
+              "    while (i < %s_NF - 2 && u >= %s_freq_log2[i + 1]) i++;\n"
+              "    while (j < %s_NE - 2 && e >= %s_ecc_deg[j + 1]) j++;\n"
+              "    float wf = (u - %s_freq_log2[i]) / (%s_freq_log2[i + 1] - %s_freq_log2[i]);\n"
+              "    float we = (e - %s_ecc_deg[j]) / (%s_ecc_deg[j + 1] - %s_ecc_deg[j]);\n"
+              "    int k = j * %s_NF + i;\n"
+              "    float r0 = %s_lerp(%s_values[k], %s_values[k + 1], wf);\n"
+              "    float r1 = %s_lerp(%s_values[k + %s_NF], %s_values[k + %s_NF + 1], wf);\n"
+              "    float r = %s_lerp(r0, r1, we);\n"
+              "    return r < 0.0 ? uintBitsToFloat(0x7f800000u) : r;\n"
+              "}\n\n",
+              px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px,
+              px, px, px, px, px, px);
+    sb_printf(b,
+              "bool %s_perceptible(float freq_cpd, float contrast, float ecc_deg)\n"
+              "{\n"
+              "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
+              "}\n", px, px);
+}
+
+static int is_identifier(const char *s)
+{
+    if (!s || !*s || strlen(s) > 64) return 0;
+    if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || *s == '_')) return 0;
+    for (; *s; s++)
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
+              *s == '_'))
+            return 0;
+    return 1;
+}
+
+csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char *prefix,
+                            char **out, size_t *len)
+{
+    if (!t || !out) return CSFLUT_E_ARG;
+    *out = NULL;
+    if (len) *len = 0;
+    const char *px = prefix ? prefix : "csflut_gen";
+    if (!is_identifier(px)) return CSFLUT_E_ARG;
+    sbuf b = {0};
+    switch (fmt) {
+    case CSFLUT_FORMAT_CSV: export_csv(t, &b); break;
+    case CSFLUT_FORMAT_JSON: export_json(t, &b); break;
+    case CSFLUT_FORMAT_C: export_c(t, px, &b); break;
+    case CSFLUT_FORMAT_GLSL: export_glsl(t, px, &b); break;
+    default: return CSFLUT_E_ARG;
+    }
+    if (b.oom || !b.s) {
+        free(b.s);
+        return CSFLUT_E_NOMEM;
+    }
+    *out = b.s;
+    if (len) *len = b.len;
+    return CSFLUT_OK;
+}
