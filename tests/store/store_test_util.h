@@ -1,0 +1,87 @@
+/* Helpers shared by the store tests: temporary folders and a filled-in trial. */
+#ifndef CSF_STORE_TEST_UTIL_H
+#define CSF_STORE_TEST_UTIL_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "results/rng.h"
+#include "results/store.h"
+
+/* Makes a fresh folder under $TMPDIR (or /tmp); path written to dir. */
+static inline int tmp_dir(char *dir, size_t cap, const char *tag)
+{
+    const char *base = getenv("TMPDIR");
+    snprintf(dir, cap, "%s/csfstore-%s-XXXXXX", base && *base ? base : "/tmp", tag);
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static inline void rm_rf(const char *dir)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "warning: could not remove %s\n", dir);
+}
+
+/* A trial whose every field depends on (seed, seq), so a wrong column shows up as a mismatch. */
+static inline csf_trial make_trial(int64_t session_id, int seq, uint64_t seed)
+{
+    csf_trial t;
+    memset(&t, 0, sizeof t);
+    t.session_id = session_id;
+    t.seq = seq;
+    snprintf(t.method, sizeof t.method, "%s", seq % 2 ? "fade" : "2afc");
+    t.freq_cpd = 0.5 + 20.0 * csf_rng_uniform(seed, 1, (uint64_t)seq);
+    t.ecc_deg = 30.0 * csf_rng_uniform(seed, 2, (uint64_t)seq);
+    t.polar_deg = 360.0 * csf_rng_uniform(seed, 3, (uint64_t)seq);
+    t.orientation_deg = 180.0 * csf_rng_uniform(seed, 4, (uint64_t)seq);
+    t.sigma_deg = 0.5 + csf_rng_uniform(seed, 5, (uint64_t)seq);
+    t.velocity_dps = 4.0 * csf_rng_uniform(seed, 6, (uint64_t)seq);
+    t.mean_lum_cdm2 = 50.0 + seq % 7;
+    t.is_catch = seq % 11 == 3;
+    t.is_practice = seq < 2;
+    t.contrast_requested = pow(10.0, -3.0 + 2.0 * csf_rng_uniform(seed, 7, (uint64_t)seq));
+    t.contrast_shown_mean = t.contrast_requested * 0.99;
+    t.contrast_shown_max = t.contrast_requested * 1.01;
+    t.frames_planned = 30 + seq % 5;
+    t.frames_missed = seq % 13 == 0 ? 2 : 0;
+    t.frames_shown = t.frames_planned - t.frames_missed;
+    t.signal_interval = seq % 2 ? 0 : 1 + seq % 3 % 2;
+    t.response = seq % 3 == 0;
+    t.rt_s = seq % 17 == 5 ? NAN : 0.3 + csf_rng_uniform(seed, 8, (uint64_t)seq);
+    t.click_x_deg = seq % 4 == 0 ? NAN : 10.0 * csf_rng_normal(seed, 9, (uint64_t)seq);
+    t.click_y_deg = seq % 4 == 0 ? NAN : 10.0 * csf_rng_normal(seed, 10, (uint64_t)seq);
+    t.valid = t.frames_missed == 0;
+    snprintf(t.flags, sizeof t.flags, "%s", t.frames_missed ? "missed_frames,late" : "");
+    return t;
+}
+
+static inline int same_double(double a, double b)
+{
+    return (isnan(a) && isnan(b)) || a == b;
+}
+
+static inline int trials_equal(const csf_trial *a, const csf_trial *b)
+{
+    return a->session_id == b->session_id && a->seq == b->seq && !strcmp(a->method, b->method) &&
+           same_double(a->freq_cpd, b->freq_cpd) && same_double(a->ecc_deg, b->ecc_deg) &&
+           same_double(a->polar_deg, b->polar_deg) &&
+           same_double(a->orientation_deg, b->orientation_deg) &&
+           same_double(a->sigma_deg, b->sigma_deg) && same_double(a->velocity_dps, b->velocity_dps) &&
+           same_double(a->mean_lum_cdm2, b->mean_lum_cdm2) && a->is_catch == b->is_catch &&
+           a->is_practice == b->is_practice &&
+           same_double(a->contrast_requested, b->contrast_requested) &&
+           same_double(a->contrast_shown_mean, b->contrast_shown_mean) &&
+           same_double(a->contrast_shown_max, b->contrast_shown_max) &&
+           a->frames_planned == b->frames_planned && a->frames_shown == b->frames_shown &&
+           a->frames_missed == b->frames_missed && a->signal_interval == b->signal_interval &&
+           a->response == b->response && same_double(a->rt_s, b->rt_s) &&
+           same_double(a->click_x_deg, b->click_x_deg) &&
+           same_double(a->click_y_deg, b->click_y_deg) && a->valid == b->valid &&
+           !strcmp(a->flags, b->flags);
+}
+
+#endif

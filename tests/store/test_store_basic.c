@@ -1,0 +1,270 @@
+/* Store round trips: every field of every entity comes back as written, after closing and
+ * reopening; ordering by seq; refusals (duplicate seq, unknown session, bad kind/state/channel). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/store.h"
+#include "results/store_internal.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static void test_sessions_trials(const char *path)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) {
+        fprintf(stderr, "open failed: %s\n", err.msg);
+        return;
+    }
+    CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+
+    int64_t obs = 0, disp = 0;
+    const char *settings = "{\"freqs_cpd\":[1,2,4,8],\"method\":\"fade\"}";
+    const uint64_t big_seed = 0xfedcba9876543210ULL; /* above INT64_MAX: must round-trip */
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "alice", "lcd-1", settings, big_seed, &obs, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, "lcd-1", NULL, 7, &disp, &err), CSF_OK);
+    CHECK(obs > 0 && disp > 0 && obs != disp);
+
+    /* Insert out of order: get_trials must come back ordered by seq (what resume replays). */
+    const int n = 40;
+    for (int k = 0; k < n; k++) {
+        int seq = (k * 17) % n; /* a permutation of 0..n-1 since gcd(17, 40) = 1 */
+        csf_trial t = make_trial(obs, seq, 99);
+        CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_OK);
+    }
+    /* Duplicate seq is refused with a message, not silently replaced. */
+    csf_trial dup = make_trial(obs, 5, 123);
+    CHECK_INT_EQ(csf_store_add_trial(s, &dup, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "trial 5");
+    /* Unknown session is refused (foreign key). */
+    csf_trial orphan = make_trial(obs + 1000, 0, 1);
+    CHECK(csf_store_add_trial(s, &orphan, &err) != CSF_OK);
+    /* Non-finite frequency refused. */
+    csf_trial badf = make_trial(obs, 500, 1);
+    badf.freq_cpd = NAN;
+    CHECK_INT_EQ(csf_store_add_trial(s, &badf, &err), CSF_E_INVALID_ARG);
+
+    double iv[5] = {1 / 60.0, 1 / 60.0, 2 / 60.0, 1 / 60.0, 0.0171};
+    CHECK_INT_EQ(csf_store_add_frame_intervals(s, obs, 0, iv, 5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_frame_intervals(s, obs, 1, iv, 3, &err), CSF_OK);
+    CHECK(csf_store_add_frame_intervals(s, obs, 1, iv, 3, &err) != CSF_OK); /* already stored */
+
+    for (int k = 0; k < 6; k++) {
+        csf_reading r;
+        memset(&r, 0, sizeof r);
+        r.session_id = disp;
+        r.seq = k;
+        snprintf(r.channel, sizeof r.channel, "%s", k == 0 ? "dark" : k < 3 ? "grey" : "r");
+        r.drive01 = k / 5.0;
+        r.lum_cdm2 = k == 5 ? NAN : 0.2 + 100.0 * pow(k / 5.0, 2.2);
+        r.has_xyz = k % 2;
+        r.X = 0.95 * r.lum_cdm2;
+        r.Y = r.lum_cdm2;
+        r.Z = 1.08 * r.lum_cdm2;
+        r.t_s = 1.5 * k;
+        snprintf(r.status, sizeof r.status, "%s", k == 5 ? "timeout" : "ok");
+        CHECK_INT_EQ(csf_store_add_reading(s, &r, &err), CSF_OK);
+    }
+    csf_reading badr;
+    memset(&badr, 0, sizeof badr);
+    badr.session_id = disp;
+    badr.seq = 10;
+    snprintf(badr.channel, sizeof badr.channel, "uv");
+    snprintf(badr.status, sizeof badr.status, "ok");
+    CHECK_INT_EQ(csf_store_add_reading(s, &badr, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "channel");
+
+    csf_threshold_row rows[3] = {
+        {4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
+        {1.0, 0.0, 0.0, 50.0, 0.01, NAN, 25},
+        {32.0, 10.0, 0.0, 50.0, INFINITY, 0.2, 12},
+    };
+    CHECK_INT_EQ(csf_store_put_thresholds(s, obs, rows, 3, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_put_thresholds(s, obs, rows, 3, &err), CSF_OK); /* replaces, not appends */
+    CHECK_INT_EQ(csf_store_put_thresholds(s, 99999, rows, 1, &err), CSF_E_NOT_FOUND);
+
+    const char blob[] = "csfcal-display-profile 1\nx = 1\n";
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p1.txt", "old", 3, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p2.txt", blob, sizeof blob - 1, &err), CSF_OK);
+    CHECK(csf_store_add_artifact(s, 424242, "plot", "x.png", "a", 1, &err) != CSF_OK);
+
+    CHECK_INT_EQ(csf_store_set_session_state(s, obs, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, disp, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, obs, "sleeping", &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "running, paused, finished, aborted");
+    CHECK_INT_EQ(csf_store_set_session_state(s, 99999, "finished", &err), CSF_E_NOT_FOUND);
+    int64_t bad = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "party", NULL, NULL, NULL, 1, &bad, &err), CSF_E_INVALID_ARG);
+
+    int64_t study = 0, p1 = 0, p2 = 0, found = 0;
+    CHECK_INT_EQ(csf_store_create_study(s, "lod-2afc", "{\"conditions\":4}", &study, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_create_study(s, "lod-2afc", NULL, NULL, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_find_study(s, "lod-2afc", &found, &err), CSF_OK);
+    CHECK_INT_EQ(found, study);
+    CHECK_INT_EQ(csf_store_find_study(s, "nope", &found, &err), CSF_E_NOT_FOUND);
+    CHECK_INT_EQ(csf_store_add_participant(s, study, "P01", &p1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_participant(s, study, "P02", &p2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_participant(s, study, "P01", NULL, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_add_participant(s, study + 50, "P09", NULL, &err), CSF_E_INVALID_ARG);
+    int np = 0;
+    CHECK_INT_EQ(csf_store_count_participants(s, study, &np, &err), CSF_OK);
+    CHECK_INT_EQ(np, 2);
+    int64_t st_sess = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "study", "P01", "lcd-1", NULL, 3, &st_sess, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_link_session_participant(s, st_sess, p1, &err), CSF_OK);
+    CHECK(csf_store_link_session_participant(s, st_sess, p2, &err) != CSF_OK);
+    int64_t d1 = 0, d2 = 0;
+    CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", "lcd-1-2026-11-22-abcd", &d1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", NULL, &d2, &err), CSF_OK);
+    CHECK_INT_EQ(d1, d2);
+    csf_store_close(s);
+
+    /* Everything survives a close and reopen. */
+    s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) return;
+    csf_trial *trials = NULL;
+    size_t nt = 0;
+    CHECK_INT_EQ(csf_store_get_trials(s, obs, &trials, &nt, &err), CSF_OK);
+    CHECK_INT_EQ(nt, n);
+    int all_equal = 1;
+    for (size_t i = 0; i < nt; i++) {
+        csf_trial want = make_trial(obs, (int)i, 99);
+        if (trials[i].seq != (int)i || !trials_equal(&trials[i], &want)) {
+            all_equal = 0;
+            fprintf(stderr, "trial %zu differs (seq %d)\n", i, trials[i].seq);
+            break;
+        }
+    }
+    CHECK(all_equal);
+    free(trials);
+
+    csf_reading *rd = NULL;
+    size_t nr = 0;
+    CHECK_INT_EQ(csf_store_get_readings(s, disp, &rd, &nr, &err), CSF_OK);
+    CHECK_INT_EQ(nr, 6);
+    if (nr == 6) {
+        CHECK(!strcmp(rd[0].channel, "dark") && !strcmp(rd[3].channel, "r"));
+        CHECK_NEAR(rd[4].lum_cdm2, 0.2 + 100.0 * pow(0.8, 2.2), 1e-12);
+        CHECK(isnan(rd[5].lum_cdm2));
+        CHECK(!strcmp(rd[5].status, "timeout"));
+        CHECK(rd[1].has_xyz && !rd[2].has_xyz);
+        CHECK_NEAR(rd[1].Z, 1.08 * rd[1].lum_cdm2, 1e-12);
+        CHECK_NEAR(rd[4].t_s, 6.0, 0);
+    }
+    free(rd);
+
+    double *fi = NULL;
+    size_t nf = 0;
+    CHECK_INT_EQ(csf_store_get_frame_intervals(s, obs, &fi, &nf, &err), CSF_OK);
+    CHECK_INT_EQ(nf, 8);
+    if (nf == 8) {
+        CHECK_NEAR(fi[2], 2 / 60.0, 0);
+        CHECK_NEAR(fi[4], 0.0171, 0);
+        CHECK_NEAR(fi[7], 1 / 60.0, 0);
+    }
+    free(fi);
+
+    csf_threshold_row *th = NULL;
+    size_t nth = 0;
+    CHECK_INT_EQ(csf_store_get_thresholds(s, obs, &th, &nth, &err), CSF_OK);
+    CHECK_INT_EQ(nth, 3);
+    if (nth == 3) { /* ordered by ecc then freq */
+        CHECK_NEAR(th[0].freq_cpd, 1.0, 0);
+        CHECK(isnan(th[0].stderr_log10));
+        CHECK_NEAR(th[1].threshold, 0.004, 0);
+        CHECK_INT_EQ(th[1].n_trials, 30);
+        CHECK(isinf(th[2].threshold) && th[2].threshold > 0);
+    }
+    free(th);
+
+    void *b = NULL;
+    size_t bl = 0;
+    char apath[256];
+    CHECK_INT_EQ(csf_store_get_artifact(s, disp, "profile", &b, &bl, apath, sizeof apath, &err), CSF_OK);
+    CHECK_INT_EQ(bl, sizeof blob - 1);
+    CHECK(b && memcmp(b, blob, bl) == 0 && ((char *)b)[bl] == '\0');
+    CHECK(!strcmp(apath, "/tmp/p2.txt"));
+    free(b);
+    CHECK_INT_EQ(csf_store_get_artifact(s, obs, "csflut", &b, &bl, NULL, 0, &err), CSF_E_NOT_FOUND);
+
+    csf_session_info info;
+    CHECK_INT_EQ(csf_store_get_session(s, obs, &info, &err), CSF_OK);
+    CHECK(!strcmp(info.kind, "observer") && !strcmp(info.state, "paused"));
+    CHECK(!strcmp(info.observer, "alice") && !strcmp(info.display, "lcd-1"));
+    CHECK(!strcmp(info.settings_json, settings));
+    CHECK(info.seed == big_seed);
+    CHECK_INT_EQ(info.n_trials, n);
+    CHECK_INT_EQ(info.n_readings, 0);
+    CHECK(!strcmp(info.tool_version, CSF_VERSION));
+    CHECK(strlen(info.created_utc) == 20 && info.created_utc[19] == 'Z');
+    csf_session_info_free(&info);
+    CHECK_INT_EQ(csf_store_get_session(s, 4242, &info, &err), CSF_E_NOT_FOUND);
+
+    csf_session_info *list = NULL;
+    size_t nl = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &nl, &err), CSF_OK);
+    CHECK_INT_EQ(nl, 3);
+    if (nl == 3) {
+        CHECK(list[0].id == obs && list[1].id == disp && list[2].id == st_sess);
+        CHECK_INT_EQ(list[1].n_readings, 6);
+        CHECK(!strcmp(list[1].state, "finished") && !strcmp(list[1].settings_json, "{}"));
+        CHECK(!strcmp(list[2].kind, "study") && !strcmp(list[2].state, "running"));
+    }
+    csf_session_list_free(list, nl);
+
+    char created[32], updated[32];
+    CHECK_INT_EQ(csf_store_session_times(s, obs, created, updated, &err), CSF_OK);
+    CHECK(strcmp(updated, created) >= 0);
+
+    /* Durability settings as promised in the contract. */
+    sqlite3 *db = csf_store_db(s);
+    sqlite3_stmt *st = NULL;
+    sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &st, NULL);
+    CHECK(sqlite3_step(st) == SQLITE_ROW && !strcmp((const char *)sqlite3_column_text(st, 0), "wal"));
+    sqlite3_finalize(st);
+    sqlite3_prepare_v2(db, "PRAGMA synchronous", -1, &st, NULL);
+    CHECK(sqlite3_step(st) == SQLITE_ROW && sqlite3_column_int(st, 0) == 2); /* FULL */
+    sqlite3_finalize(st);
+    sqlite3_prepare_v2(db, "PRAGMA foreign_keys", -1, &st, NULL);
+    CHECK(sqlite3_step(st) == SQLITE_ROW && sqlite3_column_int(st, 0) == 1);
+    sqlite3_finalize(st);
+    /* Portable schema: only INTEGER, REAL, TEXT, BLOB column types. */
+    sqlite3_prepare_v2(db, "SELECT m.name, p.type FROM sqlite_master m, pragma_table_info(m.name) p "
+                           "WHERE m.type = 'table'", -1, &st, NULL);
+    int cols = 0, odd = 0;
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *ty = (const char *)sqlite3_column_text(st, 1);
+        cols++;
+        if (strcmp(ty, "INTEGER") && strcmp(ty, "REAL") && strcmp(ty, "TEXT") && strcmp(ty, "BLOB")) {
+            odd++;
+            fprintf(stderr, "non-portable column type %s in %s\n", ty, sqlite3_column_text(st, 0));
+        }
+    }
+    sqlite3_finalize(st);
+    CHECK(cols > 60);
+    CHECK_INT_EQ(odd, 0);
+    csf_store_close(s);
+}
+
+int main(void)
+{
+    char dir[512], path[600];
+    if (tmp_dir(dir, sizeof dir, "basic") < 0) return 1;
+    snprintf(path, sizeof path, "%s/store.sqlite", dir);
+    test_sessions_trials(path);
+
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open("", &s, &err), CSF_E_INVALID_ARG);
+    CHECK(s == NULL);
+    CHECK_INT_EQ(csf_store_open(dir, &s, &err), CSF_E_STORE); /* a folder */
+    CHECK_STR_CONTAINS(err.msg, "folder");
+    snprintf(path, sizeof path, "%s/no/such/dir/store.sqlite", dir);
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "does not exist");
+    rm_rf(dir);
+    return CHECK_RESULT();
+}
