@@ -1,2 +1,707 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_display_calib;
+/* Photometric calibration procedure (see calib/display_calib.h for the contract).
+ *
+ * Level placement: each curve starts from a coarse grid; then, repeatedly, every interior knot is
+ * predicted from a model fitted without it (leave-one-out). That prediction error, weighted by
+ * 1/max(L, 10 % of peak) because relative accuracy matters where luminance is high, is charged
+ * to the two intervals beside the knot; the worst interval is split at its midpoint. Where the
+ * curve is nearly a power law the model already fits and no readings are spent; where it bends
+ * (an LCD toe, a kink in a measured curve) they concentrate. Repeats: when the estimated noise at
+ * a level exceeds target/2.5, the level is read several times and averaged.
+ *
+ * Drift: the white (grey at full drive) is re-read between sweeps; every reading is scaled by the
+ * latest white over the white interpolated at its time, so a display still warming up does not
+ * bend the curve. */
+#include "calib/display_calib.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP };
+
+typedef struct {
+    int role, ch;
+    double drive;
+    double lum;       /* measured; NAN when too dark */
+    double xyz[3];
+    int has_xyz;
+    double t_s;
+} rd;
+
+typedef struct {
+    csf_photometer *ph;
+    csf_store *store;
+    int64_t sid;
+    const csf_display_calib_opts *o;
+    rd *r;
+    size_t n, cap;
+    csf_reading *replay;
+    size_t n_replay, replay_pos;
+    int seq;
+    int live_started;
+    double t_last;
+    int n_sweep, n_warmup;
+    double noise_rel, noise_abs;
+    double black;
+    int progress_shown;
+} ctx;
+
+static const char *ch_name_store(int role, int ch)
+{
+    if (role == ROLE_WARMUP) return "white";
+    if (role == ROLE_DARK) return "dark";
+    static const char *n[4] = {"r", "g", "b", "grey"};
+    return n[ch];
+}
+
+static const char *status_name(csf_status st)
+{
+    switch (st) {
+    case CSF_OK: return "ok";
+    case CSF_E_TOO_DARK: return "too_dark";
+    case CSF_E_SATURATED: return "saturated";
+    case CSF_E_TIMEOUT: return "timeout";
+    default: return "error";
+    }
+}
+
+void csf_display_calib_defaults(csf_display_calib_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->target_rel = 0.0025;
+    o->budget = 48;
+    o->channels = 1;
+    o->warmup_wait_s = 5;
+    o->warmup_max = 40;
+}
+
+static void progress(ctx *c)
+{
+    if (!c->o->progress) return;
+    int total = c->o->budget > 0 ? c->o->budget : 1;
+    int done = c->n_sweep > total ? total : c->n_sweep;
+    double per = c->n > 1 && c->t_last > 0 ? c->t_last / (double)c->n : 1.0;
+    int width = 30, fill = done * width / total;
+    char bar[32];
+    for (int i = 0; i < width; i++) bar[i] = i < fill ? '#' : '.';
+    bar[width] = 0;
+    fprintf(stderr, "\r[%s] %2d/%d sweep readings, about %.0f s left  ", bar, done, total,
+            per * (total - done));
+    c->progress_shown = 1;
+}
+
+static csf_status push(ctx *c, const rd *x, csf_error *err)
+{
+    if (c->n == c->cap) {
+        size_t nc = c->cap ? c->cap * 2 : 128;
+        rd *a = realloc(c->r, nc * sizeof *a);
+        if (!a) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        c->r = a;
+        c->cap = nc;
+    }
+    c->r[c->n++] = *x;
+    return CSF_OK;
+}
+
+/* Takes one reading: from the stored session while replaying, else from the instrument (and
+ * stores it at once). accept_dark: a too-dark answer is a valid result here (black of an OLED). */
+static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, rd *out, csf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->role = role;
+    out->ch = ch;
+    out->drive = drive;
+    const char *want = ch_name_store(role, ch);
+    while (c->replay_pos < c->n_replay) {
+        const csf_reading *s = &c->replay[c->replay_pos++];
+        if (strcmp(s->channel, want) != 0 || fabs(s->drive01 - drive) > 1e-12)
+            return csf_error_set(err, CSF_E_FORMAT,
+                                 "stored reading %d of session %lld is %s at %.6g where the procedure "
+                                 "expects %s at %.6g: the session was made by a different procedure "
+                                 "or settings and cannot be resumed", s->seq, (long long)c->sid,
+                                 s->channel, s->drive01, want, drive);
+        c->t_last = s->t_s;
+        int ok = strcmp(s->status, "ok") == 0;
+        int dark = strcmp(s->status, "too_dark") == 0;
+        if (!ok && !(dark && accept_dark)) continue; /* a failed attempt: the live run retried it */
+        out->lum = ok ? s->lum_cdm2 : NAN;
+        out->xyz[0] = s->X;
+        out->xyz[1] = s->Y;
+        out->xyz[2] = s->Z;
+        out->has_xyz = ok && s->has_xyz;
+        out->t_s = s->t_s;
+        if (role == ROLE_SWEEP) c->n_sweep++;
+        if (role == ROLE_WARMUP) c->n_warmup++;
+        return push(c, out, err);
+    }
+    if (!c->live_started) {
+        csf_photometer_resume_at(c->ph, (uint64_t)c->seq, c->t_last);
+        c->live_started = 1;
+    }
+    double rgb[3] = {drive, drive, drive};
+    if (ch < 3) {
+        rgb[0] = rgb[1] = rgb[2] = 0;
+        rgb[ch] = drive;
+    }
+    csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
+    csf_photometer_reading pr;
+    csf_error merr;
+    csf_error_clear(&merr);
+    csf_status st = csf_photometer_measure(c->ph, &pr, &merr);
+    if (c->store) {
+        csf_reading sr;
+        memset(&sr, 0, sizeof sr);
+        sr.session_id = c->sid;
+        sr.seq = c->seq;
+        snprintf(sr.channel, sizeof sr.channel, "%s", want);
+        sr.drive01 = drive;
+        sr.lum_cdm2 = st ? NAN : pr.lum_cdm2;
+        sr.X = st ? NAN : pr.xyz[0];
+        sr.Y = st ? NAN : pr.xyz[1];
+        sr.Z = st ? NAN : pr.xyz[2];
+        sr.has_xyz = !st && pr.has_xyz;
+        sr.t_s = pr.t_s;
+        snprintf(sr.status, sizeof sr.status, "%s", status_name(st));
+        csf_status sst = csf_store_add_reading(c->store, &sr, err);
+        if (sst) return sst;
+    }
+    c->seq++;
+    c->t_last = pr.t_s;
+    if (st && !(st == CSF_E_TOO_DARK && accept_dark)) {
+        *err = merr;
+        return st;
+    }
+    out->lum = st ? NAN : pr.lum_cdm2;
+    memcpy(out->xyz, pr.xyz, sizeof pr.xyz);
+    out->has_xyz = !st && pr.has_xyz;
+    out->t_s = pr.t_s;
+    if (role == ROLE_SWEEP) c->n_sweep++;
+    if (role == ROLE_WARMUP) c->n_warmup++;
+    progress(c);
+    return push(c, out, err);
+}
+
+/* Drift factor at time t: latest white over white interpolated at t (1 with fewer than 1 ref). */
+static double drift_factor(const ctx *c, double t)
+{
+    double tl = 0, wl = NAN, tp = 0, wp = NAN, last = NAN;
+    for (size_t i = 0; i < c->n; i++) {
+        const rd *x = &c->r[i];
+        if (x->role != ROLE_REF || isnan(x->lum)) continue;
+        last = x->lum;
+    }
+    if (isnan(last)) return 1.0;
+    /* bracket t between refs */
+    for (size_t i = 0; i < c->n; i++) {
+        const rd *x = &c->r[i];
+        if (x->role != ROLE_REF || isnan(x->lum)) continue;
+        if (x->t_s <= t) {
+            tp = x->t_s;
+            wp = x->lum;
+        } else if (isnan(wl)) {
+            tl = x->t_s;
+            wl = x->lum;
+        }
+    }
+    double w;
+    if (isnan(wp)) w = wl;
+    else if (isnan(wl)) w = wp;
+    else w = wp + (wl - wp) * (t - tp) / (tl - tp);
+    return last / w;
+}
+
+static double corrected(const ctx *c, const rd *x)
+{
+    return x->lum * drift_factor(c, x->t_s);
+}
+
+static void update_black(ctx *c)
+{
+    double s = 0;
+    int k = 0;
+    for (size_t i = 0; i < c->n; i++)
+        if (c->r[i].role == ROLE_DARK) {
+            s += isnan(c->r[i].lum) ? 0 : corrected(c, &c->r[i]);
+            k++;
+        }
+    c->black = k ? s / k : 0;
+}
+
+/* Points (drive, lum) of one curve from the readings so far; channel curves exclude black.
+ * Returns count; arrays malloc'd. */
+static size_t curve_points(const ctx *c, int ch, double **v, double **L)
+{
+    *v = malloc((c->n + 1) * sizeof(double));
+    *L = malloc((c->n + 1) * sizeof(double));
+    size_t k = 0;
+    if (!*v || !*L) return 0;
+    if (ch < 3) {
+        (*v)[k] = 0;
+        (*L)[k++] = 0;
+    }
+    for (size_t i = 0; i < c->n; i++) {
+        const rd *x = &c->r[i];
+        if (ch == CSF_CH_GREY && x->role == ROLE_DARK) {
+            (*v)[k] = 0;
+            (*L)[k++] = isnan(x->lum) ? 0 : corrected(c, x);
+        } else if (ch == CSF_CH_GREY && x->role == ROLE_REF) {
+            (*v)[k] = 1;
+            (*L)[k++] = corrected(c, x);
+        } else if (x->role == ROLE_SWEEP && x->ch == ch) {
+            (*v)[k] = x->drive;
+            double l = isnan(x->lum) ? 0 : corrected(c, x);
+            (*L)[k++] = ch < 3 ? l - c->black : l;
+        }
+    }
+    return k;
+}
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Distinct sorted drives and mean luminance per drive. */
+static size_t distinct(const double *v, const double *L, size_t n, double *dv, double *dl)
+{
+    double *pairs = malloc(2 * (n ? n : 1) * sizeof(double));
+    if (!pairs) return 0;
+    for (size_t i = 0; i < n; i++) {
+        pairs[2 * i] = v[i];
+        pairs[2 * i + 1] = L[i];
+    }
+    qsort(pairs, n, 2 * sizeof(double), cmp_dbl);
+    size_t m = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        double s = 0;
+        while (j < n && pairs[2 * j] == pairs[2 * i]) s += pairs[2 * j++ + 1];
+        dv[m] = pairs[2 * i];
+        dl[m++] = s / (double)(j - i);
+        i = j;
+    }
+    free(pairs);
+    return m;
+}
+
+/* Leave-one-out error estimate per interval. est has m-1 entries. Returns max. */
+static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel, double *est,
+                              double *knot_err)
+{
+    double peak = dl[m - 1];
+    for (size_t i = 0; i + 1 < m; i++) est[i] = 0;
+    double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double));
+    double worst = 0;
+    for (size_t k = 1; k + 1 < m; k++) {
+        size_t j = 0;
+        for (size_t i = 0; i < m; i++)
+            if (i != k) {
+                tv[j] = dv[i];
+                tl[j++] = dl[i];
+            }
+        double pred;
+        csf_error e;
+        if (csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e)) continue;
+        double denom = fmax(dl[k], 0.1 * peak);
+        double ek = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
+        if (knot_err) knot_err[k] = ek;
+        /* halving an interval cuts a smooth cubic's error ~8-16x, a kink's ~2x: 4 is between */
+        double share = ek / 4;
+        if (share > est[k - 1]) est[k - 1] = share;
+        if (share > est[k]) est[k] = share;
+    }
+    for (size_t i = 0; i + 1 < m; i++)
+        if (est[i] > worst) worst = est[i];
+    free(tv);
+    free(tl);
+    return worst;
+}
+
+/* Readings to average at a level of luminance lum (relative noise plus absolute noise). */
+static int repeats_for(const ctx *c, double lum, double peak)
+{
+    if (!(lum >= 0.1 * peak) || !(lum > 0)) return 1;
+    double s = sqrt(c->noise_rel * c->noise_rel + (c->noise_abs / lum) * (c->noise_abs / lum));
+    double q = s / (c->o->target_rel / 2.5);
+    int n = (int)ceil(q * q);
+    if (n < 1) n = 1;
+    if (n > 4) n = 4;
+    return n;
+}
+
+/* Predicted luminance of a curve at drive v from the current points. */
+static double predict(const ctx *c, int ch, double v)
+{
+    double *pv, *pl;
+    size_t k = curve_points(c, ch, &pv, &pl);
+    double out = NAN;
+    csf_error e;
+    if (k >= 2 && csf_profile_fit_curve(pv, pl, k, ch < 3, &v, &out, 1, &e)) out = NAN;
+    free(pv);
+    free(pl);
+    return out;
+}
+
+static csf_status measure_level(ctx *c, int ch, double v, double peak, csf_error *err)
+{
+    double guess = predict(c, ch, v);
+    if (isnan(guess)) guess = peak * pow(v, 2.2);
+    int reps = repeats_for(c, guess, peak);
+    for (int k = 0; k < reps; k++) {
+        rd x;
+        /* near black a too-dark answer is a fact about the display, not a fault */
+        int accept_dark = guess < 0.02 * peak;
+        csf_status st = take(c, ROLE_SWEEP, ch, v, accept_dark, &x, err);
+        if (st) return st;
+    }
+    return CSF_OK;
+}
+
+static csf_status reference(ctx *c, csf_error *err)
+{
+    rd x;
+    return take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+}
+
+static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *err)
+{
+    int start = c->n_sweep;
+    csf_status st;
+    /* full drive first: it sets the curve's peak */
+    double peak;
+    if (ch < 3) {
+        st = measure_level(c, ch, 1.0, INFINITY, err);
+        if (st) return st;
+        peak = predict(c, ch, 1.0);
+    } else {
+        peak = predict(c, ch, 1.0);
+    }
+    if (!(peak > 0)) return csf_error_set(err, CSF_E_INSUFFICIENT,
+                                          "%s at full drive is not brighter than black: is the sensor on the patch?",
+                                          ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
+    static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
+    static const double grid_ch[] = {0.25, 0.5, 0.75};
+    const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
+    int ng = ch == CSF_CH_GREY ? 7 : 3;
+    for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
+        st = measure_level(c, ch, grid[i], peak, err);
+        if (st) return st;
+    }
+    double last_est = INFINITY;
+    while (c->n_sweep - start < budget) {
+        double *pv, *pl;
+        size_t k = curve_points(c, ch, &pv, &pl);
+        double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
+        size_t m = distinct(pv, pl, k, dv, dl);
+        free(pv);
+        free(pl);
+        double *est = calloc(m + 1, sizeof(double));
+        double worst = m >= 3 ? interval_errors(dv, dl, m, ch < 3, est, NULL) : INFINITY;
+        last_est = worst;
+        size_t wi = 0;
+        for (size_t i = 0; i + 1 < m; i++)
+            if (est[i] > est[wi]) wi = i;
+        double mid = m >= 2 ? 0.5 * (dv[wi] + dv[wi + 1]) : 0.5;
+        double width = m >= 2 ? dv[wi + 1] - dv[wi] : 1;
+        free(dv);
+        free(dl);
+        free(est);
+        if (worst < c->o->target_rel / 2 || width < 1.0 / 512) break;
+        st = measure_level(c, ch, mid, peak, err);
+        if (st) return st;
+    }
+    if (est_out) {
+        /* final estimate after the last reading */
+        double *pv, *pl;
+        size_t k = curve_points(c, ch, &pv, &pl);
+        double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
+        size_t m = distinct(pv, pl, k, dv, dl);
+        double *est = calloc(m + 1, sizeof(double));
+        *est_out = m >= 3 ? interval_errors(dv, dl, m, ch < 3, est, NULL) : last_est;
+        free(pv); free(pl); free(dv); free(dl); free(est);
+    }
+    return CSF_OK;
+}
+
+static double sd3(const double *x, int n)
+{
+    double m = 0, s = 0;
+    for (int i = 0; i < n; i++) m += x[i];
+    m /= n;
+    for (int i = 0; i < n; i++) s += (x[i] - m) * (x[i] - m);
+    return n > 1 ? sqrt(s / (n - 1)) : 0;
+}
+
+static csf_status warmup(ctx *c, csf_display_calib_result *res, csf_error *err)
+{
+    double w[256];
+    int n = 0;
+    res->warmup_stable = 0;
+    int maxn = c->o->warmup_max < 6 ? 6 : (c->o->warmup_max > 256 ? 256 : c->o->warmup_max);
+    while (n < maxn) {
+        if (n > 0 && c->replay_pos >= c->n_replay) csf_photometer_wait(c->ph, c->o->warmup_wait_s);
+        rd x;
+        csf_status st = take(c, ROLE_WARMUP, CSF_CH_GREY, 1.0, 0, &x, err);
+        if (st) return st;
+        w[n++] = x.lum;
+        if (n >= 6) {
+            double m1 = (w[n - 1] + w[n - 2] + w[n - 3]) / 3, m0 = (w[n - 4] + w[n - 5] + w[n - 6]) / 3;
+            double s = sd3(&w[n - 3], 3) / m1;
+            double tol = fmax(c->o->target_rel / 4, 2.5 * s * sqrt(2.0 / 3.0));
+            if (fabs(m1 - m0) / m1 < tol) {
+                res->warmup_stable = 1;
+                break;
+            }
+        }
+    }
+    c->noise_rel = n >= 3 ? sd3(&w[n - 3], 3) / w[n - 1] : 0.001;
+    return CSF_OK;
+}
+
+static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
+{
+    csf_status st = warmup(c, res, err);
+    if (st) return st;
+    double d[3];
+    for (int i = 0; i < 3; i++) {
+        rd x;
+        st = take(c, ROLE_DARK, CSF_CH_GREY, 0.0, 1, &x, err);
+        if (st) return st;
+        d[i] = isnan(x.lum) ? 0 : x.lum;
+    }
+    c->noise_abs = sd3(d, 3);
+    update_black(c);
+    if ((st = reference(c, err))) return st;
+    int budget = c->o->budget;
+    int grey_budget = c->o->channels ? (int)(budget * 0.4 + 0.5) : budget;
+    st = sweep(c, CSF_CH_GREY, grey_budget, &res->est_error_rel[CSF_CH_GREY], err);
+    if (st) return st;
+    if ((st = reference(c, err))) return st;
+    if (c->o->channels) {
+        for (int ch = 0; ch < 3; ch++) {
+            int left = budget - c->n_sweep;
+            int b = left / (3 - ch);
+            if (b < 2) b = 2;
+            st = sweep(c, ch, b, &res->est_error_rel[ch], err);
+            if (st) return st;
+            if ((st = reference(c, err))) return st;
+        }
+    }
+    update_black(c);
+    return CSF_OK;
+}
+
+static void checks(ctx *c, csf_display_calib_result *res)
+{
+    /* drift and noise from the references */
+    double first = NAN, last = NAN;
+    for (size_t i = 0; i < c->n; i++)
+        if (c->r[i].role == ROLE_REF) {
+            if (isnan(first)) first = c->r[i].lum;
+            last = c->r[i].lum;
+        }
+    res->drift_rel = last / first - 1;
+    res->noise_rel = c->noise_rel;
+    /* additivity */
+    res->additivity_error = NAN;
+    if (c->o->channels) {
+        double white = predict(c, CSF_CH_GREY, 1.0), sum = c->black;
+        for (int ch = 0; ch < 3; ch++) sum += predict(c, ch, 1.0);
+        res->additivity_error = sum / white - 1;
+    }
+    /* monotonicity of the raw (drift-corrected, averaged) readings */
+    res->monotonic_violations = 0;
+    res->monotonic_msg[0] = 0;
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++) {
+        if (ch < 3 && !c->o->channels) continue;
+        double *pv, *pl;
+        size_t k = curve_points(c, ch, &pv, &pl);
+        double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
+        size_t m = distinct(pv, pl, k, dv, dl);
+        for (size_t i = 0; i + 1 < m; i++) {
+            double s = 3 * sqrt(pow(c->noise_rel * dl[i], 2) + pow(c->noise_abs, 2)) + 1e-9;
+            if (dl[i + 1] < dl[i] - s) {
+                if (!res->monotonic_violations)
+                    snprintf(res->monotonic_msg, sizeof res->monotonic_msg,
+                             "%s falls from %.4g to %.4g cd/m2 between drive %.4g and %.4g (more than the "
+                             "instrument noise)", (const char *[]){"red", "green", "blue", "grey"}[ch],
+                             dl[i], dl[i + 1], dv[i], dv[i + 1]);
+                res->monotonic_violations++;
+            }
+        }
+        free(pv); free(pl); free(dv); free(dl);
+    }
+}
+
+static csf_status build_profile(ctx *c, const char *display_name, const char *instrument,
+                                double additivity, csf_display_profile **out, csf_error *err)
+{
+    csf_profile_reading *pr = calloc(c->n + 1, sizeof *pr);
+    if (!pr) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    size_t k = 0;
+    for (size_t i = 0; i < c->n; i++) {
+        const rd *x = &c->r[i];
+        if (x->role == ROLE_WARMUP) continue;
+        double f = drift_factor(c, x->t_s);
+        pr[k].channel = x->role == ROLE_SWEEP ? x->ch : CSF_CH_GREY;
+        pr[k].drive01 = x->drive;
+        pr[k].lum_cdm2 = isnan(x->lum) ? 0 : x->lum * f;
+        pr[k].has_xyz = x->has_xyz;
+        for (int j = 0; j < 3; j++) pr[k].xyz[j] = x->xyz[j] * f;
+        k++;
+    }
+    csf_profile_meta meta = {display_name, instrument, NULL, NULL, additivity};
+    csf_status st = csf_profile_build(pr, k, &meta, out, err);
+    free(pr);
+    return st;
+}
+
+static void settings_json(const csf_display_calib_opts *o, const char *spec, char *buf, size_t len)
+{
+    char safe[300];
+    size_t j = 0;
+    for (const char *s = spec; *s && j < sizeof safe - 2; s++)
+        if (*s != '"' && *s != '\\' && (unsigned char)*s >= 0x20) safe[j++] = *s;
+    safe[j] = 0;
+    snprintf(buf, len, "{\"photometer\":\"%s\",\"target_rel\":%.17g,\"budget\":%d,\"channels\":%d,"
+             "\"warmup_wait_s\":%.17g,\"warmup_max\":%d}", safe, o->target_rel, o->budget, o->channels,
+             o->warmup_wait_s, o->warmup_max);
+}
+
+static void json_num(const char *js, const char *key, double *out)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = js ? strstr(js, pat) : NULL;
+    if (p) {
+        double v;
+        if (sscanf(p + strlen(pat), "%lf", &v) == 1 && isfinite(v)) *out = v;
+    }
+}
+
+csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opts *opts_in,
+                                 csf_store *store, int64_t *session_id, uint64_t seed,
+                                 csf_display_profile **out, csf_display_calib_result *res,
+                                 csf_error *err)
+{
+    *out = NULL;
+    csf_display_calib_result local;
+    if (!res) res = &local;
+    memset(res, 0, sizeof *res);
+    csf_display_calib_opts o = *opts_in;
+    if (!(o.target_rel >= 1e-5 && o.target_rel <= 0.5) || o.budget < 8 || o.budget > 4096)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "calibration target %g (allowed 1e-5 to 0.5) or budget %d (allowed 8 to 4096) out of range",
+                             o.target_rel, o.budget);
+    ctx c;
+    memset(&c, 0, sizeof c);
+    c.ph = ph;
+    c.store = store;
+    c.o = &o;
+    csf_status st = CSF_OK;
+    char settings[1024];
+    if (store && session_id && *session_id > 0) {
+        csf_session_info si;
+        memset(&si, 0, sizeof si);
+        st = csf_store_get_session(store, *session_id, &si, err);
+        if (st) return st;
+        if (strcmp(si.kind, "display") != 0) {
+            csf_session_info_free(&si);
+            return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is a %s session, not a display calibration",
+                                 (long long)*session_id, si.kind);
+        }
+        if (strcmp(si.state, "finished") == 0) {
+            csf_session_info_free(&si);
+            return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
+                                 (long long)*session_id);
+        }
+        /* the stored settings decide, so the replay takes the same path */
+        double v = o.target_rel, b = o.budget, ch = o.channels, ww = o.warmup_wait_s, wm = o.warmup_max;
+        json_num(si.settings_json, "target_rel", &v);
+        json_num(si.settings_json, "budget", &b);
+        json_num(si.settings_json, "channels", &ch);
+        json_num(si.settings_json, "warmup_wait_s", &ww);
+        json_num(si.settings_json, "warmup_max", &wm);
+        o.target_rel = v; o.budget = (int)b; o.channels = ch != 0; o.warmup_wait_s = ww; o.warmup_max = (int)wm;
+        csf_session_info_free(&si);
+        c.sid = *session_id;
+        st = csf_store_get_readings(store, c.sid, &c.replay, &c.n_replay, err);
+        if (st) return st;
+        c.seq = (int)c.n_replay;
+        for (size_t i = 0; i < c.n_replay; i++)
+            if (c.replay[i].seq >= c.seq) c.seq = c.replay[i].seq + 1;
+        if ((st = csf_store_set_session_state(store, c.sid, "running", err))) {
+            free(c.replay);
+            return st;
+        }
+    } else if (store) {
+        settings_json(&o, csf_photometer_spec(ph), settings, sizeof settings);
+        const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
+        st = csf_store_begin_session(store, "display", NULL, dn, settings, seed, &c.sid, err);
+        if (st) return st;
+        if (session_id) *session_id = c.sid;
+    }
+    st = run(&c, res, err);
+    if (c.progress_shown) fputc('\n', stderr);
+    res->n_readings = (int)c.n;
+    res->n_sweep = c.n_sweep;
+    res->n_warmup = c.n_warmup;
+    if (!st) {
+        checks(&c, res);
+        char ident[256];
+        csf_error ie;
+        if (csf_photometer_identify(ph, ident, sizeof ident, &ie)) snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
+        const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
+        st = build_profile(&c, dn, ident, res->additivity_error, out, err);
+    }
+    if (store && c.sid > 0) {
+        csf_error e2;
+        if (st == CSF_OK) {
+            char *text = NULL;
+            if (csf_profile_to_text(*out, &text, &e2) == CSF_OK) {
+                csf_store_add_artifact(store, c.sid, "profile", NULL, text, strlen(text), &e2);
+                free(text);
+            }
+            csf_store_set_session_state(store, c.sid, "finished", &e2);
+        } else {
+            csf_store_set_session_state(store, c.sid, "paused", &e2);
+        }
+    }
+    free(c.r);
+    free(c.replay);
+    return st;
+}
+
+csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
+                              double *max_dev_rel, double *white_dev_rel, csf_error *err)
+{
+    if (n_levels < 1 || n_levels > 64)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", n_levels);
+    double peak = csf_profile_lum_max(p);
+    double worst = 0;
+    csf_photometer_reading r;
+    /* white first, twice: the second after the first has settled the instrument */
+    for (int k = 0; k < 2; k++) {
+        csf_photometer_show_patch(ph, 1, 1, 1);
+        csf_status st = csf_photometer_measure(ph, &r, err);
+        if (st) return st;
+    }
+    *white_dev_rel = r.lum_cdm2 / peak - 1;
+    worst = fabs(*white_dev_rel);
+    for (int i = 1; i <= n_levels; i++) {
+        double v = (double)i / (n_levels + 1);
+        csf_photometer_show_patch(ph, v, v, v);
+        csf_status st = csf_photometer_measure(ph, &r, err);
+        if (st == CSF_E_TOO_DARK) continue;
+        if (st) return st;
+        double want = csf_profile_grey_lum(p, v);
+        if (want < 0.1 * peak) continue;
+        double dev = fabs(r.lum_cdm2 / want - 1);
+        if (dev > worst) worst = dev;
+    }
+    *max_dev_rel = worst;
+    return CSF_OK;
+}

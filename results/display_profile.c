@@ -522,6 +522,28 @@ csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
     return CSF_OK;
 }
 
+csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, size_t n,
+                                 int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
+                                 size_t n_eval, csf_error *err)
+{
+    csf_profile_reading *r = calloc(n ? n : 1, sizeof *r);
+    if (!r) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    int ch = is_channel ? CSF_CH_R : CSF_CH_GREY;
+    for (size_t i = 0; i < n; i++) {
+        r[i].channel = ch;
+        r[i].drive01 = drive01[i];
+        r[i].lum_cdm2 = lum_cdm2[i];
+    }
+    curve c;
+    memset(&c, 0, sizeof c);
+    csf_status st = build_curve(&c, r, n, ch, 0, err);
+    free(r);
+    if (st) return st;
+    for (size_t i = 0; i < n_eval; i++) eval_lum_cdm2[i] = curve_lum(&c, eval_drive01[i]);
+    curve_free(&c);
+    return CSF_OK;
+}
+
 /* ---------- text format ---------- */
 
 typedef struct {

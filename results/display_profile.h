@@ -76,6 +76,14 @@ csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
                              const csf_profile_meta *meta, csf_display_profile **out,
                              csf_error *err);
 
+/* Fits one curve exactly as a profile does (averages repeats, pool-adjacent-violators, fitted
+ * power transform, monotone Hermite) through (drive01, lum_cdm2) and evaluates it at eval_drive01.
+ * The points must include drive 0 and 1. is_channel: luminances exclude black (base 0). Used by
+ * the calibration to place levels (leave-one-out error) and by the benchmark. */
+csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, size_t n,
+                                 int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
+                                 size_t n_eval, csf_error *err);
+
 /* Knots of one curve (model), for plots/exports. Returns the count; arrays owned by p. */
 size_t csf_profile_knots(const csf_display_profile *p, int ch, const double **drive01,
                          const double **lum_cdm2);

@@ -1,0 +1,57 @@
+/* Photometric calibration of a monitor: warm-up check, dark, adaptive grey and per-channel sweeps
+ * with drift tracking, monotonicity and additivity checks. Every reading goes to the store the
+ * moment it is taken; a session stopped by an instrument fault resumes from its stored readings.
+ *
+ * Determinism: each decision (next level, stop, repeat) depends only on the readings taken so
+ * far, so a resumed session replays its stored readings through the same code and reaches the
+ * same state an uninterrupted run had, then continues live. */
+#ifndef CSF_DISPLAY_CALIB_H
+#define CSF_DISPLAY_CALIB_H
+
+#include <stdint.h>
+
+#include "devices/photometer.h"
+#include "results/csf_status.h"
+#include "results/display_profile.h"
+#include "results/store.h"
+
+typedef struct {
+    double target_rel;     /* accuracy target: max relative luminance error above 10 % of peak (0.0025) */
+    int budget;            /* most sweep readings, grey plus channels (48) */
+    int channels;          /* 1: also measure r, g, b curves (default) */
+    double warmup_wait_s;  /* time between warm-up readings (5 s) */
+    int warmup_max;        /* most warm-up readings (40) */
+    int progress;          /* 1: progress bar on stderr */
+    const char *display_name; /* for the profile id; NULL = photometer spec */
+} csf_display_calib_opts;
+
+void csf_display_calib_defaults(csf_display_calib_opts *o);
+
+typedef struct {
+    int n_readings;        /* every reading taken or replayed (warm-up, dark, references, sweeps) */
+    int n_sweep;           /* grey and channel sweep readings (the figure the target is stated for) */
+    int n_warmup;
+    int warmup_stable;     /* 1: white settled within the tolerance; 0: gave up after warmup_max */
+    double noise_rel;      /* instrument noise estimated from white references */
+    double drift_rel;      /* white change from first to last reference */
+    double est_error_rel[CSF_CH_COUNT]; /* leave-one-out estimate of the model error per curve */
+    double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
+    int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
+    char monotonic_msg[256];
+} csf_display_calib_result;
+
+/* Runs (or resumes, when session_id > 0 and the store holds its readings) a calibration.
+ * store may be NULL (nothing is recorded; no resume). When store is given and *session_id is 0,
+ * a new session is begun and its id returned in *session_id. On an instrument fault the readings
+ * taken so far are kept, the session is marked "paused" and the fault's error is returned. */
+csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opts *opts,
+                                 csf_store *store, int64_t *session_id, uint64_t seed,
+                                 csf_display_profile **out, csf_display_calib_result *res,
+                                 csf_error *err);
+
+/* Re-measures n_levels grey levels (and white) and compares them with the profile. Returns the
+ * largest relative deviation above 10 % of peak in *max_dev_rel and the white drift. */
+csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
+                              double *max_dev_rel, double *white_dev_rel, csf_error *err);
+
+#endif
