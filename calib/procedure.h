@@ -33,6 +33,11 @@ typedef struct {
     double guess;           /* 0.5 for 2AFC; false-alarm rate for detection */
     /* fade-in ramp: log10 contrast rises linearly from start to end over ramp_s */
     double ramp_start_log10, ramp_end_log10, ramp_s;
+    /* Added by the observer area (additive): the observer's simple reaction time, measured by the
+     * session on suprathreshold practice trials (median press latency). The fade method moves the
+     * press back along the ramp by this much to find the contrast at detection. 0 = unknown: the
+     * fade method then assumes 0.35 s. Other methods may ignore it. */
+    double reaction_latency_s;
 } csf_procedure_setup;
 
 typedef struct {
@@ -49,7 +54,10 @@ typedef struct {
     int response;           /* fade: 1 pressed, 0 not; 2AFC: interval chosen (0/1) */
     double rt_s;            /* fade: time from ramp start to the press */
     double contrast_at_response; /* fade: contrast on screen at the press, corrected by the caller
-                                    for the presenter's actual frames (NaN if no press) */
+                                    for the presenter's actual frames (NaN if no press); when the
+                                    press comes after the ramp ended, the last contrast shown.
+                                    2AFC (observer area's addition): mean contrast actually shown in
+                                    the signal interval; NaN or 0 = as planned */
     int valid;              /* 0 when the trial is invalid (click too far, frame drops, ...) */
 } csf_trial_outcome;
 
@@ -74,7 +82,8 @@ typedef struct {
     void (*destroy)(void *state);
 } csf_procedure_ops;
 
-/* Registry: returns NULL for an unknown name. */
+/* Registry (calib/procedure.c): returns NULL for an unknown name, and for "bayes" while that
+ * method is not linked into this build (the session then says so and suggests fade or 2afc). */
 const csf_procedure_ops *csf_procedure_find(const char *name);
 
 extern const csf_procedure_ops csf_procedure_fade;

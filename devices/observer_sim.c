@@ -1,2 +1,558 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_observer_sim;
+/* Simulated observer (see observer_sim.h for the model). */
+#include "devices/observer_sim.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/psychometric.h"
+#include "results/rng.h"
+
+/* RNG streams: one per kind of draw, so adding a draw of one kind never shifts another. */
+enum {
+    ST_ATTEND = 0x0b501, ST_DETECT, ST_RT, ST_SPONT, ST_SPONT_T, ST_ANTICIP, ST_ANTICIP_T,
+    ST_CLICK_X, ST_CLICK_Y, ST_GUESS_R, ST_GUESS_A, ST_2AFC, ST_2AFC_RT, ST_RT_N
+};
+
+#define FRAMES_PER_TRIAL 4096u
+
+struct csf_observer_sim {
+    csf_observer_sim_params p;
+    csf_obs_table *table;
+    uint64_t seed;
+    char desc[512];
+};
+
+/* ---- CSV table ------------------------------------------------------------------------------ */
+
+#define TABLE_MAX_AXIS 64
+
+void csf_obs_table_free(csf_obs_table *t)
+{
+    if (!t) return;
+    free(t->freq_cpd);
+    free(t->ecc_deg);
+    free(t->log10_threshold);
+    free(t);
+}
+
+static int find_or_add(double *axis, int *n, double v)
+{
+    for (int i = 0; i < *n; i++)
+        if (axis[i] == v) return i;
+    if (*n >= TABLE_MAX_AXIS) return -1;
+    axis[(*n)++] = v;
+    return *n - 1;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Parses one number field [s, e); accepts "inf" for the threshold column. */
+static int parse_field(const char *s, const char *e, double *out, int allow_inf)
+{
+    char buf[64];
+    while (s < e && (*s == ' ' || *s == '\t')) s++;
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r')) e--;
+    size_t n = (size_t)(e - s);
+    if (n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    if (allow_inf && (strcmp(buf, "inf") == 0 || strcmp(buf, "INF") == 0 || strcmp(buf, "Inf") == 0)) {
+        *out = INFINITY;
+        return 0;
+    }
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+typedef struct {
+    double f, e, th;
+    int line;
+} table_row;
+
+csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out, csf_error *err)
+{
+    *out = NULL;
+    if (!text) return csf_error_set(err, CSF_E_INVALID_ARG, "observer table: no text");
+    size_t cap = 64, n_rows = 0;
+    table_row *rows = malloc(cap * sizeof *rows);
+    double fax[TABLE_MAX_AXIS], eax[TABLE_MAX_AXIS];
+    int nf = 0, ne = 0;
+    csf_status st = CSF_OK;
+    if (!rows) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+    size_t pos = 0;
+    int line = 0;
+    while (pos < len && st == CSF_OK) {
+        size_t start = pos;
+        while (pos < len && text[pos] != '\n') pos++;
+        size_t end = pos;
+        if (pos < len) pos++;
+        line++;
+        /* Strip comments and whitespace. */
+        for (size_t i = start; i < end; i++)
+            if (text[i] == '#') { end = i; break; }
+        for (size_t i = start; i < end; i++)
+            if (text[i] == '\0') {
+                st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: NUL byte", line);
+                break;
+            }
+        if (st != CSF_OK) break;
+        while (start < end && (text[start] == ' ' || text[start] == '\t' || text[start] == '\r')) start++;
+        while (end > start && (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r')) end--;
+        if (start == end) continue;
+        const char *s = text + start, *e = text + end;
+        if (n_rows == 0 && (*s == 'f' || *s == 'F')) {
+            /* Header: must name the three columns in order. */
+            static const char hdr[] = "freq_cpd,ecc_deg,threshold";
+            if ((size_t)(e - s) != sizeof hdr - 1 || memcmp(s, hdr, sizeof hdr - 1) != 0) {
+                st = csf_error_set(err, CSF_E_FORMAT,
+                                   "observer table line %d: header must be '%s'", line, hdr);
+            }
+            continue;
+        }
+        const char *c1 = memchr(s, ',', (size_t)(e - s));
+        const char *c2 = c1 ? memchr(c1 + 1, ',', (size_t)(e - c1 - 1)) : NULL;
+        if (!c1 || !c2 || memchr(c2 + 1, ',', (size_t)(e - c2 - 1))) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "observer table line %d: expected 3 comma-separated numbers "
+                               "freq_cpd,ecc_deg,threshold", line);
+            break;
+        }
+        double f, ecc, th;
+        if (parse_field(s, c1, &f, 0) || parse_field(c1 + 1, c2, &ecc, 0) || parse_field(c2 + 1, e, &th, 1)) {
+            st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
+            break;
+        }
+        if (!(f > 0 && f <= 1000)) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "observer table line %d: freq_cpd %g outside (0, 1000]", line, f);
+            break;
+        }
+        if (!(ecc >= 0 && ecc <= 180)) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "observer table line %d: ecc_deg %g outside [0, 180]", line, ecc);
+            break;
+        }
+        if (!(th > 0)) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "observer table line %d: threshold %g must be > 0 (>= 1 or inf = never visible)",
+                               line, th);
+            break;
+        }
+        if (find_or_add(fax, &nf, f) < 0 || find_or_add(eax, &ne, ecc) < 0) {
+            st = csf_error_set(err, CSF_E_FORMAT,
+                               "observer table line %d: more than %d distinct frequencies or eccentricities",
+                               line, TABLE_MAX_AXIS);
+            break;
+        }
+        if (n_rows >= (size_t)TABLE_MAX_AXIS * TABLE_MAX_AXIS) {
+            st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: more than %d rows", line,
+                               TABLE_MAX_AXIS * TABLE_MAX_AXIS);
+            break;
+        }
+        if (n_rows == cap) {
+            cap *= 2;
+            table_row *nr = realloc(rows, cap * sizeof *rows);
+            if (!nr) {
+                st = csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+                break;
+            }
+            rows = nr;
+        }
+        rows[n_rows++] = (table_row){f, ecc, th, line};
+    }
+    if (st == CSF_OK && n_rows == 0)
+        st = csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
+    csf_obs_table *t = NULL;
+    if (st == CSF_OK) {
+        qsort(fax, (size_t)nf, sizeof fax[0], cmp_double);
+        qsort(eax, (size_t)ne, sizeof eax[0], cmp_double);
+        t = calloc(1, sizeof *t);
+        if (t) {
+            t->n_freq = nf;
+            t->n_ecc = ne;
+            t->freq_cpd = malloc((size_t)nf * sizeof(double));
+            t->ecc_deg = malloc((size_t)ne * sizeof(double));
+            t->log10_threshold = malloc((size_t)nf * (size_t)ne * sizeof(double));
+        }
+        if (!t || !t->freq_cpd || !t->ecc_deg || !t->log10_threshold) {
+            st = csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+        } else {
+            memcpy(t->freq_cpd, fax, (size_t)nf * sizeof(double));
+            memcpy(t->ecc_deg, eax, (size_t)ne * sizeof(double));
+            for (int i = 0; i < nf * ne; i++) t->log10_threshold[i] = NAN;
+            for (size_t r = 0; r < n_rows && st == CSF_OK; r++) {
+                int fi = 0, ei = 0;
+                while (t->freq_cpd[fi] != rows[r].f) fi++;
+                while (t->ecc_deg[ei] != rows[r].e) ei++;
+                double *cell = &t->log10_threshold[ei * nf + fi];
+                if (!isnan(*cell)) {
+                    st = csf_error_set(err, CSF_E_FORMAT,
+                                       "observer table line %d: duplicate row for %g cpd at %g deg",
+                                       rows[r].line, rows[r].f, rows[r].e);
+                    break;
+                }
+                *cell = rows[r].th >= 1 ? 1.0 : log10(rows[r].th);
+            }
+            for (int ei = 0; ei < ne && st == CSF_OK; ei++)
+                for (int fi = 0; fi < nf; fi++)
+                    if (isnan(t->log10_threshold[ei * nf + fi])) {
+                        st = csf_error_set(err, CSF_E_FORMAT,
+                                           "observer table: no row for %g cpd at %g deg (the table "
+                                           "must be a full frequency x eccentricity grid)",
+                                           t->freq_cpd[fi], t->ecc_deg[ei]);
+                        break;
+                    }
+        }
+    }
+    free(rows);
+    if (st != CSF_OK) {
+        csf_obs_table_free(t);
+        return st;
+    }
+    *out = t;
+    return CSF_OK;
+}
+
+csf_status csf_obs_table_load(const char *path, csf_obs_table **out, csf_error *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return csf_error_set(err, CSF_E_IO, "observer table %s: %s", path, strerror(errno));
+    const size_t max_len = 1 << 20;
+    char *buf = malloc(max_len + 1);
+    if (!buf) {
+        fclose(f);
+        return csf_error_set(err, CSF_E_NOMEM, "observer table %s: out of memory", path);
+    }
+    size_t n = fread(buf, 1, max_len + 1, f);
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        free(buf);
+        return csf_error_set(err, CSF_E_IO, "observer table %s: read error", path);
+    }
+    if (n > max_len) {
+        free(buf);
+        return csf_error_set(err, CSF_E_FORMAT, "observer table %s: larger than 1 MiB", path);
+    }
+    csf_status st = csf_obs_table_parse(buf, n, out, err);
+    free(buf);
+    if (st != CSF_OK && err) {
+        char tmp[sizeof err->msg];
+        snprintf(tmp, sizeof tmp, "%s", err->msg);
+        csf_error_set(err, st, "%s (%s)", tmp, path);
+    }
+    return st;
+}
+
+static int bracket(const double *axis, int n, double v, int *i0, double *w)
+{
+    if (n == 1 || v <= axis[0]) { *i0 = 0; *w = 0; return 0; }
+    if (v >= axis[n - 1]) { *i0 = n - 2; *w = 1; return 0; }
+    int i = 0;
+    while (i < n - 2 && v > axis[i + 1]) i++;
+    *i0 = i;
+    *w = (v - axis[i]) / (axis[i + 1] - axis[i]);
+    return 0;
+}
+
+double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double ecc_deg)
+{
+    if (!(freq_cpd > 0) || !(ecc_deg >= 0)) return NAN;
+    double lf[TABLE_MAX_AXIS];
+    for (int i = 0; i < t->n_freq; i++) lf[i] = log10(t->freq_cpd[i]);
+    int fi, ei;
+    double wf, we;
+    bracket(lf, t->n_freq, log10(freq_cpd), &fi, &wf);
+    bracket(t->ecc_deg, t->n_ecc, ecc_deg, &ei, &we);
+    int fi1 = t->n_freq > 1 ? fi + 1 : fi, ei1 = t->n_ecc > 1 ? ei + 1 : ei;
+    const double *v = t->log10_threshold;
+    int nf = t->n_freq;
+    double a = v[ei * nf + fi] * (1 - wf) + v[ei * nf + fi1] * wf;
+    double b = v[ei1 * nf + fi] * (1 - wf) + v[ei1 * nf + fi1] * wf;
+    double x = a * (1 - we) + b * we;
+    return x >= 0 ? INFINITY : pow(10.0, x);
+}
+
+/* ---- spec parsing ---------------------------------------------------------------------------- */
+
+typedef struct {
+    const char *key;
+    double lo, hi;
+    size_t off; /* offset in csf_observer_sim_params */
+} param_key;
+
+#define PK(k, lo, hi, field) {k, lo, hi, offsetof(csf_observer_sim_params, field)}
+static const param_key keys[] = {
+    PK("smax", 2, 5000, model.smax),
+    PK("fmax", 0.1, 60, model.fmax_cpd),
+    PK("beta", 0.5, 12, model.beta_oct),
+    PK("delta", 0, 4, model.delta_log10),
+    PK("ecc_a", 0, 0.5, model.ecc_a),
+    PK("ecc_b", 0, 0.5, model.ecc_b),
+    PK("slope", 0.5, 20, slope),
+    PK("lapse", 0, 0.5, lapse),
+    PK("guess", 0, 0.9, guess_2afc),
+    PK("fa", 0, 1, fa),
+    PK("anticip", 0, 1, anticip),
+    PK("rt_mu", 0.05, 3, rt_mu_s),
+    PK("rt_sigma", 0, 1, rt_sigma_s),
+    PK("rt_tau", 0, 2, rt_tau_s),
+    PK("click_sd", 0, 20, click_sd_deg),
+    PK("click_sd_ecc", 0, 1, click_sd_ecc),
+    PK("click_range", 0, 90, click_range_deg),
+};
+
+static void params_default(csf_observer_sim_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->model = csf_model_default();
+    p->slope = 3.5;
+    p->lapse = 0.02;
+    p->guess_2afc = 0.5;
+    p->fa = 0.02;
+    p->anticip = 0.01;
+    p->rt_mu_s = 0.30;
+    p->rt_sigma_s = 0.04;
+    p->rt_tau_s = 0.10;
+    p->click_sd_deg = 0.4;
+    p->click_sd_ecc = 0.08;
+    p->click_range_deg = 20;
+}
+
+csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer_sim **out,
+                                   csf_error *err)
+{
+    *out = NULL;
+    if (!spec) spec = "sim";
+    if (strncmp(spec, "sim", 3) != 0 || (spec[3] != '\0' && spec[3] != ':'))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--observer: '%s' is not a simulated observer (expected sim or sim:key=value,...)",
+                             spec);
+    csf_observer_sim *o = calloc(1, sizeof *o);
+    if (!o) return csf_error_set(err, CSF_E_NOMEM, "observer: out of memory");
+    params_default(&o->p);
+    o->seed = seed;
+    double rt_mean = NAN;
+    char table_path[1024] = "";
+    char buf[1400];
+    if (strlen(spec) >= sizeof buf) {
+        free(o);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: spec longer than %zu characters",
+                             sizeof buf - 1);
+    }
+    snprintf(buf, sizeof buf, "%s", spec[3] == ':' ? spec + 4 : "");
+    csf_status st = CSF_OK;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && st == CSF_OK;
+         tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        if (strcmp(tok, "field=nasal") == 0) {
+            csf_model_use_nasal_field(&o->p.model);
+            continue;
+        }
+        if (!eq) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: '%s' is not key=value", tok);
+            break;
+        }
+        *eq = '\0';
+        const char *val = eq + 1;
+        if (strcmp(tok, "table") == 0) {
+            snprintf(table_path, sizeof table_path, "%s", val);
+            continue;
+        }
+        if (strcmp(tok, "field") == 0) {
+            if (strcmp(val, "temporal") != 0)
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: field must be temporal or nasal");
+            continue;
+        }
+        const param_key *k = NULL;
+        for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+            if (strcmp(keys[i].key, tok) == 0) k = &keys[i];
+        double v;
+        char *end;
+        errno = 0;
+        v = strtod(val, &end);
+        int bad_num = (*val == '\0' || *end != '\0' || errno == ERANGE || !isfinite(v));
+        if (strcmp(tok, "rt_mean") == 0) {
+            if (bad_num || v < 0.1 || v > 5) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: rt_mean=%s outside 0.1 to 5 s", val);
+                break;
+            }
+            rt_mean = v;
+            continue;
+        }
+        if (!k) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b "
+                               "field table slope lapse guess fa anticip rt_mean rt_mu rt_sigma rt_tau "
+                               "click_sd click_sd_ecc click_range)", tok);
+            break;
+        }
+        if (bad_num || v < k->lo || v > k->hi) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s outside %g to %g", tok, val,
+                               k->lo, k->hi);
+            break;
+        }
+        *(double *)((char *)&o->p + k->off) = v;
+    }
+    if (st == CSF_OK && !isnan(rt_mean)) {
+        o->p.rt_mu_s = rt_mean - o->p.rt_tau_s;
+        if (o->p.rt_mu_s < 0.05)
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "--observer: rt_mean=%g is below rt_tau + 0.05 s = %g s", rt_mean,
+                               o->p.rt_tau_s + 0.05);
+    }
+    if (st == CSF_OK && o->p.lapse + o->p.guess_2afc >= 1)
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: guess + lapse must be below 1");
+    if (st == CSF_OK && table_path[0]) st = csf_obs_table_load(table_path, &o->table, err);
+    if (st != CSF_OK) {
+        csf_observer_sim_free(o);
+        return st;
+    }
+    if (o->table)
+    {
+        const char *base = strrchr(table_path, '/');
+        snprintf(o->desc, sizeof o->desc, "sim(table=%.200s,slope=%g,lapse=%g,fa=%g)",
+                 base ? base + 1 : table_path, o->p.slope, o->p.lapse, o->p.fa);
+    }
+    else
+        snprintf(o->desc, sizeof o->desc,
+                 "sim(smax=%g,fmax=%g,beta=%g,delta=%g,ecc_a=%g,ecc_b=%g,slope=%g,lapse=%g,fa=%g)",
+                 o->p.model.smax, o->p.model.fmax_cpd, o->p.model.beta_oct, o->p.model.delta_log10,
+                 o->p.model.ecc_a, o->p.model.ecc_b, o->p.slope, o->p.lapse, o->p.fa);
+    *out = o;
+    return CSF_OK;
+}
+
+void csf_observer_sim_free(csf_observer_sim *o)
+{
+    if (!o) return;
+    csf_obs_table_free(o->table);
+    free(o);
+}
+
+const csf_observer_sim_params *csf_observer_sim_params_get(const csf_observer_sim *o)
+{
+    return &o->p;
+}
+
+const char *csf_observer_sim_describe(const csf_observer_sim *o)
+{
+    return o->desc;
+}
+
+double csf_observer_sim_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg)
+{
+    double th = o->table ? csf_obs_table_threshold(o->table, freq_cpd, ecc_deg)
+                         : csf_model_threshold(&o->p.model, freq_cpd, ecc_deg);
+    return th >= 1 ? INFINITY : th;
+}
+
+/* ---- trials ---------------------------------------------------------------------------------- */
+
+static double ex_gaussian(const csf_observer_sim *o, uint64_t idx)
+{
+    double z = csf_rng_normal(o->seed, ST_RT_N, idx);
+    double u = csf_rng_uniform(o->seed, ST_RT, idx);
+    double rt = o->p.rt_mu_s + o->p.rt_sigma_s * z - o->p.rt_tau_s * log(u);
+    return rt < 0.1 ? 0.1 : rt; /* no one presses faster than ~100 ms after detecting */
+}
+
+void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                                 double ecc_deg, double polar_deg, double onset_s,
+                                 double duration_s, csf_sim_fade_trial *tr)
+{
+    memset(tr, 0, sizeof *tr);
+    uint64_t base = trial_index * FRAMES_PER_TRIAL;
+    tr->trial = trial_index;
+    tr->freq_cpd = freq_cpd;
+    tr->ecc_deg = ecc_deg;
+    tr->polar_deg = polar_deg;
+    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    tr->t_log10 = isfinite(th) ? log10(th) : INFINITY;
+    tr->onset_s = onset_s;
+    tr->attending = csf_rng_uniform(o->seed, ST_ATTEND, base) >= o->p.lapse;
+    tr->t_spont_s = INFINITY;
+    if (csf_rng_uniform(o->seed, ST_SPONT, base) < o->p.fa)
+        tr->t_spont_s = onset_s + duration_s * csf_rng_uniform(o->seed, ST_SPONT_T, base);
+    if (csf_rng_uniform(o->seed, ST_ANTICIP, base) < o->p.anticip) {
+        double ta = onset_s + 0.02 + 0.10 * csf_rng_uniform(o->seed, ST_ANTICIP_T, base);
+        if (ta < tr->t_spont_s) tr->t_spont_s = ta;
+    }
+    tr->x_max = -INFINITY;
+    tr->t_detect_s = INFINITY;
+    tr->t_press_s = tr->t_spont_s;
+    tr->press_spontaneous = isfinite(tr->t_spont_s);
+}
+
+int csf_observer_sim_fade_frame(const csf_observer_sim *o, csf_sim_fade_trial *tr, double t_s,
+                                double contrast_shown, double *press_t_s)
+{
+    uint64_t idx = tr->trial * FRAMES_PER_TRIAL + (uint64_t)(tr->frame < (int)FRAMES_PER_TRIAL - 1
+                                                                 ? tr->frame
+                                                                 : (int)FRAMES_PER_TRIAL - 1);
+    tr->frame++;
+    if (!tr->detected && tr->attending && contrast_shown > 0 && isfinite(tr->t_log10)) {
+        double x = log10(contrast_shown);
+        double h = csf_psy_fade_hazard(tr->x_max, x, tr->t_log10, o->p.slope);
+        if (x > tr->x_max) tr->x_max = x;
+        if (h > 0 && csf_rng_uniform(o->seed, ST_DETECT, idx) < h) {
+            tr->detected = 1;
+            tr->t_detect_s = t_s;
+            double tp = t_s + ex_gaussian(o, tr->trial);
+            if (tp < tr->t_press_s) {
+                tr->t_press_s = tp;
+                tr->press_spontaneous = 0;
+            }
+        }
+    }
+    if (t_s >= tr->t_press_s) {
+        if (press_t_s) *press_t_s = tr->t_press_s;
+        return 1;
+    }
+    return 0;
+}
+
+void csf_observer_sim_click(const csf_observer_sim *o, const csf_sim_fade_trial *tr, double *x_deg,
+                            double *y_deg)
+{
+    uint64_t base = tr->trial * FRAMES_PER_TRIAL;
+    if (tr->detected && !tr->press_spontaneous) {
+        double sd = o->p.click_sd_deg + o->p.click_sd_ecc * tr->ecc_deg;
+        double a = tr->polar_deg * M_PI / 180;
+        *x_deg = tr->ecc_deg * cos(a) + sd * csf_rng_normal(o->seed, ST_CLICK_X, base);
+        *y_deg = tr->ecc_deg * sin(a) + sd * csf_rng_normal(o->seed, ST_CLICK_Y, base);
+    } else {
+        /* Nothing seen: a guess anywhere within click_range of fixation (uniform over the disc). */
+        double r = o->p.click_range_deg * sqrt(csf_rng_uniform(o->seed, ST_GUESS_R, base));
+        double a = 2 * M_PI * csf_rng_uniform(o->seed, ST_GUESS_A, base);
+        *x_deg = r * cos(a);
+        *y_deg = r * sin(a);
+    }
+}
+
+int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                          double ecc_deg, const double contrast_shown[2], double *rt_s)
+{
+    uint64_t base = trial_index * FRAMES_PER_TRIAL;
+    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    double t = isfinite(th) ? log10(th) : INFINITY;
+    int sig = contrast_shown[1] > contrast_shown[0] ? 1 : 0;
+    double diff = fabs(contrast_shown[1] - contrast_shown[0]);
+    double x = diff > 0 ? log10(diff) : -INFINITY;
+    double p = csf_psy_p4(x, t, o->p.slope, o->p.guess_2afc, o->p.lapse);
+    int correct = csf_rng_uniform(o->seed, ST_2AFC, base) < p;
+    if (rt_s) *rt_s = exp(log(0.6) + 0.3 * csf_rng_normal(o->seed, ST_2AFC_RT, base));
+    return correct ? sig : 1 - sig;
+}

@@ -1,0 +1,258 @@
+/* Fade-in method (seed 000 sec. 6.1): a grating's log contrast rises linearly; the person presses
+ * when something is visible. Under the observer model of results/psychometric.h the contrast at
+ * detection is a draw from the Weibull F itself (the latent-threshold reading of a fade-in), so
+ * per cell the likelihood of the threshold t given
+ *   a detection at x:          (1 - lapse) f(x; t) + spont / range   (f = dF/dx; spont: a valid
+ *                              press that was a guess, uniform over the ramp's log range)
+ *   a ramp ending unanswered:  lapse + (1 - lapse) (1 - F(x_top; t))   (right-censored)
+ * A plain exponential ML (no lapse term) is ruined by one lapse on a full-range ramp, so the
+ * method keeps a posterior over t on a grid (flat prior) per cell; the estimate is the posterior
+ * mean in log10, its standard error the posterior sd.
+ *
+ * Reaction-time correction: a press comes a reaction time after detection, when the ramp has
+ * already climbed further; the detection contrast is the contrast at the press moved back along
+ * the ramp by setup->reaction_latency_s (measured by the session on practice trials).
+ *
+ * Scheduling: catch trials (no grating) on about 1 in 10 trials; otherwise the least-measured cell
+ * that is not yet stable, ties broken by a per-trial random rotation. The first ramp of a cell
+ * spans the whole setup range; later ramps span [estimate - 0.8, estimate + 0.6] log10 at the
+ * same rate, so every ramp starts well below and ends above the current estimate. A cell is
+ * stable when its posterior sd is <= 0.06 log10 with at least 4 detections, or when two
+ * full-range ramps ended without a press and nothing was detected (not visible at the display's
+ * highest contrast). A cell whose posterior puts more than half its mass above the highest
+ * contrast is reported as not visible (+inf). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "calib/procedure.h"
+#include "results/rng.h"
+
+#define FADE_CATCH_RATE 0.10
+#define FADE_SE_STABLE 0.06
+#define FADE_BELOW 0.8
+#define FADE_ABOVE 0.6
+#define FADE_INVISIBLE_AFTER 2
+
+enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE };
+
+#define FADE_GRID_N 141
+#define FADE_SPONT 0.01  /* assumed rate of valid guessed presses per trial */
+
+typedef struct {
+    double log_post[FADE_GRID_N];
+    int n_det, n_cens, n_cens_full, n_trials;
+} fade_cell;
+
+typedef struct {
+    csf_procedure_setup s;
+    csf_cell *cells;
+    fade_cell *st;
+    double rate_log10_per_s;
+    double t_lo, t_step, x_lo, x_hi;
+} fade_state;
+
+static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
+{
+    if (!setup || setup->n_cells < 1 || !setup->cells)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "fade: no cells to measure");
+    if (!(setup->max_contrast > 0 && setup->max_contrast <= 1) ||
+        !(setup->min_contrast > 0 && setup->min_contrast < setup->max_contrast))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "fade: contrast range [%g, %g] must satisfy 0 < min < max <= 1",
+                             setup->min_contrast, setup->max_contrast);
+    fade_state *f = calloc(1, sizeof *f);
+    if (!f) return csf_error_set(err, CSF_E_NOMEM, "fade: out of memory");
+    f->s = *setup;
+    if (!(f->s.slope_beta > 0)) f->s.slope_beta = 3.5;
+    if (!(f->s.reaction_latency_s > 0)) f->s.reaction_latency_s = 0.35;
+    double lo = log10(setup->min_contrast), hi = log10(setup->max_contrast);
+    if (!(f->s.ramp_start_log10 >= lo && f->s.ramp_start_log10 < hi)) f->s.ramp_start_log10 = lo;
+    if (!(f->s.ramp_end_log10 > f->s.ramp_start_log10 && f->s.ramp_end_log10 <= hi)) f->s.ramp_end_log10 = hi;
+    if (!(f->s.ramp_s > 0)) f->s.ramp_s = (f->s.ramp_end_log10 - f->s.ramp_start_log10) / 0.5;
+    f->rate_log10_per_s = (f->s.ramp_end_log10 - f->s.ramp_start_log10) / f->s.ramp_s;
+    if (!(f->s.lapse >= 0 && f->s.lapse < 0.5)) f->s.lapse = 0.02;
+    f->x_lo = lo;
+    f->x_hi = hi;
+    f->t_lo = lo - 0.5;
+    f->t_step = (hi + 1.0 - f->t_lo) / (FADE_GRID_N - 1);
+    f->cells = malloc((size_t)setup->n_cells * sizeof *f->cells);
+    f->st = calloc((size_t)setup->n_cells, sizeof *f->st);
+    if (!f->cells || !f->st) {
+        free(f->cells);
+        free(f->st);
+        free(f);
+        return csf_error_set(err, CSF_E_NOMEM, "fade: out of memory");
+    }
+    memcpy(f->cells, setup->cells, (size_t)setup->n_cells * sizeof *f->cells);
+    f->s.cells = f->cells;
+    *state = f;
+    return CSF_OK;
+}
+
+static void fade_destroy(void *state)
+{
+    fade_state *f = state;
+    if (!f) return;
+    free(f->cells);
+    free(f->st);
+    free(f);
+}
+
+static void cell_moments(const fade_state *f, const fade_cell *c, double *mean, double *sd,
+                         double *p_above)
+{
+    double mx = -INFINITY, w = 0, s1 = 0, s2 = 0, above = 0;
+    for (int i = 0; i < FADE_GRID_N; i++)
+        if (c->log_post[i] > mx) mx = c->log_post[i];
+    for (int i = 0; i < FADE_GRID_N; i++) {
+        double p = exp(c->log_post[i] - mx), t = f->t_lo + i * f->t_step;
+        w += p;
+        s1 += p * t;
+        s2 += p * t * t;
+        if (t > f->x_hi) above += p;
+    }
+    double m = s1 / w, v = s2 / w - m * m;
+    if (mean) *mean = m;
+    if (sd) *sd = sqrt(v > 0 ? v : 0);
+    if (p_above) *p_above = above / w;
+}
+
+static double cell_estimate_log10(const fade_state *f, const fade_cell *c)
+{
+    double m;
+    cell_moments(f, c, &m, NULL, NULL);
+    return m;
+}
+
+static int cell_stable(const fade_state *f, const fade_cell *c)
+{
+    if (c->n_det == 0) return c->n_cens_full >= FADE_INVISIBLE_AFTER;
+    double sd;
+    cell_moments(f, c, NULL, &sd, NULL);
+    return c->n_det >= 4 && sd <= FADE_SE_STABLE;
+}
+
+static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
+{
+    fade_state *f = state;
+    int n = f->s.n_cells;
+    memset(plan, 0, sizeof *plan);
+    plan->task = CSF_TASK_FADE;
+    plan->polar_deg = 360.0 * csf_rng_uniform(f->s.seed, ST_POLAR, (uint64_t)trial_index);
+    int best = -1;
+    int rot = (int)(csf_rng_u64(f->s.seed, ST_ROTATE, (uint64_t)trial_index) % (uint64_t)n);
+    for (int k = 0; k < n; k++) {
+        int i = (k + rot) % n;
+        if (cell_stable(f, &f->st[i])) continue;
+        if (best < 0 || f->st[i].n_trials < f->st[best].n_trials) best = i;
+    }
+    if (best < 0) return CSF_E_ABORTED; /* every cell stable: finished early */
+    plan->cell = best;
+    plan->ramp_s = f->s.ramp_s;
+    plan->ramp_start_log10 = f->s.ramp_start_log10;
+    plan->contrast = pow(10.0, f->s.ramp_end_log10);
+    const fade_cell *c = &f->st[best];
+    if (c->n_det > 0) {
+        double est = cell_estimate_log10(f, c);
+        double lo = log10(f->s.min_contrast), hi = log10(f->s.max_contrast);
+        double a = est - FADE_BELOW, b = est + FADE_ABOVE;
+        if (a < lo) a = lo;
+        if (b > hi) b = hi;
+        if (b - a < 0.3) a = b - 0.3; /* estimate at the ceiling: still a ramp, not a step */
+        plan->ramp_start_log10 = a;
+        plan->contrast = pow(10.0, b);
+        plan->ramp_s = (b - a) / f->rate_log10_per_s;
+    }
+    plan->is_catch = csf_rng_uniform(f->s.seed, ST_CATCH, (uint64_t)trial_index) < FADE_CATCH_RATE;
+    return CSF_OK;
+}
+
+/* Adds one trial's log likelihood over the grid: detected at x (detected = 1) or a ramp that
+ * ended at x unanswered (detected = 0). */
+static void cell_add(const fade_state *f, fade_cell *c, double x, int detected, double range_log10)
+{
+    double beta = f->s.slope_beta, lapse = f->s.lapse;
+    double mx = -INFINITY;
+    for (int i = 0; i < FADE_GRID_N; i++) {
+        double t = f->t_lo + i * f->t_step;
+        double y = pow(10.0, fmin(beta * (x - t), 300.0));
+        double l;
+        if (detected)
+            l = (1 - lapse) * beta * M_LN10 * y * exp(-y) + FADE_SPONT / range_log10;
+        else
+            l = lapse + (1 - lapse) * exp(-y);
+        c->log_post[i] += log(l > 1e-300 ? l : 1e-300);
+        if (c->log_post[i] > mx) mx = c->log_post[i];
+    }
+    for (int i = 0; i < FADE_GRID_N; i++) c->log_post[i] -= mx;
+}
+
+static void fade_update(void *state, int trial_index, const csf_trial_plan *plan,
+                        const csf_trial_outcome *o)
+{
+    fade_state *f = state;
+    (void)trial_index;
+    if (plan->is_catch || !o->valid || plan->cell < 0 || plan->cell >= f->s.n_cells) return;
+    fade_cell *c = &f->st[plan->cell];
+    double x_end = log10(plan->contrast);
+    double range = x_end - plan->ramp_start_log10;
+    if (!(range > 0.05)) range = 0.05;
+    c->n_trials++;
+    if (!o->response) {
+        c->n_cens++;
+        if (x_end >= f->s.ramp_end_log10 - 1e-9) c->n_cens_full++;
+        cell_add(f, c, x_end, 0, range);
+        return;
+    }
+    double rate = range / plan->ramp_s;
+    double t_det = o->rt_s - f->s.reaction_latency_s;
+    double x_det;
+    if (t_det >= plan->ramp_s) {
+        x_det = x_end;   /* detected after the ramp reached its top */
+    } else {
+        double t_press = o->rt_s < plan->ramp_s ? o->rt_s : plan->ramp_s;
+        double x_press = (o->contrast_at_response > 0) ? log10(o->contrast_at_response)
+                                                       : plan->ramp_start_log10 + rate * t_press;
+        if (x_press > x_end) x_press = x_end;
+        x_det = x_press - rate * (t_press - (t_det > 0 ? t_det : 0));
+        if (x_det < plan->ramp_start_log10) x_det = plan->ramp_start_log10;
+    }
+    c->n_det++;
+    cell_add(f, c, x_det, 1, range);
+}
+
+static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *err)
+{
+    fade_state *f = state;
+    (void)err;
+    for (int i = 0; i < f->s.n_cells; i++) {
+        const fade_cell *c = &f->st[i];
+        out[i].n_trials = c->n_trials;
+        if (c->n_trials == 0) {
+            out[i].threshold = NAN;   /* no data: unknown, not invisible */
+            out[i].stderr_log10 = NAN;
+            continue;
+        }
+        double m, sd, above;
+        cell_moments(f, c, &m, &sd, &above);
+        if (above > 0.5) {
+            out[i].threshold = INFINITY;
+            out[i].stderr_log10 = NAN;
+            continue;
+        }
+        out[i].threshold = pow(10.0, m);
+        out[i].stderr_log10 = sd;
+    }
+    return CSF_OK;
+}
+
+const csf_procedure_ops csf_procedure_fade = {
+    .name = "fade",
+    .task = CSF_TASK_FADE,
+    .create = fade_create,
+    .next = fade_next,
+    .update = fade_update,
+    .estimate = fade_estimate,
+    .destroy = fade_destroy,
+};

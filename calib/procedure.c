@@ -1,0 +1,20 @@
+/* Registry of the adaptive procedures behind calib/procedure.h. */
+#include "calib/procedure.h"
+
+#include <string.h>
+
+/* Weak so this registry links before (or without) the Bayesian method: its absence is reported
+ * at run time by name instead of failing the build. */
+extern const csf_procedure_ops csf_procedure_bayes __attribute__((weak));
+
+const csf_procedure_ops *csf_procedure_find(const char *name)
+{
+    if (!name) return NULL;
+    if (strcmp(name, "fade") == 0) return &csf_procedure_fade;
+    if (strcmp(name, "2afc") == 0) return &csf_procedure_2afc;
+    if (strcmp(name, "bayes") == 0) {
+        const csf_procedure_ops *b = &csf_procedure_bayes;
+        return (b && b->create) ? b : NULL;
+    }
+    return NULL;
+}
