@@ -34,6 +34,7 @@ struct csf_store {
     sqlite3 *db;
     char path[1024];
     sqlite3_stmt *ins_trial, *ins_reading, *ins_frame;
+    int sys_errno; /* errno of the last failed step, caught before finalize/reset can clear it */
 };
 
 sqlite3 *csf_store_db(csf_store *s) { return s ? s->db : NULL; }
@@ -126,10 +127,11 @@ static void copy_str(char *dst, size_t cap, const char *src)
 }
 
 /* Turns an SQLite failure into a sentence that names the store file and the cause. */
-static csf_status store_fail(csf_error *err, const char *path, sqlite3 *db, int rc, const char *what)
+static csf_status store_fail(csf_error *err, const char *path, sqlite3 *db, int sys_saved, int rc,
+                             const char *what)
 {
     int primary = rc & 0xff;
-    int sys = db ? sqlite3_system_errno(db) : 0;
+    int sys = sys_saved ? sys_saved : db ? sqlite3_system_errno(db) : 0;
     const char *detail = db ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
     switch (primary) {
     case SQLITE_FULL:
@@ -163,6 +165,10 @@ static csf_status store_fail(csf_error *err, const char *path, sqlite3 *db, int 
             return csf_error_set(err, CSF_E_STORE,
                                  "store %s: disk full while %s (%s); free space on that disk or "
                                  "choose another file with --store", path, what, strerror(sys));
+        if (rc == SQLITE_IOERR_WRITE)
+            return csf_error_set(err, CSF_E_STORE,
+                                 "store %s: cannot write while %s (disk full, quota or file-size "
+                                 "limit reached, or a failing disk)", path, what);
         if (sys == EROFS || sys == EACCES || sys == EPERM)
             return csf_error_set(err, CSF_E_STORE, "store %s: read-only while %s (%s)", path,
                                  what, strerror(sys));
@@ -177,13 +183,37 @@ static csf_status store_fail(csf_error *err, const char *path, sqlite3 *db, int 
 
 static csf_status fail(csf_store *s, csf_error *err, int rc, const char *what)
 {
-    return store_fail(err, s->path, s->db, rc, what);
+    csf_status st = store_fail(err, s->path, s->db, s->sys_errno, rc, what);
+    s->sys_errno = 0;
+    return st;
 }
 
-static int exec_sql(sqlite3 *db, const char *sql)
+/* SQLite records the OS error for some failures only (not for a failed write()); for an I/O
+ * error the errno left by the failing call is the best account of the cause. */
+static int os_errno(sqlite3 *db, int rc)
 {
-    return sqlite3_exec(db, sql, NULL, NULL, NULL);
+    int sys = sqlite3_system_errno(db);
+    if (sys == 0 && (rc & 0xff) == SQLITE_IOERR) sys = errno;
+    return sys;
 }
+
+/* sqlite3_step that remembers the OS error of a failure (ENOSPC, EFBIG, EROFS ...). */
+static int step(csf_store *s, sqlite3_stmt *st)
+{
+    errno = 0;
+    int rc = sqlite3_step(st);
+    s->sys_errno = rc != SQLITE_ROW && rc != SQLITE_DONE ? os_errno(s->db, rc) : 0;
+    return rc;
+}
+
+static int exec_s(csf_store *s, const char *sql)
+{
+    errno = 0;
+    int rc = sqlite3_exec(s->db, sql, NULL, NULL, NULL);
+    s->sys_errno = rc != SQLITE_OK ? os_errno(s->db, rc) : 0;
+    return rc;
+}
+
 
 /* Binds a double, storing NaN as NULL (SQL has no NaN). */
 static void bind_real(sqlite3_stmt *st, int i, double v)
@@ -327,18 +357,18 @@ static csf_status migrate(csf_store *s, csf_error *err)
         /* Each step is one transaction: a crash mid-migration leaves the old version intact. */
         char what[64];
         snprintf(what, sizeof what, "migrating the schema from version %d to %d", v, v + 1);
-        rc = exec_sql(s->db, "BEGIN IMMEDIATE");
+        rc = exec_s(s, "BEGIN IMMEDIATE");
         if (rc != SQLITE_OK) return fail(s, err, rc, what);
-        rc = exec_sql(s->db, csf_store_migrations[v]);
+        rc = exec_s(s, csf_store_migrations[v]);
         if (rc == SQLITE_OK) {
             char upd[96];
             snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %d", v + 1);
-            rc = exec_sql(s->db, upd);
+            rc = exec_s(s, upd);
         }
-        if (rc == SQLITE_OK) rc = exec_sql(s->db, "COMMIT");
+        if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
         if (rc != SQLITE_OK) {
             csf_status st = fail(s, err, rc, what);
-            exec_sql(s->db, "ROLLBACK");
+            exec_s(s, "ROLLBACK");
             return st;
         }
     }
@@ -349,18 +379,18 @@ static csf_status migrate(csf_store *s, csf_error *err)
  * trial 180. Rows of a probe table leave no trace in the data tables. */
 static csf_status probe_write(csf_store *s, csf_error *err)
 {
-    int rc = exec_sql(s->db, "CREATE TABLE IF NOT EXISTS write_probe (id INTEGER PRIMARY KEY, content BLOB)");
+    int rc = exec_s(s, "CREATE TABLE IF NOT EXISTS write_probe (id INTEGER PRIMARY KEY, content BLOB)");
     if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
     sqlite3_stmt *st = NULL;
     rc = prepare(s, "INSERT INTO write_probe (content) VALUES (?)", &st);
     if (rc == SQLITE_OK) {
         sqlite3_bind_zeroblob(st, 1, STORE_PROBE_BYTES);
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         if (rc == SQLITE_DONE) rc = SQLITE_OK;
     }
     sqlite3_finalize(st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
-    rc = exec_sql(s->db, "DELETE FROM write_probe");
+    rc = exec_s(s, "DELETE FROM write_probe");
     if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
     return CSF_OK;
 }
@@ -397,7 +427,7 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
     sqlite3_stmt *st = NULL;
     rc = prepare(s, "PRAGMA journal_mode = WAL", &st);
     if (rc == SQLITE_OK) {
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         if (rc == SQLITE_ROW) {
             col_text(st, 0, mode, sizeof mode);
             rc = SQLITE_OK;
@@ -413,7 +443,7 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
                            "mode stays '%s'); is the file on a network file system?", path, mode);
         goto bad;
     }
-    rc = exec_sql(s->db, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
+    rc = exec_s(s, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
     if (rc != SQLITE_OK) {
         cs = fail(s, err, rc, "setting durability");
         goto bad;
@@ -422,7 +452,7 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
     char check[256] = "";
     rc = prepare(s, "PRAGMA quick_check(1)", &st);
     if (rc == SQLITE_OK) {
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         if (rc == SQLITE_ROW) {
             col_text(st, 0, check, sizeof check);
             rc = SQLITE_OK;
@@ -498,7 +528,7 @@ static int valid_state(const char *k)
 
 static csf_status run_simple(csf_store *s, sqlite3_stmt *st, const char *what, csf_error *err)
 {
-    int rc = sqlite3_step(st);
+    int rc = step(s, st);
     sqlite3_finalize(st);
     if (rc != SQLITE_DONE) return fail(s, err, rc, what);
     return CSF_OK;
@@ -514,7 +544,7 @@ static csf_status upsert_named(csf_store *s, const char *table, const char *name
     int rc = prepare(s, sql, &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, what);
     sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     if (rc == SQLITE_ROW) {
         int64_t found = sqlite3_column_int64(st, 0);
         sqlite3_finalize(st);
@@ -601,7 +631,7 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
     if (display && strlen(display) > 63)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 63 characters");
     /* Observer and display rows are written in the same transaction as the session. */
-    int rc = exec_sql(s->db, "BEGIN IMMEDIATE");
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "starting a session");
     csf_status cs = CSF_OK;
     if (observer && *observer) cs = upsert_named(s, "observers", observer, NULL, NULL, err);
@@ -629,7 +659,7 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
     }
     if (cs == CSF_OK) {
         int64_t new_id = sqlite3_last_insert_rowid(s->db);
-        rc = exec_sql(s->db, "COMMIT");
+        rc = exec_s(s, "COMMIT");
         if (rc != SQLITE_OK) {
             cs = fail(s, err, rc, "starting a session");
         } else {
@@ -637,7 +667,7 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
             return CSF_OK;
         }
     }
-    exec_sql(s->db, "ROLLBACK");
+    exec_s(s, "ROLLBACK");
     return cs;
 }
 
@@ -688,7 +718,7 @@ csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out
     int rc = prepare(s, SESSION_COLS " WHERE s.id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "reading a session");
     sqlite3_bind_int64(st, 1, id);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     csf_status cs = CSF_OK;
     if (rc == SQLITE_ROW) {
         if (read_session_row(st, out) < 0) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
@@ -772,7 +802,7 @@ csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32
                         " FROM sessions s WHERE id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "reading session times");
     sqlite3_bind_int64(st, 1, id);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     if (rc != SQLITE_ROW) {
         sqlite3_finalize(st);
         if (rc == SQLITE_DONE)
@@ -847,7 +877,7 @@ csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *
     bind_real(st, 9, isnan(r->t_s) ? 0.0 : r->t_s);
     sqlite3_bind_text(st, 10, r->status, -1, SQLITE_TRANSIENT);
     sqlite3_bind_double(st, 11, unix_now_s());
-    int rc = sqlite3_step(st);
+    int rc = step(s, st);
     sqlite3_reset(st);
     if (rc == SQLITE_DONE) return CSF_OK;
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
@@ -943,7 +973,7 @@ csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
     sqlite3_bind_int(st, i++, t->valid != 0);
     sqlite3_bind_text(st, i++, t->flags, -1, SQLITE_TRANSIENT);
     sqlite3_bind_double(st, i++, unix_now_s());
-    int rc = sqlite3_step(st);
+    int rc = step(s, st);
     sqlite3_reset(st);
     if (rc == SQLITE_DONE) return CSF_OK;
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
@@ -1023,7 +1053,7 @@ csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int t
     if (n < 0 || (n > 0 && !interval_s))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
     if (n == 0) return CSF_OK;
-    int rc = exec_sql(s->db, "BEGIN IMMEDIATE");
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing frame intervals");
     sqlite3_stmt *st = s->ins_frame;
     for (int i = 0; i < n && rc == SQLITE_OK; i++) {
@@ -1032,18 +1062,18 @@ csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int t
         sqlite3_bind_int(st, 2, trial_seq);
         sqlite3_bind_int(st, 3, i);
         sqlite3_bind_double(st, 4, isfinite(interval_s[i]) ? interval_s[i] : 0.0);
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
     }
     sqlite3_reset(st);
-    if (rc == SQLITE_OK) rc = exec_sql(s->db, "COMMIT");
+    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
     if (rc != SQLITE_OK) {
         csf_status cs = (rc & 0xff) == SQLITE_CONSTRAINT
             ? csf_error_set(err, CSF_E_INVALID_ARG, "store %s: frame intervals of trial %d of "
                             "session %lld refused (session unknown or already stored)", s->path,
                             trial_seq, (long long)session_id)
             : fail(s, err, rc, "storing frame intervals");
-        exec_sql(s->db, "ROLLBACK");
+        exec_s(s, "ROLLBACK");
         return cs;
     }
     return CSF_OK;
@@ -1088,7 +1118,7 @@ csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_
 {
     csf_error_clear(err);
     if (!s || (n > 0 && !rows)) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    int rc = exec_sql(s->db, "BEGIN IMMEDIATE");
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing thresholds");
     sqlite3_stmt *st = NULL;
     int exists = 0;
@@ -1100,14 +1130,14 @@ csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_
         st = NULL;
     }
     if (rc == SQLITE_OK && !exists) {
-        exec_sql(s->db, "ROLLBACK");
+        exec_s(s, "ROLLBACK");
         return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path,
                              (long long)session_id);
     }
     if (rc == SQLITE_OK) rc = prepare(s, "DELETE FROM thresholds WHERE session_id = ?", &st);
     if (rc == SQLITE_OK) {
         sqlite3_bind_int64(st, 1, session_id);
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
         sqlite3_finalize(st);
         st = NULL;
@@ -1127,14 +1157,14 @@ csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_
         bind_real(st, 6, r->threshold);
         bind_real(st, 7, r->stderr_log10);
         sqlite3_bind_int(st, 8, r->n_trials);
-        rc = sqlite3_step(st);
+        rc = step(s, st);
         rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
     }
     sqlite3_finalize(st);
-    if (rc == SQLITE_OK) rc = exec_sql(s->db, "COMMIT");
+    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
     if (rc != SQLITE_OK) {
         csf_status cs = fail(s, err, rc, "storing thresholds");
-        exec_sql(s->db, "ROLLBACK");
+        exec_s(s, "ROLLBACK");
         return cs;
     }
     return CSF_OK;
@@ -1206,7 +1236,7 @@ csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *
     if (blob) sqlite3_bind_blob64(st, 5, blob, len, SQLITE_STATIC);
     else sqlite3_bind_null(st, 5);
     sqlite3_bind_text(st, 6, now, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     sqlite3_finalize(st);
     if (rc == SQLITE_DONE) return CSF_OK;
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
@@ -1229,7 +1259,7 @@ csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *
     if (rc != SQLITE_OK) return fail(s, err, rc, "reading an artifact");
     sqlite3_bind_int64(st, 1, session_id);
     sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     if (rc == SQLITE_DONE) {
         sqlite3_finalize(st);
         return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: session %lld has no '%s' artifact",
@@ -1273,7 +1303,7 @@ csf_status csf_store_create_study(csf_store *s, const char *name, const char *de
     sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 2, design_json ? design_json : "{}", -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     sqlite3_finalize(st);
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: a study named '%s' already exists",
@@ -1291,7 +1321,7 @@ csf_status csf_store_find_study(csf_store *s, const char *name, int64_t *id, csf
     int rc = prepare(s, "SELECT id FROM studies WHERE name = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "finding a study");
     sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     csf_status cs = CSF_OK;
     if (rc == SQLITE_ROW) {
         if (id) *id = sqlite3_column_int64(st, 0);
@@ -1319,7 +1349,7 @@ csf_status csf_store_add_participant(csf_store *s, int64_t study_id, const char 
     sqlite3_bind_int64(st, 1, study_id);
     sqlite3_bind_text(st, 2, code, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     sqlite3_finalize(st);
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: participant '%s' refused (study %lld "
@@ -1337,7 +1367,7 @@ csf_status csf_store_count_participants(csf_store *s, int64_t study_id, int *n, 
     int rc = prepare(s, "SELECT COUNT(*) FROM participants WHERE study_id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "counting participants");
     sqlite3_bind_int64(st, 1, study_id);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     if (rc == SQLITE_ROW) *n = sqlite3_column_int(st, 0);
     sqlite3_finalize(st);
     return rc == SQLITE_ROW ? CSF_OK : fail(s, err, rc, "counting participants");
@@ -1353,7 +1383,7 @@ csf_status csf_store_link_session_participant(csf_store *s, int64_t session_id,
     if (rc != SQLITE_OK) return fail(s, err, rc, "linking a session to a participant");
     sqlite3_bind_int64(st, 1, session_id);
     sqlite3_bind_int64(st, 2, participant_id);
-    rc = sqlite3_step(st);
+    rc = step(s, st);
     sqlite3_finalize(st);
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: session %lld cannot be linked to "

@@ -163,7 +163,7 @@ static void test_sessions_trials(const char *path)
     if (nf == 8) {
         CHECK_NEAR(fi[2], 2 / 60.0, 0);
         CHECK_NEAR(fi[4], 0.0171, 0);
-        CHECK_NEAR(fi[7], 1 / 60.0, 0);
+        CHECK_NEAR(fi[7], 2 / 60.0, 0);
     }
     free(fi);
 

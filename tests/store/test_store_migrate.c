@@ -1,0 +1,202 @@
+/* Schema migration: a store written by schema version 1 (fixture SQL script) is opened by this
+ * build, migrated forward, keeps every old row, and takes the new fields. A newer schema and a
+ * foreign SQLite database are refused; a failing migration step leaves the old version intact. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/store.h"
+#include "results/store_internal.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static char *read_all(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    size_t got = fread(buf, 1, (size_t)n, f);
+    buf[got] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static int make_db(const char *path, const char *sql)
+{
+    sqlite3 *db = NULL;
+    int rc = sqlite3_open(path, &db);
+    char *msg = NULL;
+    if (rc == SQLITE_OK) rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
+    if (rc != SQLITE_OK) fprintf(stderr, "fixture load failed: %s\n", msg ? msg : sqlite3_errmsg(db));
+    sqlite3_free(msg);
+    sqlite3_close(db);
+    return rc == SQLITE_OK ? 0 : -1;
+}
+
+static int raw_version(const char *path)
+{
+    sqlite3 *db = NULL;
+    int v = -1;
+    if (sqlite3_open(path, &db) == SQLITE_OK) {
+        sqlite3_stmt *st = NULL;
+        if (sqlite3_prepare_v2(db, "SELECT MAX(version) FROM schema_version", -1, &st, NULL) == SQLITE_OK &&
+            sqlite3_step(st) == SQLITE_ROW)
+            v = sqlite3_column_int(st, 0);
+        sqlite3_finalize(st);
+    }
+    sqlite3_close(db);
+    return v;
+}
+
+int main(void)
+{
+    const char *fx = getenv("CSF_STORE_FIXTURES");
+    char fixture[600];
+    snprintf(fixture, sizeof fixture, "%s/schema_v1.sql", fx ? fx : "tests/store/fixtures");
+    char *sql = read_all(fixture);
+    CHECK_MSG(sql != NULL, "cannot read %s", fixture);
+    if (!sql) return CHECK_RESULT();
+
+    char dir[512], path[600];
+    if (tmp_dir(dir, sizeof dir, "migrate") < 0) return 1;
+    snprintf(path, sizeof path, "%s/v1.sqlite", dir);
+    CHECK_INT_EQ(make_db(path, sql), 0);
+    CHECK_INT_EQ(raw_version(path), 1);
+
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) {
+        fprintf(stderr, "%s\n", err.msg);
+        return CHECK_RESULT();
+    }
+    CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+
+    /* Old rows intact, new columns at their documented defaults. */
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ(n, 2);
+    if (n == 2) {
+        CHECK(!strcmp(list[0].kind, "display") && !strcmp(list[0].state, "finished"));
+        CHECK(!strcmp(list[1].observer, "bob") && list[1].seed == 42);
+        CHECK(!strcmp(list[1].tool_version, "0.0.9"));
+        CHECK_INT_EQ(list[0].n_readings, 3);
+        CHECK_INT_EQ(list[1].n_trials, 3);
+        CHECK(!strcmp(list[1].settings_json, "{\"method\":\"fade\"}"));
+    }
+    csf_session_list_free(list, n);
+
+    csf_trial *t = NULL;
+    size_t nt = 0;
+    CHECK_INT_EQ(csf_store_get_trials(s, 2, &t, &nt, &err), CSF_OK);
+    CHECK_INT_EQ(nt, 3);
+    if (nt == 3) {
+        CHECK_NEAR(t[1].freq_cpd, 4.0, 0);
+        CHECK_NEAR(t[1].contrast_shown_max, 0.0083, 0);
+        CHECK_INT_EQ(t[1].frames_missed, 2);
+        CHECK_INT_EQ(t[1].valid, 0);
+        CHECK_NEAR(t[1].velocity_dps, 0.0, 0); /* added in v2, default 0 */
+        CHECK(isnan(t[1].click_x_deg) && isnan(t[1].click_y_deg));
+        CHECK(!strcmp(t[1].flags, ""));
+        CHECK(isnan(t[2].rt_s) && isnan(t[2].contrast_shown_mean));
+        CHECK_INT_EQ(t[2].is_catch, 1);
+    }
+    free(t);
+    csf_reading *r = NULL;
+    size_t nr = 0;
+    CHECK_INT_EQ(csf_store_get_readings(s, 1, &r, &nr, &err), CSF_OK);
+    CHECK_INT_EQ(nr, 3);
+    if (nr == 3) {
+        CHECK(!r[0].has_xyz && r[1].has_xyz);
+        CHECK_NEAR(r[2].Z, 106.1, 0);
+    }
+    free(r);
+    csf_threshold_row *th = NULL;
+    size_t nth = 0;
+    CHECK_INT_EQ(csf_store_get_thresholds(s, 2, &th, &nth, &err), CSF_OK);
+    CHECK_INT_EQ(nth, 1);
+    if (nth == 1) {
+        CHECK_NEAR(th[0].threshold, 0.0062, 0);
+        CHECK_NEAR(th[0].velocity_dps, 0.0, 0);
+    }
+    free(th);
+
+    /* The migrated store takes what v1 could not hold: resume session 2 at seq 3. */
+    csf_trial nt3 = make_trial(2, 3, 5);
+    nt3.velocity_dps = 2.5;
+    CHECK_INT_EQ(csf_store_add_trial(s, &nt3, &err), CSF_OK);
+    double iv[2] = {0.0167, 0.0333};
+    CHECK_INT_EQ(csf_store_add_frame_intervals(s, 2, 3, iv, 2, &err), CSF_OK);
+    int64_t study = 0;
+    CHECK_INT_EQ(csf_store_create_study(s, "after-migration", NULL, &study, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, 2, "csflut", "bob.csflut", "CSFLUT", 6, &err), CSF_OK);
+    csf_store_close(s);
+
+    /* Reopening does not migrate again and keeps everything. */
+    s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (s) {
+        CHECK_INT_EQ(csf_store_get_trials(s, 2, &t, &nt, &err), CSF_OK);
+        CHECK_INT_EQ(nt, 4);
+        if (nt == 4) CHECK_NEAR(t[3].velocity_dps, 2.5, 0);
+        free(t);
+        csf_store_close(s);
+    }
+    CHECK_INT_EQ(raw_version(path), CSF_STORE_SCHEMA_VERSION);
+
+    /* A newer schema than this build knows is refused, not misread. */
+    snprintf(path, sizeof path, "%s/future.sqlite", dir);
+    CHECK_INT_EQ(make_db(path, sql), 0);
+    sqlite3 *db = NULL;
+    sqlite3_open(path, &db);
+    sqlite3_exec(db, "UPDATE schema_version SET version = 99", NULL, NULL, NULL);
+    sqlite3_close(db);
+    s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
+    CHECK(s == NULL);
+    CHECK_STR_CONTAINS(err.msg, "newer");
+    CHECK_STR_CONTAINS(err.msg, path);
+    CHECK_INT_EQ(raw_version(path), 99);
+
+    /* Someone else's SQLite database is left alone. */
+    snprintf(path, sizeof path, "%s/foreign.sqlite", dir);
+    CHECK_INT_EQ(make_db(path, "CREATE TABLE photos (id INTEGER, name TEXT);"), 0);
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "not a csfcal store");
+
+    /* A migration step that fails (here: v1 store already has a column v2 adds) rolls back whole:
+     * the store stays at version 1 with its data, and the error names the step. */
+    snprintf(path, sizeof path, "%s/broken-v1.sqlite", dir);
+    CHECK_INT_EQ(make_db(path, sql), 0);
+    sqlite3_open(path, &db);
+    sqlite3_exec(db, "ALTER TABLE trials ADD COLUMN flags TEXT", NULL, NULL, NULL);
+    sqlite3_close(db);
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "version 1 to 2");
+    CHECK_INT_EQ(raw_version(path), 1);
+    sqlite3_open(path, &db);
+    sqlite3_stmt *st = NULL;
+    int has_frames = 1;
+    if (sqlite3_prepare_v2(db, "SELECT COUNT(*) FROM sqlite_master WHERE name = 'frame_intervals'", -1,
+                           &st, NULL) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+        has_frames = sqlite3_column_int(st, 0);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    CHECK_INT_EQ(has_frames, 0);
+
+    /* An empty file becomes a new store. */
+    snprintf(path, sizeof path, "%s/empty.sqlite", dir);
+    FILE *f = fopen(path, "wb");
+    if (f) fclose(f);
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (s) {
+        CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+        csf_store_close(s);
+    }
+    free(sql);
+    rm_rf(dir);
+    return CHECK_RESULT();
+}
