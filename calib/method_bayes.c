@@ -52,7 +52,11 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define MH_STEPS 4
 #define NEAR_BEST_FRACTION 0.85
 #define INVISIBLE_PROB 0.5     /* P(t > log10 max contrast) above which a cell is reported invisible */
-#define MISFIT_LOG10_BF 1.0    /* 10:1 for the per-cell model over the surface */
+#define MISFIT_LOG10_BF 0.5    /* about 3:1 for the per-cell model over the surface */
+#define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
+#ifndef BAYES_CRITERION_ENTROPY
+#define BAYES_CRITERION_ENTROPY 0 /* 1: Psi-style entropy; 0: expected variance reduction */
+#endif
 #define MIN_LAPSE 1e-3         /* a zero lapse rate would make one wrong answer at high contrast fatal */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
@@ -78,6 +82,7 @@ typedef struct {
     double *kn[N_LEVELS], *kw;
     /* P(correct) and its binary entropy by grid-index difference (x node - t node) + n_grid - 1 */
     double *ptab, *htab;
+    double *tclip;   /* [n_grid] t_g clipped at log10 max contrast + 0.1 (variance criterion) */
 
     /* per cell */
     double *loglik;  /* [n_cells*n_grid] log L_c(t_g) */
@@ -96,6 +101,7 @@ typedef struct {
     double *post;    /* [n_cells*n_grid] */
     double *surf;    /* [n_cells*n_grid] surface prior for the cell (leave-cell-out), normalised */
     double *hist;    /* [N_LEVELS*n_grid] scratch for refresh_cache */
+    double *weak;    /* [n_cells*n_grid] per-cell fallback prior: surface blurred by the wide sd */
     int cache_valid;
 
     /* scratch */
@@ -332,6 +338,10 @@ static void refresh_cache(bayes_state *s)
             sp[g] = 0.0;
         }
         convolve_add(s, all, s->kw, s->kw_half, sp);
+        /* the weak prior of the per-cell fallback: the surface's wide component alone */
+        double *wk = &s->weak[(size_t)c * G], wt = 0.0;
+        for (int j = 0; j < G; j++) wt += (wk[j] = sp[j]);
+        for (int j = 0; j < G; j++) wk[j] /= wt;
         for (int l = 0; l < N_LEVELS; l++)
             convolve_add(s, &hist[(size_t)l * G], s->kn[l], s->kn_half[l], sp);
         double tot = 0.0;
@@ -361,8 +371,8 @@ static void bayes_destroy(void *state)
     if (!s) return;
     free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials);
     for (int l = 0; l < N_LEVELS; l++) free(s->kn[l]);
-    free(s->kw), free(s->ptab), free(s->htab), free(s->level), free(s->hist);
-    free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf);
+    free(s->kw), free(s->ptab), free(s->htab), free(s->tclip), free(s->level), free(s->hist);
+    free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf), free(s->weak);
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
     free(s);
 }
@@ -435,6 +445,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         kn_ok &= (s->kn[l] = malloc(sizeof(double) * (size_t)(2 * s->kn_half[l] + 1))) != NULL;
     s->ptab = malloc(sizeof(double) * (size_t)(2 * G - 1));
     s->htab = malloc(sizeof(double) * (size_t)(2 * G - 1));
+    s->tclip = malloc(sizeof(double) * (size_t)G);
     s->level = malloc(sizeof(int) * (size_t)n);
     s->hist = malloc(sizeof(double) * (size_t)N_LEVELS * G);
     s->loglik = calloc((size_t)nc * G, sizeof(double));
@@ -446,11 +457,12 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->logw = calloc((size_t)n, sizeof(double));
     s->post = malloc(sizeof(double) * (size_t)nc * G);
     s->surf = malloc(sizeof(double) * (size_t)nc * G);
+    s->weak = malloc(sizeof(double) * (size_t)nc * G);
     s->scratch_a = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_b = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_idx = malloc(sizeof(int) * (size_t)scratch_n);
-    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
-        !s->logz || !s->logw || !s->post || !s->surf || !s->scratch_a || !s->scratch_b ||
+    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->tclip || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
+        !s->logz || !s->logw || !s->post || !s->surf || !s->weak || !s->scratch_a || !s->scratch_b ||
         !s->scratch_idx) {
         bayes_destroy(s);
         return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
@@ -468,6 +480,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
             s->kn[l][k + s->kn_half[l]] = (1.0 - OFFSET_WIDE_WEIGHT) * exp(-0.5 * z * z) /
                                           offset_sd_levels[l] * s->step / sqrt(2.0 * M_PI);
         }
+    for (int g = 0; g < G; g++) s->tclip[g] = fmin(s->lo + g * s->step, s->log_cmax + 0.1);
     for (int d = -(G - 1); d <= G - 1; d++) {
         double pr = p_correct(s, d * s->step, 0.0);
         s->ptab[d + G - 1] = pr;
@@ -525,6 +538,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         while (g1 > g0 && po[g1] < 1e-7 * pmax) g1--;
         double ci = -1.0;
         int cx = s->g_cmax;
+#if BAYES_CRITERION_ENTROPY
         for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
             const double *pt = &s->ptab[gx + G - 1], *ht = &s->htab[gx + G - 1];
             double pc = 0.0, hc = 0.0;
@@ -533,6 +547,28 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
                 hc += po[g] * ht[-g];
             }
             double info = h2(pc) - hc;
+#else
+        /* expected reduction of the variance of t_c (clipped just above the display's reach, where
+         * all thresholds mean the same thing: never visible) */
+        double m0 = 0.0, m1 = 0.0, m2 = 0.0;
+        for (int g = g0; g <= g1; g++) {
+            double t = s->tclip[g];
+            m0 += po[g], m1 += po[g] * t, m2 += po[g] * t * t;
+        }
+        double var0 = m2 / m0 - (m1 / m0) * (m1 / m0);
+        for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
+            const double *pt = &s->ptab[gx + G - 1];
+            double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+            for (int g = g0; g <= g1; g++) {
+                double q = po[g] * pt[-g], t = s->tclip[g];
+                a0 += q, a1 += q * t, a2 += q * t * t;
+            }
+            double b0 = m0 - a0, b1 = m1 - a1, b2 = m2 - a2;
+            double ev = 0.0;
+            if (a0 > 1e-300) ev += a2 - a1 * a1 / a0;
+            if (b0 > 1e-300) ev += b2 - b1 * b1 / b0;
+            double info = var0 - ev / m0;
+#endif
             if (info > ci) ci = info, cx = gx;
         }
         cell_info[c] = ci;
@@ -608,31 +644,26 @@ static void summarise(const bayes_state *s, const double *p, double *mean, doubl
     *p_inv = pi;
 }
 
-/* log10 evidence of a cell's data under the flat per-cell prior and under the surface prior;
- * with the flat-prior posterior in flat_post when asked. */
-static void cell_evidence(bayes_state *s, int c, double *log10_bf, double *flat_post)
+/* log10 Bayes factor of a cell's data: the weak per-cell prior (surface blurred by the wide offset
+ * sd) against the full surface prior; with the weak-prior posterior in weak_post when asked. */
+static void cell_evidence(bayes_state *s, int c, double *log10_bf, double *weak_post)
 {
     int G = s->n_grid;
     const double *ll = &s->loglik[(size_t)c * G];
-    const double *sp = &s->surf[(size_t)c * G];
+    const double *sp = &s->surf[(size_t)c * G], *wk = &s->weak[(size_t)c * G];
     double mx = -INFINITY;
     for (int g = 0; g < G; g++)
         if (ll[g] > mx) mx = ll[g];
-    double ev_s = 0.0, ev_f = 0.0;
-    /* flat prior over the thresholds the display could test, plus the never-visible region */
+    double ev_s = 0.0, ev_w = 0.0;
     for (int g = 0; g < G; g++) {
         double l = exp(ll[g] - mx);
         ev_s += sp[g] * l;
-        ev_f += l;
-        if (flat_post) flat_post[g] = l;
+        ev_w += wk[g] * l;
+        if (weak_post) weak_post[g] = wk[g] * l;
     }
-    ev_f /= G;
-    *log10_bf = log10(ev_f / ev_s);
-    if (flat_post) {
-        double t = 0.0;
-        for (int g = 0; g < G; g++) t += flat_post[g];
-        for (int g = 0; g < G; g++) flat_post[g] /= t;
-    }
+    *log10_bf = log10(ev_w / ev_s);
+    if (weak_post)
+        for (int g = 0; g < G; g++) weak_post[g] /= ev_w;
 }
 
 static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error *err)
@@ -640,12 +671,12 @@ static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error 
     bayes_state *s = state;
     if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: estimate without state");
     refresh_cache(s);
-    double *flat = s->scratch_b;
+    double *weak = s->scratch_b;
     for (int c = 0; c < s->n_cells; c++) {
         const double *po = &s->post[(size_t)c * s->n_grid];
         double bf;
-        cell_evidence(s, c, &bf, flat);
-        if (bf > MISFIT_LOG10_BF && s->n_trials[c] > 0) po = flat;
+        cell_evidence(s, c, &bf, weak);
+        if (bf > MISFIT_LOG10_BF && s->n_trials[c] >= MISFIT_MIN_TRIALS) po = weak;
         double mean, sd, p_inv;
         summarise(s, po, &mean, &sd, &p_inv);
         out[c].n_trials = s->n_trials[c];
@@ -671,7 +702,7 @@ csf_status csf_bayes_check(void *state, csf_bayes_cell_check *out, csf_error *er
         summarise(s, &s->surf[(size_t)c * s->n_grid], &mean, &sd, &p_inv);
         out[c].surface_log10 = mean;
         out[c].log10_bayes_factor = s->n_trials[c] ? bf : 0.0;
-        out[c].misfit = s->n_trials[c] > 0 && bf > MISFIT_LOG10_BF;
+        out[c].misfit = s->n_trials[c] >= MISFIT_MIN_TRIALS && bf > MISFIT_LOG10_BF;
         out[c].n_trials = s->n_trials[c];
     }
     return CSF_OK;

@@ -10,8 +10,9 @@
  * cell's threshold; the cell's own trials either agree with that prediction or not. */
 typedef struct {
     double surface_log10;       /* surface-only prediction of log10 threshold (posterior mean) */
-    double log10_bayes_factor;  /* log10 evidence(flat per-cell prior) / evidence(surface prior);
-                                   > 1 (10:1) means the surface does not explain this cell */
+    double log10_bayes_factor;  /* log10 evidence(weak per-cell prior: surface blurred by 0.4 log10)
+                                   / evidence(surface prior with the learned offset sd);
+                                   > 0.5 (3:1) with >= 5 trials: the surface does not explain it */
     int misfit;                 /* 1: estimate() fell back to the per-cell estimate */
     int n_trials;
 } csf_bayes_cell_check;
