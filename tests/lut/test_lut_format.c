@@ -1,0 +1,393 @@
+/* The .csflut file format: writer/reader round trips (memory and file, 2-D and 4-D), metadata,
+ * and every kind of bad file refused with its own error code, never an out-of-bounds read. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "results/csflut_internal.h"
+#include "tests/check.h"
+#include "tests/lut/lut_fixture.h"
+
+/* Offsets in a 2-D (8 x 6) file, from the layout in docs/csflut.md. */
+enum {
+    OFF_VERSION = 8, OFF_FILESIZE = 16, OFF_NAXES = 24, OFF_FLAGS = 28, OFF_DIST = 32,
+    OFF_AX0 = 64, OFF_AX0_PTS = 64 + 48, OFF_AX1 = OFF_AX0_PTS + 8 * 8,
+    OFF_AX1_PTS = OFF_AX1 + 48, OFF_THR = OFF_AX1_PTS + 6 * 8, OFF_SE = OFF_THR + 48 * 8,
+    OFF_META = OFF_SE + 48 * 8
+};
+
+static void put32(unsigned char *p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (8 * i));
+}
+static void put64(unsigned char *p, uint64_t v)
+{
+    for (int i = 0; i < 8; i++) p[i] = (unsigned char)(v >> (8 * i));
+}
+static void putf64(unsigned char *p, double d)
+{
+    uint64_t u;
+    memcpy(&u, &d, 8);
+    put64(p, u);
+}
+static void fix_crc(unsigned char *p, size_t len) { put32(p + len - 4, csflut_crc32(p, len - 4)); }
+
+/* Opens a copy of buf[0..len) and expects the given status (and no table on failure). */
+static csflut_status open_expect(const unsigned char *buf, size_t len, csflut_status want,
+                                 const char *what)
+{
+    unsigned char *copy = malloc(len ? len : 1);
+    memcpy(copy, buf, len);
+    csflut_table *t = (csflut_table *)1;
+    csflut_diag d;
+    csflut_status st = csflut_open_memory_diag(copy, len, &t, &d);
+    CHECK_MSG(st == want, "%s: got %d (%s) want %d", what, (int)st, d.message, (int)want);
+    if (st) {
+        CHECK(t == NULL);
+        CHECK(d.code == st);
+        CHECK(strlen(d.message) > 10);
+    }
+    csflut_close(st ? NULL : t);
+    free(copy);
+    return st;
+}
+
+static void test_round_trip_memory(void)
+{
+    fx_table fx;
+    fx_make(&fx, 11, 0.08, 1.0);
+    unsigned char *buf;
+    size_t len;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &buf, &len), CSFLUT_OK);
+    CHECK_INT_EQ(len, OFF_META + 5 * 4 + strlen("sim:seed=1") + strlen("lcd-test-0001") +
+                          strlen("fade") + strlen("2026-11-22T06:00:00Z") + strlen("csfcal test") + 4);
+    CHECK(memcmp(buf, "\x89" "CSFLUT\n", 8) == 0);
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_memory(buf, len, &t), CSFLUT_OK);
+    CHECK(t != NULL);
+    CHECK_INT_EQ(csflut_version_major(t), 1);
+    CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_FREQ), 8);
+    CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_ECC), 6);
+    CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_VEL), 0);
+    CHECK(csflut_axis_points(t, CSFLUT_AXIS_LUM) == NULL);
+    CHECK_INT_EQ(csflut_axis_scale(t, CSFLUT_AXIS_FREQ), CSFLUT_SCALE_LOG);
+    CHECK_INT_EQ(csflut_axis_scale(t, CSFLUT_AXIS_ECC), CSFLUT_SCALE_LINEAR);
+    CHECK_INT_EQ(csflut_node_count(t), 48);
+    const double *raw = csflut_raw_thresholds(t), *se = csflut_stderr_log10(t);
+    int same = 1, n_inf = 0;
+    for (int k = 0; k < 48; k++) {
+        if (memcmp(&raw[k], &fx.thr[k], 8) != 0) same = 0;
+        if (memcmp(&se[k], &fx.se[k], 8) != 0 && !(se[k] != se[k] && fx.se[k] != fx.se[k])) same = 0;
+        n_inf += isinf(raw[k]);
+    }
+    CHECK(same);
+    CHECK(n_inf > 5 && n_inf < 40); /* the fixture really has never-visible nodes */
+    for (int k = 0; k < 8; k++) CHECK(csflut_axis_points(t, CSFLUT_AXIS_FREQ)[k] == fx_freq[k]);
+    CHECK(strcmp(csflut_observer(t), "sim:seed=1") == 0);
+    CHECK(strcmp(csflut_display_profile_id(t), "lcd-test-0001") == 0);
+    CHECK(strcmp(csflut_method(t), "fade") == 0);
+    CHECK(strcmp(csflut_date_utc(t), "2026-11-22T06:00:00Z") == 0);
+    CHECK(strcmp(csflut_tool_version(t), "csfcal test") == 0);
+    CHECK(csflut_viewing_distance_mm(t) == 600);
+    CHECK(csflut_mean_lum_cdm2(t) == 80);
+    CHECK_INT_EQ(csflut_trials(t), 240);
+    /* writing the opened table again gives the same bytes */
+    csflut_build b2;
+    csflut_table_to_build(t, &b2);
+    unsigned char *buf2;
+    size_t len2;
+    CHECK_INT_EQ(csflut_write_memory(&b2, &buf2, &len2), CSFLUT_OK);
+    CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
+    free(buf2);
+    csflut_close(t);
+    free(buf);
+}
+
+static void test_round_trip_file_and_absent_metadata(void)
+{
+    fx_table fx;
+    fx_make(&fx, 12, 0.0, 1e30);
+    fx.b.stderr_log10 = NULL;
+    fx.b.observer = fx.b.display_profile_id = fx.b.method = fx.b.date_utc = fx.b.tool_version = NULL;
+    fx.b.viewing_distance_mm = 0;
+    fx.b.mean_lum_cdm2 = NAN;
+    fx.b.trials = 0;
+    char path[] = "/tmp/csflut-test-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    close(fd);
+    CHECK_INT_EQ(csflut_write_file(&fx.b, path), CSFLUT_OK);
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_file(path, &t), CSFLUT_OK);
+    CHECK(csflut_stderr_log10(t) == NULL);
+    CHECK(strcmp(csflut_observer(t), "") == 0);
+    CHECK(isnan(csflut_viewing_distance_mm(t)));
+    CHECK(isnan(csflut_mean_lum_cdm2(t)));
+    CHECK(csflut_raw_thresholds(t)[17] == fx.thr[17]);
+    csflut_close(t);
+    unlink(path);
+    CHECK_INT_EQ(csflut_open_file("/nonexistent/dir/x.csflut", &t), CSFLUT_E_IO);
+    CHECK(t == NULL);
+    /* a directory is not a table either */
+    CHECK(csflut_open_file("/tmp", &t) != CSFLUT_OK);
+    CHECK_INT_EQ(csflut_write_file(&fx.b, "/nonexistent/dir/x.csflut"), CSFLUT_E_IO);
+}
+
+static void test_4d_round_trip(void)
+{
+    const double vel[3] = {0, 2, 8}, lum[2] = {10, 100};
+    double thr[8 * 6 * 3 * 2];
+    csf_model_params p = csf_model_default();
+    for (int l = 0; l < 2; l++)
+        for (int v = 0; v < 3; v++)
+            for (int e = 0; e < 6; e++)
+                for (int f = 0; f < 8; f++)
+                    thr[((l * 3 + v) * 6 + e) * 8 + f] = csf_model_threshold(&p, fx_freq[f], fx_ecc[e]) *
+                                                         (1 + 0.3 * v) * (l ? 1.0 : 1.6);
+    csflut_build b = {.n_freq = 8, .n_ecc = 6, .n_vel = 3, .n_lum = 2, .freq_cpd = fx_freq,
+                      .ecc_deg = fx_ecc, .vel_dps = vel, .lum_cdm2 = lum, .threshold = thr,
+                      .mean_lum_cdm2 = 50};
+    csflut_table *t = fx_open(&b);
+    CHECK(t != NULL);
+    if (!t) return;
+    CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_VEL), 3);
+    CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_LUM), 2);
+    /* velocity grid includes 0 deg/s, so it is stored on a linear scale */
+    CHECK_INT_EQ(csflut_axis_scale(t, CSFLUT_AXIS_VEL), CSFLUT_SCALE_LINEAR);
+    CHECK_INT_EQ(csflut_axis_scale(t, CSFLUT_AXIS_LUM), CSFLUT_SCALE_LOG);
+    csflut_set_conservative(t, 0);
+    /* nodes are exact */
+    CHECK(csflut_threshold4(t, 4, 10, 8, 10) == thr[((0 * 3 + 2) * 6 + 2) * 8 + 3]);
+    CHECK(csflut_threshold4(t, 4, 10, 2, 100) == thr[((1 * 3 + 1) * 6 + 2) * 8 + 3]);
+    /* luminance is interpolated in log: at the geometric mean of 10 and 100 the factor is the
+     * arithmetic mean of 1.6 and 1.0 */
+    double base = thr[((1 * 3 + 0) * 6 + 2) * 8 + 3];
+    CHECK_NEAR(csflut_threshold4(t, 4, 10, 0, sqrt(1000)) / base, 1.3, 1e-12);
+    /* velocity linear: halfway between 2 and 8 deg/s */
+    CHECK_NEAR(csflut_threshold4(t, 4, 10, 5, 100) / base, 1 + 0.3 * 1.5, 1e-12);
+    /* the 2-D query uses the default velocity (lowest) and luminance (metadata mean, 50) */
+    CHECK(csflut_default_velocity(t) == 0);
+    CHECK(csflut_default_luminance(t) == 50);
+    CHECK(rel_diff(csflut_threshold(t, 3, 7), csflut_threshold4(t, 3, 7, 0, 50)) < 1e-14);
+    /* max_frequency4 inverts threshold4 */
+    double c = 0.02, mf = csflut_max_frequency4(t, c, 12, 3, 30);
+    CHECK(mf > 0.5 && mf < 32);
+    CHECK(rel_diff(csflut_threshold4(t, mf, 12, 3, 30), c) < 1e-12);
+    csflut_close(t);
+}
+
+static void test_single_point_axes(void)
+{
+    const double f1[1] = {4}, e1[1] = {0};
+    double thr1[1] = {0.005};
+    csflut_build b = {.n_freq = 1, .n_ecc = 1, .freq_cpd = f1, .ecc_deg = e1, .threshold = thr1};
+    csflut_table *t = fx_open(&b);
+    CHECK(t != NULL);
+    if (!t) return;
+    CHECK(csflut_threshold(t, 0.1, 0) == 0.005);
+    CHECK(csflut_threshold(t, 100, 30) == 0.005);
+    CHECK(isinf(csflut_max_frequency(t, 0.01, 0)));
+    CHECK(csflut_max_frequency(t, 0.001, 0) == 0);
+    csflut_close(t);
+}
+
+static void test_bad_files(void)
+{
+    fx_table fx;
+    fx_make(&fx, 13, 0.05, 1.0);
+    unsigned char *good;
+    size_t len;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &good, &len), CSFLUT_OK);
+    unsigned char *b = malloc(len + 16);
+    open_expect(good, len, CSFLUT_OK, "good");
+
+    /* truncated at every length: always TRUNCATED (every prefix carries the right magic) */
+    int all_trunc = 1;
+    for (size_t n = 0; n < len; n++) {
+        csflut_table *t = NULL;
+        csflut_status st = csflut_open_memory(good, n, &t);
+        if (st != CSFLUT_E_TRUNCATED || t) all_trunc = 0;
+    }
+    CHECK(all_trunc);
+    open_expect(good, 0, CSFLUT_E_TRUNCATED, "empty");
+    /* trailing bytes */
+    memcpy(b, good, len);
+    b[len] = 0;
+    open_expect(b, len + 1, CSFLUT_E_BAD_HEADER, "trailing byte");
+    /* bad magic: a PNG, a text file, one flipped bit */
+    open_expect((const unsigned char *)"\x89PNG\r\n\x1a\n0000000000000000", 24, CSFLUT_E_BAD_MAGIC, "png");
+    open_expect((const unsigned char *)"freq_cpd,ecc_deg,threshold\n", 27, CSFLUT_E_BAD_MAGIC, "csv");
+    memcpy(b, good, len);
+    b[3] ^= 0x20;
+    open_expect(b, len, CSFLUT_E_BAD_MAGIC, "magic bit flip");
+    open_expect((const unsigned char *)"XY", 2, CSFLUT_E_BAD_MAGIC, "2 bytes");
+    /* bad version (with a valid checksum: the version is checked first anyway) */
+    memcpy(b, good, len);
+    b[OFF_VERSION] = 2;
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_VERSION, "version 2");
+    memcpy(b, good, len);
+    b[OFF_VERSION] = 0;
+    open_expect(b, len, CSFLUT_E_BAD_VERSION, "version 0");
+    /* a newer minor version is read */
+    memcpy(b, good, len);
+    b[OFF_VERSION + 2] = 7;
+    fix_crc(b, len);
+    CHECK(open_expect(b, len, CSFLUT_OK, "minor 7") == CSFLUT_OK);
+    /* checksum: any flipped byte in the body or in the stored CRC */
+    int all_crc = 1;
+    for (size_t off = 12; off < len; off += 37) {
+        memcpy(b, good, len);
+        b[off] ^= 0x01;
+        csflut_table *t = NULL;
+        csflut_status st = csflut_open_memory(b, len, &t);
+        /* the file-size field is checked before the CRC: flipping it reads as truncation or
+         * trailing bytes */
+        int size_field = off >= OFF_FILESIZE && off < OFF_FILESIZE + 8;
+        if (!size_field && st != CSFLUT_E_BAD_CHECKSUM) all_crc = 0;
+        csflut_close(t);
+    }
+    CHECK(all_crc);
+    /* absurd axis sizes and counts */
+    memcpy(b, good, len);
+    put32(b + OFF_AX0 + 8, 0);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "0 frequency points");
+    memcpy(b, good, len);
+    put32(b + OFF_AX1 + 8, 0xFFFFFFFFu);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "4 billion eccentricity points");
+    memcpy(b, good, len);
+    put32(b + OFF_AX0 + 8, 5000);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "5000 frequency points");
+    memcpy(b, good, len);
+    put32(b + OFF_NAXES, 7);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "7 axes");
+    memcpy(b, good, len);
+    put32(b + OFF_NAXES, 1);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "1 axis");
+    memcpy(b, good, len);
+    put32(b + OFF_AX1, 3); /* second record claims to be luminance: eccentricity missing */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "axis ids");
+    memcpy(b, good, len);
+    put32(b + OFF_AX0 + 4, 0); /* frequency on a linear scale */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "linear frequency");
+    memcpy(b, good, len);
+    put32(b + OFF_AX0 + 8, 7); /* 7 points: the rest of the file no longer lines up */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_HEADER, "layout mismatch");
+    memcpy(b, good, len);
+    put32(b + OFF_FLAGS, 0x10);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_HEADER, "unknown flag");
+    /* non-monotone grids */
+    memcpy(b, good, len);
+    putf64(b + OFF_AX0_PTS + 8 * 3, 1.5); /* 0.5 1 2 1.5 8 ... */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_NONMONOTONE, "frequency order");
+    memcpy(b, good, len);
+    putf64(b + OFF_AX1_PTS + 8 * 2, 5); /* 0 5 5 20 ...: repeated point */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_NONMONOTONE, "repeated eccentricity");
+    /* non-finite and negative values */
+    const struct { size_t off; double v; const char *what; } bad_vals[] = {
+        {OFF_AX0_PTS, NAN, "NaN frequency"}, {OFF_AX0_PTS, 0.0, "zero frequency (log axis)"},
+        {OFF_AX1_PTS, -1.0, "negative eccentricity"}, {OFF_AX1_PTS + 40, INFINITY, "infinite eccentricity"},
+        {OFF_THR + 8 * 5, NAN, "NaN threshold"}, {OFF_THR + 8 * 5, -0.01, "negative threshold"},
+        {OFF_THR + 8 * 5, 0.0, "zero threshold"}, {OFF_THR + 8 * 5, -INFINITY, "-inf threshold"},
+        {OFF_SE + 8 * 2, -0.1, "negative stderr"}, {OFF_SE + 8 * 2, INFINITY, "infinite stderr"},
+    };
+    for (size_t i = 0; i < sizeof bad_vals / sizeof bad_vals[0]; i++) {
+        memcpy(b, good, len);
+        putf64(b + bad_vals[i].off, bad_vals[i].v);
+        fix_crc(b, len);
+        open_expect(b, len, CSFLUT_E_BAD_VALUE, bad_vals[i].what);
+    }
+    /* +inf threshold and NaN stderr are legal */
+    memcpy(b, good, len);
+    putf64(b + OFF_THR, INFINITY);
+    putf64(b + OFF_SE, NAN);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_OK, "inf threshold");
+    /* metadata */
+    memcpy(b, good, len);
+    putf64(b + OFF_DIST, -600);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_METADATA, "negative distance");
+    memcpy(b, good, len);
+    b[OFF_META + 4 + 2] = 0; /* NUL inside the observer string */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_METADATA, "NUL in observer");
+    memcpy(b, good, len);
+    put32(b + OFF_META, 100000);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_METADATA, "huge string");
+    memcpy(b, good, len);
+    put32(b + OFF_META, 4000);
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_HEADER, "string past end");
+    /* a lying file-size field: bigger than the buffer is truncation */
+    memcpy(b, good, len);
+    put64(b + OFF_FILESIZE, (uint64_t)len * 1000);
+    open_expect(b, len, CSFLUT_E_TRUNCATED, "file size too big");
+
+    /* every code has a distinct message */
+    for (int s = 0; s <= CSFLUT_E_UNREACHABLE; s++)
+        for (int u = s + 1; u <= CSFLUT_E_UNREACHABLE; u++)
+            CHECK(strcmp(csflut_strerror((csflut_status)s), csflut_strerror((csflut_status)u)) != 0);
+    CHECK(csflut_strerror((csflut_status)999) != NULL);
+    CHECK_INT_EQ(csflut_open_memory(NULL, 10, NULL), CSFLUT_E_ARG);
+    free(b);
+    free(good);
+}
+
+static void test_writer_refuses(void)
+{
+    fx_table fx;
+    fx_make(&fx, 14, 0.05, 1.0);
+    unsigned char *buf = (unsigned char *)1;
+    size_t len = 1;
+    csflut_diag d;
+    double fr[8];
+    memcpy(fr, fx_freq, sizeof fr);
+    fx.b.freq_cpd = fr;
+    fr[4] = fr[3];
+    CHECK_INT_EQ(csflut_write_memory_diag(&fx.b, &buf, &len, &d), CSFLUT_E_NONMONOTONE);
+    CHECK(buf == NULL && len == 0);
+    CHECK_STR_CONTAINS(d.message, "freq");
+    fr[4] = 8;
+    fx.thr[9] = NAN;
+    CHECK_INT_EQ(csflut_write_memory_diag(&fx.b, &buf, &len, &d), CSFLUT_E_BAD_VALUE);
+    CHECK_STR_CONTAINS(d.message, "node 9");
+    fx.thr[9] = 0.01;
+    fx.b.n_ecc = 0;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &buf, &len), CSFLUT_E_BAD_AXIS);
+    fx.b.n_ecc = 6;
+    fx.b.trials = -1;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &buf, &len), CSFLUT_E_BAD_METADATA);
+    fx.b.trials = 3;
+    fx.b.viewing_distance_mm = -5;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &buf, &len), CSFLUT_E_BAD_METADATA);
+    fx.b.viewing_distance_mm = 500;
+    fx.b.threshold = NULL;
+    CHECK_INT_EQ(csflut_write_memory(&fx.b, &buf, &len), CSFLUT_E_ARG);
+    CHECK_INT_EQ(csflut_write_memory(NULL, &buf, &len), CSFLUT_E_ARG);
+}
+
+int main(void)
+{
+    test_round_trip_memory();
+    test_round_trip_file_and_absent_metadata();
+    test_4d_round_trip();
+    test_single_point_axes();
+    test_bad_files();
+    test_writer_refuses();
+    return CHECK_RESULT();
+}
