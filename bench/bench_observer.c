@@ -1,2 +1,223 @@
+/* Observer calibration accuracy (issue 6): RMS error of log10 threshold over the visible cells of
+ * the default 6 x 4 grid against a simulated 2AFC observer's truth, for several trial budgets and
+ * seeds, for every 2AFC method in the registry, and side by side with Psychtoolbox's QUEST (one
+ * QUEST per cell, run by bench/quest/run_quest.m under octave-cli) with --quest.
+ *
+ * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--quest]
+ *                       [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
+ * Run from the source root (default table bench/data/observer_bumpy.csv, script bench/quest/). */
 #include <stdio.h>
-int main(void) { printf("bench_observer: not written yet\n"); return 0; }
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "calib/procedure.h"
+#include "tests/bayes/sim_2afc.h"
+
+enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 2 };
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Prior-mean surface of the bayes method, used as QUEST's per-cell guess so QUEST starts from the
+ * same population knowledge (and not from the parametric observer's exact truth). */
+static double guess_log10(const csf_cell *c)
+{
+    csf_model_params p = {.smax = pow(10.0, 2.25), .fmax_cpd = pow(10.0, 0.45), .beta_oct = 3.0,
+                          .delta_log10 = 0.5, .ecc_a = 0.03, .ecc_b = 0.02};
+    double t = -csf_model_log10_sensitivity(&p, c->freq_cpd, c->ecc_deg);
+    return t > 0.0 ? 0.0 : t;
+}
+
+static int parse_budgets(const char *s, int *b)
+{
+    int n = 0;
+    while (*s && n < MAX_BUDGETS) {
+        char *end;
+        long v = strtol(s, &end, 10);
+        if (end == s || v < 1 || v > 5000) return -1;
+        b[n++] = (int)v;
+        s = *end == ',' ? end + 1 : end;
+        if (*end && *end != ',') return -1;
+    }
+    return n;
+}
+
+int main(int argc, char **argv)
+{
+    int n_seeds = 20, budgets[MAX_BUDGETS] = {60, 80, 120, 240, 480}, n_budgets = 5, quest = 0;
+    const char *table = "bench/data/observer_bumpy.csv", *methods_arg = "bayes,2afc";
+    const char *octave = "octave-cli";
+    double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
+            n_seeds = atoi(argv[++i]);
+            if (n_seeds < 1 || n_seeds > 1000) {
+                fprintf(stderr, "bench_observer: --seeds must be 1-1000\n");
+                return 1;
+            }
+        } else if (!strcmp(argv[i], "--budgets") && i + 1 < argc) {
+            n_budgets = parse_budgets(argv[++i], budgets);
+            if (n_budgets < 1) {
+                fprintf(stderr, "bench_observer: --budgets wants up to %d numbers 1-5000, comma-separated\n", MAX_BUDGETS);
+                return 1;
+            }
+        } else if (!strcmp(argv[i], "--table") && i + 1 < argc) {
+            table = argv[++i];
+        } else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
+            methods_arg = argv[++i];
+        } else if (!strcmp(argv[i], "--octave") && i + 1 < argc) {
+            octave = argv[++i];
+        } else if (!strcmp(argv[i], "--quest-sd") && i + 1 < argc) {
+            quest_sd = atof(argv[++i]);
+            if (!(quest_sd >= 0.05 && quest_sd <= 5.0)) {
+                fprintf(stderr, "bench_observer: --quest-sd must be 0.05-5 log10 units\n");
+                return 1;
+            }
+        } else if (!strcmp(argv[i], "--quest")) {
+            quest = 1;
+        } else {
+            fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
+                            "[--table CSV] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH]\n");
+            return !!strcmp(argv[i], "--help");
+        }
+    }
+    const csf_procedure_ops *methods[MAX_METHODS];
+    int n_methods = 0;
+    char mbuf[256];
+    snprintf(mbuf, sizeof mbuf, "%s", methods_arg);
+    for (char *tok = strtok(mbuf, ","); tok && n_methods < MAX_METHODS; tok = strtok(NULL, ",")) {
+        const csf_procedure_ops *ops = csf_procedure_find(tok);
+        if (!ops) {
+            fprintf(stderr, "bench_observer: no method '%s' in this build (skipped)\n", tok);
+        } else if (ops->task != CSF_TASK_2AFC) {
+            fprintf(stderr, "bench_observer: method '%s' is not 2AFC; this bench's observer answers 2AFC only (skipped)\n", tok);
+        } else {
+            methods[n_methods++] = ops;
+        }
+    }
+    csf_cell cells[24];
+    int n = sim2afc_default_grid(cells);
+    const double cmax = 1.0;
+    const char *obs_name[N_OBS] = {"parametric (default CSF model)", "table (bench/data bumpy)"};
+    sim2afc probe[N_OBS];
+    sim2afc_parametric(&probe[0], csf_model_default(), 0);
+    if (sim2afc_table(&probe[1], table, 0) != 0) return 1;
+
+    double rms[N_OBS][MAX_METHODS][MAX_BUDGETS], ms_per_session[N_OBS][MAX_METHODS][MAX_BUDGETS];
+    int wrong_vis[N_OBS][MAX_METHODS][MAX_BUDGETS];
+    for (int ob = 0; ob < N_OBS; ob++)
+        for (int m = 0; m < n_methods; m++)
+            for (int b = 0; b < n_budgets; b++) {
+                double sum_sq = 0.0, t0 = now_s();
+                int wrong_total = 0;
+                for (int s = 1; s <= n_seeds; s++) {
+                    sim2afc o = probe[ob];
+                    o.seed = (uint64_t)s;
+                    csf_cell_estimate est[24];
+                    if (sim2afc_run(methods[m], &o, cells, n, budgets[b], 1000 + (uint64_t)s, cmax, est))
+                        return 1;
+                    int wrong;
+                    double r = sim2afc_rms(&o, cells, n, est, cmax, &wrong);
+                    sum_sq += r * r;
+                    wrong_total += wrong;
+                }
+                rms[ob][m][b] = sqrt(sum_sq / n_seeds);
+                ms_per_session[ob][m][b] = (now_s() - t0) * 1000.0 / n_seeds;
+                wrong_vis[ob][m][b] = wrong_total;
+            }
+
+    double qrms[N_OBS][MAX_BUDGETS];
+    int have_quest = 0;
+    if (quest) {
+        char truth_path[] = "/tmp/bench_observer_truth_XXXXXX";
+        int fd = mkstemp(truth_path);
+        FILE *tf = fd >= 0 ? fdopen(fd, "w") : NULL;
+        if (!tf) {
+            fprintf(stderr, "bench_observer: cannot write a temporary file for QUEST\n");
+            return 1;
+        }
+        fprintf(tf, "#params,%g,%g,%g,%g,%g,%d", probe[0].slope, probe[0].lapse, log10(cmax), log10(0.0005),
+                quest_sd, n_seeds);
+        for (int b = 0; b < n_budgets; b++) fprintf(tf, ",%d", budgets[b]);
+        fprintf(tf, "\n");
+        for (int ob = 0; ob < N_OBS; ob++)
+            for (int c = 0; c < n; c++) {
+                double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
+                fprintf(tf, "%d,%d,%.6f,%.6f,%d\n", ob, c, t, guess_log10(&cells[c]), t < log10(cmax));
+            }
+        fclose(tf);
+        char out_path[64], cmd[512];
+        snprintf(out_path, sizeof out_path, "%s.out", truth_path);
+        snprintf(cmd, sizeof cmd, "%s -q bench/quest/run_quest.m %s %s 2>/dev/null", octave, truth_path, out_path);
+        double t0 = now_s();
+        int rc = system(cmd);
+        FILE *of = fopen(out_path, "r");
+        if (!of) {
+            fprintf(stderr, "bench_observer: QUEST run failed (exit %d): is octave-psychtoolbox-3 installed? "
+                            "See docs/bayes-method.md\n", rc);
+        } else {
+            int ob, bud;
+            double r;
+            for (int ob2 = 0; ob2 < N_OBS; ob2++)
+                for (int b = 0; b < n_budgets; b++) qrms[ob2][b] = NAN;
+            while (fscanf(of, "%d,%d,%lf", &ob, &bud, &r) == 3)
+                for (int b = 0; b < n_budgets; b++)
+                    if (ob >= 0 && ob < N_OBS && budgets[b] == bud) qrms[ob][b] = r;
+            fclose(of);
+            have_quest = 1;
+            printf("QUEST (octave) ran in %.1f s\n", now_s() - t0);
+        }
+        remove(truth_path);
+        remove(out_path);
+    }
+
+    printf("\nRMS error of log10 threshold over visible cells, default 6x4 grid, %d seeds per entry\n", n_seeds);
+    printf("(2AFC, Weibull slope %.1f, lapse %.2f, max contrast %.2f; wrong = cells with the wrong "
+           "visibility, summed over seeds)\n\n", probe[0].slope, probe[0].lapse, cmax);
+    for (int ob = 0; ob < N_OBS; ob++) {
+        printf("observer: %s\n", obs_name[ob]);
+        printf("| trials |");
+        for (int m = 0; m < n_methods; m++) printf(" %-6s RMS | wrong | ms/session |", methods[m]->name);
+        if (have_quest) printf(" QUEST RMS (sd %.1f) |", quest_sd);
+        printf("\n|---|");
+        for (int m = 0; m < n_methods; m++) printf("---|---|---|");
+        if (have_quest) printf("---|");
+        printf("\n");
+        for (int b = 0; b < n_budgets; b++) {
+            printf("| %6d |", budgets[b]);
+            for (int m = 0; m < n_methods; m++)
+                printf(" %10.3f | %5d | %10.1f |", rms[ob][m][b], wrong_vis[ob][m][b], ms_per_session[ob][m][b]);
+            if (have_quest) printf(" %18.3f |", qrms[ob][b]);
+            printf("\n");
+        }
+        if (have_quest && n_methods > 0 && !strcmp(methods[0]->name, "bayes")) {
+            /* fewest trials at which bayes is at least as accurate as QUEST at 240 trials
+             * (log-linear interpolation between the measured budgets) */
+            int b240 = -1;
+            for (int b = 0; b < n_budgets; b++)
+                if (budgets[b] == 240) b240 = b;
+            if (b240 >= 0) {
+                double target = qrms[ob][b240], need = NAN;
+                for (int b = 0; b < n_budgets; b++) {
+                    if (rms[ob][0][b] <= target) {
+                        if (b == 0) need = budgets[0];
+                        else {
+                            double r0 = rms[ob][0][b - 1], r1 = rms[ob][0][b];
+                            double a = (r0 - target) / (r0 - r1);
+                            need = pow(10.0, log10(budgets[b - 1]) + a * (log10(budgets[b]) - log10(budgets[b - 1])));
+                        }
+                        break;
+                    }
+                }
+                printf("bayes reaches QUEST's 240-trial RMS (%.3f) at about %.0f trials\n", target, need);
+            }
+        }
+        printf("\n");
+    }
+    return 0;
+}
