@@ -1,2 +1,897 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_plot;
+/* Session reports with cairo (see results/plot.h). A report answers "did this session go well?"
+ * at a glance: a summary page with verdict lines first, then the data plots. */
+#include "results/plot.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "results/display_profile.h"
+
+/* Page size in cairo units: PDF points (A4 landscape) or pixels for PNG/SVG. */
+#define PAGE_W 842.0
+#define PAGE_H 595.0
+
+typedef enum { OUT_PDF, OUT_PNG, OUT_SVG } out_kind;
+
+typedef struct {
+    csf_session_info info;
+    char created[32], updated[32];
+    csf_trial *trials;
+    size_t n_trials;
+    csf_reading *readings;
+    size_t n_readings;
+    csf_threshold_row *th;
+    size_t n_th;
+    double *frames;
+    size_t n_frames;
+    csf_display_profile *profile; /* from the session's "profile" artifact, if it parses */
+} report_data;
+
+/* ---- log-parabola fit ---------------------------------------------------------------------
+ * In x = log10 f the model is a downward parabola y = c0 + c1 x + c2 x^2, so a weighted linear
+ * least-squares fit of the quadratic gives it exactly; the parameters follow from the vertex
+ * (x = log10 fmax, y = log10 Smax) and the curvature c2 = -4 / (log10(2) beta^2). */
+static int solve3(double a[3][4], double out[3])
+{
+    for (int c = 0; c < 3; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 3; r++)
+            if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
+        if (fabs(a[piv][c]) < 1e-300) return -1;
+        for (int k = 0; k < 4; k++) {
+            double t = a[c][k];
+            a[c][k] = a[piv][k];
+            a[piv][k] = t;
+        }
+        for (int r = 0; r < 3; r++) {
+            if (r == c) continue;
+            double f = a[r][c] / a[c][c];
+            for (int k = c; k < 4; k++) a[r][k] -= f * a[c][k];
+        }
+    }
+    for (int c = 0; c < 3; c++) out[c] = a[c][3] / a[c][c];
+    return 0;
+}
+
+csf_status csf_fit_log_parabola(const double *freq_cpd, const double *log10_s, const double *w,
+                                int n, double *log10_smax, double *fmax_cpd, double *beta_oct)
+{
+    if (!freq_cpd || !log10_s || n < 3) return CSF_E_INSUFFICIENT;
+    /* Distinct frequencies and centring (conditioning of the normal equations). */
+    double xm = 0, wsum = 0;
+    int distinct = 0;
+    for (int i = 0; i < n; i++) {
+        if (!(freq_cpd[i] > 0) || !isfinite(log10_s[i])) return CSF_E_INVALID_ARG;
+        double wi = w ? w[i] : 1.0;
+        if (!(wi > 0) || !isfinite(wi)) return CSF_E_INVALID_ARG;
+        xm += wi * log10(freq_cpd[i]);
+        wsum += wi;
+        int seen = 0;
+        for (int j = 0; j < i; j++)
+            if (fabs(log10(freq_cpd[j]) - log10(freq_cpd[i])) < 1e-9) seen = 1;
+        distinct += !seen;
+    }
+    if (distinct < 3) return CSF_E_INSUFFICIENT;
+    xm /= wsum;
+    double a[3][4] = {{0}};
+    for (int i = 0; i < n; i++) {
+        double wi = w ? w[i] : 1.0, x = log10(freq_cpd[i]) - xm, y = log10_s[i];
+        double p[3] = {1, x, x * x};
+        for (int r = 0; r < 3; r++) {
+            for (int c = 0; c < 3; c++) a[r][c] += wi * p[r] * p[c];
+            a[r][3] += wi * p[r] * y;
+        }
+    }
+    double c[3];
+    if (solve3(a, c) < 0) return CSF_E_INSUFFICIENT;
+    if (!(c[2] < 0)) return CSF_E_INSUFFICIENT; /* not a peaked curve: no log-parabola */
+    double xv = -c[1] / (2 * c[2]);
+    double yv = c[0] - c[1] * c[1] / (4 * c[2]);
+    double beta = sqrt(-4.0 / (log10(2.0) * c[2]));
+    if (!isfinite(xv) || !isfinite(yv) || !isfinite(beta)) return CSF_E_INSUFFICIENT;
+    if (log10_smax) *log10_smax = yv;
+    if (fmax_cpd) *fmax_cpd = pow(10.0, xv + xm);
+    if (beta_oct) *beta_oct = beta;
+    return CSF_OK;
+}
+
+static double log_parabola(double log10_smax, double fmax, double beta, double f)
+{
+    double k = (log10(f) - log10(fmax)) / (beta * log10(2.0) / 2.0);
+    return log10_smax - log10(2.0) * k * k;
+}
+
+/* ---- drawing helpers ---------------------------------------------------------------------- */
+
+typedef struct {
+    double x, y, w, h;          /* plot area in page units */
+    double x0, x1, y0, y1;      /* data range (log10 values when the axis is logarithmic) */
+    int xlog, ylog;
+} axes;
+
+static const double palette[][3] = {
+    {0.00, 0.45, 0.70}, {0.84, 0.37, 0.00}, {0.00, 0.62, 0.45}, {0.80, 0.47, 0.65},
+    {0.34, 0.71, 0.91}, {0.90, 0.62, 0.00}, {0.35, 0.35, 0.35}, {0.60, 0.20, 0.20},
+};
+#define N_PALETTE (sizeof palette / sizeof palette[0])
+
+static void set_rgb(cairo_t *cr, const double *c) { cairo_set_source_rgb(cr, c[0], c[1], c[2]); }
+
+static double ax_px(const axes *a, double v)
+{
+    double t = a->xlog ? log10(v) : v;
+    return a->x + (t - a->x0) / (a->x1 - a->x0) * a->w;
+}
+
+static double ax_py(const axes *a, double v)
+{
+    double t = a->ylog ? log10(v) : v;
+    return a->y + a->h - (t - a->y0) / (a->y1 - a->y0) * a->h;
+}
+
+static void text_at(cairo_t *cr, double x, double y, double size, int bold, double align,
+                    const char *s)
+{
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+                           bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s, &e);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_show_text(cr, s);
+}
+
+static void title(cairo_t *cr, const char *s)
+{
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text_at(cr, 40, 36, 16, 1, 0, s);
+}
+
+/* Nice linear tick step for a range. */
+static double nice_step(double range, int target)
+{
+    double raw = range / target, mag = pow(10.0, floor(log10(raw))), r = raw / mag;
+    return (r < 1.5 ? 1 : r < 3.5 ? 2 : r < 7.5 ? 5 : 10) * mag;
+}
+
+static void draw_axes(cairo_t *cr, const axes *a, const char *xlabel, const char *ylabel)
+{
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_rectangle(cr, a->x, a->y, a->w, a->h);
+    cairo_fill(cr);
+    cairo_set_line_width(cr, 0.5);
+    char buf[32];
+    /* x ticks and grid */
+    if (a->xlog) {
+        for (int d = (int)floor(a->x0); d <= (int)ceil(a->x1); d++)
+            for (int m = 1; m < 10; m++) {
+                double v = log10(m) + d;
+                if (v < a->x0 - 1e-9 || v > a->x1 + 1e-9) continue;
+                double px = a->x + (v - a->x0) / (a->x1 - a->x0) * a->w;
+                cairo_set_source_rgb(cr, m == 1 ? 0.75 : 0.9, m == 1 ? 0.75 : 0.9, m == 1 ? 0.75 : 0.9);
+                cairo_move_to(cr, px, a->y);
+                cairo_line_to(cr, px, a->y + a->h);
+                cairo_stroke(cr);
+                if (m == 1 || m == 2 || m == 5) {
+                    snprintf(buf, sizeof buf, "%g", pow(10.0, v));
+                    cairo_set_source_rgb(cr, 0, 0, 0);
+                    text_at(cr, px, a->y + a->h + 13, 9, 0, 0.5, buf);
+                }
+            }
+    } else {
+        double st = nice_step(a->x1 - a->x0, 8);
+        for (double v = ceil(a->x0 / st) * st; v <= a->x1 + 1e-9 * st; v += st) {
+            double px = a->x + (v - a->x0) / (a->x1 - a->x0) * a->w;
+            cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+            cairo_move_to(cr, px, a->y);
+            cairo_line_to(cr, px, a->y + a->h);
+            cairo_stroke(cr);
+            snprintf(buf, sizeof buf, "%g", fabs(v) < 1e-12 * st ? 0.0 : v);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text_at(cr, px, a->y + a->h + 13, 9, 0, 0.5, buf);
+        }
+    }
+    /* y ticks and grid */
+    if (a->ylog) {
+        for (int d = (int)floor(a->y0); d <= (int)ceil(a->y1); d++)
+            for (int m = 1; m < 10; m++) {
+                double v = log10(m) + d;
+                if (v < a->y0 - 1e-9 || v > a->y1 + 1e-9) continue;
+                double py = a->y + a->h - (v - a->y0) / (a->y1 - a->y0) * a->h;
+                cairo_set_source_rgb(cr, m == 1 ? 0.75 : 0.9, m == 1 ? 0.75 : 0.9, m == 1 ? 0.75 : 0.9);
+                cairo_move_to(cr, a->x, py);
+                cairo_line_to(cr, a->x + a->w, py);
+                cairo_stroke(cr);
+                if (m == 1 || m == 3) {
+                    snprintf(buf, sizeof buf, "%g", pow(10.0, v));
+                    cairo_set_source_rgb(cr, 0, 0, 0);
+                    text_at(cr, a->x - 4, py + 3, 9, 0, 1.0, buf);
+                }
+            }
+    } else {
+        double st = nice_step(a->y1 - a->y0, 6);
+        for (double v = ceil(a->y0 / st) * st; v <= a->y1 + 1e-9 * st; v += st) {
+            double py = a->y + a->h - (v - a->y0) / (a->y1 - a->y0) * a->h;
+            cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+            cairo_move_to(cr, a->x, py);
+            cairo_line_to(cr, a->x + a->w, py);
+            cairo_stroke(cr);
+            snprintf(buf, sizeof buf, "%g", fabs(v) < 1e-12 * st ? 0.0 : v);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text_at(cr, a->x - 4, py + 3, 9, 0, 1.0, buf);
+        }
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, a->x, a->y, a->w, a->h);
+    cairo_stroke(cr);
+    text_at(cr, a->x + a->w / 2, a->y + a->h + 30, 11, 0, 0.5, xlabel);
+    cairo_save(cr);
+    cairo_translate(cr, a->x - 42, a->y + a->h / 2);
+    cairo_rotate(cr, -M_PI / 2);
+    text_at(cr, 0, 0, 11, 0, 0.5, ylabel);
+    cairo_restore(cr);
+}
+
+static void clip_to(cairo_t *cr, const axes *a)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, a->x, a->y, a->w, a->h);
+    cairo_clip(cr);
+}
+
+static void message_page(cairo_t *cr, const char *head, const char *msg)
+{
+    title(cr, head);
+    cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
+    text_at(cr, 40, 80, 12, 0, 0, msg);
+}
+
+/* ---- summary page ------------------------------------------------------------------------- */
+
+typedef struct {
+    int level; /* 0 ok, 1 warning, 2 problem */
+    char text[200];
+} verdict;
+
+static double iso_to_unix(const char *iso)
+{
+    struct tm tm;
+    memset(&tm, 0, sizeof tm);
+    if (sscanf(iso, "%d-%d-%dT%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
+               &tm.tm_min, &tm.tm_sec) != 6)
+        return NAN;
+    tm.tm_year -= 1900;
+    tm.tm_mon -= 1;
+    return (double)timegm(&tm);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median_of(const double *v, size_t n)
+{
+    if (n == 0) return NAN;
+    double *c = malloc(n * sizeof *c);
+    if (!c) return NAN;
+    memcpy(c, v, n * sizeof *c);
+    qsort(c, n, sizeof *c, cmp_double);
+    double m = n % 2 ? c[n / 2] : 0.5 * (c[n / 2 - 1] + c[n / 2]);
+    free(c);
+    return m;
+}
+
+static void draw_summary(cairo_t *cr, const report_data *d)
+{
+    const csf_session_info *si = &d->info;
+    char buf[512];
+    snprintf(buf, sizeof buf, "csfcal session %lld: %s calibration report", (long long)si->id,
+             si->kind);
+    title(cr, buf);
+
+    int valid = 0, invalid = 0, catch_n = 0, catch_resp = 0, practice = 0;
+    long planned = 0, missed = 0;
+    for (size_t i = 0; i < d->n_trials; i++) {
+        const csf_trial *t = &d->trials[i];
+        if (t->valid) valid++;
+        else invalid++;
+        if (t->is_catch) {
+            catch_n++;
+            catch_resp += t->response != 0;
+        }
+        practice += t->is_practice != 0;
+        planned += t->frames_planned;
+        missed += t->frames_missed;
+    }
+    int rd_bad = 0;
+    for (size_t i = 0; i < d->n_readings; i++) rd_bad += strcmp(d->readings[i].status, "ok") != 0;
+    int th_inf = 0;
+    for (size_t i = 0; i < d->n_th; i++) th_inf += !isfinite(d->th[i].threshold);
+    double dur_s = iso_to_unix(d->updated) - iso_to_unix(d->created);
+
+    const char *lines[][2] = {
+        {"Kind / state", NULL}, {"Observer", si->observer[0] ? si->observer : "-"},
+        {"Display", si->display[0] ? si->display : "-"}, {"Started (UTC)", d->created},
+        {"Last write (UTC)", d->updated}, {"Duration", NULL}, {"Seed", NULL},
+        {"Tool version", si->tool_version}, {"Trials", NULL}, {"Frames", NULL},
+        {"Photometer readings", NULL}, {"Thresholds", NULL},
+    };
+    char v_state[64], v_dur[64], v_seed[32], v_trials[160], v_frames[128], v_read[96], v_th[96];
+    snprintf(v_state, sizeof v_state, "%s / %s", si->kind, si->state);
+    if (isfinite(dur_s)) snprintf(v_dur, sizeof v_dur, "%.0f min %02.0f s", floor(dur_s / 60), fmod(dur_s, 60));
+    else snprintf(v_dur, sizeof v_dur, "unknown");
+    snprintf(v_seed, sizeof v_seed, "%llu", (unsigned long long)si->seed);
+    snprintf(v_trials, sizeof v_trials, "%zu (%d valid, %d invalid; %d practice, %d catch of which %d responded)",
+             d->n_trials, valid, invalid, practice, catch_n, catch_resp);
+    snprintf(v_frames, sizeof v_frames, "%ld planned, %ld missed (%.2f %%); %zu intervals recorded",
+             planned, missed, planned ? 100.0 * missed / planned : 0.0, d->n_frames);
+    snprintf(v_read, sizeof v_read, "%zu (%d not ok)", d->n_readings, rd_bad);
+    snprintf(v_th, sizeof v_th, "%zu (%d never visible)", d->n_th, th_inf);
+    lines[0][1] = v_state;
+    lines[5][1] = v_dur;
+    lines[6][1] = v_seed;
+    lines[8][1] = v_trials;
+    lines[9][1] = v_frames;
+    lines[10][1] = v_read;
+    lines[11][1] = v_th;
+    double y = 70;
+    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++, y += 17) {
+        cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+        text_at(cr, 40, y, 11, 0, 0, lines[i][0]);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text_at(cr, 200, y, 11, 0, 0, lines[i][1]);
+    }
+
+    /* Verdict: what a person should look at first. */
+    verdict v[8];
+    int nv = 0;
+    if (strcmp(si->state, "finished") != 0)
+        snprintf(v[nv].text, sizeof v[nv].text, "Session is %s, not finished: continue it with --resume %lld",
+                 si->state, (long long)si->id), v[nv++].level = strcmp(si->state, "aborted") ? 1 : 2;
+    if (d->n_trials) {
+        double f = (double)invalid / (double)d->n_trials;
+        v[nv].level = f > 0.10 ? 2 : f > 0.02 ? 1 : 0;
+        snprintf(v[nv++].text, sizeof v[0].text, "%.1f %% of trials invalid", 100 * f);
+    }
+    if (planned) {
+        double f = (double)missed / (double)planned;
+        v[nv].level = f > 0.01 ? 2 : f > 0.001 ? 1 : 0;
+        snprintf(v[nv++].text, sizeof v[0].text, "%.2f %% of frames missed", 100 * f);
+    }
+    if (catch_n) {
+        double f = (double)catch_resp / catch_n;
+        v[nv].level = f > 0.2 ? 2 : f > 0.1 ? 1 : 0;
+        snprintf(v[nv++].text, sizeof v[0].text, "%d of %d catch trials drew a response (%.0f %%)",
+                 catch_resp, catch_n, 100 * f);
+    }
+    if (d->n_readings) {
+        v[nv].level = rd_bad ? 1 : 0;
+        snprintf(v[nv++].text, sizeof v[0].text, "%d of %zu photometer readings failed", rd_bad, d->n_readings);
+    }
+    if (!strcmp(si->kind, "observer")) {
+        v[nv].level = d->n_th ? 0 : 1;
+        if (d->n_th) snprintf(v[nv++].text, sizeof v[0].text, "%zu thresholds measured", d->n_th);
+        else snprintf(v[nv++].text, sizeof v[0].text, "no thresholds stored yet");
+    }
+    y += 14;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text_at(cr, 40, y, 13, 1, 0, "At a glance");
+    y += 20;
+    static const double lvl_col[3][3] = {{0.1, 0.6, 0.2}, {0.9, 0.6, 0.0}, {0.8, 0.1, 0.1}};
+    static const char *lvl_name[3] = {"OK", "CHECK", "PROBLEM"};
+    for (int i = 0; i < nv; i++, y += 17) {
+        set_rgb(cr, lvl_col[v[i].level]);
+        cairo_arc(cr, 46, y - 4, 5, 0, 2 * M_PI);
+        cairo_fill(cr);
+        text_at(cr, 58, y, 11, 1, 0, lvl_name[v[i].level]);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text_at(cr, 130, y, 11, 0, 0, v[i].text);
+    }
+    /* Settings the session ran with, wrapped. */
+    y += 14;
+    text_at(cr, 40, y, 13, 1, 0, "Settings");
+    y += 17;
+    const char *js = si->settings_json ? si->settings_json : "{}";
+    size_t len = strlen(js);
+    for (size_t off = 0; off < len && y < PAGE_H - 20; off += 110, y += 14) {
+        char chunk[111];
+        snprintf(chunk, sizeof chunk, "%.*s", (int)(len - off < 110 ? len - off : 110), js + off);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        text_at(cr, 40, y, 9, 0, 0, chunk);
+    }
+}
+
+/* ---- CSF plot -----------------------------------------------------------------------------
+ * One curve per (eccentricity, velocity, luminance) condition: measured sensitivities with error
+ * bars of +-1 standard error in log10 units, and the least-squares log-parabola through them
+ * (a straight log-log line when fewer than 3 frequencies or no peak). */
+
+typedef struct {
+    double ecc, vel, lum;
+} condition;
+
+static int same_cond(const condition *a, const csf_threshold_row *r)
+{
+    return fabs(a->ecc - r->ecc_deg) < 1e-9 && fabs(a->vel - r->velocity_dps) < 1e-9 &&
+           fabs(a->lum - r->lum_cdm2) < 1e-9;
+}
+
+static void marker(cairo_t *cr, double x, double y, int shape, double r)
+{
+    switch (shape % 3) {
+    case 0: cairo_arc(cr, x, y, r, 0, 2 * M_PI); break;
+    case 1: cairo_rectangle(cr, x - r, y - r, 2 * r, 2 * r); break;
+    default:
+        cairo_move_to(cr, x, y - r * 1.2);
+        cairo_line_to(cr, x + r * 1.1, y + r * 0.8);
+        cairo_line_to(cr, x - r * 1.1, y + r * 0.8);
+        cairo_close_path(cr);
+    }
+    cairo_fill(cr);
+}
+
+static void draw_csf(cairo_t *cr, const report_data *d)
+{
+    title(cr, "Contrast sensitivity function (sensitivity = 1 / Michelson threshold)");
+    size_t n = d->n_th;
+    double fmin = INFINITY, fmax = 0, smin = INFINITY, smax = 0;
+    for (size_t i = 0; i < n; i++) {
+        const csf_threshold_row *r = &d->th[i];
+        if (!(r->freq_cpd > 0) || !isfinite(r->freq_cpd)) continue;
+        fmin = r->freq_cpd < fmin ? r->freq_cpd : fmin;
+        fmax = r->freq_cpd > fmax ? r->freq_cpd : fmax;
+        if (r->threshold > 0 && isfinite(r->threshold)) {
+            double se = isfinite(r->stderr_log10) && r->stderr_log10 > 0 ? r->stderr_log10 : 0;
+            double lo = 1.0 / r->threshold * pow(10, -se), hi = 1.0 / r->threshold * pow(10, se);
+            smin = lo < smin ? lo : smin;
+            smax = hi > smax ? hi : smax;
+        }
+    }
+    if (!(fmax > 0) || !(smax > 0)) {
+        message_page(cr, "Contrast sensitivity function",
+                     "No thresholds stored for this session yet (is it still running?).");
+        return;
+    }
+    axes a = {80, 60, 560, PAGE_H - 130, 0, 0, 0, 0, 1, 1};
+    a.x0 = floor(log10(fmin / 1.5) * 2) / 2;
+    a.x1 = ceil(log10(fmax * 1.5) * 2) / 2;
+    a.y0 = floor(log10(smin / 2));
+    a.y1 = ceil(log10(smax * 1.5));
+    if (a.y0 < -1) a.y0 = -1;
+    if (a.y1 <= a.y0) a.y1 = a.y0 + 1;
+    draw_axes(cr, &a, "spatial frequency (cycles per degree)", "sensitivity (1 / Michelson contrast)");
+
+    condition conds[32];
+    int nc = 0;
+    for (size_t i = 0; i < n && nc < 32; i++) {
+        int found = 0;
+        for (int c = 0; c < nc; c++) found |= same_cond(&conds[c], &d->th[i]);
+        if (!found) conds[nc++] = (condition){d->th[i].ecc_deg, d->th[i].velocity_dps, d->th[i].lum_cdm2};
+    }
+    double *fx = malloc(n * sizeof *fx), *ly = malloc(n * sizeof *ly), *wt = malloc(n * sizeof *wt);
+    if (!fx || !ly || !wt) {
+        free(fx), free(ly), free(wt);
+        return;
+    }
+    double legend_y = a.y + 10;
+    for (int c = 0; c < nc; c++) {
+        const double *col = palette[c % N_PALETTE];
+        int m = 0, n_inf = 0;
+        clip_to(cr, &a);
+        for (size_t i = 0; i < n; i++) {
+            const csf_threshold_row *r = &d->th[i];
+            if (!same_cond(&conds[c], r) || !(r->freq_cpd > 0)) continue;
+            double px = ax_px(&a, r->freq_cpd);
+            set_rgb(cr, col);
+            if (!(r->threshold > 0) || !isfinite(r->threshold)) {
+                /* Never visible: an open marker on the bottom edge. */
+                n_inf++;
+                cairo_set_line_width(cr, 1.2);
+                cairo_arc(cr, px, a.y + a.h - 6, 4, 0, 2 * M_PI);
+                cairo_stroke(cr);
+                continue;
+            }
+            double s = 1.0 / r->threshold, py = ax_py(&a, s);
+            if (isfinite(r->stderr_log10) && r->stderr_log10 > 0) {
+                double up = ax_py(&a, s * pow(10, r->stderr_log10));
+                double dn = ax_py(&a, s * pow(10, -r->stderr_log10));
+                cairo_set_line_width(cr, 1.2);
+                cairo_move_to(cr, px, up);
+                cairo_line_to(cr, px, dn);
+                cairo_move_to(cr, px - 3, up);
+                cairo_line_to(cr, px + 3, up);
+                cairo_move_to(cr, px - 3, dn);
+                cairo_line_to(cr, px + 3, dn);
+                cairo_stroke(cr);
+            }
+            marker(cr, px, py, c, 3.5);
+            fx[m] = r->freq_cpd;
+            ly[m] = log10(s);
+            double se = isfinite(r->stderr_log10) && r->stderr_log10 > 0.01 ? r->stderr_log10 : 0.01;
+            wt[m] = 1.0 / (se * se);
+            m++;
+        }
+        /* Fitted curve. */
+        double l_smax = 0, f_peak = 0, beta = 0;
+        int have_fit = m >= 3 && csf_fit_log_parabola(fx, ly, wt, m, &l_smax, &f_peak, &beta) == CSF_OK;
+        double slope = 0, icpt = 0;
+        int have_line = 0;
+        if (!have_fit && m >= 2) {
+            double sx = 0, sy = 0, sxx = 0, sxy = 0;
+            for (int k = 0; k < m; k++) {
+                double x = log10(fx[k]);
+                sx += x, sy += ly[k], sxx += x * x, sxy += x * ly[k];
+            }
+            double den = m * sxx - sx * sx;
+            if (fabs(den) > 1e-12) {
+                slope = (m * sxy - sx * sy) / den;
+                icpt = (sy - slope * sx) / m;
+                have_line = 1;
+            }
+        }
+        if (have_fit || have_line) {
+            set_rgb(cr, col);
+            cairo_set_line_width(cr, 1.8);
+            int started = 0;
+            for (int k = 0; k <= 200; k++) {
+                double lx = a.x0 + (a.x1 - a.x0) * k / 200.0, f = pow(10, lx);
+                double lys = have_fit ? log_parabola(l_smax, f_peak, beta, f) : icpt + slope * lx;
+                double px = a.x + (lx - a.x0) / (a.x1 - a.x0) * a.w;
+                double py = a.y + a.h - (lys - a.y0) / (a.y1 - a.y0) * a.h;
+                if (!isfinite(py)) continue;
+                if (!started) cairo_move_to(cr, px, py);
+                else cairo_line_to(cr, px, py);
+                started = 1;
+            }
+            cairo_stroke(cr);
+        }
+        cairo_restore(cr);
+        /* Legend entry with the fitted parameters. */
+        char lab[160];
+        int off = snprintf(lab, sizeof lab, "ecc %g deg", conds[c].ecc);
+        if (conds[c].vel != 0) off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g deg/s", conds[c].vel);
+        if (nc > 1 && conds[c].lum != conds[0].lum)
+            off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g cd/m2", conds[c].lum);
+        set_rgb(cr, col);
+        marker(cr, a.x + a.w + 20, legend_y - 4, c, 3.5);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text_at(cr, a.x + a.w + 30, legend_y, 10, 1, 0, lab);
+        legend_y += 13;
+        if (have_fit)
+            snprintf(lab, sizeof lab, "Smax %.0f at %.2g cpd, %.1f oct", pow(10, l_smax), f_peak, beta);
+        else if (have_line)
+            snprintf(lab, sizeof lab, "log-log line, slope %.2f", slope);
+        else
+            snprintf(lab, sizeof lab, "too few points to fit");
+        text_at(cr, a.x + a.w + 30, legend_y, 9, 0, 0, lab);
+        legend_y += 12;
+        if (n_inf) {
+            snprintf(lab, sizeof lab, "%d never visible (open circles)", n_inf);
+            text_at(cr, a.x + a.w + 30, legend_y, 9, 0, 0, lab);
+            legend_y += 12;
+        }
+        legend_y += 6;
+    }
+    free(fx), free(ly), free(wt);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    text_at(cr, a.x, PAGE_H - 22, 9, 0, 0,
+            "Points: measured thresholds, bars +-1 standard error (log10). Lines: least-squares "
+            "log-parabola per eccentricity.");
+}
+
+/* ---- display plot -------------------------------------------------------------------------- */
+
+static const char *const channels[] = {"grey", "white", "r", "g", "b"};
+static const double channel_col[][3] = {
+    {0.25, 0.25, 0.25}, {0.55, 0.55, 0.55}, {0.85, 0.1, 0.1}, {0.1, 0.6, 0.1}, {0.1, 0.2, 0.85}};
+
+/* Model luminance for a reading: the stored profile when there is one, else leave-one-out
+ * linear interpolation between the neighbouring readings of the same channel (so each residual
+ * says how far a reading is from what its neighbours predict). */
+static double model_lum(const report_data *d, size_t idx, double black)
+{
+    const csf_reading *r = &d->readings[idx];
+    if (d->profile) {
+        if (!strcmp(r->channel, "grey") || !strcmp(r->channel, "white") || !strcmp(r->channel, "dark"))
+            return csf_profile_grey_lum(d->profile, r->drive01);
+        int ch = !strcmp(r->channel, "r") ? CSF_CH_R : !strcmp(r->channel, "g") ? CSF_CH_G : CSF_CH_B;
+        if (csf_profile_has_channels(d->profile))
+            return csf_profile_lum_black(d->profile) + csf_profile_channel_lum(d->profile, ch, r->drive01);
+        return NAN;
+    }
+    double lo_x = -1, lo_y = NAN, hi_x = 2, hi_y = NAN;
+    int grey_like = !strcmp(r->channel, "grey") || !strcmp(r->channel, "white");
+    for (size_t j = 0; j < d->n_readings; j++) {
+        const csf_reading *q = &d->readings[j];
+        if (j == idx || !isfinite(q->lum_cdm2) || strcmp(q->status, "ok")) continue;
+        int same = !strcmp(q->channel, r->channel) ||
+                   (grey_like && (!strcmp(q->channel, "grey") || !strcmp(q->channel, "white"))) ||
+                   (!strcmp(q->channel, "dark") && q->drive01 == 0);
+        if (!same || q->drive01 == r->drive01) continue;
+        if (q->drive01 < r->drive01 && q->drive01 > lo_x) lo_x = q->drive01, lo_y = q->lum_cdm2;
+        if (q->drive01 > r->drive01 && q->drive01 < hi_x) hi_x = q->drive01, hi_y = q->lum_cdm2;
+    }
+    if (!strcmp(r->channel, "dark") || r->drive01 == 0) {
+        (void)black;
+        return NAN;
+    }
+    if (isnan(lo_y) || isnan(hi_y)) return NAN; /* an end point: nothing on both sides */
+    return lo_y + (hi_y - lo_y) * (r->drive01 - lo_x) / (hi_x - lo_x);
+}
+
+static void draw_display(cairo_t *cr, const report_data *d)
+{
+    title(cr, "Display luminance vs drive level, per channel");
+    double lmin = INFINITY, lmax = 0, black = NAN;
+    for (size_t i = 0; i < d->n_readings; i++) {
+        const csf_reading *r = &d->readings[i];
+        if (!(r->lum_cdm2 > 0) || !isfinite(r->lum_cdm2)) continue;
+        lmin = r->lum_cdm2 < lmin ? r->lum_cdm2 : lmin;
+        lmax = r->lum_cdm2 > lmax ? r->lum_cdm2 : lmax;
+        if (!strcmp(r->channel, "dark")) black = r->lum_cdm2;
+    }
+    if (!(lmax > 0)) {
+        message_page(cr, "Display luminance", "No successful photometer readings in this session.");
+        return;
+    }
+    axes a = {80, 55, 520, 280, 0, 1, floor(log10(lmin)), ceil(log10(lmax * 1.05)), 0, 1};
+    if (a.y1 <= a.y0) a.y1 = a.y0 + 1;
+    draw_axes(cr, &a, "drive level (0..1)", "luminance (cd/m2)");
+    double *res = calloc(d->n_readings, sizeof *res);
+    if (!res) return;
+    double rmax = 0.5;
+    for (size_t i = 0; i < d->n_readings; i++) {
+        double m = model_lum(d, i, black);
+        res[i] = isfinite(m) && m > 0 && isfinite(d->readings[i].lum_cdm2)
+            ? 100.0 * (d->readings[i].lum_cdm2 - m) / m : NAN;
+        if (isfinite(res[i]) && fabs(res[i]) > rmax) rmax = fabs(res[i]);
+    }
+    axes b = {80, 400, 520, 130, 0, 1, -rmax * 1.15, rmax * 1.15, 0, 0};
+    draw_axes(cr, &b, "drive level (0..1)", "residual (%)");
+    double ly = a.y + 10;
+    for (size_t c = 0; c < sizeof channels / sizeof channels[0]; c++) {
+        int cnt = 0;
+        /* Profile model curve for this channel. */
+        if (d->profile) {
+            int ch = c < 2 ? -1 : (int)c - 2;
+            if (ch < 0 || csf_profile_has_channels(d->profile)) {
+                clip_to(cr, &a);
+                set_rgb(cr, channel_col[c]);
+                cairo_set_line_width(cr, 1.2);
+                int started = 0;
+                for (int k = 0; k <= 200; k++) {
+                    double v = k / 200.0;
+                    double L = ch < 0 ? csf_profile_grey_lum(d->profile, v)
+                                      : csf_profile_lum_black(d->profile) + csf_profile_channel_lum(d->profile, ch, v);
+                    if (!(L > 0)) continue;
+                    if (!started) cairo_move_to(cr, ax_px(&a, v), ax_py(&a, L));
+                    else cairo_line_to(cr, ax_px(&a, v), ax_py(&a, L));
+                    started = 1;
+                }
+                cairo_stroke(cr);
+                cairo_restore(cr);
+            }
+        }
+        for (size_t i = 0; i < d->n_readings; i++) {
+            const csf_reading *r = &d->readings[i];
+            int match = !strcmp(r->channel, channels[c]) || (c == 0 && !strcmp(r->channel, "dark"));
+            if (!match) continue;
+            cnt++;
+            set_rgb(cr, channel_col[c]);
+            if (r->lum_cdm2 > 0 && isfinite(r->lum_cdm2)) {
+                clip_to(cr, &a);
+                marker(cr, ax_px(&a, r->drive01), ax_py(&a, r->lum_cdm2), (int)c, 3);
+                cairo_restore(cr);
+            }
+            if (isfinite(res[i])) {
+                clip_to(cr, &b);
+                marker(cr, ax_px(&b, r->drive01), ax_py(&b, res[i]), (int)c, 2.5);
+                cairo_restore(cr);
+            }
+        }
+        if (cnt) {
+            char lab[64];
+            snprintf(lab, sizeof lab, "%s (%d readings)", channels[c], cnt);
+            set_rgb(cr, channel_col[c]);
+            marker(cr, a.x + a.w + 20, ly - 4, (int)c, 3.5);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text_at(cr, a.x + a.w + 30, ly, 10, 0, 0, lab);
+            ly += 15;
+        }
+    }
+    free(res);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    text_at(cr, a.x + a.w + 20, ly + 10, 9, 0, 0,
+            d->profile ? "Lines and residuals: stored display profile" :
+                         "Residuals: vs. interpolation of neighbours");
+    if (d->profile) {
+        char lab[128];
+        snprintf(lab, sizeof lab, "profile %s", csf_profile_id(d->profile));
+        text_at(cr, a.x + a.w + 20, ly + 23, 8, 0, 0, lab);
+    }
+}
+
+/* ---- frame timing ------------------------------------------------------------------------- */
+
+static void draw_frames(cairo_t *cr, const report_data *d)
+{
+    title(cr, "Frame timing");
+    if (d->n_frames == 0) {
+        message_page(cr, "Frame timing", "No frame intervals recorded for this session.");
+        return;
+    }
+    double med = median_of(d->frames, d->n_frames);
+    double vmax = 0;
+    size_t late = 0;
+    for (size_t i = 0; i < d->n_frames; i++) {
+        vmax = d->frames[i] > vmax ? d->frames[i] : vmax;
+        late += d->frames[i] > 1.5 * med;
+    }
+    double *sorted = malloc(d->n_frames * sizeof *sorted);
+    if (!sorted) return;
+    memcpy(sorted, d->frames, d->n_frames * sizeof *sorted);
+    qsort(sorted, d->n_frames, sizeof *sorted, cmp_double);
+    double p99 = sorted[(size_t)floor(0.99 * (double)(d->n_frames - 1))];
+    free(sorted);
+    /* Histogram in ms: 0 .. max(3 x median, largest), 60 bins; counts on a log scale so that a
+     * handful of dropped frames stays visible next to thousands of good ones. */
+    double hi_ms = 1000.0 * (vmax > 3 * med ? vmax * 1.05 : 3 * med);
+    if (!(hi_ms > 0)) hi_ms = 1;
+    enum { NB = 60 };
+    size_t bins[NB] = {0}, bmax = 1;
+    for (size_t i = 0; i < d->n_frames; i++) {
+        int k = (int)(1000.0 * d->frames[i] / hi_ms * NB);
+        k = k < 0 ? 0 : k >= NB ? NB - 1 : k;
+        bins[k]++;
+    }
+    for (int k = 0; k < NB; k++) bmax = bins[k] > bmax ? bins[k] : bmax;
+    axes a = {80, 60, 560, PAGE_H - 140, 0, hi_ms, 0, ceil(log10((double)bmax * 2)), 0, 1};
+    draw_axes(cr, &a, "frame interval (ms)", "frames");
+    cairo_set_source_rgb(cr, 0.0, 0.45, 0.70);
+    for (int k = 0; k < NB; k++) {
+        if (!bins[k]) continue;
+        double x0 = ax_px(&a, hi_ms * k / NB), x1 = ax_px(&a, hi_ms * (k + 1) / NB);
+        double top = ax_py(&a, (double)bins[k]), base = a.y + a.h;
+        /* A single frame sits at log10(1) = 0, the axis floor: give it a visible sliver. */
+        if (top > base - 3) top = base - 3;
+        cairo_rectangle(cr, x0 + 0.5, top, x1 - x0 - 1, base - top);
+    }
+    cairo_fill(cr);
+    /* The refresh interval (median) and the missed-frame criterion (1.5 x median). */
+    cairo_set_line_width(cr, 1);
+    double dash[] = {4, 3};
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_source_rgb(cr, 0.1, 0.6, 0.2);
+    cairo_move_to(cr, ax_px(&a, 1000 * med), a.y);
+    cairo_line_to(cr, ax_px(&a, 1000 * med), a.y + a.h);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+    cairo_move_to(cr, ax_px(&a, 1500 * med), a.y);
+    cairo_line_to(cr, ax_px(&a, 1500 * med), a.y + a.h);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, NULL, 0, 0);
+    char lab[160];
+    double tx = a.x + a.w + 15, ty = a.y + 12;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    snprintf(lab, sizeof lab, "%zu intervals", d->n_frames);
+    text_at(cr, tx, ty, 10, 0, 0, lab);
+    snprintf(lab, sizeof lab, "median %.2f ms (%.1f Hz)", 1000 * med, med > 0 ? 1 / med : 0.0);
+    text_at(cr, tx, ty += 15, 10, 0, 0, lab);
+    snprintf(lab, sizeof lab, "99th percentile %.2f ms", 1000 * p99);
+    text_at(cr, tx, ty += 15, 10, 0, 0, lab);
+    snprintf(lab, sizeof lab, "longest %.2f ms", 1000 * vmax);
+    text_at(cr, tx, ty += 15, 10, 0, 0, lab);
+    if (late) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+    snprintf(lab, sizeof lab, "%zu late (> 1.5 x median, %.2f %%)", late, 100.0 * (double)late / (double)d->n_frames);
+    text_at(cr, tx, ty += 15, 10, late ? 1 : 0, 0, lab);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    text_at(cr, tx, ty += 22, 9, 0, 0, "green: median interval");
+    text_at(cr, tx, ty += 12, 9, 0, 0, "red: missed-frame limit");
+}
+
+/* ---- driver ------------------------------------------------------------------------------- */
+
+static void free_data(report_data *d)
+{
+    csf_session_info_free(&d->info);
+    free(d->trials);
+    free(d->readings);
+    free(d->th);
+    free(d->frames);
+    csf_profile_free(d->profile);
+}
+
+static csf_status load_data(csf_store *s, int64_t id, report_data *d, csf_error *err)
+{
+    csf_status st = csf_store_get_session(s, id, &d->info, err);
+    if (st == CSF_OK) st = csf_store_session_times(s, id, d->created, d->updated, err);
+    if (st == CSF_OK) st = csf_store_get_trials(s, id, &d->trials, &d->n_trials, err);
+    if (st == CSF_OK) st = csf_store_get_readings(s, id, &d->readings, &d->n_readings, err);
+    if (st == CSF_OK) st = csf_store_get_thresholds(s, id, &d->th, &d->n_th, err);
+    if (st == CSF_OK) st = csf_store_get_frame_intervals(s, id, &d->frames, &d->n_frames, err);
+    if (st != CSF_OK) return st;
+    void *blob = NULL;
+    size_t len = 0;
+    csf_error perr;
+    if (csf_store_get_artifact(s, id, "profile", &blob, &len, NULL, 0, &perr) == CSF_OK) {
+        /* A profile that does not parse is not fatal: the plot falls back to interpolation. */
+        if (csf_profile_parse((const char *)blob, len, &d->profile, &perr) != CSF_OK) d->profile = NULL;
+        free(blob);
+    }
+    return CSF_OK;
+}
+
+typedef void (*panel_fn)(cairo_t *, const report_data *);
+
+csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_path, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !out_path || !*out_path)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "report: no store or no output file");
+    const char *ext = strrchr(out_path, '.');
+    out_kind kind;
+    if (ext && !strcasecmp(ext, ".pdf")) kind = OUT_PDF;
+    else if (ext && !strcasecmp(ext, ".png")) kind = OUT_PNG;
+    else if (ext && !strcasecmp(ext, ".svg")) kind = OUT_SVG;
+    else
+        return csf_error_set(err, CSF_E_INVALID_ARG, "report: %s: unknown file type '%s' (allowed "
+                             ".pdf, .png, .svg)", out_path, ext ? ext : "(none)");
+
+    report_data d;
+    memset(&d, 0, sizeof d);
+    csf_status st = load_data(s, session_id, &d, err);
+    if (st != CSF_OK) {
+        free_data(&d);
+        return st;
+    }
+    panel_fn panels[4];
+    int np = 0;
+    panels[np++] = draw_summary;
+    if (!strcmp(d.info.kind, "observer") || !strcmp(d.info.kind, "study") || d.n_th) panels[np++] = draw_csf;
+    if (!strcmp(d.info.kind, "display") || d.n_readings) panels[np++] = draw_display;
+    panels[np++] = draw_frames;
+
+    cairo_surface_t *surf = NULL;
+    if (kind == OUT_PDF) surf = cairo_pdf_surface_create(out_path, PAGE_W, PAGE_H);
+    else if (kind == OUT_SVG) surf = cairo_svg_surface_create(out_path, PAGE_W, PAGE_H * np);
+    else surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)PAGE_W, (int)PAGE_H * np);
+    if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
+        st = csf_error_set(err, CSF_E_IO, "report: cannot create %s (%s)", out_path,
+                           cairo_status_to_string(cairo_surface_status(surf)));
+        cairo_surface_destroy(surf);
+        free_data(&d);
+        return st;
+    }
+    cairo_t *cr = cairo_create(surf);
+    for (int i = 0; i < np; i++) {
+        cairo_save(cr);
+        if (kind != OUT_PDF) cairo_translate(cr, 0, PAGE_H * i);
+        cairo_set_source_rgb(cr, 0.97, 0.97, 0.97);
+        cairo_rectangle(cr, 0, 0, PAGE_W, PAGE_H);
+        cairo_fill(cr);
+        panels[i](cr, &d);
+        cairo_restore(cr);
+        if (kind == OUT_PDF) cairo_show_page(cr);
+    }
+    cairo_status_t cst = cairo_status(cr);
+    cairo_destroy(cr);
+    if (cst == CAIRO_STATUS_SUCCESS && kind == OUT_PNG) cst = cairo_surface_write_to_png(surf, out_path);
+    cairo_surface_finish(surf);
+    if (cst == CAIRO_STATUS_SUCCESS) cst = cairo_surface_status(surf);
+    cairo_surface_destroy(surf);
+    free_data(&d);
+    if (cst != CAIRO_STATUS_SUCCESS)
+        return csf_error_set(err, CSF_E_IO, "report: writing %s failed (%s)", out_path,
+                             cairo_status_to_string(cst));
+    return CSF_OK;
+}
