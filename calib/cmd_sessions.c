@@ -1,14 +1,304 @@
+/* `csfcal sessions [list|show|export|abort]`: what the results store holds, session by session.
+ * Listing shows each session's state so an unfinished one can be continued with --resume ID;
+ * export writes tidy CSV/JSON (one row per trial, reading or threshold) for pandas and R. */
+#include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "calib/cli.h"
 #include "calib/commands.h"
+#include "results/store.h"
+#include "results/store_export.h"
+
+static const char sessions_help[] =
+    "usage: csfcal sessions [list] [--store PATH] [--json]\n"
+    "       csfcal sessions show ID [--store PATH] [--json]\n"
+    "       csfcal sessions export ID --format csv|json [--table trials|readings|thresholds]\n"
+    "                              [-o FILE] [--store PATH]\n"
+    "       csfcal sessions abort ID [--store PATH]\n\n"
+    "list    every session in the store: id, kind, state, observer, display, trials, readings.\n"
+    "        Sessions in state running or paused can be continued with the --resume ID option\n"
+    "        of the command that started them.\n"
+    "show    one session in detail, with the settings it was started with.\n"
+    "export  tidy table, one row per trial (observer/study sessions) or photometer reading\n"
+    "        (display sessions) unless --table says otherwise. Column names carry units\n"
+    "        (freq_cpd, ecc_deg, lum_cdm2, rt_s ...); empty CSV cell / JSON null = missing.\n"
+    "        Writes to standard output unless -o FILE is given. See docs/store.md.\n"
+    "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n\n";
+
+enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_HELP };
+
+static const struct option sessions_options[] = {
+    {"format", required_argument, 0, OPT_FORMAT},
+    {"table", required_argument, 0, OPT_TABLE},
+    {"output", required_argument, 0, 'o'},
+    {"help", no_argument, 0, OPT_HELP},
+    CSF_CLI_COMMON_OPTIONS,
+    {0, 0, 0, 0},
+};
+
+static void json_str(FILE *out, const char *s)
+{
+    fputc('"', out);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
+        else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
+        else fputc(*p, out);
+    }
+    fputc('"', out);
+}
+
+static void print_session_json(FILE *out, const csf_session_info *si, int with_settings)
+{
+    fprintf(out, "{\"id\": %lld, \"kind\": ", (long long)si->id);
+    json_str(out, si->kind);
+    fputs(", \"state\": ", out);
+    json_str(out, si->state);
+    fputs(", \"observer\": ", out);
+    json_str(out, si->observer);
+    fputs(", \"display\": ", out);
+    json_str(out, si->display);
+    fprintf(out, ", \"seed\": %llu, \"tool_version\": ", (unsigned long long)si->seed);
+    json_str(out, si->tool_version);
+    fputs(", \"created_utc\": ", out);
+    json_str(out, si->created_utc);
+    fprintf(out, ", \"n_trials\": %d, \"n_readings\": %d", si->n_trials, si->n_readings);
+    if (with_settings) {
+        /* Stored as text by the procedures; quoted so the output stays valid whatever it holds. */
+        fputs(", \"settings_json\": ", out);
+        json_str(out, si->settings_json ? si->settings_json : "{}");
+    }
+    fputc('}', out);
+}
+
+static int parse_id(const char *text, int64_t *id)
+{
+    long v;
+    if (csf_parse_int(text, "session ID", 1, 0x7fffffffL, &v) < 0) return -1;
+    *id = v;
+    return 0;
+}
+
+static int open_store(csf_cli *cli, csf_store **s)
+{
+    csf_error err;
+    if (csf_store_open(csf_cli_store_path(cli), s, &err) != CSF_OK) return csf_cli_report("sessions", &err);
+    return 0;
+}
+
+static int cmd_list(csf_cli *cli)
+{
+    csf_store *s = NULL;
+    int rc = open_store(cli, &s);
+    if (rc) return rc;
+    csf_error err;
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    if (csf_store_list_sessions(s, &list, &n, &err) != CSF_OK) {
+        csf_store_close(s);
+        return csf_cli_report("sessions", &err);
+    }
+    if (cli->json) {
+        printf("[");
+        for (size_t i = 0; i < n; i++) {
+            printf(i ? ",\n " : "\n ");
+            print_session_json(stdout, &list[i], 0);
+        }
+        printf(n ? "\n]\n" : "]\n");
+    } else if (n == 0) {
+        printf("No sessions in %s\n", csf_store_path(s));
+    } else {
+        printf("%-5s %-8s %-9s %-14s %-18s %7s %8s  %s\n", "ID", "KIND", "STATE", "OBSERVER",
+               "DISPLAY", "TRIALS", "READINGS", "CREATED (UTC)");
+        int unfinished = 0;
+        for (size_t i = 0; i < n; i++) {
+            const csf_session_info *si = &list[i];
+            printf("%-5lld %-8s %-9s %-14.14s %-18.18s %7d %8d  %s\n", (long long)si->id, si->kind,
+                   si->state, si->observer[0] ? si->observer : "-", si->display[0] ? si->display : "-",
+                   si->n_trials, si->n_readings, si->created_utc);
+            unfinished += !strcmp(si->state, "running") || !strcmp(si->state, "paused");
+        }
+        if (unfinished)
+            printf("\n%d unfinished session%s: continue with --resume ID (e.g. csfcal observer "
+                   "calibrate --resume ID).\n", unfinished, unfinished == 1 ? "" : "s");
+    }
+    csf_session_list_free(list, n);
+    csf_store_close(s);
+    return 0;
+}
+
+static int cmd_show(csf_cli *cli, int64_t id)
+{
+    csf_store *s = NULL;
+    int rc = open_store(cli, &s);
+    if (rc) return rc;
+    csf_error err;
+    csf_session_info si;
+    char created[32], updated[32];
+    if (csf_store_get_session(s, id, &si, &err) != CSF_OK ||
+        csf_store_session_times(s, id, created, updated, &err) != CSF_OK) {
+        csf_store_close(s);
+        return csf_cli_report("sessions", &err);
+    }
+    if (cli->json) {
+        print_session_json(stdout, &si, 1);
+        printf("\n");
+    } else {
+        printf("session      %lld\nkind         %s\nstate        %s\nobserver     %s\ndisplay      %s\n"
+               "seed         %llu\ntool version %s\ncreated      %s\nlast write   %s\ntrials       %d\n"
+               "readings     %d\nsettings     %s\n",
+               (long long)si.id, si.kind, si.state, si.observer[0] ? si.observer : "-",
+               si.display[0] ? si.display : "-", (unsigned long long)si.seed, si.tool_version, created,
+               updated, si.n_trials, si.n_readings, si.settings_json);
+    }
+    csf_session_info_free(&si);
+    csf_store_close(s);
+    return 0;
+}
+
+static int cmd_abort(csf_cli *cli, int64_t id)
+{
+    csf_store *s = NULL;
+    int rc = open_store(cli, &s);
+    if (rc) return rc;
+    csf_error err;
+    csf_session_info si;
+    if (csf_store_get_session(s, id, &si, &err) != CSF_OK) {
+        csf_store_close(s);
+        return csf_cli_report("sessions", &err);
+    }
+    int finished = !strcmp(si.state, "finished");
+    csf_session_info_free(&si);
+    if (finished) {
+        csf_store_close(s);
+        fprintf(stderr, "csfcal: sessions: session %lld is finished; only running or paused "
+                "sessions can be aborted\n", (long long)id);
+        return 1;
+    }
+    if (csf_store_set_session_state(s, id, "aborted", &err) != CSF_OK) {
+        csf_store_close(s);
+        return csf_cli_report("sessions", &err);
+    }
+    printf("session %lld marked aborted\n", (long long)id);
+    csf_store_close(s);
+    return 0;
+}
+
+static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *table, const char *out_path)
+{
+    csf_export_format fmt;
+    if (!format) {
+        fprintf(stderr, "csfcal: sessions export: --format is required (csv or json)\n");
+        return 2;
+    }
+    if (!strcmp(format, "csv")) fmt = CSF_EXPORT_CSV;
+    else if (!strcmp(format, "json")) fmt = CSF_EXPORT_JSON;
+    else {
+        fprintf(stderr, "csfcal: sessions export: --format '%s' unknown (allowed csv, json)\n", format);
+        return 2;
+    }
+    csf_export_table tab = CSF_TABLE_AUTO;
+    if (table) {
+        if (!strcmp(table, "trials")) tab = CSF_TABLE_TRIALS;
+        else if (!strcmp(table, "readings")) tab = CSF_TABLE_READINGS;
+        else if (!strcmp(table, "thresholds")) tab = CSF_TABLE_THRESHOLDS;
+        else {
+            fprintf(stderr, "csfcal: sessions export: --table '%s' unknown (allowed trials, readings, "
+                    "thresholds)\n", table);
+            return 2;
+        }
+    }
+    csf_store *s = NULL;
+    int rc = open_store(cli, &s);
+    if (rc) return rc;
+    csf_error err;
+    csf_session_info si;
+    /* Check the session before creating the output file, so a typo leaves no empty file. */
+    if (csf_store_get_session(s, id, &si, &err) != CSF_OK) {
+        csf_store_close(s);
+        return csf_cli_report("sessions export", &err);
+    }
+    csf_session_info_free(&si);
+    FILE *out = stdout;
+    if (out_path && strcmp(out_path, "-") != 0) {
+        out = fopen(out_path, "w");
+        if (!out) {
+            perror("csfcal: sessions export: cannot write output file");
+            fprintf(stderr, "csfcal: sessions export: (file was %s)\n", out_path);
+            csf_store_close(s);
+            return 1;
+        }
+    }
+    csf_status st = csf_store_export(s, id, tab, fmt, out, &err);
+    int close_failed = out != stdout && fclose(out) != 0;
+    csf_store_close(s);
+    if (st != CSF_OK || close_failed) {
+        if (out != stdout) unlink(out_path);
+        if (st == CSF_OK) csf_error_set(&err, CSF_E_IO, "writing %s failed", out_path);
+        return csf_cli_report("sessions export", &err);
+    }
+    return 0;
+}
 
 int csf_cmd_sessions(int argc, char **argv)
 {
-    if (argc > 1 && strcmp(argv[1], "--help") == 0) {
-        printf("usage: csfcal sessions ...\n(not available yet in this build)\n");
-        return 0;
+    csf_cli cli;
+    int rc = csf_cli_init(&cli, argc, argv);
+    if (rc) return rc;
+    const char *format = NULL, *table = NULL, *out_path = NULL;
+    optind = 0;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:h", sessions_options, NULL)) != -1) {
+        switch (c) {
+        case OPT_FORMAT: format = optarg; break;
+        case OPT_TABLE: table = optarg; break;
+        case 'o': out_path = optarg; break;
+        case 'h':
+        case OPT_HELP:
+            fputs(sessions_help, stdout);
+            fputs(csf_cli_common_help, stdout);
+            return 0;
+        case ':':
+            fprintf(stderr, "csfcal: sessions: option %s needs a value\n", argv[optind - 1]);
+            return 2;
+        case '?':
+            fprintf(stderr, "csfcal: sessions: unknown option '%s' (try csfcal sessions --help)\n",
+                    argv[optind - 1]);
+            return 2;
+        default: {
+            int h = csf_cli_common_option(&cli, c, optarg);
+            if (h < 0) return 2;
+            if (h == 0) {
+                fprintf(stderr, "csfcal: sessions: unexpected option\n");
+                return 2;
+            }
+        }
+        }
     }
-    fprintf(stderr, "csfcal: sessions: not available yet in this build\n");
-    return 1;
+    int npos = argc - optind;
+    char **pos = argv + optind;
+    const char *sub = npos > 0 ? pos[0] : "list";
+    int64_t id = 0;
+    if (!strcmp(sub, "list")) {
+        if (npos > 1) {
+            fprintf(stderr, "csfcal: sessions list: unexpected argument '%s'\n", pos[1]);
+            return 2;
+        }
+        return cmd_list(&cli);
+    }
+    if (!strcmp(sub, "show") || !strcmp(sub, "export") || !strcmp(sub, "abort")) {
+        if (npos != 2) {
+            fprintf(stderr, "csfcal: sessions %s: expected one session ID (see csfcal sessions list)\n", sub);
+            return 2;
+        }
+        if (parse_id(pos[1], &id) < 0) return 2;
+        if (!strcmp(sub, "show")) return cmd_show(&cli, id);
+        if (!strcmp(sub, "abort")) return cmd_abort(&cli, id);
+        return cmd_export(&cli, id, format, table, out_path);
+    }
+    fprintf(stderr, "csfcal: sessions: unknown subcommand '%s' (allowed list, show, export, abort)\n", sub);
+    return 2;
 }

@@ -1,0 +1,254 @@
+/* Tidy CSV / JSON exports of a session (see results/store_export.h). */
+#include "results/store_export.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { COL_INT, COL_REAL, COL_TEXT, COL_BOOL } col_type;
+
+typedef struct {
+    col_type type;
+    long long i;
+    double r;
+    const char *s;
+} cell;
+
+static void put_text_csv(FILE *out, const char *s)
+{
+    if (!strpbrk(s, ",\"\n\r")) {
+        fputs(s, out);
+        return;
+    }
+    fputc('"', out);
+    for (const char *p = s; *p; p++) {
+        if (*p == '"') fputc('"', out);
+        fputc(*p, out);
+    }
+    fputc('"', out);
+}
+
+static void put_text_json(FILE *out, const char *s)
+{
+    fputc('"', out);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
+        else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
+        else fputc(*p, out);
+    }
+    fputc('"', out);
+}
+
+/* %.17g keeps every double exactly (round trip), which a tidy export should. */
+static void put_real(FILE *out, double v, int json)
+{
+    if (isnan(v)) {
+        if (json) fputs("null", out);
+    } else if (isinf(v)) {
+        fputs(json ? "null" : (v > 0 ? "Inf" : "-Inf"), out);
+    } else {
+        fprintf(out, "%.17g", v);
+    }
+}
+
+typedef struct {
+    FILE *out;
+    int json;
+    int row;   /* rows written so far */
+    int col;   /* column within the row */
+    const char *const *names;
+    int ncols;
+} writer;
+
+static void begin_table(writer *w)
+{
+    if (w->json) {
+        fputs("[", w->out);
+        return;
+    }
+    for (int c = 0; c < w->ncols; c++) {
+        if (c) fputc(',', w->out);
+        fputs(w->names[c], w->out);
+    }
+    fputs("\n", w->out);
+}
+
+static void begin_row(writer *w)
+{
+    w->col = 0;
+    if (w->json) fputs(w->row ? ",\n {" : "\n {", w->out);
+}
+
+static void sep(writer *w)
+{
+    if (w->json) {
+        if (w->col) fputs(", ", w->out);
+        fprintf(w->out, "\"%s\": ", w->names[w->col]);
+    } else if (w->col) {
+        fputc(',', w->out);
+    }
+}
+
+static void put_i(writer *w, long long v)
+{
+    sep(w);
+    fprintf(w->out, "%lld", v);
+    w->col++;
+}
+
+static void put_b(writer *w, int v)
+{
+    sep(w);
+    /* CSV: 0/1 (R and pandas read it as integer); JSON: true/false. */
+    fputs(w->json ? (v ? "true" : "false") : (v ? "1" : "0"), w->out);
+    w->col++;
+}
+
+static void put_r(writer *w, double v)
+{
+    sep(w);
+    put_real(w->out, v, w->json);
+    w->col++;
+}
+
+static void put_s(writer *w, const char *s)
+{
+    sep(w);
+    if (w->json) put_text_json(w->out, s);
+    else put_text_csv(w->out, s);
+    w->col++;
+}
+
+static void end_row(writer *w)
+{
+    fputs(w->json ? "}" : "\n", w->out);
+    w->row++;
+}
+
+static void end_table(writer *w)
+{
+    if (w->json) fputs(w->row ? "\n]\n" : "]\n", w->out);
+}
+
+static const char *const trial_cols[] = {
+    "session_id", "seq", "method", "freq_cpd", "ecc_deg", "polar_deg", "orientation_deg",
+    "sigma_deg", "velocity_dps", "mean_lum_cdm2", "is_catch", "is_practice",
+    "contrast_requested", "contrast_shown_mean", "contrast_shown_max", "frames_planned",
+    "frames_shown", "frames_missed", "signal_interval", "response", "rt_s", "click_x_deg",
+    "click_y_deg", "valid", "flags"};
+
+static const char *const reading_cols[] = {
+    "session_id", "seq", "channel", "drive01", "lum_cdm2", "X_cdm2", "Y_cdm2", "Z_cdm2", "t_s", "status"};
+
+static const char *const threshold_cols[] = {
+    "session_id", "freq_cpd", "ecc_deg", "velocity_dps", "lum_cdm2", "threshold_michelson",
+    "threshold_infinite", "sensitivity", "stderr_log10", "n_trials"};
+
+#define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table table,
+                            csf_export_format format, FILE *out, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "export: no store or output");
+    csf_session_info info;
+    csf_status st = csf_store_get_session(s, session_id, &info, err);
+    if (st != CSF_OK) return st;
+    if (table == CSF_TABLE_AUTO)
+        table = !strcmp(info.kind, "display") ? CSF_TABLE_READINGS : CSF_TABLE_TRIALS;
+    csf_session_info_free(&info);
+    writer w = {out, format == CSF_EXPORT_JSON, 0, 0, NULL, 0};
+    errno = 0;
+    if (table == CSF_TABLE_TRIALS) {
+        csf_trial *t = NULL;
+        size_t n = 0;
+        if ((st = csf_store_get_trials(s, session_id, &t, &n, err)) != CSF_OK) return st;
+        w.names = trial_cols;
+        w.ncols = NCOLS(trial_cols);
+        begin_table(&w);
+        for (size_t i = 0; i < n; i++) {
+            const csf_trial *x = &t[i];
+            begin_row(&w);
+            put_i(&w, x->session_id);
+            put_i(&w, x->seq);
+            put_s(&w, x->method);
+            put_r(&w, x->freq_cpd);
+            put_r(&w, x->ecc_deg);
+            put_r(&w, x->polar_deg);
+            put_r(&w, x->orientation_deg);
+            put_r(&w, x->sigma_deg);
+            put_r(&w, x->velocity_dps);
+            put_r(&w, x->mean_lum_cdm2);
+            put_b(&w, x->is_catch);
+            put_b(&w, x->is_practice);
+            put_r(&w, x->contrast_requested);
+            put_r(&w, x->contrast_shown_mean);
+            put_r(&w, x->contrast_shown_max);
+            put_i(&w, x->frames_planned);
+            put_i(&w, x->frames_shown);
+            put_i(&w, x->frames_missed);
+            put_i(&w, x->signal_interval);
+            put_i(&w, x->response);
+            put_r(&w, x->rt_s);
+            put_r(&w, x->click_x_deg);
+            put_r(&w, x->click_y_deg);
+            put_b(&w, x->valid);
+            put_s(&w, x->flags);
+            end_row(&w);
+        }
+        end_table(&w);
+        free(t);
+    } else if (table == CSF_TABLE_READINGS) {
+        csf_reading *r = NULL;
+        size_t n = 0;
+        if ((st = csf_store_get_readings(s, session_id, &r, &n, err)) != CSF_OK) return st;
+        w.names = reading_cols;
+        w.ncols = NCOLS(reading_cols);
+        begin_table(&w);
+        for (size_t i = 0; i < n; i++) {
+            const csf_reading *x = &r[i];
+            begin_row(&w);
+            put_i(&w, x->session_id);
+            put_i(&w, x->seq);
+            put_s(&w, x->channel);
+            put_r(&w, x->drive01);
+            put_r(&w, x->lum_cdm2);
+            put_r(&w, x->has_xyz ? x->X : NAN);
+            put_r(&w, x->has_xyz ? x->Y : NAN);
+            put_r(&w, x->has_xyz ? x->Z : NAN);
+            put_r(&w, x->t_s);
+            put_s(&w, x->status);
+            end_row(&w);
+        }
+        end_table(&w);
+        free(r);
+    } else {
+        csf_threshold_row *r = NULL;
+        size_t n = 0;
+        if ((st = csf_store_get_thresholds(s, session_id, &r, &n, err)) != CSF_OK) return st;
+        w.names = threshold_cols;
+        w.ncols = NCOLS(threshold_cols);
+        begin_table(&w);
+        for (size_t i = 0; i < n; i++) {
+            const csf_threshold_row *x = &r[i];
+            begin_row(&w);
+            put_i(&w, session_id);
+            put_r(&w, x->freq_cpd);
+            put_r(&w, x->ecc_deg);
+            put_r(&w, x->velocity_dps);
+            put_r(&w, x->lum_cdm2);
+            put_r(&w, x->threshold);
+            put_b(&w, isinf(x->threshold) && x->threshold > 0);
+            put_r(&w, x->threshold > 0 ? 1.0 / x->threshold : NAN);
+            put_r(&w, x->stderr_log10);
+            put_i(&w, x->n_trials);
+            end_row(&w);
+        }
+        end_table(&w);
+        free(r);
+    }
+    if (fflush(out) != 0 || ferror(out))
+        return csf_error_set(err, CSF_E_IO, "export: write failed (%s)", strerror(errno ? errno : EIO));
+    return CSF_OK;
+}
