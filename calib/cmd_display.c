@@ -1,14 +1,341 @@
+/* `csfcal display calibrate|verify|export|info`: photometric calibration of a monitor, checks of
+ * an existing profile, and exports for other renderers. */
+#include <getopt.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "calib/cli.h"
 #include "calib/commands.h"
+#include "calib/display_calib.h"
+#include "devices/photometer.h"
+#include "results/colour_export.h"
+#include "results/display_profile.h"
+#include "results/store.h"
+
+static const char display_help[] =
+    "usage: csfcal display calibrate --photometer SPEC --out PROFILE [--store DB] [--seed N]\n"
+    "                                [--resume ID] [--target REL] [--budget N] [--no-channels]\n"
+    "                                [--name NAME] [--quiet]\n"
+    "       csfcal display verify PROFILE --photometer SPEC [--levels N] [--tolerance REL]\n"
+    "       csfcal display export PROFILE --format clf|ctf|cube|icc|ocio [-o OUT]\n"
+    "       csfcal display info PROFILE\n\n"
+    "calibrate  warm-up check, dark reading, adaptive grey and r/g/b sweeps until the profile\n"
+    "           meets its accuracy target; every reading is stored as it is taken. After an\n"
+    "           instrument fault, --resume ID finishes the session from its stored readings.\n"
+    "  --target REL    max relative luminance error above 10 %% of peak (default 0.0025)\n"
+    "  --budget N      most sweep readings for grey plus channels (default 48, 8 to 4096)\n"
+    "  --no-channels   grey only (no r, g, b curves, no additivity check)\n"
+    "  --name NAME     display name for the profile id (default: the photometer spec)\n"
+    "verify     re-measures a few grey levels and reports drift against the profile; exit 1\n"
+    "           when it exceeds --tolerance (default 0.02). Old profiles are flagged\n"
+    "           (profile_max_age_days in the station configuration).\n"
+    "export     clf/ctf (OpenColorIO), cube (OpenColorIO Baker), icc (Little CMS), ocio (a\n"
+    "           config with display + view, and its .clf beside it). See docs/display-profile.md.\n"
+    "Simulated photometer: sim[:display=crt|lcd|oled|file=PATH.csv,noise=REL,abs_noise=CDM2,\n"
+    "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n\n";
+
+enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
+       OPT_TOL, OPT_FORMAT, OPT_HELP };
+
+static const struct option display_options[] = {
+    {"out", required_argument, 0, 'o'},
+    {"output", required_argument, 0, 'o'},
+    {"target", required_argument, 0, OPT_TARGET},
+    {"budget", required_argument, 0, OPT_BUDGET},
+    {"no-channels", no_argument, 0, OPT_NOCH},
+    {"name", required_argument, 0, OPT_NAME},
+    {"quiet", no_argument, 0, OPT_QUIET},
+    {"levels", required_argument, 0, OPT_LEVELS},
+    {"tolerance", required_argument, 0, OPT_TOL},
+    {"format", required_argument, 0, OPT_FORMAT},
+    {"help", no_argument, 0, OPT_HELP},
+    CSF_CLI_COMMON_OPTIONS,
+    {0, 0, 0, 0},
+};
+
+typedef struct {
+    csf_cli cli;
+    const char *out, *name, *format, *file;
+    double target, tol;
+    long budget, levels;
+    int no_channels, quiet, help;
+} dargs;
+
+static int parse(int argc, char **argv, dargs *a)
+{
+    optind = 0;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
+        int bad = 0;
+        switch (c) {
+        case 'o': a->out = optarg; break;
+        case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
+        case OPT_BUDGET: bad = csf_parse_int(optarg, "budget", 8, 4096, &a->budget); break;
+        case OPT_NOCH: a->no_channels = 1; break;
+        case OPT_NAME: a->name = optarg; break;
+        case OPT_QUIET: a->quiet = 1; break;
+        case OPT_LEVELS: bad = csf_parse_int(optarg, "levels", 1, 64, &a->levels); break;
+        case OPT_TOL: bad = csf_parse_double(optarg, "tolerance", 1e-5, 1, &a->tol); break;
+        case OPT_FORMAT: a->format = optarg; break;
+        case 'h':
+        case OPT_HELP: a->help = 1; break;
+        case ':': fprintf(stderr, "csfcal: display: option %s needs a value\n", argv[optind - 1]); return 2;
+        case '?': fprintf(stderr, "csfcal: display: unknown option '%s' (see csfcal display --help)\n", argv[optind - 1]); return 2;
+        default: {
+            int r = csf_cli_common_option(&a->cli, c, optarg);
+            if (r < 0) return 2;
+            if (r == 0) {
+                fprintf(stderr, "csfcal: display: unexpected option\n");
+                return 2;
+            }
+        }
+        }
+        if (bad) return 2;
+    }
+    return 0;
+}
+
+static void age_warning(const csf_display_profile *p, const csf_cli *cli)
+{
+    double age = csf_profile_age_days(p);
+    double lim = cli->cfg.profile_max_age_days;
+    if (isfinite(age) && lim > 0 && age > lim)
+        fprintf(stderr, "csfcal: warning: display profile %s is %.0f days old (limit profile_max_age_days = %g): "
+                        "recalibrate the monitor\n", csf_profile_id(p), age, lim);
+}
+
+static int cmd_calibrate(dargs *a)
+{
+    if (!a->out) {
+        fprintf(stderr, "csfcal: display calibrate: --out PROFILE is required\n");
+        return 2;
+    }
+    const char *spec = a->cli.cfg.photometer[0] ? a->cli.cfg.photometer : NULL;
+    if (!spec) {
+        fprintf(stderr, "csfcal: display calibrate: no photometer: give --photometer SPEC (e.g. sim:display=lcd)\n");
+        return 2;
+    }
+    csf_error err;
+    csf_error_clear(&err);
+    csf_display_calib_opts o;
+    csf_display_calib_defaults(&o);
+    if (a->target > 0) o.target_rel = a->target;
+    if (a->budget > 0) o.budget = (int)a->budget;
+    o.channels = !a->no_channels;
+    o.display_name = a->name;
+    o.progress = !a->quiet && isatty(2);
+    const char *store_path = csf_cli_store_path(&a->cli);
+    csf_store *store = NULL;
+    csf_status st = csf_store_open(store_path, &store, &err);
+    if (st) return csf_cli_report("display calibrate", &err);
+    int64_t sid = a->cli.resume_id;
+    uint64_t seed = a->cli.seed;
+    if (sid > 0 && !a->cli.seed_set) {
+        /* the session's own seed, so a simulated instrument continues the same noise sequence */
+        csf_session_info si;
+        memset(&si, 0, sizeof si);
+        if (csf_store_get_session(store, sid, &si, &err) == CSF_OK) {
+            seed = si.seed;
+            csf_session_info_free(&si);
+        } else {
+            csf_store_close(store);
+            return csf_cli_report("display calibrate", &err);
+        }
+    }
+    csf_photometer *ph = NULL;
+    st = csf_photometer_open(spec, seed, &ph, &err);
+    if (st) {
+        csf_store_close(store);
+        return csf_cli_report("display calibrate", &err);
+    }
+    csf_display_profile *p = NULL;
+    csf_display_calib_result res;
+    st = csf_display_calibrate(ph, &o, store, &sid, seed, &p, &res, &err);
+    csf_photometer_close(ph);
+    if (st) {
+        int rc = csf_cli_report("display calibrate", &err);
+        if (sid > 0)
+            fprintf(stderr, "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
+                            "  csfcal display calibrate --resume %lld --store %s --photometer SPEC --out %s\n",
+                    res.n_readings, (long long)sid, store_path, (long long)sid, store_path, a->out);
+        csf_store_close(store);
+        return rc;
+    }
+    st = csf_profile_save(p, a->out, &err);
+    if (st == CSF_OK) {
+        csf_error e2;
+        csf_store_add_artifact(store, sid, "profile", a->out, NULL, 0, &e2);
+    }
+    csf_store_close(store);
+    if (st) {
+        csf_profile_free(p);
+        return csf_cli_report("display calibrate", &err);
+    }
+    if (!a->quiet) {
+        printf("display profile %s written to %s (session %lld)\n", csf_profile_id(p), a->out, (long long)sid);
+        printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(p), csf_profile_lum_max(p));
+        printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res.n_sweep,
+               res.n_readings, res.n_warmup, res.warmup_stable ? "" : ", white never settled");
+        printf("  estimated model error (leave-one-out, above 10%% of peak): grey %.3f %%", 100 * res.est_error_rel[CSF_CH_GREY]);
+        if (o.channels)
+            printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res.est_error_rel[0], 100 * res.est_error_rel[1],
+                   100 * res.est_error_rel[2]);
+        printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res.noise_rel,
+               100 * res.drift_rel);
+        if (o.channels) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res.additivity_error);
+        printf("  monotonic: %s\n", res.monotonic_violations ? res.monotonic_msg : "yes");
+    }
+    if (res.monotonic_violations)
+        fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
+    if (!res.warmup_stable)
+        fprintf(stderr, "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+    csf_profile_free(p);
+    return 0;
+}
+
+static int load_profile(const char *path, csf_display_profile **p)
+{
+    csf_error err;
+    csf_error_clear(&err);
+    if (csf_profile_load(path, p, &err)) return csf_cli_report("display", &err);
+    return 0;
+}
+
+static int cmd_verify(dargs *a)
+{
+    if (!a->file) {
+        fprintf(stderr, "csfcal: display verify: give the PROFILE to check\n");
+        return 2;
+    }
+    const char *spec = a->cli.cfg.photometer[0] ? a->cli.cfg.photometer : NULL;
+    if (!spec) {
+        fprintf(stderr, "csfcal: display verify: no photometer: give --photometer SPEC\n");
+        return 2;
+    }
+    csf_display_profile *p;
+    int rc = load_profile(a->file, &p);
+    if (rc) return rc;
+    age_warning(p, &a->cli);
+    csf_error err;
+    csf_error_clear(&err);
+    csf_photometer *ph;
+    if (csf_photometer_open(spec, a->cli.seed, &ph, &err)) {
+        csf_profile_free(p);
+        return csf_cli_report("display verify", &err);
+    }
+    double dev, white;
+    double tol = a->tol > 0 ? a->tol : 0.02;
+    csf_status st = csf_display_verify(ph, p, a->levels > 0 ? (int)a->levels : 5, &dev, &white, &err);
+    csf_photometer_close(ph);
+    if (st) {
+        csf_profile_free(p);
+        return csf_cli_report("display verify", &err);
+    }
+    printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%): %s\n",
+           csf_profile_id(p), 100 * white, 100 * dev, 100 * tol, dev <= tol ? "ok" : "DRIFTED, recalibrate");
+    csf_profile_free(p);
+    return dev <= tol ? 0 : 1;
+}
+
+static int cmd_export(dargs *a)
+{
+    if (!a->file || !a->format) {
+        fprintf(stderr, "csfcal: display export: give PROFILE and --format clf|ctf|cube|icc|ocio\n");
+        return 2;
+    }
+    int f = csf_export_format_from_name(a->format);
+    if (f < 0) {
+        fprintf(stderr, "csfcal: display export: unknown format '%s' (clf, ctf, cube, icc, ocio)\n", a->format);
+        return 2;
+    }
+    csf_display_profile *p;
+    int rc = load_profile(a->file, &p);
+    if (rc) return rc;
+    age_warning(p, &a->cli);
+    char out[1200];
+    if (a->out) {
+        snprintf(out, sizeof out, "%s", a->out);
+    } else {
+        /* PROFILE with its extension replaced */
+        snprintf(out, sizeof out, "%s", a->file);
+        char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+        if (dot && (!slash || dot > slash)) *dot = 0;
+        strncat(out, csf_export_extension((csf_export_format)f), sizeof out - strlen(out) - 1);
+    }
+    csf_error err;
+    csf_error_clear(&err);
+    csf_status st = csf_colour_export(p, (csf_export_format)f, out, &err);
+    csf_profile_free(p);
+    if (st) return csf_cli_report("display export", &err);
+    printf("wrote %s\n", out);
+    return 0;
+}
+
+static int cmd_info(dargs *a)
+{
+    if (!a->file) {
+        fprintf(stderr, "csfcal: display info: give the PROFILE\n");
+        return 2;
+    }
+    csf_display_profile *p;
+    int rc = load_profile(a->file, &p);
+    if (rc) return rc;
+    age_warning(p, &a->cli);
+    printf("id: %s\ncreated: %s (%.1f days ago)\ninstrument: %s\nblack: %.6g cd/m2\nwhite: %.6g cd/m2\n",
+           csf_profile_id(p), csf_profile_created_utc(p), csf_profile_age_days(p), csf_profile_instrument(p),
+           csf_profile_lum_black(p), csf_profile_lum_max(p));
+    printf("channels: %s\nadditivity error: %.3f %%\nknots: grey %zu", csf_profile_has_channels(p) ? "r, g, b" : "none",
+           100 * csf_profile_additivity_error(p), csf_profile_knots(p, CSF_CH_GREY, NULL, NULL));
+    if (csf_profile_has_channels(p))
+        printf(", r %zu, g %zu, b %zu", csf_profile_knots(p, 0, NULL, NULL), csf_profile_knots(p, 1, NULL, NULL),
+               csf_profile_knots(p, 2, NULL, NULL));
+    printf("\nreadings: %zu\ngrey drive for 10/50/90 %% of white: %.4f %.4f %.4f\n", csf_profile_readings(p, NULL),
+           csf_profile_grey_drive(p, 0.1 * csf_profile_lum_max(p)), csf_profile_grey_drive(p, 0.5 * csf_profile_lum_max(p)),
+           csf_profile_grey_drive(p, 0.9 * csf_profile_lum_max(p)));
+    csf_profile_free(p);
+    return 0;
+}
 
 int csf_cmd_display(int argc, char **argv)
 {
-    if (argc > 1 && strcmp(argv[1], "--help") == 0) {
-        printf("usage: csfcal display ...\n(not available yet in this build)\n");
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
+        fputs(argc < 2 ? "" : "", stdout);
+        fprintf(argc < 2 ? stderr : stdout, display_help);
+        fputs(csf_cli_common_help, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const char *sub = argv[1];
+    dargs a;
+    memset(&a, 0, sizeof a);
+    int rc = csf_cli_init(&a.cli, argc - 1, argv + 1);
+    if (rc) return rc;
+    rc = parse(argc - 1, argv + 1, &a);
+    if (rc) return rc;
+    if (a.help) {
+        printf(display_help);
+        fputs(csf_cli_common_help, stdout);
         return 0;
     }
-    fprintf(stderr, "csfcal: display: not available yet in this build\n");
-    return 1;
+    int nfree = argc - 1 - optind;
+    if (nfree > 1) {
+        fprintf(stderr, "csfcal: display %s: unexpected argument '%s'\n", sub, argv[1 + optind + 1]);
+        return 2;
+    }
+    if (nfree == 1) a.file = argv[1 + optind];
+    if (strcmp(sub, "calibrate") == 0) {
+        if (a.file) {
+            fprintf(stderr, "csfcal: display calibrate: unexpected argument '%s' (the profile goes in --out)\n", a.file);
+            return 2;
+        }
+        return cmd_calibrate(&a);
+    }
+    if (strcmp(sub, "verify") == 0) return cmd_verify(&a);
+    if (strcmp(sub, "export") == 0) return cmd_export(&a);
+    if (strcmp(sub, "info") == 0) return cmd_info(&a);
+    fprintf(stderr, "csfcal: display: unknown subcommand '%s' (calibrate, verify, export, info)\n", sub);
+    return 2;
 }
