@@ -214,7 +214,11 @@ int main(int argc, char **argv)
                         break;
                     }
                 }
-                printf("bayes reaches QUEST's 240-trial RMS (%.3f) at about %.0f trials\n", target, need);
+                if (need == budgets[0])
+                    printf("bayes reaches QUEST's 240-trial RMS (%.3f) at %d trials or fewer (the smallest budget run)\n",
+                           target, budgets[0]);
+                else
+                    printf("bayes reaches QUEST's 240-trial RMS (%.3f) at about %.0f trials\n", target, need);
             }
         }
         printf("\n");
