@@ -93,7 +93,7 @@ OCIO::ConfigRcPtr make_config(const csf_display_profile *p, const std::string &l
 const char *write_format_name(const char *ext)
 {
     for (int i = 0; i < OCIO::GroupTransform::GetNumWriteFormats(); i++)
-        if (std::strcmp(OCIO::GroupTransform::GetFormatExtensionByIndex(i), ext) == 0)
+        if (std::strcmp(OCIO::GroupTransform::GetFormatExtensionByIndex(i), ext + 1) == 0)
             return OCIO::GroupTransform::GetFormatNameByIndex(i);
     return nullptr;
 }
@@ -130,7 +130,9 @@ csf_status write_cube(const csf_display_profile *p, const char *path, csf_error 
     baker->setInputSpace("csfcal_display");
     baker->setTargetSpace("linear");
     baker->setShaperSize(CSF_EXPORT_LUT_SIZE);
-    baker->setCubeSize(0);
+    // no 3-D part: the transform has no channel crosstalk, so the Resolve baker writes a pure 1-D
+    // LUT (a 3-D cube could not hold 1e-4 accuracy along the grey axis)
+    baker->setCubeSize(-1);
     baker->getFormatMetadata().addChildElement(OCIO::METADATA_DESCRIPTION, describe(p).c_str());
     std::ostringstream os;
     baker->bake(os);
@@ -269,7 +271,22 @@ csf_status csf_colour_export_eval(const char *path, csf_export_format f, const d
                 cmsCloseProfile(h);
                 return csf_error_set(err, CSF_E_FORMAT, "ICC profile %s has no green TRC", path);
             }
-            for (size_t i = 0; i < n; i++) rel[i] = cmsEvalToneCurveFloat(c, (cmsFloat32Number)drive01[i]);
+            // evaluate the stored 16-bit table in double: cmsEvalToneCurveFloat would also
+            // quantise the input to 16 bits, adding an error the file itself does not have
+            cmsUInt32Number ne = cmsGetToneCurveEstimatedTableEntries(c);
+            const cmsUInt16Number *tab = cmsGetToneCurveEstimatedTable(c);
+            if (ne < 2 || !tab) {
+                cmsCloseProfile(h);
+                return csf_error_set(err, CSF_E_FORMAT, "ICC profile %s: green TRC has no table", path);
+            }
+            for (size_t i = 0; i < n; i++) {
+                double x = drive01[i] < 0 ? 0 : drive01[i] > 1 ? 1 : drive01[i];
+                double pos = x * (ne - 1);
+                cmsUInt32Number k = (cmsUInt32Number)pos;
+                if (k >= ne - 1) k = ne - 2;
+                double f = pos - k;
+                rel[i] = (tab[k] + f * (tab[k + 1] - tab[k])) / 65535.0;
+            }
             cmsCloseProfile(h);
             return CSF_OK;
         }
@@ -299,7 +316,8 @@ csf_status csf_colour_export_eval_icc_ocio(const char *path, const double *drive
         cfg->setSearchPath(dir_of(path).c_str());
         OCIO::FileTransformRcPtr ft = OCIO::FileTransform::Create();
         ft->setSrc(path);
-        // the ICC file maps device RGB to the PCS: inverse would go the other way
+        // OpenColorIO's ICC transform goes from the PCS to device RGB; we want device -> PCS
+        ft->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
         OCIO::ConstProcessorRcPtr proc = cfg->getProcessor(ft);
         OCIO::ConstCPUProcessorRcPtr cpu = proc->getOptimizedCPUProcessor(OCIO::OPTIMIZATION_NONE);
         for (size_t i = 0; i < n; i++) {

@@ -19,7 +19,8 @@ grep -q ': ok' "$t/v" || { echo "verify: $(cat "$t/v")"; fail=1; }
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,lmax=200 > "$t/v" && { echo "drift not detected"; fail=1; }
 grep -q 'DRIFTED' "$t/v" || { echo "verify drift: $(cat "$t/v")"; fail=1; }
 # old profiles are flagged
-"$exe" display info "$t/lcd.profile" --set profile_max_age_days=0.000001 2>"$t/e" >/dev/null
+sed 's/^created_utc = .*/created_utc = 2020-01-01T00:00:00Z/' "$t/lcd.profile" > "$t/old.profile"
+"$exe" display info "$t/old.profile" --set profile_max_age_days=30 2>"$t/e" >/dev/null
 grep -q 'days old' "$t/e" || { echo "age not flagged: $(cat "$t/e")"; fail=1; }
 for f in clf ctf cube icc ocio; do
   "$exe" display export "$t/lcd.profile" --format $f -o "$t/out.$f" >/dev/null || { echo "export $f failed"; fail=1; }
