@@ -442,7 +442,6 @@ static void marker(cairo_t *cr, double x, double y, int shape, double r)
 
 static void draw_csf(cairo_t *cr, const report_data *d)
 {
-    title(cr, "Contrast sensitivity function (sensitivity = 1 / Michelson threshold)");
     size_t n = d->n_th;
     double fmin = INFINITY, fmax = 0, smin = INFINITY, smax = 0;
     for (size_t i = 0; i < n; i++) {
@@ -462,6 +461,7 @@ static void draw_csf(cairo_t *cr, const report_data *d)
                      "No thresholds stored for this session yet (is it still running?).");
         return;
     }
+    title(cr, "Contrast sensitivity function (sensitivity = 1 / Michelson threshold)");
     axes a = {80, 60, 560, PAGE_H - 130, 0, 0, 0, 0, 1, 1};
     a.x0 = floor(log10(fmin / 1.5) * 2) / 2;
     a.x1 = ceil(log10(fmax * 1.5) * 2) / 2;
@@ -631,7 +631,6 @@ static double model_lum(const report_data *d, size_t idx, double black)
 
 static void draw_display(cairo_t *cr, const report_data *d)
 {
-    title(cr, "Display luminance vs drive level, per channel");
     double lmin = INFINITY, lmax = 0, black = NAN;
     for (size_t i = 0; i < d->n_readings; i++) {
         const csf_reading *r = &d->readings[i];
@@ -644,6 +643,7 @@ static void draw_display(cairo_t *cr, const report_data *d)
         message_page(cr, "Display luminance", "No successful photometer readings in this session.");
         return;
     }
+    title(cr, "Display luminance vs drive level, per channel");
     axes a = {80, 55, 520, 280, 0, 1, floor(log10(lmin)), ceil(log10(lmax * 1.05)), 0, 1};
     if (a.y1 <= a.y0) a.y1 = a.y0 + 1;
     draw_axes(cr, &a, "drive level (0..1)", "luminance (cd/m2)");
@@ -725,11 +725,11 @@ static void draw_display(cairo_t *cr, const report_data *d)
 
 static void draw_frames(cairo_t *cr, const report_data *d)
 {
-    title(cr, "Frame timing");
     if (d->n_frames == 0) {
         message_page(cr, "Frame timing", "No frame intervals recorded for this session.");
         return;
     }
+    title(cr, "Frame timing");
     double med = median_of(d->frames, d->n_frames);
     double vmax = 0;
     size_t late = 0;

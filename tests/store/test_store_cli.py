@@ -1,0 +1,135 @@
+#!/usr/bin/env python3
+"""csfcal sessions / report from the command line, on the sample store:
+listing (text and JSON), tidy exports that the csv and json modules parse with no options and
+whose headers carry units, reports with valid magic bytes, and clear errors with non-zero exit."""
+import csv
+import io
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+csfcal, make_sample = sys.argv[1], sys.argv[2]
+failures = 0
+checks = 0
+
+
+def check(cond, what):
+    global failures, checks
+    checks += 1
+    if not cond:
+        failures += 1
+        print("FAIL:", what, file=sys.stderr)
+
+
+def run(*args, expect=0):
+    p = subprocess.run([csfcal, *args], capture_output=True, text=True)
+    check(p.returncode == expect, f"csfcal {' '.join(args)}: exit {p.returncode}, expected {expect}; stderr: {p.stderr.strip()}")
+    return p
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    store = os.path.join(tmp, "s.sqlite")
+    ids = subprocess.run([make_sample, store], capture_output=True, text=True, check=True).stdout.split()
+    obs, disp = ids[0], ids[1]
+    S = ["--store", store]
+
+    # --- list ---
+    p = run("sessions", *S)
+    check("ID" in p.stdout and "STATE" in p.stdout and "TRIALS" in p.stdout, "list header")
+    lines = [l for l in p.stdout.splitlines() if l.split() and l.split()[0] == obs]
+    check(len(lines) == 1 and "observer" in lines[0] and "finished" in lines[0] and " 240 " in lines[0], f"list row: {lines}")
+    p = run("sessions", "list", "--json", *S)
+    lst = json.loads(p.stdout)
+    check(len(lst) == 2 and lst[0]["n_trials"] == 240 and lst[1]["n_readings"] == 41, f"json list {lst}")
+    check(lst[1]["kind"] == "display" and lst[0]["seed"] == 77, "json list fields")
+    p = run("sessions", "show", obs, "--json", *S)
+    info = json.loads(p.stdout)
+    check(json.loads(info["settings_json"])["method"] == "fade", "show settings")
+
+    # --- CSV export of trials ---
+    p = run("sessions", "export", obs, "--format", "csv", *S)
+    rows = list(csv.DictReader(io.StringIO(p.stdout)))
+    header = p.stdout.splitlines()[0].split(",")
+    for col in ["freq_cpd", "ecc_deg", "orientation_deg", "sigma_deg", "velocity_dps", "mean_lum_cdm2",
+                "contrast_requested", "rt_s", "click_x_deg", "valid", "flags"]:
+        check(col in header, f"trial CSV column {col}")
+    check(len(rows) == 240, f"240 trial rows, got {len(rows)}")
+    check([int(r["seq"]) for r in rows] == list(range(240)), "rows ordered by seq")
+    for r in rows:
+        for k in ["freq_cpd", "ecc_deg", "contrast_requested"]:
+            float(r[k])
+        check(r["rt_s"] == "" or float(r["rt_s"]) > 0, "rt_s empty or positive")
+    check(any(r["flags"] == "missed_frames,late" for r in rows), "quoted flags with a comma survive")
+    check(any(r["rt_s"] == "" for r in rows), "missing rt_s is an empty cell")
+    check(all(len(l.split(",")) >= len(header) for l in p.stdout.splitlines()[1:]), "rows as wide as header")
+    freqs = sorted({float(r["freq_cpd"]) for r in rows})
+    check(freqs == [0.5, 1, 2, 4, 8, 16, 24], f"frequencies {freqs}")
+
+    # --- JSON export ---
+    out = os.path.join(tmp, "trials.json")
+    run("sessions", "export", obs, "--format", "json", "-o", out, *S)
+    with open(out) as f:
+        recs = json.load(f)
+    check(isinstance(recs, list) and len(recs) == 240, "json records")
+    check(set(recs[0].keys()) == set(header), "json keys = csv header")
+    check(any(r["rt_s"] is None for r in recs), "missing = null")
+    check(all(isinstance(r["valid"], bool) for r in recs), "booleans")
+    check(abs(recs[3]["freq_cpd"] - float(rows[3]["freq_cpd"])) == 0, "csv and json agree exactly")
+
+    # --- display readings and thresholds ---
+    p = run("sessions", "export", disp, "--format", "csv", *S)
+    rrows = list(csv.DictReader(io.StringIO(p.stdout)))
+    check(len(rrows) == 41 and "lum_cdm2" in rrows[0] and "drive01" in rrows[0], "readings export")
+    check(rrows[0]["channel"] == "dark" and float(rrows[-1]["lum_cdm2"]) > 5, "reading values")
+    p = run("sessions", "export", obs, "--format", "csv", "--table", "thresholds", *S)
+    trows = list(csv.DictReader(io.StringIO(p.stdout)))
+    check(len(trows) == 28, "28 thresholds")
+    inf_rows = [r for r in trows if r["threshold_infinite"] == "1"]
+    check(len(inf_rows) > 0 and all(math.isinf(float(r["threshold_michelson"])) for r in inf_rows), "Inf thresholds")
+    fin = [r for r in trows if r["threshold_infinite"] == "0"]
+    check(all(abs(float(r["sensitivity"]) * float(r["threshold_michelson"]) - 1) < 1e-12 for r in fin), "sensitivity = 1/threshold")
+    p = run("sessions", "export", obs, "--format", "json", "--table", "thresholds", *S)
+    tj = json.loads(p.stdout)
+    check(all((r["threshold_michelson"] is None) == r["threshold_infinite"] for r in tj), "json Inf as null + flag")
+
+    # --- errors ---
+    missing = os.path.join(tmp, "nope.csv")
+    p = run("sessions", "export", "99", "--format", "csv", "-o", missing, *S, expect=1)
+    check("no session 99" in p.stderr and not os.path.exists(missing), "unknown session, no file left")
+    p = run("sessions", "export", obs, "--format", "xml", *S, expect=2)
+    check("csv, json" in p.stderr, "bad format message")
+    p = run("sessions", "export", obs, *S, expect=2)
+    p = run("sessions", "export", "abc", "--format", "csv", *S, expect=2)
+    p = run("sessions", "frobnicate", *S, expect=2)
+    p = run("sessions", "abort", obs, *S, expect=1)
+    check("finished" in p.stderr, "cannot abort finished")
+    bad = os.path.join(tmp, "bad.sqlite")
+    with open(bad, "w") as f:
+        f.write("freq,threshold\n1,0.1\n")
+    p = run("sessions", "--store", bad, expect=1)
+    check("not a database" in p.stderr and bad in p.stderr, f"corrupt store message: {p.stderr}")
+
+    # --- reports ---
+    magic = {"pdf": b"%PDF-", "png": b"\x89PNG\r\n\x1a\n", "svg": b"<?xml"}
+    for ext, m in magic.items():
+        path = os.path.join(tmp, f"r.{ext}")
+        run("report", obs, "-o", path, *S)
+        with open(path, "rb") as f:
+            head = f.read(4096)
+        check(head.startswith(m), f"report .{ext} magic")
+    path = os.path.join(tmp, "d.png")
+    run("report", disp, "-o", path, *S)
+    check(os.path.getsize(path) > 10000, "display report size")
+    p = run("report", obs, "-o", os.path.join(tmp, "r.gif"), *S, expect=2)
+    check(".pdf, .png, .svg" in p.stderr, "bad extension message")
+    p = run("report", "42", "-o", os.path.join(tmp, "x.pdf"), *S, expect=1)
+    check("no session 42" in p.stderr, "report unknown session")
+    p = run("report", obs, *S, expect=2)
+    run("report", "--help")
+    run("sessions", "--help")
+
+print(f"{checks} checks, {failures} failed", file=sys.stderr)
+sys.exit(1 if failures else 0)
