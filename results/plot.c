@@ -654,6 +654,7 @@ static void draw_display(cairo_t *cr, const report_data *d)
         double m = model_lum(d, i, black);
         res[i] = isfinite(m) && m > 0 && isfinite(d->readings[i].lum_cdm2)
             ? 100.0 * (d->readings[i].lum_cdm2 - m) / m : NAN;
+        if (!(fabs(res[i]) <= 1000.0)) res[i] = NAN; /* off any useful scale: not plotted */
         if (isfinite(res[i]) && fabs(res[i]) > rmax) rmax = fabs(res[i]);
     }
     axes b = {80, 400, 520, 130, 0, 1, -rmax * 1.15, rmax * 1.15, 0, 0};
@@ -811,6 +812,31 @@ static void free_data(report_data *d)
     csf_profile_free(d->profile);
 }
 
+/* The store file is outside input: keep only values a plot can place, so that axis ranges stay
+ * finite and bounded (no conversion of NaN or huge values to integers, no endless tick loops). */
+static void sanitize(report_data *d)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < d->n_th; i++) {
+        csf_threshold_row r = d->th[i];
+        if (!(r.freq_cpd >= 1e-6 && r.freq_cpd <= 1e6)) continue;
+        if (!(r.threshold >= 1e-9)) continue; /* NaN, zero, negative: no sensitivity to plot */
+        if (!(r.stderr_log10 >= 0 && r.stderr_log10 <= 5)) r.stderr_log10 = NAN;
+        if (!isfinite(r.ecc_deg) || !isfinite(r.velocity_dps) || !isfinite(r.lum_cdm2)) continue;
+        d->th[k++] = r;
+    }
+    d->n_th = k;
+    k = 0;
+    for (size_t i = 0; i < d->n_frames; i++)
+        if (d->frames[i] >= 0 && d->frames[i] <= 10.0) d->frames[k++] = d->frames[i];
+    d->n_frames = k;
+    for (size_t i = 0; i < d->n_readings; i++) {
+        csf_reading *r = &d->readings[i];
+        if (!(r->drive01 >= 0 && r->drive01 <= 1)) r->drive01 = 0, r->lum_cdm2 = NAN;
+        if (!(r->lum_cdm2 >= 1e-6 && r->lum_cdm2 <= 1e6)) r->lum_cdm2 = NAN;
+    }
+}
+
 static csf_status load_data(csf_store *s, int64_t id, report_data *d, csf_error *err)
 {
     csf_status st = csf_store_get_session(s, id, &d->info, err);
@@ -820,6 +846,7 @@ static csf_status load_data(csf_store *s, int64_t id, report_data *d, csf_error 
     if (st == CSF_OK) st = csf_store_get_thresholds(s, id, &d->th, &d->n_th, err);
     if (st == CSF_OK) st = csf_store_get_frame_intervals(s, id, &d->frames, &d->n_frames, err);
     if (st != CSF_OK) return st;
+    sanitize(d);
     void *blob = NULL;
     size_t len = 0;
     csf_error perr;

@@ -420,6 +420,10 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
         return cs;
     }
     sqlite3_extended_result_codes(s->db, 1);
+    /* The file is outside input: do not run functions a crafted schema might name in views or
+     * triggers, and refuse writes that could corrupt it on purpose. */
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
     /* A second csfcal on the same store waits a little instead of failing at once. */
     sqlite3_busy_timeout(s->db, 5000);
 
