@@ -76,6 +76,21 @@ double csf_geometry_nyquist_cpd(const csf_geometry *g, double ecc_deg, double po
                                 double orientation_deg);
 double csf_geometry_nyquist_cpd_any(const csf_geometry *g, double ecc_deg, double polar_deg);
 
+/* Nyquist limit (cpd) at the screen point (x_mm, y_mm) of a patch centred at (ecc, polar);
+ * orientation_deg < 0 means the minimum over orientations. Used to check a whole patch. */
+double csf_geometry_nyquist_at(const csf_geometry *g, double ecc_deg, double polar_deg,
+                               double x_mm, double y_mm, double orientation_deg);
+
+/* Direction vectors (unit, from the eye) of the patch centre c and its tangent basis h (right),
+ * v (up) — the uniforms of the presenter's shader. */
+void csf_geometry_centre_basis(const csf_geometry *g, double ecc_deg, double polar_deg,
+                               double c[3], double h[3], double v[3]);
+
+/* Moves a centre direction by dist_deg along the great circle leaving it in direction dir_deg
+ * (polar convention in its tangent plane); writes the new (ecc, polar). */
+void csf_geometry_move(const csf_geometry *g, double ecc_deg, double polar_deg, double dir_deg,
+                       double dist_deg, double *ecc_out, double *polar_out);
+
 /* Local pixels per degree along the radial and tangential directions at (ecc, polar). */
 void csf_geometry_px_per_deg(const csf_geometry *g, double ecc_deg, double polar_deg,
                              double *radial, double *tangential);

@@ -1,2 +1,1151 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_presenter;
+/* Stimulus presenter: GL context (EGL surfaceless or GLFW+EGL window), the luminance shader,
+ * validation, frame timing and trials. See presenter.h for the pipeline and the contract. */
+#define GL_GLEXT_PROTOTYPES 1
+#include "stimuli/presenter.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <cairo.h>
+#include <dlfcn.h>
+#include <link.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "results/rng.h"
+#include "stimuli/gamma_guard.h"
+
+#define DEG (M_PI / 180.0)
+#define INV_TABLE_N 4096
+#define RNG_STREAM_MISS 0x6d697373ULL /* "miss" */
+#define MAX_INJECT 64
+
+enum { MODE_BLANK = 0, MODE_GABOR = 1, MODE_GRATING = 2, MODE_IMAGE = 3, MODE_DISC = 4, MODE_TEXT = 5 };
+
+struct csf_presenter {
+    csf_presenter_config cfg;
+    csf_geometry geom;
+    int headless;
+    int rw, rh; /* render size */
+    int bits, maxlevel;
+    double refresh_hz;
+    /* luminance model */
+    csf_display_profile *own_profile;
+    const csf_display_profile *profile;
+    double lum_black, lum_max;
+    double *level_lum; /* maxlevel+1 entries, cd/m2 */
+    char profile_id[128];
+    /* EGL headless */
+    EGLDisplay dpy;
+    EGLContext ctx;
+    /* windowed */
+    GLFWwindow *win;
+    int glfw_inited;
+    /* GL objects */
+    GLuint prog, vao, fbo, color_tex, inv_tex, fwd_tex, img_tex, text_tex;
+    const csf_image *img_uploaded;
+    GLint u[32];
+    /* timing */
+    long frame_index;
+    double t_last, t0_real;
+    int have_frame;
+    struct {
+        long frame;
+        int periods;
+    } inject[MAX_INJECT];
+    int n_inject;
+    double miss_prob;
+    int last_rendered;
+};
+
+enum {
+    U_RENDER, U_SCREEN, U_EYE, U_MODE, U_C, U_H, U_V, U_FIXC, U_FREQ, U_ORIENT, U_PHASE, U_SIGMA,
+    U_RADIUS, U_EDGE, U_CONTRAST, U_MEAN, U_LUMRANGE, U_MAXLEVEL, U_FRAME, U_FIX, U_INV, U_FWD,
+    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_COUNT
+};
+static const char *const uniform_names[U_COUNT] = {
+    "u_render", "u_screen", "u_eye", "u_mode", "u_c", "u_h", "u_v", "u_fixc", "u_freq", "u_orient",
+    "u_phase", "u_sigma", "u_radius", "u_edge", "u_contrast", "u_mean", "u_lumrange", "u_maxlevel",
+    "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean"};
+
+static const char *const vs_src =
+    "#version 330 core\n"
+    "void main() {\n"
+    "  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+    "  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+    "}\n";
+
+/* Every fragment: screen mm -> direction from the eye -> stimulus angle space (azimuthal
+ * equidistant around the patch centre) -> luminance in cd/m2 -> level via the profile tables. */
+static const char *const fs_src =
+    "#version 330 core\n"
+    "out vec4 o;\n"
+    "uniform vec2 u_render, u_screen;\n"
+    "uniform vec3 u_eye, u_c, u_h, u_v, u_fixc;\n"
+    "uniform int u_mode, u_fix, u_maxlevel, u_dither;\n"
+    "uniform float u_freq, u_phase, u_sigma, u_radius, u_edge, u_contrast, u_mean, u_imgmean;\n"
+    "uniform vec2 u_orient, u_lumrange;\n"
+    "uniform uint u_frame;\n"
+    "uniform sampler2D u_inv, u_fwd, u_img, u_text;\n"
+    "const float RAD2DEG = 57.29577951308232;\n"
+    "vec2 local_uv(vec3 d, vec3 c, vec3 h, vec3 v) {\n"
+    "  float a = atan(length(cross(d, c)), dot(d, c));\n"
+    "  vec2 xy = vec2(dot(d, h), dot(d, v));\n"
+    "  float s = length(xy);\n"
+    "  return (s > 1e-12 ? a / s : 1.0) * xy * RAD2DEG;\n"
+    "}\n"
+    "float window(float r) {\n"
+    "  if (r <= u_radius) return 1.0;\n"
+    "  if (r >= u_radius + u_edge) return 0.0;\n"
+    "  return 0.5 + 0.5 * cos(3.141592653589793 * (r - u_radius) / u_edge);\n"
+    "}\n"
+    "void main() {\n"
+    "  vec2 pmm = (gl_FragCoord.xy / u_render - 0.5) * u_screen;\n"
+    "  vec3 d = normalize(vec3(pmm - u_eye.xy, -u_eye.z));\n"
+    "  float L = u_mean;\n"
+    "  if (u_mode == 1 || u_mode == 2) {\n"
+    "    vec2 uv = local_uv(d, u_c, u_h, u_v);\n"
+    "    float w = dot(uv, u_orient);\n"
+    "    float carrier = cos(6.283185307179586 * u_freq * w + u_phase);\n"
+    "    float env = (u_mode == 1) ? exp(-dot(uv, uv) / (2.0 * u_sigma * u_sigma)) : window(length(uv));\n"
+    "    L = u_mean * (1.0 + u_contrast * env * carrier);\n"
+    "  } else if (u_mode == 4) {\n"
+    "    vec2 uv = local_uv(d, u_c, u_h, u_v);\n"
+    "    L = u_mean * (1.0 + u_contrast * window(length(uv)));\n"
+    "  } else if (u_mode == 3) {\n"
+    "    vec2 uv = local_uv(d, u_c, u_h, u_v);\n"
+    "    vec2 isz = vec2(textureSize(u_img, 0));\n"
+    "    vec2 half_deg = vec2(u_radius, u_radius * isz.y / isz.x);\n"
+    "    vec2 tc = vec2(0.5 + 0.5 * uv.x / half_deg.x, 0.5 - 0.5 * uv.y / half_deg.y);\n"
+    "    if (all(greaterThanEqual(tc, vec2(0.0))) && all(lessThanEqual(tc, vec2(1.0)))) {\n"
+    "      vec2 la = texture(u_img, tc).rg;\n"
+    "      float li = u_mean * (1.0 + u_contrast * (la.r - u_imgmean) / max(u_imgmean, 1e-3));\n"
+    "      L = mix(u_mean, li, la.g);\n"
+    "    }\n"
+    "  } else if (u_mode == 5) {\n"
+    "    float cov = texture(u_text, vec2(gl_FragCoord.x / u_render.x, 1.0 - gl_FragCoord.y / u_render.y)).r;\n"
+    "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
+    "  }\n"
+    "  if (u_fix != 0) {\n"
+    "    float a = atan(length(cross(d, u_fixc)), dot(d, u_fixc)) * RAD2DEG;\n"
+    "    if (a < 0.12) L = u_lumrange.x + 0.1 * (u_mean - u_lumrange.x);\n"
+    "  }\n"
+    /* luminance -> level k and probability p of k+1, exact in expectation */
+    "  float ln = clamp((L - u_lumrange.x) / (u_lumrange.y - u_lumrange.x), 0.0, 1.0);\n"
+    "  float n = float(textureSize(u_inv, 0).x);\n"
+    "  float drive = texture(u_inv, vec2((ln * (n - 1.0) + 0.5) / n, 0.5)).r;\n"
+    "  int k = clamp(int(floor(drive * float(u_maxlevel))), 0, u_maxlevel - 1);\n"
+    "  for (int i = 0; i < 8 && k > 0 && ln < texelFetch(u_fwd, ivec2(k, 0), 0).r; i++) k--;\n"
+    "  for (int i = 0; i < 8 && k < u_maxlevel - 1 && ln > texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; i++) k++;\n"
+    "  float lk = texelFetch(u_fwd, ivec2(k, 0), 0).r, lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r;\n"
+    "  float p = clamp((ln - lk) / max(lk1 - lk, 1e-9), 0.0, 1.0);\n"
+    "  float level;\n"
+    "  if (u_dither == 1) {\n"
+    "    level = float(k) + (p >= 0.5 ? 1.0 : 0.0);\n"
+    "  } else {\n"
+    /* R2 low-discrepancy mask in 32-bit integer arithmetic (exact fract), golden-ratio step per frame */
+    "    uvec2 q = uvec2(gl_FragCoord.xy);\n"
+    "    uint hsh = q.x * 3242174889u + q.y * 2447445414u + u_frame * 2654435769u;\n"
+    "    float thr = (float(hsh >> 8) + 0.5) / 16777216.0;\n"
+    "    level = float(k) + (thr < p ? 1.0 : 0.0);\n"
+    "  }\n"
+    "  o = vec4(vec3(level / float(u_maxlevel)), 1.0);\n"
+    "}\n";
+
+static double now_monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+void csf_presenter_config_defaults(csf_presenter_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->headless = 1;
+    cfg->refresh_hz = 60.0;
+    cfg->framebuffer_bits = 8;
+    cfg->seed = 1;
+    csf_geometry_init(&cfg->geometry, 531.0, 299.0, 1920, 1080, 570.0, 0.0, 0.0, NULL);
+}
+
+/* ---------------- luminance model ---------------- */
+
+static double fwd_lum(const csf_presenter *p, double drive01)
+{
+    if (p->cfg.grey_lum_fn) return p->cfg.grey_lum_fn(p->cfg.grey_lum_ctx, drive01);
+    return csf_profile_grey_lum(p->profile, drive01);
+}
+
+static double inv_drive(const csf_presenter *p, double lum)
+{
+    if (!p->cfg.grey_lum_fn) return csf_profile_grey_drive(p->profile, lum);
+    double lo = 0.0, hi = 1.0;
+    if (lum <= p->lum_black) return 0.0;
+    if (lum >= p->lum_max) return 1.0;
+    for (int i = 0; i < 50; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (fwd_lum(p, mid) < lum) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+static csf_status setup_luminance(csf_presenter *p, csf_error *err)
+{
+    if (!p->cfg.grey_lum_fn) {
+        if (p->cfg.profile) {
+            p->profile = p->cfg.profile;
+            snprintf(p->profile_id, sizeof p->profile_id, "%s", csf_profile_id(p->profile));
+        } else {
+            p->own_profile = csf_profile_default();
+            if (!p->own_profile) return csf_error_set(err, CSF_E_NOMEM, "out of memory (default profile)");
+            p->profile = p->own_profile;
+            snprintf(p->profile_id, sizeof p->profile_id, "%s (default display, no profile given)",
+                     csf_profile_id(p->profile));
+        }
+    } else {
+        snprintf(p->profile_id, sizeof p->profile_id, "custom-luminance-function");
+    }
+    p->lum_black = fwd_lum(p, 0.0);
+    p->lum_max = fwd_lum(p, 1.0);
+    if (!(p->lum_max > p->lum_black) || !isfinite(p->lum_max) || p->lum_black < 0)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "display luminance range [%g, %g] cd/m2 is not increasing",
+                             p->lum_black, p->lum_max);
+    p->level_lum = malloc(sizeof(double) * (size_t)(p->maxlevel + 1));
+    if (!p->level_lum) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (int k = 0; k <= p->maxlevel; k++) p->level_lum[k] = fwd_lum(p, (double)k / p->maxlevel);
+    for (int k = 1; k <= p->maxlevel; k++)
+        if (!(p->level_lum[k] >= p->level_lum[k - 1]))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "display luminance decreases between levels %d and %d "
+                                 "(%g > %g cd/m2); the profile must be monotone",
+                                 k - 1, k, p->level_lum[k - 1], p->level_lum[k]);
+    return CSF_OK;
+}
+
+/* ---------------- GL setup ---------------- */
+
+static csf_status gl_compile(GLenum type, const char *src, GLuint *out, csf_error *err)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[400];
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        glDeleteShader(s);
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "shader compile failed: %s", log);
+    }
+    *out = s;
+    return CSF_OK;
+}
+
+static csf_status gl_setup(csf_presenter *p, csf_error *err)
+{
+    GLuint vs, fs;
+    csf_status st = gl_compile(GL_VERTEX_SHADER, vs_src, &vs, err);
+    if (st) return st;
+    st = gl_compile(GL_FRAGMENT_SHADER, fs_src, &fs, err);
+    if (st) {
+        glDeleteShader(vs);
+        return st;
+    }
+    p->prog = glCreateProgram();
+    glAttachShader(p->prog, vs);
+    glAttachShader(p->prog, fs);
+    glLinkProgram(p->prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(p->prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[400];
+        glGetProgramInfoLog(p->prog, sizeof log, NULL, log);
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "shader link failed: %s", log);
+    }
+    for (int i = 0; i < U_COUNT; i++) p->u[i] = glGetUniformLocation(p->prog, uniform_names[i]);
+    glGenVertexArrays(1, &p->vao);
+
+    /* offscreen colour target: both back ends render here, the window gets a blit */
+    glGenTextures(1, &p->color_tex);
+    glBindTexture(GL_TEXTURE_2D, p->color_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, p->bits == 10 ? GL_RGB10_A2 : GL_RGBA8, p->rw, p->rh, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glGenFramebuffers(1, &p->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->color_tex, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "offscreen framebuffer %dx%d at %d bits is not supported", p->rw, p->rh,
+                             p->bits);
+
+    /* inverse profile: drive as a function of normalised luminance */
+    float *tab = malloc(sizeof(float) * (INV_TABLE_N > p->maxlevel + 1 ? INV_TABLE_N : p->maxlevel + 1));
+    if (!tab) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    double range = p->lum_max - p->lum_black;
+    for (int i = 0; i < INV_TABLE_N; i++)
+        tab[i] = (float)inv_drive(p, p->lum_black + range * i / (INV_TABLE_N - 1));
+    glGenTextures(1, &p->inv_tex);
+    glBindTexture(GL_TEXTURE_2D, p->inv_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, INV_TABLE_N, 1, 0, GL_RED, GL_FLOAT, tab);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    /* forward levels: normalised luminance of each framebuffer level */
+    for (int k = 0; k <= p->maxlevel; k++) tab[k] = (float)((p->level_lum[k] - p->lum_black) / range);
+    glGenTextures(1, &p->fwd_tex);
+    glBindTexture(GL_TEXTURE_2D, p->fwd_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, p->maxlevel + 1, 1, 0, GL_RED, GL_FLOAT, tab);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    free(tab);
+    glGenTextures(1, &p->img_tex);
+    glGenTextures(1, &p->text_tex);
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "OpenGL setup failed (float textures?)");
+    return CSF_OK;
+}
+
+/* Marks the loaded Mesa/LLVM driver modules as never-unloaded. eglTerminate would otherwise
+ * dlclose them, and the driver's own leftover allocations would then appear in leak reports with
+ * no module name, so they could not be told apart from ours (tests/lsan.supp matches by module).
+ * Keeping a driver resident for the life of the process costs nothing. */
+static int pin_module(struct dl_phdr_info *info, size_t size, void *data)
+{
+    (void)size;
+    (void)data;
+    const char *n = info->dlpi_name;
+    if (n && *n && (strstr(n, "_dri.so") || strstr(n, "libLLVM") || strstr(n, "libgallium") ||
+                    strstr(n, "libEGL_mesa") || strstr(n, "libglapi"))) {
+        void *h = dlopen(n, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        if (h) dlclose(h);
+    }
+    return 0;
+}
+
+static csf_status egl_open(csf_presenter *p, csf_error *err)
+{
+    PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display =
+        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
+    if (get_platform_display)
+        p->dpy = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    if (p->dpy == EGL_NO_DISPLAY)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "no EGL surfaceless display (Mesa EGL_MESA_platform_surfaceless needed "
+                             "for --headless)");
+    EGLint major, minor;
+    if (!eglInitialize(p->dpy, &major, &minor)) {
+        p->dpy = EGL_NO_DISPLAY;
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "eglInitialize failed on the surfaceless platform");
+    }
+    if (!eglBindAPI(EGL_OPENGL_API))
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "EGL cannot bind the desktop OpenGL API");
+    static const EGLint versions[][2] = {{4, 5}, {3, 3}};
+    for (int i = 0; i < 2 && p->ctx == EGL_NO_CONTEXT; i++) {
+        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
+                         versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        p->ctx = eglCreateContext(p->dpy, (EGLConfig)0 /* EGL_NO_CONFIG_KHR */, EGL_NO_CONTEXT, attr);
+    }
+    if (p->ctx == EGL_NO_CONTEXT)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "cannot create an OpenGL 4.5 or 3.3 core context through EGL (0x%x)",
+                             (unsigned)eglGetError());
+    if (!eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, p->ctx))
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "eglMakeCurrent without a surface failed");
+    dl_iterate_phdr(pin_module, NULL);
+    return CSF_OK;
+}
+
+static GLFWmonitor *pick_monitor(const char *spec, csf_error *err)
+{
+    int n = 0;
+    GLFWmonitor **mons = glfwGetMonitors(&n);
+    if (n <= 0) {
+        csf_error_set(err, CSF_E_UNSUPPORTED, "no monitor found for a fullscreen window");
+        return NULL;
+    }
+    if (!spec || !*spec) return glfwGetPrimaryMonitor();
+    char *end;
+    long idx = strtol(spec, &end, 10);
+    if (*end == '\0') {
+        if (idx < 0 || idx >= n) {
+            csf_error_set(err, CSF_E_INVALID_ARG, "--monitor %ld: there are %d monitors (0 to %d)",
+                          idx, n, n - 1);
+            return NULL;
+        }
+        return mons[idx];
+    }
+    for (int i = 0; i < n; i++) {
+        const char *name = glfwGetMonitorName(mons[i]);
+        if (name && strstr(name, spec)) return mons[i];
+    }
+    csf_error_set(err, CSF_E_NOT_FOUND, "--monitor '%s': no monitor with that name among %d", spec, n);
+    return NULL;
+}
+
+static csf_status window_open(csf_presenter *p, csf_error *err)
+{
+    if (!glfwInit()) {
+        const char *d = NULL;
+        glfwGetError(&d);
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "GLFW could not start (%s); use --headless",
+                             d ? d : "no display");
+    }
+    p->glfw_inited = 1;
+    GLFWmonitor *mon = pick_monitor(p->cfg.monitor, err);
+    if (!mon) return err ? err->code : CSF_E_UNSUPPORTED;
+    const GLFWvidmode *mode = glfwGetVideoMode(mon);
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_RED_BITS, p->bits);
+    glfwWindowHint(GLFW_GREEN_BITS, p->bits);
+    glfwWindowHint(GLFW_BLUE_BITS, p->bits);
+    glfwWindowHint(GLFW_REFRESH_RATE, mode ? mode->refreshRate : GLFW_DONT_CARE);
+    glfwWindowHint(GLFW_AUTO_ICONIFY, GLFW_FALSE);
+    int w = mode ? mode->width : p->geom.width_px, h = mode ? mode->height : p->geom.height_px;
+    p->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
+    if (!p->win && p->bits == 10) { /* 10-bit refused: fall back to 8 and say so via bits */
+        p->bits = 8;
+        p->maxlevel = 255;
+        glfwWindowHint(GLFW_RED_BITS, 8);
+        glfwWindowHint(GLFW_GREEN_BITS, 8);
+        glfwWindowHint(GLFW_BLUE_BITS, 8);
+        p->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
+    }
+    if (!p->win) {
+        const char *d = NULL;
+        glfwGetError(&d);
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "cannot open a fullscreen OpenGL 3.3 window through EGL (%s)",
+                             d ? d : "unknown");
+    }
+    glfwMakeContextCurrent(p->win);
+    glfwSwapInterval(1);
+    glfwSetInputMode(p->win, GLFW_CURSOR, GLFW_CURSOR_HIDDEN);
+    int fw, fh;
+    glfwGetFramebufferSize(p->win, &fw, &fh);
+    if (fw != p->geom.width_px || fh != p->geom.height_px)
+        fprintf(stderr,
+                "csfcal: warning: the window is %dx%d px but the configuration says %dx%d px; "
+                "drawing at the window size with the configured size in mm\n",
+                fw, fh, p->geom.width_px, p->geom.height_px);
+    p->rw = fw;
+    p->rh = fh;
+    if (mode && p->cfg.refresh_hz <= 0) p->refresh_hz = mode->refreshRate;
+    csf_error gerr;
+    if (csf_gamma_guard_install(mon, &gerr) != CSF_OK)
+        fprintf(stderr, "csfcal: warning: %s\n", gerr.msg);
+    return CSF_OK;
+}
+
+csf_status csf_presenter_open(const csf_presenter_config *cfg, csf_presenter **out, csf_error *err)
+{
+    /* One small shader: Mesa's on-disk shader cache buys nothing, and its background thread
+     * outlives the context and crashes LeakSanitizer's stop-the-world at exit. The user's own
+     * setting wins. */
+    setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+    if (!cfg || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "presenter: NULL argument");
+    *out = NULL;
+    csf_geometry chk;
+    const csf_geometry *g = &cfg->geometry;
+    csf_status st = csf_geometry_init(&chk, g->width_mm, g->height_mm, g->width_px, g->height_px,
+                                      g->distance_mm, g->eye_x_mm, g->eye_y_mm, err);
+    if (st) return st;
+    double hz = cfg->refresh_hz == 0 ? 60.0 : cfg->refresh_hz;
+    if (!(hz >= 20 && hz <= 1000))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "refresh rate %g Hz is outside 20 to 1000 Hz", hz);
+    int bits = cfg->framebuffer_bits == 0 ? 8 : cfg->framebuffer_bits;
+    if (bits != 8 && bits != 10)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "framebuffer depth %d bits: only 8 or 10", bits);
+    if (cfg->render_width_px < 0 || cfg->render_height_px < 0 || cfg->render_width_px > 16384 ||
+        cfg->render_height_px > 16384)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "render size %dx%d is outside 0 to 16384 px",
+                             cfg->render_width_px, cfg->render_height_px);
+    if (cfg->dither < 0 || cfg->dither > CSF_DITHER_BITSTEAL)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "dither mode %d is unknown", cfg->dither);
+    if (cfg->dither == CSF_DITHER_BITSTEAL)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "bit-stealing is not implemented in this build; the default noise "
+                             "dither already reaches more than 12 bits (see docs/stimuli.md)");
+    csf_presenter *p = calloc(1, sizeof *p);
+    if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    p->cfg = *cfg;
+    p->geom = chk;
+    p->headless = cfg->headless;
+    p->refresh_hz = hz;
+    p->bits = bits;
+    p->maxlevel = (1 << bits) - 1;
+    p->dpy = EGL_NO_DISPLAY;
+    p->ctx = EGL_NO_CONTEXT;
+    p->rw = cfg->render_width_px ? cfg->render_width_px : chk.width_px;
+    p->rh = cfg->render_height_px ? cfg->render_height_px : chk.height_px;
+    st = setup_luminance(p, err);
+    if (!st) st = p->headless ? egl_open(p, err) : window_open(p, err);
+    if (!st) st = gl_setup(p, err);
+    if (st) {
+        csf_presenter_close(p);
+        return st;
+    }
+    *out = p;
+    return CSF_OK;
+}
+
+void csf_presenter_close(csf_presenter *p)
+{
+    if (!p) return;
+    int current = p->win ? 1 : (p->ctx != EGL_NO_CONTEXT);
+    if (current && p->prog) {
+        glDeleteProgram(p->prog);
+        glDeleteVertexArrays(1, &p->vao);
+        glDeleteFramebuffers(1, &p->fbo);
+        GLuint t[5] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex};
+        glDeleteTextures(5, t);
+    }
+    if (p->ctx != EGL_NO_CONTEXT) {
+        eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(p->dpy, p->ctx);
+    }
+    if (p->dpy != EGL_NO_DISPLAY) eglTerminate(p->dpy);
+    if (p->win) glfwDestroyWindow(p->win);
+    if (p->glfw_inited) {
+        csf_gamma_guard_restore();
+        glfwTerminate();
+    }
+    csf_profile_free(p->own_profile);
+    free(p->level_lum);
+    free(p);
+}
+
+/* ---------------- validation ---------------- */
+
+static double stim_extent_deg(const csf_stimulus *s)
+{
+    double edge = s->edge_deg > 0 ? s->edge_deg : 0.25;
+    double radius = s->radius_deg > 0 ? s->radius_deg : 2.0;
+    switch (s->kind) {
+    case CSF_STIM_GABOR: return 3.0 * s->sigma_deg; /* envelope below 1.2 % beyond */
+    case CSF_STIM_GRATING:
+    case CSF_STIM_DISC: return radius + edge;
+    case CSF_STIM_IMAGE: {
+        double r = radius;
+        if (s->image && s->image->width > 0)
+            r = hypot(radius, radius * s->image->height / (double)s->image->width);
+        return r;
+    }
+    default: return 0;
+    }
+}
+
+static double mean_lum_of(const csf_presenter *p, const csf_stimulus *s)
+{
+    return s && s->mean_lum_cdm2 > 0 ? s->mean_lum_cdm2 : 0.5 * (p->lum_black + p->lum_max);
+}
+
+/* Centre of the patch at the stimulus' own time_s (motion applied). */
+static void stim_centre(const csf_presenter *p, const csf_stimulus *s, double *ecc, double *polar)
+{
+    *ecc = s->ecc_deg;
+    *polar = s->polar_deg;
+    if (s->velocity_dps != 0 && s->time_s != 0)
+        csf_geometry_move(&p->geom, s->ecc_deg, s->polar_deg, s->motion_dir_deg,
+                          s->velocity_dps * s->time_s, ecc, polar);
+}
+
+csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_error *err)
+{
+    if (!p || !s) return csf_error_set(err, CSF_E_INVALID_ARG, "validate: NULL argument");
+    if (s->kind < CSF_STIM_GABOR || s->kind > CSF_STIM_DISC)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "stimulus kind %d is unknown (1 to 4)", s->kind);
+    const double nums[] = {s->freq_cpd, s->orientation_deg, s->phase_deg, s->sigma_deg, s->ecc_deg,
+                           s->polar_deg, s->contrast, s->mean_lum_cdm2, s->drift_hz,
+                           s->velocity_dps, s->motion_dir_deg, s->radius_deg, s->edge_deg,
+                           s->time_s};
+    for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
+        if (!isfinite(nums[i]))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "stimulus has a non-finite parameter");
+    if (!(s->contrast >= 0 && s->contrast <= 1))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "contrast %g is outside 0 to 1 (Michelson)",
+                             s->contrast);
+    if (!(s->ecc_deg >= 0 && s->ecc_deg < 90))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "eccentricity %g deg is outside 0 to 90 deg",
+                             s->ecc_deg);
+    if ((s->kind == CSF_STIM_GABOR || s->kind == CSF_STIM_GRATING) &&
+        !(s->freq_cpd > 0 && s->freq_cpd <= 1000))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "spatial frequency %g cpd is outside (0, 1000]",
+                             s->freq_cpd);
+    if (s->kind == CSF_STIM_GABOR && !(s->sigma_deg >= 0.02 && s->sigma_deg <= 30))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "Gabor sigma %g deg is outside 0.02 to 30 deg",
+                             s->sigma_deg);
+    if (s->radius_deg < 0 || s->radius_deg > 80 || s->edge_deg < 0 || s->edge_deg > 30)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "radius %g deg / edge %g deg outside 0 to 80 / 0 to 30 deg",
+                             s->radius_deg, s->edge_deg);
+    if (s->kind == CSF_STIM_IMAGE && (!s->image || !s->image->lum))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "image stimulus without an image");
+    if (fabs(s->drift_hz) > 0.5 * p->refresh_hz)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "drift %g Hz exceeds the temporal Nyquist limit %g Hz (half the "
+                             "refresh rate)", s->drift_hz, 0.5 * p->refresh_hz);
+    if (fabs(s->velocity_dps) > 1000)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "velocity %g deg/s is outside +-1000 deg/s",
+                             s->velocity_dps);
+    double mean = mean_lum_of(p, s);
+    double lo = s->kind == CSF_STIM_DISC ? mean * (1 + fmin(0.0, s->contrast)) : mean * (1 - s->contrast);
+    double hi = s->kind == CSF_STIM_DISC ? mean * (1 + s->contrast) : mean * (1 + s->contrast);
+    if (lo < p->lum_black - 1e-9 || hi > p->lum_max + 1e-9)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "luminance %.4g to %.4g cd/m2 (mean %.4g, contrast %.4g) is outside the "
+                             "display's range %.4g to %.4g cd/m2",
+                             lo, hi, mean, s->contrast, p->lum_black, p->lum_max);
+
+    double ecc, polar;
+    stim_centre(p, s, &ecc, &polar);
+    if (!(ecc < 89.0))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "stimulus centre at %.3g deg is off-screen", ecc);
+    double extent = stim_extent_deg(s);
+    double cx, cy;
+    double reach = csf_geometry_max_ecc(&p->geom, polar);
+    if (!csf_geometry_deg_to_mm(&p->geom, ecc, polar, &cx, &cy) || !csf_geometry_on_screen(&p->geom, cx, cy))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "stimulus centre at eccentricity %.3g deg, polar angle %.3g deg is "
+                             "off-screen: the screen reaches %.3g deg in that direction",
+                             ecc, polar, reach);
+    /* ring of points at the patch extent: all must be on screen */
+    const int nring = 24;
+    for (int i = 0; i < nring; i++) {
+        double dir = 360.0 * i / nring, e2, p2, x, y;
+        csf_geometry_move(&p->geom, ecc, polar, dir, extent, &e2, &p2);
+        if (!csf_geometry_deg_to_mm(&p->geom, e2, p2, &x, &y) || !csf_geometry_on_screen(&p->geom, x, y))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "stimulus at eccentricity %.3g deg, polar angle %.3g deg with "
+                                 "radius %.3g deg leaves the screen: the screen reaches %.3g deg "
+                                 "in that direction, so the largest eccentricity for this patch "
+                                 "there is about %.3g deg",
+                                 ecc, polar, extent, reach, fmax(0.0, reach - extent));
+    }
+    if (s->kind == CSF_STIM_GABOR || s->kind == CSF_STIM_GRATING) {
+        double worst = INFINITY, worst_ecc = ecc;
+        for (int ring = 0; ring <= 2; ring++) {
+            int n = ring == 0 ? 1 : nring;
+            for (int i = 0; i < n; i++) {
+                double e2 = ecc, p2 = polar, x, y;
+                if (ring) csf_geometry_move(&p->geom, ecc, polar, 360.0 * i / n, extent * ring / 2.0, &e2, &p2);
+                if (!csf_geometry_deg_to_mm(&p->geom, e2, p2, &x, &y)) continue;
+                double ny = csf_geometry_nyquist_at(&p->geom, ecc, polar, x, y, s->orientation_deg);
+                if (ny < worst) {
+                    worst = ny;
+                    worst_ecc = e2;
+                }
+            }
+        }
+        if (s->freq_cpd > worst)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "spatial frequency %.4g cpd exceeds the local Nyquist limit of "
+                                 "%.4g cpd (0.5 cycle/pixel at orientation %.3g deg, eccentricity "
+                                 "%.3g deg inside the patch); lower the frequency or increase the "
+                                 "viewing distance",
+                                 s->freq_cpd, worst, s->orientation_deg, worst_ecc);
+    }
+    return CSF_OK;
+}
+
+/* ---------------- drawing ---------------- */
+
+static void set_common_uniforms(csf_presenter *p)
+{
+    glUseProgram(p->prog);
+    glUniform2f(p->u[U_RENDER], (float)p->rw, (float)p->rh);
+    glUniform2f(p->u[U_SCREEN], (float)p->geom.width_mm, (float)p->geom.height_mm);
+    glUniform3f(p->u[U_EYE], (float)p->geom.eye_x_mm, (float)p->geom.eye_y_mm, (float)p->geom.distance_mm);
+    glUniform2f(p->u[U_LUMRANGE], (float)p->lum_black, (float)p->lum_max);
+    glUniform1i(p->u[U_MAXLEVEL], p->maxlevel);
+    glUniform1i(p->u[U_DITHER], p->cfg.dither == CSF_DITHER_NONE ? 1 : 0);
+    /* per-frame offset: frame index plus a seed-derived start, so runs with different seeds
+     * use different (but reproducible) temporal dither phases */
+    glUniform1ui(p->u[U_FRAME], (GLuint)(p->frame_index + (long)(p->cfg.seed & 0xffff)));
+    double c[3], h[3], v[3];
+    csf_geometry_centre_basis(&p->geom, 0.0, 0.0, c, h, v);
+    glUniform3f(p->u[U_FIXC], (float)c[0], (float)c[1], (float)c[2]);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, p->inv_tex);
+    glUniform1i(p->u[U_INV], 0);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, p->fwd_tex);
+    glUniform1i(p->u[U_FWD], 1);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, p->img_tex);
+    glUniform1i(p->u[U_IMG], 2);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, p->text_tex);
+    glUniform1i(p->u[U_TEXT], 3);
+}
+
+static void upload_image(csf_presenter *p, const csf_image *img)
+{
+    if (p->img_uploaded == img) return;
+    size_t n = (size_t)img->width * img->height;
+    float *rg = malloc(sizeof(float) * 2 * n);
+    if (!rg) return;
+    for (size_t i = 0; i < n; i++) {
+        rg[2 * i] = img->lum[i];
+        rg[2 * i + 1] = img->alpha ? img->alpha[i] : 1.0f;
+    }
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, p->img_tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, img->width, img->height, 0, GL_RG, GL_FLOAT, rg);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    free(rg);
+    p->img_uploaded = img;
+}
+
+static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int text_mode)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    glViewport(0, 0, p->rw, p->rh);
+    set_common_uniforms(p);
+    int mode = MODE_BLANK;
+    double mean = mean_lum_of(p, s);
+    if (text_mode) {
+        mode = MODE_TEXT;
+    } else if (s) {
+        double ecc, polar, c[3], h[3], v[3];
+        stim_centre(p, s, &ecc, &polar);
+        csf_geometry_centre_basis(&p->geom, ecc, polar, c, h, v);
+        glUniform3f(p->u[U_C], (float)c[0], (float)c[1], (float)c[2]);
+        glUniform3f(p->u[U_H], (float)h[0], (float)h[1], (float)h[2]);
+        glUniform3f(p->u[U_V], (float)v[0], (float)v[1], (float)v[2]);
+        double phase = s->phase_deg + 360.0 * s->drift_hz * s->time_s;
+        phase = fmod(phase, 360.0);
+        glUniform1f(p->u[U_FREQ], (float)s->freq_cpd);
+        glUniform2f(p->u[U_ORIENT], (float)cos(s->orientation_deg * DEG), (float)sin(s->orientation_deg * DEG));
+        glUniform1f(p->u[U_PHASE], (float)(phase * DEG));
+        glUniform1f(p->u[U_SIGMA], (float)s->sigma_deg);
+        glUniform1f(p->u[U_RADIUS], (float)(s->radius_deg > 0 ? s->radius_deg : 2.0));
+        glUniform1f(p->u[U_EDGE], (float)(s->edge_deg > 0 ? s->edge_deg : 0.25));
+        glUniform1f(p->u[U_CONTRAST], (float)s->contrast);
+        mode = s->kind == CSF_STIM_GABOR ? MODE_GABOR
+             : s->kind == CSF_STIM_GRATING ? MODE_GRATING
+             : s->kind == CSF_STIM_DISC ? MODE_DISC : MODE_IMAGE;
+        if (mode == MODE_IMAGE) {
+            upload_image(p, s->image);
+            glUniform1f(p->u[U_IMGMEAN], (float)s->image->mean_lum);
+        }
+    }
+    glUniform1f(p->u[U_MEAN], (float)mean);
+    glUniform1i(p->u[U_MODE], mode);
+    glUniform1i(p->u[U_FIX], fixation ? 1 : 0);
+    glBindVertexArray(p->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+static int injected_periods(csf_presenter *p, long frame)
+{
+    int extra = 0;
+    for (int i = 0; i < p->n_inject; i++)
+        if (p->inject[i].frame == frame) extra += p->inject[i].periods;
+    if (p->miss_prob > 0 && csf_rng_uniform(p->cfg.seed, RNG_STREAM_MISS, (uint64_t)frame) < p->miss_prob)
+        extra += 1;
+    return extra;
+}
+
+/* When the next frame will be on screen: exact on the virtual clock (injected misses included),
+ * one period after the last frame in a window (vsync). */
+static double next_frame_time(csf_presenter *p)
+{
+    if (!p->have_frame) return 0.0;
+    if (p->headless) return p->t_last + (1 + injected_periods(p, p->frame_index)) / p->refresh_hz;
+    return p->t_last + 1.0 / p->refresh_hz;
+}
+
+/* Presents the rendered frame (or only the clock when nothing was rendered) and fills fi. */
+static void present(csf_presenter *p, int rendered, csf_frame_info *fi)
+{
+    double t;
+    if (p->headless) {
+        if (rendered) glFinish();
+        t = next_frame_time(p);
+    } else {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, p->fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        glBlitFramebuffer(0, 0, p->rw, p->rh, 0, 0, p->rw, p->rh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glfwSwapBuffers(p->win);
+        glFinish();
+        glfwPollEvents();
+        double now = now_monotonic();
+        if (!p->have_frame) p->t0_real = now;
+        t = now - p->t0_real;
+    }
+    fi->frame_index = p->frame_index;
+    fi->t_s = t;
+    fi->interval_s = p->have_frame ? t - p->t_last : 0.0;
+    fi->missed = p->have_frame && fi->interval_s > 1.5 / p->refresh_hz;
+    fi->rendered = rendered;
+    p->t_last = t;
+    p->have_frame = 1;
+    p->frame_index++;
+    p->last_rendered = rendered;
+}
+
+static int should_render(const csf_presenter *p)
+{
+    if (!p->headless) return 1;
+    int every = p->cfg.render_every;
+    if (every < 0) return 0;
+    if (every <= 1) return 1;
+    return p->frame_index % every == 0;
+}
+
+csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixation,
+                              csf_frame_info *out, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw: NULL presenter");
+    if (s) {
+        csf_status st = csf_presenter_validate(p, s, err);
+        if (st) return st;
+    }
+    if (!p->headless && glfwWindowShouldClose(p->win))
+        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
+    int r = should_render(p);
+    if (r) render(p, s, fixation, 0);
+    csf_frame_info fi;
+    present(p, r, &fi);
+    fi.contrast_shown = s ? s->contrast : 0.0;
+    if (r && glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error while drawing frame %ld",
+                             fi.frame_index);
+    if (out) *out = fi;
+    return CSF_OK;
+}
+
+/* ---------------- envelopes and trials ---------------- */
+
+double csf_envelope_contrast(const csf_envelope *e, double peak, double t)
+{
+    if (!e) return peak;
+    if (t < 0 || t >= e->duration_s) return 0.0;
+    switch (e->kind) {
+    case CSF_ENV_RAISED_COSINE: {
+        double r = e->ramp_s;
+        if (r <= 0) return peak;
+        if (2 * r > e->duration_s) r = 0.5 * e->duration_s;
+        double w = 1.0;
+        if (t < r) w = 0.5 - 0.5 * cos(M_PI * t / r);
+        else if (t > e->duration_s - r) w = 0.5 - 0.5 * cos(M_PI * (e->duration_s - t) / r);
+        return peak * w;
+    }
+    case CSF_ENV_FADE_LOG: {
+        if (e->start_contrast <= 0 || peak <= 0) return peak;
+        double l0 = log10(e->start_contrast), l1 = log10(peak);
+        return pow(10.0, l0 + (l1 - l0) * t / e->duration_s);
+    }
+    default: return peak;
+    }
+}
+
+void csf_trial_record_free(csf_trial_record *r)
+{
+    if (!r) return;
+    free(r->contrast_per_period);
+    free(r->interval_s);
+    r->contrast_per_period = NULL;
+    r->interval_s = NULL;
+}
+
+static int push_d(double **arr, int *n, int *cap, double v)
+{
+    if (*n == *cap) {
+        int nc = *cap ? *cap * 2 : 64;
+        double *a = realloc(*arr, sizeof(double) * (size_t)nc);
+        if (!a) return -1;
+        *arr = a;
+        *cap = nc;
+    }
+    (*arr)[(*n)++] = v;
+    return 0;
+}
+
+csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, const csf_envelope *env,
+                                   int fixation, csf_trial_stop_fn stop, void *stop_ctx,
+                                   csf_trial_record *out, csf_error *err)
+{
+    if (!p || !s || !env || !out)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "run_trial: NULL argument");
+    memset(out, 0, sizeof *out);
+    if (!(env->duration_s > 0 && env->duration_s <= 600))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "trial duration %g s is outside (0, 600] s",
+                             env->duration_s);
+    if (env->kind == CSF_ENV_FADE_LOG && !(env->start_contrast > 0 && env->start_contrast <= s->contrast))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "fade start contrast %g must be in (0, end contrast %g]",
+                             env->start_contrast, s->contrast);
+    /* validate the whole path of a moving patch before showing anything */
+    csf_stimulus st = *s;
+    st.time_s = 0;
+    csf_status rc = csf_presenter_validate(p, &st, err);
+    if (rc) return rc;
+    if (s->velocity_dps != 0) {
+        st.time_s = env->duration_s;
+        rc = csf_presenter_validate(p, &st, err);
+        if (rc) return rc;
+    }
+    double period = 1.0 / p->refresh_hz;
+    out->frames_planned = (int)lround(env->duration_s * p->refresh_hz);
+    int ncap = 0, icap = 0, nper = 0, nint = 0;
+    double onset = 0, last_c = 0, sum = 0, maxc = 0, maxdev = 0;
+    int drawn = 0, missed = 0, stopped = 0;
+    for (;;) {
+        /* predicted time of this frame on the presenter's clock */
+        double t_pred = drawn == 0 ? 0.0 : next_frame_time(p) - onset;
+        if (drawn > 0 && t_pred >= env->duration_s - 0.5 * period) break;
+        st.time_s = t_pred;
+        st.contrast = csf_envelope_contrast(env, s->contrast, t_pred);
+        csf_frame_info fi;
+        rc = csf_presenter_draw(p, &st, fixation, &fi, err);
+        if (rc) goto fail;
+        if (drawn == 0) onset = fi.t_s;
+        else {
+            /* the previous image stayed on screen for this many periods */
+            int held = (int)lround(fi.interval_s * p->refresh_hz);
+            if (held < 1) held = 1;
+            for (int k = 0; k < held; k++)
+                if (push_d(&out->contrast_per_period, &nper, &ncap, last_c)) goto nomem;
+            if (push_d(&out->interval_s, &nint, &icap, fi.interval_s)) goto nomem;
+            if (fi.missed) missed++;
+        }
+        /* what is on screen is what was drawn for this frame's (predicted = actual) time */
+        last_c = st.contrast;
+        drawn++;
+        if (stop && stop(stop_ctx, &(csf_frame_info){fi.frame_index, fi.t_s, fi.interval_s, fi.missed,
+                                                      fi.rendered, last_c})) {
+            stopped = 1;
+            break;
+        }
+    }
+    {
+        /* offset: a blank frame ends the last stimulus frame */
+        csf_frame_info fi;
+        rc = csf_presenter_draw(p, NULL, fixation, &fi, err);
+        if (rc) goto fail;
+        int held = (int)lround(fi.interval_s * p->refresh_hz);
+        if (held < 1) held = 1;
+        for (int k = 0; k < held; k++)
+            if (push_d(&out->contrast_per_period, &nper, &ncap, last_c)) goto nomem;
+        if (push_d(&out->interval_s, &nint, &icap, fi.interval_s)) goto nomem;
+        if (fi.missed) missed++;
+        out->t_end_s = fi.t_s;
+    }
+    for (int j = 0; j < nper; j++) {
+        double c = out->contrast_per_period[j];
+        sum += c;
+        if (c > maxc) maxc = c;
+        double dev = fabs(c - csf_envelope_contrast(env, s->contrast, j * period));
+        if (dev > maxdev) maxdev = dev;
+    }
+    out->frames_shown = nper;
+    out->frames_drawn = drawn + 1;
+    out->frames_missed = missed;
+    out->contrast_shown_mean = nper ? sum / nper : 0;
+    out->contrast_shown_max = maxc;
+    out->contrast_shown_last = last_c;
+    out->max_abs_deviation = maxdev;
+    out->t_onset_s = onset;
+    out->stopped_by_callback = stopped;
+    out->flags[0] = '\0';
+    if (missed > 0) {
+        out->deviated = 1;
+        snprintf(out->flags, sizeof out->flags, "missed_frames");
+    }
+    /* relative deviation against the planned contrast of the same period */
+    for (int j = 0; j < nper; j++) {
+        double planned = csf_envelope_contrast(env, s->contrast, j * period);
+        double c = out->contrast_per_period[j];
+        if (fabs(c - planned) > 0.01 * fmax(planned, 1e-6) && (planned > 0 || c > 0)) {
+            /* the last planned period may legitimately be cut by a response */
+            out->deviated = 1;
+            size_t L = strlen(out->flags);
+            snprintf(out->flags + L, sizeof out->flags - L, "%scontrast_dev", L ? "," : "");
+            break;
+        }
+    }
+    if (!stopped && nper != out->frames_planned) {
+        out->deviated = 1;
+        size_t L = strlen(out->flags);
+        snprintf(out->flags + L, sizeof out->flags - L, "%sduration", L ? "," : "");
+    }
+    return CSF_OK;
+nomem:
+    rc = csf_error_set(err, CSF_E_NOMEM, "out of memory recording a trial");
+fail:
+    csf_trial_record_free(out);
+    return rc;
+}
+
+csf_status csf_presenter_inject_missed(csf_presenter *p, long frame_index, int periods, csf_error *err)
+{
+    if (!p->headless)
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "missed frames can only be injected headless");
+    if (periods < 1 || periods > 1000)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "injected delay %d periods is outside 1 to 1000", periods);
+    if (p->n_inject >= MAX_INJECT)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "at most %d injected missed frames", MAX_INJECT);
+    p->inject[p->n_inject].frame = frame_index;
+    p->inject[p->n_inject].periods = periods;
+    p->n_inject++;
+    return CSF_OK;
+}
+
+void csf_presenter_set_miss_rate(csf_presenter *p, double probability)
+{
+    if (p && p->headless) p->miss_prob = probability < 0 ? 0 : probability > 1 ? 1 : probability;
+}
+
+/* ---------------- readback and properties ---------------- */
+
+void csf_presenter_render_size(const csf_presenter *p, int *w, int *h)
+{
+    if (w) *w = p->rw;
+    if (h) *h = p->rh;
+}
+
+int csf_presenter_bits(const csf_presenter *p) { return p->bits; }
+
+csf_status csf_presenter_readback_levels(csf_presenter *p, uint16_t *rgb, csf_error *err)
+{
+    if (!p || !rgb) return csf_error_set(err, CSF_E_INVALID_ARG, "readback: NULL argument");
+    if (!p->last_rendered)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "readback: the last frame was not rasterised (render_every)");
+    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    size_t row = (size_t)p->rw * 3;
+    uint16_t *tmp = malloc(sizeof(uint16_t) * row * (size_t)p->rh);
+    if (!tmp) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    glReadPixels(0, 0, p->rw, p->rh, GL_RGB, GL_UNSIGNED_SHORT, tmp);
+    for (int y = 0; y < p->rh; y++) {
+        const uint16_t *src = tmp + (size_t)(p->rh - 1 - y) * row;
+        uint16_t *dst = rgb + (size_t)y * row;
+        for (size_t i = 0; i < row; i++)
+            dst[i] = (uint16_t)((src[i] * (uint32_t)p->maxlevel + 32767u) / 65535u);
+    }
+    free(tmp);
+    if (glGetError() != GL_NO_ERROR) return csf_error_set(err, CSF_E_DEVICE, "glReadPixels failed");
+    return CSF_OK;
+}
+
+csf_status csf_presenter_readback_rgb8(csf_presenter *p, unsigned char *rgb, csf_error *err)
+{
+    size_t n = (size_t)p->rw * p->rh * 3;
+    uint16_t *lv = malloc(sizeof(uint16_t) * n);
+    if (!lv) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    csf_status st = csf_presenter_readback_levels(p, lv, err);
+    if (!st)
+        for (size_t i = 0; i < n; i++)
+            rgb[i] = (unsigned char)((lv[i] * 255u + (unsigned)p->maxlevel / 2) / (unsigned)p->maxlevel);
+    free(lv);
+    return st;
+}
+
+double csf_presenter_level_lum(const csf_presenter *p, int level)
+{
+    if (level < 0) level = 0;
+    if (level > p->maxlevel) level = p->maxlevel;
+    return p->level_lum[level];
+}
+
+void csf_presenter_lum_range(const csf_presenter *p, double *black, double *max)
+{
+    if (black) *black = p->lum_black;
+    if (max) *max = p->lum_max;
+}
+
+const char *csf_presenter_profile_id(const csf_presenter *p) { return p->profile_id; }
+const csf_geometry *csf_presenter_geometry(const csf_presenter *p) { return &p->geom; }
+double csf_presenter_refresh_hz(const csf_presenter *p) { return p->refresh_hz; }
+
+double csf_presenter_time(const csf_presenter *p)
+{
+    if (p->headless || !p->have_frame) return p->have_frame ? p->t_last : 0.0;
+    return now_monotonic() - p->t0_real;
+}
+
+void *csf_presenter_window(csf_presenter *p) { return p ? (void *)p->win : NULL; }
+
+void csf_presenter_show_cursor(csf_presenter *p, int show)
+{
+    if (p && p->win)
+        glfwSetInputMode(p->win, GLFW_CURSOR, show ? GLFW_CURSOR_NORMAL : GLFW_CURSOR_HIDDEN);
+}
+
+csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_error *err)
+{
+    if (!p || !text) return csf_error_set(err, CSF_E_INVALID_ARG, "text screen: NULL argument");
+    cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_A8, p->rw, p->rh);
+    if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(surf);
+        return csf_error_set(err, CSF_E_NOMEM, "cairo could not create a %dx%d text surface", p->rw, p->rh);
+    }
+    cairo_t *cr = cairo_create(surf);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    double size = p->rh / 30.0;
+    if (size < 8) size = 8;
+    cairo_set_font_size(cr, size);
+    cairo_set_source_rgba(cr, 0, 0, 0, 1);
+    /* count lines, then draw each centred */
+    int nlines = 1;
+    for (const char *c = text; *c; c++) nlines += *c == '\n';
+    double lh = size * 1.4, y0 = 0.5 * p->rh - 0.5 * lh * (nlines - 1);
+    const char *line = text;
+    for (int i = 0; i < nlines; i++) {
+        const char *nl = strchr(line, '\n');
+        size_t len = nl ? (size_t)(nl - line) : strlen(line);
+        char buf[512];
+        if (len >= sizeof buf) len = sizeof buf - 1;
+        memcpy(buf, line, len);
+        buf[len] = '\0';
+        cairo_text_extents_t ext;
+        cairo_text_extents(cr, buf, &ext);
+        cairo_move_to(cr, 0.5 * p->rw - (ext.width / 2 + ext.x_bearing), y0 + i * lh);
+        cairo_show_text(cr, buf);
+        line = nl ? nl + 1 : line + len;
+    }
+    cairo_destroy(cr);
+    cairo_surface_flush(surf);
+    int stride = cairo_image_surface_get_stride(surf);
+    const unsigned char *data = cairo_image_surface_get_data(surf);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, p->text_tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, stride);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, p->rw, p->rh, 0, GL_RED, GL_UNSIGNED_BYTE, data);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    cairo_surface_destroy(surf);
+    render(p, NULL, 0, 1);
+    csf_frame_info fi;
+    present(p, 1, &fi);
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error drawing the text screen");
+    return CSF_OK;
+}

@@ -25,7 +25,12 @@
  * With render_every = -1, csf_presenter_draw / csf_presenter_run_trial still validate the
  * stimulus, advance the virtual clock, apply injected misses and record the contrast per frame,
  * but skip GL work; render_every = N > 1 rasterises every N-th frame. Geometry checks (Nyquist,
- * off-screen) always use the full configured geometry, never the reduced render size. */
+ * off-screen) always use the full configured geometry, never the reduced render size.
+ *
+ * TESTS UNDER ASAN that open a presenter: set ASAN_OPTIONS=fast_unwind_on_malloc=1:... in the
+ * test's env (see tests/stimuli/meson.build). The project default fast_unwind_on_malloc=0
+ * deadlocks inside llvmpipe (LLVM's JIT registers EH frames while holding libgcc's lock, and the
+ * slow unwinder takes it again). Mesa's own leaks stay suppressed by module (tests/lsan.supp). */
 #ifndef CSF_STIMULI_PRESENTER_H
 #define CSF_STIMULI_PRESENTER_H
 
