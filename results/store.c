@@ -615,8 +615,8 @@ csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *
 
 csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err)
 {
-    if (!s || !name || !*name || strlen(name) > 63)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 63 characters");
+    if (!s || !name || !*name || strlen(name) > 255)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 255 characters");
     return upsert_named(s, "observers", name, NULL, id, err);
 }
 
@@ -630,10 +630,11 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "store: session kind '%s' unknown (allowed display, observer, study)",
                              kind ? kind : "(null)");
-    if (observer && strlen(observer) > 63)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name longer than 63 characters");
-    if (display && strlen(display) > 63)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 63 characters");
+    /* Stored in full; csf_session_info shows the first 63 characters. */
+    if (observer && strlen(observer) > 255)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name longer than 255 characters");
+    if (display && strlen(display) > 255)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 255 characters");
     /* Observer and display rows are written in the same transaction as the session. */
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "starting a session");

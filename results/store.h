@@ -44,8 +44,9 @@ typedef struct {
     int64_t id;
     char kind[16];        /* "display", "observer", "study" */
     char state[16];       /* "running", "paused", "finished", "aborted" */
-    char observer[64];    /* observer name (observer/study sessions), "" otherwise */
-    char display[64];     /* display name / profile id */
+    char observer[64];    /* observer name (observer/study sessions), "" otherwise; the store
+                             keeps up to 255 characters, this shows the first 63 */
+    char display[64];     /* display name / profile id (same length rule) */
     char *settings_json;  /* malloc'd; the settings the session was started with */
     uint64_t seed;
     char tool_version[32];

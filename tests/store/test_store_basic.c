@@ -115,6 +115,17 @@ static void test_sessions_trials(const char *path)
     CHECK_INT_EQ(csf_store_begin_session(s, "study", "P01", "lcd-1", NULL, 3, &st_sess, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_link_session_participant(s, st_sess, p1, &err), CSF_OK);
     CHECK(csf_store_link_session_participant(s, st_sess, p2, &err) != CSF_OK);
+    /* Long display names (profile ids) are kept in full and shown truncated in the info. */
+    char longname[200];
+    memset(longname, 'x', sizeof longname - 1);
+    longname[sizeof longname - 1] = '\0';
+    int64_t long_sess = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, longname, NULL, 1, &long_sess, &err), CSF_OK);
+    csf_session_info li;
+    CHECK_INT_EQ(csf_store_get_session(s, long_sess, &li, &err), CSF_OK);
+    CHECK_INT_EQ(strlen(li.display), 63);
+    csf_session_info_free(&li);
+    CHECK_INT_EQ(csf_store_set_session_state(s, long_sess, "aborted", &err), CSF_OK);
     int64_t d1 = 0, d2 = 0;
     CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", "lcd-1-2026-11-22-abcd", &d1, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", NULL, &d2, &err), CSF_OK);
@@ -206,8 +217,8 @@ static void test_sessions_trials(const char *path)
     csf_session_info *list = NULL;
     size_t nl = 0;
     CHECK_INT_EQ(csf_store_list_sessions(s, &list, &nl, &err), CSF_OK);
-    CHECK_INT_EQ(nl, 3);
-    if (nl == 3) {
+    CHECK_INT_EQ(nl, 4);
+    if (nl == 4) {
         CHECK(list[0].id == obs && list[1].id == disp && list[2].id == st_sess);
         CHECK_INT_EQ(list[1].n_readings, 6);
         CHECK(!strcmp(list[1].state, "finished") && !strcmp(list[1].settings_json, "{}"));
