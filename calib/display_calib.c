@@ -183,33 +183,50 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     return push(c, out, err);
 }
 
-/* Drift factor at time t: latest white over white interpolated at t (1 with fewer than 1 ref). */
-static double drift_factor(const ctx *c, double t)
+/* White reference events: consecutive reference readings averaged (time and luminance). */
+static size_t ref_events(const ctx *c, double *t, double *w, size_t max)
 {
-    double tl = 0, wl = NAN, tp = 0, wp = NAN, last = NAN;
-    for (size_t i = 0; i < c->n; i++) {
-        const rd *x = &c->r[i];
-        if (x->role != ROLE_REF || isnan(x->lum)) continue;
-        last = x->lum;
-    }
-    if (isnan(last)) return 1.0;
-    /* bracket t between refs */
-    for (size_t i = 0; i < c->n; i++) {
-        const rd *x = &c->r[i];
-        if (x->role != ROLE_REF || isnan(x->lum)) continue;
-        if (x->t_s <= t) {
-            tp = x->t_s;
-            wp = x->lum;
-        } else if (isnan(wl)) {
-            tl = x->t_s;
-            wl = x->lum;
+    size_t ne = 0;
+    int open = 0;
+    double st = 0, sw = 0;
+    int k = 0;
+    for (size_t i = 0; i <= c->n; i++) {
+        const rd *x = i < c->n ? &c->r[i] : NULL;
+        int is_ref = x && x->role == ROLE_REF && !isnan(x->lum);
+        if (is_ref) {
+            st += x->t_s;
+            sw += x->lum;
+            k++;
+            open = 1;
+        } else if (open) {
+            if (ne < max) {
+                t[ne] = st / k;
+                w[ne] = sw / k;
+                ne++;
+            }
+            st = sw = 0;
+            k = 0;
+            open = 0;
         }
     }
+    return ne;
+}
+
+/* Drift factor at time t: latest white over the white interpolated at t (1 without references). */
+static double drift_factor(const ctx *c, double t)
+{
+    double et[64], ew[64];
+    size_t ne = ref_events(c, et, ew, 64);
+    if (ne == 0) return 1.0;
     double w;
-    if (isnan(wp)) w = wl;
-    else if (isnan(wl)) w = wp;
-    else w = wp + (wl - wp) * (t - tp) / (tl - tp);
-    return last / w;
+    if (t <= et[0]) w = ew[0];
+    else if (t >= et[ne - 1]) w = ew[ne - 1];
+    else {
+        size_t k = 0;
+        while (k + 1 < ne && et[k + 1] < t) k++;
+        w = ew[k] + (ew[k + 1] - ew[k]) * (t - et[k]) / (et[k + 1] - et[k]);
+    }
+    return ew[ne - 1] / w;
 }
 
 static double corrected(const ctx *c, const rd *x)
@@ -265,7 +282,7 @@ static int cmp_dbl(const void *a, const void *b)
 }
 
 /* Distinct sorted drives and mean luminance per drive. */
-static size_t distinct(const double *v, const double *L, size_t n, double *dv, double *dl)
+static size_t distinct(const double *v, const double *L, size_t n, double *dv, double *dl, int *cnt)
 {
     double *pairs = malloc(2 * (n ? n : 1) * sizeof(double));
     if (!pairs) return 0;
@@ -280,6 +297,7 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
         double s = 0;
         while (j < n && pairs[2 * j] == pairs[2 * i]) s += pairs[2 * j++ + 1];
         dv[m] = pairs[2 * i];
+        if (cnt) cnt[m] = (int)(j - i);
         dl[m++] = s / (double)(j - i);
         i = j;
     }
@@ -288,14 +306,23 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
 }
 
 /* Leave-one-out error estimate per interval. est has m-1 entries. Returns max. */
-static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel, double *est,
-                              double *knot_err)
+static double interval_errors(const double *dv, const double *dl, const int *cnt, size_t m, int is_channel,
+                              double noise_rel, double noise_abs, double *est, double *knot_err)
 {
     double peak = dl[m - 1];
     for (size_t i = 0; i + 1 < m; i++) est[i] = 0;
     double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double));
     double worst = 0;
+    /* a knot the model already treats as a corner is not re-tested: leaving it out would always
+     * look bad (the kink is lost) although the model with it is right */
+    double corners[64];
+    csf_error cerr;
+    size_t nc = csf_profile_fit_corners(dv, dl, m, is_channel, corners, 64, &cerr);
     for (size_t k = 1; k + 1 < m; k++) {
+        int skip = 0;
+        for (size_t j = 0; j < nc; j++)
+            if (corners[j] == dv[k]) skip = 1;
+        if (skip) continue;
         size_t j = 0;
         for (size_t i = 0; i < m; i++)
             if (i != k) {
@@ -307,11 +334,24 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         if (csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e)) continue;
         double denom = fmax(dl[k], 0.1 * peak);
         double ek = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
+        /* the part of the miss that the instrument's noise explains (the knot's mean and the
+         * prediction from its neighbours' means both carry it) is not model error: splitting
+         * there would chase noise; repeats handle it */
+        double sk = sqrt(noise_rel * noise_rel + pow(noise_abs / fmax(dl[k], 1e-9), 2));
+        ek -= 2.0 * sqrt(2.0) * sk / sqrt(cnt ? (double)(cnt[k] > 0 ? cnt[k] : 1) : 1.0);
+        if (ek < 0) ek = 0;
         if (knot_err) knot_err[k] = ek;
-        /* halving an interval cuts a smooth cubic's error ~8-16x, a kink's ~2x: 4 is between */
-        double share = ek / 4;
-        if (share > est[k - 1]) est[k - 1] = share;
-        if (share > est[k]) est[k] = share;
+        /* The left-out knot saw the merged interval's error at its own position t, which is
+         * small near an end even when the interval is bad: scale to the middle (a cubic's error
+         * goes ~ t^2 (1-t)^2, amplification capped at 16), then to each half by (h/H)^3
+         * (a smooth curve's error falls 8-16x per halving, a kink's 2x; x2 keeps the equal-split
+         * case at 1/4 of the knot's error). */
+        double H = dv[k + 1] - dv[k - 1], t = (dv[k] - dv[k - 1]) / H;
+        double amp = 0.0625 / fmax(t * t * (1 - t) * (1 - t), 0.0625 / 16);
+        double hl = (dv[k] - dv[k - 1]) / H, hr = (dv[k + 1] - dv[k]) / H;
+        double sl = 2 * ek * amp * hl * hl * hl, sr = 2 * ek * amp * hr * hr * hr;
+        if (sl > est[k - 1]) est[k - 1] = sl;
+        if (sr > est[k]) est[k] = sr;
     }
     for (size_t i = 0; i + 1 < m; i++)
         if (est[i] > worst) worst = est[i];
@@ -345,11 +385,12 @@ static double predict(const ctx *c, int ch, double v)
     return out;
 }
 
-static csf_status measure_level(ctx *c, int ch, double v, double peak, csf_error *err)
+static csf_status measure_level(ctx *c, int ch, double v, double peak, int left, csf_error *err)
 {
     double guess = predict(c, ch, v);
     if (isnan(guess)) guess = peak * pow(v, 2.2);
     int reps = repeats_for(c, guess, peak);
+    if (reps > left) reps = left > 1 ? left : 1; /* never past the budget */
     for (int k = 0; k < reps; k++) {
         rd x;
         /* near black a too-dark answer is a fact about the display, not a fault */
@@ -360,10 +401,18 @@ static csf_status measure_level(ctx *c, int ch, double v, double peak, csf_error
     return CSF_OK;
 }
 
+/* White reference: read as often as the noise requires, like a sweep level. */
 static csf_status reference(ctx *c, csf_error *err)
 {
     rd x;
-    return take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+    double peak = predict(c, CSF_CH_GREY, 1.0);
+    /* before the first reference the white level is unknown: relative noise alone decides */
+    int reps = isnan(peak) ? repeats_for(c, 1e9, 1e9) : repeats_for(c, peak, peak);
+    for (int k = 0; k < reps; k++) {
+        csf_status st = take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+        if (st) return st;
+    }
+    return CSF_OK;
 }
 
 static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *err)
@@ -373,7 +422,7 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
     /* full drive first: it sets the curve's peak */
     double peak;
     if (ch < 3) {
-        st = measure_level(c, ch, 1.0, INFINITY, err);
+        st = measure_level(c, ch, 1.0, INFINITY, budget, err);
         if (st) return st;
         peak = predict(c, ch, 1.0);
     } else {
@@ -387,7 +436,7 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 3;
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
-        st = measure_level(c, ch, grid[i], peak, err);
+        st = measure_level(c, ch, grid[i], peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     double last_est = INFINITY;
@@ -395,22 +444,36 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
         double *pv, *pl;
         size_t k = curve_points(c, ch, &pv, &pl);
         double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-        size_t m = distinct(pv, pl, k, dv, dl);
+        int *cnt = calloc(k + 1, sizeof(int));
+        size_t m = distinct(pv, pl, k, dv, dl, cnt);
         free(pv);
         free(pl);
         double *est = calloc(m + 1, sizeof(double));
-        double worst = m >= 3 ? interval_errors(dv, dl, m, ch < 3, est, NULL) : INFINITY;
+        double worst = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL) : INFINITY;
+        free(cnt);
         last_est = worst;
         size_t wi = 0;
         for (size_t i = 0; i + 1 < m; i++)
             if (est[i] > est[wi]) wi = i;
         double mid = m >= 2 ? 0.5 * (dv[wi] + dv[wi + 1]) : 0.5;
         double width = m >= 2 ? dv[wi + 1] - dv[wi] : 1;
+        /* where the secant lines of the two neighbouring intervals cross inside this one, split
+         * there: at a kink that is where the break is (found in a few readings, like regula
+         * falsi), on a smooth curve it is near the middle anyway */
+        if (m >= 4 && wi >= 1 && wi + 2 < m) {
+            double s1 = (dl[wi] - dl[wi - 1]) / (dv[wi] - dv[wi - 1]);
+            double s2 = (dl[wi + 2] - dl[wi + 1]) / (dv[wi + 2] - dv[wi + 1]);
+            if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
+                double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
+                double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
+                if (xi > lo && xi < hi) mid = xi;
+            }
+        }
         free(dv);
         free(dl);
         free(est);
-        if (worst < c->o->target_rel / 2 || width < 1.0 / 512) break;
-        st = measure_level(c, ch, mid, peak, err);
+        if (worst < c->o->target_rel / 4 || width < 1.0 / 512) break;
+        st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     if (est_out) {
@@ -418,10 +481,12 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
         double *pv, *pl;
         size_t k = curve_points(c, ch, &pv, &pl);
         double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-        size_t m = distinct(pv, pl, k, dv, dl);
+        int *cnt = calloc(k + 1, sizeof(int));
+        size_t m = distinct(pv, pl, k, dv, dl, cnt);
         double *est = calloc(m + 1, sizeof(double));
-        *est_out = m >= 3 ? interval_errors(dv, dl, m, ch < 3, est, NULL) : last_est;
-        free(pv); free(pl); free(dv); free(dl); free(est);
+        /* reported without the noise allowance: what leaving a knot out really costs */
+        *est_out = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, 0, 0, est, NULL) : last_est;
+        free(pv); free(pl); free(dv); free(dl); free(est); free(cnt);
     }
     return CSF_OK;
 }
@@ -474,7 +539,17 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     }
     c->noise_abs = sd3(d, 3);
     update_black(c);
-    if ((st = reference(c, err))) return st;
+    /* first white reference: 4 readings in a row (no drift to speak of over 2 s), pooled with the
+     * last warm-up group for a noise estimate with 5 degrees of freedom instead of 2 */
+    double wv[4];
+    for (int i = 0; i < 4; i++) {
+        rd x;
+        st = take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+        if (st) return st;
+        wv[i] = x.lum;
+    }
+    double s4 = sd3(wv, 4) / wv[3];
+    c->noise_rel = sqrt((3 * s4 * s4 + 2 * c->noise_rel * c->noise_rel) / 5);
     int budget = c->o->budget;
     int grey_budget = c->o->channels ? (int)(budget * 0.4 + 0.5) : budget;
     st = sweep(c, CSF_CH_GREY, grey_budget, &res->est_error_rel[CSF_CH_GREY], err);
@@ -520,7 +595,7 @@ static void checks(ctx *c, csf_display_calib_result *res)
         double *pv, *pl;
         size_t k = curve_points(c, ch, &pv, &pl);
         double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-        size_t m = distinct(pv, pl, k, dv, dl);
+        size_t m = distinct(pv, pl, k, dv, dl, NULL);
         for (size_t i = 0; i + 1 < m; i++) {
             double s = 3 * sqrt(pow(c->noise_rel * dl[i], 2) + pow(c->noise_abs, 2)) + 1e-9;
             if (dl[i + 1] < dl[i] - s) {

@@ -30,7 +30,9 @@ typedef struct {
     double *v;       /* drive01, strictly increasing, v[0] = 0, v[n-1] = 1 */
     double *lum;     /* cd/m2; grey includes black, channels exclude it */
     double *y;       /* transformed luminance in [0,1] */
-    double *m;       /* Fritsch–Carlson slopes dy/dv */
+    double *m;       /* slope dy/dv at each knot as the left end of the interval after it */
+    double *ml;      /* slope at each knot as the right end of the interval before it; differs
+                        from m only at a corner (see fc_slopes) */
     double base, top; /* lum = base + top * y^g */
     double g;        /* transform exponent */
 } curve;
@@ -60,6 +62,7 @@ static void curve_free(curve *c)
     free(c->lum);
     free(c->y);
     free(c->m);
+    free(c->ml);
     memset(c, 0, sizeof *c);
 }
 
@@ -70,15 +73,49 @@ static int curve_alloc(curve *c, int n)
     c->lum = calloc((size_t)n, sizeof(double));
     c->y = calloc((size_t)n, sizeof(double));
     c->m = calloc((size_t)n, sizeof(double));
-    return c->v && c->lum && c->y && c->m ? 0 : -1;
+    c->ml = calloc((size_t)n, sizeof(double));
+    return c->v && c->lum && c->y && c->m && c->ml ? 0 : -1;
+}
+
+/* Corner test at interior knot k of (x, y), in the power-transformed space where a display curve
+ * is nearly straight: the change of secant slope across k, per unit of its neighbouring interval
+ * widths (a second-derivative estimate), is at least 4 times that at both neighbouring knots and
+ * more than 8 % of the slope. A smooth curve gives similar estimates at neighbouring knots; a kink
+ * in the panel's response (or a measured curve's slope break) concentrates at one knot. */
+static int is_corner(const double *x, const double *y, int n, int k)
+{
+    if (k < 1 || k > n - 2 || n < 4) return 0;
+    double d[4], D[3];
+    int have[3] = {0, 0, 0};
+    for (int j = -2; j <= 1; j++) {
+        int a = k + j;
+        d[j + 2] = (a >= 0 && a + 1 < n) ? (y[a + 1] - y[a]) / (x[a + 1] - x[a]) : NAN;
+    }
+    for (int j = 0; j < 3; j++) {
+        int knot = k - 1 + j;
+        if (knot < 1 || knot > n - 2 || isnan(d[j]) || isnan(d[j + 1])) continue;
+        double hbar = 0.5 * (x[knot + 1] - x[knot - 1]);
+        D[j] = fabs(d[j + 1] - d[j]) / hbar;
+        have[j] = 1;
+    }
+    if (!have[1] || (!have[0] && !have[2])) return 0;
+    /* a break of at least 8 % in slope, between intervals no narrower than 1/512 of the drive
+     * range: below that, measurement noise on close levels would look like kinks */
+    double jump = fabs(d[2] - d[1]);
+    if (!(jump > 0.08 * 0.5 * (fabs(d[1]) + fabs(d[2])))) return 0;
+    if (x[k] - x[k - 1] < 1.0 / 512 || x[k + 1] - x[k] < 1.0 / 512) return 0;
+    for (int j = 0; j < 3; j += 2)
+        if (have[j] && !(D[1] > 4 * D[j])) return 0;
+    return 1;
 }
 
 /* Fritsch–Carlson (1980) slopes: a cubic Hermite with these slopes is monotone wherever the data
- * are. */
-static void fc_slopes(const double *x, const double *y, double *m, int n)
+ * are. At a corner the two intervals get one-sided slopes (each its own secant), so a kink is
+ * kept as a kink instead of being rounded over both intervals. */
+static void fc_slopes(const double *x, const double *y, double *m, double *ml, int n)
 {
     if (n < 2) {
-        if (n == 1) m[0] = 0;
+        if (n == 1) m[0] = ml[0] = 0;
         return;
     }
     double d_prev = 0;
@@ -89,20 +126,33 @@ static void fc_slopes(const double *x, const double *y, double *m, int n)
         d_prev = d;
     }
     m[n - 1] = d_prev;
+    for (int i = 0; i < n; i++) ml[i] = m[i];
+    for (int k = 1; k < n - 1; k++)
+        if (is_corner(x, y, n, k)) {
+            ml[k] = (y[k] - y[k - 1]) / (x[k] - x[k - 1]);
+            m[k] = (y[k + 1] - y[k]) / (x[k + 1] - x[k]);
+        }
     for (int i = 0; i < n - 1; i++) {
         double d = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
         if (d == 0) {
-            m[i] = m[i + 1] = 0;
+            m[i] = ml[i + 1] = 0;
             continue;
         }
-        double a = m[i] / d, b = m[i + 1] / d;
+        double a = m[i] / d, b = ml[i + 1] / d;
         double s = a * a + b * b;
         if (s > 9) {
             double t = 3 / sqrt(s);
             m[i] = t * a * d;
-            m[i + 1] = t * b * d;
+            ml[i + 1] = t * b * d;
         }
     }
+    /* away from corners keep the curve smooth: the smaller slope satisfies both intervals'
+     * monotonicity limits (shrinking a slope never leaves the Fritsch–Carlson region) */
+    for (int k = 1; k < n - 1; k++)
+        if (!is_corner(x, y, n, k)) {
+            double v = fabs(m[k]) < fabs(ml[k]) ? m[k] : ml[k];
+            m[k] = ml[k] = v;
+        }
 }
 
 static double hermite(const curve *c, int i, double t)
@@ -110,7 +160,7 @@ static double hermite(const curve *c, int i, double t)
     double h = c->v[i + 1] - c->v[i];
     double t2 = t * t, t3 = t2 * t;
     return (2 * t3 - 3 * t2 + 1) * c->y[i] + (t3 - 2 * t2 + t) * h * c->m[i] +
-           (-2 * t3 + 3 * t2) * c->y[i + 1] + (t3 - t2) * h * c->m[i + 1];
+           (-2 * t3 + 3 * t2) * c->y[i + 1] + (t3 - t2) * h * c->ml[i + 1];
 }
 
 static int find_seg(const curve *c, double v)
@@ -210,7 +260,7 @@ static int curve_finish(curve *c, int is_channel, double g_fixed)
     }
     for (int i = 1; i < c->n; i++)
         if (c->y[i] < c->y[i - 1]) c->y[i] = c->y[i - 1]; /* rounding only: data are monotone */
-    fc_slopes(c->v, c->y, c->m, c->n);
+    fc_slopes(c->v, c->y, c->m, c->ml, c->n);
     return 0;
 }
 
@@ -542,6 +592,29 @@ csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, 
     for (size_t i = 0; i < n_eval; i++) eval_lum_cdm2[i] = curve_lum(&c, eval_drive01[i]);
     curve_free(&c);
     return CSF_OK;
+}
+
+size_t csf_profile_fit_corners(const double *drive01, const double *lum_cdm2, size_t n, int is_channel,
+                               double *corner_drive01, size_t max, csf_error *err)
+{
+    csf_profile_reading *r = calloc(n ? n : 1, sizeof *r);
+    if (!r) return 0;
+    int ch = is_channel ? CSF_CH_R : CSF_CH_GREY;
+    for (size_t i = 0; i < n; i++) {
+        r[i].channel = ch;
+        r[i].drive01 = drive01[i];
+        r[i].lum_cdm2 = lum_cdm2[i];
+    }
+    curve c;
+    memset(&c, 0, sizeof c);
+    csf_status st = build_curve(&c, r, n, ch, 0, err);
+    free(r);
+    if (st) return 0;
+    size_t k = 0;
+    for (int i = 1; i < c.n - 1; i++)
+        if (is_corner(c.v, c.y, c.n, i) && k < max) corner_drive01[k++] = c.v[i];
+    curve_free(&c);
+    return k;
 }
 
 /* ---------- text format ---------- */

@@ -84,6 +84,11 @@ csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, 
                                  int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
                                  size_t n_eval, csf_error *err);
 
+/* The knots where that fitted curve has a corner (a slope break kept as a kink, not rounded):
+ * writes up to max of their drives, returns how many. */
+size_t csf_profile_fit_corners(const double *drive01, const double *lum_cdm2, size_t n, int is_channel,
+                               double *corner_drive01, size_t max, csf_error *err);
+
 /* Knots of one curve (model), for plots/exports. Returns the count; arrays owned by p. */
 size_t csf_profile_knots(const csf_display_profile *p, int ch, const double **drive01,
                          const double **lum_cdm2);
