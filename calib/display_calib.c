@@ -338,7 +338,7 @@ static double interval_errors(const double *dv, const double *dl, const int *cnt
          * prediction from its neighbours' means both carry it) is not model error: splitting
          * there would chase noise; repeats handle it */
         double sk = sqrt(noise_rel * noise_rel + pow(noise_abs / fmax(dl[k], 1e-9), 2));
-        ek -= 2.0 * sqrt(2.0) * sk / sqrt(cnt ? (double)(cnt[k] > 0 ? cnt[k] : 1) : 1.0);
+        ek -= sqrt(2.0) * sk / sqrt(cnt ? (double)(cnt[k] > 0 ? cnt[k] : 1) : 1.0);
         if (ek < 0) ek = 0;
         if (knot_err) knot_err[k] = ek;
         /* The left-out knot saw the merged interval's error at its own position t, which is
@@ -366,7 +366,7 @@ static int repeats_for(const ctx *c, double lum, double peak)
     if (!(lum >= 0.1 * peak) || !(lum > 0)) return 1;
     double s = sqrt(c->noise_rel * c->noise_rel + (c->noise_abs / lum) * (c->noise_abs / lum));
     double q = s / (c->o->target_rel / 2.5);
-    int n = (int)ceil(q * q);
+    int n = (int)(q * q + 0.5); /* rounded: a noise estimate just above the limit is no reason to double */
     if (n < 1) n = 1;
     if (n > 4) n = 4;
     return n;
@@ -539,17 +539,16 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     }
     c->noise_abs = sd3(d, 3);
     update_black(c);
-    /* first white reference: 4 readings in a row (no drift to speak of over 2 s), pooled with the
-     * last warm-up group for a noise estimate with 5 degrees of freedom instead of 2 */
-    double wv[4];
-    for (int i = 0; i < 4; i++) {
+    /* first white reference: 6 readings in a row (no drift to speak of over 3 s after the
+     * warm-up) give the noise estimate, 5 degrees of freedom */
+    double wv[6];
+    for (int i = 0; i < 6; i++) {
         rd x;
         st = take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
         if (st) return st;
         wv[i] = x.lum;
     }
-    double s4 = sd3(wv, 4) / wv[3];
-    c->noise_rel = sqrt((3 * s4 * s4 + 2 * c->noise_rel * c->noise_rel) / 5);
+    c->noise_rel = sd3(wv, 6) / wv[5];
     int budget = c->o->budget;
     int grey_budget = c->o->channels ? (int)(budget * 0.4 + 0.5) : budget;
     st = sweep(c, CSF_CH_GREY, grey_budget, &res->est_error_rel[CSF_CH_GREY], err);
