@@ -1,0 +1,1 @@
+csfcal-display-profile 2
