@@ -172,7 +172,7 @@ static void test_4d_round_trip(void)
     CHECK(csflut_default_luminance(t) == 50);
     CHECK(rel_diff(csflut_threshold(t, 3, 7), csflut_threshold4(t, 3, 7, 0, 50)) < 1e-14);
     /* max_frequency4 inverts threshold4 */
-    double c = 0.02, mf = csflut_max_frequency4(t, c, 12, 3, 30);
+    double c = 0.3, mf = csflut_max_frequency4(t, c, 12, 3, 30);
     CHECK(mf > 0.5 && mf < 32);
     CHECK(rel_diff(csflut_threshold4(t, mf, 12, 3, 30), c) < 1e-12);
     csflut_close(t);
@@ -280,9 +280,17 @@ static void test_bad_files(void)
     fix_crc(b, len);
     open_expect(b, len, CSFLUT_E_BAD_AXIS, "linear frequency");
     memcpy(b, good, len);
-    put32(b + OFF_AX0 + 8, 7); /* 7 points: the rest of the file no longer lines up */
+    put32(b + OFF_AX0 + 8, 7); /* 7 points: the next record is read from the wrong place */
     fix_crc(b, len);
-    open_expect(b, len, CSFLUT_E_BAD_HEADER, "layout mismatch");
+    open_expect(b, len, CSFLUT_E_BAD_AXIS, "layout mismatch");
+    memcpy(b, good, len);
+    put32(b + 12, 10); /* header shorter than the fixed header */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_HEADER, "header size");
+    memcpy(b, good, len);
+    put32(b + OFF_META + (4 + 10) + (4 + 13) + (4 + 4) + (4 + 20), 12); /* tool version 1 byte longer */
+    fix_crc(b, len);
+    open_expect(b, len, CSFLUT_E_BAD_HEADER, "string runs into the checksum");
     memcpy(b, good, len);
     put32(b + OFF_FLAGS, 0x10);
     fix_crc(b, len);

@@ -1,0 +1,166 @@
+/* The exported GLSL gives the library's numbers: the function is compiled into a fragment shader
+ * on an EGL surfaceless context (Mesa llvmpipe on CI), evaluated for 64x64 queries read from a
+ * float texture, written to a float framebuffer and read back; compared to csflut_threshold at
+ * the same float inputs to 1e-5 relative (float32), never-visible as +inf. */
+#define GL_GLEXT_PROTOTYPES 1
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tests/check.h"
+#include "tests/lut/lut_fixture.h"
+
+enum { W = 64, H = 64 };
+
+static const char *vs_src = "#version 330 core\n"
+                            "void main() {\n"
+                            "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+                            "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+                            "}\n";
+
+static GLuint compile(GLenum kind, const char *src)
+{
+    GLuint s = glCreateShader(kind);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[2048];
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        fprintf(stderr, "shader compile failed:\n%s\n", log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+/* Renders prefix_threshold for the queries; out gets W*H floats. Returns 0 on success. */
+static int run_shader(const char *glsl, const char *prefix, const float *q, float *out)
+{
+    size_t n = strlen(glsl) + 1024;
+    char *fs = malloc(n);
+    snprintf(fs, n,
+             "#version 330 core\nuniform sampler2D q;\nout vec4 o;\n%s\n"
+             "void main() {\n"
+             "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
+             "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
+             "}\n", glsl, prefix);
+    GLuint v = compile(GL_VERTEX_SHADER, vs_src), f = compile(GL_FRAGMENT_SHADER, fs);
+    free(fs);
+    if (!v || !f) return -1;
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, v);
+    glAttachShader(prog, f);
+    glLinkProgram(prog);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) return -1;
+    GLuint tex[2], fbo, vao;
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, W, H, 0, GL_RG, GL_FLOAT, q);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, W, H, 0, GL_RGBA, GL_FLOAT, NULL);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[1], 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return -1;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glViewport(0, 0, W, H);
+    glUseProgram(prog);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glUniform1i(glGetUniformLocation(prog, "q"), 0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glReadPixels(0, 0, W, H, GL_RED, GL_FLOAT, out);
+    GLenum err = glGetError();
+    glDeleteVertexArrays(1, &vao);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(2, tex);
+    glDeleteProgram(prog);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    return err == GL_NO_ERROR ? 0 : -1;
+}
+
+int main(void)
+{
+    PFNEGLGETPLATFORMDISPLAYEXTPROC get_display =
+        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
+    EGLDisplay dpy = get_display ? get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL)
+                                 : EGL_NO_DISPLAY;
+    EGLint maj, min;
+    if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, &maj, &min)) {
+        fprintf(stderr, "no EGL surfaceless display: skipped\n");
+        return 77;
+    }
+    EGLContext ctx = EGL_NO_CONTEXT;
+    if (eglBindAPI(EGL_OPENGL_API)) {
+        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        ctx = eglCreateContext(dpy, (EGLConfig)0, EGL_NO_CONTEXT, attr);
+    }
+    if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+        fprintf(stderr, "no OpenGL 3.3 core context: skipped\n");
+        eglTerminate(dpy);
+        return 77;
+    }
+    fx_table fx;
+    fx_make(&fx, 81, 0.12, 1.0);
+    csflut_table *t = fx_open(&fx.b);
+    CHECK(t != NULL);
+    static float q[W * H * 2], out[W * H];
+    csf_rng r;
+    csf_rng_init(&r, 81, 1);
+    for (int i = 0; i < W * H; i++) {
+        q[2 * i] = (float)(0.3 * pow(2, 7.0 * csf_rng_next_uniform(&r)));
+        q[2 * i + 1] = (float)(-2 + 47 * csf_rng_next_uniform(&r));
+    }
+    /* a few edge cases: beyond both ends of both axes */
+    q[0] = 100.0f, q[1] = 100.0f;
+    q[2] = 0.01f, q[3] = -5.0f;
+    for (int view = 0; view < 2; view++) {
+        csflut_set_conservative(t, view);
+        char *glsl;
+        CHECK_INT_EQ(csflut_export(t, CSFLUT_FORMAT_GLSL, "lut", &glsl, NULL), CSFLUT_OK);
+        int rc = run_shader(glsl, "lut", q, out);
+        free(glsl);
+        CHECK_MSG(rc == 0, "GL rendering failed");
+        if (rc) break;
+        double worst = 0;
+        int n_inf = 0, mismatch_inf = 0;
+        for (int i = 0; i < W * H; i++) {
+            double want = csflut_threshold(t, (double)q[2 * i], (double)q[2 * i + 1]);
+            double got = (double)out[i];
+            if (isinf(want) || isinf(got)) {
+                if (!(isinf(want) && isinf(got) && got > 0)) {
+                    mismatch_inf++;
+                    fprintf(stderr, "query f=%g e=%g: lib %g glsl %g\n", q[2 * i], q[2 * i + 1], want, got);
+                }
+                n_inf++;
+                continue;
+            }
+            double d = rel_diff(got, want);
+            if (d > worst) worst = d;
+        }
+        fprintf(stderr, "GLSL %s view: %d queries (%d never visible), worst rel diff %.3g\n",
+                view ? "conservative" : "raw", W * H, n_inf, worst);
+        CHECK(n_inf > 100); /* the comparison covers infinities */
+        CHECK_INT_EQ(mismatch_inf, 0);
+        CHECK_MSG(worst < 1e-5, "worst relative difference %g", worst);
+    }
+    csflut_close(t);
+    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(dpy, ctx);
+    eglTerminate(dpy);
+    return CHECK_RESULT();
+}

@@ -1,0 +1,35 @@
+#!/bin/sh
+# csflut installs as a library with its header and a pkg-config file: install the build into a
+# scratch DESTDIR, then compile and run a small program against it through pkg-config only.
+set -eu
+BUILD=$1
+T=$(mktemp -d /tmp/csflut-install-XXXXXX)
+trap 'rm -rf "$T"' EXIT
+meson install -C "$BUILD" --no-rebuild --destdir "$T/root" >"$T/install.log" 2>&1 || { cat "$T/install.log"; exit 1; }
+PC=$(find "$T/root" -name csflut.pc | head -1)
+[ -n "$PC" ] || { echo "FAIL: no csflut.pc installed"; exit 1; }
+PREFIX=$(sed -n 's/^prefix=//p' "$PC")
+export PKG_CONFIG_PATH=$(dirname "$PC")
+CFLAGS=$(pkg-config --define-variable=prefix="$T/root$PREFIX" --cflags csflut)
+LIBS=$(pkg-config --define-variable=prefix="$T/root$PREFIX" --libs csflut)
+cat >"$T/use.c" <<'C'
+#include <csflut.h>
+#include <stdio.h>
+int main(int argc, char **argv)
+{
+    csflut_table *t;
+    csflut_status st = csflut_open_file(argv[1], &t);
+    if (st != CSFLUT_OK) { fprintf(stderr, "%s\n", csflut_strerror(st)); return 1; }
+    printf("%.6g %d\n", csflut_threshold(t, 4, 0), csflut_perceptible(t, 4, 0.01, 0));
+    csflut_close(t);
+    return 0;
+}
+C
+# no sanitizer flags: this is what a renderer outside csfcal would do
+env -u ASAN_OPTIONS cc -std=c11 -Wall -Werror $CFLAGS "$T/use.c" -o "$T/use" $LIBS -lm
+LIBDIR=$(pkg-config --define-variable=prefix="$T/root$PREFIX" --variable=libdir csflut)
+OUT=$(LD_LIBRARY_PATH="$LIBDIR" "$T/use" "$2/docs/examples/example_default_observer.csflut")
+echo "installed library says: $OUT"
+[ "$OUT" = "0.0042218 1" ] || { echo "FAIL: unexpected output"; exit 1; }
+ldd "$T/use" | grep -q "$LIBDIR/libcsflut.so" || { echo "FAIL: not linked to the installed library"; exit 1; }
+echo ok
