@@ -10,17 +10,17 @@
 #include "stimuli/presenter.h"
 #include "stimuli/selfcheck.h"
 
-static double stim_test_model_lum(void *ctx, double r, double g, double b)
+static inline double stim_test_model_lum(void *ctx, double r, double g, double b)
 {
     return csf_display_model_lum((const csf_display_model *)ctx, r, g, b);
 }
 
-static double stim_test_model_grey(void *ctx, double d)
+static inline double stim_test_model_grey(void *ctx, double d)
 {
     return csf_display_model_lum((const csf_display_model *)ctx, d, d, d);
 }
 
-static csf_display_model *stim_test_model(const char *spec)
+static inline csf_display_model *stim_test_model(const char *spec)
 {
     csf_display_model *m = NULL;
     csf_error e;
@@ -31,7 +31,7 @@ static csf_display_model *stim_test_model(const char *spec)
     return m;
 }
 
-static csf_presenter *stim_test_open(csf_presenter_config *cfg)
+static inline csf_presenter *stim_test_open(csf_presenter_config *cfg)
 {
     csf_presenter *p = NULL;
     csf_error e;
