@@ -4,7 +4,7 @@
  * QUEST per cell, run by bench/quest/run_quest.m under octave-cli) with --quest.
  *
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--quest]
- *                       [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
+ *                       [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH] [--first-seed 1]
  * Run from the source root (default table bench/data/observer_bumpy.csv, script bench/quest/). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -53,6 +53,7 @@ int main(int argc, char **argv)
     const char *table = "bench/data/observer_bumpy.csv", *methods_arg = "bayes,2afc";
     const char *octave = "octave-cli";
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
+    int first_seed = 1;    /* tuning runs use other seeds than the published table */
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
             n_seeds = atoi(argv[++i]);
@@ -78,11 +79,17 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_observer: --quest-sd must be 0.05-5 log10 units\n");
                 return 1;
             }
+        } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
+            first_seed = atoi(argv[++i]);
+            if (first_seed < 1 || first_seed > 1000000) {
+                fprintf(stderr, "bench_observer: --first-seed must be 1-1000000\n");
+                return 1;
+            }
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH]\n");
+                            "[--table CSV] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -115,7 +122,7 @@ int main(int argc, char **argv)
             for (int b = 0; b < n_budgets; b++) {
                 double sum_sq = 0.0, t0 = now_s();
                 int wrong_total = 0;
-                for (int s = 1; s <= n_seeds; s++) {
+                for (int s = first_seed; s < first_seed + n_seeds; s++) {
                     sim2afc o = probe[ob];
                     o.seed = (uint64_t)s;
                     csf_cell_estimate est[24];

@@ -42,15 +42,21 @@ enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_
 /* Tunables (documented in docs/bayes-method.md). */
 #define GRID_STEP_LOG10 0.02   /* threshold grid resolution */
 #define CAND_STRIDE 2          /* candidate contrasts every 2 grid nodes (0.04 log10) */
+#ifndef N_PARTICLES
 #define N_PARTICLES 2000
+#endif
 /* log10: how far a cell departs from the surface. Hierarchical: each particle carries one of these
  * levels, so the data decide how closely this observer follows the parametric form. */
 static const double offset_sd_levels[] = {0.03, 0.06, 0.10, 0.15, 0.22};
 enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define OFFSET_SD_WIDE 0.40    /* log10: the tail for cells the surface cannot describe */
 #define OFFSET_WIDE_WEIGHT 0.10
+#ifndef MH_STEPS
 #define MH_STEPS 4
+#endif
+#ifndef NEAR_BEST_FRACTION
 #define NEAR_BEST_FRACTION 0.85
+#endif
 #define INVISIBLE_PROB 0.5     /* P(t > log10 max contrast) above which a cell is reported invisible */
 #define MISFIT_LOG10_BF 0.5    /* about 3:1 for the per-cell model over the surface */
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
