@@ -322,11 +322,11 @@ static void draw_summary(cairo_t *cr, const report_data *d)
     const char *lines[][2] = {
         {"Kind / state", NULL}, {"Observer", si->observer[0] ? si->observer : "-"},
         {"Display", si->display[0] ? si->display : "-"}, {"Started (UTC)", d->created},
-        {"Last write (UTC)", d->updated}, {"Duration", NULL}, {"Seed", NULL},
+        {"Last write (UTC)", d->updated}, {"Duration (wall clock)", NULL}, {"Seed", NULL},
         {"Tool version", si->tool_version}, {"Trials", NULL}, {"Frames", NULL},
         {"Photometer readings", NULL}, {"Thresholds", NULL},
     };
-    char v_state[64], v_dur[64], v_seed[32], v_trials[160], v_frames[128], v_read[96], v_th[96];
+    char v_state[64], v_dur[64], v_seed[32], v_trials[160], v_frames[128], v_read[160], v_th[96];
     snprintf(v_state, sizeof v_state, "%s / %s", si->kind, si->state);
     if (isfinite(dur_s)) snprintf(v_dur, sizeof v_dur, "%.0f min %02.0f s", floor(dur_s / 60), fmod(dur_s, 60));
     else snprintf(v_dur, sizeof v_dur, "unknown");
@@ -335,7 +335,14 @@ static void draw_summary(cairo_t *cr, const report_data *d)
              d->n_trials, valid, invalid, practice, catch_n, catch_resp);
     snprintf(v_frames, sizeof v_frames, "%ld planned, %ld missed (%.2f %%); %zu intervals recorded",
              planned, missed, planned ? 100.0 * missed / planned : 0.0, d->n_frames);
-    snprintf(v_read, sizeof v_read, "%zu (%d not ok)", d->n_readings, rd_bad);
+    double last_t = NAN;
+    for (size_t i = 0; i < d->n_readings; i++)
+        if (isfinite(d->readings[i].t_s) && !(d->readings[i].t_s <= last_t)) last_t = d->readings[i].t_s;
+    if (d->n_readings && isfinite(last_t))
+        snprintf(v_read, sizeof v_read, "%zu (%d not ok), last at t = %.1f s of the session clock",
+                 d->n_readings, rd_bad, last_t);
+    else
+        snprintf(v_read, sizeof v_read, "%zu (%d not ok)", d->n_readings, rd_bad);
     snprintf(v_th, sizeof v_th, "%zu (%d never visible)", d->n_th, th_inf);
     lines[0][1] = v_state;
     lines[5][1] = v_dur;
@@ -626,6 +633,12 @@ static double model_lum(const report_data *d, size_t idx, double black)
         return NAN;
     }
     if (isnan(lo_y) || isnan(hi_y)) return NAN; /* an end point: nothing on both sides */
+    /* Display curves are close to power laws, which are straight in log-log: interpolating there
+     * keeps a curved but clean response from showing up as residual. */
+    if (lo_x > 0 && lo_y > 0 && hi_y > 0) {
+        double t = (log(r->drive01) - log(lo_x)) / (log(hi_x) - log(lo_x));
+        return exp(log(lo_y) + t * (log(hi_y) - log(lo_y)));
+    }
     return lo_y + (hi_y - lo_y) * (r->drive01 - lo_x) / (hi_x - lo_x);
 }
 
@@ -714,7 +727,7 @@ static void draw_display(cairo_t *cr, const report_data *d)
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
     text_at(cr, a.x + a.w + 20, ly + 10, 9, 0, 0,
             d->profile ? "Lines and residuals: stored display profile" :
-                         "Residuals: vs. interpolation of neighbours");
+                         "Residuals: vs. log-log interpolation of neighbours");
     if (d->profile) {
         char lab[128];
         snprintf(lab, sizeof lab, "profile %s", csf_profile_id(d->profile));

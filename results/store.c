@@ -1260,7 +1260,7 @@ csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *
     *len = 0;
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "SELECT content, path FROM artifacts WHERE session_id = ? AND kind = ?"
-                        " ORDER BY id DESC LIMIT 1", &st);
+                        " ORDER BY CASE WHEN content IS NULL THEN 1 ELSE 0 END, id DESC LIMIT 1", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "reading an artifact");
     sqlite3_bind_int64(st, 1, session_id);
     sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);

@@ -144,7 +144,8 @@ csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_thresh
 /* kind: "csflut", "profile", "plot" (others allowed, up to 15 chars). blob may be NULL (len 0). */
 csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   const char *path, const void *blob, size_t len, csf_error *err);
-/* Newest artifact of that kind for the session: *blob malloc'd (free()), path copied into
+/* Newest artifact of that kind for the session, preferring one stored with content over a
+ * path-only record: *blob malloc'd (free(); NUL-terminated one byte past len), path copied into
  * path_out (may be NULL). CSF_E_NOT_FOUND if there is none. */
 csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   void **blob, size_t *len, char *path_out, size_t path_len,
