@@ -88,6 +88,8 @@ static void test_sessions_trials(const char *path)
     const char blob[] = "csfcal-display-profile 1\nx = 1\n";
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p1.txt", "old", 3, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p2.txt", blob, sizeof blob - 1, &err), CSF_OK);
+    /* A later path-only record (file written elsewhere) does not hide the stored bytes. */
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p3.txt", NULL, 0, &err), CSF_OK);
     CHECK(csf_store_add_artifact(s, 424242, "plot", "x.png", "a", 1, &err) != CSF_OK);
 
     CHECK_INT_EQ(csf_store_set_session_state(s, obs, "paused", &err), CSF_OK);
