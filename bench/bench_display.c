@@ -190,7 +190,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *data = getenv("CSF_DISPLAY_DATA");
-    char kink_sim[1200], kink_truth[1200];
+    char kink_sim[1300], kink_truth[1200];
     snprintf(kink_truth, sizeof kink_truth, "file=%s/kink.csv", data ? data : "tests/display/data");
     snprintf(kink_sim, sizeof kink_sim, "sim:display=%s", kink_truth);
     display displays[] = {{"crt", "sim:display=crt", "crt"}, {"lcd", "sim:display=lcd", "lcd"},

@@ -322,7 +322,27 @@ static double interval_errors(const double *dv, const double *dl, const int *cnt
         int skip = 0;
         for (size_t j = 0; j < nc; j++)
             if (corners[j] == dv[k]) skip = 1;
-        if (skip) continue;
+        if (skip) {
+            /* Instead: is the kink really at this knot? Extend the secants on both sides; where
+             * they cross inside a neighbouring interval, the break lies there, and the gap between
+             * the crossing and the straight model is that interval's error. */
+            double peak_c = dl[m - 1];
+            for (int side = 0; side < 2; side++) {
+                /* side 0: lines (k-1,k) and (k+1,k+2) meet in [k,k+1]; side 1: (k-2,k-1) and (k,k+1) in [k-1,k] */
+                size_t a0 = side ? k - 2 : k - 1, a1 = side ? k - 1 : k, b0 = side ? k : k + 1, b1 = side ? k + 1 : k + 2;
+                if ((side && k < 2) || b1 >= m) continue;
+                double s1 = (dl[a1] - dl[a0]) / (dv[a1] - dv[a0]), s2 = (dl[b1] - dl[b0]) / (dv[b1] - dv[b0]);
+                if (!(fabs(s1 - s2) > 0)) continue;
+                double xs = (dl[b0] - dl[a1] + s1 * dv[a1] - s2 * dv[b0]) / (s1 - s2);
+                if (!(xs > dv[a1] && xs < dv[b0])) continue;
+                double ys = dl[a1] + s1 * (xs - dv[a1]);
+                double lin = dl[a1] + (dl[b0] - dl[a1]) * (xs - dv[a1]) / (dv[b0] - dv[a1]);
+                double e = fabs(ys - lin) / fmax(ys, 0.1 * peak_c);
+                size_t iv = a1; /* interval index [a1, b0] */
+                if (e > est[iv]) est[iv] = e;
+            }
+            continue;
+        }
         size_t j = 0;
         for (size_t i = 0; i < m; i++)
             if (i != k) {
@@ -353,8 +373,12 @@ static double interval_errors(const double *dv, const double *dl, const int *cnt
         if (sl > est[k - 1]) est[k - 1] = sl;
         if (sr > est[k]) est[k] = sr;
     }
-    for (size_t i = 0; i + 1 < m; i++)
+    /* intervals entirely below 10 % of peak matter less (the accuracy target is stated above it,
+     * and contrast there is set by the black level more than by the curve): lower priority */
+    for (size_t i = 0; i + 1 < m; i++) {
+        if (dl[i + 1] < 0.1 * peak) est[i] *= 0.3;
         if (est[i] > worst) worst = est[i];
+    }
     free(tv);
     free(tl);
     return worst;
@@ -432,9 +456,9 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
                                           "%s at full drive is not brighter than black: is the sensor on the patch?",
                                           ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
     static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
-    static const double grid_ch[] = {0.25, 0.5, 0.75};
+    static const double grid_ch[] = {0.25, 0.375, 0.5, 0.75};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
-    int ng = ch == CSF_CH_GREY ? 7 : 3;
+    int ng = ch == CSF_CH_GREY ? 7 : 4;
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
         st = measure_level(c, ch, grid[i], peak, budget - (c->n_sweep - start), err);
         if (st) return st;
@@ -530,14 +554,16 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
 {
     csf_status st = warmup(c, res, err);
     if (st) return st;
-    double d[3];
-    for (int i = 0; i < 3; i++) {
+    /* 6 dark readings: the black level every channel curve is measured from, and the absolute
+     * noise that decides repeats for dim levels (5 degrees of freedom) */
+    double d[6];
+    for (int i = 0; i < 6; i++) {
         rd x;
         st = take(c, ROLE_DARK, CSF_CH_GREY, 0.0, 1, &x, err);
         if (st) return st;
         d[i] = isnan(x.lum) ? 0 : x.lum;
     }
-    c->noise_abs = sd3(d, 3);
+    c->noise_abs = sd3(d, 6);
     update_black(c);
     /* first white reference: 6 readings in a row (no drift to speak of over 3 s after the
      * warm-up) give the noise estimate, 5 degrees of freedom */

@@ -109,6 +109,17 @@ static int is_corner(const double *x, const double *y, int n, int k)
     return 1;
 }
 
+/* One-sided slope at the end of a run of knots: derivative of the parabola through the end knot
+ * and the next two (h0, d0 the nearer interval's width and secant), kept shape-preserving: never
+ * against the secant's sign, and at most 3 times it when the secants disagree in sign. */
+static double one_sided(double h0, double d0, double h1, double d1)
+{
+    double m = ((2 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
+    if (m * d0 <= 0) return 0;
+    if (d0 * d1 <= 0 && fabs(m) > fabs(3 * d0)) return 3 * d0;
+    return m;
+}
+
 /* Fritsch–Carlson (1980) slopes: a cubic Hermite with these slopes is monotone wherever the data
  * are. At a corner the two intervals get one-sided slopes (each its own secant), so a kink is
  * kept as a kink instead of being rounded over both intervals. */
@@ -121,17 +132,30 @@ static void fc_slopes(const double *x, const double *y, double *m, double *ml, i
     double d_prev = 0;
     for (int i = 0; i < n - 1; i++) {
         double d = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
+        /* interior slope: the secant across both neighbouring intervals, i.e. the secants
+         * weighted by their widths. Why not their plain mean: a short interval's secant carries
+         * the instrument noise divided by its width, and the mean would pass that into the long
+         * interval beside it */
         if (i == 0) m[0] = d;
-        else m[i] = (d_prev * d <= 0) ? 0 : (d_prev + d) / 2;
+        else m[i] = (d_prev * d <= 0) ? 0 : (y[i + 1] - y[i - 1]) / (x[i + 1] - x[i - 1]);
         d_prev = d;
     }
     m[n - 1] = d_prev;
+#define SEC(a) ((y[(a) + 1] - y[(a)]) / (x[(a) + 1] - x[(a)]))
+#define WID(a) (x[(a) + 1] - x[(a)])
+    /* the ends (drive 0 and 1) and both sides of a corner: one-sided three-point slopes */
+    if (n >= 3) {
+        m[0] = one_sided(WID(0), SEC(0), WID(1), SEC(1));
+        m[n - 1] = one_sided(WID(n - 2), SEC(n - 2), WID(n - 3), SEC(n - 3));
+    }
     for (int i = 0; i < n; i++) ml[i] = m[i];
     for (int k = 1; k < n - 1; k++)
         if (is_corner(x, y, n, k)) {
-            ml[k] = (y[k] - y[k - 1]) / (x[k] - x[k - 1]);
-            m[k] = (y[k + 1] - y[k]) / (x[k + 1] - x[k]);
+            ml[k] = k >= 2 ? one_sided(WID(k - 1), SEC(k - 1), WID(k - 2), SEC(k - 2)) : SEC(k - 1);
+            m[k] = k + 2 < n ? one_sided(WID(k), SEC(k), WID(k + 1), SEC(k + 1)) : SEC(k);
         }
+#undef SEC
+#undef WID
     for (int i = 0; i < n - 1; i++) {
         double d = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
         if (d == 0) {
