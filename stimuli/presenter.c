@@ -437,6 +437,7 @@ static csf_status window_open(csf_presenter *p, csf_error *err)
                              d ? d : "unknown");
     }
     glfwMakeContextCurrent(p->win);
+    dl_iterate_phdr(pin_module, NULL);
     glfwSwapInterval(1);
     glfwSetInputMode(p->win, GLFW_CURSOR, GLFW_CURSOR_HIDDEN);
     int fw, fh;
