@@ -82,7 +82,6 @@ OCIO::ConfigRcPtr make_config(const csf_display_profile *p, const std::string &l
     cfg->addColorSpace(drv);
     cfg->setRole(OCIO::ROLE_SCENE_LINEAR, "linear");
     cfg->setRole(OCIO::ROLE_DEFAULT, "linear");
-    cfg->removeColorSpace("raw");
     cfg->addDisplayView("csfcal", "calibrated", "csfcal_display", "");
     cfg->setActiveDisplays("csfcal");
     cfg->setActiveViews("calibrated");
@@ -153,6 +152,7 @@ csf_status write_ocio(const csf_display_profile *p, const char *path, csf_error 
     csf_status st = write_group(p, ".clf", (dir + lut_name).c_str(), err);
     if (st) return st;
     OCIO::ConfigRcPtr cfg = make_config(p, lut_name);
+    cfg->validate(); // throws with OpenColorIO's reason if the config would not load
     std::ostringstream os;
     cfg->serialize(os);
     return write_text(os.str(), path, err);
