@@ -83,7 +83,7 @@ int csf_cmd_report(int argc, char **argv)
     }
     csf_error err;
     csf_store *s = NULL;
-    if (csf_store_open(csf_cli_store_path(&cli), &s, &err) != CSF_OK) return csf_cli_report("report", &err);
+    if (csf_store_open_readonly(csf_cli_store_path(&cli), &s, &err) != CSF_OK) return csf_cli_report("report", &err);
     csf_status st = csf_report_write(s, id, out_path, &err);
     csf_store_close(s);
     if (st != CSF_OK) return csf_cli_report("report", &err);

@@ -81,17 +81,21 @@ static int parse_id(const char *text, int64_t *id)
     return 0;
 }
 
-static int open_store(csf_cli *cli, csf_store **s)
+/* Reading commands open the store read-only: they work on archived stores on read-only media
+ * and never create an empty store as a side effect of a typo in --store. */
+static int open_store(csf_cli *cli, csf_store **s, int writable)
 {
     csf_error err;
-    if (csf_store_open(csf_cli_store_path(cli), s, &err) != CSF_OK) return csf_cli_report("sessions", &err);
+    const char *path = csf_cli_store_path(cli);
+    csf_status st = writable ? csf_store_open(path, s, &err) : csf_store_open_readonly(path, s, &err);
+    if (st != CSF_OK) return csf_cli_report("sessions", &err);
     return 0;
 }
 
 static int cmd_list(csf_cli *cli)
 {
     csf_store *s = NULL;
-    int rc = open_store(cli, &s);
+    int rc = open_store(cli, &s, 0);
     if (rc) return rc;
     csf_error err;
     csf_session_info *list = NULL;
@@ -132,7 +136,7 @@ static int cmd_list(csf_cli *cli)
 static int cmd_show(csf_cli *cli, int64_t id)
 {
     csf_store *s = NULL;
-    int rc = open_store(cli, &s);
+    int rc = open_store(cli, &s, 0);
     if (rc) return rc;
     csf_error err;
     csf_session_info si;
@@ -161,7 +165,7 @@ static int cmd_show(csf_cli *cli, int64_t id)
 static int cmd_abort(csf_cli *cli, int64_t id)
 {
     csf_store *s = NULL;
-    int rc = open_store(cli, &s);
+    int rc = open_store(cli, &s, 1);
     if (rc) return rc;
     csf_error err;
     csf_session_info si;
@@ -211,7 +215,7 @@ static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *
         }
     }
     csf_store *s = NULL;
-    int rc = open_store(cli, &s);
+    int rc = open_store(cli, &s, 0);
     if (rc) return rc;
     csf_error err;
     csf_session_info si;

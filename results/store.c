@@ -500,6 +500,102 @@ bad:
     return cs;
 }
 
+/* Percent-encodes the characters that end or escape a path in an SQLite URI filename. */
+static void uri_path(const char *path, char *out, size_t cap)
+{
+    size_t o = 0;
+    for (const char *p = path; *p && o + 4 < cap; p++) {
+        if (*p == '?' || *p == '#' || *p == '%') o += (size_t)snprintf(out + o, cap - o, "%%%02X", (unsigned char)*p);
+        else out[o++] = *p;
+    }
+    out[o] = '\0';
+}
+
+static csf_status finish_readonly(csf_store *s, csf_error *err)
+{
+    sqlite3_extended_result_codes(s->db, 1);
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
+    sqlite3_busy_timeout(s->db, 5000);
+    char check[256] = "";
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "PRAGMA quick_check(1)", &st);
+    if (rc == SQLITE_OK) {
+        rc = step(s, st);
+        if (rc == SQLITE_ROW) {
+            col_text(st, 0, check, sizeof check);
+            rc = SQLITE_OK;
+        }
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "checking integrity");
+    if (strcmp(check, "ok") != 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s)",
+                             s->path, check);
+    int has_version = 0, version = 0;
+    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
+                         "name = 'schema_version'", &has_version, &rc) < 0)
+        return fail(s, err, rc, "reading the schema");
+    if (!has_version)
+        return csf_error_set(err, CSF_E_STORE, "store %s: not a csfcal store (no schema_version "
+                             "table)", s->path);
+    if (query_int(s->db, "SELECT MAX(version) FROM schema_version", &version, &rc) < 0)
+        return fail(s, err, rc, "reading the schema version");
+    if (version > CSF_STORE_SCHEMA_VERSION)
+        return csf_error_set(err, CSF_E_STORE, "store %s: schema version %d is newer than this "
+                             "csfcal understands (%d); use a newer csfcal", s->path, version,
+                             CSF_STORE_SCHEMA_VERSION);
+    if (version < CSF_STORE_SCHEMA_VERSION)
+        return csf_error_set(err, CSF_E_STORE, "store %s: schema version %d must be migrated to %d "
+                             "before it can be read, which needs write access; open a writable "
+                             "copy once", s->path, version, CSF_STORE_SCHEMA_VERSION);
+    return CSF_OK;
+}
+
+csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: no output pointer");
+    *out = NULL;
+    if (!path || !*path)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: empty path (give --store PATH)");
+    if (strlen(path) >= 1024)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: path longer than 1023 characters");
+    struct stat stt;
+    if (stat(path, &stt) != 0)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: does not exist (%s); no session has "
+                             "been recorded there yet", path, strerror(errno));
+    if (S_ISDIR(stt.st_mode))
+        return csf_error_set(err, CSF_E_STORE, "store %s: is a folder, not a database file", path);
+    csf_status cs = check_magic(path, err);
+    if (cs != CSF_OK) return cs;
+    if (stt.st_size == 0)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: empty file, no sessions", path);
+    csf_store *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "store %s: out of memory", path);
+    copy_str(s->path, sizeof s->path, path);
+    int rc = sqlite3_open_v2(path, &s->db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, NULL);
+    cs = rc == SQLITE_OK ? finish_readonly(s, err) : fail(s, err, rc, "opening");
+    if (cs != CSF_OK && err && strstr(err->msg, "corrupt") == NULL && strstr(err->msg, "schema") == NULL &&
+        strstr(err->msg, "csfcal store") == NULL) {
+        /* A WAL store on read-only media: SQLite cannot create the -shm file next to it. Read
+         * it as immutable (nothing can be writing to read-only media). */
+        sqlite3_close(s->db);
+        s->db = NULL;
+        char uri[3200] = "file:";
+        uri_path(path, uri + 5, sizeof uri - 5);
+        strncat(uri, "?immutable=1", sizeof uri - strlen(uri) - 1);
+        rc = sqlite3_open_v2(uri, &s->db, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX, NULL);
+        cs = rc == SQLITE_OK ? finish_readonly(s, err) : fail(s, err, rc, "opening read-only");
+    }
+    if (cs != CSF_OK) {
+        csf_store_close(s);
+        return cs;
+    }
+    *out = s;
+    return CSF_OK;
+}
+
 void csf_store_close(csf_store *s)
 {
     if (!s) return;
@@ -866,6 +962,8 @@ csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *
     if (r->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading seq %d < 0", r->seq);
     if (!(r->drive01 >= 0.0 && r->drive01 <= 1.0))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading drive01 %g outside [0, 1]", r->drive01);
+    if (!s->ins_reading)
+        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a reading", s->path);
     sqlite3_stmt *st = s->ins_reading;
     sqlite3_reset(st);
     sqlite3_clear_bindings(st);
@@ -948,6 +1046,8 @@ csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
     if (!isfinite(t->freq_cpd) || !isfinite(t->ecc_deg) || !isfinite(t->contrast_requested))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has a non-finite frequency, "
                              "eccentricity or contrast", t->seq);
+    if (!s->ins_trial)
+        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a trial", s->path);
     sqlite3_stmt *st = s->ins_trial;
     sqlite3_reset(st);
     sqlite3_clear_bindings(st);
@@ -1058,6 +1158,8 @@ csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int t
     if (n < 0 || (n > 0 && !interval_s))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
     if (n == 0) return CSF_OK;
+    if (!s->ins_frame)
+        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store frame intervals", s->path);
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing frame intervals");
     sqlite3_stmt *st = s->ins_frame;

@@ -33,6 +33,13 @@ typedef struct csf_store csf_store;
 csf_status csf_store_open(const char *path, csf_store **out, csf_error *err);
 void csf_store_close(csf_store *s);
 
+/* Opens an existing store for reading only (listing, export, reports): no migration, no write
+ * probe, works on read-only files, folders and media (a store there is read as immutable, so a
+ * WAL left by a crash on such media is not seen). CSF_E_NOT_FOUND when the file does not exist;
+ * corrupt files and schemas other than CSF_STORE_SCHEMA_VERSION are refused. The add_* and
+ * put_* calls on such a store fail with a read-only error. */
+csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err);
+
 /* Schema version stored in the open database (after migration: CSF_STORE_SCHEMA_VERSION). */
 int csf_store_schema_version(csf_store *s);
 /* Path the store was opened with. */

@@ -278,6 +278,26 @@ int main(void)
     snprintf(path, sizeof path, "%s/no/such/dir/store.sqlite", dir);
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "does not exist");
+    /* Read-only opening: a missing file is not created; an existing store reads, refuses writes. */
+    snprintf(path, sizeof path, "%s/never-created.sqlite", dir);
+    CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_E_NOT_FOUND);
+    CHECK_STR_CONTAINS(err.msg, "does not exist");
+    CHECK(access(path, F_OK) != 0);
+    snprintf(path, sizeof path, "%s/store.sqlite", dir);
+    CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
+    if (s) {
+        csf_session_info *list = NULL;
+        size_t nl = 0;
+        CHECK_INT_EQ(csf_store_list_sessions(s, &list, &nl, &err), CSF_OK);
+        CHECK_INT_EQ(nl, 4);
+        csf_session_list_free(list, nl);
+        int64_t id = 0;
+        CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "y", NULL, 1, &id, &err), CSF_E_STORE);
+        CHECK_STR_CONTAINS(err.msg, "read-only");
+        csf_trial t = make_trial(1, 1000, 1);
+        CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_E_STORE);
+        csf_store_close(s);
+    }
     rm_rf(dir);
     return CHECK_RESULT();
 }

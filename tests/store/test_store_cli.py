@@ -112,6 +112,11 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run("sessions", "--store", bad, expect=1)
     check("not a database" in p.stderr and bad in p.stderr, f"corrupt store message: {p.stderr}")
 
+    nowhere = os.path.join(tmp, "typo.sqlite")
+    p = run("sessions", "--store", nowhere, expect=1)
+    check("does not exist" in p.stderr and not os.path.exists(nowhere), "listing does not create a store")
+    p = run("report", obs, "-o", os.path.join(tmp, "n.pdf"), "--store", nowhere, expect=1)
+
     # --- reports ---
     magic = {"pdf": b"%PDF-", "png": b"\x89PNG\r\n\x1a\n", "svg": b"<?xml"}
     for ext, m in magic.items():

@@ -121,9 +121,32 @@ static void test_read_only(const char *dir)
     /* A read-only file system, when this test is allowed to mount one (root). */
     snprintf(sub, sizeof sub, "%s/rofs", dir);
     mkdir(sub, 0755);
-    if (mount("tmpfs", sub, "tmpfs", MS_RDONLY, "size=1m") == 0) {
+    if (mount("tmpfs", sub, "tmpfs", 0, "size=8m") == 0) {
         snprintf(path, sizeof path, "%s/store.sqlite", sub);
+        CHECK_INT_EQ(fill_store(path, 7), 0);
+        CHECK_INT_EQ(mount("tmpfs", sub, "tmpfs", MS_REMOUNT | MS_RDONLY, "size=8m"), 0);
         expect_refused(path, "read-only file system");
+        /* An archived store on read-only media can still be read, listed and exported. */
+        csf_error err;
+        csf_store *s = NULL;
+        CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
+        if (s) {
+            csf_session_info *list = NULL;
+            size_t n = 0;
+            CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+            CHECK_INT_EQ(n, 1);
+            if (n == 1) CHECK_INT_EQ(list[0].n_trials, 7);
+            csf_trial *t = NULL;
+            size_t nt = 0;
+            if (n == 1) CHECK_INT_EQ(csf_store_get_trials(s, list[0].id, &t, &nt, &err), CSF_OK);
+            CHECK_INT_EQ(nt, 7);
+            free(t);
+            csf_trial more = make_trial(n == 1 ? list[0].id : 1, 7, 3);
+            CHECK_INT_EQ(csf_store_add_trial(s, &more, &err), CSF_E_STORE);
+            CHECK_STR_CONTAINS(err.msg, "read-only");
+            csf_session_list_free(list, n);
+            csf_store_close(s);
+        }
         umount(sub);
     } else {
         fprintf(stderr, "  (read-only mount not permitted here: %s; file/folder modes tested)\n",
