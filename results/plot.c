@@ -377,7 +377,8 @@ static void draw_summary(cairo_t *cr, const report_data *d)
     }
     if (catch_n) {
         double f = (double)catch_resp / catch_n;
-        v[nv].level = f > 0.2 ? 2 : f > 0.1 ? 1 : 0;
+        /* With few catch trials one false alarm is a large fraction: only a warning then. */
+        v[nv].level = f > 0.2 && catch_n >= 10 ? 2 : f > 0.1 ? 1 : 0;
         snprintf(v[nv++].text, sizeof v[0].text, "%d of %d catch trials drew a response (%.0f %%)",
                  catch_resp, catch_n, 100 * f);
     }
