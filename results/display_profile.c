@@ -342,10 +342,13 @@ static int parse_utc(const char *s, time_t *out)
 {
     struct tm tm;
     memset(&tm, 0, sizeof tm);
+    /* exactly YYYY-MM-DDTHH:MM:SSZ: sscanf alone would skip whitespace inside the fields */
+    static const char shape[] = "dddd-dd-ddTdd:dd:ddZ";
+    if (strlen(s) != sizeof shape - 1) return -1;
+    for (size_t i = 0; i < sizeof shape - 1; i++)
+        if (shape[i] == 'd' ? !isdigit((unsigned char)s[i]) : s[i] != shape[i]) return -1;
     int Y, M, D, h, mi, se;
-    char z;
-    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d:%2d%c", &Y, &M, &D, &h, &mi, &se, &z) != 7 || z != 'Z')
-        return -1;
+    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d:%2dZ", &Y, &M, &D, &h, &mi, &se) != 6) return -1;
     if (Y < 1970 || Y > 9999 || M < 1 || M > 12 || D < 1 || D > 31 || h > 23 || mi > 59 || se > 60 ||
         h < 0 || mi < 0 || se < 0)
         return -1;
