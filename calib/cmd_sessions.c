@@ -15,7 +15,8 @@
 static const char sessions_help[] =
     "usage: csfcal sessions [list] [--store PATH] [--json]\n"
     "       csfcal sessions show ID [--store PATH] [--json]\n"
-    "       csfcal sessions export ID --format csv|json [--table trials|readings|thresholds]\n"
+    "       csfcal sessions export ID --format csv|json\n"
+    "                              [--table trials|readings|thresholds|frames]\n"
     "                              [-o FILE] [--store PATH]\n"
     "       csfcal sessions abort ID [--store PATH]\n\n"
     "list    every session in the store: id, kind, state, observer, display, trials, readings.\n"
@@ -23,7 +24,8 @@ static const char sessions_help[] =
     "        of the command that started them.\n"
     "show    one session in detail, with the settings it was started with.\n"
     "export  tidy table, one row per trial (observer/study sessions) or photometer reading\n"
-    "        (display sessions) unless --table says otherwise. Column names carry units\n"
+    "        (display sessions) unless --table says otherwise (frames: one row per frame\n"
+    "        interval). Column names carry units\n"
     "        (freq_cpd, ecc_deg, lum_cdm2, rt_s ...); empty CSV cell / JSON null = missing.\n"
     "        Writes to standard output unless -o FILE is given. See docs/store.md.\n"
     "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n\n";
@@ -208,9 +210,10 @@ static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *
         if (!strcmp(table, "trials")) tab = CSF_TABLE_TRIALS;
         else if (!strcmp(table, "readings")) tab = CSF_TABLE_READINGS;
         else if (!strcmp(table, "thresholds")) tab = CSF_TABLE_THRESHOLDS;
+        else if (!strcmp(table, "frames")) tab = CSF_TABLE_FRAMES;
         else {
             fprintf(stderr, "csfcal: sessions export: --table '%s' unknown (allowed trials, readings, "
-                    "thresholds)\n", table);
+                    "thresholds, frames)\n", table);
             return 2;
         }
     }

@@ -1,10 +1,14 @@
 /* Tidy CSV / JSON exports of a session (see results/store_export.h). */
 #include "results/store_export.h"
 
+#include <sqlite3.h>
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "results/store_internal.h"
 
 typedef enum { COL_INT, COL_REAL, COL_TEXT, COL_BOOL } col_type;
 
@@ -145,6 +149,8 @@ static const char *const threshold_cols[] = {
     "session_id", "freq_cpd", "ecc_deg", "velocity_dps", "lum_cdm2", "threshold_michelson",
     "threshold_infinite", "sensitivity", "stderr_log10", "n_trials"};
 
+static const char *const frame_cols[] = {"session_id", "trial_seq", "frame", "interval_s"};
+
 #define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table table,
@@ -223,6 +229,32 @@ csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table t
         }
         end_table(&w);
         free(r);
+    } else if (table == CSF_TABLE_FRAMES) {
+        /* Streamed straight from the table: a long session has many thousands of frames. */
+        sqlite3_stmt *q = NULL;
+        int rc = sqlite3_prepare_v2(csf_store_db(s), "SELECT trial_seq, idx, interval_s FROM "
+                                    "frame_intervals WHERE session_id = ? ORDER BY trial_seq, idx",
+                                    -1, &q, NULL);
+        if (rc != SQLITE_OK)
+            return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)",
+                                 sqlite3_errmsg(csf_store_db(s)));
+        sqlite3_bind_int64(q, 1, session_id);
+        w.names = frame_cols;
+        w.ncols = NCOLS(frame_cols);
+        begin_table(&w);
+        while ((rc = sqlite3_step(q)) == SQLITE_ROW) {
+            begin_row(&w);
+            put_i(&w, session_id);
+            put_i(&w, sqlite3_column_int64(q, 0));
+            put_i(&w, sqlite3_column_int64(q, 1));
+            put_r(&w, sqlite3_column_type(q, 2) == SQLITE_NULL ? NAN : sqlite3_column_double(q, 2));
+            end_row(&w);
+        }
+        sqlite3_finalize(q);
+        end_table(&w);
+        if (rc != SQLITE_DONE)
+            return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)",
+                                 sqlite3_errstr(rc));
     } else {
         csf_threshold_row *r = NULL;
         size_t n = 0;

@@ -14,7 +14,10 @@
 #include "results/store.h"
 
 typedef enum { CSF_EXPORT_CSV, CSF_EXPORT_JSON } csf_export_format;
-typedef enum { CSF_TABLE_AUTO, CSF_TABLE_TRIALS, CSF_TABLE_READINGS, CSF_TABLE_THRESHOLDS } csf_export_table;
+typedef enum {
+    CSF_TABLE_AUTO, CSF_TABLE_TRIALS, CSF_TABLE_READINGS, CSF_TABLE_THRESHOLDS,
+    CSF_TABLE_FRAMES /* one row per frame interval: session_id, trial_seq, frame, interval_s */
+} csf_export_table;
 
 /* AUTO: readings for display sessions, trials otherwise. Writes to out; reports write errors. */
 csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table table,

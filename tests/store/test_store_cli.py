@@ -95,6 +95,12 @@ with tempfile.TemporaryDirectory() as tmp:
     tj = json.loads(p.stdout)
     check(all((r["threshold_michelson"] is None) == r["threshold_infinite"] for r in tj), "json Inf as null + flag")
 
+    p = run("sessions", "export", obs, "--format", "csv", "--table", "frames", *S)
+    frows = list(csv.DictReader(io.StringIO(p.stdout)))
+    check(len(frows) == 240 * 30 and set(frows[0]) == {"session_id", "trial_seq", "frame", "interval_s"}, "frames export")
+    late = [r for r in frows if float(r["interval_s"]) > 0.025]
+    check(len(late) == 6 and all(int(r["trial_seq"]) % 40 == 7 and r["frame"] == "12" for r in late), f"late frames {len(late)}")
+
     # --- errors ---
     missing = os.path.join(tmp, "nope.csv")
     p = run("sessions", "export", "99", "--format", "csv", "-o", missing, *S, expect=1)
