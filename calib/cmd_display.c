@@ -180,7 +180,8 @@ static int cmd_calibrate(dargs *a)
         printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(p), csf_profile_lum_max(p));
         printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res.n_sweep,
                res.n_readings, res.n_warmup, res.warmup_stable ? "" : ", white never settled");
-        printf("  estimated model error (leave-one-out, above 10%% of peak): grey %.3f %%", 100 * res.est_error_rel[CSF_CH_GREY]);
+        printf("  error indicator (leave-one-out, pessimistic; stopping rule aims below %.3f %%): grey %.3f %%",
+               100 * o.target_rel / 4, 100 * res.est_error_rel[CSF_CH_GREY]);
         if (o.channels)
             printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res.est_error_rel[0], 100 * res.est_error_rel[1],
                    100 * res.est_error_rel[2]);

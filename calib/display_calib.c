@@ -82,7 +82,16 @@ static void progress(ctx *c)
     if (!c->o->progress) return;
     int total = c->o->budget > 0 ? c->o->budget : 1;
     int done = c->n_sweep > total ? total : c->n_sweep;
-    double per = c->n > 1 && c->t_last > 0 ? c->t_last / (double)c->n : 1.0;
+    if (c->n && c->r[c->n - 1].role == ROLE_WARMUP) {
+        fprintf(stderr, "\rwarming up: white reading %d (%.0f s)                       ", c->n_warmup, c->t_last);
+        c->progress_shown = 1;
+        return;
+    }
+    /* time per reading since the warm-up ended (its waits would inflate the estimate) */
+    size_t first = 0;
+    while (first < c->n && c->r[first].role == ROLE_WARMUP) first++;
+    double t0 = first > 0 ? c->r[first - 1].t_s : 0;
+    double per = c->n > first + 1 ? (c->t_last - t0) / (double)(c->n - first) : 1.0;
     int width = 30, fill = done * width / total;
     char bar[32];
     for (int i = 0; i < width; i++) bar[i] = i < fill ? '#' : '.';
@@ -179,8 +188,9 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     out->t_s = pr.t_s;
     if (role == ROLE_SWEEP) c->n_sweep++;
     if (role == ROLE_WARMUP) c->n_warmup++;
+    csf_status pst = push(c, out, err);
     progress(c);
-    return push(c, out, err);
+    return pst;
 }
 
 /* White reference events: consecutive reference readings averaged (time and luminance). */
@@ -508,8 +518,9 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
         int *cnt = calloc(k + 1, sizeof(int));
         size_t m = distinct(pv, pl, k, dv, dl, cnt);
         double *est = calloc(m + 1, sizeof(double));
-        /* reported without the noise allowance: what leaving a knot out really costs */
-        *est_out = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, 0, 0, est, NULL) : last_est;
+        /* the indicator the stopping rule uses (noise allowance included); an upper-side
+         * estimate: it is scaled to interval middles and counts kinks pessimistically */
+        *est_out = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL) : last_est;
         free(pv); free(pl); free(dv); free(dl); free(est); free(cnt);
     }
     return CSF_OK;

@@ -34,7 +34,8 @@ typedef struct {
     int warmup_stable;     /* 1: white settled within the tolerance; 0: gave up after warmup_max */
     double noise_rel;      /* instrument noise estimated from white references */
     double drift_rel;      /* white change from first to last reference */
-    double est_error_rel[CSF_CH_COUNT]; /* leave-one-out estimate of the model error per curve */
+    double est_error_rel[CSF_CH_COUNT]; /* leave-one-out error indicator per curve (what the
+                                           stopping rule sees; pessimistic, not a measured error) */
     double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
     int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
     char monotonic_msg[256];
