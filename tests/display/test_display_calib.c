@@ -130,11 +130,13 @@ int main(void)
     /* faults: each ends with its status and a message, readings kept in the store, the session
      * paused; --resume with a working instrument finishes it and meets the target */
     struct { const char *fault; csf_status code; const char *msg; } faults[] = {
+        {"unplug@5", CSF_E_GONE, "disconnected"},      /* during the warm-up check */
         {"unplug@30", CSF_E_GONE, "disconnected"},
         {"timeout@25", CSF_E_TIMEOUT, "did not answer"},
         {"garbage@40", CSF_E_PROTOCOL, "unreadable"},
         {"dark@35", CSF_E_TOO_DARK, "too dark"},
         {"saturate@28", CSF_E_SATURATED, "saturated"},
+        {"timeout@60", CSF_E_TIMEOUT, "did not answer"}, /* inside the channel sweeps */
     };
     char dir[] = "/tmp/csfcal-test-calib-XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
