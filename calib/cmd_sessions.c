@@ -97,9 +97,16 @@ static int open_store(csf_cli *cli, csf_store **s, int writable)
 static int cmd_list(csf_cli *cli)
 {
     csf_store *s = NULL;
-    int rc = open_store(cli, &s, 0);
-    if (rc) return rc;
     csf_error err;
+    const char *path = csf_cli_store_path(cli);
+    csf_status ost = csf_store_open_readonly(path, &s, &err);
+    if (ost == CSF_E_NOT_FOUND) {
+        /* Nothing recorded yet is not an error for a listing. */
+        if (cli->json) printf("[]\n");
+        else printf("No sessions yet: the store %s does not exist.\n", path);
+        return 0;
+    }
+    if (ost != CSF_OK) return csf_cli_report("sessions", &err);
     csf_session_info *list = NULL;
     size_t n = 0;
     if (csf_store_list_sessions(s, &list, &n, &err) != CSF_OK) {

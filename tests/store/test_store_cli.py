@@ -119,8 +119,12 @@ with tempfile.TemporaryDirectory() as tmp:
     check("not a database" in p.stderr and bad in p.stderr, f"corrupt store message: {p.stderr}")
 
     nowhere = os.path.join(tmp, "typo.sqlite")
-    p = run("sessions", "--store", nowhere, expect=1)
-    check("does not exist" in p.stderr and not os.path.exists(nowhere), "listing does not create a store")
+    p = run("sessions", "--store", nowhere)
+    check("No sessions yet" in p.stdout and not os.path.exists(nowhere), "listing does not create a store")
+    p = run("sessions", "--json", "--store", nowhere)
+    check(json.loads(p.stdout) == [], "empty JSON list")
+    p = run("sessions", "export", "1", "--format", "csv", "--store", nowhere, expect=1)
+    check("does not exist" in p.stderr and not os.path.exists(nowhere), "export from missing store")
     p = run("report", obs, "-o", os.path.join(tmp, "n.pdf"), "--store", nowhere, expect=1)
 
     # --- reports ---
