@@ -50,7 +50,9 @@ enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_
 static const double offset_sd_levels[] = {0.03, 0.06, 0.10, 0.15, 0.22};
 enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define OFFSET_SD_WIDE 0.40    /* log10: the tail for cells the surface cannot describe */
-#define OFFSET_WIDE_WEIGHT 0.10
+#ifndef OFFSET_WIDE_WEIGHT
+#define OFFSET_WIDE_WEIGHT 0.03
+#endif
 #ifndef MH_STEPS
 #define MH_STEPS 4
 #endif
