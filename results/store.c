@@ -1036,9 +1036,8 @@ csf_status csf_store_get_readings(csf_store *s, int64_t session_id, csf_reading 
 
 /* ---- trials ------------------------------------------------------------------------------ */
 
-csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
+static csf_status check_trial(csf_store *s, const csf_trial *t, csf_error *err)
 {
-    csf_error_clear(err);
     if (!s || !t) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     if (t->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial seq %d < 0", t->seq);
     if (!terminated(t->method, sizeof t->method) || !terminated(t->flags, sizeof t->flags))
@@ -1048,6 +1047,12 @@ csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
                              "eccentricity or contrast", t->seq);
     if (!s->ins_trial)
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a trial", s->path);
+    return CSF_OK;
+}
+
+/* One trial row; SQLITE_OK or the failing step's code. */
+static int insert_trial(csf_store *s, const csf_trial *t)
+{
     sqlite3_stmt *st = s->ins_trial;
     sqlite3_reset(st);
     sqlite3_clear_bindings(st);
@@ -1080,12 +1085,69 @@ csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
     sqlite3_bind_double(st, i++, unix_now_s());
     int rc = step(s, st);
     sqlite3_reset(st);
-    if (rc == SQLITE_DONE) return CSF_OK;
+    return rc == SQLITE_DONE ? SQLITE_OK : rc;
+}
+
+static csf_status trial_failed(csf_store *s, const csf_trial *t, int rc, csf_error *err)
+{
     if ((rc & 0xff) == SQLITE_CONSTRAINT)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: trial %d of session %lld refused "
                              "(session unknown or seq already stored): %s", s->path, t->seq,
                              (long long)t->session_id, sqlite3_errmsg(s->db));
     return fail(s, err, rc, "storing a trial");
+}
+
+csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
+{
+    csf_error_clear(err);
+    csf_status cs = check_trial(s, t, err);
+    if (cs != CSF_OK) return cs;
+    int rc = insert_trial(s, t);
+    return rc == SQLITE_OK ? CSF_OK : trial_failed(s, t, rc, err);
+}
+
+/* Frame interval rows of one trial inside the caller's transaction. */
+static int insert_frames(csf_store *s, int64_t session_id, int trial_seq, const double *interval_s, int n)
+{
+    sqlite3_stmt *st = s->ins_frame;
+    int rc = SQLITE_OK;
+    for (int i = 0; i < n && rc == SQLITE_OK; i++) {
+        sqlite3_reset(st);
+        sqlite3_bind_int64(st, 1, session_id);
+        sqlite3_bind_int(st, 2, trial_seq);
+        sqlite3_bind_int(st, 3, i);
+        sqlite3_bind_double(st, 4, isfinite(interval_s[i]) ? interval_s[i] : 0.0);
+        rc = step(s, st);
+        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
+    }
+    sqlite3_reset(st);
+    return rc;
+}
+
+csf_status csf_store_add_trial_frames(csf_store *s, const csf_trial *t, const double *interval_s,
+                                      int n, csf_error *err)
+{
+    csf_error_clear(err);
+    csf_status cs = check_trial(s, t, err);
+    if (cs != CSF_OK) return cs;
+    if (n < 0 || (n > 0 && !interval_s))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
+    if (rc != SQLITE_OK) return fail(s, err, rc, "storing a trial");
+    rc = insert_trial(s, t);
+    if (rc != SQLITE_OK) {
+        cs = trial_failed(s, t, rc, err);
+        exec_s(s, "ROLLBACK");
+        return cs;
+    }
+    rc = insert_frames(s, t->session_id, t->seq, interval_s, n);
+    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
+    if (rc != SQLITE_OK) {
+        cs = fail(s, err, rc, "storing a trial's frame intervals");
+        exec_s(s, "ROLLBACK");
+        return cs;
+    }
+    return CSF_OK;
 }
 
 csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
@@ -1162,17 +1224,7 @@ csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int t
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store frame intervals", s->path);
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing frame intervals");
-    sqlite3_stmt *st = s->ins_frame;
-    for (int i = 0; i < n && rc == SQLITE_OK; i++) {
-        sqlite3_reset(st);
-        sqlite3_bind_int64(st, 1, session_id);
-        sqlite3_bind_int(st, 2, trial_seq);
-        sqlite3_bind_int(st, 3, i);
-        sqlite3_bind_double(st, 4, isfinite(interval_s[i]) ? interval_s[i] : 0.0);
-        rc = step(s, st);
-        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
-    }
-    sqlite3_reset(st);
+    rc = insert_frames(s, session_id, trial_seq, interval_s, n);
     if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
     if (rc != SQLITE_OK) {
         csf_status cs = (rc & 0xff) == SQLITE_CONSTRAINT

@@ -119,6 +119,11 @@ typedef struct {
 } csf_trial;
 
 csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err);
+/* A trial and its frame-to-frame intervals in ONE transaction: after a crash either both are
+ * stored or neither (with separate add_trial + add_frame_intervals calls a kill in between
+ * leaves a trial without its frame timing). */
+csf_status csf_store_add_trial_frames(csf_store *s, const csf_trial *t, const double *interval_s,
+                                      int n, csf_error *err);
 /* Ordered by seq (what a resumed procedure replays). *out is malloc'd (free()). */
 csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
                                 csf_error *err);

@@ -5,7 +5,8 @@
  * inside SQLite's commit path (commit hook: before the commit is durable; WAL hook: after it is
  * durable but before add_trial returns). After every kill the parent checks: the file passes
  * PRAGMA integrity_check, the store opens, every reported trial is present with its exact
- * content, and the stored seqs are 0..n-1 without gaps. */
+ * content, the stored seqs are 0..n-1 without gaps, and a trial written together with its frame
+ * intervals (csf_store_add_trial_frames) has all of them or was not stored. */
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,13 +56,37 @@ static void child(const char *path, int64_t sid, int fd, int mode, int countdown
     if (mode == 2) sqlite3_wal_hook(csf_store_db(s), wal_hook_kill, NULL);
     for (int seq = next; seq < next + 100000; seq++) {
         csf_trial t = make_trial(sid, seq, SEED);
-        if (csf_store_add_trial(s, &t, &err) != CSF_OK) {
+        /* Odd trials go in with their frame intervals, in one transaction. */
+        double iv[5] = {0.0166, 0.0167, 0.0168, 0.0333, 0.0167};
+        csf_status st = seq % 2 ? csf_store_add_trial_frames(s, &t, iv, 5, &err)
+                                : csf_store_add_trial(s, &t, &err);
+        if (st != CSF_OK) {
             fprintf(stderr, "child: %s\n", err.msg);
             _exit(5);
         }
         if (write(fd, &seq, sizeof seq) != (ssize_t)sizeof seq) _exit(6);
     }
     _exit(7);
+}
+
+/* Trials stored with frames must have all 5 of them, and no frame rows may lack their trial. */
+static int frames_atomic(const char *path)
+{
+    sqlite3 *db = NULL;
+    int bad = -1;
+    if (sqlite3_open(path, &db) == SQLITE_OK) {
+        sqlite3_stmt *st = NULL;
+        if (sqlite3_prepare_v2(db,
+                "SELECT (SELECT COUNT(*) FROM trials t WHERE t.seq % 2 = 1 AND (SELECT COUNT(*) FROM"
+                " frame_intervals f WHERE f.session_id = t.session_id AND f.trial_seq = t.seq) <> 5)"
+                " + (SELECT COUNT(*) FROM frame_intervals f WHERE NOT EXISTS (SELECT 1 FROM trials t"
+                " WHERE t.session_id = f.session_id AND t.seq = f.trial_seq))", -1, &st, NULL) == SQLITE_OK &&
+            sqlite3_step(st) == SQLITE_ROW)
+            bad = sqlite3_column_int(st, 0);
+        sqlite3_finalize(st);
+    }
+    sqlite3_close(db);
+    return bad == 0;
 }
 
 static int integrity_ok(const char *path)
@@ -125,6 +150,7 @@ int main(void)
         if (mode != 0 && WIFSIGNALED(status)) hook_deaths++;
 
         CHECK_MSG(integrity_ok(path), "round %d: integrity_check failed", round);
+        CHECK_MSG(frames_atomic(path), "round %d: a trial lost part of its frame intervals", round);
         s = NULL;
         CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
         if (!s) {
