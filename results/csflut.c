@@ -62,42 +62,11 @@ uint32_t csflut_crc32(const unsigned char *p, size_t n)
     return c ^ 0xFFFFFFFFu;
 }
 
-/* log2 by exponent extraction and the atanh series on a mantissa in [sqrt(1/2), sqrt(2)):
- * |s| <= 0.1716, so ten terms leave a truncation error below 1e-17. Faster than libm's log2 in a
- * tight loop and identical in every query path. */
-double csflut_log2(double x)
-{
-    if (!(x > 0)) return x != x ? x : -HUGE_VAL;
-    if (x == HUGE_VAL) return HUGE_VAL;
-    int e = 0;
-    if (x < 0x1p-1000) { /* subnormal range: scale up first */
-        x *= 0x1p100;
-        e = -100;
-    }
-    uint64_t bits;
-    memcpy(&bits, &x, sizeof bits);
-    e += (int)((bits >> 52) & 0x7ff) - 1023;
-    bits = (bits & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull;
-    double m;
-    memcpy(&m, &bits, sizeof m);
-    if (m > 1.4142135623730951) {
-        m *= 0.5;
-        e += 1;
-    }
-    double s = (m - 1.0) / (m + 1.0), z = s * s;
-    double p = 1.0 / 21;
-    p = p * z + 1.0 / 19;
-    p = p * z + 1.0 / 17;
-    p = p * z + 1.0 / 15;
-    p = p * z + 1.0 / 13;
-    p = p * z + 1.0 / 11;
-    p = p * z + 1.0 / 9;
-    p = p * z + 1.0 / 7;
-    p = p * z + 1.0 / 5;
-    p = p * z + 1.0 / 3;
-    double ln_m = 2.0 * s + 2.0 * s * z * p;
-    return (double)e + ln_m * 1.4426950408889634074;
-}
+/* log2 for the interpolation coordinate. glibc's log2 is table driven, < 1 ulp and faster than
+ * any series we could write here; the guard gives -inf for x <= 0 so the query clamps to the
+ * lowest frequency. Every query path and the exported C header use the same function. */
+static inline double log2_guarded(double x) { return log2(x > 0 ? x : 0.0); }
+double csflut_log2(double x) { return log2_guarded(x); }
 
 /* ---- little-endian reading with bounds checks ---------------------------------------------- */
 typedef struct {
@@ -197,38 +166,77 @@ csflut_status csflut_check_values(const double *thr, const double *se, size_t n_
 }
 
 /* ---- derived data --------------------------------------------------------------------------- */
+static int bucket_of(const csflut_axis_fast *a, double x)
+{
+    return (int)((x - a->lo) * a->bucket_scale);
+}
+
 static csflut_status axis_fast_init(csflut_axis_fast *a, const double *pts, int n, int logscale)
 {
     a->n = n < 2 ? 2 : n;
     a->node = malloc(sizeof(double) * (size_t)a->n);
     a->inv_step = malloc(sizeof(double) * (size_t)(a->n - 1));
-    if (!a->node || !a->inv_step) return CSFLUT_E_NOMEM;
+    a->next = malloc(sizeof(double) * (size_t)a->n);
+    if (!a->node || !a->inv_step || !a->next) return CSFLUT_E_NOMEM;
     for (int i = 0; i < n; i++) a->node[i] = logscale ? csflut_log2(pts[i]) : pts[i];
     if (n == 1) a->node[1] = a->node[0] + 1.0; /* padded node carries the same values */
     for (int i = 0; i + 1 < a->n; i++) a->inv_step[i] = 1.0 / (a->node[i + 1] - a->node[i]);
+    /* On the last node the weight must be exactly 1 (edge queries return the stored value bit for
+     * bit; inside the grid the cell search already guarantees x < node[i+1]). Nudge the last
+     * reciprocal by an ulp if the product rounds below 1; if no neighbour works, locate() falls
+     * back to an explicit comparison. */
+    {
+        int l = a->n - 2;
+        double d = a->node[l + 1] - a->node[l], inv = a->inv_step[l];
+        double cand[3] = {inv, nextafter(inv, HUGE_VAL), nextafter(inv, 0)};
+        a->last_exact = 0;
+        for (int k = 0; k < 3 && !a->last_exact; k++)
+            if (d * cand[k] == 1.0) {
+                a->inv_step[l] = cand[k];
+                a->last_exact = 1;
+            }
+    }
+    for (int s = 0; s < a->n; s++) a->next[s] = s + 1 <= a->n - 2 ? a->node[s + 1] : HUGE_VAL;
     a->lo = a->node[0];
     a->hi = a->node[a->n - 1];
-    a->bucket_scale = CSFLUT_BUCKETS / (a->hi - a->lo);
-    if (!isfinite(a->bucket_scale)) a->bucket_scale = 0; /* only 0 * ... buckets: still correct */
-    int seg = 0;
-    for (int b = 0; b < CSFLUT_BUCKETS; b++) {
-        double start = a->lo + (a->hi - a->lo) * b / CSFLUT_BUCKETS;
-        while (seg < a->n - 2 && start >= a->node[seg + 1]) seg++;
-        a->bucket[b] = (unsigned short)seg;
+    /* the fewest buckets (a power of two) that separate every interior node */
+    for (int nb = 16; nb <= 32768; nb *= 2) {
+        a->bucket_scale = nb / (a->hi - a->lo);
+        if (!isfinite(a->bucket_scale)) break;
+        int ok = 1;
+        for (int k = 2; k <= a->n - 2 && ok; k++)
+            if (bucket_of(a, a->node[k]) == bucket_of(a, a->node[k - 1])) ok = 0;
+        if (!ok) continue;
+        a->first = malloc(sizeof(unsigned short) * (size_t)(nb + 1));
+        if (!a->first) return CSFLUT_E_NOMEM;
+        /* first[b] = interior nodes certainly below every x of bucket b (their bucket is lower) */
+        for (int b = 0; b <= nb; b++) {
+            int s = 0;
+            for (int k = 1; k <= a->n - 2; k++)
+                if (bucket_of(a, a->node[k]) < b) s = k;
+            a->first[b] = (unsigned short)s;
+        }
+        a->n_buckets = nb;
+        return CSFLUT_OK;
     }
+    a->n_buckets = 0;
     return CSFLUT_OK;
 }
 
 /* Finds the cell and weight of x (already in the interpolation coordinate, clamped). */
 static inline int axis_fast_locate(const csflut_axis_fast *a, double x, double *w)
 {
-    int b = (int)((x - a->lo) * a->bucket_scale);
-    if (b < 0) b = 0;
-    if (b > CSFLUT_BUCKETS - 1) b = CSFLUT_BUCKETS - 1;
-    int i = a->bucket[b];
-    while (i < a->n - 2 && x >= a->node[i + 1]) i++;
-    while (i > 0 && x < a->node[i]) i--;
-    *w = (x - a->node[i]) * a->inv_step[i];
+    int i;
+    if (a->n_buckets) {
+        int s = a->first[bucket_of(a, x)];
+        i = s + (x >= a->next[s]);
+    } else {
+        i = 0;
+        while (i < a->n - 2 && x >= a->node[i + 1]) i++;
+    }
+    /* exactly 1 on the last node, so edge queries return the stored value bit for bit */
+    if (a->last_exact) *w = (x - a->node[i]) * a->inv_step[i];
+    else *w = x >= a->node[i + 1] ? 1.0 : (x - a->node[i]) * a->inv_step[i];
     return i;
 }
 
@@ -400,10 +408,13 @@ void csflut_close(csflut_table *t)
     free(t->cons);
     free(t->se);
     for (int i = 0; i < CSFLUT_N_STRINGS; i++) free(t->str[i]);
-    free(t->fx.node);
-    free(t->fx.inv_step);
-    free(t->ex.node);
-    free(t->ex.inv_step);
+    csflut_axis_fast *ax[2] = {&t->fx, &t->ex};
+    for (int k = 0; k < 2; k++) {
+        free(ax[k]->node);
+        free(ax[k]->inv_step);
+        free(ax[k]->first);
+        free(ax[k]->next);
+    }
     free(t->slice_raw);
     free(t->slice_cons);
     free(t);
@@ -687,16 +698,17 @@ csflut_status csflut_set_stderr_shift(csflut_table *t, double k)
 double csflut_get_stderr_shift(const csflut_table *t) { return t ? t->k_shift : 0; }
 
 /* ---- queries ------------------------------------------------------------------------------------ */
-static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)
+/* The 2-D fast path after the frequency's log2 is known: cell search on both axes, bilinear. */
+static inline double q2_core(const csflut_axis_fast *fx, const csflut_axis_fast *ex,
+                             const double *vals, double u, double ecc_deg)
 {
-    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;
-    double u = clampd(csflut_log2(freq_cpd), t->fx.lo, t->fx.hi);
-    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi);
+    u = clampd(u, fx->lo, fx->hi);
+    double e = clampd(ecc_deg, ex->lo, ex->hi);
     double wf, we;
-    int i = axis_fast_locate(&t->fx, u, &wf);
-    int j = axis_fast_locate(&t->ex, e, &we);
-    int nf = t->fx.n;
-    const double *v = (t->conservative ? t->slice_cons : t->slice_raw) + (size_t)j * (size_t)nf + i;
+    int i = axis_fast_locate(fx, u, &wf);
+    int j = axis_fast_locate(ex, e, &we);
+    int nf = fx->n;
+    const double *v = vals + (size_t)j * (size_t)nf + i;
     double r0 = (1 - wf) * v[0] + wf * v[1];
     double r1 = (1 - wf) * v[nf] + wf * v[nf + 1];
     double r = (1 - we) * r0 + we * r1;
@@ -706,6 +718,13 @@ static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)
         r = lerp_safe(r0, r1, we);
     }
     return r;
+}
+
+static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)
+{
+    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;
+    return q2_core(&t->fx, &t->ex, t->conservative ? t->slice_cons : t->slice_raw,
+                   log2_guarded(freq_cpd), ecc_deg);
 }
 
 double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg)
@@ -824,7 +843,20 @@ void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const
                             double *out, size_t n)
 {
     if (!t || !freq_cpd || !ecc_deg || !out) return;
-    for (size_t i = 0; i < n; i++) out[i] = q2(t, freq_cpd[i], ecc_deg[i]);
+    /* Blocks: the log2 calls in one tight loop, then the table work with the axes in locals, so
+     * the compiler keeps them in registers (no call, no aliasing store in between). Same
+     * arithmetic as csflut_threshold, so the results are bit-identical. */
+    const csflut_axis_fast fx = t->fx, ex = t->ex;
+    const double *vals = t->conservative ? t->slice_cons : t->slice_raw;
+    double u[256];
+    for (size_t b0 = 0; b0 < n; b0 += 256) {
+        size_t m = n - b0 < 256 ? n - b0 : 256;
+        for (size_t k = 0; k < m; k++) u[k] = log2_guarded(freq_cpd[b0 + k]);
+        for (size_t k = 0; k < m; k++) {
+            double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
+            out[b0 + k] = (f != f || e != e) ? NAN : q2_core(&fx, &ex, vals, u[k], e);
+        }
+    }
 }
 
 void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,

@@ -22,14 +22,19 @@
 
 /* Precomputed 2-D (frequency, eccentricity) slice for the fast path. Axes with one point are
  * padded to two identical-valued nodes so every query has a cell. */
-#define CSFLUT_BUCKETS 64
 typedef struct {
     int n;              /* >= 2 */
     double lo, hi;      /* first/last node in the interpolation coordinate (log2 f, or deg) */
     double *node;       /* n nodes in the interpolation coordinate */
     double *inv_step;   /* n-1: 1/(node[i+1]-node[i]) */
-    double bucket_scale;/* CSFLUT_BUCKETS / (hi - lo) */
-    unsigned short bucket[CSFLUT_BUCKETS]; /* segment holding each bucket's start */
+    int last_exact;     /* (hi - node[n-2]) * inv_step[n-2] == 1 exactly */
+    /* Branch-free cell search: bucket b = (int)((x - lo) * bucket_scale) holds at most one
+     * interior node; first[b] is the cell of the bucket's lowest x, next[s] the interior node that
+     * ends cell s (+inf after the last), so cell = first[b] + (x >= next[first[b]]). */
+    int n_buckets;      /* 0: nodes too close together for buckets, search linearly */
+    double bucket_scale;
+    unsigned short *first; /* n_buckets + 1 */
+    double *next;          /* n */
 } csflut_axis_fast;
 
 struct csflut_table {
