@@ -75,6 +75,7 @@ void csf_display_calib_defaults(csf_display_calib_opts *o)
     o->channels = 1;
     o->warmup_wait_s = 5;
     o->warmup_max = 40;
+    o->drive_levels = 0; /* csfcal dithers, so fractional drives are real on screen */
 }
 
 static void progress(ctx *c)
@@ -419,6 +420,14 @@ static double predict(const ctx *c, int ch, double v)
     return out;
 }
 
+/* Drive values the framebuffer can show: multiples of 1/drive_levels (8 bit: 1/255); 0 means
+ * continuous (a dithered or high-depth output). */
+static double snap(const ctx *c, double v)
+{
+    if (c->o->drive_levels <= 0) return v;
+    return floor(v * c->o->drive_levels + 0.5) / c->o->drive_levels;
+}
+
 static csf_status measure_level(ctx *c, int ch, double v, double peak, int left, csf_error *err)
 {
     double guess = predict(c, ch, v);
@@ -449,7 +458,8 @@ static csf_status reference(ctx *c, csf_error *err)
     return CSF_OK;
 }
 
-static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *err)
+static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
+                        csf_error *err)
 {
     int start = c->n_sweep;
     csf_status st;
@@ -470,7 +480,11 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
-        st = measure_level(c, ch, grid[i], peak, budget - (c->n_sweep - start), err);
+        st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
+        if (st) return st;
+    }
+    for (int i = 0; i < n_extra && c->n_sweep - start < budget; i++) {
+        st = measure_level(c, ch, extra[i], peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     double last_est = INFINITY;
@@ -484,29 +498,44 @@ static csf_status sweep(ctx *c, int ch, int budget, double *est_out, csf_error *
         free(pl);
         double *est = calloc(m + 1, sizeof(double));
         double worst = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL) : INFINITY;
+        if (m < 3)
+            for (size_t i = 0; i + 1 < m; i++) est[i] = INFINITY; /* too few levels to judge: split */
         free(cnt);
         last_est = worst;
-        size_t wi = 0;
-        for (size_t i = 0; i + 1 < m; i++)
-            if (est[i] > est[wi]) wi = i;
-        double mid = m >= 2 ? 0.5 * (dv[wi] + dv[wi + 1]) : 0.5;
-        double width = m >= 2 ? dv[wi + 1] - dv[wi] : 1;
-        /* where the secant lines of the two neighbouring intervals cross inside this one, split
-         * there: at a kink that is where the break is (found in a few readings, like regula
-         * falsi), on a smooth curve it is near the middle anyway */
-        if (m >= 4 && wi >= 1 && wi + 2 < m) {
-            double s1 = (dl[wi] - dl[wi - 1]) / (dv[wi] - dv[wi - 1]);
-            double s2 = (dl[wi + 2] - dl[wi + 1]) / (dv[wi + 2] - dv[wi + 1]);
-            if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
-                double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
-                double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
-                if (xi > lo && xi < hi) mid = xi;
+        /* the worst interval that still has a drive level inside it to measure */
+        double mid = NAN, width = 1;
+        for (;;) {
+            size_t wi = 0;
+            for (size_t i = 0; i + 1 < m; i++)
+                if (est[i] > est[wi]) wi = i;
+            if (m < 2 || !(est[wi] >= 0)) break;
+            width = dv[wi + 1] - dv[wi];
+            double cand = 0.5 * (dv[wi] + dv[wi + 1]);
+            /* where the secant lines of the two neighbouring intervals cross inside this one,
+             * split there: at a kink that is where the break is (found in a few readings, like
+             * regula falsi), on a smooth curve it is near the middle anyway */
+            if (m >= 4 && wi >= 1 && wi + 2 < m) {
+                double s1 = (dl[wi] - dl[wi - 1]) / (dv[wi] - dv[wi - 1]);
+                double s2 = (dl[wi + 2] - dl[wi + 1]) / (dv[wi + 2] - dv[wi + 1]);
+                if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
+                    double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
+                    double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
+                    if (xi > lo && xi < hi) cand = xi;
+                }
             }
+            double q = snap(c, cand);
+            if (!(q > dv[wi] && q < dv[wi + 1])) q = snap(c, 0.5 * (dv[wi] + dv[wi + 1]));
+            if (q > dv[wi] && q < dv[wi + 1] && width >= 1.0 / 4096) {
+                mid = q;
+                worst = est[wi];
+                break;
+            }
+            est[wi] = -1; /* no level left inside: the display cannot show anything between */
         }
         free(dv);
         free(dl);
         free(est);
-        if (worst < c->o->target_rel / 4 || width < 1.0 / 512) break;
+        if (isnan(mid) || worst < c->o->target_rel / 4) break;
         st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
@@ -588,15 +617,27 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     c->noise_rel = sd3(wv, 6) / wv[5];
     int budget = c->o->budget;
     int grey_budget = c->o->channels ? (int)(budget * 0.4 + 0.5) : budget;
-    st = sweep(c, CSF_CH_GREY, grey_budget, &res->est_error_rel[CSF_CH_GREY], err);
+    st = sweep(c, CSF_CH_GREY, grey_budget, NULL, 0, &res->est_error_rel[CSF_CH_GREY], err);
     if (st) return st;
     if ((st = reference(c, err))) return st;
     if (c->o->channels) {
+        /* a kink the grey sweep found is usually the panel's (a driver or LUT step common to
+         * the channels): each channel measures at the grey curve's corners from the start */
+        double corners[3];
+        int nc = 0;
+        {
+            double *pv, *pl;
+            size_t k = curve_points(c, CSF_CH_GREY, &pv, &pl);
+            csf_error cerr;
+            nc = (int)csf_profile_fit_corners(pv, pl, k, 0, corners, 3, &cerr);
+            free(pv);
+            free(pl);
+        }
         for (int ch = 0; ch < 3; ch++) {
             int left = budget - c->n_sweep;
             int b = left / (3 - ch);
             if (b < 2) b = 2;
-            st = sweep(c, ch, b, &res->est_error_rel[ch], err);
+            st = sweep(c, ch, b, corners, nc, &res->est_error_rel[ch], err);
             if (st) return st;
             if ((st = reference(c, err))) return st;
         }
@@ -678,8 +719,8 @@ static void settings_json(const csf_display_calib_opts *o, const char *spec, cha
         if (*s != '"' && *s != '\\' && (unsigned char)*s >= 0x20) safe[j++] = *s;
     safe[j] = 0;
     snprintf(buf, len, "{\"photometer\":\"%s\",\"target_rel\":%.17g,\"budget\":%d,\"channels\":%d,"
-             "\"warmup_wait_s\":%.17g,\"warmup_max\":%d}", safe, o->target_rel, o->budget, o->channels,
-             o->warmup_wait_s, o->warmup_max);
+             "\"warmup_wait_s\":%.17g,\"warmup_max\":%d,\"drive_levels\":%d}", safe, o->target_rel, o->budget,
+             o->channels, o->warmup_wait_s, o->warmup_max, o->drive_levels);
 }
 
 static void json_num(const char *js, const char *key, double *out)
@@ -703,6 +744,9 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     if (!res) res = &local;
     memset(res, 0, sizeof *res);
     csf_display_calib_opts o = *opts_in;
+    if (o.drive_levels < 0 || o.drive_levels > 65535)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "drive levels %d out of range (0 = continuous, up to 65535)",
+                             o.drive_levels);
     if (!(o.target_rel >= 1e-5 && o.target_rel <= 0.5) || o.budget < 8 || o.budget > 4096)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "calibration target %g (allowed 1e-5 to 0.5) or budget %d (allowed 8 to 4096) out of range",
@@ -730,13 +774,16 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
                                  (long long)*session_id);
         }
         /* the stored settings decide, so the replay takes the same path */
-        double v = o.target_rel, b = o.budget, ch = o.channels, ww = o.warmup_wait_s, wm = o.warmup_max;
+        double v = o.target_rel, b = o.budget, ch = o.channels, ww = o.warmup_wait_s, wm = o.warmup_max,
+               dlv = o.drive_levels;
         json_num(si.settings_json, "target_rel", &v);
         json_num(si.settings_json, "budget", &b);
         json_num(si.settings_json, "channels", &ch);
         json_num(si.settings_json, "warmup_wait_s", &ww);
         json_num(si.settings_json, "warmup_max", &wm);
+        json_num(si.settings_json, "drive_levels", &dlv);
         o.target_rel = v; o.budget = (int)b; o.channels = ch != 0; o.warmup_wait_s = ww; o.warmup_max = (int)wm;
+        o.drive_levels = (int)dlv;
         csf_session_info_free(&si);
         c.sid = *session_id;
         st = csf_store_get_readings(store, c.sid, &c.replay, &c.n_replay, err);

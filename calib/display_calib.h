@@ -23,6 +23,9 @@ typedef struct {
     int warmup_max;        /* most warm-up readings (40) */
     int progress;          /* 1: progress bar on stderr */
     const char *display_name; /* for the profile id; NULL = photometer spec */
+    int drive_levels;      /* highest framebuffer code: levels are multiples of 1/drive_levels
+                              (255 for 8 bit, 1023 for 10 bit); 0 = continuous (default: csfcal
+                              dithers patches, so fractional drive values are shown) */
 } csf_display_calib_opts;
 
 void csf_display_calib_defaults(csf_display_calib_opts *o);

@@ -104,6 +104,31 @@ int main(void)
         csf_profile_free(b);
     }
 
+    /* 8-bit levels only: every measured drive is k/255, and the target still holds on the lcd */
+    {
+        csf_photometer *ph = NULL;
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd", 4, &ph, &err), CSF_OK);
+        csf_display_calib_opts o;
+        csf_display_calib_defaults(&o);
+        o.drive_levels = 255;
+        csf_display_profile *p = NULL;
+        csf_display_calib_result res;
+        if (ph && csf_display_calibrate(ph, &o, NULL, NULL, 4, &p, &res, &err) == CSF_OK) {
+            const csf_profile_reading *r;
+            size_t n = csf_profile_readings(p, &r), off = 0;
+            for (size_t i = 0; i < n; i++)
+                if (fabs(r[i].drive01 * 255 - floor(r[i].drive01 * 255 + 0.5)) > 1e-9) off++;
+            CHECK_INT_EQ(off, 0);
+            double e[4];
+            errors(p, "lcd", e);
+            CHECK_MSG(e[3] <= 0.0025, "8-bit lcd grey error %g", e[3]);
+            csf_profile_free(p);
+        } else {
+            CHECK_MSG(0, "8-bit calibration: %s", err.msg);
+        }
+        csf_photometer_close(ph);
+    }
+
     /* a noisy instrument (0.2 % per reading) gets repeats; with a budget to match it meets the
      * target within 0.35 % */
     {
