@@ -35,5 +35,5 @@ LIBDIR=$(pkg-config --define-variable=prefix="$T/root$PREFIX" --variable=libdir 
 OUT=$(LD_LIBRARY_PATH="$LIBDIR" "$T/use" "$2/docs/examples/example_default_observer.csflut")
 echo "installed library says: $OUT"
 [ "$OUT" = "0.004218 1" ] || { echo "FAIL: unexpected output"; exit 1; }
-ldd "$T/use" | grep -q "$LIBDIR/libcsflut.so" || { echo "FAIL: not linked to the installed library"; exit 1; }
+LD_LIBRARY_PATH="$LIBDIR" ldd "$T/use" | grep -q "$LIBDIR/libcsflut.so" || { echo "FAIL: not linked to the installed library"; exit 1; }
 echo ok
