@@ -134,12 +134,17 @@ static int cmd_calibrate(dargs *a)
     if (st) return csf_cli_report("display calibrate", &err);
     int64_t sid = a->cli.resume_id;
     uint64_t seed = a->cli.seed;
-    if (sid > 0 && !a->cli.seed_set) {
-        /* the session's own seed, so a simulated instrument continues the same noise sequence */
+    if (sid > 0) {
         csf_session_info si;
         memset(&si, 0, sizeof si);
         if (csf_store_get_session(store, sid, &si, &err) == CSF_OK) {
-            seed = si.seed;
+            /* the session's own seed, so a simulated instrument continues the same noise sequence */
+            if (!a->cli.seed_set) seed = si.seed;
+            const char *now = a->name ? a->name : spec;
+            if (strncmp(si.display, now, sizeof si.display - 1) != 0)
+                fprintf(stderr, "csfcal: warning: session %lld was measured on '%s', resuming with '%s': "
+                                "the profile mixes both if they are different monitors\n",
+                        (long long)sid, si.display, now);
             csf_session_info_free(&si);
         } else {
             csf_store_close(store);

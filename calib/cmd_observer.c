@@ -1,14 +1,175 @@
+/* csfcal observer calibrate: the command line of the per-user CSF calibration session. */
+#include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "calib/cli.h"
 #include "calib/commands.h"
+#include "calib/observer_calib.h"
+
+enum {
+    OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
+    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: csfcal observer calibrate --out FILE.csflut [options]\n\n"
+            "Measures one person's contrast thresholds over spatial frequency and eccentricity and\n"
+            "writes the threshold table a perceptual LOD renderer reads. Every trial is stored as it\n"
+            "happens; an interrupted session continues with --resume ID.\n\n"
+            "Options:\n"
+            "  --out FILE.csflut    threshold table to write (required)\n"
+            "  --plot FILE          report plot (.png, .pdf or .svg)\n"
+            "  --method M           bayes (default), fade (seed 000 fade-in) or 2afc (Psi per cell)\n"
+            "  --trials N           trial budget (default 120, 1 to 5000)\n"
+            "  --freqs F1,F2,...    spatial frequencies in cpd (default 6 log-spaced 0.5-16,\n"
+            "                       capped by the display's Nyquist limit)\n"
+            "  --eccs E1,E2,...     eccentricities in deg (default 0,5,10,20, capped by the screen)\n"
+            "  --practice N         practice trials before the measurement (default 3)\n"
+            "  --break-every N      a break every N trials (default 40)\n"
+            "  --render-every N     simulated sessions: rasterise every N-th frame (default 1;\n"
+            "                       -1 = no rasterisation, timing and contrast bookkeeping only)\n"
+            "  --render-size WxH    simulated sessions: offscreen render size (default 64x36)\n"
+            "  --quiet              no notes or progress on stderr\n\n"
+            "Observers: --observer sim[:key=value,...] (a simulated person; see\n"
+            "docs/observer-calibration.md for the keys) or --observer human (a window, keyboard and\n"
+            "mouse: Space or a click when something is visible, then a click where it was; Escape\n"
+            "pauses).\n\n%s",
+            csf_cli_common_help);
+}
 
 int csf_cmd_observer(int argc, char **argv)
 {
-    if (argc > 1 && strcmp(argv[1], "--help") == 0) {
-        printf("usage: csfcal observer ...\n(not available yet in this build)\n");
-        return 0;
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
     }
-    fprintf(stderr, "csfcal: observer: not available yet in this build\n");
-    return 1;
+    if (strcmp(argv[1], "calibrate") != 0) {
+        fprintf(stderr, "csfcal: observer: unknown subcommand '%s' (try csfcal observer --help)\n", argv[1]);
+        return 2;
+    }
+    argc--;
+    argv++;
+    csf_cli cli;
+    int rc = csf_cli_init(&cli, argc, argv);
+    if (rc) return rc;
+    csf_obs_options o;
+    csf_obs_options_defaults(&o);
+    o.cfg = &cli.cfg;
+    int observer_set = 0;
+    static const struct option opts[] = {
+        {"out", required_argument, 0, OPT_OUT},
+        {"plot", required_argument, 0, OPT_PLOT},
+        {"freqs", required_argument, 0, OPT_FREQS},
+        {"eccs", required_argument, 0, OPT_ECCS},
+        {"trials", required_argument, 0, OPT_TRIALS},
+        {"method", required_argument, 0, OPT_METHOD},
+        {"practice", required_argument, 0, OPT_PRACTICE},
+        {"break-every", required_argument, 0, OPT_BREAK},
+        {"render-every", required_argument, 0, OPT_RENDER_EVERY},
+        {"render-size", required_argument, 0, OPT_RENDER_SIZE},
+        {"quiet", no_argument, 0, OPT_QUIET},
+        {"help", no_argument, 0, 'h'},
+        CSF_CLI_COMMON_OPTIONS,
+        {0, 0, 0, 0},
+    };
+    optind = 1;
+    int c;
+    while ((c = getopt_long(argc, argv, "ho:", opts, NULL)) != -1) {
+        long v;
+        switch (c) {
+        case 'h': usage(stdout); return 0;
+        case 'o':
+        case OPT_OUT: o.out_path = optarg; break;
+        case OPT_PLOT: o.plot_path = optarg; break;
+        case OPT_FREQS:
+            o.n_freqs = csf_parse_double_list(optarg, "freqs", 0.01, 200, o.freqs_cpd, CSF_OBS_MAX_AXIS);
+            if (o.n_freqs < 0) return 2;
+            break;
+        case OPT_ECCS:
+            o.n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o.eccs_deg, CSF_OBS_MAX_AXIS);
+            if (o.n_eccs < 0) return 2;
+            break;
+        case OPT_TRIALS:
+            if (csf_parse_int(optarg, "trials", 1, 5000, &v) < 0) return 2;
+            o.trials = (int)v;
+            break;
+        case OPT_METHOD:
+            if (strcmp(optarg, "fade") && strcmp(optarg, "2afc") && strcmp(optarg, "bayes")) {
+                fprintf(stderr, "csfcal: --method: '%s' is unknown (bayes, fade, 2afc)\n", optarg);
+                return 2;
+            }
+            o.method = optarg;
+            break;
+        case OPT_PRACTICE:
+            if (csf_parse_int(optarg, "practice", 0, 50, &v) < 0) return 2;
+            o.practice = (int)v;
+            break;
+        case OPT_BREAK:
+            if (csf_parse_int(optarg, "break-every", 1, 5000, &v) < 0) return 2;
+            o.break_every = (int)v;
+            break;
+        case OPT_RENDER_EVERY:
+            if (csf_parse_int(optarg, "render-every", -1, 1000, &v) < 0) return 2;
+            if (v == 0) v = 1;
+            o.render_every = (int)v;
+            break;
+        case OPT_RENDER_SIZE: {
+            int w, h;
+            char tail;
+            if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) {
+                fprintf(stderr, "csfcal: --render-size: expected WxH, each 16 to 4096, got '%s'\n", optarg);
+                return 2;
+            }
+            o.render_w = w;
+            o.render_h = h;
+            break;
+        }
+        case OPT_QUIET: o.quiet = 1; break;
+        default: {
+            if (c == CSF_OPT_OBSERVER) observer_set = 1;
+            int r = csf_cli_common_option(&cli, c, optarg);
+            if (r < 0) return 2;
+            if (r == 0) {
+                fprintf(stderr, "csfcal: observer calibrate: bad option (try csfcal observer --help)\n");
+                return 2;
+            }
+        }
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "csfcal: observer calibrate: unexpected argument '%s'\n", argv[optind]);
+        return 2;
+    }
+    if (!o.out_path) {
+        fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
+        return 2;
+    }
+    o.observer_spec = cli.cfg.observer[0] ? cli.cfg.observer : "sim";
+    if (!observer_set && !cli.cfg.observer[0]) o.observer_spec = "sim";
+    o.seed = cli.seed;
+    o.headless = csf_cli_want_headless(&cli);
+    o.resume_id = cli.resume_id;
+    o.store_path = csf_cli_store_path(&cli);
+    if (cli.json) o.quiet = 1;
+
+    csf_obs_result res;
+    csf_error err;
+    csf_error_clear(&err);
+    csf_status st = csf_observer_calibrate(&o, &res, &err);
+    if (cli.json && res.session_id) {
+        char buf[2048];
+        csf_obs_result_json(&res, st == CSF_OK ? o.out_path : NULL, st == CSF_OK ? o.plot_path : NULL, buf,
+                            sizeof buf);
+        /* The status goes in too, so a script sees why there is no table. */
+        size_t n = strlen(buf);
+        if (n > 0 && buf[n - 1] == '}')
+            snprintf(buf + n - 1, sizeof buf - n + 1, ",\"status\":\"%s\"}", st == CSF_OK ? "ok" : csf_status_name(st));
+        printf("%s\n", buf);
+    }
+    if (st != CSF_OK) return csf_cli_report("observer calibrate", &err);
+    if (!cli.json) printf("%s\n", res.summary);
+    return 0;
 }

@@ -1,2 +1,1175 @@
-/* placeholder: filled in by its area */
-typedef int csf_placeholder_observer_calib;
+/* Per-user CSF calibration session (see observer_calib.h). */
+#include "calib/observer_calib.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "calib/procedure.h"
+#include "devices/observer_sim.h"
+#include "devices/responder.h"
+#include "results/csflut.h"
+#include "results/display_profile.h"
+#include "results/plot.h"
+#include "results/rng.h"
+#include "results/store.h"
+#include "stimuli/geometry.h"
+#include "stimuli/presenter.h"
+
+/* The report plot comes from the store area; weak so a build without it still runs sessions and
+ * says the plot is unavailable instead of failing to link. */
+#pragma weak csf_report_write
+
+#define GABOR_SIGMA_DEG 1.0     /* DESIGN.md: the CSF parameters are for Gabors of sigma ~1 deg */
+#define FIXATION_S 0.3          /* fixation before each trial */
+#define RESPONSE_WINDOW_S 1.0   /* presses still accepted after the ramp ends */
+#define ANTICIPATION_S 0.15     /* presses sooner than this after onset are anticipations */
+#define AFC_INTERVAL_S 0.5
+#define AFC_ISI_S 0.5
+#define PRACTICE_CONTRAST 0.3
+#define PRACTICE_FREQ 2.0
+#define PRACTICE_S 2.0
+#define FA_LIMIT 0.3            /* refuse a table when more catch trials than this were pressed */
+#define FA_MIN_CATCH 4
+#define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
+#define AFC_LAPSE_LIMIT 0.25    /* refuse when > 25 % wrong at 4x the estimated threshold */
+
+enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX };
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+void csf_obs_options_defaults(csf_obs_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->method = "bayes";
+    o->trials = 120;
+    o->practice = -1;
+    o->break_every = 40;
+    o->seed = 1;
+    o->render_every = 1;
+    o->render_w = 64;
+    o->render_h = 36;
+}
+
+/* Values that reach the store and the procedures are rounded to 9 significant digits: far below
+ * what a float GPU pipeline can show, and it makes a resumed run (whose virtual clock restarted
+ * at zero, so times differ in the last bits) reproduce an uninterrupted one exactly. */
+static double round9(double v)
+{
+    if (!isfinite(v) || v == 0) return v;
+    char buf[40];
+    snprintf(buf, sizeof buf, "%.9g", v);
+    return strtod(buf, NULL);
+}
+
+/* ---- settings (stored with the session, read back on resume) --------------------------------- */
+
+typedef struct {
+    char method[16];
+    char observer[256];
+    int trials, practice;
+    double freqs[CSF_OBS_MAX_AXIS], eccs[CSF_OBS_MAX_AXIS];
+    int n_freqs, n_eccs;
+    int break_every;
+} session_settings;
+
+static void settings_to_json(const session_settings *s, char *buf, size_t len)
+{
+    size_t n = 0;
+    n += (size_t)snprintf(buf + n, len - n, "{\"method\":\"%s\",\"observer\":\"%s\",\"trials\":%d,"
+                          "\"practice\":%d,\"break_every\":%d,\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
+                          s->method, s->observer, s->trials, s->practice, s->break_every, GABOR_SIGMA_DEG);
+    for (int i = 0; i < s->n_freqs && n < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->freqs[i]);
+    if (n < len) n += (size_t)snprintf(buf + n, len - n, "],\"eccs_deg\":[");
+    for (int i = 0; i < s->n_eccs && n < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->eccs[i]);
+    if (n < len) snprintf(buf + n, len - n, "]}");
+}
+
+static const char *json_key(const char *json, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = strstr(json, pat);
+    return p ? p + strlen(pat) : NULL;
+}
+
+static int json_string(const char *json, const char *key, char *out, size_t len)
+{
+    const char *p = json_key(json, key);
+    if (!p || *p != '"') return -1;
+    p++;
+    const char *e = strchr(p, '"');
+    if (!e || (size_t)(e - p) >= len) return -1;
+    memcpy(out, p, (size_t)(e - p));
+    out[e - p] = '\0';
+    return 0;
+}
+
+static int json_int(const char *json, const char *key, int *out)
+{
+    const char *p = json_key(json, key);
+    if (!p) return -1;
+    char *end;
+    long v = strtol(p, &end, 10);
+    if (end == p || v < -1 || v > 1000000) return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int json_list(const char *json, const char *key, double *out, int max)
+{
+    const char *p = json_key(json, key);
+    if (!p || *p != '[') return -1;
+    p++;
+    int n = 0;
+    while (*p && *p != ']') {
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || n >= max || !isfinite(v)) return -1;
+        out[n++] = v;
+        p = end;
+        if (*p == ',') p++;
+    }
+    return *p == ']' ? n : -1;
+}
+
+static int settings_from_json(const char *json, session_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    if (!json) return -1;
+    if (json_string(json, "method", s->method, sizeof s->method) ||
+        json_string(json, "observer", s->observer, sizeof s->observer) ||
+        json_int(json, "trials", &s->trials) || json_int(json, "practice", &s->practice) ||
+        json_int(json, "break_every", &s->break_every))
+        return -1;
+    s->n_freqs = json_list(json, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS);
+    s->n_eccs = json_list(json, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS);
+    return (s->n_freqs > 0 && s->n_eccs > 0) ? 0 : -1;
+}
+
+/* ---- the person: simulated or human behind the same few calls --------------------------------- */
+
+typedef struct {
+    csf_observer_sim *sim;
+    csf_responder *resp;
+    csf_presenter *pres;
+    const csf_geometry *geom;
+    /* fade trial in progress */
+    csf_sim_fade_trial tr;
+    int pressed, paused;
+    double onset_s, press_rel_s, contrast_at_press;
+    int first_frame;
+    double period_s;
+    int catch_trial;
+} person;
+
+/* Time since onset on the refresh grid: the virtual clock makes it an exact multiple of the
+ * period; rounding keeps a resumed run identical to an uninterrupted one. */
+static double rel_time(const person *p, double t_s)
+{
+    return p->period_s * floor((t_s - p->onset_s) / p->period_s + 0.5);
+}
+
+/* Called for every frame of a fade trial (presenter callback or our own blank frames). */
+static int person_fade_frame(person *p, double t_s, double contrast_shown)
+{
+    if (p->first_frame) {
+        p->onset_s = t_s;
+        p->first_frame = 0;
+    }
+    double rel = rel_time(p, t_s);
+    if (p->sim) {
+        double press;
+        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, round9(contrast_shown), &press)) {
+            p->pressed = 1;
+            p->press_rel_s = press;
+            p->contrast_at_press = contrast_shown;
+            return 1;
+        }
+        return 0;
+    }
+    csf_response ev;
+    while (p->resp && csf_responder_poll(p->resp, &ev)) {
+        if (ev.kind == CSF_RESP_ESCAPE) {
+            p->paused = 1;
+            return 1;
+        }
+        if (ev.kind == CSF_RESP_PRESS || ev.kind == CSF_RESP_CLICK) {
+            p->pressed = 1;
+            p->press_rel_s = ev.t_s - p->onset_s;
+            p->contrast_at_press = contrast_shown;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int fade_stop_cb(void *ctx, const csf_frame_info *f)
+{
+    return person_fade_frame(ctx, f->t_s, f->contrast_shown);
+}
+
+/* Waits for the click that says where the grating was; returns visual-angle x, y. */
+static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_error *err)
+{
+    if (p->sim) {
+        csf_observer_sim_click(p->sim, &p->tr, x_deg, y_deg);
+        return CSF_OK;
+    }
+    csf_presenter_show_cursor(p->pres, 1);
+    csf_response ev;
+    for (;;) {
+        csf_frame_info fi;
+        csf_status st = csf_presenter_draw(p->pres, NULL, 1, &fi, err);
+        if (st != CSF_OK) return st;
+        if (!csf_responder_poll(p->resp, &ev)) continue;
+        if (ev.kind == CSF_RESP_ESCAPE) {
+            p->paused = 1;
+            *x_deg = *y_deg = NAN;
+            break;
+        }
+        if (ev.kind == CSF_RESP_CLICK) {
+            double xm, ym, ecc, polar;
+            csf_geometry_px_to_mm(p->geom, ev.x_px, ev.y_px, &xm, &ym);
+            csf_geometry_mm_to_deg(p->geom, xm, ym, &ecc, &polar);
+            *x_deg = ecc * cos(polar * M_PI / 180);
+            *y_deg = ecc * sin(polar * M_PI / 180);
+            break;
+        }
+    }
+    csf_presenter_show_cursor(p->pres, 0);
+    return CSF_OK;
+}
+
+/* Text screen; a human reads it and presses a key (Escape = pause), a simulation moves on. */
+static csf_status person_screen(person *p, const char *text, csf_error *err)
+{
+    csf_status st = csf_presenter_text_screen(p->pres, text, err);
+    if (st != CSF_OK || p->sim) return st;
+    csf_response ev;
+    for (;;) {
+        if (csf_responder_poll(p->resp, &ev)) {
+            if (ev.kind == CSF_RESP_ESCAPE) p->paused = 1;
+            if (ev.kind != CSF_RESP_NONE) return CSF_OK;
+        }
+        st = csf_presenter_text_screen(p->pres, text, err);
+        if (st != CSF_OK) return st;
+    }
+}
+
+/* ---- trial execution ---------------------------------------------------------------------- */
+
+typedef struct {
+    csf_presenter *pres;
+    person *who;
+    double mean_lum;
+    double period_s;
+} runner;
+
+static csf_status blank_frames(runner *r, double seconds, int fixation, int fade_listen,
+                               csf_error *err)
+{
+    int n = (int)lround(seconds / r->period_s);
+    for (int i = 0; i < n; i++) {
+        csf_frame_info fi;
+        csf_status st = csf_presenter_draw(r->pres, NULL, fixation, &fi, err);
+        if (st != CSF_OK) return st;
+        if (fade_listen && person_fade_frame(r->who, fi.t_s, 0.0)) break;
+        if (!fade_listen && r->who->sim == NULL && r->who->resp) {
+            csf_response ev;
+            while (csf_responder_poll(r->who->resp, &ev))
+                if (ev.kind == CSF_RESP_ESCAPE) r->who->paused = 1;
+        }
+        if (r->who->paused) break;
+    }
+    return CSF_OK;
+}
+
+static void make_stimulus(csf_stimulus *s, double freq, double ecc, double polar, double contrast,
+                          double mean_lum)
+{
+    memset(s, 0, sizeof *s);
+    s->kind = CSF_STIM_GABOR;
+    s->freq_cpd = freq;
+    s->orientation_deg = 0;
+    s->sigma_deg = GABOR_SIGMA_DEG;
+    s->ecc_deg = ecc;
+    s->polar_deg = polar;
+    s->contrast = contrast;
+    s->mean_lum_cdm2 = mean_lum;
+}
+
+/* A polar angle on the cell's eccentricity ring where the whole patch fits on screen: the plan's
+ * own if it fits, else the nearest of 24 rotations that does (deterministic, so resume agrees). */
+static int fit_polar(csf_presenter *pres, double freq, double ecc, double polar, double mean_lum,
+                     double *out)
+{
+    csf_error e;
+    for (int j = 0; j < 24; j++) {
+        double cand = fmod(polar + (j % 2 ? 1 : -1) * 15.0 * ((j + 1) / 2) + 720.0, 360.0);
+        csf_stimulus s;
+        make_stimulus(&s, freq, ecc, cand, 0.5, mean_lum);
+        if (csf_presenter_validate(pres, &s, &e) == CSF_OK) {
+            *out = cand;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+typedef struct {
+    int response;
+    double rt_s, contrast_at_response, click_x, click_y;
+    int valid;
+    char flags[64];
+    csf_trial_record rec;
+    int have_rec;
+    double shown_mean, shown_max;
+    int frames_planned, frames_shown, frames_missed;
+} trial_result;
+
+static void add_flag(char *flags, const char *f)
+{
+    size_t n = strlen(flags);
+    snprintf(flags + n, 64 - n, "%s%s", n ? "," : "", f);
+}
+
+/* One fade trial: fixation, ramp (or blank frames for a catch trial), response window, click. */
+static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
+                           double polar, int is_practice, trial_result *tr, csf_error *err)
+{
+    person *p = r->who;
+    memset(tr, 0, sizeof *tr);
+    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
+    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
+    if (st != CSF_OK || p->paused) return st;
+    double duration = is_practice ? PRACTICE_S : plan->ramp_s;
+    p->pressed = 0;
+    p->first_frame = 1;
+    p->period_s = r->period_s;
+    p->catch_trial = plan->is_catch;
+    if (p->sim)
+        csf_observer_sim_fade_begin(p->sim, trial_key, c->freq_cpd, c->ecc_deg, polar, 0.0,
+                                    duration + RESPONSE_WINDOW_S, &p->tr);
+    if (plan->is_catch) {
+        tr->frames_planned = (int)lround(duration / r->period_s);
+        st = blank_frames(r, duration, 1, 1, err);
+        tr->frames_shown = tr->frames_planned;
+    } else {
+        csf_stimulus s;
+        make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar, plan->contrast, r->mean_lum);
+        csf_envelope env = {CSF_ENV_FADE_LOG, duration, 0, pow(10.0, plan->ramp_start_log10)};
+        if (is_practice) env = (csf_envelope){CSF_ENV_FIXED, duration, 0, 0};
+        st = csf_presenter_run_trial(r->pres, &s, &env, 1, fade_stop_cb, p, &tr->rec, err);
+        if (st != CSF_OK) return st;
+        tr->have_rec = 1;
+        tr->shown_mean = tr->rec.contrast_shown_mean;
+        tr->shown_max = tr->rec.contrast_shown_max;
+        tr->frames_planned = tr->rec.frames_planned;
+        tr->frames_shown = tr->rec.frames_shown;
+        tr->frames_missed = tr->rec.frames_missed;
+        if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+        if (!p->pressed && !p->paused) p->contrast_at_press = tr->rec.contrast_shown_last;
+    }
+    if (st != CSF_OK || p->paused) return st;
+    if (!p->pressed) {
+        double keep = p->contrast_at_press;
+        st = blank_frames(r, RESPONSE_WINDOW_S, 1, 1, err);
+        if (st != CSF_OK || p->paused) return st;
+        if (p->pressed) p->contrast_at_press = keep; /* pressed after the ramp: its last contrast */
+    }
+    tr->valid = 1;
+    if (p->pressed) {
+        tr->response = 1;
+        tr->rt_s = round9(p->press_rel_s);
+        tr->contrast_at_response = round9(p->contrast_at_press);
+        st = person_click(p, &tr->click_x, &tr->click_y, err);
+        if (st != CSF_OK || p->paused) return st;
+        tr->click_x = round9(tr->click_x);
+        tr->click_y = round9(tr->click_y);
+        if (tr->rt_s < ANTICIPATION_S) {
+            tr->valid = 0;
+            add_flag(tr->flags, "anticipation");
+        }
+        if (plan->is_catch) {
+            add_flag(tr->flags, "false_alarm");
+        } else {
+            double a = polar * M_PI / 180;
+            double dx = tr->click_x - c->ecc_deg * cos(a), dy = tr->click_y - c->ecc_deg * sin(a);
+            /* Tolerance grows with eccentricity: pointing without looking is coarse out there. */
+            if (hypot(dx, dy) > 2.0 + 0.3 * c->ecc_deg) {
+                tr->valid = 0;
+                add_flag(tr->flags, "click_far");
+            }
+        }
+    }
+    if (tr->frames_missed > 0) tr->valid = 0; /* the ramp was not the planned ramp */
+    return CSF_OK;
+}
+
+/* One 2AFC trial: two intervals, the grating in one of them; the person picks one. */
+static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
+                           double polar, trial_result *tr, csf_error *err)
+{
+    person *p = r->who;
+    memset(tr, 0, sizeof *tr);
+    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
+    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
+    if (st != CSF_OK || p->paused) return st;
+    double shown[2] = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        if (k == 1) {
+            st = blank_frames(r, AFC_ISI_S, 1, 0, err);
+            if (st != CSF_OK || p->paused) return st;
+        }
+        if (k != plan->signal_interval) {
+            st = blank_frames(r, AFC_INTERVAL_S, 1, 0, err);
+            if (st != CSF_OK || p->paused) return st;
+            continue;
+        }
+        csf_stimulus s;
+        make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar, plan->contrast, r->mean_lum);
+        csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
+        st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
+        if (st != CSF_OK) return st;
+        tr->have_rec = 1;
+        shown[k] = round9(tr->rec.contrast_shown_mean);
+        tr->shown_mean = tr->rec.contrast_shown_mean;
+        tr->shown_max = tr->rec.contrast_shown_max;
+        tr->frames_planned = tr->rec.frames_planned;
+        tr->frames_shown = tr->rec.frames_shown;
+        tr->frames_missed = tr->rec.frames_missed;
+        if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+    }
+    tr->valid = 1;
+    tr->contrast_at_response = shown[plan->signal_interval];
+    if (p->sim) {
+        double rt;
+        tr->response = csf_observer_sim_2afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg, shown, &rt);
+        tr->rt_s = round9(rt);
+        return CSF_OK;
+    }
+    double t0 = csf_responder_now();
+    for (;;) {
+        csf_frame_info fi;
+        st = csf_presenter_draw(r->pres, NULL, 1, &fi, err);
+        if (st != CSF_OK) return st;
+        csf_response ev;
+        if (!csf_responder_poll(p->resp, &ev)) continue;
+        if (ev.kind == CSF_RESP_ESCAPE) {
+            p->paused = 1;
+            return CSF_OK;
+        }
+        if (ev.kind == CSF_RESP_CHOICE) {
+            tr->response = ev.choice;
+            tr->rt_s = ev.t_s - t0;
+            return CSF_OK;
+        }
+    }
+}
+
+/* ---- session -------------------------------------------------------------------------------- */
+
+static void default_axes(const csf_geometry *g, session_settings *s, int quiet)
+{
+    if (s->n_freqs == 0) {
+        /* Frequencies are constant in angle space; on a flat screen pixels per degree are lowest
+         * at the centre, so the centre's Nyquist limit caps every position. */
+        double nyq = csf_geometry_nyquist_cpd_any(g, 0, 0);
+        for (int i = 0; i < 6; i++) {
+            double f = 0.5 * pow(32.0, i / 5.0);
+            f = round9(f);
+            if (f <= nyq) s->freqs[s->n_freqs++] = f;
+            else if (!quiet)
+                fprintf(stderr, "csfcal: observer: %.3g cpd dropped: above the display's Nyquist "
+                                "limit of %.3g cpd\n", f, nyq);
+        }
+    }
+    if (s->n_eccs == 0) {
+        static const double e[] = {0, 5, 10, 20};
+        double reach = 0;
+        for (int a = 0; a < 360; a += 5) {
+            double m = csf_geometry_max_ecc(g, a);
+            if (m > reach) reach = m;
+        }
+        for (int i = 0; i < 4; i++) {
+            if (e[i] + 3 * GABOR_SIGMA_DEG <= reach) s->eccs[s->n_eccs++] = e[i];
+            else if (!quiet)
+                fprintf(stderr, "csfcal: observer: %g deg dropped: the screen reaches %.3g deg "
+                                "(a patch needs %g deg beyond its centre)\n",
+                        e[i], reach, 3 * GABOR_SIGMA_DEG);
+        }
+    }
+}
+
+static void now_utc(char *buf, size_t len)
+{
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static csf_status read_file(const char *path, unsigned char **buf, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return CSF_E_IO;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    if (n < 0 || n > (64L << 20)) {
+        fclose(f);
+        return CSF_E_IO;
+    }
+    *buf = malloc((size_t)n + 1);
+    if (!*buf) {
+        fclose(f);
+        return CSF_E_NOMEM;
+    }
+    *len = fread(*buf, 1, (size_t)n, f);
+    fclose(f);
+    return *len == (size_t)n ? CSF_OK : CSF_E_IO;
+}
+
+typedef struct {
+    csf_store *store;
+    csf_presenter *pres;
+    csf_display_profile *profile;
+    csf_observer_sim *sim;
+    csf_responder *resp;
+    const csf_procedure_ops *ops;
+    void *proc;
+    csf_trial *stored;
+    csf_cell *cells;
+    csf_cell_estimate *est;
+} session_res;
+
+static void session_free(session_res *s)
+{
+    if (s->proc) s->ops->destroy(s->proc);
+    csf_responder_close(s->resp);
+    csf_observer_sim_free(s->sim);
+    csf_presenter_close(s->pres);
+    csf_profile_free(s->profile);
+    csf_store_close(s->store);
+    free(s->stored);
+    free(s->cells);
+    free(s->est);
+}
+
+static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, const csf_cell *c,
+                       double polar, double mean_lum, const csf_trial_plan *plan, int practice,
+                       const trial_result *tr)
+{
+    memset(t, 0, sizeof *t);
+    t->session_id = sid;
+    t->seq = seq;
+    snprintf(t->method, sizeof t->method, "%s", method);
+    t->freq_cpd = c->freq_cpd;
+    t->ecc_deg = c->ecc_deg;
+    t->polar_deg = round9(polar);
+    t->orientation_deg = 0;
+    t->sigma_deg = GABOR_SIGMA_DEG;
+    t->velocity_dps = 0;
+    t->mean_lum_cdm2 = round9(mean_lum);
+    t->is_catch = plan->is_catch;
+    t->is_practice = practice;
+    t->contrast_requested = round9(plan->contrast);
+    t->contrast_shown_mean = round9(tr->shown_mean);
+    /* For fade trials contrast_shown_max holds the contrast on screen at the press: what the
+     * procedure's update() needs back on resume (the highest contrast shown up to the press). */
+    t->contrast_shown_max = plan->task == CSF_TASK_FADE ? tr->contrast_at_response : round9(tr->shown_max);
+    if (plan->task == CSF_TASK_2AFC) t->contrast_shown_max = tr->contrast_at_response;
+    t->frames_planned = tr->frames_planned;
+    t->frames_shown = tr->frames_shown;
+    t->frames_missed = tr->frames_missed;
+    t->signal_interval = plan->task == CSF_TASK_2AFC ? plan->signal_interval + 1 : 0;
+    t->response = plan->task == CSF_TASK_2AFC ? tr->response + 1 : tr->response;
+    t->rt_s = tr->rt_s;
+    t->click_x_deg = tr->click_x;
+    t->click_y_deg = tr->click_y;
+    t->valid = tr->valid;
+    snprintf(t->flags, sizeof t->flags, "%s", tr->flags);
+}
+
+/* The outcome update() saw, rebuilt from a stored trial (the resume path and the live path use
+ * this same function, so they cannot disagree). */
+static csf_trial_outcome outcome_of(const csf_trial *t, csf_task task)
+{
+    csf_trial_outcome o;
+    o.response = task == CSF_TASK_2AFC ? t->response - 1 : t->response;
+    o.rt_s = t->rt_s;
+    o.contrast_at_response = t->contrast_shown_max;
+    o.valid = t->valid;
+    return o;
+}
+
+static double practice_latency(const csf_trial *t, size_t n)
+{
+    double sum = 0;
+    int k = 0;
+    for (size_t i = 0; i < n; i++)
+        if (t[i].is_practice && t[i].response == 1 && t[i].rt_s >= ANTICIPATION_S && t[i].rt_s <= 1.5) {
+            sum += t[i].rt_s;
+            k++;
+        }
+    return k ? sum / k : NAN;
+}
+
+csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
+{
+    memset(res, 0, sizeof *res);
+    res->fa_rate = res->latency_s = res->median_se_log10 = NAN;
+    struct timespec w0;
+    clock_gettime(CLOCK_MONOTONIC, &w0);
+    if (!opt->out_path || !*opt->out_path)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
+    const csf_config *cfg = opt->cfg;
+    session_res S;
+    memset(&S, 0, sizeof S);
+    csf_status st;
+    session_settings set;
+    memset(&set, 0, sizeof set);
+
+    csf_geometry geom;
+    st = csf_geometry_init(&geom, CSF_GEOMETRY_FROM_CONFIG(*cfg), err);
+    if (st != CSF_OK) return st;
+
+    st = csf_store_open(opt->store_path, &S.store, err);
+    if (st != CSF_OK) return st;
+    int64_t sid = opt->resume_id;
+    uint64_t seed = opt->seed;
+    if (sid) {
+        csf_session_info info;
+        memset(&info, 0, sizeof info);
+        st = csf_store_get_session(S.store, sid, &info, err);
+        if (st != CSF_OK) goto out;
+        int bad = strcmp(info.kind, "observer") != 0 ||
+                  !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0) ||
+                  settings_from_json(info.settings_json, &set) != 0;
+        char kind[16], state[16];
+        snprintf(kind, sizeof kind, "%s", info.kind);
+        snprintf(state, sizeof state, "%s", info.state);
+        seed = info.seed;
+        csf_session_info_free(&info);
+        if (bad) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "--resume %lld: session is a %s session in state '%s'; only running or "
+                               "paused observer sessions can be resumed", (long long)sid, kind, state);
+            goto out;
+        }
+    } else {
+        snprintf(set.method, sizeof set.method, "%s", opt->method ? opt->method : "bayes");
+        const char *spec = opt->observer_spec ? opt->observer_spec : (cfg->observer[0] ? cfg->observer : "sim");
+        if (strchr(spec, '"') || strchr(spec, '\\')) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: quotes and backslashes are not allowed");
+            goto out;
+        }
+        snprintf(set.observer, sizeof set.observer, "%s", spec);
+        set.trials = opt->trials > 0 ? opt->trials : 120;
+        set.practice = opt->practice >= 0 ? opt->practice : 3;
+        set.break_every = opt->break_every > 0 ? opt->break_every : 40;
+        memcpy(set.freqs, opt->freqs_cpd, sizeof set.freqs);
+        memcpy(set.eccs, opt->eccs_deg, sizeof set.eccs);
+        set.n_freqs = opt->n_freqs;
+        set.n_eccs = opt->n_eccs;
+        for (int i = 0; i < set.n_freqs; i++) {
+            double nyq = csf_geometry_nyquist_cpd_any(&geom, 0, 0);
+            if (set.freqs[i] > nyq) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG,
+                                   "--freqs: %g cpd is above this display's Nyquist limit of %.3g cpd "
+                                   "(%d px over %g mm at %g mm)", set.freqs[i], nyq, cfg->screen_width_px,
+                                   cfg->screen_width_mm, cfg->viewing_distance_mm);
+                goto out;
+            }
+        }
+        default_axes(&geom, &set, opt->quiet);
+        qsort(set.freqs, (size_t)set.n_freqs, sizeof(double), cmp_d);
+        qsort(set.eccs, (size_t)set.n_eccs, sizeof(double), cmp_d);
+        if (set.n_freqs == 0 || set.n_eccs == 0) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
+            goto out;
+        }
+    }
+    S.ops = csf_procedure_find(set.method);
+    if (!S.ops) {
+        if (strcmp(set.method, "bayes") == 0)
+            st = csf_error_set(err, CSF_E_UNSUPPORTED,
+                               "--method bayes: the joint Bayesian method is not in this build; use "
+                               "--method fade or --method 2afc");
+        else
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--method %s: unknown (fade, 2afc, bayes)", set.method);
+        goto out;
+    }
+    snprintf(res->method, sizeof res->method, "%s", set.method);
+
+    int is_sim = strncmp(set.observer, "sim", 3) == 0 && (set.observer[3] == '\0' || set.observer[3] == ':');
+    int is_human = strncmp(set.observer, "human", 5) == 0;
+    if (!is_sim && !is_human) {
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human",
+                           set.observer);
+        goto out;
+    }
+    if (is_sim) {
+        st = csf_observer_sim_create(set.observer, seed, &S.sim, err);
+        if (st != CSF_OK) goto out;
+    } else if (opt->headless) {
+        st = csf_error_set(err, CSF_E_UNSUPPORTED,
+                           "--observer human needs a display: no window can be opened headless "
+                           "(use --observer sim for a simulated session)");
+        goto out;
+    }
+
+    /* Display profile: the luminance the presenter maps through. */
+    if (cfg->display_profile[0]) {
+        st = csf_profile_load(cfg->display_profile, &S.profile, err);
+        if (st != CSF_OK) goto out;
+    } else {
+        S.profile = csf_profile_default();
+        if (!S.profile) {
+            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+            goto out;
+        }
+        if (!opt->quiet && !opt->resume_id)
+            fprintf(stderr, "csfcal: observer: no --profile given: using the default display model "
+                            "(%s); thresholds are only as good as this guess\n", csf_profile_id(S.profile));
+    }
+
+    csf_presenter_config pc;
+    csf_presenter_config_defaults(&pc);
+    pc.headless = is_sim ? 1 : 0;
+    pc.geometry = geom;
+    pc.refresh_hz = cfg->refresh_hz;
+    pc.profile = S.profile;
+    pc.framebuffer_bits = cfg->framebuffer_bits;
+    pc.monitor = cfg->monitor[0] ? cfg->monitor : NULL;
+    pc.seed = seed;
+    if (is_sim) {
+        pc.render_width_px = opt->render_w > 0 ? opt->render_w : 64;
+        pc.render_height_px = opt->render_h > 0 ? opt->render_h : 36;
+        pc.render_every = opt->render_every ? opt->render_every : 1;
+    }
+    st = csf_presenter_open(&pc, &S.pres, err);
+    if (st != CSF_OK) goto out;
+    if (is_human) {
+        st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S.pres),
+                                &S.resp, err);
+        if (st != CSF_OK) goto out;
+    }
+    double lb, lm;
+    csf_presenter_lum_range(S.pres, &lb, &lm);
+    double mean_lum = 0.5 * (lb + lm);
+    double max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
+
+    if (!sid) {
+        char json[2048];
+        settings_to_json(&set, json, sizeof json);
+        char obs_name[64];
+        snprintf(obs_name, sizeof obs_name, "%.60s", is_sim ? "sim" : (set.observer[5] == ':' ? set.observer + 6 : "human"));
+        st = csf_store_begin_session(S.store, "observer", obs_name, csf_profile_id(S.profile), json, seed, &sid, err);
+        if (st != CSF_OK) goto out;
+    } else {
+        st = csf_store_set_session_state(S.store, sid, "running", err);
+        if (st != CSF_OK) goto out;
+    }
+    res->session_id = sid;
+
+    /* Cells and the trials already stored (resume). */
+    int n_cells = set.n_freqs * set.n_eccs;
+    S.cells = malloc((size_t)n_cells * sizeof *S.cells);
+    S.est = malloc((size_t)n_cells * sizeof *S.est);
+    if (!S.cells || !S.est) {
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        goto out;
+    }
+    for (int e = 0; e < set.n_eccs; e++)
+        for (int f = 0; f < set.n_freqs; f++) S.cells[e * set.n_freqs + f] = (csf_cell){set.freqs[f], set.eccs[e]};
+    size_t n_stored = 0;
+    st = csf_store_get_trials(S.store, sid, &S.stored, &n_stored, err);
+    if (st != CSF_OK) goto out;
+
+    person who;
+    memset(&who, 0, sizeof who);
+    who.sim = S.sim;
+    who.resp = S.resp;
+    who.pres = S.pres;
+    who.geom = csf_presenter_geometry(S.pres);
+    runner run = {S.pres, &who, mean_lum, 1.0 / csf_presenter_refresh_hz(S.pres)};
+
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    stop_requested = 0;
+
+    int seq = 0;
+    size_t n_prac_stored = 0;
+    for (size_t i = 0; i < n_stored; i++) {
+        if (S.stored[i].is_practice) n_prac_stored++;
+        if (S.stored[i].seq >= seq) seq = S.stored[i].seq + 1;
+    }
+    if (!sid || n_stored == 0) {
+        st = person_screen(&who,
+                           set.method[0] == '2'
+                               ? "Look at the central mark.\nA faint pattern appears in one of two intervals.\n"
+                                 "Press 1 or Left for the first, 2 or Right for the second.\n"
+                                 "Escape pauses. Press a key to start."
+                               : "Look at the central mark and keep your eyes on it.\n"
+                                 "A faint pattern slowly appears somewhere.\n"
+                                 "Press Space or click as soon as you see anything,\n"
+                                 "then click where it was without moving your eyes.\n"
+                                 "Escape pauses. Press a key to start.",
+                           err);
+        if (st != CSF_OK) goto restore;
+    }
+    /* Practice trials: suprathreshold; for fade they measure the simple reaction time. */
+    for (int k = (int)n_prac_stored; k < set.practice && !who.paused && !stop_requested; k++) {
+        csf_cell pc_cell = {PRACTICE_FREQ, 0};
+        csf_trial_plan plan;
+        memset(&plan, 0, sizeof plan);
+        plan.task = S.ops->task;
+        plan.contrast = PRACTICE_CONTRAST;
+        plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 1);
+        trial_result tr;
+        uint64_t key = 1000000u + (uint64_t)k; /* practice draws never collide with main trials */
+        st = plan.task == CSF_TASK_FADE ? run_fade(&run, key, &pc_cell, &plan, 0, 1, &tr, err)
+                                        : run_2afc(&run, key, &pc_cell, &plan, 0, &tr, err);
+        if (st != CSF_OK) goto restore;
+        if (who.paused) {
+            if (tr.have_rec) csf_trial_record_free(&tr.rec);
+            break;
+        }
+        csf_trial t;
+        fill_trial(&t, sid, seq, set.method, &pc_cell, 0, mean_lum, &plan, 1, &tr);
+        st = csf_store_add_trial(S.store, &t, err);
+        if (st == CSF_OK && tr.have_rec && tr.rec.frames_drawn > 1)
+            st = csf_store_add_frame_intervals(S.store, sid, seq, tr.rec.interval_s, tr.rec.frames_drawn - 1, err);
+        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        if (st != CSF_OK) goto restore;
+        csf_trial *grown = realloc(S.stored, (n_stored + 1) * sizeof *S.stored);
+        if (!grown) {
+            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+            goto restore;
+        }
+        S.stored = grown;
+        S.stored[n_stored++] = t;
+        seq++;
+    }
+    res->latency_s = practice_latency(S.stored, n_stored);
+
+    /* The procedure, rebuilt by replaying every stored main trial through update(). */
+    csf_procedure_setup setup;
+    memset(&setup, 0, sizeof setup);
+    setup.cells = S.cells;
+    setup.n_cells = n_cells;
+    setup.trial_budget = set.trials;
+    setup.seed = seed;
+    setup.max_contrast = max_contrast;
+    setup.min_contrast = 0.0005;
+    setup.slope_beta = 3.5;
+    setup.lapse = 0.02;
+    setup.guess = S.ops->task == CSF_TASK_2AFC ? 0.5 : 0.02;
+    setup.ramp_start_log10 = -3.0;
+    setup.ramp_end_log10 = log10(max_contrast);
+    setup.ramp_s = (setup.ramp_end_log10 - setup.ramp_start_log10) / 0.5; /* 0.5 log10 per second */
+    setup.reaction_latency_s = isfinite(res->latency_s) ? res->latency_s : 0;
+    st = S.ops->create(&setup, &S.proc, err);
+    if (st != CSF_OK) goto restore;
+    int trial_index = 0;
+    for (size_t i = 0; i < n_stored; i++) {
+        if (S.stored[i].is_practice) continue;
+        csf_trial_plan plan;
+        if (S.ops->next(S.proc, trial_index, &plan) != CSF_OK) break;
+        csf_trial_outcome o = outcome_of(&S.stored[i], S.ops->task);
+        S.ops->update(S.proc, trial_index, &plan, &o);
+        trial_index++;
+    }
+
+    /* Main trials. */
+    for (; trial_index < set.trials && !who.paused && !stop_requested; trial_index++) {
+        csf_trial_plan plan;
+        csf_status nst = S.ops->next(S.proc, trial_index, &plan);
+        if (nst == CSF_E_ABORTED) {
+            res->finished_early = 1;
+            break;
+        }
+        if (nst != CSF_OK) {
+            st = csf_error_set(err, nst, "%s: could not plan trial %d", set.method, trial_index);
+            goto restore;
+        }
+        if (plan.cell < 0 || plan.cell >= n_cells) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned cell %d of %d", set.method, plan.cell, n_cells);
+            goto restore;
+        }
+        const csf_cell *c = &S.cells[plan.cell];
+        double polar;
+        if (fit_polar(S.pres, c->freq_cpd, c->ecc_deg, plan.polar_deg, mean_lum, &polar) != 0) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "%g cpd at %g deg cannot be shown anywhere on this screen", c->freq_cpd, c->ecc_deg);
+            goto restore;
+        }
+        if (set.break_every > 0 && trial_index > 0 && trial_index % set.break_every == 0 && !S.sim) {
+            char msg[160];
+            snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", trial_index, set.trials);
+            st = person_screen(&who, msg, err);
+            if (st != CSF_OK) goto restore;
+            if (who.paused) break;
+        }
+        trial_result tr;
+        st = plan.task == CSF_TASK_FADE ? run_fade(&run, (uint64_t)trial_index, c, &plan, polar, 0, &tr, err)
+                                        : run_2afc(&run, (uint64_t)trial_index, c, &plan, polar, &tr, err);
+        if (st != CSF_OK) goto restore;
+        if (who.paused) {
+            if (tr.have_rec) csf_trial_record_free(&tr.rec);
+            break; /* the interrupted trial is not stored: it is shown again on resume */
+        }
+        csf_trial t;
+        fill_trial(&t, sid, seq, set.method, c, polar, mean_lum, &plan, 0, &tr);
+        /* Stored (durably) before the procedure sees it and before the next trial is shown. */
+        st = csf_store_add_trial(S.store, &t, err);
+        if (st == CSF_OK && tr.have_rec && tr.rec.frames_drawn > 1)
+            st = csf_store_add_frame_intervals(S.store, sid, seq, tr.rec.interval_s, tr.rec.frames_drawn - 1, err);
+        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        if (st != CSF_OK) goto restore;
+        csf_trial *grown = realloc(S.stored, (n_stored + 1) * sizeof *S.stored);
+        if (!grown) {
+            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+            goto restore;
+        }
+        S.stored = grown;
+        S.stored[n_stored++] = t;
+        seq++;
+        csf_trial_outcome o = outcome_of(&t, S.ops->task);
+        S.ops->update(S.proc, trial_index, &plan, &o);
+        if (!opt->quiet && !S.sim && (trial_index + 1) % 10 == 0)
+            fprintf(stderr, "csfcal: observer: %d of %d trials\n", trial_index + 1, set.trials);
+    }
+    if (who.paused || stop_requested) {
+        csf_store_set_session_state(S.store, sid, "paused", NULL);
+        st = csf_error_set(err, CSF_E_ABORTED,
+                           "session %lld paused after %d trials; continue with --resume %lld",
+                           (long long)sid, trial_index, (long long)sid);
+        goto restore;
+    }
+
+    /* Reliability of the person, measured from the stored trials. */
+    int n_afc_hi = 0, n_afc_hi_wrong = 0;
+    st = S.ops->estimate(S.proc, S.est, err);
+    if (st != CSF_OK) goto restore;
+    for (size_t i = 0; i < n_stored; i++) {
+        const csf_trial *t = &S.stored[i];
+        if (t->is_practice) {
+            res->n_practice++;
+            continue;
+        }
+        res->n_trials++;
+        if (t->valid) res->n_valid++;
+        if (t->frames_missed > 0) res->n_missed_frame_trials++;
+        if (strstr(t->flags, "anticipation")) res->n_anticipations++;
+        if (t->is_catch) {
+            res->n_catch++;
+            if (t->response == 1) res->n_false_alarms++;
+            continue;
+        }
+        if (strstr(t->flags, "click_far")) res->n_invalid_click++;
+        int cell = -1;
+        for (int k = 0; k < n_cells; k++)
+            if (S.cells[k].freq_cpd == t->freq_cpd && S.cells[k].ecc_deg == t->ecc_deg) cell = k;
+        if (cell < 0 || !isfinite(S.est[cell].threshold)) continue;
+        double th = S.est[cell].threshold;
+        if (S.ops->task == CSF_TASK_FADE) {
+            /* A lapse: a ramp that climbed well past the person's threshold without a press. */
+            if (t->response == 0 && t->valid && t->contrast_requested > th * pow(10.0, 0.5)) res->n_lapses++;
+        } else if (t->valid && t->contrast_shown_max >= 4 * th) {
+            n_afc_hi++;
+            if (t->response != t->signal_interval) n_afc_hi_wrong++;
+        }
+    }
+    if (S.ops->task == CSF_TASK_2AFC) res->n_lapses = n_afc_hi_wrong;
+    res->fa_rate = res->n_catch ? (double)res->n_false_alarms / res->n_catch : NAN;
+    res->n_cells = n_cells;
+    double *ses = malloc((size_t)n_cells * sizeof *ses);
+    int n_se = 0, n_unknown = 0;
+    char unknown[256] = "";
+    for (int k = 0; k < n_cells; k++) {
+        if (isinf(S.est[k].threshold)) res->n_invisible++;
+        else if (isfinite(S.est[k].threshold)) {
+            res->n_visible++;
+            if (ses && isfinite(S.est[k].stderr_log10)) ses[n_se++] = S.est[k].stderr_log10;
+        } else {
+            n_unknown++;
+            size_t l = strlen(unknown);
+            if (l < sizeof unknown - 40)
+                snprintf(unknown + l, sizeof unknown - l, "%s%g cpd/%g deg", l ? ", " : "", S.cells[k].freq_cpd,
+                         S.cells[k].ecc_deg);
+        }
+    }
+    if (ses && n_se) {
+        qsort(ses, (size_t)n_se, sizeof *ses, cmp_d);
+        res->median_se_log10 = ses[n_se / 2];
+    }
+    free(ses);
+
+    const char *why = NULL;
+    char whybuf[400];
+    if (res->n_catch >= FA_MIN_CATCH && res->fa_rate > FA_LIMIT) {
+        snprintf(whybuf, sizeof whybuf,
+                 "the observer pressed on %d of %d catch trials (%.0f %%, limit %.0f %%): responses "
+                 "do not follow the stimulus", res->n_false_alarms, res->n_catch, 100 * res->fa_rate, 100 * FA_LIMIT);
+        why = whybuf;
+    } else if (res->n_trials > 0 && (res->n_trials - res->n_valid - res->n_catch) > INVALID_LIMIT * (res->n_trials - res->n_catch)) {
+        snprintf(whybuf, sizeof whybuf, "%d of %d trials were invalid (clicks far from the grating, "
+                 "anticipations, missed frames; limit %.0f %%)", res->n_trials - res->n_valid - res->n_catch,
+                 res->n_trials - res->n_catch, 100 * INVALID_LIMIT);
+        why = whybuf;
+    } else if (n_afc_hi >= 8 && n_afc_hi_wrong > AFC_LAPSE_LIMIT * n_afc_hi) {
+        snprintf(whybuf, sizeof whybuf, "%d of %d clearly visible 2AFC trials were answered wrongly "
+                 "(limit %.0f %%): inconsistent responses", n_afc_hi_wrong, n_afc_hi, 100 * AFC_LAPSE_LIMIT);
+        why = whybuf;
+    } else if (n_unknown > 0) {
+        snprintf(whybuf, sizeof whybuf, "%d of %d cells have no usable data (%s); give more --trials "
+                 "(now %d) or fewer --freqs/--eccs", n_unknown, n_cells, unknown, set.trials);
+        why = whybuf;
+    } else if (res->n_visible == 0) {
+        why = "no cell was visible at any contrast the display can show";
+    }
+
+    /* Thresholds into the store in every case (they are the session's data), the table only
+     * when the data support one. */
+    csf_threshold_row *rows = calloc((size_t)n_cells, sizeof *rows);
+    if (!rows) {
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        goto restore;
+    }
+    for (int k = 0; k < n_cells; k++)
+        rows[k] = (csf_threshold_row){S.cells[k].freq_cpd, S.cells[k].ecc_deg, 0, round9(mean_lum),
+                                      S.est[k].threshold, S.est[k].stderr_log10, S.est[k].n_trials};
+    st = csf_store_put_thresholds(S.store, sid, rows, (size_t)n_cells, err);
+    free(rows);
+    if (st != CSF_OK) goto restore;
+    if (why) {
+        csf_store_set_session_state(S.store, sid, "aborted", NULL);
+        st = csf_error_set(err, CSF_E_INSUFFICIENT, "session %lld: no table written: %s", (long long)sid, why);
+        goto restore;
+    }
+
+    double *thr = malloc((size_t)n_cells * sizeof *thr), *se = malloc((size_t)n_cells * sizeof *se);
+    if (!thr || !se) {
+        free(thr);
+        free(se);
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        goto restore;
+    }
+    for (int k = 0; k < n_cells; k++) {
+        thr[k] = S.est[k].threshold;
+        se[k] = S.est[k].stderr_log10;
+    }
+    char date[32], obs_desc[300];
+    now_utc(date, sizeof date);
+    snprintf(obs_desc, sizeof obs_desc, "%s", S.sim ? csf_observer_sim_describe(S.sim) : set.observer);
+    csflut_build b;
+    memset(&b, 0, sizeof b);
+    b.n_freq = set.n_freqs;
+    b.n_ecc = set.n_eccs;
+    b.freq_cpd = set.freqs;
+    b.ecc_deg = set.eccs;
+    b.threshold = thr;
+    b.stderr_log10 = se;
+    b.observer = obs_desc;
+    b.display_profile_id = csf_profile_id(S.profile);
+    b.method = set.method;
+    b.date_utc = date;
+    b.tool_version = CSF_VERSION;
+    b.viewing_distance_mm = cfg->viewing_distance_mm;
+    b.mean_lum_cdm2 = round9(mean_lum);
+    b.trials = res->n_trials;
+    csflut_status ls = csflut_write_file(&b, opt->out_path);
+    free(thr);
+    free(se);
+    if (ls != CSFLUT_OK) {
+        st = csf_error_set(err, CSF_E_IO, "writing %s: %s", opt->out_path, csflut_strerror(ls));
+        goto restore;
+    }
+    res->table_written = 1;
+    unsigned char *blob = NULL;
+    size_t blen = 0;
+    if (read_file(opt->out_path, &blob, &blen) == CSF_OK)
+        st = csf_store_add_artifact(S.store, sid, "csflut", opt->out_path, blob, blen, err);
+    free(blob);
+    if (st != CSF_OK) goto restore;
+    st = csf_store_set_session_state(S.store, sid, "finished", err);
+    if (st != CSF_OK) goto restore;
+    if (opt->plot_path && *opt->plot_path) {
+        if (!csf_report_write) {
+            st = csf_error_set(err, CSF_E_UNSUPPORTED, "--plot: report plots are not in this build (table %s was written)",
+                               opt->out_path);
+            goto restore;
+        }
+        st = csf_report_write(S.store, sid, opt->plot_path, err);
+        if (st != CSF_OK) goto restore;
+        blob = NULL;
+        if (read_file(opt->plot_path, &blob, &blen) == CSF_OK)
+            csf_store_add_artifact(S.store, sid, "plot", opt->plot_path, blob, blen, NULL);
+        free(blob);
+    }
+
+restore:
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+out:;
+    struct timespec w1;
+    clock_gettime(CLOCK_MONOTONIC, &w1);
+    res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    if (st == CSF_OK)
+        snprintf(res->summary, sizeof res->summary,
+                 "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
+                 "clicks, %d lapses), %d cells: %d visible, %d not visible, median se %.3f log10 -> %s%s%s",
+                 (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
+                 res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, res->n_visible,
+                 res->n_invisible, res->median_se_log10, opt->out_path,
+                 opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
+    session_free(&S);
+    return st;
+}
+
+void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const char *plot_path,
+                         char *buf, unsigned long len)
+{
+    char fa[32], lat[32], se[32];
+#define JNUM(dst, v) (isfinite(v) ? snprintf(dst, sizeof dst, "%.4g", (v)) : snprintf(dst, sizeof dst, "null"))
+    JNUM(fa, r->fa_rate);
+    JNUM(lat, r->latency_s);
+    JNUM(se, r->median_se_log10);
+#undef JNUM
+    snprintf(buf, len,
+             "{\"session\":%lld,\"method\":\"%s\",\"trials\":%d,\"valid\":%d,\"practice\":%d,\"catch\":%d,"
+             "\"false_alarms\":%d,\"fa_rate\":%s,\"invalid_clicks\":%d,\"anticipations\":%d,\"lapses\":%d,"
+             "\"missed_frame_trials\":%d,\"reaction_latency_s\":%s,\"cells\":%d,\"visible\":%d,"
+             "\"not_visible\":%d,\"median_se_log10\":%s,\"finished_early\":%s,\"table\":\"%s\",\"plot\":%s%s%s,"
+             "\"wall_s\":%.3f}",
+             (long long)r->session_id, r->method, r->n_trials, r->n_valid, r->n_practice, r->n_catch,
+             r->n_false_alarms, fa, r->n_invalid_click, r->n_anticipations, r->n_lapses,
+             r->n_missed_frame_trials, lat, r->n_cells, r->n_visible, r->n_invisible, se,
+             r->finished_early ? "true" : "false", out_path ? out_path : "", plot_path ? "\"" : "null",
+             plot_path ? plot_path : "", plot_path ? "\"" : "", r->wall_s);
+}

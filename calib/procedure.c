@@ -3,9 +3,8 @@
 
 #include <string.h>
 
-/* Weak so this registry links before (or without) the Bayesian method: its absence is reported
- * at run time by name instead of failing the build. */
-extern const csf_procedure_ops csf_procedure_bayes __attribute__((weak));
+/* A strong reference (declared in procedure.h): a weak one does not pull method_bayes.o out of
+ * the static calib library, which left `--method bayes` (the default) missing from csfcal. */
 
 const csf_procedure_ops *csf_procedure_find(const char *name)
 {

@@ -1,0 +1,68 @@
+/* Per-user CSF calibration session (`csfcal observer calibrate`): instructions, practice trials
+ * (which also measure the person's simple reaction time for the fade method), interleaved trials
+ * of the chosen procedure drawn through the presenter, breaks and progress, every trial durably
+ * stored before the next is shown, resume by replaying stored trials, and at the end the
+ * threshold table (.csflut), thresholds in the store, the report plot and a one-line summary.
+ *
+ * Simulated observers run on the presenter's virtual clock (headless), so a session takes only
+ * the time to compute and store it; human observers run windowed with a keyboard/mouse responder.
+ * Escape (human) or SIGINT/SIGTERM pauses: the session is marked "paused" and can be resumed. */
+#ifndef CSF_OBSERVER_CALIB_H
+#define CSF_OBSERVER_CALIB_H
+
+#include <stdint.h>
+
+#include "calib/config.h"
+#include "results/csf_status.h"
+
+#define CSF_OBS_MAX_AXIS 16
+
+typedef struct {
+    const csf_config *cfg;      /* geometry, refresh, store path, profile path, observer spec */
+    const char *observer_spec;  /* "sim[:...]" or "human[:NAME]"; NULL = cfg->observer, else "sim" */
+    const char *method;         /* "bayes" (default), "fade", "2afc" */
+    const char *out_path;       /* .csflut to write (required) */
+    const char *plot_path;      /* report plot (.png/.pdf/.svg), NULL = none */
+    const char *store_path;     /* resolved store path */
+    double freqs_cpd[CSF_OBS_MAX_AXIS];
+    int n_freqs;                /* 0 = default: 6 log-spaced 0.5-16 cpd capped by Nyquist */
+    double eccs_deg[CSF_OBS_MAX_AXIS];
+    int n_eccs;                 /* 0 = default: 0, 5, 10, 20 deg capped by the screen */
+    int trials;                 /* budget of main trials (default 120) */
+    int practice;               /* practice trials (default 3; -1 = default) */
+    int break_every;            /* trials between breaks (default 40) */
+    uint64_t seed;
+    int headless;
+    int64_t resume_id;          /* 0 = new session */
+    int render_every;           /* presenter render_every for simulated sessions (default 1) */
+    int render_w, render_h;     /* headless render size for simulated sessions (default 64 x 36) */
+    int quiet;                  /* no progress on stderr */
+} csf_obs_options;
+
+typedef struct {
+    int64_t session_id;
+    char method[16];
+    int n_trials, n_valid, n_catch, n_false_alarms, n_invalid_click, n_anticipations, n_lapses,
+        n_missed_frame_trials, n_practice;
+    double fa_rate;             /* presses on catch trials / catch trials (NaN without catch trials) */
+    double latency_s;           /* reaction time measured on practice trials (NaN if none) */
+    int n_cells, n_visible, n_invisible;
+    double median_se_log10;
+    int finished_early;         /* the procedure ran out of unstable cells before the budget */
+    int table_written;
+    double wall_s;
+    char summary[600];          /* the one-line summary */
+} csf_obs_result;
+
+void csf_obs_options_defaults(csf_obs_options *o);
+
+/* Runs (or resumes) a session. CSF_E_INSUFFICIENT: the data cannot support a table (the message
+ * says why: unreliable observer, cells without data ...) and nothing was written.
+ * CSF_E_ABORTED: paused by Escape or a signal; the message names the --resume ID. */
+csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err);
+
+/* Writes res as one JSON object (no trailing newline) into buf. */
+void csf_obs_result_json(const csf_obs_result *res, const char *out_path, const char *plot_path,
+                         char *buf, unsigned long len);
+
+#endif
