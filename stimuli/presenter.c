@@ -211,7 +211,8 @@ static csf_status setup_luminance(csf_presenter *p, csf_error *err)
                      csf_profile_id(p->profile));
         }
     } else {
-        snprintf(p->profile_id, sizeof p->profile_id, "custom-luminance-function");
+        snprintf(p->profile_id, sizeof p->profile_id, "%s",
+                 p->cfg.grey_lum_name ? p->cfg.grey_lum_name : "custom-luminance-function");
     }
     p->lum_black = fwd_lum(p, 0.0);
     p->lum_max = fwd_lum(p, 1.0);

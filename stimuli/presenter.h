@@ -93,6 +93,7 @@ typedef struct {
      * model in tests; must be increasing on [0,1]. */
     double (*grey_lum_fn)(void *ctx, double drive01);
     void *grey_lum_ctx;
+    const char *grey_lum_name;  /* reported as the profile id when grey_lum_fn is used */
     int framebuffer_bits;       /* 8 or 10; 0 = 8. Windowed 10-bit falls back to 8 when refused */
     int render_width_px, render_height_px; /* headless only: 0 = geometry size */
     int render_every;           /* 0/1 every frame, N every N-th, -1 never (see PERFORMANCE) */
