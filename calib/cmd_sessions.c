@@ -13,13 +13,14 @@
 #include "results/store_export.h"
 
 static const char sessions_help[] =
-    "usage: csfcal sessions [list] [--store PATH] [--json]\n"
+    "usage: csfcal sessions [list] [--kind K] [--state S] [--store PATH] [--json]\n"
     "       csfcal sessions show ID [--store PATH] [--json]\n"
     "       csfcal sessions export ID --format csv|json\n"
     "                              [--table trials|readings|thresholds|frames]\n"
     "                              [-o FILE] [--store PATH]\n"
     "       csfcal sessions abort ID [--store PATH]\n\n"
-    "list    every session in the store: id, kind, state, observer, display, trials, readings.\n"
+    "list    every session in the store: id, kind, state, observer, display, trials, readings;\n"
+    "        --kind display|observer|study and --state running|paused|finished|aborted filter.\n"
     "        Sessions in state running or paused can be continued with the --resume ID option\n"
     "        of the command that started them.\n"
     "show    one session in detail, with the settings it was started with.\n"
@@ -30,11 +31,13 @@ static const char sessions_help[] =
     "        Writes to standard output unless -o FILE is given. See docs/store.md.\n"
     "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n\n";
 
-enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_HELP };
+enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE, OPT_HELP };
 
 static const struct option sessions_options[] = {
     {"format", required_argument, 0, OPT_FORMAT},
     {"table", required_argument, 0, OPT_TABLE},
+    {"kind", required_argument, 0, OPT_KIND},
+    {"state", required_argument, 0, OPT_STATE},
     {"output", required_argument, 0, 'o'},
     {"help", no_argument, 0, OPT_HELP},
     CSF_CLI_COMMON_OPTIONS,
@@ -94,7 +97,7 @@ static int open_store(csf_cli *cli, csf_store **s, int writable)
     return 0;
 }
 
-static int cmd_list(csf_cli *cli)
+static int cmd_list(csf_cli *cli, const char *kind, const char *state)
 {
     csf_store *s = NULL;
     csf_error err;
@@ -113,6 +116,16 @@ static int cmd_list(csf_cli *cli)
         csf_store_close(s);
         return csf_cli_report("sessions", &err);
     }
+    /* Filters: keep the matching sessions at the front of the list. */
+    size_t kept = 0;
+    for (size_t i = 0; i < n; i++) {
+        if ((kind && strcmp(list[i].kind, kind)) || (state && strcmp(list[i].state, state))) {
+            csf_session_info_free(&list[i]);
+            continue;
+        }
+        list[kept++] = list[i];
+    }
+    n = kept;
     if (cli->json) {
         printf("[");
         for (size_t i = 0; i < n; i++) {
@@ -121,7 +134,7 @@ static int cmd_list(csf_cli *cli)
         }
         printf(n ? "\n]\n" : "]\n");
     } else if (n == 0) {
-        printf("No sessions in %s\n", csf_store_path(s));
+        printf("No %ssessions in %s\n", kind || state ? "matching " : "", csf_store_path(s));
     } else {
         printf("%-5s %-8s %-9s %-14s %-18s %7s %8s  %s\n", "ID", "KIND", "STATE", "OBSERVER",
                "DISPLAY", "TRIALS", "READINGS", "CREATED (UTC)");
@@ -261,7 +274,7 @@ int csf_cmd_sessions(int argc, char **argv)
     csf_cli cli;
     int rc = csf_cli_init(&cli, argc, argv);
     if (rc) return rc;
-    const char *format = NULL, *table = NULL, *out_path = NULL;
+    const char *format = NULL, *table = NULL, *out_path = NULL, *kind = NULL, *state = NULL;
     optind = 0;
     opterr = 0;
     int c;
@@ -269,6 +282,22 @@ int csf_cmd_sessions(int argc, char **argv)
         switch (c) {
         case OPT_FORMAT: format = optarg; break;
         case OPT_TABLE: table = optarg; break;
+        case OPT_KIND:
+            if (strcmp(optarg, "display") && strcmp(optarg, "observer") && strcmp(optarg, "study")) {
+                fprintf(stderr, "csfcal: sessions: --kind '%s' unknown (allowed display, observer, study)\n", optarg);
+                return 2;
+            }
+            kind = optarg;
+            break;
+        case OPT_STATE:
+            if (strcmp(optarg, "running") && strcmp(optarg, "paused") && strcmp(optarg, "finished") &&
+                strcmp(optarg, "aborted")) {
+                fprintf(stderr, "csfcal: sessions: --state '%s' unknown (allowed running, paused, "
+                        "finished, aborted)\n", optarg);
+                return 2;
+            }
+            state = optarg;
+            break;
         case 'o': out_path = optarg; break;
         case 'h':
         case OPT_HELP:
@@ -301,7 +330,7 @@ int csf_cmd_sessions(int argc, char **argv)
             fprintf(stderr, "csfcal: sessions list: unexpected argument '%s'\n", pos[1]);
             return 2;
         }
-        return cmd_list(&cli);
+        return cmd_list(&cli, kind, state);
     }
     if (!strcmp(sub, "show") || !strcmp(sub, "export") || !strcmp(sub, "abort")) {
         if (npos != 2) {
