@@ -1371,6 +1371,66 @@ csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_thresh
 
 /* ---- artifacts --------------------------------------------------------------------------- */
 
+/* Value of a "key = value" line in the header of a display profile text (docs/display-profile.md),
+ * looked for in the first 4 KiB only; "" when absent. */
+static void profile_key(const char *text, size_t len, const char *key, char *out, size_t cap)
+{
+    out[0] = '\0';
+    size_t lim = len < 4096 ? len : 4096, kl = strlen(key);
+    for (size_t i = 0; i < lim; i++) {
+        if ((i == 0 || text[i - 1] == '\n') && i + kl + 3 <= lim && memcmp(text + i, key, kl) == 0 &&
+            memcmp(text + i + kl, " = ", 3) == 0) {
+            size_t j = i + kl + 3, o = 0;
+            while (j < lim && text[j] != '\n' && text[j] != '\r' && text[j] != '\0' && o + 1 < cap)
+                out[o++] = text[j++];
+            out[o] = '\0';
+            return;
+        }
+    }
+}
+
+/* A display profile written by a session is also recorded as that display's current profile. */
+static int record_profile(csf_store *s, int64_t session_id, const void *blob, size_t len)
+{
+    const char *text = blob;
+    const char magic[] = "csfcal-display-profile";
+    if (!blob || len < sizeof magic || memcmp(text, magic, sizeof magic - 1) != 0) return SQLITE_OK;
+    char id[128], display[256];
+    profile_key(text, len, "id", id, sizeof id);
+    profile_key(text, len, "display", display, sizeof display);
+    if (!id[0] || !display[0]) return SQLITE_OK;
+    char now[32];
+    utc_now(now);
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "INSERT INTO displays (name, profile_id, created_utc) SELECT ?, ?, ?"
+                        " WHERE NOT EXISTS (SELECT 1 FROM displays WHERE name = ?)", &st);
+    if (rc != SQLITE_OK) return rc;
+    sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 2, id, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 4, display, -1, SQLITE_TRANSIENT);
+    rc = step(s, st);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) return rc;
+    rc = prepare(s, "UPDATE displays SET profile_id = ? WHERE name = ?", &st);
+    if (rc != SQLITE_OK) return rc;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 2, display, -1, SQLITE_TRANSIENT);
+    rc = step(s, st);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) return rc;
+    rc = prepare(s, "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
+                    " SELECT id, ?, ?, ? FROM displays WHERE name = ?", &st);
+    if (rc != SQLITE_OK) return rc;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(st, 2, session_id);
+    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 4, display, -1, SQLITE_TRANSIENT);
+    rc = step(s, st);
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? SQLITE_OK : rc;
+}
+
 csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   const char *path, const void *blob, size_t len, csf_error *err)
 {
@@ -1382,26 +1442,55 @@ csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes without content", len);
     if (len > 512u * 1024 * 1024)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes (limit 512 MiB)", len);
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content, created_utc)"
-                        " VALUES (?,?,?,?,?,?)", &st);
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing an artifact");
-    char now[32];
-    utc_now(now);
-    sqlite3_bind_int64(st, 1, session_id);
-    sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 3, path ? path : "", -1, SQLITE_TRANSIENT);
-    sqlite3_bind_int64(st, 4, (sqlite3_int64)len);
-    if (blob) sqlite3_bind_blob64(st, 5, blob, len, SQLITE_STATIC);
-    else sqlite3_bind_null(st, 5);
-    sqlite3_bind_text(st, 6, now, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
+    sqlite3_stmt *st = NULL;
+    rc = prepare(s, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content, created_utc)"
+                    " VALUES (?,?,?,?,?,?)", &st);
+    if (rc == SQLITE_OK) {
+        char now[32];
+        utc_now(now);
+        sqlite3_bind_int64(st, 1, session_id);
+        sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 3, path ? path : "", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int64(st, 4, (sqlite3_int64)len);
+        if (blob) sqlite3_bind_blob64(st, 5, blob, len, SQLITE_STATIC);
+        else sqlite3_bind_null(st, 5);
+        sqlite3_bind_text(st, 6, now, -1, SQLITE_TRANSIENT);
+        rc = step(s, st);
+        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
+    }
     sqlite3_finalize(st);
-    if (rc == SQLITE_DONE) return CSF_OK;
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: artifact refused: no session %lld",
-                             s->path, (long long)session_id);
-    return fail(s, err, rc, "storing an artifact");
+    if (rc == SQLITE_OK && !strcmp(kind, "profile")) rc = record_profile(s, session_id, blob, len);
+    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
+    if (rc == SQLITE_OK) return CSF_OK;
+    csf_status cs = (rc & 0xff) == SQLITE_CONSTRAINT
+        ? csf_error_set(err, CSF_E_NOT_FOUND, "store %s: artifact refused: no session %lld",
+                        s->path, (long long)session_id)
+        : fail(s, err, rc, "storing an artifact");
+    exec_s(s, "ROLLBACK");
+    return cs;
+}
+
+csf_status csf_store_display_profile_id(csf_store *s, const char *display, char *out, size_t cap,
+                                        csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !display || !out || cap == 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
+    out[0] = '\0';
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT profile_id FROM displays WHERE name = ? AND profile_id IS NOT NULL", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "reading a display's profile");
+    sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
+    rc = sqlite3_step(st);
+    csf_status cs = CSF_OK;
+    if (rc == SQLITE_ROW) col_text(st, 0, out, cap);
+    else if (rc == SQLITE_DONE)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no profile recorded for display '%s'",
+                           s->path, display);
+    else cs = fail(s, err, rc, "reading a display's profile");
+    sqlite3_finalize(st);
+    return cs;
 }
 
 csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *kind,

@@ -168,6 +168,11 @@ csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *
 /* Records (or finds) a display by name; profile_id may be NULL. */
 csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *profile_id,
                                     int64_t *id, csf_error *err);
+/* Current profile id of a display: set by csf_store_upsert_display, and by storing a "profile"
+ * artifact (its "id" and "display" header lines; each such artifact also adds a row to the
+ * display's profile history). CSF_E_NOT_FOUND when none is recorded. */
+csf_status csf_store_display_profile_id(csf_store *s, const char *display, char *out, size_t cap,
+                                        csf_error *err);
 /* Records (or finds) an observer by name. */
 csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err);
 

@@ -88,6 +88,23 @@ static void test_sessions_trials(const char *path)
     const char blob[] = "csfcal-display-profile 1\nx = 1\n";
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p1.txt", "old", 3, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p2.txt", blob, sizeof blob - 1, &err), CSF_OK);
+    /* A stored display profile becomes the display's current profile, with history. */
+    const char prof[] = "csfcal-display-profile 1\n# comment\nid = lab-lcd-20261122-0badf00d\n"
+                        "display = lab-lcd\ncreated_utc = 2026-11-22T06:00:00Z\n";
+    char pid[128];
+    CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-lcd", pid, sizeof pid, &err), CSF_E_NOT_FOUND);
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "lab.profile", prof, sizeof prof - 1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-lcd", pid, sizeof pid, &err), CSF_OK);
+    CHECK(!strcmp(pid, "lab-lcd-20261122-0badf00d"));
+    {
+        sqlite3_stmt *q = NULL;
+        sqlite3_prepare_v2(csf_store_db(s), "SELECT COUNT(*) FROM display_profiles p JOIN displays d"
+                           " ON d.id = p.display_id WHERE d.name = 'lab-lcd' AND p.session_id = ?", -1, &q, NULL);
+        sqlite3_bind_int64(q, 1, disp);
+        CHECK(sqlite3_step(q) == SQLITE_ROW && sqlite3_column_int(q, 0) == 1);
+        sqlite3_finalize(q);
+    }
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p2.txt", blob, sizeof blob - 1, &err), CSF_OK);
     /* A later path-only record (file written elsewhere) does not hide the stored bytes. */
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p3.txt", NULL, 0, &err), CSF_OK);
     CHECK(csf_store_add_artifact(s, 424242, "plot", "x.png", "a", 1, &err) != CSF_OK);
