@@ -4,9 +4,10 @@
  *     t_c = m(f, e; theta) + o_c
  * where m is the truncated log-parabola x stelaCSF surface of results/csf_model.h with
  * theta = (log10 Smax, log10 fmax, log10 beta, delta, ecc_a, ecc_b), and o_c is a per-cell
- * offset with a heavy-tailed prior (mixture of a narrow and a wide normal). The offsets let an
- * observer whose surface is not of the model's form still be recovered: the surface carries
- * information between cells, the offset lets each cell's own trials move its estimate.
+ * offset with a heavy-tailed prior (mixture of a narrow and a wide normal; the narrow sd is
+ * itself learned: each particle carries one of a few levels). The offsets let an observer whose
+ * surface is not of the model's form still be recovered: the surface carries information between
+ * cells, the offset lets each cell's own trials move its estimate.
  *
  * Posterior. theta is represented by weighted particles. Each cell's data enter theta's posterior
  * only through Z_c(m) = integral K(t - m) L_c(t) dt (K = offset prior, L_c = the cell's
@@ -17,11 +18,18 @@
  * Each cell's threshold posterior is p(t_c|D) ~ L_c(t) * sum_i w_i/Z_c(theta_i) K(t - m_ci),
  * i.e. the surface prediction from all other cells' data times the cell's own likelihood.
  *
- * Stimulus choice. Responses depend on theta and the offsets only through t_c, so the mutual
- * information between the next response and the whole posterior equals I(r; t_c) under the
- * current marginal of t_c. It is computed for every cell and every contrast on the grid; the
- * trial goes to a near-best cell (random among those within 15 % of the best, rng keyed by seed
- * and trial index) at that cell's most informative contrast.
+ * Stimulus choice. Responses depend on theta and the offsets only through t_c, so what a trial
+ * teaches about the whole posterior is measured on the current marginal of t_c. The default
+ * criterion is the expected reduction of the variance of t_c (what the RMS error of the table
+ * counts; thresholds above the display's reach are clipped since they all mean "not visible");
+ * the Psi-style entropy criterion (mutual information I(r; t_c)) is a compile-time option. Both
+ * are computed for every cell and every contrast on the grid; the trial goes to a near-best cell
+ * (random among those within 15 % of the best, rng keyed by seed and trial index) at that cell's
+ * best contrast.
+ *
+ * Model check. Per cell, the evidence of its trials under the surface prior is compared with the
+ * evidence under a weak prior (the surface blurred by the wide sd); where the weak prior wins
+ * clearly, estimate() uses it, i.e. falls back to the cell's own data.
  *
  * Determinism: every random draw comes from results/rng.h keyed by the seed and the trial index,
  * and the state depends only on the sequence of update() calls, so replaying stored trials
@@ -726,6 +734,7 @@ void csf_bayes_surface_mean(void *state, double out[6])
     bayes_state *s = state;
     double mx = -INFINITY, sw = 0.0;
     for (int k = 0; k < NPAR; k++) out[k] = 0.0;
+    if (!s) return;
     for (int i = 0; i < s->n_part; i++)
         if (s->logw[i] > mx) mx = s->logw[i];
     for (int i = 0; i < s->n_part; i++) {

@@ -41,6 +41,19 @@ int main(void)
     bad_cells[1] = (csf_cell){2.0, NAN};
     expect_refused(s, "eccentricity");
 
+    /* a one-cell grid (a single foveal staircase) works: 40 trials recover its threshold */
+    {
+        csf_cell one = {4.0, 0.0};
+        sim2afc o1;
+        sim2afc_parametric(&o1, csf_model_default(), 21);
+        csf_cell_estimate e1;
+        CHECK_INT_EQ(sim2afc_run(&csf_procedure_bayes, &o1, &one, 1, 40, 5, 1.0, &e1), 0);
+        double t1 = sim2afc_log10_threshold(&o1, 4.0, 0.0);
+        CHECK_MSG(isfinite(e1.threshold) && fabs(log10(e1.threshold) - t1) < 0.3, "one cell: %g vs %g",
+                  log10(e1.threshold), t1);
+        CHECK_INT_EQ(e1.n_trials, 40);
+    }
+
     /* model check: the default surface except one cell 0.7 log10 less sensitive (a local
      * loss, as near a scotoma) */
     const int odd = 14; /* 2 cpd at 10 deg */
