@@ -4,7 +4,7 @@
 # the closing line "N passed, N failed".
 set -uo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh || { echo "0 passed, 1 failed"; exit 1; }
+bash scripts/setup.sh || { echo "setup failed"; echo "0 passed, 1 failed"; exit 1; }
 
 # Sanitizer options and the EGL platform come from the default test setup in meson.build.
 

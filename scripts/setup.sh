@@ -28,5 +28,7 @@ fi
 
 # Release build for users; the test build (sanitizers, warnings as errors) lives in build-test.
 [ -f build/build.ninja ] || meson setup build --buildtype=release >/dev/null
-ninja -C build >/dev/null
+if ! ninja -C build > build/setup-build.log 2>&1; then
+  tail -n 40 build/setup-build.log; echo "setup: build failed (full log: build/setup-build.log)"; exit 1
+fi
 echo "setup: built build/calib/csfcal"
