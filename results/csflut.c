@@ -698,6 +698,30 @@ csflut_status csflut_set_stderr_shift(csflut_table *t, double k)
 double csflut_get_stderr_shift(const csflut_table *t) { return t ? t->k_shift : 0; }
 
 /* ---- queries ------------------------------------------------------------------------------------ */
+/* axis_fast_locate for an axis with buckets and an exact last reciprocal (the usual case):
+ * no branch at all. Same arithmetic, so the same results. */
+static inline int axis_fast_locate_nb(const csflut_axis_fast *a, double x, double *w)
+{
+    int s = a->first[bucket_of(a, x)];
+    int i = s + (x >= a->next[s]);
+    *w = (x - a->node[i]) * a->inv_step[i];
+    return i;
+}
+
+static inline double bilinear(const double *vals, int nf, int i, int j, double wf, double we)
+{
+    const double *v = vals + (size_t)j * (size_t)nf + i;
+    double r0 = (1 - wf) * v[0] + wf * v[1];
+    double r1 = (1 - wf) * v[nf] + wf * v[nf + 1];
+    double r = (1 - we) * r0 + we * r1;
+    if (r != r) { /* an infinite node met a zero weight: redo without 0 * inf */
+        r0 = lerp_safe(v[0], v[1], wf);
+        r1 = lerp_safe(v[nf], v[nf + 1], wf);
+        r = lerp_safe(r0, r1, we);
+    }
+    return r;
+}
+
 /* The 2-D fast path after the frequency's log2 is known: cell search on both axes, bilinear. */
 static inline double q2_core(const csflut_axis_fast *fx, const csflut_axis_fast *ex,
                              const double *vals, double u, double ecc_deg)
@@ -848,13 +872,28 @@ void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const
      * arithmetic as csflut_threshold, so the results are bit-identical. */
     const csflut_axis_fast fx = t->fx, ex = t->ex;
     const double *vals = t->conservative ? t->slice_cons : t->slice_raw;
+    const int plain = fx.n_buckets && fx.last_exact && ex.n_buckets && ex.last_exact;
     double u[256];
     for (size_t b0 = 0; b0 < n; b0 += 256) {
         size_t m = n - b0 < 256 ? n - b0 : 256;
         for (size_t k = 0; k < m; k++) u[k] = log2_guarded(freq_cpd[b0 + k]);
-        for (size_t k = 0; k < m; k++) {
-            double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
-            out[b0 + k] = (f != f || e != e) ? NAN : q2_core(&fx, &ex, vals, u[k], e);
+        if (plain) {
+            for (size_t k = 0; k < m; k++) {
+                double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
+                if (f != f || e != e) {
+                    out[b0 + k] = NAN;
+                    continue;
+                }
+                double wf, we;
+                int i = axis_fast_locate_nb(&fx, clampd(u[k], fx.lo, fx.hi), &wf);
+                int j = axis_fast_locate_nb(&ex, clampd(e, ex.lo, ex.hi), &we);
+                out[b0 + k] = bilinear(vals, fx.n, i, j, wf, we);
+            }
+        } else {
+            for (size_t k = 0; k < m; k++) {
+                double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
+                out[b0 + k] = (f != f || e != e) ? NAN : q2_core(&fx, &ex, vals, u[k], e);
+            }
         }
     }
 }
