@@ -1,8 +1,9 @@
 /* PNG stimuli through libpng's simplified API: it decodes to linear luminance (Y) with alpha,
  * honouring the file's sRGB/gAMA chunks and cHRM-derived luminance weights, so the presenter can
- * treat the pixel values as relative luminance. Limits are checked before anything is allocated. */
+ * treat the pixel values as relative luminance (8-bit precision per pixel). Limits are checked before anything is allocated. */
 #include "stimuli/image.h"
 
+#include <math.h>
 #include <png.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -43,9 +44,12 @@ csf_status csf_image_load_png_memory(const void *buf, size_t len, csf_image **ou
         return st;
     }
     int had_colour = (pi.format & PNG_FORMAT_FLAG_COLOR) != 0;
-    pi.format = PNG_FORMAT_LINEAR_Y_ALPHA; /* 16-bit linear luminance + alpha */
+    /* 8-bit sRGB-encoded grey + alpha: libpng converts colour to grey in linear light and any
+     * file gAMA to sRGB encoding; we then apply the exact piecewise sRGB decoding ourselves,
+     * because libpng's own linear output models sRGB as a pure 2.2 power (up to 1 % off). */
+    pi.format = PNG_FORMAT_GA;
     size_t n = (size_t)pi.width * pi.height;
-    uint16_t *px = malloc(PNG_IMAGE_SIZE(pi));
+    uint8_t *px = malloc(PNG_IMAGE_SIZE(pi));
     csf_image *img = calloc(1, sizeof *img);
     if (img) {
         img->lum = malloc(sizeof(float) * n);
@@ -64,14 +68,17 @@ csf_status csf_image_load_png_memory(const void *buf, size_t len, csf_image **ou
         png_image_free(&pi);
         return st;
     }
+    double srgb_table[256];
+    for (int k = 0; k < 256; k++) {
+        double v = k / 255.0;
+        srgb_table[k] = v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+    }
     img->width = (int)pi.width;
     img->height = (int)pi.height;
     double sum = 0, wsum = 0;
     for (size_t i = 0; i < n; i++) {
-        /* libpng returns premultiplied linear values for linear formats */
-        double a = px[2 * i + 1] / 65535.0;
-        double y = a > 0 ? (px[2 * i] / 65535.0) / a : 0.0;
-        if (y > 1) y = 1;
+        double a = px[2 * i + 1] / 255.0;
+        double y = srgb_table[px[2 * i]];
         img->lum[i] = (float)y;
         img->alpha[i] = (float)a;
         sum += y * a;
@@ -79,7 +86,7 @@ csf_status csf_image_load_png_memory(const void *buf, size_t len, csf_image **ou
     }
     img->mean_lum = wsum > 0 ? sum / wsum : 0.5;
     if (img->mean_lum < 1e-3) img->mean_lum = 1e-3;
-    snprintf(img->colour_note, sizeof img->colour_note, "%s; linear via sRGB/gAMA, iCCP ignored",
+    snprintf(img->colour_note, sizeof img->colour_note, "%s; 8-bit sRGB decoding, gAMA honoured, iCCP ignored",
              had_colour ? "colour reduced to luminance" : "grey");
     free(px);
     png_image_free(&pi);

@@ -1,12 +1,13 @@
 /* PNG image stimuli: decoded to relative luminance (0..1) per pixel, because the presenter's
  * pipeline is luminance (cd/m2) based.
  *
- * Colour handling: the PNG's own colour description decides the decoding — sRGB chunk or no
- * colour chunk: sRGB transfer function; gAMA chunk: that power law; cHRM: its primaries for the
- * luminance weights (Y row of the RGB->XYZ matrix), else Rec.709/sRGB weights. ICC profiles
- * (iCCP) are NOT interpreted (the image is decoded as sRGB and csf_image_colour_note says so);
- * OpenColorIO is not used for PNG stills. 16-bit, palette, grey and alpha images are accepted;
- * alpha is composited over the mean grey (alpha kept as coverage). */
+ * Colour handling (libpng's simplified reader, then exact sRGB decoding): sRGB chunk or no colour
+ * chunk: the piecewise sRGB transfer function; gAMA chunk: libpng re-encodes to sRGB first;
+ * colour is reduced to luminance in linear light with libpng's weights (cHRM-derived when the
+ * file has one, else Rec.709). Precision is 8 bits per pixel (16-bit files are reduced). ICC
+ * profiles (iCCP) are NOT interpreted and OpenColorIO is not used for PNG stills (colour_note
+ * says so). Palette, grey and alpha images are accepted; alpha is kept as coverage and the
+ * presenter composites over the mean grey. */
 #ifndef CSF_STIMULI_IMAGE_H
 #define CSF_STIMULI_IMAGE_H
 

@@ -818,6 +818,9 @@ static int should_render(const csf_presenter *p)
     return p->frame_index % every == 0;
 }
 
+static csf_status draw_frame(csf_presenter *p, const csf_stimulus *s, int fixation,
+                             csf_frame_info *out, csf_error *err);
+
 csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixation,
                               csf_frame_info *out, csf_error *err)
 {
@@ -826,6 +829,14 @@ csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixat
         csf_status st = csf_presenter_validate(p, s, err);
         if (st) return st;
     }
+    return draw_frame(p, s, fixation, out, err);
+}
+
+/* Draws without validation: run_trial validates the whole trial once (contrast never exceeds the
+ * validated peak, and a moving patch's path is checked at both ends). */
+static csf_status draw_frame(csf_presenter *p, const csf_stimulus *s, int fixation,
+                             csf_frame_info *out, csf_error *err)
+{
     if (!p->headless && glfwWindowShouldClose(p->win))
         return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     int r = should_render(p);
@@ -923,7 +934,7 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
         st.time_s = t_pred;
         st.contrast = csf_envelope_contrast(env, s->contrast, t_pred);
         csf_frame_info fi;
-        rc = csf_presenter_draw(p, &st, fixation, &fi, err);
+        rc = draw_frame(p, &st, fixation, &fi, err);
         if (rc) goto fail;
         if (drawn == 0) onset = fi.t_s;
         else {
@@ -947,7 +958,7 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
     {
         /* offset: a blank frame ends the last stimulus frame */
         csf_frame_info fi;
-        rc = csf_presenter_draw(p, NULL, fixation, &fi, err);
+        rc = draw_frame(p, NULL, fixation, &fi, err);
         if (rc) goto fail;
         int held = (int)lround(fi.interval_s * p->refresh_hz);
         if (held < 1) held = 1;
