@@ -466,7 +466,12 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
         /* channel curves include the shared black point (drive 0 of every channel is black) */
         for (size_t i = 0; i < n; i++)
             if (r[i].channel == CSF_CH_GREY && r[i].drive01 == 0 && isfinite(r[i].lum_cdm2)) {
-                sel = realloc(sel, (k + 1) * sizeof *sel);
+                csf_profile_reading *grown = realloc(sel, (k + 1) * sizeof *sel);
+                if (!grown) {
+                    free(sel);
+                    return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+                }
+                sel = grown;
                 sel[k] = r[i];
                 sel[k].channel = ch;
                 k++;
