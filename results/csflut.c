@@ -174,7 +174,7 @@ static int bucket_of(const csflut_axis_fast *a, double x)
 static csflut_status axis_fast_init(csflut_axis_fast *a, const double *pts, int n, int logscale)
 {
     a->n = n < 2 ? 2 : n;
-    a->node = malloc(sizeof(double) * (size_t)a->n);
+    a->node = calloc((size_t)a->n, sizeof(double));
     a->inv_step = malloc(sizeof(double) * (size_t)(a->n - 1));
     a->next = malloc(sizeof(double) * (size_t)a->n);
     if (!a->node || !a->inv_step || !a->next) return CSFLUT_E_NOMEM;

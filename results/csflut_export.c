@@ -239,15 +239,15 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
               "    int i = 0, j = 0;\n"
               "    while (i < %s_NF - 2 && u >= %s_freq_log2[i + 1]) i++;\n"
               "    while (j < %s_NE - 2 && e >= %s_ecc_deg[j + 1]) j++;\n"
-              "    double wf = (u - %s_freq_log2[i]) * %s_freq_inv_step[i];\n"
-              "    double we = (e - %s_ecc_deg[j]) * %s_ecc_inv_step[j];\n"
+              "    double wf = u >= %s_freq_log2[i + 1] ? 1.0 : (u - %s_freq_log2[i]) * %s_freq_inv_step[i];\n"
+              "    double we = e >= %s_ecc_deg[j + 1] ? 1.0 : (e - %s_ecc_deg[j]) * %s_ecc_inv_step[j];\n"
               "    const double *v = %s_values + j * %s_NF + i;\n"
               "    double r0 = %s_lerp(v[0], v[1], wf);\n"
               "    double r1 = %s_lerp(v[%s_NF], v[%s_NF + 1], wf);\n"
               "    return %s_lerp(r0, r1, we);\n"
               "}\n\n",
               px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px, px,
-              px, px, px, px, px, px, px);
+              px, px, px, px, px, px, px, px, px);
     sb_printf(b,
               "/* 1 if a pattern of this contrast at this frequency and eccentricity is visible. */\n"
               "static inline int %s_perceptible(double freq_cpd, double contrast, double ecc_deg)\n"
