@@ -342,6 +342,10 @@ static double interval_errors(const double *dv, const double *dl, const int *cnt
                 /* side 0: lines (k-1,k) and (k+1,k+2) meet in [k,k+1]; side 1: (k-2,k-1) and (k,k+1) in [k-1,k] */
                 size_t a0 = side ? k - 2 : k - 1, a1 = side ? k - 1 : k, b0 = side ? k : k + 1, b1 = side ? k + 1 : k + 2;
                 if ((side && k < 2) || b1 >= m) continue;
+                /* lines over at least 0.03 of drive where knots allow: a secant over two close
+                 * knots is mostly instrument noise */
+                while (a0 > 0 && dv[a1] - dv[a0] < 0.03) a0--;
+                while (b1 + 1 < m && dv[b1] - dv[b0] < 0.03) b1++;
                 double s1 = (dl[a1] - dl[a0]) / (dv[a1] - dv[a0]), s2 = (dl[b1] - dl[b0]) / (dv[b1] - dv[b0]);
                 if (!(fabs(s1 - s2) > 0)) continue;
                 double xs = (dl[b0] - dl[a1] + s1 * dv[a1] - s2 * dv[b0]) / (s1 - s2);
@@ -515,8 +519,11 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
              * split there: at a kink that is where the break is (found in a few readings, like
              * regula falsi), on a smooth curve it is near the middle anyway */
             if (m >= 4 && wi >= 1 && wi + 2 < m) {
-                double s1 = (dl[wi] - dl[wi - 1]) / (dv[wi] - dv[wi - 1]);
-                double s2 = (dl[wi + 2] - dl[wi + 1]) / (dv[wi + 2] - dv[wi + 1]);
+                size_t l0 = wi - 1, r1 = wi + 2;
+                while (l0 > 0 && dv[wi] - dv[l0] < 0.03) l0--;
+                while (r1 + 1 < m && dv[r1] - dv[wi + 1] < 0.03) r1++;
+                double s1 = (dl[wi] - dl[l0]) / (dv[wi] - dv[l0]);
+                double s2 = (dl[r1] - dl[wi + 1]) / (dv[r1] - dv[wi + 1]);
                 if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
                     double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
                     double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
