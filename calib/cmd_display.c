@@ -157,6 +157,14 @@ static int cmd_calibrate(dargs *a)
         csf_store_close(store);
         return csf_cli_report("display calibrate", &err);
     }
+    if (!(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED)) {
+        /* nothing draws the patches yet (o.show_patch is where the presenter goes) */
+        csf_photometer_close(ph);
+        csf_store_close(store);
+        fprintf(stderr, "csfcal: display calibrate: only simulated photometers in this release "
+                        "(drawing patches for a real instrument is not wired yet)\n");
+        return 1;
+    }
     csf_display_profile *p = NULL;
     csf_display_calib_result res;
     st = csf_display_calibrate(ph, &o, store, &sid, seed, &p, &res, &err);
@@ -232,6 +240,13 @@ static int cmd_verify(dargs *a)
     if (csf_photometer_open(spec, a->cli.seed, &ph, &err)) {
         csf_profile_free(p);
         return csf_cli_report("display verify", &err);
+    }
+    if (!(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED)) {
+        csf_photometer_close(ph);
+        csf_profile_free(p);
+        fprintf(stderr, "csfcal: display verify: only simulated photometers in this release "
+                        "(drawing patches for a real instrument is not wired yet)\n");
+        return 1;
     }
     double dev, white;
     double tol = a->tol > 0 ? a->tol : 0.02;

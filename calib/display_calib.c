@@ -155,6 +155,8 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         rgb[0] = rgb[1] = rgb[2] = 0;
         rgb[ch] = drive;
     }
+    if (c->o->show_patch && c->o->show_patch(c->o->show_patch_user, rgb) != 0)
+        return csf_error_set(err, CSF_E_ABORTED, "the patch could not be drawn; readings so far are kept");
     csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
     csf_photometer_reading pr;
     csf_error merr;

@@ -23,6 +23,11 @@ typedef struct {
     int warmup_max;        /* most warm-up readings (40) */
     int progress;          /* 1: progress bar on stderr */
     const char *display_name; /* for the profile id; NULL = photometer spec */
+    /* Draws the patch on the real screen before each reading (the presenter's full-field
+     * patch); NULL: nothing is drawn, which only a simulated instrument can work with. The
+     * simulated photometer is told the patch in any case. Returns 0, or non-zero to abort. */
+    int (*show_patch)(void *user, const double rgb01[3]);
+    void *show_patch_user;
     int drive_levels;      /* highest framebuffer code: levels are multiples of 1/drive_levels
                               (255 for 8 bit, 1023 for 10 bit); 0 = continuous (default: csfcal
                               dithers patches, so fractional drive values are shown) */

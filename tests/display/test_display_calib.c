@@ -9,6 +9,18 @@
 #include "devices/display_model.h"
 #include "tests/check.h"
 
+typedef struct {
+    int calls, abort_at;
+    double last[3];
+} patch_log;
+
+static int log_patch(void *user, const double rgb01[3])
+{
+    patch_log *l = user;
+    memcpy(l->last, rgb01, sizeof l->last);
+    return ++l->calls == l->abort_at;
+}
+
 /* max relative error above 10 % of peak: grey, and each channel against its own peak */
 static void errors(const csf_display_profile *p, const char *display_spec, double out[4])
 {
@@ -102,6 +114,30 @@ int main(void)
         }
         csf_profile_free(a);
         csf_profile_free(b);
+    }
+
+    /* the show_patch hook (where the presenter draws for a real instrument) sees every live
+     * reading's patch, and its failure aborts cleanly */
+    {
+        csf_photometer *ph = NULL;
+        CHECK_INT_EQ(csf_photometer_open("sim:display=crt", 2, &ph, &err), CSF_OK);
+        csf_display_calib_opts o;
+        csf_display_calib_defaults(&o);
+        patch_log lg = {0, 0, {0, 0, 0}};
+        o.show_patch = log_patch;
+        o.show_patch_user = &lg;
+        csf_display_profile *p = NULL;
+        csf_display_calib_result res;
+        CHECK_INT_EQ(csf_display_calibrate(ph, &o, NULL, NULL, 2, &p, &res, &err), CSF_OK);
+        CHECK_INT_EQ(lg.calls, res.n_readings);
+        CHECK_NEAR(lg.last[0] + lg.last[1] + lg.last[2], 3, 0); /* ends on a white reference */
+        csf_profile_free(p);
+        lg.calls = 0;
+        lg.abort_at = 10;
+        CHECK_INT_EQ(csf_display_calibrate(ph, &o, NULL, NULL, 2, &p, &res, &err), CSF_E_ABORTED);
+        CHECK_STR_CONTAINS(err.msg, "could not be drawn");
+        CHECK(p == NULL);
+        csf_photometer_close(ph);
     }
 
     /* 8-bit levels only: every measured drive is k/255, and the target still holds on the lcd */
