@@ -257,8 +257,10 @@ static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_erro
 /* Text screen; a human reads it and presses a key (Escape = pause), a simulation moves on. */
 static csf_status person_screen(person *p, const char *text, csf_error *err)
 {
+    /* A simulated person reads nothing: skip the screen (and cairo's font machinery). */
+    if (p->sim) return CSF_OK;
     csf_status st = csf_presenter_text_screen(p->pres, text, err);
-    if (st != CSF_OK || p->sim) return st;
+    if (st != CSF_OK) return st;
     csf_response ev;
     for (;;) {
         if (csf_responder_poll(p->resp, &ev)) {

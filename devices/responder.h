@@ -1,0 +1,55 @@
+/* Response devices for a real person: one backend per file behind one struct of function
+ * pointers (the libusb backend shape), chosen by name. Events carry a timestamp in seconds on
+ * CLOCK_MONOTONIC, the clock the windowed presenter stamps frames with, so a reaction time is a
+ * plain difference.
+ *
+ * Backends: "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW
+ * window; any mouse button or Space = press, Left/1 and Right/2 = 2AFC choice, a click carries its
+ * position in window pixels, Escape = pause). "queue" (devices/responder.c): events pushed by the
+ * program itself with csf_responder_push, for scripted sessions and tests. HID button boxes and
+ * gamepads are meant to be further files of the same shape. */
+#ifndef CSF_RESPONDER_H
+#define CSF_RESPONDER_H
+
+#include "results/csf_status.h"
+
+typedef enum {
+    CSF_RESP_NONE = 0,
+    CSF_RESP_PRESS = 1,   /* "I see something" (button or Space) */
+    CSF_RESP_CHOICE = 2,  /* 2AFC: choice = 0 (first / left) or 1 (second / right) */
+    CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), window pixels, y down */
+    CSF_RESP_ESCAPE = 4,  /* pause request */
+    CSF_RESP_KEY = 5,     /* any other key; key = its character or code */
+} csf_response_kind;
+
+typedef struct {
+    csf_response_kind kind;
+    int choice;
+    int key;
+    double x_px, y_px;
+    double t_s;           /* CLOCK_MONOTONIC seconds */
+} csf_response;
+
+typedef struct {
+    const char *name;
+    /* window: the GLFWwindow* of the presenter (NULL for backends that need none). */
+    csf_status (*open)(void *window, void **state, csf_error *err);
+    /* Pumps the device and returns 1 with the oldest pending event, 0 when none is pending. */
+    int (*poll)(void *state, csf_response *out);
+    void (*close)(void *state);
+} csf_responder_backend;
+
+typedef struct csf_responder csf_responder;
+
+/* spec: "keyboard", "mouse" or "queue". Unknown names are refused with the list of known ones. */
+csf_status csf_responder_open(const char *spec, void *window, csf_responder **out, csf_error *err);
+int csf_responder_poll(csf_responder *r, csf_response *out);
+/* Queue backend only: appends an event (returns -1 when full or not a queue responder). */
+int csf_responder_push(csf_responder *r, const csf_response *ev);
+const char *csf_responder_name(const csf_responder *r);
+void csf_responder_close(csf_responder *r);
+
+/* Monotonic clock, seconds. */
+double csf_responder_now(void);
+
+#endif

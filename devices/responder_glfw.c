@@ -1,0 +1,122 @@
+/* Keyboard and mouse responses through the presenter's GLFW window. GLFW delivers input in
+ * callbacks during glfwPollEvents; each callback stamps the event on CLOCK_MONOTONIC at once and
+ * queues it, so the timestamp is taken when GLFW hands the event over, not when csfcal gets round
+ * to reading it. The window's user pointer belongs to the presenter, so the queue is reached
+ * through a small table keyed by window. */
+#include <GLFW/glfw3.h>
+#include <stdlib.h>
+
+#include "devices/responder.h"
+
+#define GLFW_QUEUE_CAP 128
+#define MAX_WINDOWS 4
+
+typedef struct {
+    GLFWwindow *win;
+    int mouse_only;
+    csf_response ev[GLFW_QUEUE_CAP];
+    int head, count;
+    GLFWkeyfun prev_key;
+    GLFWmousebuttonfun prev_button;
+} glfw_state;
+
+static glfw_state *by_window[MAX_WINDOWS];
+
+static glfw_state *lookup(GLFWwindow *w)
+{
+    for (int i = 0; i < MAX_WINDOWS; i++)
+        if (by_window[i] && by_window[i]->win == w) return by_window[i];
+    return NULL;
+}
+
+static void push(glfw_state *s, const csf_response *ev)
+{
+    if (s->count == GLFW_QUEUE_CAP) return; /* a person cannot outrun 128 events per poll */
+    s->ev[(s->head + s->count) % GLFW_QUEUE_CAP] = *ev;
+    s->count++;
+}
+
+static void key_cb(GLFWwindow *w, int key, int scancode, int action, int mods)
+{
+    glfw_state *s = lookup(w);
+    if (s && s->prev_key) s->prev_key(w, key, scancode, action, mods);
+    if (!s || action != GLFW_PRESS) return;
+    csf_response ev = {CSF_RESP_KEY, 0, key, 0, 0, csf_responder_now()};
+    if (key == GLFW_KEY_ESCAPE) ev.kind = CSF_RESP_ESCAPE;
+    else if (s->mouse_only) ev.kind = CSF_RESP_KEY;
+    else if (key == GLFW_KEY_SPACE) ev.kind = CSF_RESP_PRESS;
+    else if (key == GLFW_KEY_LEFT || key == GLFW_KEY_1) ev.kind = CSF_RESP_CHOICE, ev.choice = 0;
+    else if (key == GLFW_KEY_RIGHT || key == GLFW_KEY_2) ev.kind = CSF_RESP_CHOICE, ev.choice = 1;
+    push(s, &ev);
+}
+
+static void button_cb(GLFWwindow *w, int button, int action, int mods)
+{
+    glfw_state *s = lookup(w);
+    if (s && s->prev_button) s->prev_button(w, button, action, mods);
+    if (!s || action != GLFW_PRESS) return;
+    double t = csf_responder_now(), x, y;
+    glfwGetCursorPos(w, &x, &y);
+    /* A click is both the press (detection) and, when the session asks for a position, the
+     * click; the session takes whichever it is waiting for. */
+    csf_response ev = {CSF_RESP_CLICK, button, 0, x, y, t};
+    push(s, &ev);
+}
+
+static csf_status open_common(void *window, void **state, int mouse_only, csf_error *err)
+{
+    if (!window)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "keyboard/mouse responses need a window: run with a display (not --headless)");
+    glfw_state *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "responder: out of memory");
+    int slot = -1;
+    for (int i = 0; i < MAX_WINDOWS; i++)
+        if (!by_window[i]) { slot = i; break; }
+    if (slot < 0) {
+        free(s);
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "responder: more than %d responders open", MAX_WINDOWS);
+    }
+    s->win = window;
+    s->mouse_only = mouse_only;
+    by_window[slot] = s;
+    s->prev_key = glfwSetKeyCallback(s->win, key_cb);
+    s->prev_button = glfwSetMouseButtonCallback(s->win, button_cb);
+    *state = s;
+    return CSF_OK;
+}
+
+static csf_status open_keyboard(void *window, void **state, csf_error *err)
+{
+    return open_common(window, state, 0, err);
+}
+
+static csf_status open_mouse(void *window, void **state, csf_error *err)
+{
+    return open_common(window, state, 1, err);
+}
+
+static int glfw_poll(void *state, csf_response *out)
+{
+    glfw_state *s = state;
+    glfwPollEvents();
+    if (s->count == 0) return 0;
+    *out = s->ev[s->head];
+    s->head = (s->head + 1) % GLFW_QUEUE_CAP;
+    s->count--;
+    return 1;
+}
+
+static void glfw_close(void *state)
+{
+    glfw_state *s = state;
+    if (!s) return;
+    glfwSetKeyCallback(s->win, s->prev_key);
+    glfwSetMouseButtonCallback(s->win, s->prev_button);
+    for (int i = 0; i < MAX_WINDOWS; i++)
+        if (by_window[i] == s) by_window[i] = NULL;
+    free(s);
+}
+
+const csf_responder_backend csf_responder_glfw_keyboard = {"keyboard", open_keyboard, glfw_poll, glfw_close};
+const csf_responder_backend csf_responder_glfw_mouse = {"mouse", open_mouse, glfw_poll, glfw_close};
