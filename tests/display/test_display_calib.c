@@ -251,6 +251,43 @@ int main(void)
         CHECK_STR_CONTAINS(err.msg, "already finished");
         csf_profile_free(p);
     }
+    /* replay is deterministic: the same paused session resumed from two copies of the store
+     * gives the same profile, bit for bit */
+    if (store) {
+        int64_t sid = 0;
+        csf_display_calib_result res;
+        csf_status st;
+        csf_display_profile *p = calibrate("sim:display=oled,fault=garbage@33", 9, store, &sid, &res, &st, &err);
+        CHECK_INT_EQ(st, CSF_E_PROTOCOL);
+        csf_profile_free(p);
+        csf_store_close(store);
+        store = NULL;
+        char db2[700], cmd[4096];
+        snprintf(db2, sizeof db2, "%s/copy.sqlite", dir);
+        snprintf(cmd, sizeof cmd, "cp '%s' '%s' && for x in -wal -shm; do [ -e '%s'$x ] && cp '%s'$x '%s'$x; done; true",
+                 db, db2, db, db, db2);
+        CHECK_INT_EQ(system(cmd), 0);
+        csf_store *s1 = NULL, *s2 = NULL;
+        CHECK_INT_EQ(csf_store_open(db, &s1, &err), CSF_OK);
+        CHECK_INT_EQ(csf_store_open(db2, &s2, &err), CSF_OK);
+        int64_t a = sid, b = sid;
+        csf_display_profile *pa = s1 ? calibrate("sim:display=oled", 9, s1, &a, &res, &st, &err) : NULL;
+        csf_display_profile *pb = s2 ? calibrate("sim:display=oled", 9, s2, &b, &res, &st, &err) : NULL;
+        CHECK(pa && pb);
+        if (pa && pb) {
+            CHECK_INT_EQ(csf_profile_knots(pa, CSF_CH_GREY, NULL, NULL), csf_profile_knots(pb, CSF_CH_GREY, NULL, NULL));
+            for (int i = 0; i <= 100; i++) {
+                CHECK_NEAR(csf_profile_grey_lum(pa, i / 100.0), csf_profile_grey_lum(pb, i / 100.0), 0);
+                CHECK_NEAR(csf_profile_channel_lum(pa, 2, i / 100.0), csf_profile_channel_lum(pb, 2, i / 100.0), 0);
+            }
+        }
+        csf_profile_free(pa);
+        csf_profile_free(pb);
+        csf_store_close(s1);
+        csf_store_close(s2);
+        snprintf(cmd, sizeof cmd, "rm -f '%s' '%s-wal' '%s-shm'", db2, db2, db2);
+        CHECK_INT_EQ(system(cmd), 0);
+    }
     csf_store_close(store);
     unlink(db);
     char wal[620];
