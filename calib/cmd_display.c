@@ -101,11 +101,9 @@ static int parse(int argc, char **argv, dargs *a)
 
 static void age_warning(const csf_display_profile *p, const csf_cli *cli)
 {
-    double age = csf_profile_age_days(p);
-    double lim = cli->cfg.profile_max_age_days;
-    if (isfinite(age) && lim > 0 && age > lim)
-        fprintf(stderr, "csfcal: warning: display profile %s is %.0f days old (limit profile_max_age_days = %g): "
-                        "recalibrate the monitor\n", csf_profile_id(p), age, lim);
+    char msg[400];
+    if (csf_profile_age_warning(p, cli->cfg.profile_max_age_days, msg, sizeof msg))
+        fprintf(stderr, "csfcal: warning: %s\n", msg);
 }
 
 static int cmd_calibrate(dargs *a)

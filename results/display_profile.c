@@ -365,6 +365,17 @@ double csf_profile_age_days(const csf_display_profile *p)
     return difftime(time(NULL), t) / 86400.0;
 }
 
+int csf_profile_age_warning(const csf_display_profile *p, double max_age_days, char *msg, size_t len)
+{
+    if (msg && len) msg[0] = 0;
+    double age = csf_profile_age_days(p);
+    if (!(max_age_days > 0) || !isfinite(age) || age <= max_age_days) return 0;
+    if (msg && len)
+        snprintf(msg, len, "display profile %s is %.0f days old (limit profile_max_age_days = %g): recalibrate the monitor",
+                 p->id, age, max_age_days);
+    return 1;
+}
+
 void csf_profile_free(csf_display_profile *p)
 {
     if (!p) return;

@@ -49,6 +49,9 @@ double csf_profile_channel_lum(const csf_display_profile *p, int ch, double driv
 double csf_profile_channel_drive(const csf_display_profile *p, int ch, double lum_cdm2);
 /* Days since the profile was measured (from its created_utc), against the current time. */
 double csf_profile_age_days(const csf_display_profile *p);
+/* For code that uses a profile: 1 and a sentence in msg when the profile is older than
+ * max_age_days (csf_config.profile_max_age_days; <= 0 disables), else 0 and msg = "". */
+int csf_profile_age_warning(const csf_display_profile *p, double max_age_days, char *msg, size_t len);
 
 /* --- building a profile from readings (the calibration procedure) --- */
 

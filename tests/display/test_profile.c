@@ -57,8 +57,14 @@ int main(void)
     CHECK_NEAR(csf_profile_grey_drive(p, 0.0), 0, 0);
     CHECK_NEAR(csf_profile_grey_drive(p, 1e6), 1, 0);
     CHECK_NEAR(csf_profile_grey_drive(p, truth(0.625)), 0.625, 1e-12);
-    /* age from created_utc */
+    /* age from created_utc; flagged past the limit */
     CHECK(csf_profile_age_days(p) > 0);
+    char amsg[400];
+    CHECK_INT_EQ(csf_profile_age_warning(p, 36500, amsg, sizeof amsg), 0);
+    CHECK(amsg[0] == 0);
+    CHECK_INT_EQ(csf_profile_age_warning(p, 0.5, amsg, sizeof amsg), 1);
+    CHECK_STR_CONTAINS(amsg, "days old (limit profile_max_age_days = 0.5)");
+    CHECK_INT_EQ(csf_profile_age_warning(p, 0, amsg, sizeof amsg), 0);
     CHECK_STR_CONTAINS(csf_profile_id(p), "test-display-20261120-");
 
     /* save / load round trip: identical model */
