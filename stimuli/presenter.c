@@ -133,17 +133,18 @@ static const char *const fs_src =
     "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
     "  }\n"
     "  if (u_fix != 0) {\n"
-    "    float a = atan(length(cross(d, u_fixc)), dot(d, u_fixc)) * RAD2DEG;\n"
-    "    if (a < 0.12) L = u_lumrange.x + 0.1 * (u_mean - u_lumrange.x);\n"
+    "    if (dot(d, u_fixc) > 0.9999978068) L = u_lumrange.x + 0.1 * (u_mean - u_lumrange.x);\n"
     "  }\n"
     /* luminance -> level k and probability p of k+1, exact in expectation */
     "  float ln = clamp((L - u_lumrange.x) / (u_lumrange.y - u_lumrange.x), 0.0, 1.0);\n"
     "  float n = float(textureSize(u_inv, 0).x);\n"
     "  float drive = texture(u_inv, vec2((ln * (n - 1.0) + 0.5) / n, 0.5)).r;\n"
     "  int k = clamp(int(floor(drive * float(u_maxlevel))), 0, u_maxlevel - 1);\n"
-    "  for (int i = 0; i < 8 && k > 0 && ln < texelFetch(u_fwd, ivec2(k, 0), 0).r; i++) k--;\n"
-    "  for (int i = 0; i < 8 && k < u_maxlevel - 1 && ln > texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; i++) k++;\n"
+    /* the inverse table is accurate to far below one level: one correction step each way
+     * (no loops: llvmpipe runs divergent loops slowly) */
     "  float lk = texelFetch(u_fwd, ivec2(k, 0), 0).r, lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r;\n"
+    "  if (ln < lk && k > 0) { k -= 1; lk1 = lk; lk = texelFetch(u_fwd, ivec2(k, 0), 0).r; }\n"
+    "  else if (ln > lk1 && k < u_maxlevel - 1) { k += 1; lk = lk1; lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; }\n"
     "  float p = clamp((ln - lk) / max(lk1 - lk, 1e-9), 0.0, 1.0);\n"
     "  float level;\n"
     "  if (u_dither == 1) {\n"
@@ -849,6 +850,21 @@ static csf_status draw_frame(csf_presenter *p, const csf_stimulus *s, int fixati
                              fi.frame_index);
     if (out) *out = fi;
     return CSF_OK;
+}
+
+csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_clear: NULL presenter");
+    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    glViewport(0, 0, p->rw, p->rh);
+    glClearColor(0.5f, 0.5f, 0.5f, 1.0f); /* a cost baseline, not a calibrated grey */
+    glClear(GL_COLOR_BUFFER_BIT);
+    csf_frame_info fi;
+    present(p, 1, &fi);
+    fi.contrast_shown = 0;
+    if (out) *out = fi;
+    return glGetError() == GL_NO_ERROR ? CSF_OK
+                                       : csf_error_set(err, CSF_E_DEVICE, "OpenGL error in a clear frame");
 }
 
 /* ---------------- envelopes and trials ---------------- */

@@ -120,6 +120,9 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
 csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixation,
                               csf_frame_info *out, csf_error *err);
 
+/* Baseline for benchmarks: a frame that only clears to the mean grey (no stimulus shader). */
+csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_error *err);
+
 /* ---- temporal envelopes and trials ---- */
 enum { CSF_ENV_FIXED = 0, CSF_ENV_RAISED_COSINE = 1, CSF_ENV_FADE_LOG = 2 };
 typedef struct {
