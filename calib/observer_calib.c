@@ -360,6 +360,7 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
     if (st != CSF_OK || p->paused) return st;
     double duration = is_practice ? PRACTICE_S : plan->ramp_s;
     p->pressed = 0;
+    p->contrast_at_press = 0;
     p->first_frame = 1;
     p->period_s = r->period_s;
     p->catch_trial = plan->is_catch;
@@ -877,7 +878,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         S.stored[n_stored++] = t;
         seq++;
     }
-    res->latency_s = practice_latency(S.stored, n_stored);
+    if (S.ops->task == CSF_TASK_FADE) res->latency_s = practice_latency(S.stored, n_stored);
 
     /* The procedure, rebuilt by replaying every stored main trial through update(). */
     csf_procedure_setup setup;
