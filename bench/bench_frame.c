@@ -107,9 +107,15 @@ int main(int argc, char **argv)
     int n = argc > 1 ? atoi(argv[1]) : 60;
     if (n < 1 || n > 100000) n = 60;
     csf_presenter *p = open_p(0, 0, 1);
-    double clear_ms = time_frames(p, 0, n);
-    double blank_ms = time_frames(p, 1, n);
-    double gabor_ms = time_frames(p, 2, n);
+    /* interleaved passes, best of 3 per kind: the machine is shared, so the minimum is the
+     * figure least disturbed by other processes */
+    double clear_ms = 1e300, blank_ms = 1e300, gabor_ms = 1e300;
+    for (int pass = 0; pass < 3; pass++) {
+        double c = time_frames(p, 0, n), b = time_frames(p, 1, n), g = time_frames(p, 2, n);
+        if (c < clear_ms) clear_ms = c;
+        if (b < blank_ms) blank_ms = b;
+        if (g < gabor_ms) gabor_ms = g;
+    }
     uint16_t *buf = malloc(sizeof(uint16_t) * 3 * 1920 * 1080);
     csf_error e;
     double t0 = now_s();
@@ -118,7 +124,8 @@ int main(int argc, char **argv)
     free(buf);
     csf_presenter_close(p);
 
-    printf("bench_frame: offscreen EGL (surfaceless), 1920x1080, 8-bit, %d frames each\n", n);
+    printf("bench_frame: offscreen EGL (surfaceless), 1920x1080, 8-bit, best of 3 interleaved "
+           "passes of %d frames each\n", n);
     printf("| frame | ms/frame | relative to clear |\n|---|---:|---:|\n");
     printf("| clear only (glClear + glFinish) | %.2f | 1.00 |\n", clear_ms);
     printf("| blank field through the luminance/dither shader | %.2f | %.2f |\n", blank_ms, blank_ms / clear_ms);
