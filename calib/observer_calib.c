@@ -37,6 +37,7 @@
 #define FA_LIMIT 0.3            /* refuse a table when more catch trials than this were pressed */
 #define FA_MIN_CATCH 4
 #define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
+#define UNRELATED_LIMIT 0.2     /* refuse when > 20 % of presses were not caused by a grating */
 #define AFC_LAPSE_LIMIT 0.25    /* refuse when > 25 % wrong at 4x the estimated threshold */
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX };
@@ -1010,6 +1011,13 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
     if (S.ops->task == CSF_TASK_2AFC) res->n_lapses = n_afc_hi_wrong;
     res->fa_rate = res->n_catch ? (double)res->n_false_alarms / res->n_catch : NAN;
+    /* Presses the stimulus did not cause: catch-trial presses, clicks far from the grating,
+     * anticipations (an anticipation that also clicked far is counted once). */
+    int n_unrelated = res->n_false_alarms;
+    for (size_t i = 0; i < n_stored; i++)
+        if (!S.stored[i].is_practice && !S.stored[i].is_catch &&
+            (strstr(S.stored[i].flags, "click_far") || strstr(S.stored[i].flags, "anticipation")))
+            n_unrelated++;
     res->n_cells = n_cells;
     double *ses = malloc((size_t)n_cells * sizeof *ses);
     int n_se = 0, n_unknown = 0;
@@ -1039,6 +1047,13 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         snprintf(whybuf, sizeof whybuf,
                  "the observer pressed on %d of %d catch trials (%.0f %%, limit %.0f %%): responses "
                  "do not follow the stimulus", res->n_false_alarms, res->n_catch, 100 * res->fa_rate, 100 * FA_LIMIT);
+        why = whybuf;
+    } else if (res->n_trials >= 10 && n_unrelated > UNRELATED_LIMIT * res->n_trials) {
+        snprintf(whybuf, sizeof whybuf,
+                 "%d of %d presses were not caused by a grating (%d on catch trials, %d clicks far "
+                 "from it, %d anticipations; limit %.0f %% of trials): the observer is guessing",
+                 n_unrelated, res->n_trials, res->n_false_alarms, res->n_invalid_click,
+                 res->n_anticipations, 100 * UNRELATED_LIMIT);
         why = whybuf;
     } else if (res->n_trials > 0 && (res->n_trials - res->n_valid - res->n_catch) > INVALID_LIMIT * (res->n_trials - res->n_catch)) {
         snprintf(whybuf, sizeof whybuf, "%d of %d trials were invalid (clicks far from the grating, "

@@ -35,7 +35,7 @@ static pid_t spawn_n(const char *method, const char *store, const char *out, int
         char rid[16];
         snprintf(rid, sizeof rid, "%d", resume);
         const char *args[32] = {csfcal, "observer", "calibrate", "--observer", "sim", "--seed", "7",
-                                "--method", method, "--freqs", "1,4,8", "--eccs", "0,5,10",
+                                "--method", method, "--freqs", "0.5,1,4,8", "--eccs", "0,5,10",
                                 "--trials", trials, "--practice", "2", "--store", store, "--out", out,
                                 "--quiet", "--headless"};
         int n = 23;
@@ -52,7 +52,7 @@ static pid_t spawn_n(const char *method, const char *store, const char *out, int
 
 static pid_t spawn(const char *method, const char *store, const char *out, int resume)
 {
-    return spawn_n(method, store, out, resume, strcmp(method, "fade") == 0 ? "120" : "60");
+    return spawn_n(method, store, out, resume, strcmp(method, "fade") == 0 ? "150" : "90");
 }
 
 static double seconds_since(const struct timespec *t0)
@@ -178,11 +178,11 @@ static void run_case(const char *method, uint64_t seed, int n_kills)
         int have = stored_trials(store, NULL, NULL);
         pid_t pid = spawn(method, store, out, have >= 0 ? 1 : 0);
         if (kills < n_kills) {
-            /* A random moment: sometimes still starting up, mostly 0 to 5 trials' time after
+            /* A random moment: sometimes still starting up, mostly 0 to 4 trials' time after
              * start-up, so every kill lands somewhere else in the trial/commit cycle. */
             double u = csf_rng_uniform(seed, 1, (uint64_t)attempts);
             struct timespec d = {0, 0};
-            double s = startup_s * (0.6 + 0.4 * u) + per_trial_s * 5.0 * csf_rng_uniform(seed, 2, (uint64_t)attempts);
+            double s = startup_s * (0.6 + 0.4 * u) + per_trial_s * 4.0 * csf_rng_uniform(seed, 2, (uint64_t)attempts);
             d.tv_sec = (time_t)s;
             d.tv_nsec = (long)((s - (double)d.tv_sec) * 1e9);
             nanosleep(&d, NULL);
