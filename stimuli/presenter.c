@@ -48,7 +48,7 @@ struct csf_presenter {
     GLFWwindow *win;
     int glfw_inited;
     /* GL objects */
-    GLuint prog, vao, fbo, color_tex, inv_tex, fwd_tex, img_tex, text_tex;
+    GLuint prog, vao, fbo, color_tex, inv_tex, fwd_tex, img_tex, text_tex, chan_tex;
     const csf_image *img_uploaded;
     GLint u[32];
     /* timing */
@@ -67,12 +67,12 @@ struct csf_presenter {
 enum {
     U_RENDER, U_SCREEN, U_EYE, U_MODE, U_C, U_H, U_V, U_FIXC, U_FREQ, U_ORIENT, U_PHASE, U_SIGMA,
     U_RADIUS, U_EDGE, U_CONTRAST, U_MEAN, U_LUMRANGE, U_MAXLEVEL, U_FRAME, U_FIX, U_INV, U_FWD,
-    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_COUNT
+    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_COUNT
 };
 static const char *const uniform_names[U_COUNT] = {
     "u_render", "u_screen", "u_eye", "u_mode", "u_c", "u_h", "u_v", "u_fixc", "u_freq", "u_orient",
     "u_phase", "u_sigma", "u_radius", "u_edge", "u_contrast", "u_mean", "u_lumrange", "u_maxlevel",
-    "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean"};
+    "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean", "u_chan"};
 
 static const char *const vs_src =
     "#version 330 core\n"
@@ -92,7 +92,7 @@ static const char *const fs_src =
     "uniform float u_freq, u_phase, u_sigma, u_radius, u_edge, u_contrast, u_mean, u_imgmean;\n"
     "uniform vec2 u_orient, u_lumrange;\n"
     "uniform uint u_frame;\n"
-    "uniform sampler2D u_inv, u_fwd, u_img, u_text;\n"
+    "uniform sampler2D u_inv, u_fwd, u_img, u_text, u_chan;\n"
     "const float RAD2DEG = 57.29577951308232;\n"
     "vec2 local_uv(vec3 d, vec3 c, vec3 h, vec3 v) {\n"
     "  float a = atan(length(cross(d, c)), dot(d, c));\n"
@@ -146,17 +146,32 @@ static const char *const fs_src =
     "  if (ln < lk && k > 0) { k -= 1; lk1 = lk; lk = texelFetch(u_fwd, ivec2(k, 0), 0).r; }\n"
     "  else if (ln > lk1 && k < u_maxlevel - 1) { k += 1; lk = lk1; lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; }\n"
     "  float p = clamp((ln - lk) / max(lk1 - lk, 1e-9), 0.0, 1.0);\n"
-    "  float level;\n"
-    "  if (u_dither == 1) {\n"
-    "    level = float(k) + (p >= 0.5 ? 1.0 : 0.0);\n"
-    "  } else {\n"
     /* R2 low-discrepancy mask in 32-bit integer arithmetic (exact fract), golden-ratio step per frame */
-    "    uvec2 q = uvec2(gl_FragCoord.xy);\n"
-    "    uint hsh = q.x * 3242174889u + q.y * 2447445414u + u_frame * 2654435769u;\n"
-    "    float thr = (float(hsh >> 8) + 0.5) / 16777216.0;\n"
-    "    level = float(k) + (thr < p ? 1.0 : 0.0);\n"
+    "  uvec2 q = uvec2(gl_FragCoord.xy);\n"
+    "  uint hsh = q.x * 3242174889u + q.y * 2447445414u + u_frame * 2654435769u;\n"
+    "  float thr = (float(hsh >> 8) + 0.5) / 16777216.0;\n"
+    "  vec3 lv;\n"
+    "  if (u_dither == 1) {\n"
+    "    lv = vec3(float(k) + (p >= 0.5 ? 1.0 : 0.0));\n"
+    "  } else if (u_dither == 2) {\n"
+    /* bit-stealing: the 8 mixes of k and k+1 per channel are sub-levels between grey k and k+1,
+     * placed by the channels' own luminance steps (scaled so that k+1 on all three is grey
+     * k+1); dither between the two sub-levels that bracket L */
+    "    vec3 dc = texelFetch(u_chan, ivec2(k + 1, 0), 0).rgb - texelFetch(u_chan, ivec2(k, 0), 0).rgb;\n"
+    "    float tot = max(dc.r + dc.g + dc.b, 1e-12);\n"
+    "    float lo = lk, hi = lk1; vec3 dlo = vec3(0.0), dhi = vec3(1.0);\n"
+    "    for (int m = 1; m < 7; m++) {\n"
+    "      vec3 d = vec3(float(m & 1), float((m >> 1) & 1), float((m >> 2) & 1));\n"
+    "      float v = lk + (lk1 - lk) * dot(d, dc) / tot;\n"
+    "      if (v <= ln && v > lo) { lo = v; dlo = d; }\n"
+    "      if (v >= ln && v < hi) { hi = v; dhi = d; }\n"
+    "    }\n"
+    "    float ps = clamp((ln - lo) / max(hi - lo, 1e-12), 0.0, 1.0);\n"
+    "    lv = vec3(float(k)) + (thr < ps ? dhi : dlo);\n"
+    "  } else {\n"
+    "    lv = vec3(float(k) + (thr < p ? 1.0 : 0.0));\n"
     "  }\n"
-    "  o = vec4(vec3(level / float(u_maxlevel)), 1.0);\n"
+    "  o = vec4(lv / float(u_maxlevel), 1.0);\n"
     "}\n";
 
 static double now_monotonic(void)
@@ -313,6 +328,19 @@ static csf_status gl_setup(csf_presenter *p, csf_error *err)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     free(tab);
+    /* channel curves (black excluded, normalised by the grey range) for bit-stealing */
+    float *ch = calloc((size_t)(p->maxlevel + 1) * 3, sizeof(float));
+    if (!ch) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    if (p->cfg.dither == CSF_DITHER_BITSTEAL)
+        for (int k = 0; k <= p->maxlevel; k++)
+            for (int c = 0; c < 3; c++)
+                ch[3 * k + c] = (float)(csf_profile_channel_lum(p->profile, c, (double)k / p->maxlevel) / range);
+    glGenTextures(1, &p->chan_tex);
+    glBindTexture(GL_TEXTURE_2D, p->chan_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, p->maxlevel + 1, 1, 0, GL_RGB, GL_FLOAT, ch);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    free(ch);
     glGenTextures(1, &p->img_tex);
     glGenTextures(1, &p->text_tex);
     if (glGetError() != GL_NO_ERROR)
@@ -483,10 +511,11 @@ csf_status csf_presenter_open(const csf_presenter_config *cfg, csf_presenter **o
                              cfg->render_width_px, cfg->render_height_px);
     if (cfg->dither < 0 || cfg->dither > CSF_DITHER_BITSTEAL)
         return csf_error_set(err, CSF_E_INVALID_ARG, "dither mode %d is unknown", cfg->dither);
-    if (cfg->dither == CSF_DITHER_BITSTEAL)
-        return csf_error_set(err, CSF_E_UNSUPPORTED,
-                             "bit-stealing is not implemented in this build; the default noise "
-                             "dither already reaches more than 12 bits (see docs/stimuli.md)");
+    if (cfg->dither == CSF_DITHER_BITSTEAL &&
+        (cfg->grey_lum_fn || (cfg->profile && !csf_profile_has_channels(cfg->profile))))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "bit-stealing needs a display profile with per-channel (r, g, b) "
+                             "curves; this one has only the grey curve");
     csf_presenter *p = calloc(1, sizeof *p);
     if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     p->cfg = *cfg;
@@ -518,8 +547,8 @@ void csf_presenter_close(csf_presenter *p)
         glDeleteProgram(p->prog);
         glDeleteVertexArrays(1, &p->vao);
         glDeleteFramebuffers(1, &p->fbo);
-        GLuint t[5] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex};
-        glDeleteTextures(5, t);
+        GLuint t[6] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex, p->chan_tex};
+        glDeleteTextures(6, t);
     }
     if (p->ctx != EGL_NO_CONTEXT) {
         eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -679,7 +708,8 @@ static void set_common_uniforms(csf_presenter *p)
     glUniform3f(p->u[U_EYE], (float)p->geom.eye_x_mm, (float)p->geom.eye_y_mm, (float)p->geom.distance_mm);
     glUniform2f(p->u[U_LUMRANGE], (float)p->lum_black, (float)p->lum_max);
     glUniform1i(p->u[U_MAXLEVEL], p->maxlevel);
-    glUniform1i(p->u[U_DITHER], p->cfg.dither == CSF_DITHER_NONE ? 1 : 0);
+    glUniform1i(p->u[U_DITHER], p->cfg.dither == CSF_DITHER_NONE ? 1
+                                : p->cfg.dither == CSF_DITHER_BITSTEAL ? 2 : 0);
     /* per-frame offset: frame index plus a seed-derived start, so runs with different seeds
      * use different (but reproducible) temporal dither phases */
     glUniform1ui(p->u[U_FRAME], (GLuint)(p->frame_index + (long)(p->cfg.seed & 0xffff)));
@@ -698,6 +728,9 @@ static void set_common_uniforms(csf_presenter *p)
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, p->text_tex);
     glUniform1i(p->u[U_TEXT], 3);
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_2D, p->chan_tex);
+    glUniform1i(p->u[U_CHAN], 4);
 }
 
 static void upload_image(csf_presenter *p, const csf_image *img)

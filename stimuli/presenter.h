@@ -82,6 +82,11 @@ typedef struct {
     double contrast_shown; /* Michelson contrast drawn in this frame (0 for a blank field) */
 } csf_frame_info;
 
+/* NOISE: R2 spatial mask + per-frame offset between grey levels k and k+1 (default).
+ * NONE: nearest level (for comparisons). BITSTEAL: pseudo-grey — the 8 mixes of k and k+1 across
+ * r, g, b are sub-levels placed by the profile's channel curves, and the same noise dither runs
+ * between the two sub-levels around the request, so the dither noise is a fraction of a grey
+ * step; needs a profile with channel curves (the default profile has them). */
 enum { CSF_DITHER_NOISE = 0, CSF_DITHER_NONE = 1, CSF_DITHER_BITSTEAL = 2 };
 
 typedef struct {
