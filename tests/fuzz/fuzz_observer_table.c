@@ -1,0 +1,43 @@
+/* The simulated observer's truth table (--observer sim:table=FILE.csv) is outside input: the
+ * parser must refuse garbage with a message and never read out of bounds. Also the spec parser
+ * (the part of the input after "sim:"), and a lookup on whatever table parsed. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "devices/observer_sim.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    csf_obs_table *t = NULL;
+    csf_error err;
+    if (csf_obs_table_parse((const char *)data, size, &t, &err) == CSF_OK) {
+        /* Lookups anywhere, including outside the grid, must stay finite or +inf. */
+        static const double f[] = {0.01, 0.5, 3, 40, 2000}, e[] = {0, 7, 90, 200};
+        for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
+            for (size_t j = 0; j < sizeof e / sizeof e[0]; j++) {
+                double v = csf_obs_table_threshold(t, f[i], e[j]);
+                if (!(v > 0)) abort();
+            }
+        csf_obs_table_free(t);
+    } else if (t != NULL || err.msg[0] == '\0') {
+        abort(); /* failure must leave no table and must say why */
+    }
+    /* The same bytes as an observer spec (NUL-terminated copy, table= stripped of file access). */
+    char spec[512];
+    size_t n = size < sizeof spec - 5 ? size : sizeof spec - 5;
+    memcpy(spec, "sim:", 4);
+    memcpy(spec + 4, data, n);
+    spec[4 + n] = '\0';
+    if (strstr(spec, "table=")) return 0;
+    csf_observer_sim *o = NULL;
+    if (csf_observer_sim_create(spec, 1, &o, &err) == CSF_OK) {
+        double th = csf_observer_sim_threshold(o, 3, 0);
+        if (!(th > 0)) abort();
+        csf_observer_sim_free(o);
+    }
+    return 0;
+}
