@@ -190,11 +190,15 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *data = getenv("CSF_DISPLAY_DATA");
-    char kink_sim[1300], kink_truth[1200];
+    const char *extra = argc > 2 ? argv[2] : "";
+    char kink_sim[1600], kink_truth[1200], crt_sim[400], lcd_sim[400], oled_sim[400];
     snprintf(kink_truth, sizeof kink_truth, "file=%s/kink.csv", data ? data : "tests/display/data");
-    snprintf(kink_sim, sizeof kink_sim, "sim:display=%s", kink_truth);
-    display displays[] = {{"crt", "sim:display=crt", "crt"}, {"lcd", "sim:display=lcd", "lcd"},
-                          {"csv with kink", kink_sim, kink_truth}, {"oled", "sim:display=oled", "oled"}};
+    snprintf(kink_sim, sizeof kink_sim, "sim:display=%s%s", kink_truth, extra);
+    snprintf(crt_sim, sizeof crt_sim, "sim:display=crt%s", extra);
+    snprintf(lcd_sim, sizeof lcd_sim, "sim:display=lcd%s", extra);
+    snprintf(oled_sim, sizeof oled_sim, "sim:display=oled%s", extra);
+    display displays[] = {{"crt", crt_sim, "crt"}, {"lcd", lcd_sim, "lcd"},
+                          {"csv with kink", kink_sim, kink_truth}, {"oled", oled_sim, "oled"}};
     printf("Simulated instrument: sim defaults (noise 0.05 %% + 0.001 cd/m2, warm-up drift 1 %%, tau 20 s); "
            "%d seeds per display; errors are max |model/truth - 1| over drive levels where truth >= 10 %% of peak.\n\n",
            seeds);

@@ -46,6 +46,10 @@ typedef struct {
     double noise_rel, noise_abs;
     double black;
     int progress_shown;
+    /* smooth drift model fitted to every white reading (warm-up and references):
+     * w(t) = A + B exp(-t/tau); refitted whenever a white reading is added */
+    int drift_ok;
+    double drift_A, drift_B, drift_tau, drift_tref;
 } ctx;
 
 static const char *ch_name_store(int role, int ch)
@@ -115,6 +119,8 @@ static csf_status push(ctx *c, const rd *x, csf_error *err)
     return CSF_OK;
 }
 
+static void fit_drift(ctx *c);
+
 /* Takes one reading: from the stored session while replaying, else from the instrument (and
  * stores it at once). accept_dark: a too-dark answer is a valid result here (black of an OLED). */
 static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, rd *out, csf_error *err)
@@ -144,7 +150,9 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         out->t_s = s->t_s;
         if (role == ROLE_SWEEP) c->n_sweep++;
         if (role == ROLE_WARMUP) c->n_warmup++;
-        return push(c, out, err);
+        csf_status rst = push(c, out, err);
+        if (!rst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
+        return rst;
     }
     if (!c->live_started) {
         csf_photometer_resume_at(c->ph, (uint64_t)c->seq, c->t_last);
@@ -192,6 +200,7 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     if (role == ROLE_SWEEP) c->n_sweep++;
     if (role == ROLE_WARMUP) c->n_warmup++;
     csf_status pst = push(c, out, err);
+    if (!pst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
     progress(c);
     return pst;
 }
@@ -225,9 +234,68 @@ static size_t ref_events(const ctx *c, double *t, double *w, size_t max)
     return ne;
 }
 
-/* Drift factor at time t: latest white over the white interpolated at t (1 without references). */
+/* Warm-up drift as a smooth function of time, fitted to every white reading taken so far (the
+ * warm-up series and all references): w(t) = A + B exp(-t/tau), tau searched on a log grid, A and
+ * B by least squares. A display settling after power-on follows such a curve; fitting it to ~20
+ * white readings gives the white at any moment to a fraction of one reading's noise, where the
+ * ratio of two single references (the fallback) carries the noise of both into every reading.
+ * The model is used only when it explains the white readings to within the instrument noise. */
+static void fit_drift(ctx *c)
+{
+    c->drift_ok = 0;
+    size_t nw = 0;
+    double tlast = 0;
+    int nref = 0;
+    for (size_t i = 0; i < c->n; i++)
+        if ((c->r[i].role == ROLE_WARMUP || c->r[i].role == ROLE_REF) && isfinite(c->r[i].lum)) {
+            nw++;
+            tlast = c->r[i].t_s;
+            nref += c->r[i].role == ROLE_REF;
+        }
+    if (nw < 8 || nref < 1) return;
+    double best_sse = INFINITY, bA = 0, bB = 0, btau = 0;
+    for (int k = 0; k <= 64; k++) {
+        double tau = 1.0 * pow(1.15, k);
+        double s0 = 0, s1 = 0, s11 = 0, sy = 0, s1y = 0, syy = 0;
+        for (size_t i = 0; i < c->n; i++) {
+            const rd *x = &c->r[i];
+            if (!((x->role == ROLE_WARMUP || x->role == ROLE_REF) && isfinite(x->lum))) continue;
+            double e = exp(-x->t_s / tau);
+            s0 += 1; s1 += e; s11 += e * e; sy += x->lum; s1y += e * x->lum; syy += x->lum * x->lum;
+        }
+        double det = s0 * s11 - s1 * s1;
+        if (!(det > 1e-12 * s0 * s11)) continue;
+        double A = (s11 * sy - s1 * s1y) / det, B = (s0 * s1y - s1 * sy) / det;
+        double sse = syy - 2 * A * sy - 2 * B * s1y + A * A * s0 + 2 * A * B * s1 + B * B * s11;
+        if (sse < best_sse) {
+            best_sse = sse;
+            bA = A; bB = B; btau = tau;
+        }
+    }
+    if (!(bA > 0) || !isfinite(best_sse)) return;
+    double rms = sqrt(fmax(best_sse, 0) / (double)(nw > 3 ? nw - 3 : 1)) / bA;
+    double w_end = bA + bB * exp(-tlast / btau);
+    if (!(w_end > 0)) return;
+    /* the model must explain the white readings to within the noise the first references show
+     * (2x, and at least 0.1 %); otherwise the drift is something else: interpolate references */
+    double allow = fmax(2 * c->noise_rel, 0.001);
+    if (c->noise_rel > 0 && rms > allow) return;
+    c->drift_ok = 1;
+    c->drift_A = bA;
+    c->drift_B = bB;
+    c->drift_tau = btau;
+    c->drift_tref = tlast;
+}
+
+/* Drift factor at time t: white at the latest white reading over the white at t (1 without
+ * references). */
 static double drift_factor(const ctx *c, double t)
 {
+    if (c->drift_ok) {
+        double w_ref = c->drift_A + c->drift_B * exp(-c->drift_tref / c->drift_tau);
+        double w_t = c->drift_A + c->drift_B * exp(-t / c->drift_tau);
+        if (w_t > 0) return w_ref / w_t;
+    }
     double et[64], ew[64];
     size_t ne = ref_events(c, et, ew, 64);
     if (ne == 0) return 1.0;
