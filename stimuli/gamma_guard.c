@@ -35,9 +35,24 @@ void csf_gamma_guard_restore(void)
 
 int csf_gamma_guard_active(void) { return g_active != 0; }
 
-static void on_signal(int sig)
+static struct sigaction g_prev[NSIG];
+
+/* Restores the ramp, then hands the signal on: to the handler that was installed before ours
+ * (a session's graceful stop, a sanitizer's crash report), or to the default action, so the
+ * process ends exactly as it would have without the guard. */
+static void on_signal(int sig, siginfo_t *info, void *uctx)
 {
     csf_gamma_guard_restore();
+    struct sigaction prev = g_prev[sig];
+    sigaction(sig, &prev, NULL);
+    if ((prev.sa_flags & SA_SIGINFO) && prev.sa_sigaction) {
+        prev.sa_sigaction(sig, info, uctx);
+        return;
+    }
+    if (!(prev.sa_flags & SA_SIGINFO) && prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN) {
+        prev.sa_handler(sig);
+        return;
+    }
     signal(sig, SIG_DFL);
     raise(sig); /* delivered with the default action when this handler returns */
 }
@@ -51,11 +66,11 @@ static void install_hooks(void)
     atexit(on_exit_hook);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
+    sa.sa_sigaction = on_signal;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
+    sa.sa_flags = SA_SIGINFO;
     for (size_t i = 0; i < sizeof guarded_signals / sizeof guarded_signals[0]; i++)
-        sigaction(guarded_signals[i], &sa, NULL);
+        sigaction(guarded_signals[i], &sa, &g_prev[guarded_signals[i]]);
 }
 
 int csf_gamma_ramp_is_identity(GLFWmonitor *mon)

@@ -2,7 +2,8 @@
  * the display profile, so the operating system's ramp must be identity while it draws — and the
  * user's own ramp must come back on every way out: normal close, exit(), SIGINT, SIGTERM, SIGHUP,
  * SIGQUIT, and crashes (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT). The handlers restore the saved
- * ramp, then re-raise the signal with its default action so the exit status stays truthful.
+ * ramp, then pass the signal on to the handler installed before the guard (a session's graceful
+ * stop, a sanitizer's crash report) or re-raise it with the default action.
  * (Calling GLFW/Xlib from a signal handler is not async-signal-safe; it is done once, as the last
  * act of a dying process, because leaving the user's monitor with a wrong ramp is worse.) */
 #ifndef CSF_STIMULI_GAMMA_GUARD_H

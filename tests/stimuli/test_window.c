@@ -1,6 +1,7 @@
 /* A real GLFW fullscreen window (OpenGL through EGL) under Xvfb: it renders a Gabor that reads
  * back correctly, the OS gamma ramp is identity while the presenter runs, and the user's ramp is
- * back after every way out: a normal exit without closing, SIGTERM, and a SIGSEGV crash.
+ * back after every way out: a normal exit without closing, SIGTERM, a SIGSEGV crash, and a SIGTERM
+ * caught by the program's own handler (which must still run).
  * Run by test_window.sh inside xvfb-run. The parent sets a non-identity "user" ramp, runs itself
  * as a child in each mode, and compares the ramp after the child has died. */
 #define GLFW_INCLUDE_NONE
@@ -11,13 +12,23 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "stimuli/gamma_guard.h"
 #include "stimuli/presenter.h"
 #include "tests/check.h"
 
+static void graceful(int sig)
+{
+    (void)sig;
+    static const char msg[] = "graceful stop\n";
+    (void)!write(1, msg, sizeof msg - 1);
+    _exit(5);
+}
+
 static int child(const char *mode)
 {
+    if (strcmp(mode, "chain") == 0) signal(SIGTERM, graceful); /* a session's own handler */
     csf_presenter_config cfg;
     csf_presenter_config_defaults(&cfg);
     csf_error e;
@@ -50,7 +61,7 @@ static int child(const char *mode)
     printf("size=%dx%d range=%d..%d t=%.4f\n", w, h, lo, hi, fi.t_s);
     free(lv);
     fflush(stdout);
-    if (strcmp(mode, "term") == 0) raise(SIGTERM);
+    if (strcmp(mode, "term") == 0 || strcmp(mode, "chain") == 0) raise(SIGTERM);
     if (strcmp(mode, "segv") == 0) {
         /* a real invalid store, not raise(); address 8 rather than NULL so that UBSan's null
          * check does not end the process first */
@@ -94,8 +105,8 @@ int main(int argc, char **argv)
         memcpy(user_ramp[2], r->blue, size * 2);
         CHECK(!csf_gamma_ramp_is_identity(mon));
     }
-    const char *modes[] = {"close", "exit", "term", "segv"};
-    for (int i = 0; i < 4; i++) {
+    const char *modes[] = {"close", "exit", "term", "segv", "chain"};
+    for (int i = 0; i < 5; i++) {
         char cmd[4200], line[256], out[2048] = "";
         snprintf(cmd, sizeof cmd, "exec '%s' --child %s", argv[0], modes[i]);
         FILE *f = popen(cmd, "r");
@@ -116,7 +127,16 @@ int main(int argc, char **argv)
         if (i == 0) CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 0);
         if (i == 1) CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 3);
         if (i == 2) CHECK_MSG(WIFSIGNALED(st) && WTERMSIG(st) == SIGTERM, "status 0x%x", st);
-        if (i == 3) CHECK_MSG(WIFSIGNALED(st) && WTERMSIG(st) == SIGSEGV, "status 0x%x", st);
+        /* a crash ends by SIGSEGV, or by SIGABRT after the sanitizer's report (its handler was
+         * installed first and is chained) */
+        if (i == 3)
+            CHECK_MSG(WIFSIGNALED(st) && (WTERMSIG(st) == SIGSEGV || WTERMSIG(st) == SIGABRT),
+                      "status 0x%x", st);
+        /* the program's own SIGTERM handler still runs after the ramp is restored */
+        if (i == 4) {
+            CHECK_MSG(WIFEXITED(st) && WEXITSTATUS(st) == 5, "status 0x%x", st);
+            CHECK_STR_CONTAINS(out, "graceful stop");
+        }
     }
     glfwTerminate();
     return CHECK_RESULT();
