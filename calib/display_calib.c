@@ -502,6 +502,169 @@ static double snap(const ctx *c, double v)
     return floor(v * c->o->drive_levels + 0.5) / c->o->drive_levels;
 }
 
+/* ---- channels through grey ----
+ * A channel alone and the grey curve share the panel's transfer shape (toe, kinks, the
+ * driver's LUT); what differs is a slowly varying ratio (a few tenths in gamma, crosstalk).
+ * So a channel is modelled as  Lc(v) = Lc1 * G(v)/G(1) * exp(c0 + a u + b u^2),  u = ln v,
+ * G the grey curve less black (measured with more readings), c0, a, b fitted by weighted least
+ * squares to the channel's readings (full drive included). The few channel readings then
+ * average their noise through three parameters instead of each becoming a knot, and the
+ * channel inherits the grey curve's corners. The model is used only when it explains the
+ * channel's readings within their noise; otherwise the channel keeps its own Hermite curve. */
+typedef struct {
+    int ok;
+    double lc1, c0, a, b, umin, chi2_dof;
+    int n;
+} ratio_model;
+
+/* Grey luminance less black, from the grey readings so far, at drives v[0..n-1]. */
+static int grey_incr(const ctx *c, const double *v, double *out, size_t n)
+{
+    double *pv, *pl;
+    size_t k = curve_points(c, CSF_CH_GREY, &pv, &pl);
+    double *ev = malloc((n + 1) * sizeof(double)), *el = malloc((n + 1) * sizeof(double));
+    int rc = -1;
+    csf_error e;
+    if (ev && el && k >= 2) {
+        ev[0] = 0;
+        memcpy(ev + 1, v, n * sizeof(double));
+        if (csf_profile_fit_curve(pv, pl, k, 0, ev, el, n + 1, &e) == CSF_OK) {
+            for (size_t i = 0; i < n; i++) out[i] = el[i + 1] - el[0];
+            rc = 0;
+        }
+    }
+    free(pv); free(pl); free(ev); free(el);
+    return rc;
+}
+
+static double ratio_eval(const ratio_model *rm, double v)
+{
+    double u = v > 0 ? log(v) : rm->umin;
+    if (u < rm->umin) u = rm->umin;
+    return exp(rm->c0 + rm->a * u + rm->b * u * u);
+}
+
+static void fit_ratio_np(const ctx *c, int ch, ratio_model *rm, int np)
+{
+    memset(rm, 0, sizeof *rm);
+    double *pv, *pl;
+    size_t k = curve_points(c, ch, &pv, &pl);
+    double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double)),
+           *g = malloc((k + 2) * sizeof(double));
+    int *cnt = calloc(k + 1, sizeof(int));
+    size_t m = (dv && dl && g && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
+    free(pv);
+    free(pl);
+    double g1;
+    if (m < 4 || dv[m - 1] != 1.0 || !(dl[m - 1] > 0) || grey_incr(c, dv, g, m) || !((g1 = g[m - 1]) > 0)) {
+        free(dv); free(dl); free(g); free(cnt);
+        return;
+    }
+    rm->lc1 = dl[m - 1];
+    /* normal equations for r = c0 + a u + b u^2, weights 1/var of the relative reading */
+    double A[3][4] = {{0}};
+    int n = 0;
+    double umin = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
+        double u = log(dv[i]);
+        double r = log((dl[i] / rm->lc1) / (g[i] / g1));
+        double var = (c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1);
+        var += 2.5e-7; /* the grey curve's own error at a level (about 0.05 %) */
+        double w = 1 / var, x[3] = {1, u, u * u};
+        for (int a = 0; a < 3; a++) {
+            for (int b = 0; b < 3; b++) A[a][b] += w * x[a] * x[b];
+            A[a][3] += w * x[a] * r;
+        }
+        if (u < umin) umin = u;
+        n++;
+    }
+    if (n < 4) {
+        free(dv); free(dl); free(g); free(cnt);
+        return;
+    }
+    /* Gauss–Jordan with partial pivoting on the np x np system (np = 2: b = 0) */
+    if (np == 2) {
+        A[0][2] = A[1][2] = A[2][0] = A[2][1] = 0;
+        A[2][2] = 1;
+        A[2][3] = 0;
+    }
+    int sing = 0;
+    for (int col = 0; col < 3 && !sing; col++) {
+        int piv = col;
+        for (int r = col + 1; r < 3; r++)
+            if (fabs(A[r][col]) > fabs(A[piv][col])) piv = r;
+        if (!(fabs(A[piv][col]) > 1e-300)) { sing = 1; break; }
+        for (int j = 0; j < 4; j++) { double t = A[col][j]; A[col][j] = A[piv][j]; A[piv][j] = t; }
+        for (int r = 0; r < 3; r++)
+            if (r != col) {
+                double f = A[r][col] / A[col][col];
+                for (int j = col; j < 4; j++) A[r][j] -= f * A[col][j];
+            }
+    }
+    if (!sing) {
+        rm->c0 = A[0][3] / A[0][0];
+        rm->a = A[1][3] / A[1][1];
+        rm->b = A[2][3] / A[2][2];
+        rm->umin = umin;
+        rm->n = n;
+        double chi2 = 0;
+        for (size_t i = 0; i < m; i++) {
+            if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
+            double r = log((dl[i] / rm->lc1) / (g[i] / g1));
+            double var = (c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1) + 2.5e-7;
+            double d = r - log(ratio_eval(rm, dv[i]));
+            chi2 += d * d / var;
+        }
+        rm->chi2_dof = chi2 / (n > np ? n - np : 1);
+        /* within noise (a generous 6x the expected chi-square) and a sane ratio */
+        rm->ok = isfinite(rm->chi2_dof) && rm->chi2_dof < 6 && fabs(rm->c0) < 0.05 && fabs(rm->a) < 1 && fabs(rm->b) < 1;
+    }
+    free(dv); free(dl); free(g); free(cnt);
+}
+
+/* The ratio as a power of the drive (two parameters) when that explains the readings (fewer
+ * parameters: less noise at the ends of the range), else with the quadratic term. */
+static void fit_ratio(const ctx *c, int ch, ratio_model *rm)
+{
+    fit_ratio_np(c, ch, rm, 2);
+    if (rm->ok && rm->chi2_dof < 2.5) return;
+    ratio_model r3;
+    fit_ratio_np(c, ch, &r3, 3);
+    if (r3.ok || !rm->ok) *rm = r3;
+}
+
+/* Channel knots from the ratio model: at the grey curve's knots (so its corners carry over)
+ * and the middles of wide grey intervals. */
+static csf_status channel_from_grey(ctx *c, int ch, const ratio_model *rm, csf_display_profile *p,
+                                    csf_error *err)
+{
+    const double *gv;
+    size_t gn = csf_profile_knots(p, CSF_CH_GREY, &gv, NULL);
+    double *v = malloc((2 * gn + 2) * sizeof(double)), *L = malloc((2 * gn + 2) * sizeof(double)),
+           *g = malloc((2 * gn + 2) * sizeof(double));
+    if (!v || !L || !g) {
+        free(v); free(L); free(g);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < gn; i++) {
+        if (i > 0 && gv[i] - gv[i - 1] > 1.0 / 64) v[n++] = 0.5 * (gv[i] + gv[i - 1]);
+        v[n++] = gv[i];
+    }
+    double black = csf_profile_lum_black(p), g1 = csf_profile_lum_max(p) - black;
+    for (size_t i = 0; i < n; i++) g[i] = csf_profile_grey_lum(p, v[i]) - black;
+    for (size_t i = 0; i < n; i++) {
+        double l = v[i] <= 0 ? 0 : rm->lc1 * (g[i] > 0 ? g[i] : 0) / g1 * ratio_eval(rm, v[i]);
+        if (i && l < L[i - 1]) l = L[i - 1];
+        L[i] = l;
+    }
+    (void)c;
+    csf_status st = csf_profile_set_channel_knots(p, ch, v, L, n, err);
+    free(v); free(L); free(g);
+    return st;
+}
+
 static csf_status measure_level(ctx *c, int ch, double v, double peak, int left, csf_error *err)
 {
     double guess = predict(c, ch, v);
@@ -550,16 +713,54 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
                                           "%s at full drive is not brighter than black: is the sensor on the patch?",
                                           ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
     static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
-    static const double grid_ch[] = {0.25, 0.375, 0.5, 0.75};
+    /* channels: spread over the range the target covers, for the fit of the channel-to-grey
+     * ratio (see fit_ratio); the most informative first in case the budget is short */
+    static const double grid_ch[] = {0.5, 0.75, 0.35, 0.9};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
-    for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
-        st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
+    /* a channel's full drive scales its whole curve: read it twice */
+    if (ch < 3 && c->n_sweep - start < budget) {
+        st = measure_level(c, ch, 1.0, INFINITY, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     for (int i = 0; i < n_extra && c->n_sweep - start < budget; i++) {
         st = measure_level(c, ch, extra[i], peak, budget - (c->n_sweep - start), err);
         if (st) return st;
+    }
+    for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
+        st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
+        if (st) return st;
+    }
+    if (ch < 3) {
+        /* the channel-to-grey ratio explains the readings: no adaptive levels needed */
+        ratio_model rm;
+        fit_ratio(c, ch, &rm);
+        if (rm.ok) {
+            /* the rest of this channel's share repeats the level whose mean is noisiest
+             * (a dim channel's low end, where the absolute noise counts), until every level
+             * above 5 % of the channel's peak is known to target/6 */
+            while (c->n_sweep - start < budget) {
+                double *pv, *pl;
+                size_t k = curve_points(c, ch, &pv, &pl);
+                double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
+                int *cnt = calloc(k + 1, sizeof(int));
+                size_t m = (dv && dl && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
+                double worst = 0, at = NAN;
+                for (size_t i = 0; i < m; i++) {
+                    if (!(dv[i] > 0) || !(dl[i] >= 0.05 * peak)) continue;
+                    double sd = sqrt((c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
+                    if (sd > worst) {
+                        worst = sd;
+                        at = dv[i];
+                    }
+                }
+                free(pv); free(pl); free(dv); free(dl); free(cnt);
+                if (isnan(at) || worst < c->o->target_rel / 6) break;
+                rd x;
+                if ((st = take(c, ROLE_SWEEP, ch, at, 0, &x, err))) return st;
+            }
+            budget = c->n_sweep - start;
+        }
     }
     double last_est = INFINITY;
     while (c->n_sweep - start < budget) {
@@ -693,7 +894,8 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     }
     c->noise_rel = sd3(wv, 6) / wv[5];
     int budget = c->o->budget;
-    int grey_budget = c->o->channels ? (int)(budget * 0.4 + 0.5) : budget;
+    /* channels are fitted through the grey curve (few parameters), so grey gets half */
+    int grey_budget = c->o->channels ? (int)(budget * 0.5 + 0.5) : budget;
     st = sweep(c, CSF_CH_GREY, grey_budget, NULL, 0, &res->est_error_rel[CSF_CH_GREY], err);
     if (st) return st;
     if ((st = reference(c, err))) return st;
@@ -884,6 +1086,7 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     res->n_readings = (int)c.n;
     res->n_sweep = c.n_sweep;
     res->n_warmup = c.n_warmup;
+    res->n_profile = (int)c.n - c.n_warmup;
     if (!st) {
         checks(&c, res);
         char ident[256];
@@ -891,6 +1094,16 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
         if (csf_photometer_identify(ph, ident, sizeof ident, &ie)) snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
         const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
         st = build_profile(&c, dn, ident, res->additivity_error, out, err);
+        for (int ch = 0; !st && o.channels && ch < 3; ch++) {
+            ratio_model rm;
+            fit_ratio(&c, ch, &rm);
+            res->channel_via_grey[ch] = rm.ok;
+            if (rm.ok) st = channel_from_grey(&c, ch, &rm, *out, err);
+        }
+        if (st) {
+            csf_profile_free(*out);
+            *out = NULL;
+        }
     }
     if (store && c.sid > 0) {
         csf_error e2;

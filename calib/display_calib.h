@@ -47,6 +47,10 @@ typedef struct {
     double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
     int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
     char monotonic_msg[256];
+    int channel_via_grey[3]; /* 1: channel c modelled through the grey curve (ratio fit within
+                                noise); 0: its own curve through its readings */
+    int n_profile;         /* readings the profile is built from: sweeps + dark + white references
+                              (n_readings less warm-up) */
 } csf_display_calib_result;
 
 /* Runs (or resumes, when session_id > 0 and the store holds its readings) a calibration.

@@ -615,6 +615,39 @@ csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
     return CSF_OK;
 }
 
+csf_status csf_profile_set_channel_knots(csf_display_profile *p, int ch, const double *drive01,
+                                         const double *lum_cdm2, size_t n, csf_error *err)
+{
+    if (!p || ch < 0 || ch > 2 || !p->has_channels)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "channel %d cannot be set: the profile has no channel curves", ch);
+    if (n < 2 || n > MAX_KNOTS || drive01[0] != 0.0 || drive01[n - 1] != 1.0)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s curve needs 2 to %d knots from drive 0 to 1", ch_names[ch],
+                             MAX_KNOTS);
+    for (size_t i = 0; i < n; i++) {
+        if (!isfinite(lum_cdm2[i]) || lum_cdm2[i] < 0 || (i && !(drive01[i] > drive01[i - 1])) ||
+            (i && lum_cdm2[i] < lum_cdm2[i - 1]))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s knot %zu: drive must rise and luminance must be >= 0 and never fall",
+                                 ch_names[ch], i);
+    }
+    curve nc;
+    memset(&nc, 0, sizeof nc);
+    if (curve_alloc(&nc, (int)n)) {
+        curve_free(&nc);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    memcpy(nc.v, drive01, n * sizeof(double));
+    memcpy(nc.lum, lum_cdm2, n * sizeof(double));
+    if (curve_finish(&nc, 1, 0)) {
+        curve_free(&nc);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve does not rise", ch_names[ch]);
+    }
+    curve_free(&p->c[ch]);
+    p->c[ch] = nc;
+    make_id(p);
+    return CSF_OK;
+}
+
 csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, size_t n,
                                  int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
                                  size_t n_eval, csf_error *err)

@@ -92,6 +92,14 @@ csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, 
 size_t csf_profile_fit_corners(const double *drive01, const double *lum_cdm2, size_t n, int is_channel,
                                double *corner_drive01, size_t max, csf_error *err);
 
+/* Replaces the model of channel ch (CSF_CH_R/G/B) of a profile that has channels with the monotone
+ * curve through the given knots (drive strictly rising from 0 to 1, luminance black-excluded and
+ * never falling), fitted as any curve (power transform, Hermite, corners). The readings are kept;
+ * the id is recomputed. The calibration uses it to store a channel curve derived from the grey
+ * curve and the channel's readings (see docs/display-profile.md, "Channels through grey"). */
+csf_status csf_profile_set_channel_knots(csf_display_profile *p, int ch, const double *drive01,
+                                         const double *lum_cdm2, size_t n, csf_error *err);
+
 /* Knots of one curve (model), for plots/exports. Returns the count; arrays owned by p. */
 size_t csf_profile_knots(const csf_display_profile *p, int ch, const double **drive01,
                          const double **lum_cdm2);
