@@ -12,14 +12,14 @@
 #include <string.h>
 
 #include "calib/procedure.h"
+#include "results/csf_model.h"
 #include "results/psychometric.h"
 #include "results/rng.h"
 
 #define AFC_GRID_N 81
 #define AFC_X_CANDIDATES 31
 #define AFC_SD_STABLE 0.05
-#define AFC_PRIOR_MEAN -2.0
-#define AFC_PRIOR_SD 1.0
+#define AFC_PRIOR_SD 0.7
 
 enum { ST_INTERVAL = 0x2afc1, ST_POLAR, ST_ROTATE };
 
@@ -70,13 +70,21 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     }
     memcpy(a->cells, setup->cells, (size_t)n * sizeof *a->cells);
     a->s.cells = a->cells;
-    for (int i = 0; i < n; i++)
-        if (csf_psy_grid_init(&a->grid[i], AFC_GRID_N, a->x_lo - 0.5, a->x_hi + 1.0, AFC_PRIOR_MEAN,
+    /* Prior per cell: the population-average observer (results/csf_model.h defaults, the same
+     * guess a QUEST user would enter), sd 0.7 log10, so an invisible cell needs evidence only
+     * where the population says it is hard to see. */
+    csf_model_params pop = csf_model_default();
+    for (int i = 0; i < n; i++) {
+        double m = log10(csf_model_threshold(&pop, a->cells[i].freq_cpd, a->cells[i].ecc_deg));
+        if (!(m < a->x_hi + 0.5)) m = a->x_hi + 0.5;
+        if (m < a->x_lo) m = a->x_lo;
+        if (csf_psy_grid_init(&a->grid[i], AFC_GRID_N, a->x_lo - 0.5, a->x_hi + 1.0, m,
                               AFC_PRIOR_SD, a->s.slope_beta, 0.5, a->s.lapse) != 0) {
             afc_destroy(a);
             return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: bad psychometric parameters "
                                  "(slope %g, lapse %g)", a->s.slope_beta, a->s.lapse);
         }
+    }
     *state = a;
     return CSF_OK;
 }

@@ -17,7 +17,8 @@
  * that is not yet stable, ties broken by a per-trial random rotation. The first ramp of a cell
  * spans the whole setup range; later ramps span [estimate - 0.8, estimate + 0.6] log10 at the
  * same rate, so every ramp starts well below and ends above the current estimate. A cell is
- * stable when its posterior sd is <= 0.06 log10 with at least 4 detections, or when two
+ * stable when its posterior sd is <= 0.06 log10 (tighter when the budget allows more than 6
+ * trials a cell) with at least 4 detections, or when two
  * full-range ramps ended without a press and nothing was detected (not visible at the display's
  * highest contrast). A cell whose posterior puts more than half its mass above the highest
  * contrast is reported as not visible (+inf). */
@@ -50,6 +51,7 @@ typedef struct {
     fade_cell *st;
     double rate_log10_per_s;
     double t_lo, t_step, x_lo, x_hi;
+    double sd_stable;   /* posterior sd at which a cell counts as measured */
 } fade_state;
 
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
@@ -76,6 +78,12 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     f->x_hi = hi;
     f->t_lo = lo - 0.5;
     f->t_step = (hi + 1.0 - f->t_lo) / (FADE_GRID_N - 1);
+    /* 0.06 log10 takes about 6 trials a cell; a larger budget buys a tighter target (sd falls
+     * as 1/sqrt(trials)), down to 0.025, so the budget is used rather than left over. */
+    f->sd_stable = FADE_SE_STABLE;
+    if (setup->trial_budget > 6 * setup->n_cells)
+        f->sd_stable = FADE_SE_STABLE * sqrt(6.0 * setup->n_cells / setup->trial_budget);
+    if (f->sd_stable < 0.025) f->sd_stable = 0.025;
     f->cells = malloc((size_t)setup->n_cells * sizeof *f->cells);
     f->st = calloc((size_t)setup->n_cells, sizeof *f->st);
     if (!f->cells || !f->st) {
@@ -130,7 +138,7 @@ static int cell_stable(const fade_state *f, const fade_cell *c)
     if (c->n_det == 0) return c->n_cens_full >= FADE_INVISIBLE_AFTER;
     double sd;
     cell_moments(f, c, NULL, &sd, NULL);
-    return c->n_det >= 4 && sd <= FADE_SE_STABLE;
+    return c->n_det >= 4 && sd <= f->sd_stable;
 }
 
 static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)

@@ -52,7 +52,7 @@ static pid_t spawn_n(const char *method, const char *store, const char *out, int
 
 static pid_t spawn(const char *method, const char *store, const char *out, int resume)
 {
-    return spawn_n(method, store, out, resume, strcmp(method, "fade") == 0 ? "150" : "90");
+    return spawn_n(method, store, out, resume, strcmp(method, "fade") == 0 ? "90" : "70");
 }
 
 static double seconds_since(const struct timespec *t0)
