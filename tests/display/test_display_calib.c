@@ -103,6 +103,62 @@ int main(void)
         csf_profile_free(p);
     }
 
+    /* error sources apart: with the instrument's noise off, what is left is the model and the
+     * level placement (and drift correction); it must be far below the target, channels
+     * included (they are fitted through the grey curve) */
+    {
+        const char *nf[][2] = {{"sim:display=crt,noise=0,abs_noise=0", "crt"},
+                               {"sim:display=lcd,noise=0,abs_noise=0", "lcd"},
+                               {"sim:display=file=" CSF_TEST_DATA "/kink.csv,noise=0,abs_noise=0",
+                                "file=" CSF_TEST_DATA "/kink.csv"}};
+        for (int k = 0; k < 3; k++) {
+            csf_display_calib_result res;
+            csf_display_profile *p = calibrate(nf[k][0], 3, NULL, NULL, &res, NULL, &err);
+            CHECK_MSG(p != NULL, "%s: %s", nf[k][0], err.msg);
+            if (!p) continue;
+            double e[4];
+            errors(p, nf[k][1], e);
+            CHECK_MSG(e[3] <= 0.0006, "noise-free %s grey error %g", nf[k][1], e[3]);
+            for (int c = 0; c < 3; c++) CHECK_MSG(e[c] <= 0.0015, "noise-free %s channel %d error %g", nf[k][1], c, e[c]);
+            CHECK_INT_EQ(res.n_profile, res.n_readings - res.n_warmup);
+            /* the saved profile carries the grey-derived channel curves exactly */
+            char *text = NULL;
+            csf_display_profile *q = NULL;
+            CHECK_INT_EQ(csf_profile_to_text(p, &text, &err), CSF_OK);
+            if (text) CHECK_INT_EQ(csf_profile_parse(text, strlen(text), &q, &err), CSF_OK);
+            if (q)
+                for (int c = 0; c < 3; c++)
+                    for (int i = 0; i <= 100; i++)
+                        CHECK_NEAR(csf_profile_channel_lum(q, c, i / 100.0), csf_profile_channel_lum(p, c, i / 100.0), 0);
+            free(text);
+            csf_profile_free(q);
+            csf_profile_free(p);
+        }
+    }
+
+    /* channels through grey: used on the default displays, and at seed 7 every channel meets
+     * the grey target too */
+    {
+        csf_display_calib_result res;
+        csf_display_profile *p = calibrate("sim:display=crt", 7, NULL, NULL, &res, NULL, &err);
+        if (p) {
+            double e[4];
+            errors(p, "crt", e);
+            for (int c = 0; c < 3; c++) {
+                CHECK_INT_EQ(res.channel_via_grey[c], 1);
+                CHECK_MSG(e[c] <= 0.0025, "crt channel %d error %g", c, e[c]);
+            }
+            /* bad knots are refused */
+            double v[3] = {0, 0.5, 1}, L[3] = {0, 2, 1};
+            CHECK(csf_profile_set_channel_knots(p, 0, v, L, 3, &err) != CSF_OK);
+            CHECK(csf_profile_set_channel_knots(p, 3, v, L, 3, &err) != CSF_OK);
+            L[1] = 0.5;
+            CHECK_INT_EQ(csf_profile_set_channel_knots(p, 0, v, L, 3, &err), CSF_OK);
+            CHECK_NEAR(csf_profile_channel_lum(p, 0, 0.5), 0.5, 1e-12);
+        }
+        csf_profile_free(p);
+    }
+
     /* reproducible: same seed, same model */
     {
         csf_display_calib_result r1, r2;
