@@ -35,6 +35,15 @@ static int child(const char *mode)
     cfg.headless = 0;
     csf_geometry_init(&cfg.geometry, 600, 337.5, 1280, 720, 570, 0, 0, &e);
     csf_presenter *p = NULL;
+    if (strcmp(mode, "badmon") == 0) {
+        cfg.monitor = "7";
+        int st = csf_presenter_open(&cfg, &p, &e);
+        printf("badmon status=%d msg=%s\n", st, e.msg);
+        cfg.monitor = "no-such-monitor";
+        st = csf_presenter_open(&cfg, &p, &e);
+        printf("badname status=%d msg=%s\n", st, e.msg);
+        return 0;
+    }
     if (csf_presenter_open(&cfg, &p, &e) != CSF_OK) {
         printf("open failed: %s\n", e.msg);
         return 2;
@@ -137,6 +146,16 @@ int main(int argc, char **argv)
             CHECK_MSG(WIFEXITED(st) && WEXITSTATUS(st) == 5, "status 0x%x", st);
             CHECK_STR_CONTAINS(out, "graceful stop");
         }
+    }
+    /* --monitor by index or name: unknown ones are refused with the count */
+    {
+        char cmd[4200], line[256], out[2048] = "";
+        snprintf(cmd, sizeof cmd, "exec '%s' --child badmon", argv[0]);
+        FILE *g = popen(cmd, "r");
+        while (g && fgets(line, sizeof line, g)) strncat(out, line, sizeof out - strlen(out) - 1);
+        if (g) pclose(g);
+        CHECK_STR_CONTAINS(out, "there are 1 monitors (0 to 0)");
+        CHECK_STR_CONTAINS(out, "no monitor with that name");
     }
     glfwTerminate();
     return CHECK_RESULT();
