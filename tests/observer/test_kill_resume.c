@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -169,8 +170,6 @@ static void run_case(const char *method, uint64_t seed, int n_kills)
     CHECK_INT_EQ(wait_exit(spawn(method, ref_store, ref_out, 0)), 0);
     double full_s = seconds_since(&t0);
     int ref_n = stored_trials(ref_store, NULL, NULL);
-    double per_trial_s = ref_n > 0 ? (full_s - startup_s) / ref_n : 0.02;
-    if (per_trial_s < 0.002) per_trial_s = 0.002;
 
     int kills = 0, progressed_kills = 0, prev = -1, lost = 0, attempts = 0, rc = -1;
     while (attempts < 200) {
@@ -178,13 +177,51 @@ static void run_case(const char *method, uint64_t seed, int n_kills)
         int have = stored_trials(store, NULL, NULL);
         pid_t pid = spawn(method, store, out, have >= 0 ? 1 : 0);
         if (kills < n_kills) {
-            /* A random moment: sometimes still starting up, mostly 0 to 4 trials' time after
-             * start-up, so every kill lands somewhere else in the trial/commit cycle. */
-            double u = csf_rng_uniform(seed, 1, (uint64_t)attempts);
-            struct timespec d = {0, 0};
-            double s = startup_s * (0.6 + 0.4 * u) + per_trial_s * 4.0 * csf_rng_uniform(seed, 2, (uint64_t)attempts);
-            d.tv_sec = (time_t)s;
-            d.tv_nsec = (long)((s - (double)d.tv_sec) * 1e9);
+            /* Kill at a random point of the trial/commit cycle: wait until the store's WAL file
+             * has changed k times (k random 6..13; start-up makes a few changes, then each trial
+             * two: its row and its frame intervals), then a random 0-15 ms more; every sixth
+             * kill or so lands during start-up instead. Progress-based, so a loaded machine does not
+             * turn kills into finished runs. */
+            char wal[600];
+            snprintf(wal, sizeof wal, "%s-wal", store);
+            int target = 6 + (int)(8 * csf_rng_uniform(seed, 1, (uint64_t)attempts));
+            int during_startup = csf_rng_uniform(seed, 3, (uint64_t)attempts) < 0.17;
+            struct stat st0;
+            long long last = -1;
+            if (stat(wal, &st0) == 0) last = (long long)st0.st_size * 1000003LL + st0.st_mtim.tv_nsec;
+            int changes = 0, finished = 0, status = 0;
+            struct timespec t_start;
+            clock_gettime(CLOCK_MONOTONIC, &t_start);
+            double startup_wait = startup_s * 0.8 * csf_rng_uniform(seed, 4, (uint64_t)attempts);
+            for (;;) {
+                if (waitpid(pid, &status, WNOHANG) == pid) {
+                    finished = 1;
+                    break;
+                }
+                if (during_startup && seconds_since(&t_start) >= startup_wait) break;
+                struct stat sw;
+                if (!during_startup && stat(wal, &sw) == 0) {
+                    long long sig = (long long)sw.st_size * 1000003LL + sw.st_mtim.tv_nsec;
+                    if (sig != last) {
+                        last = sig;
+                        if (++changes >= target) break;
+                    }
+                }
+                if (seconds_since(&t_start) > 60) break;
+                struct timespec ms = {0, 1000000};
+                nanosleep(&ms, NULL);
+            }
+            if (finished) {
+                int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+                if (code == 0) {
+                    rc = 0;
+                    break;
+                }
+                fprintf(stderr, "run exited with %d before the kill\n", code);
+                CHECK(0);
+                break;
+            }
+            struct timespec d = {0, (long)(15e6 * csf_rng_uniform(seed, 2, (uint64_t)attempts))};
             nanosleep(&d, NULL);
             kill(pid, SIGKILL);
             int st = wait_exit(pid);
