@@ -50,6 +50,8 @@ typedef struct {
      * w(t) = A + B exp(-t/tau); refitted whenever a white reading is added */
     int drift_ok;
     double drift_A, drift_B, drift_tau, drift_tref;
+    double drift_rms; /* relative rms of the white readings about the drift curve: the
+                         instrument's noise with more degrees of freedom than one reference */
 } ctx;
 
 static const char *ch_name_store(int role, int ch)
@@ -281,6 +283,7 @@ static void fit_drift(ctx *c)
     double allow = fmax(2 * c->noise_rel, 0.001);
     if (c->noise_rel > 0 && rms > allow) return;
     c->drift_ok = 1;
+    c->drift_rms = rms;
     c->drift_A = bA;
     c->drift_B = bB;
     c->drift_tau = btau;
@@ -504,16 +507,21 @@ static double snap(const ctx *c, double v)
 
 /* ---- channels through grey ----
  * A channel alone and the grey curve share the panel's transfer shape (toe, kinks, the
- * driver's LUT); what differs is a slowly varying ratio (a few tenths in gamma, crosstalk).
- * So a channel is modelled as  Lc(v) = Lc1 * G(v)/G(1) * exp(c0 + a u + b u^2),  u = ln v,
- * G the grey curve less black (measured with more readings), c0, a, b fitted by weighted least
- * squares to the channel's readings (full drive included). The few channel readings then
- * average their noise through three parameters instead of each becoming a knot, and the
- * channel inherits the grey curve's corners. The model is used only when it explains the
- * channel's readings within their noise; otherwise the channel keeps its own Hermite curve. */
+ * driver's LUT); what differs is a slowly varying ratio: a few tenths in gamma, and a load
+ * effect (LCD crosstalk, OLED power limiting) that grows with how much light the whole grey
+ * patch gives. So a channel is modelled as
+ *     Lc(v) = Lc1 * x * exp(c0 + a u [+ b u^2] [+ d x^2]),   u = ln v,  x = G(v)/G(1),
+ * G the grey curve less black (measured with more readings), Lc1 the mean of the channel's
+ * full-drive readings; the coefficients are fitted by weighted least squares to the channel's
+ * readings. The few channel readings then average their noise through two to four parameters
+ * instead of each becoming a knot, and the channel inherits the grey curve's corners. The
+ * simplest basis that explains the readings within their noise is used; when none does, the
+ * channel keeps its own Hermite curve through its readings. */
+enum { RB_ONE, RB_U, RB_U2, RB_X2 };
 typedef struct {
-    int ok;
-    double lc1, c0, a, b, umin, chi2_dof;
+    int ok, nb, basis[4];
+    double coef[4];
+    double lc1, umin, chi2_dof;
     int n;
 } ratio_model;
 
@@ -537,14 +545,97 @@ static int grey_incr(const ctx *c, const double *v, double *out, size_t n)
     return rc;
 }
 
-static double ratio_eval(const ratio_model *rm, double v)
+static double basis_val(int b, double u, double x)
 {
-    double u = v > 0 ? log(v) : rm->umin;
-    if (u < rm->umin) u = rm->umin;
-    return exp(rm->c0 + rm->a * u + rm->b * u * u);
+    switch (b) {
+    case RB_ONE: return 1;
+    case RB_U: return u;
+    case RB_U2: return u * u;
+    default: return x * x;
+    }
 }
 
-static void fit_ratio_np(const ctx *c, int ch, ratio_model *rm, int np)
+/* ratio channel/grey (both normalised at full drive) at drive v where x = G(v)/G(1) */
+static double ratio_eval(const ratio_model *rm, double v, double x)
+{
+    double u = v > 0 ? log(v) : rm->umin - 50;
+    /* below the fitted range the ratio goes on as the power of the drive it has at the range's
+     * low end (a quadratic in ln v would run away) */
+    double ue = u < rm->umin ? rm->umin : u, r = 0, slope = 0;
+    for (int j = 0; j < rm->nb; j++) {
+        r += rm->coef[j] * basis_val(rm->basis[j], ue, x);
+        if (rm->basis[j] == RB_U) slope += rm->coef[j];
+        if (rm->basis[j] == RB_U2) slope += 2 * rm->coef[j] * ue;
+    }
+    if (u < ue) r += slope * (u - ue);
+    return exp(r);
+}
+
+static void fit_ratio_basis(const ctx *c, const double *dv, const double *dl, const int *cnt, const double *g,
+                            size_t m, const int *basis, int nb, ratio_model *rm)
+{
+    memset(rm, 0, sizeof *rm);
+    rm->nb = nb;
+    memcpy(rm->basis, basis, (size_t)nb * sizeof *basis);
+    rm->lc1 = dl[m - 1];
+    double g1 = g[m - 1];
+    /* the noise of one reading: the larger of the reference estimate (5 degrees of freedom)
+     * and the scatter of the white readings about the drift curve (more) */
+    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+    double A[4][5] = {{0}};
+    int n = 0;
+    double umin = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        double chi2 = 0;
+        for (size_t i = 0; i < m; i++) {
+            if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
+            double u = log(dv[i]), x = g[i] / g1;
+            double r = log((dl[i] / rm->lc1) / x);
+            double var = (nr * nr + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1);
+            var += 4.9e-7; /* the grey curve's own error at a level (about 0.07 %) */
+            if (pass == 0) {
+                double w = 1 / var, f[4];
+                for (int j = 0; j < nb; j++) f[j] = basis_val(basis[j], u, x);
+                for (int j = 0; j < nb; j++) {
+                    for (int k = 0; k < nb; k++) A[j][k] += w * f[j] * f[k];
+                    A[j][nb] += w * f[j] * r;
+                }
+                if (u < umin) umin = u;
+                n++;
+            } else {
+                double d = r - log(ratio_eval(rm, dv[i], x));
+                chi2 += d * d / var;
+            }
+        }
+        if (pass == 0) {
+            if (n < nb + 2) return; /* at least two degrees of freedom to judge the fit */
+            for (int col = 0; col < nb; col++) {
+                int piv = col;
+                for (int r = col + 1; r < nb; r++)
+                    if (fabs(A[r][col]) > fabs(A[piv][col])) piv = r;
+                if (!(fabs(A[piv][col]) > 1e-300)) return;
+                for (int j = 0; j <= nb; j++) { double t = A[col][j]; A[col][j] = A[piv][j]; A[piv][j] = t; }
+                for (int r = 0; r < nb; r++)
+                    if (r != col) {
+                        double f = A[r][col] / A[col][col];
+                        for (int j = col; j <= nb; j++) A[r][j] -= f * A[col][j];
+                    }
+            }
+            for (int j = 0; j < nb; j++) rm->coef[j] = A[j][nb] / A[j][j];
+            rm->umin = umin;
+            rm->n = n;
+        } else {
+            rm->chi2_dof = chi2 / (n - nb);
+        }
+    }
+    int sane = 1;
+    for (int j = 0; j < nb; j++) sane &= isfinite(rm->coef[j]) && fabs(rm->coef[j]) < (j == 0 ? 0.05 : 1);
+    rm->ok = sane && isfinite(rm->chi2_dof) && rm->chi2_dof < 6;
+}
+
+/* Tries bases from the simplest (a gamma difference) up; the first whose reduced chi-square is
+ * below 2.5 wins, else the best below 6, else none (rm->ok = 0). */
+static void fit_ratio(const ctx *c, int ch, ratio_model *rm)
 {
     memset(rm, 0, sizeof *rm);
     double *pv, *pl;
@@ -555,83 +646,24 @@ static void fit_ratio_np(const ctx *c, int ch, ratio_model *rm, int np)
     size_t m = (dv && dl && g && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
     free(pv);
     free(pl);
-    double g1;
-    if (m < 4 || dv[m - 1] != 1.0 || !(dl[m - 1] > 0) || grey_incr(c, dv, g, m) || !((g1 = g[m - 1]) > 0)) {
-        free(dv); free(dl); free(g); free(cnt);
-        return;
-    }
-    rm->lc1 = dl[m - 1];
-    /* normal equations for r = c0 + a u + b u^2, weights 1/var of the relative reading */
-    double A[3][4] = {{0}};
-    int n = 0;
-    double umin = 0;
-    for (size_t i = 0; i < m; i++) {
-        if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
-        double u = log(dv[i]);
-        double r = log((dl[i] / rm->lc1) / (g[i] / g1));
-        double var = (c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1);
-        var += 2.5e-7; /* the grey curve's own error at a level (about 0.05 %) */
-        double w = 1 / var, x[3] = {1, u, u * u};
-        for (int a = 0; a < 3; a++) {
-            for (int b = 0; b < 3; b++) A[a][b] += w * x[a] * x[b];
-            A[a][3] += w * x[a] * r;
-        }
-        if (u < umin) umin = u;
-        n++;
-    }
-    if (n < 4) {
-        free(dv); free(dl); free(g); free(cnt);
-        return;
-    }
-    /* Gauss–Jordan with partial pivoting on the np x np system (np = 2: b = 0) */
-    if (np == 2) {
-        A[0][2] = A[1][2] = A[2][0] = A[2][1] = 0;
-        A[2][2] = 1;
-        A[2][3] = 0;
-    }
-    int sing = 0;
-    for (int col = 0; col < 3 && !sing; col++) {
-        int piv = col;
-        for (int r = col + 1; r < 3; r++)
-            if (fabs(A[r][col]) > fabs(A[piv][col])) piv = r;
-        if (!(fabs(A[piv][col]) > 1e-300)) { sing = 1; break; }
-        for (int j = 0; j < 4; j++) { double t = A[col][j]; A[col][j] = A[piv][j]; A[piv][j] = t; }
-        for (int r = 0; r < 3; r++)
-            if (r != col) {
-                double f = A[r][col] / A[col][col];
-                for (int j = col; j < 4; j++) A[r][j] -= f * A[col][j];
+    if (m >= 4 && dv[m - 1] == 1.0 && dl[m - 1] > 0 && !grey_incr(c, dv, g, m) && g[m - 1] > 0) {
+        static const int bases[4][4] = {{RB_ONE, RB_U}, {RB_ONE, RB_U, RB_X2}, {RB_ONE, RB_U, RB_U2},
+                                        {RB_ONE, RB_U, RB_U2, RB_X2}};
+        static const int nbs[4] = {2, 3, 3, 4};
+        ratio_model best;
+        memset(&best, 0, sizeof best);
+        for (int t = 0; t < 4; t++) {
+            ratio_model r;
+            fit_ratio_basis(c, dv, dl, cnt, g, m, bases[t], nbs[t], &r);
+            if (r.ok && r.chi2_dof < 2.5) {
+                best = r;
+                break;
             }
-    }
-    if (!sing) {
-        rm->c0 = A[0][3] / A[0][0];
-        rm->a = A[1][3] / A[1][1];
-        rm->b = A[2][3] / A[2][2];
-        rm->umin = umin;
-        rm->n = n;
-        double chi2 = 0;
-        for (size_t i = 0; i < m; i++) {
-            if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
-            double r = log((dl[i] / rm->lc1) / (g[i] / g1));
-            double var = (c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1) + 2.5e-7;
-            double d = r - log(ratio_eval(rm, dv[i]));
-            chi2 += d * d / var;
+            if (r.ok && (!best.ok || r.chi2_dof < best.chi2_dof)) best = r;
         }
-        rm->chi2_dof = chi2 / (n > np ? n - np : 1);
-        /* within noise (a generous 6x the expected chi-square) and a sane ratio */
-        rm->ok = isfinite(rm->chi2_dof) && rm->chi2_dof < 6 && fabs(rm->c0) < 0.05 && fabs(rm->a) < 1 && fabs(rm->b) < 1;
+        *rm = best;
     }
     free(dv); free(dl); free(g); free(cnt);
-}
-
-/* The ratio as a power of the drive (two parameters) when that explains the readings (fewer
- * parameters: less noise at the ends of the range), else with the quadratic term. */
-static void fit_ratio(const ctx *c, int ch, ratio_model *rm)
-{
-    fit_ratio_np(c, ch, rm, 2);
-    if (rm->ok && rm->chi2_dof < 2.5) return;
-    ratio_model r3;
-    fit_ratio_np(c, ch, &r3, 3);
-    if (r3.ok || !rm->ok) *rm = r3;
 }
 
 /* Channel knots from the ratio model: at the grey curve's knots (so its corners carry over)
@@ -655,7 +687,8 @@ static csf_status channel_from_grey(ctx *c, int ch, const ratio_model *rm, csf_d
     double black = csf_profile_lum_black(p), g1 = csf_profile_lum_max(p) - black;
     for (size_t i = 0; i < n; i++) g[i] = csf_profile_grey_lum(p, v[i]) - black;
     for (size_t i = 0; i < n; i++) {
-        double l = v[i] <= 0 ? 0 : rm->lc1 * (g[i] > 0 ? g[i] : 0) / g1 * ratio_eval(rm, v[i]);
+        double x = (g[i] > 0 ? g[i] : 0) / g1;
+        double l = v[i] <= 0 ? 0 : rm->lc1 * x * ratio_eval(rm, v[i], x);
         if (i && l < L[i - 1]) l = L[i - 1];
         L[i] = l;
     }
@@ -715,7 +748,7 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
     static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
     /* channels: spread over the range the target covers, for the fit of the channel-to-grey
      * ratio (see fit_ratio); the most informative first in case the budget is short */
-    static const double grid_ch[] = {0.5, 0.75, 0.35, 0.9};
+    static const double grid_ch[] = {0.5, 0.75, 0.3, 0.9};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
     /* a channel's full drive scales its whole curve: read it twice */
@@ -724,7 +757,11 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
         if (st) return st;
     }
     for (int i = 0; i < n_extra && c->n_sweep - start < budget; i++) {
-        st = measure_level(c, ch, extra[i], peak, budget - (c->n_sweep - start), err);
+        /* a grey corner may be one the model inferred between two levels: snap it to what the
+         * framebuffer can show */
+        double q = snap(c, extra[i]);
+        if (!(q > 0 && q < 1)) continue;
+        st = measure_level(c, ch, q, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {

@@ -454,6 +454,56 @@ csf_display_profile *csf_profile_default(void)
     return p;
 }
 
+/* A kink that falls between two knots (k, k+1) is rounded by any smooth interpolant over that
+ * interval, and neither knot looks like a corner (each carries half of the break). Detected in
+ * the power-transformed space, where the curve is nearly straight: the lines through the knots on
+ * either side (spans of at least 0.02 of drive, so one noisy knot does not tilt them) differ in
+ * slope by more than 15 %, and that break per unit width is at least 4 times the change of slope
+ * just outside (a smooth curve bends evenly). The kink is then where the two lines cross: that
+ * point becomes a knot, which is_corner() keeps as a corner. Writes up to max crossings (drive,
+ * transformed y) into xs/ys, returns how many. */
+static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
+{
+    const double span = 0.02, gap = 1.0 / 512;
+    int nf = 0;
+    for (int k = 1; k + 2 < c->n && nf < max; k++) {
+        if (is_corner(c->v, c->y, c->n, k) || is_corner(c->v, c->y, c->n, k + 1)) continue;
+        int a = k - 1, b = k + 2;
+        while (a > 0 && c->v[k] - c->v[a] < span) a--;
+        while (b < c->n - 1 && c->v[b] - c->v[k + 1] < span) b++;
+        if (c->v[k] - c->v[a] < span || c->v[b] - c->v[k + 1] < span) continue;
+        double sL = (c->y[k] - c->y[a]) / (c->v[k] - c->v[a]);
+        double sR = (c->y[b] - c->y[k + 1]) / (c->v[b] - c->v[k + 1]);
+        double brk = fabs(sR - sL);
+        if (!(brk > 0.15 * 0.5 * (fabs(sL) + fabs(sR)))) continue;
+        double here = brk / (0.5 * (c->v[b] - c->v[a]));
+        /* the change of slope just outside, per unit width, on each side that has room */
+        int a2 = a - 1, b2 = b + 1, sides = 0, smooth = 1;
+        while (a2 > 0 && c->v[a] - c->v[a2] < span) a2--;
+        while (b2 < c->n - 1 && c->v[b2] - c->v[b] < span) b2++;
+        if (a2 >= 0 && c->v[a] - c->v[a2] >= span) {
+            double sLL = (c->y[a] - c->y[a2]) / (c->v[a] - c->v[a2]);
+            if (!(here > 4 * fabs(sL - sLL) / (0.5 * (c->v[k] - c->v[a2])))) smooth = 0;
+            sides++;
+        }
+        if (b2 < c->n && c->v[b2] - c->v[b] >= span) {
+            double sRR = (c->y[b2] - c->y[b]) / (c->v[b2] - c->v[b]);
+            if (!(here > 4 * fabs(sRR - sR) / (0.5 * (c->v[b2] - c->v[k + 1])))) smooth = 0;
+            sides++;
+        }
+        if (!sides || !smooth) continue;
+        double x = (c->y[k + 1] - c->y[k] + sL * c->v[k] - sR * c->v[k + 1]) / (sL - sR);
+        if (!(x >= c->v[k] + gap && x <= c->v[k + 1] - gap)) continue;
+        double y = c->y[k] + sL * (x - c->v[k]);
+        if (!(y > c->y[k] && y < c->y[k + 1])) continue;
+        xs[nf] = x;
+        ys[nf] = y;
+        nf++;
+        k++; /* the next pair shares knot k+1 */
+    }
+    return nf;
+}
+
 /* ---------- building from readings ---------- */
 
 static int cmp_reading(const void *a, const void *b)
@@ -545,6 +595,31 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
             st = csf_error_set(err, CSF_E_INSUFFICIENT,
                                "%s curve does not rise: full drive is not brighter than drive 0 "
                                "(is the sensor on the patch?)", ch_names[ch]);
+        double xs[8], ys[8];
+        int nk = st ? 0 : bracketed_corners(c, xs, ys, 8);
+        if (nk > 0 && c->n + nk <= MAX_KNOTS) {
+            /* add the kinks found between knots and refit (g included) */
+            curve o = *c;
+            memset(c, 0, sizeof *c);
+            if (curve_alloc(c, o.n + nk)) {
+                st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+            } else {
+                int j = 0, q = 0;
+                for (int i = 0; i < o.n; i++) {
+                    c->v[j] = o.v[i];
+                    c->lum[j++] = o.lum[i];
+                    if (q < nk && i + 1 < o.n && xs[q] > o.v[i] && xs[q] < o.v[i + 1]) {
+                        c->v[j] = xs[q];
+                        c->lum[j++] = o.base + o.top * pow(ys[q], o.g);
+                        q++;
+                    }
+                }
+                c->n = j;
+                if (curve_finish(c, ch != CSF_CH_GREY, 0))
+                    st = csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve does not rise", ch_names[ch]);
+            }
+            curve_free(&o);
+        }
     }
     free(v); free(L); free(wt);
     return st;
