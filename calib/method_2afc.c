@@ -80,9 +80,10 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         if (m < a->x_lo) m = a->x_lo;
         if (csf_psy_grid_init(&a->grid[i], AFC_GRID_N, a->x_lo - 0.5, a->x_hi + 1.0, m,
                               AFC_PRIOR_SD, a->s.slope_beta, 0.5, a->s.lapse) != 0) {
+            double slope = a->s.slope_beta, lapse = a->s.lapse;
             afc_destroy(a);
             return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: bad psychometric parameters "
-                                 "(slope %g, lapse %g)", a->s.slope_beta, a->s.lapse);
+                                 "(slope %g, lapse %g)", slope, lapse);
         }
     }
     *state = a;
