@@ -125,7 +125,7 @@ int csf_cmd_stimulus(int argc, char **argv)
         return 2;
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        printf("%s\ncommon options:\n%s", usage, csf_cli_common_help);
+        printf("%s\n%s", usage, csf_cli_common_help);
         return 0;
     }
     const char *sub = argv[1];
