@@ -785,7 +785,8 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
                 double worst = 0, at = NAN;
                 for (size_t i = 0; i < m; i++) {
                     if (!(dv[i] > 0) || !(dl[i] >= 0.05 * peak)) continue;
-                    double sd = sqrt((c->noise_rel * c->noise_rel + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
+                    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+                    double sd = sqrt((nr * nr + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
                     if (sd > worst) {
                         worst = sd;
                         at = dv[i];
@@ -853,6 +854,35 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
         if (isnan(mid) || worst < c->o->target_rel / 4) break;
         st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
+    }
+    if (ch == CSF_CH_GREY) {
+        /* the model is good enough where it is: the rest of grey's share averages the noise of
+         * the levels above 10 % of peak (the range the target covers), the noisiest mean first
+         * and, among equals, the one whose neighbouring intervals are widest (its error spreads
+         * furthest), until each mean is known to target/6 */
+        double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+        while (c->n_sweep - start < budget) {
+            double *pv, *pl;
+            size_t k = curve_points(c, ch, &pv, &pl);
+            double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
+            int *cnt = calloc(k + 1, sizeof(int));
+            size_t m = (dv && dl && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
+            double worst = 0, wid = 0, at = NAN;
+            for (size_t i = 1; i + 1 < m; i++) {
+                if (!(dl[i] >= 0.1 * peak)) continue;
+                double sd = sqrt((nr * nr + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
+                double w = dv[i + 1] - dv[i - 1];
+                if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
+                    worst = sd;
+                    wid = w;
+                    at = dv[i];
+                }
+            }
+            free(pv); free(pl); free(dv); free(dl); free(cnt);
+            if (isnan(at) || worst < c->o->target_rel / 6) break;
+            rd x;
+            if ((st = take(c, ROLE_SWEEP, ch, at, 0, &x, err))) return st;
+        }
     }
     if (est_out) {
         /* final estimate after the last reading */
