@@ -79,4 +79,15 @@ run --method fade --observer "sim:table=$T/truth.csv" --freqs 1,4 --eccs 0,10 --
 a=$("$CSFCAL" lut export "$T/tab.csflut" --format csv --raw | grep -v date_utc); b=$("$CSFCAL" lut export "$T/tab2.csflut" --format csv --raw | grep -v date_utc)
 check "same seed, same thresholds" test "$a" = "$b"
 
+# 8. SIGTERM pauses a running session (every stored trial kept); --resume finishes it.
+timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/p.sqlite" --quiet --method fade \
+    --trials 3000 --seed 9 --out "$T/p.csflut" 2>"$T/p.err"
+rc=$?
+check "SIGTERM: exit status 1 (paused), got $rc" test $rc -eq 1
+check "SIGTERM: message names --resume" grep -q 'paused after .* trials; continue with --resume 1' "$T/p.err"
+check "SIGTERM: no table yet" test ! -e "$T/p.csflut"
+out=$("$CSFCAL" observer calibrate --headless --store "$T/p.sqlite" --quiet --render-every -1 --resume 1 --out "$T/p.csflut" --json)
+check "resumed paused session finishes" grep -q '"status":"ok"' <<<"$out"
+check "resumed session wrote the table" test -s "$T/p.csflut"
+
 exit $fail
