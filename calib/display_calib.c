@@ -519,7 +519,9 @@ static double snap(const ctx *c, double v)
  * channel keeps its own Hermite curve through its readings. */
 enum { RB_ONE, RB_U, RB_U2, RB_X2 };
 typedef struct {
-    int ok, nb, basis[4];
+    int ok;    /* explains the readings within their noise */
+    int valid; /* a sane fit, though maybe not within noise */
+    int nb, basis[4];
     double coef[4];
     double lc1, umin, chi2_dof;
     int n;
@@ -630,11 +632,12 @@ static void fit_ratio_basis(const ctx *c, const double *dv, const double *dl, co
     }
     int sane = 1;
     for (int j = 0; j < nb; j++) sane &= isfinite(rm->coef[j]) && fabs(rm->coef[j]) < (j == 0 ? 0.05 : 1);
-    rm->ok = sane && isfinite(rm->chi2_dof) && rm->chi2_dof < 6;
+    rm->valid = sane && isfinite(rm->chi2_dof);
+    rm->ok = rm->valid && rm->chi2_dof < 6;
 }
 
 /* Tries bases from the simplest (a gamma difference) up; the first whose reduced chi-square is
- * below 2.5 wins, else the best below 6, else none (rm->ok = 0). */
+ * below 2.5 wins, else the best (rm->ok when below 6; rm->valid for any sane fit). */
 static void fit_ratio(const ctx *c, int ch, ratio_model *rm)
 {
     memset(rm, 0, sizeof *rm);
@@ -659,7 +662,7 @@ static void fit_ratio(const ctx *c, int ch, ratio_model *rm)
                 best = r;
                 break;
             }
-            if (r.ok && (!best.ok || r.chi2_dof < best.chi2_dof)) best = r;
+            if (r.valid && (!best.valid || r.chi2_dof < best.chi2_dof)) best = r;
         }
         *rm = best;
     }
@@ -751,8 +754,9 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
     static const double grid_ch[] = {0.5, 0.75, 0.3, 0.9};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
-    /* a channel's full drive scales its whole curve: read it twice */
-    if (ch < 3 && c->n_sweep - start < budget) {
+    /* a channel's full drive scales its whole curve: read it twice when the share allows (the
+     * ratio fit needs the four grid levels more) */
+    if (ch < 3 && budget >= 7 && c->n_sweep - start < budget) {
         st = measure_level(c, ch, 1.0, INFINITY, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
@@ -978,6 +982,13 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
             nc = (int)csf_profile_fit_corners(pv, pl, k, 0, corners, 3, &cerr);
             free(pv);
             free(pl);
+            /* a corner in the dark toe (noise on a steep bend, or a real one far below the
+             * range the target covers) is not worth a channel reading */
+            int kept = 0;
+            double gpeak = predict(c, CSF_CH_GREY, 1.0);
+            for (int i = 0; i < nc; i++)
+                if (predict(c, CSF_CH_GREY, corners[i]) >= 0.05 * gpeak) corners[kept++] = corners[i];
+            nc = kept;
         }
         for (int ch = 0; ch < 3; ch++) {
             int left = budget - c->n_sweep;
@@ -1164,8 +1175,12 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
         for (int ch = 0; !st && o.channels && ch < 3; ch++) {
             ratio_model rm;
             fit_ratio(&c, ch, &rm);
-            res->channel_via_grey[ch] = rm.ok;
-            if (rm.ok) st = channel_from_grey(&c, ch, &rm, *out, err);
+            /* not within noise but sane: still better than a Hermite through fewer than 8
+             * levels of the channel's own (a short budget) */
+            const double *kv;
+            int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
+            res->channel_via_grey[ch] = use;
+            if (use) st = channel_from_grey(&c, ch, &rm, *out, err);
         }
         if (st) {
             csf_profile_free(*out);
