@@ -1,16 +1,22 @@
 /* Photometric calibration procedure (see calib/display_calib.h for the contract).
  *
- * Level placement: each curve starts from a coarse grid; then, repeatedly, every interior knot is
- * predicted from a model fitted without it (leave-one-out). That prediction error, weighted by
- * 1/max(L, 10 % of peak) because relative accuracy matters where luminance is high, is charged
- * to the two intervals beside the knot; the worst interval is split at its midpoint. Where the
- * curve is nearly a power law the model already fits and no readings are spent; where it bends
- * (an LCD toe, a kink in a measured curve) they concentrate. Repeats: when the estimated noise at
- * a level exceeds target/2.5, the level is read several times and averaged.
+ * Grey: a coarse grid, then adaptive levels. Repeatedly, every interior knot is predicted from a
+ * model fitted without it (leave-one-out). That prediction error, weighted by 1/max(L, 10 % of
+ * peak) because relative accuracy matters where luminance is high, is charged to the two
+ * intervals beside the knot; the worst interval is split (where its neighbours' secants cross: at
+ * a kink that is the break). Where the curve is nearly a power law the model already fits and no
+ * readings are spent; where it bends (an LCD toe, a kink) they concentrate. What the placement
+ * leaves of grey's share repeats the noisiest levels above 10 % of peak: with the default
+ * instrument the error left is its noise, not the model (see docs/display-profile.md).
  *
- * Drift: the white (grey at full drive) is re-read between sweeps; every reading is scaled by the
- * latest white over the white interpolated at its time, so a display still warming up does not
- * bend the curve. */
+ * Channels: fitted through the grey curve (a smooth channel-to-grey ratio with two to four
+ * parameters, see fit_ratio), so a handful of readings per channel average their noise instead
+ * of each becoming a knot; the channel's own adaptive curve is the fallback.
+ *
+ * Drift: the white (grey at full drive) is re-read between sweeps; a warm-up curve A + B e^(-t/tau)
+ * fitted to every white reading scales each reading to the latest white, so a display still
+ * warming up does not bend the curve (references interpolated in time when the curve does not
+ * fit). */
 #include "calib/display_calib.h"
 
 #include <math.h>
