@@ -273,6 +273,30 @@ static csf_status person_screen(person *p, const char *text, csf_error *err)
     }
 }
 
+/* Escape during a human session: offer to resume or stop (data kept either way). Returns 1 to
+ * resume (the interrupted trial is shown again), 0 to stop (the session is stored as paused). */
+static int ask_resume(person *p, int done, int total)
+{
+    if (p->sim || !p->resp) return 0;
+    char msg[200];
+    snprintf(msg, sizeof msg, "Paused after %d of %d trials; everything so far is saved.\n"
+                              "R: resume now.  S or Escape: stop (continue later with --resume).",
+             done, total);
+    csf_error e;
+    for (;;) {
+        if (csf_presenter_text_screen(p->pres, msg, &e) != CSF_OK) return 0;
+        csf_response ev;
+        while (csf_responder_poll(p->resp, &ev)) {
+            if (ev.kind == CSF_RESP_ESCAPE) return 0;
+            if (ev.kind == CSF_RESP_KEY && (ev.key == 'S' || ev.key == 's')) return 0;
+            if (ev.kind == CSF_RESP_KEY && (ev.key == 'R' || ev.key == 'r')) {
+                p->paused = 0;
+                return 1;
+            }
+        }
+    }
+}
+
 /* ---- trial execution ---------------------------------------------------------------------- */
 
 typedef struct {
@@ -845,6 +869,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
                                  "Escape pauses. Press a key to start.",
                            err);
         if (st != CSF_OK) goto restore;
+        if (who.paused) ask_resume(&who, 0, set.trials);
     }
     /* Practice trials: suprathreshold; for fade they measure the simple reaction time. */
     for (int k = (int)n_prac_stored; k < set.practice && !who.paused && !stop_requested; k++) {
@@ -861,6 +886,10 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         if (st != CSF_OK) goto restore;
         if (who.paused) {
             if (tr.have_rec) csf_trial_record_free(&tr.rec);
+            if (ask_resume(&who, 0, set.trials)) {
+                k--; /* the practice trial again */
+                continue;
+            }
             break;
         }
         csf_trial t;
@@ -937,7 +966,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", trial_index, set.trials);
             st = person_screen(&who, msg, err);
             if (st != CSF_OK) goto restore;
-            if (who.paused) break;
+            if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
         }
         trial_result tr;
         st = plan.task == CSF_TASK_FADE ? run_fade(&run, (uint64_t)trial_index, c, &plan, polar, 0, &tr, err)
@@ -945,7 +974,13 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         if (st != CSF_OK) goto restore;
         if (who.paused) {
             if (tr.have_rec) csf_trial_record_free(&tr.rec);
-            break; /* the interrupted trial is not stored: it is shown again on resume */
+            /* The interrupted trial is not stored: it is shown again, now or on --resume
+             * (next() is a function of the state and the index, so it plans the same trial). */
+            if (ask_resume(&who, trial_index, set.trials)) {
+                trial_index--;
+                continue;
+            }
+            break;
         }
         csf_trial t;
         fill_trial(&t, sid, seq, set.method, c, polar, mean_lum, &plan, 0, &tr);
