@@ -458,15 +458,19 @@ csf_display_profile *csf_profile_default(void)
  * interval, and neither knot looks like a corner (each carries half of the break). Detected in
  * the power-transformed space, where the curve is nearly straight: the lines through the knots on
  * either side (spans of at least 0.02 of drive, so one noisy knot does not tilt them) differ in
- * slope by more than 15 %, and that break per unit width is at least 4 times the change of slope
+ * slope by more than 15 %, and that break per unit width is at least 3 times the change of slope
  * just outside (a smooth curve bends evenly). The kink is then where the two lines cross: that
- * point becomes a knot, which is_corner() keeps as a corner. Writes up to max crossings (drive,
- * transformed y) into xs/ys, returns how many. */
+ * point becomes a knot, which is_corner() keeps as a corner (when its intervals are at least
+ * 1/512 wide; else it is still the vertex between two short intervals). Writes up to max
+ * crossings (drive, transformed y) into xs/ys, returns how many. */
 static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
 {
-    const double span = 0.02, gap = 1.0 / 512;
-    int nf = 0;
-    for (int k = 1; k + 2 < c->n && nf < max; k++) {
+    const double span = 0.02, gap = 1.0 / 1024;
+    enum { MAXC = 64 };
+    int ck[MAXC];
+    double cx[MAXC], cy[MAXC], ch[MAXC];
+    int nc = 0;
+    for (int k = 1; k + 2 < c->n && nc < MAXC; k++) {
         if (is_corner(c->v, c->y, c->n, k) || is_corner(c->v, c->y, c->n, k + 1)) continue;
         int a = k - 1, b = k + 2;
         while (a > 0 && c->v[k] - c->v[a] < span) a--;
@@ -483,12 +487,12 @@ static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
         while (b2 < c->n - 1 && c->v[b2] - c->v[b] < span) b2++;
         if (a2 >= 0 && c->v[a] - c->v[a2] >= span) {
             double sLL = (c->y[a] - c->y[a2]) / (c->v[a] - c->v[a2]);
-            if (!(here > 4 * fabs(sL - sLL) / (0.5 * (c->v[k] - c->v[a2])))) smooth = 0;
+            if (!(here > 3 * fabs(sL - sLL) / (0.5 * (c->v[k] - c->v[a2])))) smooth = 0;
             sides++;
         }
         if (b2 < c->n && c->v[b2] - c->v[b] >= span) {
             double sRR = (c->y[b2] - c->y[b]) / (c->v[b2] - c->v[b]);
-            if (!(here > 4 * fabs(sRR - sR) / (0.5 * (c->v[b2] - c->v[k + 1])))) smooth = 0;
+            if (!(here > 3 * fabs(sRR - sR) / (0.5 * (c->v[b2] - c->v[k + 1])))) smooth = 0;
             sides++;
         }
         if (!sides || !smooth) continue;
@@ -496,10 +500,24 @@ static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
         if (!(x >= c->v[k] + gap && x <= c->v[k + 1] - gap)) continue;
         double y = c->y[k] + sL * (x - c->v[k]);
         if (!(y > c->y[k] && y < c->y[k + 1])) continue;
-        xs[nf] = x;
-        ys[nf] = y;
+        ck[nc] = k;
+        cx[nc] = x;
+        cy[nc] = y;
+        ch[nc] = here;
+        nc++;
+    }
+    /* one kink shows in neighbouring pairs too (a line that reaches across it is tilted and
+     * crosses the other short of it): keep the pair with the sharpest break among those within
+     * two knots of each other */
+    int nf = 0;
+    for (int i = 0; i < nc && nf < max; i++) {
+        int keep = 1;
+        for (int j = 0; j < nc; j++)
+            if (j != i && abs(ck[j] - ck[i]) <= 2 && (ch[j] > ch[i] || (ch[j] == ch[i] && j < i))) keep = 0;
+        if (!keep) continue;
+        xs[nf] = cx[i];
+        ys[nf] = cy[i];
         nf++;
-        k++; /* the next pair shares knot k+1 */
     }
     return nf;
 }
