@@ -269,7 +269,7 @@ static csf_status gl_compile(GLenum type, const char *src, GLuint *out, csf_erro
 
 static csf_status gl_setup(csf_presenter *p, csf_error *err)
 {
-    GLuint vs, fs;
+    GLuint vs = 0, fs = 0;
     csf_status st = gl_compile(GL_VERTEX_SHADER, vs_src, &vs, err);
     if (st) return st;
     st = gl_compile(GL_FRAGMENT_SHADER, fs_src, &fs, err);
