@@ -495,7 +495,7 @@ static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
             if (!(here > 3 * fabs(sRR - sR) / (0.5 * (c->v[b2] - c->v[k + 1])))) smooth = 0;
             sides++;
         }
-        if (!sides || !smooth) continue;
+        if (sides < 2 || !smooth) continue; /* both sides: near an end one side proves nothing */
         double x = (c->y[k + 1] - c->y[k] + sL * c->v[k] - sR * c->v[k + 1]) / (sL - sR);
         if (!(x >= c->v[k] + gap && x <= c->v[k + 1] - gap)) continue;
         double y = c->y[k] + sL * (x - c->v[k]);

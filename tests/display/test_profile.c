@@ -207,5 +207,30 @@ int main(void)
         CHECK_NEAR(csf_profile_channel_lum(p, 1, 1), 99.8 * 0.7152, 1e-9);
         csf_profile_free(p);
     }
+    /* a kink between two levels: the model adds the vertex where the lines from both sides
+     * cross, so the kink is not rounded over the interval; a smooth curve gets no extra knot */
+    {
+        /* gamma 2.3 with the slope 35 % steeper above drive 0.6275 (continuous there) */
+#define KINK_L(v) ((v) <= 0.6275 ? 0.2 + 100 * pow((v), 2.3) \
+                                 : 0.2 + 100 * (pow(0.6275, 2.3) + 1.35 * (pow((v), 2.3) - pow(0.6275, 2.3))))
+        double lv[] = {0, 0.125, 0.25, 0.375, 0.5, 0.55, 0.6, 0.625, 0.6325, 0.66, 0.7, 0.75, 0.875, 1};
+        size_t nl = sizeof lv / sizeof lv[0];
+        double lum[16], ev[3] = {0.6275, 0.63, 0.626}, el[3];
+        for (size_t i = 0; i < nl; i++) lum[i] = KINK_L(lv[i]);
+        CHECK_INT_EQ(csf_profile_fit_curve(lv, lum, nl, 0, ev, el, 3, &err), CSF_OK);
+        for (int i = 0; i < 3; i++)
+            CHECK_MSG(fabs(el[i] / KINK_L(ev[i]) - 1) < 0.0005, "kink model at %g off by %g", ev[i],
+                      el[i] / KINK_L(ev[i]) - 1);
+        double cd[4];
+        size_t nc = csf_profile_fit_corners(lv, lum, nl, 0, cd, 4, &err);
+        CHECK_INT_EQ(nc, 1);
+        if (nc) CHECK_NEAR(cd[0], 0.6275, 0.0005);
+        /* smooth: same levels on a plain power law, no corner and no added knot */
+        for (size_t i = 0; i < nl; i++) lum[i] = 0.2 + 100 * pow(lv[i], 2.3);
+        CHECK_INT_EQ(csf_profile_fit_corners(lv, lum, nl, 0, cd, 4, &err), 0);
+        CHECK_INT_EQ(csf_profile_fit_curve(lv, lum, nl, 0, ev, el, 3, &err), CSF_OK);
+        for (int i = 0; i < 3; i++) CHECK_NEAR(el[i] / (0.2 + 100 * pow(ev[i], 2.3)), 1, 0.0005);
+#undef KINK_L
+    }
     return CHECK_RESULT();
 }
