@@ -240,11 +240,14 @@ void csf_geometry_px_per_deg(const csf_geometry *g, double ecc_deg, double polar
             *radial = hypot(x1 - x2, y1 - y2) / (2 * h);
     }
     if (tangential) {
-        /* angular distance on the sphere for a polar step dp is sin(ecc) dp */
-        double dp = h / sin(e0 * DEG);
+        /* angular distance on the sphere for a polar step dp is sin(ecc) dp; near the centre the
+         * ring is so small that dp stops being a small step (the chord falls short of the arc), so
+         * step around a ring of at least 0.1 deg, where dp stays under 0.6 deg of polar angle. */
+        double et = ecc_deg < 0.1 ? 0.1 : ecc_deg;
+        double dp = h / sin(et * DEG);
         *tangential = 0;
-        if (csf_geometry_deg_to_px(g, e0, polar_deg + dp, &x1, &y1) &&
-            csf_geometry_deg_to_px(g, e0, polar_deg - dp, &x2, &y2))
+        if (csf_geometry_deg_to_px(g, et, polar_deg + dp, &x1, &y1) &&
+            csf_geometry_deg_to_px(g, et, polar_deg - dp, &x2, &y2))
             *tangential = hypot(x1 - x2, y1 - y2) / (2 * h);
     }
 }

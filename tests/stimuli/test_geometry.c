@@ -45,11 +45,16 @@ int main(void)
     CHECK_NEAR(y, -2.0, 1e-9);
 
     /* local pixel density: radial D/cos^2, tangential D/cos (relative to the centre) */
-    double r0, t0;
+    double r0, t0, r, t;
     csf_geometry_px_per_deg(&g, 0, 0, &r0, &t0);
     CHECK_NEAR(r0, 570 * DEG / (531.0 / 1920), 1e-3 * r0);
+    /* at the centre every direction has the same density (square pixels), also tangentially */
+    CHECK_NEAR(t0, r0, 2e-3 * r0);
+    csf_geometry_px_per_deg(&g, 0, 90, &r, &t);
+    CHECK_NEAR(t, r0, 2e-3 * r0);
+    CHECK_NEAR(r, r0, 2e-3 * r0);
     for (int ecc = 5; ecc <= 20; ecc += 5) {
-        double r, t, c = cos(ecc * DEG);
+        double c = cos(ecc * DEG);
         csf_geometry_px_per_deg(&g, ecc, 0, &r, &t);
         CHECK_NEAR(r / r0, 1 / (c * c), 2e-3);
         CHECK_NEAR(t / r0, 1 / c, 2e-3);
