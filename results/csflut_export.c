@@ -49,12 +49,23 @@ static void sb_printf(sbuf *b, const char *fmt, ...)
     }
 }
 
-/* %.17g, with inf/nan spelled the way the CSV importer reads them. */
+/* The shortest decimal that reads back as the same double (exact, and 0.3 prints as 0.3). */
+static void sb_real(sbuf *b, double v)
+{
+    char buf[40];
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v) break;
+    }
+    sb_printf(b, "%s", buf);
+}
+
+/* Exact numbers, with inf/nan spelled the way the CSV importer reads them. */
 static void sb_num(sbuf *b, double v)
 {
     if (v != v) sb_printf(b, "nan");
     else if (isinf(v)) sb_printf(b, v > 0 ? "inf" : "-inf");
-    else sb_printf(b, "%.17g", v);
+    else sb_real(b, v);
 }
 
 static void sb_json_str(sbuf *b, const char *s)
@@ -73,7 +84,7 @@ static void sb_json_str(sbuf *b, const char *s)
 static void sb_json_num(sbuf *b, double v)
 {
     if (!isfinite(v)) sb_printf(b, "null");
-    else sb_printf(b, "%.17g", v);
+    else sb_real(b, v);
 }
 
 static const char *const csv_cols[4] = {"freq_cpd", "ecc_deg", "velocity_dps", "lum_cdm2"};

@@ -44,7 +44,16 @@ static void put_text_json(FILE *out, const char *s)
     fputc('"', out);
 }
 
-/* %.17g keeps every double exactly (round trip), which a tidy export should. */
+/* The shortest decimal that reads back as the same double: exact like %.17g, but 0.3 stays 0.3
+ * instead of 0.29999999999999999, which people reading a tidy table expect. */
+static void shortest_real(char *buf, size_t len, double v)
+{
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, len, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v) return;
+    }
+}
+
 static void put_real(FILE *out, double v, int json)
 {
     if (isnan(v)) {
@@ -52,7 +61,9 @@ static void put_real(FILE *out, double v, int json)
     } else if (isinf(v)) {
         fputs(json ? "null" : (v > 0 ? "Inf" : "-Inf"), out);
     } else {
-        fprintf(out, "%.17g", v);
+        char buf[40];
+        shortest_real(buf, sizeof buf, v);
+        fputs(buf, out);
     }
 }
 
