@@ -471,7 +471,7 @@ static int bracketed_corners(const curve *c, double *xs, double *ys, int max)
     double cx[MAXC], cy[MAXC], ch[MAXC];
     int nc = 0;
     for (int k = 1; k + 2 < c->n && nc < MAXC; k++) {
-        if (is_corner(c->v, c->y, c->n, k) || is_corner(c->v, c->y, c->n, k + 1)) continue;
+        /* (a knot already taken for a corner may be one beside the kink: the crossing decides) */
         int a = k - 1, b = k + 2;
         while (a > 0 && c->v[k] - c->v[a] < span) a--;
         while (b < c->n - 1 && c->v[b] - c->v[k + 1] < span) b++;
