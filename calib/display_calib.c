@@ -757,7 +757,7 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
     static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
     /* channels: spread over the range the target covers, for the fit of the channel-to-grey
      * ratio (see fit_ratio); the most informative first in case the budget is short */
-    static const double grid_ch[] = {0.5, 0.75, 0.3, 0.9};
+    static const double grid_ch[] = {0.5, 0.75, 0.35, 0.9};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
     /* a channel's full drive scales its whole curve: read it twice when the share allows (the
