@@ -10,6 +10,7 @@
 
 #include "calib/cli.h"
 #include "calib/commands.h"
+#include "results/file_read.h"
 #include "results/csflut.h"
 
 static const char lut_help[] =
@@ -336,42 +337,6 @@ static int cmd_export(const lut_args *a)
     return 0;
 }
 
-static char *read_all(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 65536, n = 0;
-    char *buf = malloc(cap);
-    const size_t limit = (size_t)512 << 20;
-    while (buf) {
-        if (n == cap) {
-            if (cap >= limit) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            char *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) break;
-    }
-    if (buf && ferror(f)) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    *len = n;
-    return buf;
-}
-
 static int cmd_import(const lut_args *a)
 {
     if (!a->file || !a->out) {
@@ -379,10 +344,10 @@ static int cmd_import(const lut_args *a)
         return 2;
     }
     size_t len;
-    char *text = read_all(a->file, &len);
-    if (!text) {
-        fprintf(stderr, "csfcal: lut import: cannot read %s (missing, unreadable or over 512 MiB)\n",
-                a->file);
+    char *text;
+    csf_error rerr;
+    if (csf_read_file(a->file, "threshold grid", (size_t)512 << 20, &text, &len, &rerr) != CSF_OK) {
+        fprintf(stderr, "csfcal: lut import: %s\n", rerr.msg);
         return 1;
     }
     csflut_grid *g;

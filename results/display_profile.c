@@ -7,6 +7,7 @@
  * many more readings. g is fitted per curve and stored, so the model is fully determined by the
  * file and the inverse is exact on the same piecewise cubic. */
 #include "results/display_profile.h"
+#include "results/file_read.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -1259,31 +1260,11 @@ csf_status csf_profile_parse(const char *text, size_t len, csf_display_profile *
 csf_status csf_profile_load(const char *path, csf_display_profile **out, csf_error *err)
 {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f) return csf_error_set(err, CSF_E_IO, "cannot open display profile %s: %s", path, strerror(errno));
-    size_t cap = 65536, n = 0;
-    char *buf = malloc(cap);
-    csf_status st = CSF_OK;
-    while (buf) {
-        if (n == cap) {
-            if (cap > MAX_FILE_BYTES) break;
-            char *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) st = csf_error_set(err, CSF_E_IO, "cannot read display profile %s", path);
-    fclose(f);
-    if (!buf) return csf_error_set(err, CSF_E_NOMEM, "out of memory reading %s", path);
-    if (!st) st = parse_named(buf, n, path, out, err);
+    char *buf;
+    size_t n;
+    csf_status st = csf_read_file(path, "display profile", MAX_FILE_BYTES, &buf, &n, err);
+    if (st) return st;
+    st = parse_named(buf, n, path, out, err);
     free(buf);
     return st;
 }
