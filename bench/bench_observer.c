@@ -3,9 +3,16 @@
  * seeds, for every 2AFC method in the registry, and side by side with Psychtoolbox's QUEST (one
  * QUEST per cell, run by bench/quest/run_quest.m under octave-cli) with --quest.
  *
- * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--quest]
- *                       [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH] [--first-seed 1]
- * Run from the source root (default table bench/data/observer_bumpy.csv, script bench/quest/). */
+ * Observers: the parametric default (the model's own form) and two table-defined ones that are
+ * not of the model's form: bench/data/observer_bumpy.csv (adversarial: notch and ripple) and
+ * bench/data/observer_mscaled.csv (smooth and realistic: Barten fovea, Rovamo-Virsu frequency
+ * scaling over eccentricity); the scripts next to them say how they were made.
+ *
+ * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
+ *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
+ *                       [--first-seed 1] [--observers 0,1,2]
+ * Run from the source root (default tables bench/data/observer_bumpy.csv and
+ * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,7 +21,7 @@
 #include "calib/procedure.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 2 };
+enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3 };
 
 static double now_s(void)
 {
@@ -51,6 +58,8 @@ int main(int argc, char **argv)
 {
     int n_seeds = 20, budgets[MAX_BUDGETS] = {60, 80, 120, 240, 480}, n_budgets = 5, quest = 0;
     const char *table = "bench/data/observer_bumpy.csv", *methods_arg = "bayes,2afc";
+    const char *table2 = "bench/data/observer_mscaled.csv";
+    int use_obs[N_OBS] = {1, 1, 1};
     const char *octave = "octave-cli";
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
@@ -69,6 +78,13 @@ int main(int argc, char **argv)
             }
         } else if (!strcmp(argv[i], "--table") && i + 1 < argc) {
             table = argv[++i];
+        } else if (!strcmp(argv[i], "--table2") && i + 1 < argc) {
+            table2 = argv[++i];
+        } else if (!strcmp(argv[i], "--observers") && i + 1 < argc) {
+            const char *o = argv[++i];
+            for (int k = 0; k < N_OBS; k++) use_obs[k] = 0;
+            for (; *o; o++)
+                if (*o >= '0' && *o < '0' + N_OBS) use_obs[*o - '0'] = 1;
         } else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
             methods_arg = argv[++i];
         } else if (!strcmp(argv[i], "--octave") && i + 1 < argc) {
@@ -89,7 +105,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -110,15 +126,17 @@ int main(int argc, char **argv)
     csf_cell cells[24];
     int n = sim2afc_default_grid(cells);
     const double cmax = 1.0;
-    const char *obs_name[N_OBS] = {"parametric (default CSF model)", "table (bench/data bumpy)"};
+    const char *obs_name[N_OBS] = {"parametric (default CSF model)", "table (bench/data bumpy)",
+                                   "table (bench/data mscaled: Barten x Rovamo-Virsu M(e))"};
     sim2afc probe[N_OBS];
     sim2afc_parametric(&probe[0], csf_model_default(), 0);
     if (sim2afc_table(&probe[1], table, 0) != 0) return 1;
+    if (sim2afc_table(&probe[2], table2, 0) != 0) return 1;
 
     double rms[N_OBS][MAX_METHODS][MAX_BUDGETS], ms_per_session[N_OBS][MAX_METHODS][MAX_BUDGETS];
     int wrong_vis[N_OBS][MAX_METHODS][MAX_BUDGETS];
     for (int ob = 0; ob < N_OBS; ob++)
-        for (int m = 0; m < n_methods; m++)
+        for (int m = 0; m < n_methods && use_obs[ob]; m++)
             for (int b = 0; b < n_budgets; b++) {
                 double sum_sq = 0.0, t0 = now_s();
                 int wrong_total = 0;
@@ -153,7 +171,7 @@ int main(int argc, char **argv)
         for (int b = 0; b < n_budgets; b++) fprintf(tf, ",%d", budgets[b]);
         fprintf(tf, "\n");
         for (int ob = 0; ob < N_OBS; ob++)
-            for (int c = 0; c < n; c++) {
+            for (int c = 0; c < n && use_obs[ob]; c++) {
                 double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
                 fprintf(tf, "%d,%d,%.6f,%.6f,%d\n", ob, c, t, guess_log10(&cells[c]), t < log10(cmax));
             }
@@ -187,6 +205,7 @@ int main(int argc, char **argv)
     printf("(2AFC, Weibull slope %.1f, lapse %.2f, max contrast %.2f; wrong = cells with the wrong "
            "visibility, summed over seeds)\n\n", probe[0].slope, probe[0].lapse, cmax);
     for (int ob = 0; ob < N_OBS; ob++) {
+        if (!use_obs[ob]) continue;
         printf("observer: %s\n", obs_name[ob]);
         printf("| trials |");
         for (int m = 0; m < n_methods; m++) printf(" %-6s RMS | wrong | ms/session |", methods[m]->name);

@@ -73,6 +73,21 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef BAYES_CRITERION_ENTROPY
 #define BAYES_CRITERION_ENTROPY 0 /* 1: Psi-style entropy; 0: expected variance reduction */
 #endif
+/* Correlated part of the offsets (see gp_predict): o ~ N(0, sd^2 (share*C + (1-share)*I)), with
+ * C = (1-w) C_smooth + w C_column, two squared-exponential correlations over (log2 f, ecc):
+ * C_smooth for deviations that vary smoothly over both axes, C_column for a deviation of the
+ * foveal curve's shape that every eccentricity at that frequency shares. */
+#ifndef GP_SMOOTH_SHARE
+#define GP_SMOOTH_SHARE 0.7    /* fraction of the offset variance that is shared between cells */
+#endif
+#define GP_LEN_OCT 1.0         /* C_smooth: correlation length over frequency, octaves */
+#define GP_LEN_DEG 7.0         /* ... and over eccentricity, degrees */
+#define GP_COL_LEN_OCT 0.3     /* C_column: a single frequency column ... */
+#define GP_COL_LEN_DEG 30.0    /* ... over the whole eccentricity range */
+#define GP_COL_WEIGHT 0.5      /* w */
+#define GP_MAX_CELLS 128       /* larger grids keep independent offsets (cost grows as n^3) */
+#define GP_BROAD_SD 0.25       /* log10: broad prior used to summarise a cell's trials as a Gaussian */
+#define GP_MAX_SHIFT 0.6       /* log10: cap on a predicted offset */
 #define MIN_LAPSE 1e-3         /* a zero lapse rate would make one wrong answer at high contrast fatal */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
@@ -119,6 +134,14 @@ typedef struct {
     double *hist;    /* [N_LEVELS*n_grid] scratch for refresh_cache */
     double *weak;    /* [n_cells*n_grid] per-cell fallback prior: surface blurred by the wide sd */
     int cache_valid;
+
+    /* correlated offsets (NULL corr: off) */
+    double *corr;    /* [n_cells*n_cells] correlation C of the shared part */
+    double *gp_a, *gp_inv; /* [n_cells*n_cells] covariance of the observed residuals, its inverse */
+    double *gp_y, *gp_nv; /* [n_cells] residual of each observed cell, its noise variance */
+    int *gp_obs;     /* [n_cells] cells with a residual */
+    double *gp_mu, *gp_var; /* [N_LEVELS*n_cells] predicted offset mean / variance from the other cells */
+    double *kern;    /* [2*n_grid+1] scratch kernel */
 
     /* scratch */
     double *scratch_a, *scratch_b; /* [max(n_grid, n_part)] */
@@ -324,11 +347,173 @@ static void resample_move(bayes_state *s, int trial_index)
     for (int i = 0; i < n; i++) s->logw[i] = 0.0;
 }
 
+/* Inverse of the symmetric positive definite n x n matrix a (row-major; destroyed) into inv,
+ * through a = L L^T. Returns 0, or -1 when a is not positive definite. */
+static int spd_invert(double *a, int n, double *inv)
+{
+    for (int j = 0; j < n; j++) { /* L in the lower triangle of a */
+        double d = a[(size_t)j * n + j];
+        for (int k = 0; k < j; k++) d -= a[(size_t)j * n + k] * a[(size_t)j * n + k];
+        if (!(d > 0.0)) return -1;
+        d = sqrt(d);
+        a[(size_t)j * n + j] = d;
+        for (int i = j + 1; i < n; i++) {
+            double v = a[(size_t)i * n + j];
+            for (int k = 0; k < j; k++) v -= a[(size_t)i * n + k] * a[(size_t)j * n + k];
+            a[(size_t)i * n + j] = v / d;
+        }
+    }
+    /* L^-1 into the lower triangle of inv, column by column (forward substitution) */
+    for (int j = 0; j < n; j++) {
+        for (int i = 0; i < j; i++) inv[(size_t)i * n + j] = 0.0;
+        inv[(size_t)j * n + j] = 1.0 / a[(size_t)j * n + j];
+        for (int i = j + 1; i < n; i++) {
+            double v = 0.0;
+            for (int k = j; k < i; k++) v -= a[(size_t)i * n + k] * inv[(size_t)k * n + j];
+            inv[(size_t)i * n + j] = v / a[(size_t)i * n + i];
+        }
+    }
+    /* A^-1 = L^-T L^-1: entry (i, j), i <= j, reads rows k >= j of L^-1 (lower triangle), and is
+     * written to the upper triangle, which nothing reads any more; then mirrored */
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++) {
+            double v = 0.0;
+            for (int k = j; k < n; k++) v += inv[(size_t)k * n + i] * inv[(size_t)k * n + j];
+            a[(size_t)i * n + j] = v; /* a's upper triangle is free scratch */
+        }
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++) inv[(size_t)i * n + j] = inv[(size_t)j * n + i] = a[(size_t)i * n + j];
+    return 0;
+}
+
+/* Correlated offsets. The particles treat the per-cell offsets as independent given the level
+ * sd; here their smooth part is shared between neighbouring cells. Each cell's trials are
+ * summarised as a Gaussian residual against the surface (its likelihood times a broad normal
+ * around the leave-cell-out surface mean, with that broad prior divided out again); for every
+ * cell and level, the Gaussian conditional of its offset given the other cells' residuals under
+ * o ~ N(0, sd_l^2 (share*C + (1-share)*I)) is the kernel that replaces the independent N(0, sd_l)
+ * in that cell's surface prior. The cell's own trials still enter exactly, through its likelihood.
+ * Without residuals (or with the feature off) the kernel is the independent one. */
+static void gp_predict(bayes_state *s)
+{
+    int nc = s->n_cells, G = s->n_grid, n = s->n_part;
+    for (int l = 0; l < N_LEVELS; l++)
+        for (int c = 0; c < nc; c++) {
+            s->gp_mu[(size_t)l * nc + c] = 0.0;
+            s->gp_var[(size_t)l * nc + c] = offset_sd_levels[l] * offset_sd_levels[l];
+        }
+    if (!s->corr) return;
+    int no = 0;
+    for (int c = 0; c < nc; c++) {
+        if (!s->n_trials[c]) continue;
+        /* leave-cell-out surface mean and variance (no offset) */
+        double mx = -INFINITY;
+        for (int i = 0; i < n; i++) {
+            double lw = s->logw[i] - s->logz[(size_t)i * nc + c];
+            if (lw > mx) mx = lw;
+        }
+        double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+        for (int i = 0; i < n; i++) {
+            double w = exp(s->logw[i] - s->logz[(size_t)i * nc + c] - mx), m = s->m[(size_t)i * nc + c];
+            w0 += w, w1 += w * m, w2 += w * m * m;
+        }
+        double mbar = w1 / w0, vs = fmax(w2 / w0 - mbar * mbar, 0.0);
+        double pv = vs + GP_BROAD_SD * GP_BROAD_SD;
+        const double *ll = &s->loglik[(size_t)c * G];
+        double lmx = -INFINITY;
+        for (int g = 0; g < G; g++) {
+            double t = s->lo + g * s->step, v = ll[g] - 0.5 * (t - mbar) * (t - mbar) / pv;
+            if (v > lmx) lmx = v;
+        }
+        double q0 = 0.0, q1 = 0.0, q2 = 0.0;
+        for (int g = 0; g < G; g++) {
+            double t = s->lo + g * s->step;
+            double q = exp(ll[g] - 0.5 * (t - mbar) * (t - mbar) / pv - lmx);
+            q0 += q, q1 += q * (t - mbar), q2 += q * (t - mbar) * (t - mbar);
+        }
+        double qm = q1 / q0, qv = fmax(q2 / q0 - qm * qm, 1e-8);
+        double prec = 1.0 / qv - 1.0 / pv;
+        if (!(prec > 4.0)) continue; /* the trials say little (sd > 0.5 log10): no residual */
+        double y = (qm / qv) / prec;
+        s->gp_obs[no] = c;
+        s->gp_y[no] = clampd(y, -GP_MAX_SHIFT, GP_MAX_SHIFT);
+        s->gp_nv[no] = 1.0 / prec + vs;
+        no++;
+    }
+    if (!no) return;
+    double *a = s->gp_a, *ainv = s->gp_inv, *alpha = s->scratch_b;
+    for (int l = 0; l < N_LEVELS; l++) {
+        double v2 = offset_sd_levels[l] * offset_sd_levels[l];
+        for (int i = 0; i < no; i++)
+            for (int j = 0; j < no; j++) {
+                double cv = v2 * GP_SMOOTH_SHARE * s->corr[(size_t)s->gp_obs[i] * nc + s->gp_obs[j]];
+                if (i == j) cv += v2 * (1.0 - GP_SMOOTH_SHARE) + s->gp_nv[i];
+                a[(size_t)i * no + j] = cv;
+            }
+        if (spd_invert(a, no, ainv) != 0) continue; /* cannot happen for a valid kernel */
+        for (int i = 0; i < no; i++) {
+            double v = 0.0;
+            for (int j = 0; j < no; j++) v += ainv[(size_t)i * no + j] * s->gp_y[j];
+            alpha[i] = v;
+        }
+        double *mu = &s->gp_mu[(size_t)l * nc], *var = &s->gp_var[(size_t)l * nc];
+        int k = 0;
+        for (int c = 0; c < nc; c++) {
+            if (k < no && s->gp_obs[k] == c) { /* leave-one-out conditional */
+                double aii = ainv[(size_t)k * no + k];
+                mu[c] = s->gp_y[k] - alpha[k] / aii;
+                var[c] = fmax(1.0 / aii - s->gp_nv[k], 1e-6);
+                k++;
+                continue;
+            }
+            double m = 0.0, q = 0.0;
+            for (int i = 0; i < no; i++) {
+                double ki = v2 * GP_SMOOTH_SHARE * s->corr[(size_t)c * nc + s->gp_obs[i]];
+                m += ki * alpha[i];
+                double t = 0.0;
+                for (int j = 0; j < no; j++)
+                    t += ainv[(size_t)i * no + j] * v2 * GP_SMOOTH_SHARE * s->corr[(size_t)c * nc + s->gp_obs[j]];
+                q += ki * t;
+            }
+            mu[c] = m;
+            var[c] = fmax(v2 - q, 1e-6);
+        }
+        for (int c = 0; c < nc; c++) mu[c] = clampd(mu[c], -GP_MAX_SHIFT, GP_MAX_SHIFT);
+    }
+}
+
+/* acc += hist (*) (1 - eps) N(mu, var): the narrow offset kernel of one cell and level. */
+static void convolve_shifted(bayes_state *s, const double *hist, double mu, double var, double *acc)
+{
+    int G = s->n_grid;
+    int g0 = 0, g1 = G - 1;
+    while (g0 <= g1 && hist[g0] == 0.0) g0++;
+    while (g1 >= g0 && hist[g1] == 0.0) g1--;
+    if (g0 > g1) return;
+    double sd = sqrt(var);
+    int d0 = (int)floor((mu - 4.0 * sd) / s->step), d1 = (int)ceil((mu + 4.0 * sd) / s->step);
+    if (d0 < -G) d0 = -G;
+    if (d1 > G) d1 = G;
+    double *k = s->kern, tot = 0.0;
+    for (int d = d0; d <= d1; d++) {
+        double z = (d * s->step - mu) / sd;
+        tot += (k[d - d0] = exp(-0.5 * z * z));
+    }
+    double sc = (1.0 - OFFSET_WIDE_WEIGHT) / tot;
+    for (int g = g0; g <= g1; g++) {
+        double h = hist[g] * sc;
+        if (h == 0.0) continue;
+        int j0 = g + d0 < 0 ? 0 : g + d0, j1 = g + d1 > G - 1 ? G - 1 : g + d1;
+        for (int j = j0; j <= j1; j++) acc[j] += h * k[j - g - d0];
+    }
+}
+
 /* Per-cell surface prior (leave-cell-out) and posterior on the grid, for all cells. */
 static void refresh_cache(bayes_state *s)
 {
     if (s->cache_valid) return;
     int n = s->n_part, nc = s->n_cells, G = s->n_grid;
+    gp_predict(s);
     double *hist = s->hist; /* [N_LEVELS][G] */
     double *all = s->scratch_b;
     for (int c = 0; c < nc; c++) {
@@ -358,8 +543,13 @@ static void refresh_cache(bayes_state *s)
         double *wk = &s->weak[(size_t)c * G], wt = 0.0;
         for (int j = 0; j < G; j++) wt += (wk[j] = sp[j]);
         for (int j = 0; j < G; j++) wk[j] /= wt;
-        for (int l = 0; l < N_LEVELS; l++)
-            convolve_add(s, &hist[(size_t)l * G], s->kn[l], s->kn_half[l], sp);
+        for (int l = 0; l < N_LEVELS; l++) {
+            if (s->corr)
+                convolve_shifted(s, &hist[(size_t)l * G], s->gp_mu[(size_t)l * nc + c],
+                                 s->gp_var[(size_t)l * nc + c], sp);
+            else
+                convolve_add(s, &hist[(size_t)l * G], s->kn[l], s->kn_half[l], sp);
+        }
         double tot = 0.0;
         for (int j = 0; j < G; j++) tot += sp[j];
         for (int j = 0; j < G; j++) sp[j] /= tot;
@@ -390,6 +580,8 @@ static void bayes_destroy(void *state)
     free(s->kw), free(s->ptab), free(s->htab), free(s->tclip), free(s->level), free(s->hist);
     free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf), free(s->weak);
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
+    free(s->corr), free(s->gp_a), free(s->gp_inv), free(s->gp_y), free(s->gp_nv);
+    free(s->gp_obs), free(s->gp_mu), free(s->gp_var), free(s->kern);
     free(s);
 }
 
@@ -484,6 +676,34 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
     }
     memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
+    s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
+    s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
+    s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
+    if (!s->gp_mu || !s->gp_var || !s->kern) {
+        bayes_destroy(s);
+        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+    }
+    if (nc <= GP_MAX_CELLS && GP_SMOOTH_SHARE > 0.0) {
+        s->corr = malloc(sizeof(double) * (size_t)nc * nc);
+        s->gp_a = malloc(sizeof(double) * (size_t)nc * nc);
+        s->gp_inv = malloc(sizeof(double) * (size_t)nc * nc);
+        s->gp_y = malloc(sizeof(double) * (size_t)nc);
+        s->gp_nv = malloc(sizeof(double) * (size_t)nc);
+        s->gp_obs = malloc(sizeof(int) * (size_t)nc);
+        if (!s->corr || !s->gp_a || !s->gp_inv || !s->gp_y || !s->gp_nv || !s->gp_obs) {
+            bayes_destroy(s);
+            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+        }
+        for (int i = 0; i < nc; i++)
+            for (int j = 0; j < nc; j++) {
+                double df = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_LEN_OCT;
+                double de = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_LEN_DEG;
+                double df2 = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_COL_LEN_OCT;
+                double de2 = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_COL_LEN_DEG;
+                s->corr[(size_t)i * nc + j] = (1.0 - GP_COL_WEIGHT) * exp(-0.5 * (df * df + de * de)) +
+                                              GP_COL_WEIGHT * exp(-0.5 * (df2 * df2 + de2 * de2));
+            }
+    }
     /* offset-prior weights on the grid (density x step) */
     for (int k = -s->kw_half; k <= s->kw_half; k++) {
         double z = k * s->step / OFFSET_SD_WIDE;
