@@ -210,7 +210,10 @@ static int person_fade_frame(person *p, double t_s, double contrast_shown)
         }
         if (ev.kind == CSF_RESP_PRESS || ev.kind == CSF_RESP_CLICK) {
             p->pressed = 1;
-            p->press_rel_s = ev.t_s - p->onset_s;
+            /* Events are stamped on raw CLOCK_MONOTONIC, frames on the presenter's clock (zero
+             * at its first frame): move the event onto the presenter's clock first. */
+            double offset = csf_responder_now() - csf_presenter_time(p->pres);
+            p->press_rel_s = (ev.t_s - offset) - p->onset_s;
             p->contrast_at_press = contrast_shown;
             return 1;
         }
@@ -244,7 +247,14 @@ static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_erro
         }
         if (ev.kind == CSF_RESP_CLICK) {
             double xm, ym, ecc, polar;
-            csf_geometry_px_to_mm(p->geom, ev.x_px, ev.y_px, &xm, &ym);
+            /* The click is in window framebuffer pixels; the geometry is in the configured
+             * resolution, which the window may not have (the presenter then draws the configured
+             * screen scaled to the window). */
+            int rw, rh;
+            csf_presenter_render_size(p->pres, &rw, &rh);
+            double sx = rw > 0 ? (double)p->geom->width_px / rw : 1.0;
+            double sy = rh > 0 ? (double)p->geom->height_px / rh : 1.0;
+            csf_geometry_px_to_mm(p->geom, ev.x_px * sx, ev.y_px * sy, &xm, &ym);
             csf_geometry_mm_to_deg(p->geom, xm, ym, &ecc, &polar);
             *x_deg = ecc * cos(polar * M_PI / 180);
             *y_deg = ecc * sin(polar * M_PI / 180);
@@ -501,7 +511,10 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
             p->paused = 1;
             return CSF_OK;
         }
-        if (ev.kind == CSF_RESP_CHOICE) {
+        /* A choice made while the intervals were still running is ignored, as it is in the
+         * blank intervals (which drain the queue): answers count from the end of the second
+         * interval, so reaction times are never negative. */
+        if (ev.kind == CSF_RESP_CHOICE && ev.t_s >= t0) {
             tr->response = ev.choice;
             tr->rt_s = ev.t_s - t0;
             return CSF_OK;

@@ -1,11 +1,12 @@
 /* Response devices for a real person: one backend per file behind one struct of function
  * pointers (the libusb backend shape), chosen by name. Events carry a timestamp in seconds on
- * CLOCK_MONOTONIC, the clock the windowed presenter stamps frames with, so a reaction time is a
- * plain difference.
+ * raw CLOCK_MONOTONIC (csf_responder_now). The windowed presenter's frame times are the same
+ * clock minus its first frame's time: to compare an event with a frame, subtract
+ * csf_responder_now() - csf_presenter_time(p) from the event's t_s first.
  *
  * Backends: "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW
  * window; any mouse button or Space = press, Left/1 and Right/2 = 2AFC choice, a click carries its
- * position in window pixels, Escape = pause). "queue" (devices/responder.c): events pushed by the
+ * position in framebuffer pixels, Escape = pause). "queue" (devices/responder.c): events pushed by the
  * program itself with csf_responder_push, for scripted sessions and tests. HID button boxes and
  * gamepads are meant to be further files of the same shape. */
 #ifndef CSF_RESPONDER_H
@@ -17,7 +18,7 @@ typedef enum {
     CSF_RESP_NONE = 0,
     CSF_RESP_PRESS = 1,   /* "I see something" (button or Space) */
     CSF_RESP_CHOICE = 2,  /* 2AFC: choice = 0 (first / left) or 1 (second / right) */
-    CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), window pixels, y down */
+    CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), framebuffer pixels, y down */
     CSF_RESP_ESCAPE = 4,  /* pause request */
     CSF_RESP_KEY = 5,     /* any other key; key = its character or code */
 } csf_response_kind;

@@ -57,6 +57,15 @@ static void button_cb(GLFWwindow *w, int button, int action, int mods)
     if (!s || action != GLFW_PRESS) return;
     double t = csf_responder_now(), x, y;
     glfwGetCursorPos(w, &x, &y);
+    /* The cursor is in screen coordinates; the drawing is in framebuffer pixels (they differ on
+     * scaled / HiDPI outputs). */
+    int ww, wh, fw, fh;
+    glfwGetWindowSize(w, &ww, &wh);
+    glfwGetFramebufferSize(w, &fw, &fh);
+    if (ww > 0 && wh > 0) {
+        x *= (double)fw / ww;
+        y *= (double)fh / wh;
+    }
     /* A click is both the press (detection) and, when the session asks for a position, the
      * click; the session takes whichever it is waiting for. */
     csf_response ev = {CSF_RESP_CLICK, button, 0, x, y, t};

@@ -1,0 +1,187 @@
+#!/bin/bash
+# The human observer path end to end: `csfcal observer calibrate --observer human` in a real GLFW
+# fullscreen window on a private Xvfb, driven by key presses and mouse clicks injected with
+# xdotool (XTEST), the way a person would use it:
+#   1. 2afc: instructions dismissed with a key, every trial answered with Right (-> response 2),
+#      session finished, table written, stored trials carry response 2 and rt_s > 0.
+#   2. fade with --screen-px twice the window (the presenter scales the configured screen to the
+#      window): Space when the ramp is on, then a click at the screen centre (the grating, ecc 0):
+#      response 1, rt_s > 0.15, click near (0, 0) deg, table written.
+#   3. 2afc: two trials answered, then Escape and S: exit 1, "--resume ID", state paused, the two
+#      trials kept; --resume ID: Escape then R (resume now) mid-session, then answered to the
+#      end: finished, table written, 4 trials, sequence numbers 0..3.
+# $1 = csfcal executable. Skips (77) when Xvfb or xdotool is missing. Every wait has a timeout.
+set -u
+CSFCAL="$1"
+command -v Xvfb >/dev/null 2>&1 || { echo "SKIP: Xvfb not installed"; exit 77; }
+command -v xdotool >/dev/null 2>&1 || { echo "SKIP: xdotool not installed"; exit 77; }
+unset EGL_PLATFORM WAYLAND_DISPLAY
+
+T=$(mktemp -d /tmp/csfcal-human-XXXXXX)
+XPID=""
+CPID=""
+cleanup() {
+    [ -n "$CPID" ] && kill "$CPID" 2>/dev/null
+    [ -n "$XPID" ] && kill "$XPID" 2>/dev/null
+    [ -n "$XPID" ] && wait "$XPID" 2>/dev/null
+    rm -rf "$T"
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM
+fail=0
+check() { # check DESCRIPTION COMMAND...
+    local what="$1"; shift
+    if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi
+}
+die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 30 "$f"; }; done; exit 1; }
+
+# A private X server; -displayfd picks a free display number (no race with other tests).
+W=640 H=360
+exec 3>"$T/display"
+Xvfb -displayfd 3 -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
+XPID=$!
+exec 3>&-
+for _ in $(seq 100); do [ -s "$T/display" ] && break; sleep 0.1; done
+[ -s "$T/display" ] || { cat "$T/xvfb.log"; echo "SKIP: Xvfb did not start"; exit 77; }
+export DISPLAY=":$(head -n1 "$T/display")"
+xdotool getmouselocation >/dev/null 2>&1 || die "xdotool cannot reach $DISPLAY"
+echo "Xvfb on $DISPLAY (${W}x${H})"
+
+STORE="$T/s.sqlite"
+# 20 Hz: a frame counts as missed only after 75 ms, so a loaded 2-core machine under ASan does not
+# invalidate every ramp (Xvfb has no vsync: frames come as fast as llvmpipe draws them).
+COMMON=(observer calibrate --observer human --store "$STORE" --set refresh_hz=20 --practice 0
+        --screen-mm 531x299 --distance-mm 570)
+
+# Number of trials stored for a session (the store is the ground truth of what was answered).
+ntrials() { "$CSFCAL" sessions export "$1" --format json --store "$STORE" 2>/dev/null | grep -c '"seq"'; }
+state() { "$CSFCAL" sessions --store "$STORE" 2>/dev/null | awk -v id="$1" '$1 == id { print; exit }'; }
+alive() { kill -0 "$CPID" 2>/dev/null; }
+# wait_until SECONDS COMMAND...: polls every 0.2 s; 1 on timeout.
+wait_until() {
+    local end=$((SECONDS + $1)); shift
+    while ! "$@"; do
+        [ $SECONDS -ge $end ] && return 1
+        sleep 0.2
+    done
+}
+# Starts csfcal in the background (args...), output in $T/$TAG.out / .err.
+start() {
+    TAG="$1"; shift
+    "$CSFCAL" "${COMMON[@]}" "$@" >"$T/$TAG.out" 2>"$T/$TAG.err" &
+    CPID=$!
+}
+# The window is up and shown (csfcal polls it from then on; keys before that would be lost).
+wait_window() {
+    wait_until 30 bash -c "xdotool search --onlyvisible --name '^csfcal\$' >/dev/null 2>&1" ||
+        die "$TAG: no csfcal window within 30 s"
+    sleep 0.5
+    # No window manager: keyboard focus follows the pointer; keep it on the fullscreen window.
+    xdotool mousemove $((W / 2)) $((H / 2))
+}
+# finish: waits for csfcal to exit (30 s), sets RC.
+finish() {
+    local end=$((SECONDS + 30))
+    while alive && [ $SECONDS -lt $end ]; do sleep 0.2; done
+    if alive; then kill "$CPID"; wait "$CPID" 2>/dev/null; CPID=""; die "$TAG: csfcal did not exit"; fi
+    wait "$CPID"; RC=$?; CPID=""
+}
+# answer_2afc SID KEY N: answers until the session has N stored trials (KEY resent every 0.5 s
+# until the count moves: a choice made before the response screen is ignored by design).
+answer_2afc() {
+    local sid="$1" key="$2" n="$3" have
+    local end=$((SECONDS + 45))
+    while have=$(ntrials "$sid"); [ "$have" -lt "$n" ]; do
+        alive || die "$TAG: csfcal exited early with $have of $n trials"
+        [ $SECONDS -ge $end ] && die "$TAG: only $have of $n trials answered in 45 s"
+        xdotool key "$key"
+        sleep 0.5
+    done
+}
+json_field() { sed -n "s/.*\"$1\":\([^,}]*\).*/\1/p" <<<"$2"; }
+
+# ---- 1. 2afc, answered with Right ---------------------------------------------------------------
+start afc --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --out "$T/afc.csflut" --seed 11
+wait_window
+wait_until 15 test -n "$(state 1)" || die "afc: no session in the store"
+xdotool key space                       # instructions: any key starts
+answer_2afc 1 Right 4
+finish
+check "2afc: exit 0 (rc $RC)" test "$RC" -eq 0
+check "2afc: summary line" grep -q 'observer session 1: 2afc, 4 trials' "$T/afc.out"
+check "2afc: table written" test -s "$T/afc.csflut"
+check "2afc: table readable" bash -c "\"\$0\" lut info \"\$1\" >/dev/null" "$CSFCAL" "$T/afc.csflut"
+check "2afc: session finished" grep -q finished <<<"$(state 1)"
+J=$("$CSFCAL" sessions export 1 --format json --store "$STORE")
+check "2afc: 4 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 4
+check "2afc: every response is 2 (Right)" test "$(grep -c '"response": 2,' <<<"$J")" -eq 4
+check "2afc: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
+    split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
+
+# ---- 2. fade: Space, then a click on the grating -------------------------------------------------
+# --screen-px is twice the window: the click (window pixels) must be scaled to the geometry.
+start fade --method fade --trials 3 --freqs 1 --eccs 0 --screen-px $((2 * W))x$((2 * H)) \
+    --out "$T/fade.csflut" --seed 12 --json
+wait_window
+wait_until 15 test -n "$(state 2)" || die "fade: no session in the store"
+xdotool key space
+end=$((SECONDS + 45))
+while have=$(ntrials 2); [ "$have" -lt 3 ] && alive; do
+    [ $SECONDS -ge $end ] && die "fade: only $have of 3 trials in 45 s"
+    sleep 1.0                           # fixation (0.3 s) and into the ramp
+    xdotool key space                   # "I see it"
+    sleep 0.4
+    xdotool mousemove $((W / 2)) $((H / 2)) click 1   # where: the centre (eccentricity 0)
+    wait_until 3 test "$(ntrials 2)" -gt "$have"
+done
+finish
+check "fade: exit 0 (rc $RC)" test "$RC" -eq 0
+check "fade: JSON says ok" grep -q '"status":"ok"' "$T/fade.out"
+check "fade: table written" test -s "$T/fade.csflut"
+J=$("$CSFCAL" sessions export 2 --format json --store "$STORE")
+check "fade: 3 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 3
+check "fade: every trial has a press (response 1)" test "$(grep -c '"response": 1,' <<<"$J")" -eq 3
+check "fade: rt_s between 0.15 and 5 s (press time on the frame clock)" awk '/"seq"/ {
+    if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), a, ": ");
+    if (!(a[2] > 0.15 && a[2] < 5)) exit 1 }' <<<"$J"
+check "fade: clicks at the centre map to (0, 0) deg within 1 deg" awk '/"seq"/ {
+    if (!match($0, /"click_x_deg": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), a, ": ");
+    if (!match($0, /"click_y_deg": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), b, ": ");
+    if (a[2] * a[2] + b[2] * b[2] > 1) exit 1 }' <<<"$J"
+check "fade: no click_far flag" bash -c "! grep -q click_far <<<'$J'"
+
+# ---- 3. Escape, S (stop), then --resume with Escape, R (resume now) ------------------------------
+start pause --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --out "$T/p.csflut" --seed 13
+wait_window
+wait_until 15 test -n "$(state 3)" || die "pause: no session in the store"
+xdotool key space
+answer_2afc 3 Left 2
+xdotool key Escape
+sleep 1.0                               # the pause screen
+xdotool key s
+finish
+check "stop: exit 1 (paused), rc $RC" test "$RC" -eq 1
+check "stop: message names --resume 3" grep -q 'paused after 2 trials; continue with --resume 3' "$T/pause.err"
+check "stop: session paused" grep -q paused <<<"$(state 3)"
+check "stop: the 2 answered trials kept" test "$(ntrials 3)" -eq 2
+check "stop: no table" test ! -e "$T/p.csflut"
+
+start resume --resume 3 --screen-px ${W}x${H} --out "$T/p.csflut"
+wait_window
+wait_until 15 grep -q running <<<"$(state 3)" 2>/dev/null || true
+answer_2afc 3 Left 3                    # no instructions on resume: straight into trials
+xdotool key Escape
+sleep 1.0
+xdotool key r                           # resume now: the interrupted trial again
+answer_2afc 3 Left 4
+finish
+check "resume: exit 0 (rc $RC)" test "$RC" -eq 0
+check "resume: table written" test -s "$T/p.csflut"
+check "resume: session finished" grep -q finished <<<"$(state 3)"
+J=$("$CSFCAL" sessions export 3 --format json --store "$STORE")
+check "resume: 4 trials, none lost or doubled" test "$(grep -c '"seq"' <<<"$J")" -eq 4
+check "resume: sequence 0..3" test "$(grep -o '"seq": [0-9]*' <<<"$J" | tr -dc '0-9')" = "0123"
+check "resume: every response is 1 (Left)" test "$(grep -c '"response": 1,' <<<"$J")" -eq 4
+
+[ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
+exit $fail
