@@ -203,6 +203,10 @@ static int person_fade_frame(person *p, double t_s, double contrast_shown)
         return 0;
     }
     csf_response ev;
+    if (stop_requested) { /* SIGINT/SIGTERM: pause as Escape + stop would */
+        p->paused = 1;
+        return 1;
+    }
     while (p->resp && csf_responder_poll(p->resp, &ev)) {
         if (ev.kind == CSF_RESP_ESCAPE) {
             p->paused = 1;
@@ -239,7 +243,8 @@ static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_erro
         csf_frame_info fi;
         csf_status st = csf_presenter_draw(p->pres, NULL, 1, &fi, err);
         if (st != CSF_OK) return st;
-        if (!csf_responder_poll(p->resp, &ev)) continue;
+        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
+        else if (!csf_responder_poll(p->resp, &ev)) continue;
         if (ev.kind == CSF_RESP_ESCAPE) {
             p->paused = 1;
             *x_deg = *y_deg = NAN;
@@ -274,6 +279,10 @@ static csf_status person_screen(person *p, const char *text, csf_error *err)
     if (st != CSF_OK) return st;
     csf_response ev;
     for (;;) {
+        if (stop_requested) {
+            p->paused = 1;
+            return CSF_OK;
+        }
         if (csf_responder_poll(p->resp, &ev)) {
             if (ev.kind == CSF_RESP_ESCAPE) p->paused = 1;
             if (ev.kind != CSF_RESP_NONE) return CSF_OK;
@@ -294,6 +303,7 @@ static int ask_resume(person *p, int done, int total)
              done, total);
     csf_error e;
     for (;;) {
+        if (stop_requested) return 0;
         if (csf_presenter_text_screen(p->pres, msg, &e) != CSF_OK) return 0;
         csf_response ev;
         while (csf_responder_poll(p->resp, &ev)) {
@@ -506,11 +516,14 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
         st = csf_presenter_draw(r->pres, NULL, 1, &fi, err);
         if (st != CSF_OK) return st;
         csf_response ev;
-        if (!csf_responder_poll(p->resp, &ev)) continue;
+        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
+        else if (!csf_responder_poll(p->resp, &ev)) continue;
         if (ev.kind == CSF_RESP_ESCAPE) {
             p->paused = 1;
             return CSF_OK;
         }
+        /* Left / right mouse button answer too (the only answers a "mouse" responder has). */
+        if (ev.kind == CSF_RESP_CLICK && (ev.choice == 0 || ev.choice == 1)) ev.kind = CSF_RESP_CHOICE;
         /* A choice made while the intervals were still running is ignored, as it is in the
          * blank intervals (which drain the queue): answers count from the end of the second
          * interval, so reaction times are never negative. */

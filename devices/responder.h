@@ -18,7 +18,8 @@ typedef enum {
     CSF_RESP_NONE = 0,
     CSF_RESP_PRESS = 1,   /* "I see something" (button or Space) */
     CSF_RESP_CHOICE = 2,  /* 2AFC: choice = 0 (first / left) or 1 (second / right) */
-    CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), framebuffer pixels, y down */
+    CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), framebuffer pixels, y down;
+                             choice = the button (0 left, 1 right, 2 middle) */
     CSF_RESP_ESCAPE = 4,  /* pause request */
     CSF_RESP_KEY = 5,     /* any other key; key = its character or code */
 } csf_response_kind;

@@ -1162,6 +1162,9 @@ void csf_presenter_show_cursor(csf_presenter *p, int show)
 csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_error *err)
 {
     if (!p || !text) return csf_error_set(err, CSF_E_INVALID_ARG, "text screen: NULL argument");
+    /* Callers wait on text screens for a key: a closed window must end the wait as draw does. */
+    if (!p->headless && glfwWindowShouldClose(p->win))
+        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_A8, p->rw, p->rh);
     if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
         cairo_surface_destroy(surf);

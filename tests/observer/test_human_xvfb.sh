@@ -10,6 +10,8 @@
 #   3. 2afc: two trials answered, then Escape and S: exit 1, "--resume ID", state paused, the two
 #      trials kept; --resume ID: Escape then R (resume now) mid-session, then answered to the
 #      end: finished, table written, 4 trials, sequence numbers 0..3.
+#   4. SIGTERM while the session waits for a 2AFC answer: exit 1, paused, the answered trial kept.
+#   5. responder=mouse: 2AFC answered with the right mouse button (response 2).
 # $1 = csfcal executable. Skips (77) when Xvfb or xdotool is missing. Every wait has a timeout.
 set -u
 CSFCAL="$1"
@@ -86,15 +88,15 @@ finish() {
     if alive; then kill "$CPID"; wait "$CPID" 2>/dev/null; CPID=""; die "$TAG: csfcal did not exit"; fi
     wait "$CPID"; RC=$?; CPID=""
 }
-# answer_2afc SID KEY N: answers until the session has N stored trials (KEY resent every 0.5 s
-# until the count moves: a choice made before the response screen is ignored by design).
+# answer_2afc SID N XDOTOOL-ARGS...: answers until the session has N stored trials (the input is
+# resent every 0.5 s until the count moves: a choice made before the response screen is ignored).
 answer_2afc() {
-    local sid="$1" key="$2" n="$3" have
+    local sid="$1" n="$2" have; shift 2
     local end=$((SECONDS + 45))
     while have=$(ntrials "$sid"); [ "$have" -lt "$n" ]; do
         alive || die "$TAG: csfcal exited early with $have of $n trials"
         [ $SECONDS -ge $end ] && die "$TAG: only $have of $n trials answered in 45 s"
-        xdotool key "$key"
+        xdotool "$@"
         sleep 0.5
     done
 }
@@ -105,7 +107,7 @@ start afc --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --
 wait_window
 wait_until 15 test -n "$(state 1)" || die "afc: no session in the store"
 xdotool key space                       # instructions: any key starts
-answer_2afc 1 Right 4
+answer_2afc 1 4 key Right
 finish
 check "2afc: exit 0 (rc $RC)" test "$RC" -eq 0
 check "2afc: summary line" grep -q 'observer session 1: 2afc, 4 trials' "$T/afc.out"
@@ -155,7 +157,7 @@ start pause --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} 
 wait_window
 wait_until 15 test -n "$(state 3)" || die "pause: no session in the store"
 xdotool key space
-answer_2afc 3 Left 2
+answer_2afc 3 2 key Left
 xdotool key Escape
 sleep 1.0                               # the pause screen
 xdotool key s
@@ -169,11 +171,11 @@ check "stop: no table" test ! -e "$T/p.csflut"
 start resume --resume 3 --screen-px ${W}x${H} --out "$T/p.csflut"
 wait_window
 wait_until 15 grep -q running <<<"$(state 3)" 2>/dev/null || true
-answer_2afc 3 Left 3                    # no instructions on resume: straight into trials
+answer_2afc 3 3 key Left                    # no instructions on resume: straight into trials
 xdotool key Escape
 sleep 1.0
 xdotool key r                           # resume now: the interrupted trial again
-answer_2afc 3 Left 4
+answer_2afc 3 4 key Left
 finish
 check "resume: exit 0 (rc $RC)" test "$RC" -eq 0
 check "resume: table written" test -s "$T/p.csflut"
@@ -182,6 +184,31 @@ J=$("$CSFCAL" sessions export 3 --format json --store "$STORE")
 check "resume: 4 trials, none lost or doubled" test "$(grep -c '"seq"' <<<"$J")" -eq 4
 check "resume: sequence 0..3" test "$(grep -o '"seq": [0-9]*' <<<"$J" | tr -dc '0-9')" = "0123"
 check "resume: every response is 1 (Left)" test "$(grep -c '"response": 1,' <<<"$J")" -eq 4
+
+# ---- 4. SIGTERM while the session waits for an answer: paused, the answered trial kept ----------
+start term --method 2afc --trials 4 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/t.csflut" --seed 14
+wait_window
+wait_until 15 test -n "$(state 4)" || die "term: no session in the store"
+xdotool key space
+answer_2afc 4 1 key Right
+sleep 2.5                               # fixation and both intervals: now waiting for the answer
+kill -TERM "$CPID"
+finish
+check "SIGTERM while waiting: exit 1 (paused), rc $RC" test "$RC" -eq 1
+check "SIGTERM while waiting: message names --resume 4" grep -q 'paused after 1 trials; continue with --resume 4' "$T/term.err"
+check "SIGTERM while waiting: session paused, 1 trial" test "$(ntrials 4)" -eq 1 -a -n "$(state 4 | grep paused)"
+
+# ---- 5. The "mouse" responder: 2AFC answered with the right button ----------------------------
+start mouse --method 2afc --trials 2 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/m.csflut" --seed 15 \
+    --set responder=mouse
+wait_window
+wait_until 15 test -n "$(state 5)" || die "mouse: no session in the store"
+xdotool click 1                         # instructions: a click starts too
+answer_2afc 5 2 click 3                 # X button 3 = right = the second interval
+finish
+check "mouse: exit 0 (rc $RC)" test "$RC" -eq 0
+J=$("$CSFCAL" sessions export 5 --format json --store "$STORE")
+check "mouse: every response is 2 (right button)" test "$(grep -c '"response": 2,' <<<"$J")" -eq 2
 
 [ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
 exit $fail
