@@ -35,8 +35,9 @@ static void usage(FILE *f)
             "  --quiet              no notes or progress on stderr\n\n"
             "Observers: --observer sim[:key=value,...] (a simulated person; see\n"
             "docs/observer-calibration.md for the keys) or --observer human (a window, keyboard and\n"
-            "mouse: Space or a click when something is visible, then a click where it was; Escape\n"
-            "pauses).\n\n%s",
+            "mouse: Space or a click when something is visible, then a click where it was; 2AFC:\n"
+            "1/Left or 2/Right, or the left/right mouse button; Escape pauses: R resumes, S stops\n"
+            "and keeps the session for --resume).\n\n%s",
             csf_cli_common_help);
 }
 
