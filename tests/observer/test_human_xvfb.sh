@@ -2,9 +2,10 @@
 # The human observer path end to end: `csfcal observer calibrate --observer human` in a real GLFW
 # fullscreen window on a private Xvfb, driven by key presses and mouse clicks injected with
 # xdotool (XTEST), the way a person would use it:
-#   1. 2afc: instructions dismissed with a key, every trial answered with Right (-> response 2),
+#   1. 2afc: instructions dismissed with a key, a practice trial, a break screen, every trial
+#      answered with Right (-> response 2),
 #      session finished, table written, stored trials carry response 2 and rt_s > 0.
-#   2. fade with --screen-px twice the window (the presenter scales the configured screen to the
+#   2. fade (a practice trial measures the reaction latency) with --screen-px twice the window (the presenter scales the configured screen to the
 #      window): Space when the ramp is on, then a click at the screen centre (the grating, ecc 0):
 #      response 1, rt_s > 0.15, click near (0, 0) deg, table written.
 #   3. 2afc: two trials answered, then Escape and S: exit 1, "--resume ID", state paused, the two
@@ -58,6 +59,7 @@ COMMON=(observer calibrate --observer human --store "$STORE" --set refresh_hz=20
 # Number of trials stored for a session (the store is the ground truth of what was answered).
 ntrials() { "$CSFCAL" sessions export "$1" --format json --store "$STORE" 2>/dev/null | grep -c '"seq"'; }
 state() { "$CSFCAL" sessions --store "$STORE" 2>/dev/null | awk -v id="$1" '$1 == id { print; exit }'; }
+has_state() { state "$1" | grep -q "$2"; } # has_state ID REGEX
 alive() { kill -0 "$CPID" 2>/dev/null; }
 # wait_until SECONDS COMMAND...: polls every 0.2 s; 1 on timeout.
 wait_until() {
@@ -103,11 +105,12 @@ answer_2afc() {
 json_field() { sed -n "s/.*\"$1\":\([^,}]*\).*/\1/p" <<<"$2"; }
 
 # ---- 1. 2afc, answered with Right ---------------------------------------------------------------
-start afc --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --out "$T/afc.csflut" --seed 11
+start afc --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --out "$T/afc.csflut" --seed 11 \
+    --practice 1 --break-every 2     # a practice trial, and a break screen after trial 2 (a key goes on)
 wait_window
-wait_until 15 test -n "$(state 1)" || die "afc: no session in the store"
+wait_until 15 has_state 1 . || die "afc: no session in the store"
 xdotool key space                       # instructions: any key starts
-answer_2afc 1 4 key Right
+answer_2afc 1 5 key Right
 finish
 check "2afc: exit 0 (rc $RC)" test "$RC" -eq 0
 check "2afc: summary line" grep -q 'observer session 1: 2afc, 4 trials' "$T/afc.out"
@@ -115,21 +118,21 @@ check "2afc: table written" test -s "$T/afc.csflut"
 check "2afc: table readable" bash -c "\"\$0\" lut info \"\$1\" >/dev/null" "$CSFCAL" "$T/afc.csflut"
 check "2afc: session finished" grep -q finished <<<"$(state 1)"
 J=$("$CSFCAL" sessions export 1 --format json --store "$STORE")
-check "2afc: 4 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 4
-check "2afc: every response is 2 (Right)" test "$(grep -c '"response": 2,' <<<"$J")" -eq 4
+check "2afc: 1 practice + 4 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 5 -a "$(grep -c '"is_practice": true' <<<"$J")" -eq 1
+check "2afc: every response is 2 (Right)" test "$(grep -c '"response": 2,' <<<"$J")" -eq 5
 check "2afc: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
     split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
 
 # ---- 2. fade: Space, then a click on the grating -------------------------------------------------
 # --screen-px is twice the window: the click (window pixels) must be scaled to the geometry.
 start fade --method fade --trials 3 --freqs 1 --eccs 0 --screen-px $((2 * W))x$((2 * H)) \
-    --out "$T/fade.csflut" --seed 12 --json
+    --out "$T/fade.csflut" --seed 12 --json --practice 1
 wait_window
-wait_until 15 test -n "$(state 2)" || die "fade: no session in the store"
+wait_until 15 has_state 2 . || die "fade: no session in the store"
 xdotool key space
 end=$((SECONDS + 45))
-while have=$(ntrials 2); [ "$have" -lt 3 ] && alive; do
-    [ $SECONDS -ge $end ] && die "fade: only $have of 3 trials in 45 s"
+while have=$(ntrials 2); [ "$have" -lt 4 ] && alive; do
+    [ $SECONDS -ge $end ] && die "fade: only $have of 4 trials in 45 s"
     sleep 1.0                           # fixation (0.3 s) and into the ramp
     xdotool key space                   # "I see it"
     sleep 0.4
@@ -141,8 +144,10 @@ check "fade: exit 0 (rc $RC)" test "$RC" -eq 0
 check "fade: JSON says ok" grep -q '"status":"ok"' "$T/fade.out"
 check "fade: table written" test -s "$T/fade.csflut"
 J=$("$CSFCAL" sessions export 2 --format json --store "$STORE")
-check "fade: 3 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 3
-check "fade: every trial has a press (response 1)" test "$(grep -c '"response": 1,' <<<"$J")" -eq 3
+check "fade: 1 practice + 3 trials stored" test "$(grep -c '"seq"' <<<"$J")" -eq 4
+check "fade: every trial has a press (response 1)" test "$(grep -c '"response": 1,' <<<"$J")" -eq 4
+lat=$(json_field reaction_latency_s "$(cat "$T/fade.out")")
+check "fade: reaction latency from the practice trial, 0.15-1.5 s (got $lat)" awk -v v="$lat" 'BEGIN { exit !(v > 0.15 && v < 1.5) }'
 check "fade: rt_s between 0.15 and 5 s (press time on the frame clock)" awk '/"seq"/ {
     if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), a, ": ");
     if (!(a[2] > 0.15 && a[2] < 5)) exit 1 }' <<<"$J"
@@ -155,7 +160,7 @@ check "fade: no click_far flag" bash -c "! grep -q click_far <<<'$J'"
 # ---- 3. Escape, S (stop), then --resume with Escape, R (resume now) ------------------------------
 start pause --method 2afc --trials 4 --freqs 1,2 --eccs 0 --screen-px ${W}x${H} --out "$T/p.csflut" --seed 13
 wait_window
-wait_until 15 test -n "$(state 3)" || die "pause: no session in the store"
+wait_until 15 has_state 3 . || die "pause: no session in the store"
 xdotool key space
 answer_2afc 3 2 key Left
 xdotool key Escape
@@ -170,11 +175,14 @@ check "stop: no table" test ! -e "$T/p.csflut"
 
 start resume --resume 3 --screen-px ${W}x${H} --out "$T/p.csflut"
 wait_window
-wait_until 15 grep -q running <<<"$(state 3)" 2>/dev/null || true
+wait_until 15 has_state 3 running || die "resume: session 3 not running"
 answer_2afc 3 3 key Left                    # no instructions on resume: straight into trials
 xdotool key Escape
 sleep 1.0
-xdotool key r                           # resume now: the interrupted trial again
+xdotool key Left                        # the pause screen takes no answers...
+sleep 2.0
+check "pause screen: an answer key does not answer" test "$(ntrials 3)" -eq 3
+xdotool key r                           # ...R resumes: the interrupted trial again
 answer_2afc 3 4 key Left
 finish
 check "resume: exit 0 (rc $RC)" test "$RC" -eq 0
@@ -188,7 +196,7 @@ check "resume: every response is 1 (Left)" test "$(grep -c '"response": 1,' <<<"
 # ---- 4. SIGTERM while the session waits for an answer: paused, the answered trial kept ----------
 start term --method 2afc --trials 4 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/t.csflut" --seed 14
 wait_window
-wait_until 15 test -n "$(state 4)" || die "term: no session in the store"
+wait_until 15 has_state 4 . || die "term: no session in the store"
 xdotool key space
 answer_2afc 4 1 key Right
 sleep 2.5                               # fixation and both intervals: now waiting for the answer
@@ -202,7 +210,7 @@ check "SIGTERM while waiting: session paused, 1 trial" test "$(ntrials 4)" -eq 1
 start mouse --method 2afc --trials 2 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/m.csflut" --seed 15 \
     --set responder=mouse
 wait_window
-wait_until 15 test -n "$(state 5)" || die "mouse: no session in the store"
+wait_until 15 has_state 5 . || die "mouse: no session in the store"
 xdotool click 1                         # instructions: a click starts too
 answer_2afc 5 2 click 3                 # X button 3 = right = the second interval
 finish
