@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "calib/cli.h"
@@ -14,12 +15,15 @@
 #include "results/colour_export.h"
 #include "results/display_profile.h"
 #include "results/store.h"
+#include "stimuli/presenter.h"
 
 static const char display_help[] =
     "usage: csfcal display calibrate --photometer SPEC --out PROFILE [--store DB] [--seed N]\n"
     "                                [--resume ID] [--target REL] [--budget N] [--no-channels]\n"
-    "                                [--name NAME] [--quiet]\n"
+    "                                [--name NAME] [--quiet] [--render|--no-render]\n"
+    "                                [--patch-deg D] [--background DRIVE] [--render-width N]\n"
     "       csfcal display verify PROFILE --photometer SPEC [--levels N] [--tolerance REL]\n"
+    "                                [--render|--no-render] [--patch-deg D] [--background DRIVE]\n"
     "       csfcal display export PROFILE --format clf|ctf|cube|icc|ocio [-o OUT]\n"
     "       csfcal display info PROFILE\n\n"
     "calibrate  warm-up check, dark reading, adaptive grey and r/g/b sweeps until the profile\n"
@@ -29,6 +33,15 @@ static const char display_help[] =
     "  --budget N      most sweep readings for grey plus channels (default 48, 8 to 4096)\n"
     "  --no-channels   grey only (no r, g, b curves, no additivity check)\n"
     "  --name NAME     display name for the profile id (default: the photometer spec)\n"
+    "  --render        draw every patch through the stimulus presenter (drive values dithered\n"
+    "                  to the framebuffer depth) and, for the simulated photometer, measure the\n"
+    "                  rendered frame: the patch's framebuffer pixels over the frames one reading\n"
+    "                  integrates, through the simulated display (the default; --no-render tells\n"
+    "                  the simulator the drive values directly, without drawing)\n"
+    "  --patch-deg D   side of the square patch at the screen centre (default 10 deg; 0 = full\n"
+    "                  field); --background DRIVE: grey drive around it (default 0)\n"
+    "  --render-width N  offscreen render width for the simulator (default 128 px; height by\n"
+    "                  the screen's aspect)\n"
     "verify     re-measures a few grey levels and reports drift against the profile; exit 1\n"
     "           when it exceeds --tolerance (default 0.02). Old profiles are flagged\n"
     "           (profile_max_age_days in the station configuration).\n"
@@ -38,7 +51,7 @@ static const char display_help[] =
     "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n\n";
 
 enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
-       OPT_TOL, OPT_FORMAT, OPT_HELP };
+       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH };
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -52,6 +65,11 @@ static const struct option display_options[] = {
     {"tolerance", required_argument, 0, OPT_TOL},
     {"format", required_argument, 0, OPT_FORMAT},
     {"help", no_argument, 0, OPT_HELP},
+    {"render", no_argument, 0, OPT_RENDER},
+    {"no-render", no_argument, 0, OPT_NORENDER},
+    {"patch-deg", required_argument, 0, OPT_PATCHDEG},
+    {"background", required_argument, 0, OPT_BG},
+    {"render-width", required_argument, 0, OPT_RWIDTH},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -62,6 +80,10 @@ typedef struct {
     double target, tol;
     long budget, levels;
     int no_channels, quiet, help;
+    int render; /* 1 --render, -1 --no-render, 0 default (render) */
+    double patch_deg, background;
+    int patch_deg_set;
+    long render_width;
 } dargs;
 
 static int parse(int argc, char **argv, dargs *a)
@@ -81,6 +103,11 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_LEVELS: bad = csf_parse_int(optarg, "levels", 1, 64, &a->levels); break;
         case OPT_TOL: bad = csf_parse_double(optarg, "tolerance", 1e-5, 1, &a->tol); break;
         case OPT_FORMAT: a->format = optarg; break;
+        case OPT_RENDER: a->render = 1; break;
+        case OPT_NORENDER: a->render = -1; break;
+        case OPT_PATCHDEG: bad = csf_parse_double(optarg, "patch-deg", 0, 90, &a->patch_deg); a->patch_deg_set = 1; break;
+        case OPT_BG: bad = csf_parse_double(optarg, "background", 0, 1, &a->background); break;
+        case OPT_RWIDTH: bad = csf_parse_int(optarg, "render-width", 16, 4096, &a->render_width); break;
         case 'h':
         case OPT_HELP: a->help = 1; break;
         case ':': fprintf(stderr, "csfcal: display: option %s needs a value\n", argv[optind - 1]); return 2;
@@ -104,6 +131,166 @@ static void age_warning(const csf_display_profile *p, const csf_cli *cli)
     char msg[400];
     if (csf_profile_age_warning(p, cli->cfg.profile_max_age_days, msg, sizeof msg))
         fprintf(stderr, "csfcal: warning: %s\n", msg);
+}
+
+/* ---- --render: patches drawn through the presenter, the simulator reads the rendered frame ----
+ * The calibration's show_patch hook draws the first frame of the patch. For the simulated
+ * photometer it then installs a screen source whose pixels callback (run inside the reading)
+ * draws the rest of the frames the instrument integrates (integration time x refresh rate) and
+ * hands over the patch's framebuffer levels from every one of them; the simulator averages the
+ * light of all those pixels through its display model, as a sensor integrates over space and time.
+ * Without --render (or when no presenter opens) the simulator is told the drive values. */
+typedef struct {
+    csf_presenter *pres;
+    csf_photometer *ph;
+    csf_patch patch;
+    int simulated;
+    int frames;          /* frames per reading */
+    int rw, rh, bits;
+    int px, py, pw, ph_; /* patch rectangle in readback coordinates */
+    uint16_t *frame;     /* one readback, rw*rh*3 */
+    void *buf;           /* collected patch pixels: unsigned char (8 bit) or uint16_t */
+    size_t n_px, cap_px;
+    long frames_drawn;
+    double wall_s;
+    csf_error err;
+    int failed;
+} render_ctx;
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Draws one frame of the current patch and, for the simulator, appends its patch pixels. */
+static csf_status render_frame(render_ctx *r)
+{
+    double t0 = wall_now();
+    csf_status st = csf_presenter_draw_patch(r->pres, &r->patch, NULL, &r->err);
+    if (!st && r->simulated) {
+        st = csf_presenter_readback_levels(r->pres, r->frame, &r->err);
+        if (!st) {
+            size_t need = r->n_px + (size_t)r->pw * r->ph_;
+            if (need > r->cap_px) {
+                size_t cap = need * 2;
+                void *nb = realloc(r->buf, cap * 3 * (r->bits <= 8 ? 1 : sizeof(uint16_t)));
+                if (!nb) return csf_error_set(&r->err, CSF_E_NOMEM, "out of memory");
+                r->buf = nb;
+                r->cap_px = cap;
+            }
+            for (int y = r->py; y < r->py + r->ph_; y++) {
+                const uint16_t *row = r->frame + ((size_t)y * r->rw + r->px) * 3;
+                size_t o = r->n_px * 3;
+                for (int i = 0; i < r->pw * 3; i++) {
+                    if (r->bits <= 8) ((unsigned char *)r->buf)[o + i] = (unsigned char)row[i];
+                    else ((uint16_t *)r->buf)[o + i] = row[i];
+                }
+                r->n_px += (size_t)r->pw;
+            }
+        }
+    }
+    r->frames_drawn++;
+    r->wall_s += wall_now() - t0;
+    return st;
+}
+
+static csf_status rendered_pixels(void *user, const void **rgb, size_t *n_px, int *bits)
+{
+    render_ctx *r = user;
+    for (int f = 1; f < r->frames; f++) {
+        if (render_frame(r)) {
+            r->failed = 1;
+            return r->err.code ? r->err.code : CSF_E_DEVICE;
+        }
+    }
+    *rgb = r->buf;
+    *n_px = r->n_px;
+    *bits = r->bits;
+    return CSF_OK;
+}
+
+static int render_show_patch(void *user, const double rgb01[3])
+{
+    render_ctx *r = user;
+    for (int c = 0; c < 3; c++) r->patch.drive01[c] = rgb01[c] < 0 ? 0 : rgb01[c] > 1 ? 1 : rgb01[c];
+    r->n_px = 0;
+    if (render_frame(r)) {
+        r->failed = 1;
+        return 1;
+    }
+    if (r->simulated) {
+        csf_screen_source src = {NULL, rendered_pixels, r};
+        csf_photometer_set_source(r->ph, &src);
+    }
+    return 0;
+}
+
+static void render_close(render_ctx *r)
+{
+    csf_presenter_close(r->pres);
+    free(r->frame);
+    free(r->buf);
+    memset(r, 0, sizeof *r);
+}
+
+/* Opens the presenter for --render. Returns 0 (r->pres set), 1 when rendering was only the
+ * default and no presenter opened (a note is printed; the caller goes on without), 2 on error. */
+static int render_open(const dargs *a, csf_photometer *ph, render_ctx *r, const char *what)
+{
+    memset(r, 0, sizeof *r);
+    if (a->render < 0) return 1;
+    csf_error e;
+    csf_error_clear(&e);
+    csf_presenter_config pc;
+    csf_presenter_config_defaults(&pc);
+    if (csf_geometry_init(&pc.geometry, CSF_GEOMETRY_FROM_CONFIG(a->cli.cfg), &e)) {
+        fprintf(stderr, "csfcal: %s: %s\n", what, e.msg);
+        return 2;
+    }
+    r->simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
+    pc.headless = r->simulated; /* a real instrument looks at the real screen */
+    pc.refresh_hz = a->cli.cfg.refresh_hz;
+    pc.framebuffer_bits = a->cli.cfg.framebuffer_bits;
+    pc.seed = a->cli.seed;
+    if (r->simulated) {
+        int w = a->render_width > 0 ? (int)a->render_width : 128;
+        int h = (int)lround((double)w * pc.geometry.height_px / pc.geometry.width_px);
+        pc.render_width_px = w;
+        pc.render_height_px = h < 1 ? 1 : h;
+    }
+    if (csf_presenter_open(&pc, &r->pres, &e)) {
+        if (a->render > 0) {
+            fprintf(stderr, "csfcal: %s: --render: %s\n", what, e.msg);
+            return 2;
+        }
+        fprintf(stderr, "csfcal: note: no presenter (%s); patches are given to the simulator as drive "
+                        "values (--no-render to silence this)\n", e.msg);
+        return 1;
+    }
+    r->ph = ph;
+    r->patch.size_deg = a->patch_deg_set ? a->patch_deg : 10.0;
+    for (int c = 0; c < 3; c++) r->patch.bg_drive01[c] = a->background;
+    csf_presenter_render_size(r->pres, &r->rw, &r->rh);
+    r->bits = csf_presenter_bits(r->pres);
+    if (csf_presenter_patch_rect(r->pres, &r->patch, &r->px, &r->py, &r->pw, &r->ph_, &e)) {
+        fprintf(stderr, "csfcal: %s: %s\n", what, e.msg);
+        render_close(r);
+        return 2;
+    }
+    double integ = csf_photometer_integration_s(ph);
+    double hz = csf_presenter_refresh_hz(r->pres);
+    r->frames = integ > 0 ? (int)ceil(integ * hz - 1e-9) : 1;
+    if (r->frames < 1) r->frames = 1;
+    if (r->frames > 600) r->frames = 600;
+    r->frame = malloc(sizeof(uint16_t) * 3 * (size_t)r->rw * r->rh);
+    if (!r->frame) {
+        fprintf(stderr, "csfcal: %s: out of memory\n", what);
+        render_close(r);
+        return 2;
+    }
+    return 0;
 }
 
 static int cmd_calibrate(dargs *a)
@@ -156,16 +343,41 @@ static int cmd_calibrate(dargs *a)
         return csf_cli_report("display calibrate", &err);
     }
     if (!(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED)) {
-        /* nothing draws the patches yet (o.show_patch is where the presenter goes) */
+        /* --render's show_patch hook would draw the patches for it in a window, but no real
+         * instrument driver exists yet to read them */
         csf_photometer_close(ph);
         csf_store_close(store);
         fprintf(stderr, "csfcal: display calibrate: only simulated photometers in this release "
-                        "(drawing patches for a real instrument is not wired yet)\n");
+                        "(--render draws the patches, but there is no driver for a real instrument yet)\n");
         return 1;
+    }
+    render_ctx rctx;
+    int ro = render_open(a, ph, &rctx, "display calibrate");
+    if (ro == 2) {
+        csf_photometer_close(ph);
+        csf_store_close(store);
+        return 1;
+    }
+    if (ro == 0) {
+        o.show_patch = render_show_patch;
+        o.show_patch_user = &rctx;
     }
     csf_display_profile *p = NULL;
     csf_display_calib_result res;
+    double t_cal0 = wall_now();
     st = csf_display_calibrate(ph, &o, store, &sid, seed, &p, &res, &err);
+    double t_cal = wall_now() - t_cal0;
+    if (st && ro == 0 && rctx.failed && rctx.err.msg[0])
+        fprintf(stderr, "csfcal: display calibrate: drawing the patch: %s\n", rctx.err.msg);
+    char rinfo[300] = "";
+    if (ro == 0) {
+        snprintf(rinfo, sizeof rinfo, "  rendered: %ld frames of a %d x %d px patch (%d frames per reading, "
+                 "%d-bit, %d x %d render), %.2f s drawing, %.2f s in all\n", rctx.frames_drawn, rctx.pw, rctx.ph_,
+                 rctx.frames, rctx.bits, rctx.rw, rctx.rh, rctx.wall_s, t_cal);
+        render_close(&rctx);
+    } else {
+        snprintf(rinfo, sizeof rinfo, "  not rendered: the simulator was told the drive values (%.2f s)\n", t_cal);
+    }
     csf_photometer_close(ph);
     if (st) {
         int rc = csf_cli_report("display calibrate", &err);
@@ -200,6 +412,7 @@ static int cmd_calibrate(dargs *a)
                100 * res.drift_rel);
         if (o.channels) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res.additivity_error);
         printf("  monotonic: %s\n", res.monotonic_violations ? res.monotonic_msg : "yes");
+        fputs(rinfo, stdout);
     }
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
@@ -243,12 +456,24 @@ static int cmd_verify(dargs *a)
         csf_photometer_close(ph);
         csf_profile_free(p);
         fprintf(stderr, "csfcal: display verify: only simulated photometers in this release "
-                        "(drawing patches for a real instrument is not wired yet)\n");
+                        "(--render draws the patches, but there is no driver for a real instrument yet)\n");
+        return 1;
+    }
+    render_ctx rctx;
+    int ro = render_open(a, ph, &rctx, "display verify");
+    if (ro == 2) {
+        csf_photometer_close(ph);
+        csf_profile_free(p);
         return 1;
     }
     double dev, white;
     double tol = a->tol > 0 ? a->tol : 0.02;
-    csf_status st = csf_display_verify(ph, p, a->levels > 0 ? (int)a->levels : 5, &dev, &white, &err);
+    csf_status st = csf_display_verify_shown(ph, p, a->levels > 0 ? (int)a->levels : 5,
+                                             ro == 0 ? render_show_patch : NULL, ro == 0 ? &rctx : NULL,
+                                             &dev, &white, &err);
+    if (st && ro == 0 && rctx.failed && rctx.err.msg[0])
+        fprintf(stderr, "csfcal: display verify: drawing the patch: %s\n", rctx.err.msg);
+    if (ro == 0) render_close(&rctx);
     csf_photometer_close(ph);
     if (st) {
         csf_profile_free(p);

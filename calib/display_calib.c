@@ -171,9 +171,11 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         rgb[0] = rgb[1] = rgb[2] = 0;
         rgb[ch] = drive;
     }
+    /* the instrument is told the patch first (the built-in uniform source), then the hook draws
+     * it and may install a screen source of its own (the rendered frame, csfcal display --render) */
+    csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
     if (c->o->show_patch && c->o->show_patch(c->o->show_patch_user, rgb) != 0)
         return csf_error_set(err, CSF_E_ABORTED, "the patch could not be drawn; readings so far are kept");
-    csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
     csf_photometer_reading pr;
     csf_error merr;
     csf_error_clear(&merr);
@@ -1214,6 +1216,24 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
 csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
                               double *max_dev_rel, double *white_dev_rel, csf_error *err)
 {
+    return csf_display_verify_shown(ph, p, n_levels, NULL, NULL, max_dev_rel, white_dev_rel, err);
+}
+
+/* Tells the instrument the patch, then lets the hook draw it (as take() does). */
+static csf_status verify_show(csf_photometer *ph, int (*show_patch)(void *, const double[3]), void *user,
+                              double v, csf_error *err)
+{
+    csf_photometer_show_patch(ph, v, v, v);
+    const double rgb[3] = {v, v, v};
+    if (show_patch && show_patch(user, rgb) != 0)
+        return csf_error_set(err, CSF_E_ABORTED, "the verification patch could not be drawn");
+    return CSF_OK;
+}
+
+csf_status csf_display_verify_shown(csf_photometer *ph, const csf_display_profile *p, int n_levels,
+                                    int (*show_patch)(void *user, const double rgb01[3]), void *user,
+                                    double *max_dev_rel, double *white_dev_rel, csf_error *err)
+{
     if (n_levels < 1 || n_levels > 64)
         return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", n_levels);
     double peak = csf_profile_lum_max(p);
@@ -1221,16 +1241,17 @@ csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, 
     csf_photometer_reading r;
     /* white first, twice: the second after the first has settled the instrument */
     for (int k = 0; k < 2; k++) {
-        csf_photometer_show_patch(ph, 1, 1, 1);
-        csf_status st = csf_photometer_measure(ph, &r, err);
+        csf_status st = verify_show(ph, show_patch, user, 1, err);
+        if (!st) st = csf_photometer_measure(ph, &r, err);
         if (st) return st;
     }
     *white_dev_rel = r.lum_cdm2 / peak - 1;
     worst = fabs(*white_dev_rel);
     for (int i = 1; i <= n_levels; i++) {
         double v = (double)i / (n_levels + 1);
-        csf_photometer_show_patch(ph, v, v, v);
-        csf_status st = csf_photometer_measure(ph, &r, err);
+        csf_status st = verify_show(ph, show_patch, user, v, err);
+        if (st) return st;
+        st = csf_photometer_measure(ph, &r, err);
         if (st == CSF_E_TOO_DARK) continue;
         if (st) return st;
         double want = csf_profile_grey_lum(p, v);

@@ -23,9 +23,12 @@ typedef struct {
     int warmup_max;        /* most warm-up readings (40) */
     int progress;          /* 1: progress bar on stderr */
     const char *display_name; /* for the profile id; NULL = photometer spec */
-    /* Draws the patch on the real screen before each reading (the presenter's full-field
-     * patch); NULL: nothing is drawn, which only a simulated instrument can work with. The
-     * simulated photometer is told the patch in any case. Returns 0, or non-zero to abort. */
+    /* Draws the patch on the screen before each reading (csf_presenter_draw_patch); NULL:
+     * nothing is drawn, which only a simulated instrument can work with. The photometer is told
+     * the patch (csf_photometer_show_patch) just before the hook runs, so the hook may replace
+     * that built-in uniform source with the rendered frame (csf_photometer_set_source: what
+     * `csfcal display calibrate --render` does for the simulator). Returns 0, or non-zero to
+     * abort. */
     int (*show_patch)(void *user, const double rgb01[3]);
     void *show_patch_user;
     int drive_levels;      /* highest framebuffer code: levels are multiples of 1/drive_levels
@@ -66,5 +69,10 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
  * largest relative deviation above 10 % of peak in *max_dev_rel and the white drift. */
 csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
                               double *max_dev_rel, double *white_dev_rel, csf_error *err);
+
+/* The same with a hook that draws each patch before it is read (see show_patch above). */
+csf_status csf_display_verify_shown(csf_photometer *ph, const csf_display_profile *p, int n_levels,
+                                    int (*show_patch)(void *user, const double rgb01[3]), void *user,
+                                    double *max_dev_rel, double *white_dev_rel, csf_error *err);
 
 #endif

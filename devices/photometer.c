@@ -126,5 +126,9 @@ void csf_photometer_wait(csf_photometer *p, double seconds)
 }
 
 int csf_photometer_caps(const csf_photometer *p) { return p->drv->caps; }
+double csf_photometer_integration_s(const csf_photometer *p)
+{
+    return p->drv->integration_s ? p->drv->integration_s(p->state) : 0.0;
+}
 const char *csf_photometer_driver_name(const csf_photometer *p) { return p->drv->name; }
 const char *csf_photometer_spec(const csf_photometer *p) { return p->spec; }

@@ -60,6 +60,9 @@ typedef struct csf_photometer_driver {
      * advances its virtual clock instead. */
     void (*wait)(void *state, double seconds);
     void (*close)(void *state);
+    /* Seconds of light one reading integrates (a rendered source shows that many frames of a
+     * dithered patch). NULL: unknown. */
+    double (*integration_s)(void *state);
 } csf_photometer_driver;
 
 /* Byte transport for real instruments (USB bulk/HID/serial/process pipe); protocols are written
@@ -88,6 +91,8 @@ void csf_photometer_resume_at(csf_photometer *p, uint64_t reading_index, double 
 /* Waits (real time for real instruments, virtual time for the simulator). */
 void csf_photometer_wait(csf_photometer *p, double seconds);
 int csf_photometer_caps(const csf_photometer *p);
+/* Integration time of one reading in seconds; 0 when the instrument does not say. */
+double csf_photometer_integration_s(const csf_photometer *p);
 const char *csf_photometer_driver_name(const csf_photometer *p);
 /* The spec the photometer was opened with (for the store / profile). */
 const char *csf_photometer_spec(const csf_photometer *p);

@@ -261,6 +261,11 @@ static csf_status sim_measure(void *state, const csf_screen_source *src, csf_pho
     return CSF_OK;
 }
 
+static double sim_integration_s(void *state)
+{
+    return ((const sim_state *)state)->integration_s;
+}
+
 const csf_photometer_driver csf_photometer_sim_driver = {
     .name = "sim",
     .description = "simulated photometer and display (noise, drift, range, faults)",
@@ -271,4 +276,5 @@ const csf_photometer_driver csf_photometer_sim_driver = {
     .resume_at = sim_resume_at,
     .wait = sim_wait,
     .close = sim_close,
+    .integration_s = sim_integration_s,
 };

@@ -26,7 +26,8 @@
 #define RNG_STREAM_MISS 0x6d697373ULL /* "miss" */
 #define MAX_INJECT 64
 
-enum { MODE_BLANK = 0, MODE_GABOR = 1, MODE_GRATING = 2, MODE_IMAGE = 3, MODE_DISC = 4, MODE_TEXT = 5 };
+enum { MODE_BLANK = 0, MODE_GABOR = 1, MODE_GRATING = 2, MODE_IMAGE = 3, MODE_DISC = 4, MODE_TEXT = 5,
+       MODE_PATCH = 6 };
 
 struct csf_presenter {
     csf_presenter_config cfg;
@@ -67,12 +68,13 @@ struct csf_presenter {
 enum {
     U_RENDER, U_SCREEN, U_EYE, U_MODE, U_C, U_H, U_V, U_FIXC, U_FREQ, U_ORIENT, U_PHASE, U_SIGMA,
     U_RADIUS, U_EDGE, U_CONTRAST, U_MEAN, U_LUMRANGE, U_MAXLEVEL, U_FRAME, U_FIX, U_INV, U_FWD,
-    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_COUNT
+    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_DRIVE, U_BGDRIVE, U_RECT, U_COUNT
 };
 static const char *const uniform_names[U_COUNT] = {
     "u_render", "u_screen", "u_eye", "u_mode", "u_c", "u_h", "u_v", "u_fixc", "u_freq", "u_orient",
     "u_phase", "u_sigma", "u_radius", "u_edge", "u_contrast", "u_mean", "u_lumrange", "u_maxlevel",
-    "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean", "u_chan"};
+    "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean", "u_chan",
+    "u_drive", "u_bgdrive", "u_rect"};
 
 static const char *const vs_src =
     "#version 330 core\n"
@@ -93,6 +95,8 @@ static const char *const fs_src =
     "uniform vec2 u_orient, u_lumrange;\n"
     "uniform uint u_frame;\n"
     "uniform sampler2D u_inv, u_fwd, u_img, u_text, u_chan;\n"
+    "uniform vec3 u_drive, u_bgdrive;\n"
+    "uniform vec4 u_rect;\n"
     "const float RAD2DEG = 57.29577951308232;\n"
     "vec2 local_uv(vec3 d, vec3 c, vec3 h, vec3 v) {\n"
     "  float a = atan(length(cross(d, c)), dot(d, c));\n"
@@ -106,6 +110,21 @@ static const char *const fs_src =
     "  return 0.5 + 0.5 * cos(3.141592653589793 * (r - u_radius) / u_edge);\n"
     "}\n"
     "void main() {\n"
+    /* measurement patch (csf_presenter_draw_patch): drive values in framebuffer levels per
+     * channel, bypassing the luminance mapping; the same R2 mask and per-frame offset choose
+     * between levels k and k+1 with probability frac(drive), channel by channel */
+    "  if (u_mode == 6) {\n"
+    "    bool inside = all(greaterThanEqual(gl_FragCoord.xy, u_rect.xy)) && all(lessThan(gl_FragCoord.xy, u_rect.zw));\n"
+    "    vec3 dv = inside ? u_drive : u_bgdrive;\n"
+    "    vec3 kk = clamp(floor(dv), vec3(0.0), vec3(float(u_maxlevel - 1)));\n"
+    "    vec3 pp = clamp(dv - kk, vec3(0.0), vec3(1.0));\n"
+    "    uvec2 q0 = uvec2(gl_FragCoord.xy);\n"
+    "    uint h0 = q0.x * 3242174889u + q0.y * 2447445414u + u_frame * 2654435769u;\n"
+    "    float t0 = (float(h0 >> 8) + 0.5) / 16777216.0;\n"
+    "    vec3 lp = (u_dither == 1) ? kk + step(vec3(0.5), pp) : kk + vec3(lessThan(vec3(t0), pp));\n"
+    "    o = vec4(lp / float(u_maxlevel), 1.0);\n"
+    "    return;\n"
+    "  }\n"
     "  vec2 pmm = (gl_FragCoord.xy / u_render - 0.5) * u_screen;\n"
     "  vec3 d = normalize(vec3(pmm - u_eye.xy, -u_eye.z));\n"
     "  float L = u_mean;\n"
@@ -898,6 +917,95 @@ csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_e
     if (out) *out = fi;
     return glGetError() == GL_NO_ERROR ? CSF_OK
                                        : csf_error_set(err, CSF_E_DEVICE, "OpenGL error in a clear frame");
+}
+
+/* ---------------- measurement patches ---------------- */
+
+/* Patch rectangle in render pixels, GL convention (x0, y0 from the bottom-left; x1, y1 exclusive). */
+static csf_status patch_rect_gl(const csf_presenter *p, const csf_patch *m, int r[4], csf_error *err)
+{
+    if (!m) return csf_error_set(err, CSF_E_INVALID_ARG, "patch: NULL patch");
+    for (int c = 0; c < 3; c++)
+        if (!(m->drive01[c] >= 0 && m->drive01[c] <= 1) || !(m->bg_drive01[c] >= 0 && m->bg_drive01[c] <= 1))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "patch: drive values must lie in [0, 1] (patch %g %g %g, background %g %g %g)",
+                                 m->drive01[0], m->drive01[1], m->drive01[2], m->bg_drive01[0],
+                                 m->bg_drive01[1], m->bg_drive01[2]);
+    if (!(m->size_deg >= 0 && m->size_deg < 180) || !(m->screen_fraction >= 0 && m->screen_fraction <= 1))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "patch: size %g deg / screen fraction %g out of range (0 to 180 deg, 0 to 1)",
+                             m->size_deg, m->screen_fraction);
+    double side_mm;
+    if (m->size_deg > 0) {
+        side_mm = 2.0 * p->geom.distance_mm * tan(0.5 * m->size_deg * DEG);
+        double fit = fmin(p->geom.width_mm, p->geom.height_mm);
+        if (side_mm > fit * (1 + 1e-9))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "patch: %g deg is %.1f mm at %.0f mm, larger than the screen's %.1f mm "
+                                 "(use a smaller size or the full field)",
+                                 m->size_deg, side_mm, p->geom.distance_mm, fit);
+    } else if (m->screen_fraction > 0) {
+        side_mm = m->screen_fraction * p->geom.height_mm;
+    } else {
+        r[0] = 0, r[1] = 0, r[2] = p->rw, r[3] = p->rh; /* full field */
+        return CSF_OK;
+    }
+    int w = (int)lround(side_mm / p->geom.width_mm * p->rw);
+    int h = (int)lround(side_mm / p->geom.height_mm * p->rh);
+    if (w < 1) w = 1;
+    if (h < 1) h = 1;
+    if (w > p->rw) w = p->rw;
+    if (h > p->rh) h = p->rh;
+    r[0] = (p->rw - w) / 2;
+    r[1] = (p->rh - h) / 2;
+    r[2] = r[0] + w;
+    r[3] = r[1] + h;
+    return CSF_OK;
+}
+
+csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *m, int *x, int *y, int *w,
+                                    int *h, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "patch_rect: NULL presenter");
+    int r[4];
+    csf_status st = patch_rect_gl(p, m, r, err);
+    if (st) return st;
+    if (x) *x = r[0];
+    if (y) *y = p->rh - r[3]; /* top row first, as the readback */
+    if (w) *w = r[2] - r[0];
+    if (h) *h = r[3] - r[1];
+    return CSF_OK;
+}
+
+csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_frame_info *out, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_patch: NULL presenter");
+    int r[4];
+    csf_status st = patch_rect_gl(p, m, r, err);
+    if (st) return st;
+    if (!p->headless && glfwWindowShouldClose(p->win))
+        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
+    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    glViewport(0, 0, p->rw, p->rh);
+    set_common_uniforms(p);
+    double ml = (double)p->maxlevel;
+    glUniform3f(p->u[U_DRIVE], (float)(m->drive01[0] * ml), (float)(m->drive01[1] * ml),
+                (float)(m->drive01[2] * ml));
+    glUniform3f(p->u[U_BGDRIVE], (float)(m->bg_drive01[0] * ml), (float)(m->bg_drive01[1] * ml),
+                (float)(m->bg_drive01[2] * ml));
+    glUniform4f(p->u[U_RECT], (float)r[0], (float)r[1], (float)r[2], (float)r[3]);
+    glUniform1i(p->u[U_MODE], MODE_PATCH);
+    glUniform1i(p->u[U_FIX], 0);
+    glBindVertexArray(p->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    csf_frame_info fi;
+    present(p, 1, &fi);
+    fi.contrast_shown = 0;
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error while drawing patch frame %ld",
+                             fi.frame_index);
+    if (out) *out = fi;
+    return CSF_OK;
 }
 
 /* ---------------- envelopes and trials ---------------- */

@@ -128,6 +128,36 @@ csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixat
 /* Baseline for benchmarks: a frame that only clears to the mean grey (no stimulus shader). */
 csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_error *err);
 
+/* ---- measurement patches (display calibration) ---- */
+/* A uniform patch given by DRIVE values, not luminance: the photometric calibration measures what
+ * a drive value produces, so the profile's luminance -> drive mapping is bypassed. Each channel's
+ * fractional drive v (0..1) is shown as framebuffer levels k = floor(v * maxlevel) and k + 1,
+ * k + 1 with probability frac(v * maxlevel), chosen by the stimulus pipeline's dither (the same R2
+ * spatial mask and golden-ratio per-frame offset; CSF_DITHER_NONE rounds, BITSTEAL dithers like
+ * NOISE since each channel is given on its own). A drive of 0.50037 on 8 bits (127.594 levels) is
+ * therefore 59.4 % level 128 and 40.6 % level 127 over the patch and over frames, and its mean
+ * light is the display's light at those levels, mixed in that proportion.
+ * The patch is a square centred on the screen: side size_deg visual degrees (2 D tan(size/2) mm,
+ * D the viewing distance) when size_deg > 0, else screen_fraction of the screen height when > 0,
+ * else the full field. The surround shows bg_drive01 (dithered the same way). Choose the size to
+ * cover the photometer's aperture with a margin (a 1 cm aperture at 570 mm is ~1 deg). */
+typedef struct {
+    double drive01[3];      /* patch drive per channel, [0,1], fractional */
+    double bg_drive01[3];   /* surround drive per channel, [0,1] */
+    double size_deg;        /* side of the square patch in degrees (> 0 wins) */
+    double screen_fraction; /* else side as a fraction of the screen height; both 0: full field */
+} csf_patch;
+
+/* Draws and presents one frame of the patch. Always rasterises (render_every does not apply: a
+ * measurement reads the frame), advances the frame clock like csf_presenter_draw, and refuses
+ * drives outside [0,1] or a patch larger than the screen. Call once per refresh while the
+ * instrument integrates so the temporal dither averages out. */
+csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *patch, csf_frame_info *out,
+                                    csf_error *err);
+/* The patch's pixels in the readback's coordinates (top row first): x, y, w, h render pixels. */
+csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *patch, int *x, int *y,
+                                    int *w, int *h, csf_error *err);
+
 /* ---- temporal envelopes and trials ---- */
 enum { CSF_ENV_FIXED = 0, CSF_ENV_RAISED_COSINE = 1, CSF_ENV_FADE_LOG = 2 };
 typedef struct {
