@@ -967,7 +967,7 @@ csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *m, 
                                     int *h, csf_error *err)
 {
     if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "patch_rect: NULL presenter");
-    int r[4];
+    int r[4] = {0, 0, 0, 0};
     csf_status st = patch_rect_gl(p, m, r, err);
     if (st) return st;
     if (x) *x = r[0];
@@ -980,7 +980,7 @@ csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *m, 
 csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_frame_info *out, csf_error *err)
 {
     if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_patch: NULL presenter");
-    int r[4];
+    int r[4] = {0, 0, 0, 0};
     csf_status st = patch_rect_gl(p, m, r, err);
     if (st) return st;
     if (!p->headless && glfwWindowShouldClose(p->win))
