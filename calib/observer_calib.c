@@ -13,6 +13,7 @@
 #include "calib/procedure.h"
 #include "devices/observer_sim.h"
 #include "devices/responder.h"
+#include "results/file_read.h"
 #include "results/csflut.h"
 #include "results/display_profile.h"
 #include "results/plot.h"
@@ -20,6 +21,9 @@
 #include "results/store.h"
 #include "stimuli/geometry.h"
 #include "stimuli/presenter.h"
+
+/* Tables and plots are copied into the store as artifacts; anything larger is not ours. */
+#define ARTIFACT_MAX_BYTES ((size_t)64 << 20)
 
 /* The report plot comes from the store area; weak so a build without it still runs sessions and
  * says the plot is unavailable instead of failing to link. */
@@ -581,27 +585,6 @@ static int cmp_d(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
-}
-
-static csf_status read_file(const char *path, unsigned char **buf, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return CSF_E_IO;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    if (n < 0 || n > (64L << 20)) {
-        fclose(f);
-        return CSF_E_IO;
-    }
-    *buf = malloc((size_t)n + 1);
-    if (!*buf) {
-        fclose(f);
-        return CSF_E_NOMEM;
-    }
-    *len = fread(*buf, 1, (size_t)n, f);
-    fclose(f);
-    return *len == (size_t)n ? CSF_OK : CSF_E_IO;
 }
 
 typedef struct {
@@ -1190,9 +1173,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         goto restore;
     }
     res->table_written = 1;
-    unsigned char *blob = NULL;
+    char *blob = NULL;
     size_t blen = 0;
-    if (read_file(opt->out_path, &blob, &blen) == CSF_OK)
+    if (csf_read_file(opt->out_path, "threshold table", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
         st = csf_store_add_artifact(S.store, sid, "csflut", opt->out_path, blob, blen, err);
     free(blob);
     if (st != CSF_OK) goto restore;
@@ -1207,7 +1190,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         st = csf_report_write(S.store, sid, opt->plot_path, err);
         if (st != CSF_OK) goto restore;
         blob = NULL;
-        if (read_file(opt->plot_path, &blob, &blen) == CSF_OK)
+        if (csf_read_file(opt->plot_path, "report plot", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
             csf_store_add_artifact(S.store, sid, "plot", opt->plot_path, blob, blen, NULL);
         free(blob);
     }

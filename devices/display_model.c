@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "results/file_read.h"
+
 enum { KIND_CRT, KIND_LCD, KIND_OLED, KIND_CSV };
 
 #define CSV_LEVELS 256
@@ -288,21 +290,11 @@ csf_status csf_display_model_from_csv(const char *text, size_t len, const char *
 
 static csf_status load_csv_file(const char *path, csf_display_model **out, csf_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return csf_error_set(err, CSF_E_IO, "cannot open display CSV %s: %s", path, strerror(errno));
-    char *buf = malloc(1 << 20);
-    if (!buf) {
-        fclose(f);
-        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    }
-    size_t n = fread(buf, 1, 1 << 20, f);
-    int more = fgetc(f) != EOF;
-    fclose(f);
-    csf_status st;
-    if (more)
-        st = csf_error_set(err, CSF_E_FORMAT, "display CSV %s is larger than 1 MiB", path);
-    else
-        st = csf_display_model_from_csv(buf, n, path, out, err);
+    char *buf;
+    size_t n;
+    csf_status st = csf_read_file(path, "display CSV", (size_t)1 << 20, &buf, &n, err);
+    if (st != CSF_OK) return st;
+    st = csf_display_model_from_csv(buf, n, path, out, err);
     free(buf);
     return st;
 }

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "results/file_read.h"
 #include "results/psychometric.h"
 #include "results/rng.h"
 
@@ -227,25 +228,10 @@ csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out
 csf_status csf_obs_table_load(const char *path, csf_obs_table **out, csf_error *err)
 {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f) return csf_error_set(err, CSF_E_IO, "observer table %s: %s", path, strerror(errno));
-    const size_t max_len = 1 << 20;
-    char *buf = malloc(max_len + 1);
-    if (!buf) {
-        fclose(f);
-        return csf_error_set(err, CSF_E_NOMEM, "observer table %s: out of memory", path);
-    }
-    size_t n = fread(buf, 1, max_len + 1, f);
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return csf_error_set(err, CSF_E_IO, "observer table %s: read error", path);
-    }
-    if (n > max_len) {
-        free(buf);
-        return csf_error_set(err, CSF_E_FORMAT, "observer table %s: larger than 1 MiB", path);
-    }
+    char *buf;
+    size_t n;
+    csf_status rs = csf_read_file(path, "observer table", (size_t)1 << 20, &buf, &n, err);
+    if (rs != CSF_OK) return rs;
     csf_status st = csf_obs_table_parse(buf, n, out, err);
     free(buf);
     if (st != CSF_OK && err) {
