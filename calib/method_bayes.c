@@ -8,6 +8,10 @@
  * itself learned: each particle carries one of a few levels). The offsets let an observer whose
  * surface is not of the model's form still be recovered: the surface carries information between
  * cells, the offset lets each cell's own trials move its estimate.
+ * The offsets are correlated a priori between neighbouring cells (a smooth squared-exponential
+ * part over log2 f x eccentricity plus a per-frequency column part; see gp_predict): the
+ * particles treat them as independent, and each cell's prior is conditioned on the other cells'
+ * residuals (Gaussian summaries of their trials against the surface).
  *
  * Posterior. theta is represented by weighted particles. Each cell's data enter theta's posterior
  * only through Z_c(m) = integral K(t - m) L_c(t) dt (K = offset prior, L_c = the cell's
