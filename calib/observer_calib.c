@@ -25,10 +25,6 @@
 /* Tables and plots are copied into the store as artifacts; anything larger is not ours. */
 #define ARTIFACT_MAX_BYTES ((size_t)64 << 20)
 
-/* The report plot comes from the store area; weak so a build without it still runs sessions and
- * says the plot is unavailable instead of failing to link. */
-#pragma weak csf_report_write
-
 #define GABOR_SIGMA_DEG 1.0     /* DESIGN.md: the CSF parameters are for Gabors of sigma ~1 deg */
 #define FIXATION_S 0.3          /* fixation before each trial */
 #define RESPONSE_WINDOW_S 1.0   /* presses still accepted after the ramp ends */
@@ -1182,11 +1178,6 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     st = csf_store_set_session_state(S.store, sid, "finished", err);
     if (st != CSF_OK) goto restore;
     if (opt->plot_path && *opt->plot_path) {
-        if (!csf_report_write) {
-            st = csf_error_set(err, CSF_E_UNSUPPORTED, "--plot: report plots are not in this build (table %s was written)",
-                               opt->out_path);
-            goto restore;
-        }
         st = csf_report_write(S.store, sid, opt->plot_path, err);
         if (st != CSF_OK) goto restore;
         blob = NULL;
