@@ -609,6 +609,24 @@ static void session_free(session_res *s)
     free(s->est);
 }
 
+/* Commits a trial and its frame intervals in one transaction (a crash cannot leave a trial
+ * without its timing), frees the frame record, and appends the trial to the session's copy. */
+static csf_status store_trial(session_res *S, size_t *n_stored, const csf_trial *t, trial_result *tr,
+                              csf_error *err)
+{
+    int n_intervals = tr->have_rec && tr->rec.frames_drawn > 1 ? tr->rec.frames_drawn - 1 : 0;
+    csf_status st = csf_store_add_trial_frames(S->store, t, n_intervals ? tr->rec.interval_s : NULL,
+                                               n_intervals, err);
+    if (tr->have_rec) csf_trial_record_free(&tr->rec);
+    tr->have_rec = 0;
+    if (st != CSF_OK) return st;
+    csf_trial *grown = realloc(S->stored, (*n_stored + 1) * sizeof *S->stored);
+    if (!grown) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    S->stored = grown;
+    S->stored[(*n_stored)++] = *t;
+    return CSF_OK;
+}
+
 static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, const csf_cell *c,
                        double polar, double mean_lum, const csf_trial_plan *plan, int practice,
                        const trial_result *tr)
@@ -899,18 +917,8 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         }
         csf_trial t;
         fill_trial(&t, sid, seq, set.method, &pc_cell, 0, mean_lum, &plan, 1, &tr);
-        st = csf_store_add_trial(S.store, &t, err);
-        if (st == CSF_OK && tr.have_rec && tr.rec.frames_drawn > 1)
-            st = csf_store_add_frame_intervals(S.store, sid, seq, tr.rec.interval_s, tr.rec.frames_drawn - 1, err);
-        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
-        csf_trial *grown = realloc(S.stored, (n_stored + 1) * sizeof *S.stored);
-        if (!grown) {
-            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-            goto restore;
-        }
-        S.stored = grown;
-        S.stored[n_stored++] = t;
         seq++;
     }
     if (S.ops->task == CSF_TASK_FADE) res->latency_s = practice_latency(S.stored, n_stored);
@@ -990,18 +998,8 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         csf_trial t;
         fill_trial(&t, sid, seq, set.method, c, polar, mean_lum, &plan, 0, &tr);
         /* Stored (durably) before the procedure sees it and before the next trial is shown. */
-        st = csf_store_add_trial(S.store, &t, err);
-        if (st == CSF_OK && tr.have_rec && tr.rec.frames_drawn > 1)
-            st = csf_store_add_frame_intervals(S.store, sid, seq, tr.rec.interval_s, tr.rec.frames_drawn - 1, err);
-        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
-        csf_trial *grown = realloc(S.stored, (n_stored + 1) * sizeof *S.stored);
-        if (!grown) {
-            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-            goto restore;
-        }
-        S.stored = grown;
-        S.stored[n_stored++] = t;
         seq++;
         csf_trial_outcome o = outcome_of(&t, S.ops->task);
         S.ops->update(S.proc, trial_index, &plan, &o);
