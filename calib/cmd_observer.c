@@ -37,7 +37,8 @@ static void usage(FILE *f)
             "docs/observer-calibration.md for the keys) or --observer human (a window, keyboard and\n"
             "mouse: Space or a click when something is visible, then a click where it was; 2AFC:\n"
             "1/Left or 2/Right, or the left/right mouse button; Escape pauses: R resumes, S stops\n"
-            "and keeps the session for --resume).\n\n%s",
+            "and keeps the session for --resume). Default: the station configuration's observer,\n"
+            "else human when a display is available and sim without one.\n\n%s",
             csf_cli_common_help);
 }
 
@@ -59,7 +60,6 @@ int csf_cmd_observer(int argc, char **argv)
     csf_obs_options o;
     csf_obs_options_defaults(&o);
     o.cfg = &cli.cfg;
-    int observer_set = 0;
     static const struct option opts[] = {
         {"out", required_argument, 0, OPT_OUT},
         {"plot", required_argument, 0, OPT_PLOT},
@@ -130,7 +130,6 @@ int csf_cmd_observer(int argc, char **argv)
         }
         case OPT_QUIET: o.quiet = 1; break;
         default: {
-            if (c == CSF_OPT_OBSERVER) observer_set = 1;
             int r = csf_cli_common_option(&cli, c, optarg);
             if (r < 0) return 2;
             if (r == 0) {
@@ -148,10 +147,11 @@ int csf_cmd_observer(int argc, char **argv)
         fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
         return 2;
     }
-    o.observer_spec = cli.cfg.observer[0] ? cli.cfg.observer : "sim";
-    if (!observer_set && !cli.cfg.observer[0]) o.observer_spec = "sim";
     o.seed = cli.seed;
     o.headless = csf_cli_want_headless(&cli);
+    /* Unless told otherwise, a station with a display measures the person in front of it; without
+     * one there is nobody to ask, so the simulated observer runs (and says so in its summary). */
+    o.observer_spec = cli.cfg.observer[0] ? cli.cfg.observer : (o.headless ? "sim" : "human");
     o.resume_id = cli.resume_id;
     o.store_path = csf_cli_store_path(&cli);
     if (cli.json) o.quiet = 1;

@@ -17,7 +17,7 @@ void csf_config_defaults(csf_config *c)
     c->refresh_hz = 60.0;
     c->framebuffer_bits = 8;
     snprintf(c->photometer, sizeof c->photometer, "sim");
-    snprintf(c->observer, sizeof c->observer, "sim");
+    /* observer left empty: the command picks a person at a display, the simulation without one */
     snprintf(c->responder, sizeof c->responder, "keyboard");
     c->profile_max_age_days = 30.0;
     snprintf(c->source, sizeof c->source, "(defaults)");

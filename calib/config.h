@@ -16,7 +16,7 @@ typedef struct {
     int framebuffer_bits;                    /* per channel: 8 or 10 */
     char monitor[128];                       /* index or name for GLFW; empty = primary */
     char photometer[256];                    /* device spec, e.g. "sim" or "sim:display=lcd" */
-    char observer[256];                      /* "sim[:...]" or "human" */
+    char observer[256];                      /* "sim[:...]" or "human"; empty = human at a display, sim headless */
     char responder[128];                     /* "keyboard", "mouse", ... */
     char store_path[1024];                   /* empty = $XDG_DATA_HOME/csfcal/csfcal.sqlite */
     char display_profile[1024];              /* path of the display profile to use; empty = default display */
