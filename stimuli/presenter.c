@@ -735,21 +735,17 @@ static void set_common_uniforms(csf_presenter *p)
     double c[3], h[3], v[3];
     csf_geometry_centre_basis(&p->geom, 0.0, 0.0, c, h, v);
     glUniform3f(p->u[U_FIXC], (float)c[0], (float)c[1], (float)c[2]);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, p->inv_tex);
-    glUniform1i(p->u[U_INV], 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, p->fwd_tex);
-    glUniform1i(p->u[U_FWD], 1);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, p->img_tex);
-    glUniform1i(p->u[U_IMG], 2);
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, p->text_tex);
-    glUniform1i(p->u[U_TEXT], 3);
-    glActiveTexture(GL_TEXTURE4);
-    glBindTexture(GL_TEXTURE_2D, p->chan_tex);
-    glUniform1i(p->u[U_CHAN], 4);
+    /* texture unit k holds textures[k], and its sampler uniform is told so */
+    const struct {
+        GLuint tex;
+        int uniform;
+    } textures[] = {{p->inv_tex, U_INV}, {p->fwd_tex, U_FWD}, {p->img_tex, U_IMG},
+                    {p->text_tex, U_TEXT}, {p->chan_tex, U_CHAN}};
+    for (int k = 0; k < (int)(sizeof textures / sizeof textures[0]); k++) {
+        glActiveTexture((GLenum)(GL_TEXTURE0 + k));
+        glBindTexture(GL_TEXTURE_2D, textures[k].tex);
+        glUniform1i(p->u[textures[k].uniform], k);
+    }
 }
 
 static void upload_image(csf_presenter *p, const csf_image *img)
