@@ -742,10 +742,12 @@ csf_status csf_profile_set_channel_knots(csf_display_profile *p, int ch, const d
     return CSF_OK;
 }
 
-csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, size_t n,
-                                 int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
-                                 size_t n_eval, csf_error *err)
+/* The profile's curve model through bare (drive, luminance) points, for the procedure's
+ * leave-one-out and corner checks. */
+static csf_status curve_from_points(curve *c, const double *drive01, const double *lum_cdm2, size_t n,
+                                    int is_channel, csf_error *err)
 {
+    memset(c, 0, sizeof *c);
     csf_profile_reading *r = calloc(n ? n : 1, sizeof *r);
     if (!r) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     int ch = is_channel ? CSF_CH_R : CSF_CH_GREY;
@@ -754,10 +756,17 @@ csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, 
         r[i].drive01 = drive01[i];
         r[i].lum_cdm2 = lum_cdm2[i];
     }
-    curve c;
-    memset(&c, 0, sizeof c);
-    csf_status st = build_curve(&c, r, n, ch, 0, err);
+    csf_status st = build_curve(c, r, n, ch, 0, err);
     free(r);
+    return st;
+}
+
+csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, size_t n,
+                                 int is_channel, const double *eval_drive01, double *eval_lum_cdm2,
+                                 size_t n_eval, csf_error *err)
+{
+    curve c;
+    csf_status st = curve_from_points(&c, drive01, lum_cdm2, n, is_channel, err);
     if (st) return st;
     for (size_t i = 0; i < n_eval; i++) eval_lum_cdm2[i] = curve_lum(&c, eval_drive01[i]);
     curve_free(&c);
@@ -767,19 +776,8 @@ csf_status csf_profile_fit_curve(const double *drive01, const double *lum_cdm2, 
 size_t csf_profile_fit_corners(const double *drive01, const double *lum_cdm2, size_t n, int is_channel,
                                double *corner_drive01, size_t max, csf_error *err)
 {
-    csf_profile_reading *r = calloc(n ? n : 1, sizeof *r);
-    if (!r) return 0;
-    int ch = is_channel ? CSF_CH_R : CSF_CH_GREY;
-    for (size_t i = 0; i < n; i++) {
-        r[i].channel = ch;
-        r[i].drive01 = drive01[i];
-        r[i].lum_cdm2 = lum_cdm2[i];
-    }
     curve c;
-    memset(&c, 0, sizeof c);
-    csf_status st = build_curve(&c, r, n, ch, 0, err);
-    free(r);
-    if (st) return 0;
+    if (curve_from_points(&c, drive01, lum_cdm2, n, is_channel, err) != CSF_OK) return 0;
     size_t k = 0;
     for (int i = 1; i < c.n - 1; i++)
         if (is_corner(c.v, c.y, c.n, i) && k < max) corner_drive01[k++] = c.v[i];
