@@ -184,8 +184,16 @@ static double hermite(const curve *c, int i, double t)
 {
     double h = c->v[i + 1] - c->v[i];
     double t2 = t * t, t3 = t2 * t;
-    return (2 * t3 - 3 * t2 + 1) * c->y[i] + (t3 - 2 * t2 + t) * h * c->m[i] +
-           (-2 * t3 + 3 * t2) * c->y[i + 1] + (t3 - t2) * h * c->ml[i + 1];
+    /* Written as y0 plus increments, not as a weighted sum of y0 and y1: the weights of the usual
+     * form add up to 1 only up to rounding, which made a flat segment wobble by an ulp and the
+     * curve non-monotone there (found by fuzz_profile). Here a flat segment (equal ends, zero
+     * slopes) is exactly y0, and the result is kept between the segment's ends, which is where a
+     * monotone cubic lies. */
+    double y = c->y[i] + (3 * t2 - 2 * t3) * (c->y[i + 1] - c->y[i]) +
+               h * ((t3 - 2 * t2 + t) * c->m[i] + (t3 - t2) * c->ml[i + 1]);
+    double lo = c->y[i] < c->y[i + 1] ? c->y[i] : c->y[i + 1];
+    double hi = c->y[i] < c->y[i + 1] ? c->y[i + 1] : c->y[i];
+    return y < lo ? lo : y > hi ? hi : y;
 }
 
 static int find_seg(const curve *c, double v)
