@@ -59,7 +59,10 @@ enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_
 #endif
 /* log10: how far a cell departs from the surface. Hierarchical: each particle carries one of these
  * levels, so the data decide how closely this observer follows the parametric form. */
-static const double offset_sd_levels[] = {0.03, 0.06, 0.10, 0.15, 0.22};
+#ifndef OFFSET_LEVELS
+#define OFFSET_LEVELS {0.03, 0.06, 0.10, 0.15, 0.22}
+#endif
+static const double offset_sd_levels[] = OFFSET_LEVELS;
 enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define OFFSET_SD_WIDE 0.40    /* log10: the tail for cells the surface cannot describe */
 #ifndef OFFSET_WIDE_WEIGHT
@@ -95,8 +98,14 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define MIN_LAPSE 1e-3         /* a zero lapse rate would make one wrong answer at high contrast fatal */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
-static const double prior_mean[NPAR] = {2.25, 0.45, 0.477, 0.5, 0.03, 0.02};
-static const double prior_sd[NPAR] = {0.35, 0.25, 0.15, 0.3, 0.02, 0.01};
+#ifndef PRIOR_MEAN
+#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02}
+#endif
+#ifndef PRIOR_SD
+#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01}
+#endif
+static const double prior_mean[NPAR] = PRIOR_MEAN;
+static const double prior_sd[NPAR] = PRIOR_SD;
 static const double prior_lo[NPAR] = {0.5, -0.7, 0.0, 0.0, 0.0, 0.0};
 static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1};
 
@@ -115,8 +124,11 @@ typedef struct {
      * kernel per level (half-width kn_half[l] nodes) and the shared wide one (kw_half) */
     int kn_half[N_LEVELS], kw_half;
     double *kn[N_LEVELS], *kw;
-    /* P(correct) and its binary entropy by grid-index difference (x node - t node) + n_grid - 1 */
+    /* P(correct) and its binary entropy by grid-index difference (x node - t node) + n_grid - 1,
+     * one table per layout: [0] two intervals, [1] four locations (offset by 2*n_grid - 1) */
     double *ptab, *htab;
+    double guess4;   /* guess rate of a four-location cell */
+    int *n_alt;      /* [n_cells] 2 or 4 */
     double *tclip;   /* [n_grid] t_g clipped at log10 max contrast + 0.1 (variance criterion) */
 
     /* per cell */
@@ -175,11 +187,20 @@ static double log_prior(const double *th)
     return lp;
 }
 
-/* Probability of a correct 2AFC answer at log10 contrast x for log10 threshold t. */
-static double p_correct(const bayes_state *s, double x, double t)
+/* Probability of a correct forced-choice answer at log10 contrast x for log10 threshold t, with
+ * guess rate g (1/2 for two intervals unless the setup says otherwise, 1/4 for four locations). */
+static double p_correct(const bayes_state *s, double g, double x, double t)
 {
     double e = exp(-pow(10.0, s->slope * (x - t)));
-    return s->guess + (1.0 - s->guess - s->lapse) * (1.0 - e);
+    return g + (1.0 - g - s->lapse) * (1.0 - e);
+}
+
+static double cell_guess(const bayes_state *s, int c) { return s->n_alt[c] == 4 ? s->guess4 : s->guess; }
+
+/* The cell's P(correct) table (see bayes_state.ptab). */
+static const double *cell_ptab(const bayes_state *s, int c)
+{
+    return s->ptab + (s->n_alt[c] == 4 ? 2 * (size_t)s->n_grid - 1 : 0);
 }
 
 /* Linear interpolation of a per-node table at continuous log10 value v (clamped to the grid). */
@@ -581,7 +602,7 @@ static void bayes_destroy(void *state)
     if (!s) return;
     free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials);
     for (int l = 0; l < N_LEVELS; l++) free(s->kn[l]);
-    free(s->kw), free(s->ptab), free(s->htab), free(s->tclip), free(s->level), free(s->hist);
+    free(s->kw), free(s->ptab), free(s->htab), free(s->n_alt), free(s->tclip), free(s->level), free(s->hist);
     free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf), free(s->weak);
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
     free(s->corr), free(s->gp_a), free(s->gp_inv), free(s->gp_y), free(s->gp_nv);
@@ -631,6 +652,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->trial_budget = setup->trial_budget;
     s->slope = slope;
     s->guess = guess;
+    s->guess4 = 0.25;
     s->lapse = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
     s->log_cmax = log10(setup->max_contrast);
     /* below 1e-4 Michelson nobody sees anything; it also bounds the grid */
@@ -655,8 +677,9 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     int kn_ok = 1;
     for (int l = 0; l < N_LEVELS; l++)
         kn_ok &= (s->kn[l] = malloc(sizeof(double) * (size_t)(2 * s->kn_half[l] + 1))) != NULL;
-    s->ptab = malloc(sizeof(double) * (size_t)(2 * G - 1));
-    s->htab = malloc(sizeof(double) * (size_t)(2 * G - 1));
+    s->ptab = malloc(sizeof(double) * 2 * (size_t)(2 * G - 1));
+    s->htab = malloc(sizeof(double) * 2 * (size_t)(2 * G - 1));
+    s->n_alt = malloc(sizeof(int) * (size_t)nc);
     s->tclip = malloc(sizeof(double) * (size_t)G);
     s->level = malloc(sizeof(int) * (size_t)n);
     s->hist = malloc(sizeof(double) * (size_t)N_LEVELS * G);
@@ -673,13 +696,14 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->scratch_a = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_b = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_idx = malloc(sizeof(int) * (size_t)scratch_n);
-    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->tclip || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
+    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->n_alt || !s->tclip || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
         !s->logz || !s->logw || !s->post || !s->surf || !s->weak || !s->scratch_a || !s->scratch_b ||
         !s->scratch_idx) {
         bayes_destroy(s);
         return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
     }
     memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
+    for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
     s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
@@ -721,11 +745,12 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
                                           offset_sd_levels[l] * s->step / sqrt(2.0 * M_PI);
         }
     for (int g = 0; g < G; g++) s->tclip[g] = fmin(s->lo + g * s->step, s->log_cmax + 0.1);
-    for (int d = -(G - 1); d <= G - 1; d++) {
-        double pr = p_correct(s, d * s->step, 0.0);
-        s->ptab[d + G - 1] = pr;
-        s->htab[d + G - 1] = h2(pr);
-    }
+    for (int a = 0; a < 2; a++)
+        for (int d = -(G - 1); d <= G - 1; d++) {
+            double pr = p_correct(s, a ? s->guess4 : s->guess, d * s->step, 0.0);
+            s->ptab[(size_t)a * (2 * G - 1) + d + G - 1] = pr;
+            s->htab[(size_t)a * (2 * G - 1) + d + G - 1] = h2(pr);
+        }
     /* particles from the prior (rejection for the truncation), deterministic in the seed */
     csf_rng r;
     csf_rng_init(&r, s->seed, STREAM_INIT);
@@ -780,7 +805,8 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         int cx = s->g_cmax;
 #if BAYES_CRITERION_ENTROPY
         for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &s->ptab[gx + G - 1], *ht = &s->htab[gx + G - 1];
+            const double *pt = &cell_ptab(s, c)[gx + G - 1];
+            const double *ht = &s->htab[(pt - s->ptab)];
             double pc = 0.0, hc = 0.0;
             for (int g = g0; g <= g1; g++) {
                 pc += po[g] * pt[-g];
@@ -797,7 +823,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         }
         double var0 = m2 / m0 - (m1 / m0) * (m1 / m0);
         for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &s->ptab[gx + G - 1];
+            const double *pt = &cell_ptab(s, c)[gx + G - 1];
             double a0 = 0.0, a1 = 0.0, a2 = 0.0;
             for (int g = g0; g <= g1; g++) {
                 double q = po[g] * pt[-g], t = s->tclip[g];
@@ -832,7 +858,9 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     plan->cell = chosen;
     plan->contrast = pow(10.0, s->lo + cell_x[chosen] * s->step);
     if (plan->contrast > pow(10.0, s->log_cmax)) plan->contrast = pow(10.0, s->log_cmax);
-    plan->signal_interval = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1) < 0.5;
+    plan->n_alternatives = s->n_alt[chosen];
+    double u = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1);
+    plan->signal_interval = plan->n_alternatives == 4 ? (int)(u * 4.0) % 4 : u < 0.5;
     plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
     plan->is_catch = 0;
     plan->ramp_start_log10 = NAN;
@@ -848,13 +876,13 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
     if (!s || !plan || !outcome || !outcome->valid) return;
     int c = plan->cell;
     if (c < 0 || c >= s->n_cells || !(plan->contrast > 0.0) || !isfinite(plan->contrast)) return;
-    if (outcome->response != 0 && outcome->response != 1) return;
+    if (outcome->response < 0 || outcome->response >= s->n_alt[c]) return;
     int correct = outcome->response == plan->signal_interval;
     double x = log10(plan->contrast);
     int G = s->n_grid;
     double *ll = &s->loglik[(size_t)c * G];
     for (int g = 0; g < G; g++) {
-        double pr = p_correct(s, x, s->lo + g * s->step);
+        double pr = p_correct(s, cell_guess(s, c), x, s->lo + g * s->step);
         ll[g] += log(correct ? pr : 1.0 - pr);
     }
     s->n_trials[c]++;

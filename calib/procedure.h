@@ -17,7 +17,8 @@ typedef struct {
 
 typedef enum {
     CSF_TASK_FADE = 0,  /* yes/no detection of a grating fading in: response = pressed, rt along the ramp */
-    CSF_TASK_2AFC = 1,  /* two intervals (or locations): response = chosen interval 0/1 */
+    CSF_TASK_2AFC = 1,  /* forced choice: two intervals (response 0/1) or, per cell, four locations
+                           (response 0-3; csf_trial_plan.n_alternatives says which) */
 } csf_task;
 
 typedef struct {
@@ -38,6 +39,12 @@ typedef struct {
      * press back along the ramp by this much to find the contrast at detection. 0 = unknown: the
      * fade method then assumes 0.35 s. Other methods may ignore it. */
     double reaction_latency_s;
+    /* Forced-choice layout per cell (CSF_TASK_2AFC methods): n_alternatives[c] = 2 for two
+     * temporal intervals, 4 for four locations on the cell's eccentricity ring shown at once
+     * (spatial 4AFC, guess rate 1/4). NULL = 2 everywhere. The session decides (a foveal cell or
+     * one whose four locations do not fit apart on the screen stays two-interval); see
+     * csf_afc_layout in calib/afc_layout.h. Methods that cannot use 4 treat every cell as 2. */
+    const int *n_alternatives;
 } csf_procedure_setup;
 
 typedef struct {
@@ -46,7 +53,8 @@ typedef struct {
     double contrast;        /* 2AFC: the contrast shown; fade: the ramp's final (max) contrast */
     double ramp_start_log10, ramp_s; /* fade only: ramp from 10^start to contrast over ramp_s */
     int is_catch;           /* fade: no grating is shown */
-    int signal_interval;    /* 2AFC: 0 or 1 */
+    int signal_interval;    /* 2AFC: the interval (0, 1) or location (0 .. n_alternatives-1) with the grating */
+    int n_alternatives;     /* 2AFC: 2 (two intervals) or 4 (four locations); the setup's choice for the cell */
     double polar_deg;       /* where on the eccentricity ring */
 } csf_trial_plan;
 

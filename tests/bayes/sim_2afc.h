@@ -123,22 +123,29 @@ static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_tria
     double seen = 0.0;
     if (plan->contrast > 0 && t < 0.0) /* threshold >= 1: never visible */
         seen = 1.0 - exp(-pow(10.0, o->slope * (log10(plan->contrast) - t)));
-    double p_correct = 0.5 + (0.5 - o->lapse) * seen;
+    /* two intervals, or four locations (guess 1/4) when the plan says so */
+    int n_alt = plan->n_alternatives == 4 ? 4 : 2;
+    double guess = 1.0 / n_alt;
+    double p_correct = guess + (1.0 - guess - o->lapse) * seen;
     int correct = csf_rng_uniform(o->seed, 0x51a1, (uint64_t)trial_index) < p_correct;
-    out.response = correct ? plan->signal_interval : 1 - plan->signal_interval;
+    if (correct) out.response = plan->signal_interval;
+    else { /* a wrong answer is one of the other alternatives, at random */
+        int k = 1 + (int)(csf_rng_uniform(o->seed, 0x51a2, (uint64_t)trial_index) * (n_alt - 1)) % (n_alt - 1);
+        out.response = (plan->signal_interval + k) % n_alt;
+    }
     return out;
 }
 
 /* Runs a whole simulated session of `budget` trials through a procedure. The observer's seed is
  * o->seed, the procedure's is proc_seed. Fills est[n_cells]. Returns 0, or -1 with a message. */
-static inline int sim2afc_run(const csf_procedure_ops *ops, const sim2afc *o, const csf_cell *cells,
-                              int n_cells, int budget, uint64_t proc_seed, double max_contrast,
-                              csf_cell_estimate *est)
+static inline int sim2afc_run_alt(const csf_procedure_ops *ops, const sim2afc *o, const csf_cell *cells,
+                                  int n_cells, const int *n_alternatives, int budget, uint64_t proc_seed,
+                                  double max_contrast, csf_cell_estimate *est)
 {
     csf_procedure_setup setup = {.cells = cells, .n_cells = n_cells, .trial_budget = budget,
                                  .seed = proc_seed, .max_contrast = max_contrast,
                                  .min_contrast = 0.0005, .slope_beta = o->slope, .lapse = o->lapse,
-                                 .guess = 0.5};
+                                 .guess = 0.5, .n_alternatives = n_alternatives};
     csf_error err = {0};
     void *st = NULL;
     if (ops->create(&setup, &st, &err) != CSF_OK) {
@@ -165,6 +172,14 @@ static inline int sim2afc_run(const csf_procedure_ops *ops, const sim2afc *o, co
         return -1;
     }
     return 0;
+}
+
+/* Two intervals everywhere (the classic 2IFC). */
+static inline int sim2afc_run(const csf_procedure_ops *ops, const sim2afc *o, const csf_cell *cells,
+                              int n_cells, int budget, uint64_t proc_seed, double max_contrast,
+                              csf_cell_estimate *est)
+{
+    return sim2afc_run_alt(ops, o, cells, n_cells, NULL, budget, proc_seed, max_contrast, est);
 }
 
 /* RMS error of log10 threshold over the cells that are visible in truth (threshold below
