@@ -8,9 +8,14 @@
  * bench/data/observer_mscaled.csv (smooth and realistic: Barten fovea, Rovamo-Virsu frequency
  * scaling over eccentricity); the scripts next to them say how they were made.
  *
+ * Layouts (--layouts): "2" = two intervals in every cell (classic 2IFC, guess 1/2); "4" = what a
+ * session does by default on the default station (531 x 299 mm, 1920 x 1080, 570 mm): four places
+ * (spatial 4AFC, guess 1/4) for every cell whose four Gabors (sigma 1 deg) fit apart on screen
+ * (calib/afc_layout.h), two intervals for the foveal cells. QUEST gets the same layout per cell.
+ *
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
- *                       [--first-seed 1] [--observers 0,1,2]
+ *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2]
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -18,10 +23,11 @@
 #include <string.h>
 #include <time.h>
 
+#include "calib/afc_layout.h"
 #include "calib/procedure.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3 };
+enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2 };
 
 static double now_s(void)
 {
@@ -63,6 +69,7 @@ int main(int argc, char **argv)
     const char *octave = "octave-cli";
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
+    int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
             n_seeds = atoi(argv[++i]);
@@ -85,6 +92,14 @@ int main(int argc, char **argv)
             for (int k = 0; k < N_OBS; k++) use_obs[k] = 0;
             for (; *o; o++)
                 if (*o >= '0' && *o < '0' + N_OBS) use_obs[*o - '0'] = 1;
+        } else if (!strcmp(argv[i], "--layouts") && i + 1 < argc) {
+            const char *o = argv[++i];
+            use_layout[0] = strchr(o, '4') != NULL;
+            use_layout[1] = strchr(o, '2') != NULL;
+            if (!use_layout[0] && !use_layout[1]) {
+                fprintf(stderr, "bench_observer: --layouts wants 4, 2 or 4,2\n");
+                return 1;
+            }
         } else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
             methods_arg = argv[++i];
         } else if (!strcmp(argv[i], "--octave") && i + 1 < argc) {
@@ -105,7 +120,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -133,121 +148,137 @@ int main(int argc, char **argv)
     if (sim2afc_table(&probe[1], table, 0) != 0) return 1;
     if (sim2afc_table(&probe[2], table2, 0) != 0) return 1;
 
-    double rms[N_OBS][MAX_METHODS][MAX_BUDGETS], ms_per_session[N_OBS][MAX_METHODS][MAX_BUDGETS];
-    int wrong_vis[N_OBS][MAX_METHODS][MAX_BUDGETS];
-    for (int ob = 0; ob < N_OBS; ob++)
-        for (int m = 0; m < n_methods && use_obs[ob]; m++)
-            for (int b = 0; b < n_budgets; b++) {
-                double sum_sq = 0.0, t0 = now_s();
-                int wrong_total = 0;
-                for (int s = first_seed; s < first_seed + n_seeds; s++) {
-                    sim2afc o = probe[ob];
-                    o.seed = (uint64_t)s;
-                    csf_cell_estimate est[24];
-                    if (sim2afc_run(methods[m], &o, cells, n, budgets[b], 1000 + (uint64_t)s, cmax, est))
-                        return 1;
-                    int wrong;
-                    double r = sim2afc_rms(&o, cells, n, est, cmax, &wrong);
-                    sum_sq += r * r;
-                    wrong_total += wrong;
-                }
-                rms[ob][m][b] = sqrt(sum_sq / n_seeds);
-                ms_per_session[ob][m][b] = (now_s() - t0) * 1000.0 / n_seeds;
-                wrong_vis[ob][m][b] = wrong_total;
-            }
-
-    double qrms[N_OBS][MAX_BUDGETS];
-    int have_quest = 0;
-    if (quest) {
-        char truth_path[] = "/tmp/bench_observer_truth_XXXXXX";
-        int fd = mkstemp(truth_path);
-        FILE *tf = fd >= 0 ? fdopen(fd, "w") : NULL;
-        if (!tf) {
-            fprintf(stderr, "bench_observer: cannot write a temporary file for QUEST\n");
-            return 1;
+    /* the default station of a session (docs/observer-calibration.md) and its Gabor sigma */
+    csf_geometry geom;
+    csf_error gerr;
+    if (csf_geometry_init(&geom, 531.0, 299.0, 1920, 1080, 570.0, 0.0, 0.0, &gerr) != CSF_OK) return 1;
+    const char *layout_name[N_LAYOUTS] = {"four places off the fovea (session default on the default station), two intervals at the fovea",
+                                          "two intervals in every cell (2IFC)"};
+    for (int ly = 0; ly < N_LAYOUTS; ly++) {
+        if (!use_layout[ly]) continue;
+        int n_alt[24];
+        for (int c = 0; c < n; c++) {
+            csf_afc_layout lay;
+            csf_afc_choose_layout(&geom, cells[c].ecc_deg, 1.0, ly == 0 ? 4 : 2, &lay);
+            n_alt[c] = lay.n_alternatives;
         }
-        fprintf(tf, "#params,%g,%g,%g,%g,%g,%d", probe[0].slope, probe[0].lapse, log10(cmax), log10(0.0005),
-                quest_sd, n_seeds);
-        for (int b = 0; b < n_budgets; b++) fprintf(tf, ",%d", budgets[b]);
-        fprintf(tf, "\n");
+        double rms[N_OBS][MAX_METHODS][MAX_BUDGETS], ms_per_session[N_OBS][MAX_METHODS][MAX_BUDGETS];
+        int wrong_vis[N_OBS][MAX_METHODS][MAX_BUDGETS];
         for (int ob = 0; ob < N_OBS; ob++)
-            for (int c = 0; c < n && use_obs[ob]; c++) {
-                double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
-                fprintf(tf, "%d,%d,%.6f,%.6f,%d\n", ob, c, t, guess_log10(&cells[c]), t < log10(cmax));
-            }
-        fclose(tf);
-        char out_path[64], cmd[512];
-        snprintf(out_path, sizeof out_path, "%s.out", truth_path);
-        snprintf(cmd, sizeof cmd, "%s -q bench/quest/run_quest.m %s %s 2>/dev/null", octave, truth_path, out_path);
-        double t0 = now_s();
-        int rc = system(cmd);
-        FILE *of = fopen(out_path, "r");
-        if (!of) {
-            fprintf(stderr, "bench_observer: QUEST run failed (exit %d): is octave-psychtoolbox-3 installed? "
-                            "See docs/bayes-method.md\n", rc);
-        } else {
-            int ob, bud;
-            double r;
-            for (int ob2 = 0; ob2 < N_OBS; ob2++)
-                for (int b = 0; b < n_budgets; b++) qrms[ob2][b] = NAN;
-            while (fscanf(of, "%d,%d,%lf", &ob, &bud, &r) == 3)
-                for (int b = 0; b < n_budgets; b++)
-                    if (ob >= 0 && ob < N_OBS && budgets[b] == bud) qrms[ob][b] = r;
-            fclose(of);
-            have_quest = 1;
-            printf("QUEST (octave) ran in %.1f s\n", now_s() - t0);
-        }
-        remove(truth_path);
-        remove(out_path);
-    }
+            for (int m = 0; m < n_methods && use_obs[ob]; m++)
+                for (int b = 0; b < n_budgets; b++) {
+                    double sum_sq = 0.0, t0 = now_s();
+                    int wrong_total = 0;
+                    for (int s = first_seed; s < first_seed + n_seeds; s++) {
+                        sim2afc o = probe[ob];
+                        o.seed = (uint64_t)s;
+                        csf_cell_estimate est[24];
+                        if (sim2afc_run_alt(methods[m], &o, cells, n, n_alt, budgets[b], 1000 + (uint64_t)s, cmax, est))
+                            return 1;
+                        int wrong;
+                        double r = sim2afc_rms(&o, cells, n, est, cmax, &wrong);
+                        sum_sq += r * r;
+                        wrong_total += wrong;
+                    }
+                    rms[ob][m][b] = sqrt(sum_sq / n_seeds);
+                    ms_per_session[ob][m][b] = (now_s() - t0) * 1000.0 / n_seeds;
+                    wrong_vis[ob][m][b] = wrong_total;
+                }
 
-    printf("\nRMS error of log10 threshold over visible cells, default 6x4 grid, %d seeds per entry\n", n_seeds);
-    printf("(2AFC, Weibull slope %.1f, lapse %.2f, max contrast %.2f; wrong = cells with the wrong "
-           "visibility, summed over seeds)\n\n", probe[0].slope, probe[0].lapse, cmax);
-    for (int ob = 0; ob < N_OBS; ob++) {
-        if (!use_obs[ob]) continue;
-        printf("observer: %s\n", obs_name[ob]);
-        printf("| trials |");
-        for (int m = 0; m < n_methods; m++) printf(" %-6s RMS | wrong | ms/session |", methods[m]->name);
-        if (have_quest) printf(" QUEST RMS (sd %.1f) |", quest_sd);
-        printf("\n|---|");
-        for (int m = 0; m < n_methods; m++) printf("---|---|---|");
-        if (have_quest) printf("---|");
-        printf("\n");
-        for (int b = 0; b < n_budgets; b++) {
-            printf("| %6d |", budgets[b]);
-            for (int m = 0; m < n_methods; m++)
-                printf(" %10.3f | %5d | %10.1f |", rms[ob][m][b], wrong_vis[ob][m][b], ms_per_session[ob][m][b]);
-            if (have_quest) printf(" %18.3f |", qrms[ob][b]);
+        double qrms[N_OBS][MAX_BUDGETS];
+        int have_quest = 0;
+        if (quest) {
+            char truth_path[] = "/tmp/bench_observer_truth_XXXXXX";
+            int fd = mkstemp(truth_path);
+            FILE *tf = fd >= 0 ? fdopen(fd, "w") : NULL;
+            if (!tf) {
+                fprintf(stderr, "bench_observer: cannot write a temporary file for QUEST\n");
+                return 1;
+            }
+            fprintf(tf, "#params,%g,%g,%g,%g,%g,%d", probe[0].slope, probe[0].lapse, log10(cmax), log10(0.0005),
+                    quest_sd, n_seeds);
+            for (int b = 0; b < n_budgets; b++) fprintf(tf, ",%d", budgets[b]);
+            fprintf(tf, "\n");
+            for (int ob = 0; ob < N_OBS; ob++)
+                for (int c = 0; c < n && use_obs[ob]; c++) {
+                    double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
+                    fprintf(tf, "%d,%d,%.6f,%.6f,%d,%d\n", ob, c, t, guess_log10(&cells[c]), t < log10(cmax), n_alt[c]);
+                }
+            fclose(tf);
+            char out_path[64], cmd[512];
+            snprintf(out_path, sizeof out_path, "%s.out", truth_path);
+            snprintf(cmd, sizeof cmd, "%s -q bench/quest/run_quest.m %s %s 2>/dev/null", octave, truth_path, out_path);
+            double t0 = now_s();
+            int rc = system(cmd);
+            FILE *of = fopen(out_path, "r");
+            if (!of) {
+                fprintf(stderr, "bench_observer: QUEST run failed (exit %d): is octave-psychtoolbox-3 installed? "
+                                "See docs/bayes-method.md\n", rc);
+            } else {
+                int ob, bud;
+                double r;
+                for (int ob2 = 0; ob2 < N_OBS; ob2++)
+                    for (int b = 0; b < n_budgets; b++) qrms[ob2][b] = NAN;
+                while (fscanf(of, "%d,%d,%lf", &ob, &bud, &r) == 3)
+                    for (int b = 0; b < n_budgets; b++)
+                        if (ob >= 0 && ob < N_OBS && budgets[b] == bud) qrms[ob][b] = r;
+                fclose(of);
+                have_quest = 1;
+                printf("QUEST (octave) ran in %.1f s\n", now_s() - t0);
+            }
+            remove(truth_path);
+            remove(out_path);
+        }
+
+        printf("\n== layout: %s ==\n", layout_name[ly]);
+        printf("RMS error of log10 threshold over visible cells, default 6x4 grid, %d seeds per entry\n", n_seeds);
+        printf("(forced choice, Weibull slope %.1f, lapse %.2f, max contrast %.2f; wrong = cells with the wrong "
+               "visibility, summed over seeds)\n\n", probe[0].slope, probe[0].lapse, cmax);
+        for (int ob = 0; ob < N_OBS; ob++) {
+            if (!use_obs[ob]) continue;
+            printf("observer: %s\n", obs_name[ob]);
+            printf("| trials |");
+            for (int m = 0; m < n_methods; m++) printf(" %-6s RMS | wrong | ms/session |", methods[m]->name);
+            if (have_quest) printf(" QUEST RMS (sd %.1f) |", quest_sd);
+            printf("\n|---|");
+            for (int m = 0; m < n_methods; m++) printf("---|---|---|");
+            if (have_quest) printf("---|");
+            printf("\n");
+            for (int b = 0; b < n_budgets; b++) {
+                printf("| %6d |", budgets[b]);
+                for (int m = 0; m < n_methods; m++)
+                    printf(" %10.3f | %5d | %10.1f |", rms[ob][m][b], wrong_vis[ob][m][b], ms_per_session[ob][m][b]);
+                if (have_quest) printf(" %18.3f |", qrms[ob][b]);
+                printf("\n");
+            }
+            if (have_quest && n_methods > 0 && !strcmp(methods[0]->name, "bayes")) {
+                /* fewest trials at which bayes is at least as accurate as QUEST at 240 trials
+                 * (log-linear interpolation between the measured budgets) */
+                int b240 = -1;
+                for (int b = 0; b < n_budgets; b++)
+                    if (budgets[b] == 240) b240 = b;
+                if (b240 >= 0) {
+                    double target = qrms[ob][b240], need = NAN;
+                    for (int b = 0; b < n_budgets; b++) {
+                        if (rms[ob][0][b] <= target) {
+                            if (b == 0) need = budgets[0];
+                            else {
+                                double r0 = rms[ob][0][b - 1], r1 = rms[ob][0][b];
+                                double a = (r0 - target) / (r0 - r1);
+                                need = pow(10.0, log10(budgets[b - 1]) + a * (log10(budgets[b]) - log10(budgets[b - 1])));
+                            }
+                            break;
+                        }
+                    }
+                    if (need == budgets[0])
+                        printf("bayes reaches QUEST's 240-trial RMS (%.3f) at %d trials or fewer (the smallest budget run)\n",
+                               target, budgets[0]);
+                    else
+                        printf("bayes reaches QUEST's 240-trial RMS (%.3f) at about %.0f trials\n", target, need);
+                }
+            }
             printf("\n");
         }
-        if (have_quest && n_methods > 0 && !strcmp(methods[0]->name, "bayes")) {
-            /* fewest trials at which bayes is at least as accurate as QUEST at 240 trials
-             * (log-linear interpolation between the measured budgets) */
-            int b240 = -1;
-            for (int b = 0; b < n_budgets; b++)
-                if (budgets[b] == 240) b240 = b;
-            if (b240 >= 0) {
-                double target = qrms[ob][b240], need = NAN;
-                for (int b = 0; b < n_budgets; b++) {
-                    if (rms[ob][0][b] <= target) {
-                        if (b == 0) need = budgets[0];
-                        else {
-                            double r0 = rms[ob][0][b - 1], r1 = rms[ob][0][b];
-                            double a = (r0 - target) / (r0 - r1);
-                            need = pow(10.0, log10(budgets[b - 1]) + a * (log10(budgets[b]) - log10(budgets[b - 1])));
-                        }
-                        break;
-                    }
-                }
-                if (need == budgets[0])
-                    printf("bayes reaches QUEST's 240-trial RMS (%.3f) at %d trials or fewer (the smallest budget run)\n",
-                           target, budgets[0]);
-                else
-                    printf("bayes reaches QUEST's 240-trial RMS (%.3f) at about %.0f trials\n", target, need);
-            }
-        }
-        printf("\n");
     }
     return 0;
 }
