@@ -102,6 +102,12 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
     "  session_id INTEGER REFERENCES sessions(id), created_utc TEXT NOT NULL);"
     "CREATE INDEX artifacts_session ON artifacts (session_id, kind);"
     "CREATE INDEX thresholds_session ON thresholds (session_id);",
+
+    /* -> v4: forced-choice layout per trial: 2 = two intervals, 4 = four places shown at once
+     * (spatial 4AFC), 0 = not forced choice. Every forced-choice trial stored before had two
+     * intervals (signal_interval 1 or 2). */
+    "ALTER TABLE trials ADD COLUMN n_alternatives INTEGER NOT NULL DEFAULT 0;"
+    "UPDATE trials SET n_alternatives = 2 WHERE signal_interval > 0;",
 };
 
 /* ---- helpers ----------------------------------------------------------------------------- */
@@ -481,8 +487,8 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
                     " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
                     " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
                     " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
-                    " click_y_deg, valid, flags, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,"
-                    "?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
+                    " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
+                    "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
     if (rc == SQLITE_OK)
         rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, x, y, z,"
                         " t_s, status, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?)", &s->ins_reading);
@@ -1045,6 +1051,9 @@ static csf_status check_trial(csf_store *s, const csf_trial *t, csf_error *err)
     if (!isfinite(t->freq_cpd) || !isfinite(t->ecc_deg) || !isfinite(t->contrast_requested))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has a non-finite frequency, "
                              "eccentricity or contrast", t->seq);
+    if (t->n_alternatives != 0 && (t->n_alternatives < 2 || t->n_alternatives > 16))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has %d alternatives (0 = not "
+                             "forced choice, else 2-16)", t->seq, t->n_alternatives);
     if (!s->ins_trial)
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a trial", s->path);
     return CSF_OK;
@@ -1083,6 +1092,7 @@ static int insert_trial(csf_store *s, const csf_trial *t)
     sqlite3_bind_int(st, i++, t->valid != 0);
     sqlite3_bind_text(st, i++, t->flags, -1, SQLITE_TRANSIENT);
     sqlite3_bind_double(st, i++, unix_now_s());
+    sqlite3_bind_int(st, i++, t->n_alternatives);
     int rc = step(s, st);
     sqlite3_reset(st);
     return rc == SQLITE_DONE ? SQLITE_OK : rc;
@@ -1162,7 +1172,7 @@ csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **ou
                         " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
                         " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
                         " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-                        " valid, flags FROM trials WHERE session_id = ? ORDER BY seq", &st);
+                        " valid, flags, n_alternatives FROM trials WHERE session_id = ? ORDER BY seq", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "reading trials");
     sqlite3_bind_int64(st, 1, session_id);
     csf_trial *list = NULL;
@@ -1201,6 +1211,7 @@ csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **ou
         t->click_y_deg = col_real(st, c++);
         t->valid = sqlite3_column_int(st, c++);
         col_text(st, c++, t->flags, sizeof t->flags);
+        t->n_alternatives = sqlite3_column_int(st, c++);
     }
     sqlite3_finalize(st);
     if (rc != SQLITE_DONE) {

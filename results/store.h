@@ -26,7 +26,7 @@ typedef struct csf_store csf_store;
 
 /* Newest schema version this build writes (older stores are migrated forward on open; a newer
  * one is refused rather than misread). */
-#define CSF_STORE_SCHEMA_VERSION 3
+#define CSF_STORE_SCHEMA_VERSION 4
 
 /* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
  * written (a probe write inside a transaction that is rolled back). */
@@ -110,12 +110,17 @@ typedef struct {
     double contrast_requested;    /* Michelson */
     double contrast_shown_mean, contrast_shown_max; /* measured on the frames actually shown */
     int frames_planned, frames_shown, frames_missed;
-    int signal_interval;          /* 2AFC: 1 or 2; 0 = not applicable */
-    int response;                 /* method-specific code (e.g. 1 seen / 0 not, chosen interval) */
+    int signal_interval;          /* forced choice: the interval (1, 2) or place (1-4) with the
+                                     grating; 0 = not applicable */
+    int response;                 /* method-specific code (e.g. 1 seen / 0 not, chosen interval
+                                     or place) */
     double rt_s;                  /* response time, seconds; NaN = none */
     double click_x_deg, click_y_deg; /* click position in visual angle; NaN = none */
     int valid;                    /* 0 = excluded (missed frames, lapse of attention ...) */
     char flags[64];               /* comma-separated problems, e.g. "missed_frames,late" */
+    int n_alternatives;           /* forced choice: 2 (two intervals) or 4 (four places shown at
+                                     once); 0 = not a forced-choice trial (schema v4; rows stored
+                                     earlier read 2 when signal_interval > 0, else 0) */
 } csf_trial;
 
 csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err);
