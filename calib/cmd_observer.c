@@ -9,7 +9,7 @@
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
-    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET
+    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC
 };
 
 static void usage(FILE *f)
@@ -24,6 +24,10 @@ static void usage(FILE *f)
             "  --plot FILE          report plot (.png, .pdf or .svg)\n"
             "  --method M           bayes (default), fade (seed 000 fade-in) or 2afc (Psi per cell)\n"
             "  --trials N           trial budget (default 120, 1 to 5000)\n"
+            "  --afc 2|4            forced-choice layout of bayes and 2afc: 4 (default) shows the\n"
+            "                       grating at one of four places at once wherever they fit on the\n"
+            "                       screen (guess rate 1/4), two intervals at the fovea; 2 uses two\n"
+            "                       intervals everywhere. Kept with the session for --resume\n"
             "  --freqs F1,F2,...    spatial frequencies in cpd (default 6 log-spaced 0.5-16,\n"
             "                       capped by the display's Nyquist limit)\n"
             "  --eccs E1,E2,...     eccentricities in deg (default 0,5,10,20, capped by the screen)\n"
@@ -36,7 +40,9 @@ static void usage(FILE *f)
             "Observers: --observer sim[:key=value,...] (a simulated person; see\n"
             "docs/observer-calibration.md for the keys) or --observer human (a window, keyboard and\n"
             "mouse: Space or a click when something is visible, then a click where it was; 2AFC:\n"
-            "1/Left or 2/Right, or the left/right mouse button; Escape pauses: R resumes, S stops\n"
+            "1/Left or 2/Right, or the left/right mouse button; four places: a click on the place,\n"
+            "or keypad 9/7/1/3 or I/U/J/K for upper right/upper left/lower left/lower right;\n"
+            "Escape pauses: R resumes, S stops\n"
             "and keeps the session for --resume). Default: the station configuration's observer,\n"
             "else human when a display is available and sim without one.\n\n%s",
             csf_cli_common_help);
@@ -72,6 +78,7 @@ int csf_cmd_observer(int argc, char **argv)
         {"render-every", required_argument, 0, OPT_RENDER_EVERY},
         {"render-size", required_argument, 0, OPT_RENDER_SIZE},
         {"quiet", no_argument, 0, OPT_QUIET},
+        {"afc", required_argument, 0, OPT_AFC},
         {"help", no_argument, 0, 'h'},
         CSF_CLI_COMMON_OPTIONS,
         {0, 0, 0, 0},
@@ -129,6 +136,15 @@ int csf_cmd_observer(int argc, char **argv)
             break;
         }
         case OPT_QUIET: o.quiet = 1; break;
+        case OPT_AFC:
+            if (strcmp(optarg, "2") == 0) o.afc = 2;
+            else if (strcmp(optarg, "4") == 0) o.afc = 4;
+            else {
+                fprintf(stderr, "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
+                                "where they fit)\n", optarg);
+                return 2;
+            }
+            break;
         default: {
             int r = csf_cli_common_option(&cli, c, optarg);
             if (r < 0) return 2;

@@ -6,7 +6,11 @@
  *
  * The threshold grid reaches 1 log10 unit above the display's highest contrast, so an invisible
  * cell shows up as posterior mass above the ceiling; when more than half the mass is there the
- * cell is reported as not visible (INFINITY). */
+ * cell is reported as not visible (INFINITY).
+ *
+ * Cells the setup gives four places (setup.n_alternatives[c] == 4, spatial 4AFC) use guess rate
+ * 1/4 in their posterior and plan the place 0-3; the others are two-interval as before (their
+ * plans, draws and posteriors unchanged). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +32,7 @@ typedef struct {
     csf_cell *cells;
     csf_psy_grid *grid;
     int *n_trials;
+    int *n_alt;     /* per cell: 2 or 4 */
     double x_lo, x_hi;
 } afc_state;
 
@@ -40,6 +45,7 @@ static void afc_destroy(void *state)
     free(a->grid);
     free(a->cells);
     free(a->n_trials);
+    free(a->n_alt);
     free(a);
 }
 
@@ -64,12 +70,15 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     a->cells = malloc((size_t)n * sizeof *a->cells);
     a->grid = calloc((size_t)n, sizeof *a->grid);
     a->n_trials = calloc((size_t)n, sizeof *a->n_trials);
-    if (!a->cells || !a->grid || !a->n_trials) {
+    a->n_alt = malloc((size_t)n * sizeof *a->n_alt);
+    if (!a->cells || !a->grid || !a->n_trials || !a->n_alt) {
         afc_destroy(a);
         return csf_error_set(err, CSF_E_NOMEM, "2afc: out of memory");
     }
     memcpy(a->cells, setup->cells, (size_t)n * sizeof *a->cells);
     a->s.cells = a->cells;
+    for (int i = 0; i < n; i++) a->n_alt[i] = setup->n_alternatives && setup->n_alternatives[i] == 4 ? 4 : 2;
+    a->s.n_alternatives = a->n_alt;
     /* Prior per cell: the population-average observer (results/csf_model.h defaults, the same
      * guess a QUEST user would enter), sd 0.7 log10, so an invisible cell needs evidence only
      * where the population says it is hard to see. */
@@ -79,7 +88,8 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         if (!(m < a->x_hi + 0.5)) m = a->x_hi + 0.5;
         if (m < a->x_lo) m = a->x_lo;
         if (csf_psy_grid_init(&a->grid[i], AFC_GRID_N, a->x_lo - 0.5, a->x_hi + 1.0, m,
-                              AFC_PRIOR_SD, a->s.slope_beta, 0.5, a->s.lapse) != 0) {
+                              AFC_PRIOR_SD, a->s.slope_beta, a->n_alt[i] == 4 ? 0.25 : 0.5,
+                              a->s.lapse) != 0) {
             double slope = a->s.slope_beta, lapse = a->s.lapse;
             afc_destroy(a);
             return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: bad psychometric parameters "
@@ -112,7 +122,10 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
     plan->cell = best;
     double x = csf_psy_grid_best_x(&a->grid[best], a->x_lo, a->x_hi, AFC_X_CANDIDATES);
     plan->contrast = pow(10.0, x);
-    plan->signal_interval = csf_rng_uniform(a->s.seed, ST_INTERVAL, (uint64_t)trial_index) < 0.5 ? 0 : 1;
+    double u = csf_rng_uniform(a->s.seed, ST_INTERVAL, (uint64_t)trial_index);
+    plan->n_alternatives = a->n_alt[best];
+    if (plan->n_alternatives == 4) plan->signal_interval = (int)(u * 4.0) % 4;
+    else plan->signal_interval = u < 0.5 ? 0 : 1;
     plan->polar_deg = 360.0 * csf_rng_uniform(a->s.seed, ST_POLAR, (uint64_t)trial_index);
     return CSF_OK;
 }

@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "calib/afc_layout.h"
 #include "calib/procedure.h"
 #include "devices/observer_sim.h"
 #include "devices/responder.h"
@@ -38,7 +39,9 @@
 #define FA_MIN_CATCH 4
 #define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
 #define UNRELATED_LIMIT 0.2     /* refuse when > 20 % of presses were not caused by a grating */
-#define AFC_LAPSE_LIMIT 0.25    /* refuse when > 25 % wrong at 4x the estimated threshold */
+/* Refuse when the wrong answers at 4x the estimated threshold say the person guessed on more than
+ * half of those trials: > 25 % wrong with two intervals, > 37.5 % with four places. */
+#define AFC_GUESS_LIMIT 0.5
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX };
 
@@ -61,6 +64,7 @@ void csf_obs_options_defaults(csf_obs_options *o)
     o->render_every = 1;
     o->render_w = 64;
     o->render_h = 36;
+    o->afc = 4;
 }
 
 /* Values that reach the store and the procedures are rounded to 9 significant digits: far below
@@ -83,14 +87,16 @@ typedef struct {
     double freqs[CSF_OBS_MAX_AXIS], eccs[CSF_OBS_MAX_AXIS];
     int n_freqs, n_eccs;
     int break_every;
+    int afc;        /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
 } session_settings;
 
 static void settings_to_json(const session_settings *s, char *buf, size_t len)
 {
     size_t n = 0;
     n += (size_t)snprintf(buf + n, len - n, "{\"method\":\"%s\",\"observer\":\"%s\",\"trials\":%d,"
-                          "\"practice\":%d,\"break_every\":%d,\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
-                          s->method, s->observer, s->trials, s->practice, s->break_every, GABOR_SIGMA_DEG);
+                          "\"practice\":%d,\"break_every\":%d,\"afc\":%d,\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
+                          s->method, s->observer, s->trials, s->practice, s->break_every, s->afc,
+                          GABOR_SIGMA_DEG);
     for (int i = 0; i < s->n_freqs && n < len; i++)
         n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->freqs[i]);
     if (n < len) n += (size_t)snprintf(buf + n, len - n, "],\"eccs_deg\":[");
@@ -156,6 +162,9 @@ static int settings_from_json(const char *json, session_settings *s)
         json_int(json, "trials", &s->trials) || json_int(json, "practice", &s->practice) ||
         json_int(json, "break_every", &s->break_every))
         return -1;
+    /* Sessions stored before four-place trials existed were two-interval throughout. */
+    if (json_int(json, "afc", &s->afc) != 0) s->afc = 2;
+    if (s->afc != 2 && s->afc != 4) return -1;
     s->n_freqs = json_list(json, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS);
     s->n_eccs = json_list(json, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS);
     return (s->n_freqs > 0 && s->n_eccs > 0) ? 0 : -1;
@@ -230,6 +239,21 @@ static int fade_stop_cb(void *ctx, const csf_frame_info *f)
     return person_fade_frame(ctx, f->t_s, f->contrast_shown);
 }
 
+/* The direction (eccentricity, polar angle) of a click from the line of sight. */
+static void click_direction(const person *p, const csf_response *ev, double *ecc, double *polar)
+{
+    double xm, ym;
+    /* The click is in window framebuffer pixels; the geometry is in the configured resolution,
+     * which the window may not have (the presenter then draws the configured screen scaled to
+     * the window). */
+    int rw, rh;
+    csf_presenter_render_size(p->pres, &rw, &rh);
+    double sx = rw > 0 ? (double)p->geom->width_px / rw : 1.0;
+    double sy = rh > 0 ? (double)p->geom->height_px / rh : 1.0;
+    csf_geometry_px_to_mm(p->geom, ev->x_px * sx, ev->y_px * sy, &xm, &ym);
+    csf_geometry_mm_to_deg(p->geom, xm, ym, ecc, polar);
+}
+
 /* Waits for the click that says where the grating was; returns visual-angle x, y. */
 static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_error *err)
 {
@@ -251,16 +275,8 @@ static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_erro
             break;
         }
         if (ev.kind == CSF_RESP_CLICK) {
-            double xm, ym, ecc, polar;
-            /* The click is in window framebuffer pixels; the geometry is in the configured
-             * resolution, which the window may not have (the presenter then draws the configured
-             * screen scaled to the window). */
-            int rw, rh;
-            csf_presenter_render_size(p->pres, &rw, &rh);
-            double sx = rw > 0 ? (double)p->geom->width_px / rw : 1.0;
-            double sy = rh > 0 ? (double)p->geom->height_px / rh : 1.0;
-            csf_geometry_px_to_mm(p->geom, ev.x_px * sx, ev.y_px * sy, &xm, &ym);
-            csf_geometry_mm_to_deg(p->geom, xm, ym, &ecc, &polar);
+            double ecc, polar;
+            click_direction(p, &ev, &ecc, &polar);
             *x_deg = ecc * cos(polar * M_PI / 180);
             *y_deg = ecc * sin(polar * M_PI / 180);
             break;
@@ -523,7 +539,12 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
             return CSF_OK;
         }
         /* Left / right mouse button answer too (the only answers a "mouse" responder has). */
-        if (ev.kind == CSF_RESP_CLICK && (ev.choice == 0 || ev.choice == 1)) ev.kind = CSF_RESP_CHOICE;
+        if (ev.kind == CSF_RESP_CLICK && (ev.choice == 0 || ev.choice == 1)) {
+            ev.kind = CSF_RESP_CHOICE;
+            ev.places = 2;
+        }
+        /* The four-place keys mean nothing here. */
+        if (ev.kind == CSF_RESP_CHOICE && ev.places == 4) continue;
         /* A choice made while the intervals were still running is ignored, as it is in the
          * blank intervals (which drain the queue): answers count from the end of the second
          * interval, so reaction times are never negative. */
@@ -533,6 +554,78 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
             return CSF_OK;
         }
     }
+}
+
+/* One four-place trial (spatial 4AFC): fixation, then one interval as long as a 2AFC interval
+ * with the grating at place plan->signal_interval of the layout (the plan's polar_deg is not
+ * used), then the answer: a click (the nearest place) or a place key. */
+static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
+                           const csf_afc_layout *lay, trial_result *tr, csf_error *err)
+{
+    person *p = r->who;
+    memset(tr, 0, sizeof *tr);
+    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
+    if (lay->n_alternatives != 4 || plan->signal_interval < 0 || plan->signal_interval > 3)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "four-place trial at %g cpd, %g deg: place %d of "
+                             "a %d-alternative layout", c->freq_cpd, c->ecc_deg, plan->signal_interval,
+                             lay->n_alternatives);
+    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
+    if (st != CSF_OK || p->paused) return st;
+    double shown[4] = {0, 0, 0, 0};
+    int sig = plan->signal_interval;
+    csf_stimulus s;
+    make_stimulus(&s, c->freq_cpd, c->ecc_deg, lay->polar_deg[sig], plan->contrast, r->mean_lum);
+    csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
+    st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
+    if (st != CSF_OK) return st;
+    tr->have_rec = 1;
+    shown[sig] = round9(tr->rec.contrast_shown_mean);
+    tr->shown_mean = tr->rec.contrast_shown_mean;
+    tr->shown_max = tr->rec.contrast_shown_max;
+    tr->frames_planned = tr->rec.frames_planned;
+    tr->frames_shown = tr->rec.frames_shown;
+    tr->frames_missed = tr->rec.frames_missed;
+    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+    tr->valid = 1;
+    tr->contrast_at_response = shown[sig];
+    if (p->sim) {
+        double rt;
+        tr->response = csf_observer_sim_afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg, shown, 4, &rt);
+        tr->rt_s = round9(rt);
+        return CSF_OK;
+    }
+    double t0 = csf_responder_now();
+    csf_presenter_show_cursor(p->pres, 1);
+    for (;;) {
+        csf_frame_info fi;
+        st = csf_presenter_draw(r->pres, NULL, 1, &fi, err);
+        if (st != CSF_OK) break;
+        csf_response ev;
+        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
+        else if (!csf_responder_poll(p->resp, &ev)) continue;
+        if (ev.kind == CSF_RESP_ESCAPE) {
+            p->paused = 1;
+            break;
+        }
+        /* As in run_2afc, answers count from the end of the interval. */
+        if (ev.t_s < t0) continue;
+        if (ev.kind == CSF_RESP_CLICK) {
+            double ecc, polar;
+            click_direction(p, &ev, &ecc, &polar);
+            tr->click_x = round9(ecc * cos(polar * M_PI / 180));
+            tr->click_y = round9(ecc * sin(polar * M_PI / 180));
+            tr->response = csf_afc_nearest_place(lay, ecc, polar, c->ecc_deg);
+            tr->rt_s = ev.t_s - t0;
+            break;
+        }
+        if (ev.kind == CSF_RESP_CHOICE && ev.places == 4 && ev.choice >= 0 && ev.choice <= 3) {
+            tr->response = ev.choice;
+            tr->rt_s = ev.t_s - t0;
+            break;
+        }
+    }
+    csf_presenter_show_cursor(p->pres, 0);
+    return st;
 }
 
 /* ---- session -------------------------------------------------------------------------------- */
@@ -594,6 +687,8 @@ typedef struct {
     csf_trial *stored;
     csf_cell *cells;
     csf_cell_estimate *est;
+    csf_afc_layout *layouts;  /* per cell: four places or two intervals */
+    int *n_alt;               /* per cell: 2 or 4 (the procedure setup's n_alternatives) */
 } session_res;
 
 static void session_free(session_res *s)
@@ -607,6 +702,8 @@ static void session_free(session_res *s)
     free(s->stored);
     free(s->cells);
     free(s->est);
+    free(s->layouts);
+    free(s->n_alt);
 }
 
 /* Commits a trial and its frame intervals in one transaction (a crash cannot leave a trial
@@ -624,6 +721,39 @@ static csf_status store_trial(session_res *S, size_t *n_stored, const csf_trial 
     if (!grown) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     S->stored = grown;
     S->stored[(*n_stored)++] = *t;
+    return CSF_OK;
+}
+
+/* How many alternatives a planned trial has: 2 or 4 for forced choice, 0 for fade. */
+static int plan_alternatives(const csf_trial_plan *plan)
+{
+    if (plan->task != CSF_TASK_2AFC) return 0;
+    return plan->n_alternatives == 4 ? 4 : 2;
+}
+
+/* The forced-choice layout of every cell: four places (spatial 4AFC) when the session asks for
+ * them, the method is a forced-choice one, csf_afc_choose_layout finds four places apart on the
+ * screen, and the presenter accepts the cell's Gabor at each of them (on screen, below the
+ * Nyquist limit there); two intervals otherwise. A function of the settings and the display
+ * only, so a resumed session gets the layout it had. */
+static csf_status choose_layouts(session_res *S, const csf_geometry *g, int n_cells, int afc,
+                                 double mean_lum, csf_error *err)
+{
+    S->layouts = calloc((size_t)n_cells, sizeof *S->layouts);
+    S->n_alt = calloc((size_t)n_cells, sizeof *S->n_alt);
+    if (!S->layouts || !S->n_alt) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    int want = (afc == 4 && S->ops->task == CSF_TASK_2AFC) ? 4 : 2;
+    for (int k = 0; k < n_cells; k++) {
+        csf_afc_layout *l = &S->layouts[k];
+        csf_afc_choose_layout(g, S->cells[k].ecc_deg, GABOR_SIGMA_DEG, want, l);
+        for (int j = 0; j < 4 && l->n_alternatives == 4; j++) {
+            csf_stimulus st;
+            csf_error e;
+            make_stimulus(&st, S->cells[k].freq_cpd, S->cells[k].ecc_deg, l->polar_deg[j], 0.5, mean_lum);
+            if (csf_presenter_validate(S->pres, &st, &e) != CSF_OK) l->n_alternatives = 2;
+        }
+        S->n_alt[k] = l->n_alternatives == 4 ? 4 : 2;
+    }
     return CSF_OK;
 }
 
@@ -654,6 +784,7 @@ static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, c
     t->frames_shown = tr->frames_shown;
     t->frames_missed = tr->frames_missed;
     t->signal_interval = plan->task == CSF_TASK_2AFC ? plan->signal_interval + 1 : 0;
+    t->n_alternatives = plan_alternatives(plan);
     t->response = plan->task == CSF_TASK_2AFC ? tr->response + 1 : tr->response;
     t->rt_s = tr->rt_s;
     t->click_x_deg = tr->click_x;
@@ -739,6 +870,12 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         set.trials = opt->trials > 0 ? opt->trials : 120;
         set.practice = opt->practice >= 0 ? opt->practice : 3;
         set.break_every = opt->break_every > 0 ? opt->break_every : 40;
+        set.afc = opt->afc ? opt->afc : 4;
+        if (set.afc != 2 && set.afc != 4) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "
+                               "(four places where they fit)", opt->afc);
+            goto out;
+        }
         memcpy(set.freqs, opt->freqs_cpd, sizeof set.freqs);
         memcpy(set.eccs, opt->eccs_deg, sizeof set.eccs);
         set.n_freqs = opt->n_freqs;
@@ -857,6 +994,25 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     size_t n_stored = 0;
     st = csf_store_get_trials(S.store, sid, &S.stored, &n_stored, err);
     if (st != CSF_OK) goto out;
+    st = choose_layouts(&S, csf_presenter_geometry(S.pres), n_cells, set.afc, mean_lum, err);
+    if (st != CSF_OK) goto out;
+    res->afc = set.afc;
+    for (int k = 0; k < n_cells; k++) res->n_cells_four_place += S.n_alt[k] == 4;
+    /* Practice for four-place cells: at the smallest eccentricity that has them (the practice
+     * grating's own layout, checked like the cells'). */
+    csf_afc_layout prac_layout = {2, {0, 0, 0, 0}};
+    double prac_ecc = INFINITY;
+    for (int k = 0; k < n_cells; k++)
+        if (S.n_alt[k] == 4 && S.cells[k].ecc_deg < prac_ecc) {
+            prac_ecc = S.cells[k].ecc_deg;
+            prac_layout = S.layouts[k];
+        }
+    for (int j = 0; j < 4 && prac_layout.n_alternatives == 4; j++) {
+        csf_stimulus ps;
+        csf_error e;
+        make_stimulus(&ps, PRACTICE_FREQ, prac_ecc, prac_layout.polar_deg[j], PRACTICE_CONTRAST, mean_lum);
+        if (csf_presenter_validate(S.pres, &ps, &e) != CSF_OK) prac_layout.n_alternatives = 2;
+    }
 
     person who;
     memset(&who, 0, sizeof who);
@@ -881,7 +1037,15 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
     if (!sid || n_stored == 0) {
         st = person_screen(&who,
-                           set.method[0] == '2'
+                           S.ops->task == CSF_TASK_2AFC && res->n_cells_four_place > 0
+                               ? "Look at the central mark and keep your eyes on it.\n"
+                                 "Sometimes a faint pattern appears in one of two intervals:\n"
+                                 "press 1 or Left for the first, 2 or Right for the second.\n"
+                                 "Sometimes it appears once, at one of four places around the mark:\n"
+                                 "click that place, or press keypad 9 7 1 3 or I U J K\n"
+                                 "(upper right, upper left, lower left, lower right).\n"
+                                 "When unsure, guess. Escape pauses. Press a key to start."
+                           : S.ops->task == CSF_TASK_2AFC
                                ? "Look at the central mark.\nA faint pattern appears in one of two intervals.\n"
                                  "Press 1 or Left for the first, 2 or Right for the second.\n"
                                  "Escape pauses. Press a key to start."
@@ -902,9 +1066,18 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         plan.task = S.ops->task;
         plan.contrast = PRACTICE_CONTRAST;
         plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 1);
+        plan.n_alternatives = plan.task == CSF_TASK_2AFC ? 2 : 0;
+        /* With four-place cells every second practice trial shows four places. */
+        int four = plan.task == CSF_TASK_2AFC && prac_layout.n_alternatives == 4 && k % 2 == 1;
+        if (four) {
+            pc_cell.ecc_deg = prac_ecc;
+            plan.n_alternatives = 4;
+            plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 3);
+        }
         trial_result tr;
         uint64_t key = 1000000u + (uint64_t)k; /* practice draws never collide with main trials */
         st = plan.task == CSF_TASK_FADE ? run_fade(&run, key, &pc_cell, &plan, 0, 1, &tr, err)
+             : four                     ? run_4afc(&run, key, &pc_cell, &plan, &prac_layout, &tr, err)
                                         : run_2afc(&run, key, &pc_cell, &plan, 0, &tr, err);
         if (st != CSF_OK) goto restore;
         if (who.paused) {
@@ -916,7 +1089,8 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             break;
         }
         csf_trial t;
-        fill_trial(&t, sid, seq, set.method, &pc_cell, 0, mean_lum, &plan, 1, &tr);
+        fill_trial(&t, sid, seq, set.method, &pc_cell, four ? prac_layout.polar_deg[plan.signal_interval] : 0,
+                   mean_lum, &plan, 1, &tr);
         st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
         seq++;
@@ -939,6 +1113,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     setup.ramp_end_log10 = log10(max_contrast);
     setup.ramp_s = (setup.ramp_end_log10 - setup.ramp_start_log10) / 0.5; /* 0.5 log10 per second */
     setup.reaction_latency_s = isfinite(res->latency_s) ? res->latency_s : 0;
+    setup.n_alternatives = res->n_cells_four_place > 0 ? S.n_alt : NULL;
     st = S.ops->create(&setup, &S.proc, err);
     if (st != CSF_OK) goto restore;
     int trial_index = 0;
@@ -946,6 +1121,15 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         if (S.stored[i].is_practice) continue;
         csf_trial_plan plan;
         if (S.ops->next(S.proc, trial_index, &plan) != CSF_OK) break;
+        if (S.stored[i].n_alternatives != plan_alternatives(&plan)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "--resume %lld: stored trial %d had %d alternatives, the replayed plan "
+                               "has %d (the display or the layout rule changed since the session "
+                               "started); start a new session", (long long)sid, S.stored[i].seq,
+                               S.stored[i].n_alternatives, plan_alternatives(&plan));
+            goto restore;
+        }
+        if (plan_alternatives(&plan) == 4) res->n_four_place++;
         csf_trial_outcome o = outcome_of(&S.stored[i], S.ops->task);
         S.ops->update(S.proc, trial_index, &plan, &o);
         trial_index++;
@@ -968,8 +1152,21 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             goto restore;
         }
         const csf_cell *c = &S.cells[plan.cell];
+        int four = plan_alternatives(&plan) == 4;
+        if (four && S.n_alt[plan.cell] != 4) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned four places for %g cpd at %g deg, "
+                               "which has two intervals", set.method, c->freq_cpd, c->ecc_deg);
+            goto restore;
+        }
         double polar;
-        if (fit_polar(S.pres, c->freq_cpd, c->ecc_deg, plan.polar_deg, mean_lum, &polar) != 0) {
+        if (four) {
+            if (plan.signal_interval < 0 || plan.signal_interval > 3) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned place %d of 4", set.method,
+                                   plan.signal_interval);
+                goto restore;
+            }
+            polar = S.layouts[plan.cell].polar_deg[plan.signal_interval];
+        } else if (fit_polar(S.pres, c->freq_cpd, c->ecc_deg, plan.polar_deg, mean_lum, &polar) != 0) {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
                                "%g cpd at %g deg cannot be shown anywhere on this screen", c->freq_cpd, c->ecc_deg);
             goto restore;
@@ -983,7 +1180,8 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         }
         trial_result tr;
         st = plan.task == CSF_TASK_FADE ? run_fade(&run, (uint64_t)trial_index, c, &plan, polar, 0, &tr, err)
-                                        : run_2afc(&run, (uint64_t)trial_index, c, &plan, polar, &tr, err);
+             : four ? run_4afc(&run, (uint64_t)trial_index, c, &plan, &S.layouts[plan.cell], &tr, err)
+                    : run_2afc(&run, (uint64_t)trial_index, c, &plan, polar, &tr, err);
         if (st != CSF_OK) goto restore;
         if (who.paused) {
             if (tr.have_rec) csf_trial_record_free(&tr.rec);
@@ -1001,6 +1199,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
         seq++;
+        if (four) res->n_four_place++;
         csf_trial_outcome o = outcome_of(&t, S.ops->task);
         S.ops->update(S.proc, trial_index, &plan, &o);
         if (!opt->quiet && !S.sim && (trial_index + 1) % 10 == 0)
@@ -1015,7 +1214,12 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
 
     /* Reliability of the person, measured from the stored trials. */
+    /* Forced choice: wrong answers on clearly visible trials (4x the estimated threshold, where a
+     * person who looks answers right but for lapses). A person who guesses on a share g of them
+     * answers wrongly on g (1 - 1/m) of the m-alternative ones: each wrong answer counts
+     * 1 / (1 - 1/m) guesses (2 with two intervals, 4/3 with four places). */
     int n_afc_hi = 0, n_afc_hi_wrong = 0;
+    double afc_guesses = 0;
     st = S.ops->estimate(S.proc, S.est, err);
     if (st != CSF_OK) goto restore;
     for (size_t i = 0; i < n_stored; i++) {
@@ -1044,7 +1248,11 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             if (t->response == 0 && t->valid && t->contrast_requested > th * pow(10.0, 0.5)) res->n_lapses++;
         } else if (t->valid && t->contrast_shown_max >= 4 * th) {
             n_afc_hi++;
-            if (t->response != t->signal_interval) n_afc_hi_wrong++;
+            if (t->response != t->signal_interval) {
+                int m = t->n_alternatives >= 2 ? t->n_alternatives : 2;
+                n_afc_hi_wrong++;
+                afc_guesses += 1.0 / (1.0 - 1.0 / m);
+            }
         }
     }
     if (S.ops->task == CSF_TASK_2AFC) res->n_lapses = n_afc_hi_wrong;
@@ -1098,9 +1306,11 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
                  "anticipations, missed frames; limit %.0f %%)", res->n_trials - res->n_valid - res->n_catch,
                  res->n_trials - res->n_catch, 100 * INVALID_LIMIT);
         why = whybuf;
-    } else if (n_afc_hi >= 8 && n_afc_hi_wrong > AFC_LAPSE_LIMIT * n_afc_hi) {
-        snprintf(whybuf, sizeof whybuf, "%d of %d clearly visible 2AFC trials were answered wrongly "
-                 "(limit %.0f %%): inconsistent responses", n_afc_hi_wrong, n_afc_hi, 100 * AFC_LAPSE_LIMIT);
+    } else if (n_afc_hi >= 8 && afc_guesses > AFC_GUESS_LIMIT * n_afc_hi) {
+        snprintf(whybuf, sizeof whybuf, "%d of %d clearly visible forced-choice trials were answered "
+                 "wrongly, as if guessed on %.0f %% of them (limit %.0f %%; a guess is wrong on 1/2 of "
+                 "two-interval and 3/4 of four-place trials): inconsistent responses", n_afc_hi_wrong,
+                 n_afc_hi, 100 * afc_guesses / n_afc_hi, 100 * AFC_GUESS_LIMIT);
         why = whybuf;
     } else if (n_unknown > 0) {
         snprintf(whybuf, sizeof whybuf, "%d of %d cells have no usable data (%s); give more --trials "
@@ -1217,10 +1427,11 @@ void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const ch
              "\"false_alarms\":%d,\"fa_rate\":%s,\"invalid_clicks\":%d,\"anticipations\":%d,\"lapses\":%d,"
              "\"missed_frame_trials\":%d,\"reaction_latency_s\":%s,\"cells\":%d,\"visible\":%d,"
              "\"not_visible\":%d,\"median_se_log10\":%s,\"finished_early\":%s,\"table\":\"%s\",\"plot\":%s%s%s,"
-             "\"wall_s\":%.3f}",
+             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"wall_s\":%.3f}",
              (long long)r->session_id, r->method, r->n_trials, r->n_valid, r->n_practice, r->n_catch,
              r->n_false_alarms, fa, r->n_invalid_click, r->n_anticipations, r->n_lapses,
              r->n_missed_frame_trials, lat, r->n_cells, r->n_visible, r->n_invisible, se,
              r->finished_early ? "true" : "false", out_path ? out_path : "", plot_path ? "\"" : "null",
-             plot_path ? plot_path : "", plot_path ? "\"" : "", r->wall_s);
+             plot_path ? plot_path : "", plot_path ? "\"" : "", r->afc, r->n_cells_four_place,
+             r->n_four_place, r->wall_s);
 }

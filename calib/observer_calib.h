@@ -37,6 +37,9 @@ typedef struct {
     int render_every;           /* presenter render_every for simulated sessions (default 1) */
     int render_w, render_h;     /* headless render size for simulated sessions (default 64 x 36) */
     int quiet;                  /* no progress on stderr */
+    int afc;                    /* forced-choice layout for 2AFC-task methods (bayes, 2afc): 4 =
+                                   four places shown at once where they fit (default), 2 = two
+                                   intervals everywhere; 0 = default. Stored with the session. */
 } csf_obs_options;
 
 typedef struct {
@@ -47,6 +50,9 @@ typedef struct {
     double fa_rate;             /* presses on catch trials / catch trials (NaN without catch trials) */
     double latency_s;           /* reaction time measured on practice trials (NaN if none) */
     int n_cells, n_visible, n_invisible;
+    int afc;                    /* the session's --afc (2 or 4) */
+    int n_cells_four_place;     /* cells measured with four places (the rest: two intervals) */
+    int n_four_place;           /* main trials shown with four places */
     double median_se_log10;
     int finished_early;         /* the procedure ran out of unstable cells before the budget */
     int table_written;

@@ -14,7 +14,8 @@
 /* RNG streams: one per kind of draw, so adding a draw of one kind never shifts another. */
 enum {
     ST_ATTEND = 0x0b501, ST_DETECT, ST_RT, ST_SPONT, ST_SPONT_T, ST_ANTICIP, ST_ANTICIP_T,
-    ST_CLICK_X, ST_CLICK_Y, ST_GUESS_R, ST_GUESS_A, ST_2AFC, ST_2AFC_RT, ST_RT_N
+    ST_CLICK_X, ST_CLICK_Y, ST_GUESS_R, ST_GUESS_A, ST_2AFC, ST_2AFC_RT, ST_RT_N,
+    ST_AFC, ST_AFC_WRONG, ST_AFC_RT
 };
 
 #define FRAMES_PER_TRIAL 4096u
@@ -541,4 +542,33 @@ int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, doubl
     int correct = csf_rng_uniform(o->seed, ST_2AFC, base) < p;
     if (rt_s) *rt_s = exp(log(0.6) + 0.3 * csf_rng_normal(o->seed, ST_2AFC_RT, base));
     return correct ? sig : 1 - sig;
+}
+
+int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                         double ecc_deg, const double *contrast_shown, int n_alternatives,
+                         double *rt_s)
+{
+    int m = n_alternatives;
+    if (m < 2 || m > CSF_SIM_AFC_MAX) m = 2;
+    uint64_t base = trial_index * FRAMES_PER_TRIAL;
+    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    double t = isfinite(th) ? log10(th) : INFINITY;
+    /* The signal is where the most contrast was shown (the first such place on a tie); the
+     * others showed nothing or less, and only the difference is there to be seen. */
+    int sig = 0;
+    for (int k = 1; k < m; k++)
+        if (contrast_shown[k] > contrast_shown[sig]) sig = k;
+    double other = 0;
+    for (int k = 0; k < m; k++)
+        if (k != sig && contrast_shown[k] > other) other = contrast_shown[k];
+    double diff = contrast_shown[sig] - other;
+    double x = diff > 0 ? log10(diff) : -INFINITY;
+    double p = csf_psy_p4(x, t, o->p.slope, 1.0 / m, o->p.lapse);
+    int correct = csf_rng_uniform(o->seed, ST_AFC, base) < p;
+    if (rt_s) *rt_s = exp(log(0.7) + 0.3 * csf_rng_normal(o->seed, ST_AFC_RT, base));
+    if (correct) return sig;
+    /* a wrong answer: uniformly one of the other m - 1 places */
+    int k = (int)(csf_rng_uniform(o->seed, ST_AFC_WRONG, base) * (m - 1));
+    if (k > m - 2) k = m - 2;
+    return (sig + 1 + k) % m;
 }

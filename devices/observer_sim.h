@@ -25,6 +25,10 @@
  *     place within click_range (default 20 deg) of fixation.
  * 2AFC trials: P(correct) = Weibull(guess, lapse) at log10 of the mean contrast shown in the
  * signal interval (minus the other interval's, if any), response time log-normal around 0.6 s.
+ * m-alternative trials (csf_observer_sim_afc, e.g. four places shown at once): P(correct) =
+ * 1/m + (1 - 1/m - lapse)(1 - exp(-10^(slope (x - t)))), x = log10 of the contrast shown at the
+ * signal place (minus the highest elsewhere), a wrong answer uniformly one of the other places,
+ * response time log-normal around 0.7 s.
  *
  * Every random draw comes from results/rng.h keyed by (seed, stream, trial index * 4096 + frame),
  * so a trial replays identically after a kill and resume. The model reads only what a person
@@ -113,5 +117,15 @@ void csf_observer_sim_click(const csf_observer_sim *o, const csf_sim_fade_trial 
  * chosen interval (0 or 1); *rt_s the response time after the second interval. */
 int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                           double ecc_deg, const double contrast_shown[2], double *rt_s);
+
+/* One m-alternative forced-choice trial (2 <= m <= CSF_SIM_AFC_MAX; four places shown at once
+ * for spatial 4AFC): contrast_shown[k] = mean Michelson contrast shown at place (or interval) k,
+ * k < n_alternatives. Returns the chosen place 0 .. m-1; *rt_s the response time. Guess rate 1/m
+ * (the `guess` key applies to csf_observer_sim_2afc only). Draws have their own streams keyed by
+ * (seed, trial_index), so csf_observer_sim_2afc's answers are unchanged by its existence. */
+#define CSF_SIM_AFC_MAX 16
+int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                         double ecc_deg, const double *contrast_shown, int n_alternatives,
+                         double *rt_s);
 
 #endif

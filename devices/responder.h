@@ -5,8 +5,10 @@
  * csf_responder_now() - csf_presenter_time(p) from the event's t_s first.
  *
  * Backends: "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW
- * window; any mouse button or Space = press, Left/1 and Right/2 = 2AFC choice, a click carries its
- * position in framebuffer pixels, Escape = pause). "queue" (devices/responder.c): events pushed by the
+ * window; any mouse button or Space = press, Left/1 and Right/2 = two-interval choice, keypad
+ * 9/7/1/3 and I/U/J/K = four-place choice (upper right/upper left/lower left/lower right), a click
+ * carries its position in framebuffer pixels, Escape = pause; the "mouse" backend reports keys
+ * only as CSF_RESP_KEY/ESCAPE). "queue" (devices/responder.c): events pushed by the
  * program itself with csf_responder_push, for scripted sessions and tests. HID button boxes and
  * gamepads are meant to be further files of the same shape. */
 #ifndef CSF_RESPONDER_H
@@ -17,7 +19,10 @@
 typedef enum {
     CSF_RESP_NONE = 0,
     CSF_RESP_PRESS = 1,   /* "I see something" (button or Space) */
-    CSF_RESP_CHOICE = 2,  /* 2AFC: choice = 0 (first / left) or 1 (second / right) */
+    CSF_RESP_CHOICE = 2,  /* forced choice. places = 2 (or 0): an interval key, choice = 0 (first /
+                             left) or 1 (second / right); places = 4: a place key, choice = 0
+                             upper right, 1 upper left, 2 lower left, 3 lower right (the order
+                             of csf_afc_layout in calib/afc_layout.h) */
     CSF_RESP_CLICK = 3,   /* pointer click at (x_px, y_px), framebuffer pixels, y down;
                              choice = the button (0 left, 1 right, 2 middle) */
     CSF_RESP_ESCAPE = 4,  /* pause request */
@@ -30,6 +35,7 @@ typedef struct {
     int key;
     double x_px, y_px;
     double t_s;           /* CLOCK_MONOTONIC seconds */
+    int places;           /* CSF_RESP_CHOICE: 4 = choice is a place (0-3), else an interval (0/1) */
 } csf_response;
 
 typedef struct {

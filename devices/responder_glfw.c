@@ -41,12 +41,20 @@ static void key_cb(GLFWwindow *w, int key, int scancode, int action, int mods)
     glfw_state *s = lookup(w);
     if (s && s->prev_key) s->prev_key(w, key, scancode, action, mods);
     if (!s || action != GLFW_PRESS) return;
-    csf_response ev = {CSF_RESP_KEY, 0, key, 0, 0, csf_responder_now()};
+    csf_response ev = {CSF_RESP_KEY, 0, key, 0, 0, csf_responder_now(), 0};
     if (key == GLFW_KEY_ESCAPE) ev.kind = CSF_RESP_ESCAPE;
     else if (s->mouse_only) ev.kind = CSF_RESP_KEY;
     else if (key == GLFW_KEY_SPACE) ev.kind = CSF_RESP_PRESS;
     else if (key == GLFW_KEY_LEFT || key == GLFW_KEY_1) ev.kind = CSF_RESP_CHOICE, ev.choice = 0;
     else if (key == GLFW_KEY_RIGHT || key == GLFW_KEY_2) ev.kind = CSF_RESP_CHOICE, ev.choice = 1;
+    /* Four places shown at once: the keypad keys at the places' corners (9 upper right, 7 upper
+     * left, 1 lower left, 3 lower right; GLFW reports them whatever the Num Lock state), and the
+     * same square on the letters: U I over J K (U upper left, I upper right, J lower left, K
+     * lower right). The interval keys above keep their meaning. */
+    else if (key == GLFW_KEY_KP_9 || key == GLFW_KEY_I) ev.kind = CSF_RESP_CHOICE, ev.choice = 0, ev.places = 4;
+    else if (key == GLFW_KEY_KP_7 || key == GLFW_KEY_U) ev.kind = CSF_RESP_CHOICE, ev.choice = 1, ev.places = 4;
+    else if (key == GLFW_KEY_KP_1 || key == GLFW_KEY_J) ev.kind = CSF_RESP_CHOICE, ev.choice = 2, ev.places = 4;
+    else if (key == GLFW_KEY_KP_3 || key == GLFW_KEY_K) ev.kind = CSF_RESP_CHOICE, ev.choice = 3, ev.places = 4;
     push(s, &ev);
 }
 
@@ -68,7 +76,7 @@ static void button_cb(GLFWwindow *w, int button, int action, int mods)
     }
     /* A click is both the press (detection) and, when the session asks for a position, the
      * click; the session takes whichever it is waiting for. */
-    csf_response ev = {CSF_RESP_CLICK, button, 0, x, y, t};
+    csf_response ev = {CSF_RESP_CLICK, button, 0, x, y, t, 0};
     push(s, &ev);
 }
 

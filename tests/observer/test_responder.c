@@ -13,9 +13,9 @@ int main(void)
         csf_response ev;
         CHECK(csf_responder_poll(r, &ev) == 0);
         double t0 = csf_responder_now();
-        csf_response a = {CSF_RESP_PRESS, 0, 0, 0, 0, t0};
-        csf_response b = {CSF_RESP_CLICK, 0, 0, 12.5, 40.0, t0 + 0.25};
-        csf_response c = {CSF_RESP_ESCAPE, 0, 0, 0, 0, t0 + 0.5};
+        csf_response a = {CSF_RESP_PRESS, 0, 0, 0, 0, t0, 0};
+        csf_response b = {CSF_RESP_CLICK, 0, 0, 12.5, 40.0, t0 + 0.25, 0};
+        csf_response c = {CSF_RESP_ESCAPE, 0, 0, 0, 0, t0 + 0.5, 0};
         CHECK(csf_responder_push(r, &a) == 0);
         CHECK(csf_responder_push(r, &b) == 0);
         CHECK(csf_responder_push(r, &c) == 0);
