@@ -4,6 +4,8 @@
  *   - the threshold tables are equal node for node (and metadata except the date),
  *   - the stored trials are identical field by field, seq 0..n-1 with no gap or duplicate,
  *   - the number of stored trials never went down across a kill (no committed trial lost).
+ * Cases: fade; 2afc with two intervals (--afc 2); bayes with four places shown at once away from
+ * the fovea (--afc 4): the resumed plan has the same layout, place and answer for every trial.
  * argv[1] = path of the csfcal executable. */
 #include <math.h>
 #include <fcntl.h>
@@ -24,6 +26,8 @@
 static const char *csfcal;
 static char dir[] = "/tmp/csfcal-killtest-XXXXXX";
 
+static const char *afc_arg = "4";
+
 static pid_t spawn_n(const char *method, const char *store, const char *out, int resume, const char *trials)
 {
     pid_t pid = fork();
@@ -38,8 +42,8 @@ static pid_t spawn_n(const char *method, const char *store, const char *out, int
         const char *args[32] = {csfcal, "observer", "calibrate", "--observer", "sim", "--seed", "7",
                                 "--method", method, "--freqs", "0.5,1,4,8", "--eccs", "0,5,10",
                                 "--trials", trials, "--practice", "2", "--store", store, "--out", out,
-                                "--quiet", "--headless"};
-        int n = 23;
+                                "--quiet", "--headless", "--afc", afc_arg};
+        int n = 25;
         if (resume) {
             args[n++] = "--resume";
             args[n++] = rid;
@@ -113,6 +117,7 @@ static void compare_trials(const csf_trial *a, const csf_trial *b, size_t n)
         int same = a[i].is_catch == b[i].is_catch && a[i].is_practice == b[i].is_practice &&
                    a[i].response == b[i].response && a[i].valid == b[i].valid &&
                    a[i].signal_interval == b[i].signal_interval && a[i].frames_shown == b[i].frames_shown &&
+                   a[i].n_alternatives == b[i].n_alternatives &&
                    same_double(a[i].freq_cpd, b[i].freq_cpd) && same_double(a[i].ecc_deg, b[i].ecc_deg) &&
                    same_double(a[i].polar_deg, b[i].polar_deg) &&
                    same_double(a[i].contrast_requested, b[i].contrast_requested) &&
@@ -150,17 +155,19 @@ static void compare_tables(const char *pa, const char *pb)
     csflut_close(b);
 }
 
-static void run_case(const char *method, uint64_t seed, int n_kills)
+/* afc: the --afc value ("2" or "4"); want_four: the session must have four-place trials. */
+static void run_case(const char *method, const char *afc, uint64_t seed, int n_kills, int want_four)
 {
+    afc_arg = afc;
     char ref_store[512], ref_out[512], store[512], out[512];
-    snprintf(ref_store, sizeof ref_store, "%s/ref-%s.sqlite", dir, method);
-    snprintf(ref_out, sizeof ref_out, "%s/ref-%s.csflut", dir, method);
-    snprintf(store, sizeof store, "%s/kill-%s.sqlite", dir, method);
-    snprintf(out, sizeof out, "%s/kill-%s.csflut", dir, method);
+    snprintf(ref_store, sizeof ref_store, "%s/ref-%s-%s.sqlite", dir, method, afc);
+    snprintf(ref_out, sizeof ref_out, "%s/ref-%s-%s.csflut", dir, method, afc);
+    snprintf(store, sizeof store, "%s/kill-%s-%s.sqlite", dir, method, afc);
+    snprintf(out, sizeof out, "%s/kill-%s-%s.csflut", dir, method, afc);
 
     char probe_store[512], probe_out[512];
-    snprintf(probe_store, sizeof probe_store, "%s/probe-%s.sqlite", dir, method);
-    snprintf(probe_out, sizeof probe_out, "%s/probe-%s.csflut", dir, method);
+    snprintf(probe_store, sizeof probe_store, "%s/probe-%s-%s.sqlite", dir, method, afc);
+    snprintf(probe_out, sizeof probe_out, "%s/probe-%s-%s.csflut", dir, method, afc);
     struct timespec t0;
     /* Start-up cost (EGL, shaders, store) from a one-trial run; then the whole run. */
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -240,8 +247,8 @@ static void run_case(const char *method, uint64_t seed, int n_kills)
             break;
         }
     }
-    fprintf(stderr, "%s: start-up %.2f s, uninterrupted run %.2f s (%d trials stored); %d SIGKILLs (%d after new trials were stored), %d starts\n",
-            method, startup_s, full_s, ref_n, kills, progressed_kills, attempts);
+    fprintf(stderr, "%s --afc %s: start-up %.2f s, uninterrupted run %.2f s (%d trials stored); %d SIGKILLs (%d after new trials were stored), %d starts\n",
+            method, afc, startup_s, full_s, ref_n, kills, progressed_kills, attempts);
     CHECK_INT_EQ(rc, 0);
     CHECK(kills >= n_kills);
     CHECK(progressed_kills >= 3);
@@ -253,6 +260,22 @@ static void run_case(const char *method, uint64_t seed, int n_kills)
     CHECK(stored_trials(store, &tb, &nb) > 0);
     CHECK_INT_EQ(na, nb);
     if (na == nb) compare_trials(ta, tb, na);
+    /* The layout: fade trials are not forced choice; forced-choice trials are two-interval at
+     * the fovea and (want_four) four-place at 5 and 10 deg, in both runs alike. */
+    int n_four = 0, bad_layout = 0;
+    for (size_t i = 0; i < nb; i++) {
+        int m = tb[i].n_alternatives;
+        if (strcmp(method, "fade") == 0) bad_layout += m != 0;
+        else if (tb[i].ecc_deg == 0 || !want_four) bad_layout += m != 2;
+        else bad_layout += m != 4;
+        if (m == 4) {
+            n_four++;
+            bad_layout += tb[i].signal_interval < 1 || tb[i].signal_interval > 4 || tb[i].response < 1 ||
+                          tb[i].response > 4;
+        }
+    }
+    CHECK_MSG(bad_layout == 0, "%s --afc %s: %d trials with the wrong layout or answer", method, afc, bad_layout);
+    if (want_four) CHECK_MSG(n_four >= 10, "%s --afc %s: only %d four-place trials", method, afc, n_four);
     free(ta);
     free(tb);
     compare_tables(ref_out, out);
@@ -266,8 +289,9 @@ int main(int argc, char **argv)
     }
     csfcal = argv[1];
     if (!mkdtemp(dir)) return 2;
-    run_case("fade", 11, 12);
-    run_case("2afc", 12, 12);
+    run_case("fade", "4", 11, 12, 0);
+    run_case("2afc", "2", 12, 12, 0);
+    run_case("bayes", "4", 13, 12, 1);
     if (CHECK_RESULT() == 0) {
         char cmd[600];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);

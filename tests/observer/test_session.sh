@@ -1,7 +1,8 @@
 #!/bin/bash
 # csfcal observer calibrate end to end (simulated observer, headless): tables written and
 # readable, JSON summary, invisible cells as "never visible", an unreliable observer refused with
-# nothing written, bad input refused with the limit, finished sessions not resumable.
+# nothing written, bad input refused with the limit, finished sessions not resumable, four places
+# shown at once (--afc 4) away from the fovea and two intervals at it, --afc kept on resume.
 # $1 = csfcal executable.
 set -u
 CSFCAL="$1"
@@ -13,6 +14,7 @@ check() { # check DESCRIPTION COMMAND...
     if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi
 }
 run() { "$CSFCAL" observer calibrate --headless --store "$T/s.sqlite" --quiet "$@"; }
+json_sid() { sed -n 's/.*"session":\([0-9]*\).*/\1/p' <<<"$1"; }
 
 # 1. fade on a small grid: a table comes out and the reader accepts it.
 out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 60 --seed 3 --out "$T/fade.csflut" --json)
@@ -89,5 +91,55 @@ check "SIGTERM: no table yet" test ! -e "$T/p.csflut"
 out=$("$CSFCAL" observer calibrate --headless --store "$T/p.sqlite" --quiet --render-every -1 --resume 1 --out "$T/p.csflut" --json)
 check "resumed paused session finishes" grep -q '"status":"ok"' <<<"$out"
 check "resumed session wrote the table" test -s "$T/p.csflut"
+
+# 9. Four places shown at once (--afc 4, the default) for peripheral cells, two intervals at the
+# fovea; exported trials say which, answers are places 1-4, polar angles are the layout's.
+# fields FILE.csv: prints "ecc n_alt signal response polar is_practice" per row, by header name
+# (n_alternatives is the last column: flags before it may hold a quoted comma).
+fields() { awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { print $c["ecc_deg"], $NF, $c["signal_interval"], $c["response"], $c["polar_deg"], $c["is_practice"] }' "$1"; }
+for m in bayes 2afc; do
+    out=$(run --method $m --freqs 1,4 --eccs 0,10 --trials 80 --practice 2 --seed 21 --out "$T/four-$m.csflut" --json)
+    check "$m --afc 4 (default): session ok" grep -q '"status":"ok"' <<<"$out"
+    check "$m --afc 4: table written" test -s "$T/four-$m.csflut"
+    check "$m --afc 4: JSON afc 4, two four-place cells" grep -q '"afc":4,"four_place_cells":2,"four_place_trials":[1-9]' <<<"$out"
+    sid=$(json_sid "$out")
+    "$CSFCAL" sessions export "$sid" --format csv --store "$T/s.sqlite" -o "$T/four-$m.csv"
+    F=$(fields "$T/four-$m.csv")
+    check "$m --afc 4: every foveal trial two-interval, answers 1-2" awk '$1 == 0 && !($2 == 2 && $3 >= 1 && $3 <= 2 && $4 >= 1 && $4 <= 2) { exit 1 }' <<<"$F"
+    check "$m --afc 4: every main trial at 10 deg four-place, answers 1-4" awk '$1 == 10 && $6 == 0 && !($2 == 4 && $3 >= 1 && $3 <= 4 && $4 >= 1 && $4 <= 4) { exit 1 }' <<<"$F"
+    check "$m --afc 4: trials at both layouts" test "$(awk '$6 == 0 { print $2 }' <<<"$F" | sort -u | tr -d '\n')" = 24
+    check "$m --afc 4: all four places used" test "$(awk '$2 == 4 { print $3 }' <<<"$F" | sort -u | tr -d '\n')" = 1234
+    check "$m --afc 4: polar angle is the signal place's (a, 180-a, 180+a, 360-a, a <= 45)" awk '$2 == 4 {
+        p = $5; s = $3; if (s == 1 && !(p > 0 && p <= 45)) exit 1; if (s == 2 && !(p >= 135 && p < 180)) exit 1;
+        if (s == 3 && !(p > 180 && p <= 225)) exit 1; if (s == 4 && !(p >= 315 && p < 360)) exit 1 }' <<<"$F"
+    check "$m --afc 4: a practice trial with four places" awk '$6 == 1 && $2 == 4 { f = 1 } END { exit !f }' <<<"$F"
+    check "$m --afc 4: four-place answers better than chance" awk '$2 == 4 && $6 == 0 { n++; k += $3 == $4 } END { exit !(n > 0 && k / n > 0.4) }' <<<"$F"
+done
+out=$(run --method bayes --afc 2 --freqs 1,4 --eccs 0,10 --trials 40 --seed 22 --out "$T/two.csflut" --json)
+check "--afc 2: session ok, no four-place cells" grep -q '"afc":2,"four_place_cells":0,"four_place_trials":0' <<<"$out"
+"$CSFCAL" sessions export "$(json_sid "$out")" --format csv --store "$T/s.sqlite" -o "$T/two.csv"
+check "--afc 2: every trial two-interval" awk '!($2 == 2 && $4 >= 1 && $4 <= 2) { exit 1 }' <<<"$(fields "$T/two.csv")"
+out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 40 --seed 23 --out "$T/fade4.csflut" --json)
+check "fade: no forced choice (n_alternatives 0) whatever --afc" awk '$2 != 0 { exit 1 }' <<<"$(
+    "$CSFCAL" sessions export "$(json_sid "$out")" --format csv --store "$T/s.sqlite" -o "$T/fade4.csv"; fields "$T/fade4.csv")"
+err=$(run --afc 3 --out "$T/x.csflut" 2>&1); rc=$?
+check "--afc 3 refused with exit 2" test $rc -eq 2
+check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2: two intervals, 4: four places" <<<"$err"
+
+# 10. --afc is kept with the session: paused with four places, resumed with --afc 2 on the
+# command line, the resumed trials still show four places.
+timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/r.sqlite" --quiet --method bayes \
+    --afc 4 --freqs 1,4 --eccs 0,10 --trials 3000 --seed 24 --out "$T/r.csflut" 2>"$T/r.err"
+rc=$?
+check "four-place session paused by SIGTERM (rc $rc)" test $rc -eq 1
+n1=$("$CSFCAL" sessions export 1 --format csv --store "$T/r.sqlite" | tail -n +2 | wc -l)
+check "settings keep afc 4" grep -qF 'afc\":4' <<<"$("$CSFCAL" sessions show 1 --json --store "$T/r.sqlite")"
+timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/r.sqlite" --quiet --render-every -1 \
+    --afc 2 --resume 1 --out "$T/r.csflut" 2>>"$T/r.err"
+"$CSFCAL" sessions export 1 --format csv --store "$T/r.sqlite" -o "$T/r.csv"
+n2=$(tail -n +2 "$T/r.csv" | wc -l)
+check "resumed session stored more trials ($n1 -> $n2)" test "$n2" -gt "$n1"
+check "resumed trials at 10 deg still four-place" awk '$1 == 10 && $6 == 0 && $2 != 4 { exit 1 }' <<<"$(fields "$T/r.csv")"
 
 exit $fail
