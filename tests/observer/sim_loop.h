@@ -54,10 +54,14 @@ static int sim_loop_run(const csf_procedure_ops *ops, const csf_procedure_setup 
             }
             clock_s += window + 1;
         } else {
-            double cs[2] = {0, 0};
+            /* Two intervals, or four places shown at once (plan.n_alternatives == 4). */
+            int m = plan.n_alternatives == 4 ? 4 : 2;
+            double cs[4] = {0, 0, 0, 0};
+            if (plan.signal_interval < 0 || plan.signal_interval >= m) break;
             cs[plan.signal_interval] = plan.contrast;
             double rt;
-            out.response = csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
+            out.response = m == 4 ? csf_observer_sim_afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, 4, &rt)
+                                  : csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
             out.rt_s = rt;
             out.contrast_at_response = plan.contrast;
         }

@@ -192,6 +192,73 @@ static void test_2afc(void)
     csf_observer_sim_free(o);
 }
 
+/* m-alternative answers (four places shown at once): P(correct) = 1/m + (1 - 1/m - lapse) F,
+ * wrong answers spread evenly over the other places, answers in range, reproducible, and the
+ * two-interval function's answers untouched by it. */
+static void test_afc(void)
+{
+    csf_observer_sim *o;
+    csf_error err;
+    CHECK(csf_observer_sim_create("sim:lapse=0.02", 11, &o, &err) == CSF_OK);
+    double th = csf_observer_sim_threshold(o, 3, 5);
+    const int n = 8000;
+    int correct = 0, correct_hi = 0, correct_zero = 0, out_of_range = 0;
+    int wrong_at[4][4] = {{0}};
+    for (int i = 0; i < n; i++) {
+        int sig = i % 4;
+        double c[4] = {0, 0, 0, 0};
+        c[sig] = th;
+        int r = csf_observer_sim_afc(o, (uint64_t)i, 3, 5, c, 4, NULL);
+        out_of_range += r < 0 || r > 3;
+        if (r == sig) correct++;
+        else if (r >= 0 && r < 4) wrong_at[sig][r]++;
+        c[sig] = 0.9;
+        r = csf_observer_sim_afc(o, (uint64_t)(n + i), 3, 5, c, 4, NULL);
+        out_of_range += r < 0 || r > 3;
+        correct_hi += r == sig;
+        c[sig] = 0.0; /* nothing shown: pure guessing */
+        r = csf_observer_sim_afc(o, (uint64_t)(2 * n + i), 3, 5, c, 4, NULL);
+        out_of_range += r < 0 || r > 3;
+        correct_zero += r == 0;
+    }
+    CHECK_INT_EQ(out_of_range, 0);
+    /* At threshold: 0.25 + 0.73 * (1 - 1/e) = 0.711; far above: 1 - lapse; nothing: 1/4. */
+    CHECK_NEAR((double)correct / n, 0.25 + 0.73 * (1 - exp(-1)), 0.02);
+    CHECK_NEAR((double)correct_hi / n, 0.98, 0.01);
+    CHECK_NEAR((double)correct_zero / n, 0.25, 0.02);
+    /* Wrong answers: each of the three other places about a third of the time. */
+    for (int sig = 0; sig < 4; sig++) {
+        int tot = 0;
+        for (int r = 0; r < 4; r++) tot += wrong_at[sig][r];
+        for (int r = 0; r < 4; r++)
+            if (r != sig) CHECK_NEAR((double)wrong_at[sig][r] / tot, 1.0 / 3, 0.08);
+    }
+    /* Reproducible, and m = 2 through this function uses guess 1/2 as well. */
+    double c[4] = {0, 0, th, 0};
+    double rt1, rt2;
+    CHECK(csf_observer_sim_afc(o, 17, 3, 5, c, 4, &rt1) == csf_observer_sim_afc(o, 17, 3, 5, c, 4, &rt2));
+    CHECK(rt1 == rt2 && rt1 > 0);
+    int c2 = 0;
+    for (int i = 0; i < n; i++) {
+        double d[2] = {th, 0};
+        c2 += csf_observer_sim_afc(o, (uint64_t)i, 3, 5, d, 2, NULL) == 0;
+    }
+    CHECK_NEAR((double)c2 / n, 0.5 + 0.48 * (1 - exp(-1)), 0.02);
+    /* The two-interval function's answers are a pure function of (seed, trial) of their own:
+     * the same whether or not m-alternative answers were drawn in between. */
+    csf_observer_sim *o2;
+    CHECK(csf_observer_sim_create("sim:lapse=0.02", 11, &o2, &err) == CSF_OK);
+    for (int i = 0; i < 200; i++) {
+        double d[2] = {i & 1 ? th : 0, i & 1 ? 0 : th};
+        double r1, r2;
+        int a1 = csf_observer_sim_2afc(o, (uint64_t)i, 3, 5, d, &r1);
+        int a2 = csf_observer_sim_2afc(o2, (uint64_t)i, 3, 5, d, &r2);
+        CHECK(a1 == a2 && r1 == r2);
+    }
+    csf_observer_sim_free(o2);
+    csf_observer_sim_free(o);
+}
+
 int main(void)
 {
     test_spec();
@@ -199,5 +266,6 @@ int main(void)
     test_fade_detection();
     test_false_alarms_and_clicks();
     test_2afc();
+    test_afc();
     return CHECK_RESULT();
 }
