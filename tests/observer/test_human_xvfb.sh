@@ -13,6 +13,10 @@
 #      end: finished, table written, 4 trials, sequence numbers 0..3.
 #   4. SIGTERM while the session waits for a 2AFC answer: exit 1, paused, the answered trial kept.
 #   5. responder=mouse: 2AFC answered with the right mouse button (response 2).
+#   6. four places shown at once (--afc 4, a cell at 10 deg): answered with I (upper right ->
+#      place 1), keypad 1 (lower left -> 3), then a click on the upper left place (-> 2, the click
+#      stored in degrees up and to the left); every trial stored with n_alternatives 4, the
+#      session ends (answers blind to the grating may leave no table).
 # $1 = csfcal executable. Skips (77) when Xvfb or xdotool is missing. Every wait has a timeout.
 set -u
 CSFCAL="$1"
@@ -217,6 +221,34 @@ finish
 check "mouse: exit 0 (rc $RC)" test "$RC" -eq 0
 J=$("$CSFCAL" sessions export 5 --format json --store "$STORE")
 check "mouse: every response is 2 (right button)" test "$(grep -c '"response": 2,' <<<"$J")" -eq 2
+
+# ---- 6. Four places shown at once: keys I, keypad 1, then a click on a place ------------------
+# 10 deg on this screen: places at polar 45, 135, 225, 315 deg; the upper left one is ~86 px left
+# of and above the centre (570 mm tan 10 deg cos 45 deg = 71 mm; 640 px / 531 mm, 360 px / 299 mm).
+start four --method 2afc --afc 4 --trials 6 --freqs 1 --eccs 10 --screen-px ${W}x${H} --out "$T/f4.csflut" --seed 16
+wait_window
+wait_until 15 has_state 6 . || die "four: no session in the store"
+xdotool key space
+answer_2afc 6 2 key i
+answer_2afc 6 4 key KP_1
+answer_2afc 6 6 mousemove $((W / 2 - 86)) $((H / 2 - 86)) click 1
+finish
+# The answers ignore where the grating was, so the estimate may well be "never visible" and the
+# session refuses a table (exit 1, "no table written"): either way it ended, not paused.
+check "four places: exit 0, or 1 with no table for blind answers (rc $RC)" bash -c \
+    '[ "$0" -eq 0 ] && [ -s "$1" ] || { [ "$0" -eq 1 ] && grep -q "no table written" "$2"; }' "$RC" "$T/f4.csflut" "$T/four.err"
+check "four places: session ended (finished or aborted)" grep -Eq 'finished|aborted' <<<"$(state 6)"
+J=$("$CSFCAL" sessions export 6 --format json --store "$STORE")
+check "four places: 6 trials, all with n_alternatives 4" test "$(grep -c '"seq"' <<<"$J")" -eq 6 -a "$(grep -c '"n_alternatives": 4' <<<"$J")" -eq 6
+# Each input is resent until the stored count moves, so one of them may answer one trial more.
+R=$(grep -o '"response": [0-9]*' <<<"$J" | tr -dc '0-9')
+check "four places: I, keypad 1, click upper left -> places 1, 3, 2 in that order (got $R)" grep -Eq '^11+3+2+$' <<<"$R"
+check "four places: the clicks stored up and to the left of fixation, about 10 deg out" awk '/"seq"/ && /"response": 2,/ {
+    if (!match($0, /"click_x_deg": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), a, ": ");
+    if (!match($0, /"click_y_deg": [0-9.e+-]+/)) exit 1; split(substr($0, RSTART, RLENGTH), b, ": ");
+    r = sqrt(a[2] * a[2] + b[2] * b[2]); if (!(a[2] < 0 && b[2] > 0 && r > 8 && r < 12)) exit 1; n++ } END { exit !n }' <<<"$J"
+check "four places: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
+    split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
 
 [ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
 exit $fail
