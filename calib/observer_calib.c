@@ -1401,12 +1401,15 @@ out:;
     struct timespec w1;
     clock_gettime(CLOCK_MONOTONIC, &w1);
     res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    char four_note[48] = "";
+    if (res->n_cells_four_place > 0)
+        snprintf(four_note, sizeof four_note, " (%d with four places)", res->n_cells_four_place);
     if (st == CSF_OK)
         snprintf(res->summary, sizeof res->summary,
                  "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
-                 "clicks, %d lapses), %d cells: %d visible, %d not visible, median se %.3f log10 -> %s%s%s",
+                 "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10 -> %s%s%s",
                  (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
-                 res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, res->n_visible,
+                 res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note, res->n_visible,
                  res->n_invisible, res->median_se_log10, opt->out_path,
                  opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
     session_free(&S);
