@@ -187,6 +187,48 @@ int main(void)
     sqlite3_close(db);
     CHECK_INT_EQ(has_frames, 0);
 
+    /* Forced-choice trials stored before v4 were all two-interval: they migrate to
+     * n_alternatives 2, fade trials (signal_interval 0) to 0, and new four-place rows keep 4. */
+    snprintf(path, sizeof path, "%s/v1-2afc.sqlite", dir);
+    CHECK_INT_EQ(make_db(path, sql), 0);
+    sqlite3_open(path, &db);
+    CHECK_INT_EQ(sqlite3_exec(db,
+                              "INSERT INTO sessions VALUES (3, 'observer', 'paused', 'bob', 'lab-crt',"
+                              " '{\"method\":\"2afc\"}', 7, '0.0.9', '2026-10-02T09:00:00Z', '2026-10-02T09:03:00Z');"
+                              "INSERT INTO trials VALUES (3, 0, '2afc', 2.0, 5.0, 30.0, 0.0, 1.0, 50.0, 0, 0, 0.01,"
+                              " 0.01, 0.01, 30, 30, 0, 1, 1, 0.7, 1);"
+                              "INSERT INTO trials VALUES (3, 1, '2afc', 4.0, 5.0, 60.0, 0.0, 1.0, 50.0, 0, 0, 0.02,"
+                              " 0.02, 0.02, 30, 30, 0, 2, 1, 0.6, 1);",
+                              NULL, NULL, NULL),
+                 SQLITE_OK);
+    sqlite3_close(db);
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (s) {
+        csf_trial *ft = NULL;
+        size_t nft = 0;
+        CHECK_INT_EQ(csf_store_get_trials(s, 3, &ft, &nft, &err), CSF_OK);
+        CHECK_INT_EQ(nft, 2);
+        for (size_t k = 0; k < nft; k++) CHECK_INT_EQ(ft[k].n_alternatives, 2);
+        free(ft);
+        CHECK_INT_EQ(csf_store_get_trials(s, 2, &ft, &nft, &err), CSF_OK);
+        for (size_t k = 0; k < nft; k++) CHECK_INT_EQ(ft[k].n_alternatives, 0);
+        free(ft);
+        csf_trial four = make_trial(3, 2, 5);
+        four.n_alternatives = 4;
+        four.signal_interval = 3;
+        four.response = 3;
+        CHECK_INT_EQ(csf_store_add_trial(s, &four, &err), CSF_OK);
+        four.seq = 3;
+        four.n_alternatives = 1; /* not a layout: refused with the allowed values */
+        CHECK_INT_EQ(csf_store_add_trial(s, &four, &err), CSF_E_INVALID_ARG);
+        CHECK_STR_CONTAINS(err.msg, "2-16");
+        CHECK_INT_EQ(csf_store_get_trials(s, 3, &ft, &nft, &err), CSF_OK);
+        CHECK_INT_EQ(nft, 3);
+        if (nft == 3) CHECK_INT_EQ(ft[2].n_alternatives, 4);
+        free(ft);
+        csf_store_close(s);
+    }
+
     /* An empty file becomes a new store. */
     snprintf(path, sizeof path, "%s/empty.sqlite", dir);
     FILE *f = fopen(path, "wb");
