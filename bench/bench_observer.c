@@ -15,7 +15,9 @@
  *
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
- *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2]
+ *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
+ * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
+ * error and mean number of trials over the seeds: where the error is.
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -70,6 +72,7 @@ int main(int argc, char **argv)
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
     int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
+    int per_cell = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
             n_seeds = atoi(argv[++i]);
@@ -116,11 +119,13 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_observer: --first-seed must be 1-1000000\n");
                 return 1;
             }
+        } else if (!strcmp(argv[i], "--cells")) {
+            per_cell = 1;
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -168,6 +173,7 @@ int main(int argc, char **argv)
             for (int m = 0; m < n_methods && use_obs[ob]; m++)
                 for (int b = 0; b < n_budgets; b++) {
                     double sum_sq = 0.0, t0 = now_s();
+                    double cell_err[24] = {0}, cell_sq[24] = {0}, cell_trials[24] = {0};
                     int wrong_total = 0;
                     for (int s = first_seed; s < first_seed + n_seeds; s++) {
                         sim2afc o = probe[ob];
@@ -179,6 +185,25 @@ int main(int argc, char **argv)
                         double r = sim2afc_rms(&o, cells, n, est, cmax, &wrong);
                         sum_sq += r * r;
                         wrong_total += wrong;
+                        for (int c = 0; c < n && per_cell; c++) {
+                            double t = sim2afc_log10_threshold(&o, cells[c].freq_cpd, cells[c].ecc_deg);
+                            double e = isfinite(est[c].threshold) ? log10(est[c].threshold) : log10(cmax);
+                            cell_err[c] += e - t, cell_sq[c] += (e - t) * (e - t);
+                            cell_trials[c] += est[c].n_trials;
+                        }
+                    }
+                    if (per_cell) {
+                        printf("per cell: layout %d, observer %d, %s, %d trials, %d seeds (invisible cells: -)\n",
+                               ly == 0 ? 4 : 2, ob, methods[m]->name, budgets[b], n_seeds);
+                        for (int c = 0; c < n; c++) {
+                            double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
+                            if (t >= log10(cmax))
+                                printf("  %5.2f cpd %4.1f deg  -\n", cells[c].freq_cpd, cells[c].ecc_deg);
+                            else
+                                printf("  %5.2f cpd %4.1f deg  truth %+.3f  bias %+.3f  RMS %.3f  trials %4.1f  (%d places)\n",
+                                       cells[c].freq_cpd, cells[c].ecc_deg, t, cell_err[c] / n_seeds,
+                                       sqrt(cell_sq[c] / n_seeds), cell_trials[c] / n_seeds, n_alt[c]);
+                        }
                     }
                     rms[ob][m][b] = sqrt(sum_sq / n_seeds);
                     ms_per_session[ob][m][b] = (now_s() - t0) * 1000.0 / n_seeds;
