@@ -51,7 +51,7 @@ struct csf_presenter {
     /* GL objects */
     GLuint prog, vao, fbo, color_tex, inv_tex, fwd_tex, img_tex, text_tex, chan_tex;
     const csf_image *img_uploaded;
-    GLint u[32];
+    GLint u[48]; /* uniform locations, U_COUNT used */
     /* timing */
     long frame_index;
     double t_last, t0_real;
@@ -63,18 +63,23 @@ struct csf_presenter {
     int n_inject;
     double miss_prob;
     int last_rendered;
+    /* place marks (csf_presenter_set_marks): centre directions from the eye, ring radius */
+    int n_marks;
+    float mark_c[CSF_PRESENTER_MAX_MARKS][3];
+    double mark_radius_deg;
 };
 
 enum {
     U_RENDER, U_SCREEN, U_EYE, U_MODE, U_C, U_H, U_V, U_FIXC, U_FREQ, U_ORIENT, U_PHASE, U_SIGMA,
     U_RADIUS, U_EDGE, U_CONTRAST, U_MEAN, U_LUMRANGE, U_MAXLEVEL, U_FRAME, U_FIX, U_INV, U_FWD,
-    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_DRIVE, U_BGDRIVE, U_RECT, U_COUNT
+    U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_DRIVE, U_BGDRIVE, U_RECT, U_NMARKS, U_MARKC,
+    U_MARKR, U_MARKHW, U_MARKFRAC, U_COUNT
 };
 static const char *const uniform_names[U_COUNT] = {
     "u_render", "u_screen", "u_eye", "u_mode", "u_c", "u_h", "u_v", "u_fixc", "u_freq", "u_orient",
     "u_phase", "u_sigma", "u_radius", "u_edge", "u_contrast", "u_mean", "u_lumrange", "u_maxlevel",
     "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean", "u_chan",
-    "u_drive", "u_bgdrive", "u_rect"};
+    "u_drive", "u_bgdrive", "u_rect", "u_nmarks", "u_markc", "u_markr", "u_markhw", "u_markfrac"};
 
 static const char *const vs_src =
     "#version 330 core\n"
@@ -97,6 +102,9 @@ static const char *const fs_src =
     "uniform sampler2D u_inv, u_fwd, u_img, u_text, u_chan;\n"
     "uniform vec3 u_drive, u_bgdrive;\n"
     "uniform vec4 u_rect;\n"
+    "uniform int u_nmarks;\n"
+    "uniform vec3 u_markc[8];\n"
+    "uniform float u_markr, u_markhw, u_markfrac;\n"
     "const float RAD2DEG = 57.29577951308232;\n"
     "vec2 local_uv(vec3 d, vec3 c, vec3 h, vec3 v) {\n"
     "  float a = atan(length(cross(d, c)), dot(d, c));\n"
@@ -128,6 +136,9 @@ static const char *const fs_src =
     "  vec2 pmm = (gl_FragCoord.xy / u_render - 0.5) * u_screen;\n"
     "  vec3 d = normalize(vec3(pmm - u_eye.xy, -u_eye.z));\n"
     "  float L = u_mean;\n"
+    /* size of this pixel in degrees (for the marks' minimum width and antialiasing); taken
+     * here, in uniform control flow, where derivatives are defined */
+    "  float pxdeg = RAD2DEG * max(length(dFdx(d)), length(dFdy(d)));\n"
     "  if (u_mode == 1 || u_mode == 2) {\n"
     "    vec2 uv = local_uv(d, u_c, u_h, u_v);\n"
     "    float w = dot(uv, u_orient);\n"
@@ -150,6 +161,19 @@ static const char *const fs_src =
     "  } else if (u_mode == 5) {\n"
     "    float cov = texture(u_text, vec2(gl_FragCoord.x / u_render.x, 1.0 - gl_FragCoord.y / u_render.y)).r;\n"
     "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
+    "  }\n"
+    /* place marks: thin dark rings of radius u_markr (angular distance from each place's centre
+     * direction, exact), half-width u_markhw but at least 1 px (so every cross-section of the
+     * line has a fully dark pixel), antialiased over one pixel; luminance u_markfrac x mean,
+     * through the same profile inverse and dithering as everything else */
+    "  if (u_nmarks > 0) {\n"
+    "    float hw = max(u_markhw, pxdeg), cov = 0.0;\n"
+    "    for (int i = 0; i < 8; i++) {\n"
+    "      if (i >= u_nmarks) break;\n"
+    "      float r = RAD2DEG * atan(length(cross(d, u_markc[i])), dot(d, u_markc[i]));\n"
+    "      cov = max(cov, clamp((hw - abs(r - u_markr)) / max(pxdeg, 1e-6) + 0.5, 0.0, 1.0));\n"
+    "    }\n"
+    "    L = mix(L, u_markfrac * u_mean, cov);\n"
     "  }\n"
     "  if (u_fix != 0) {\n"
     "    if (dot(d, u_fixc) > 0.9999978068) L = u_lumrange.x + 0.1 * (u_mean - u_lumrange.x);\n"
@@ -806,6 +830,15 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
     glUniform1f(p->u[U_MEAN], (float)mean);
     glUniform1i(p->u[U_MODE], mode);
     glUniform1i(p->u[U_FIX], fixation ? 1 : 0);
+    /* place marks on every stimulus and blank frame while set, never on text screens */
+    int nm = text_mode ? 0 : p->n_marks;
+    glUniform1i(p->u[U_NMARKS], nm);
+    if (nm > 0) {
+        glUniform3fv(p->u[U_MARKC], nm, &p->mark_c[0][0]);
+        glUniform1f(p->u[U_MARKR], (float)p->mark_radius_deg);
+        glUniform1f(p->u[U_MARKHW], (float)(0.5 * CSF_MARK_WIDTH_DEG));
+        glUniform1f(p->u[U_MARKFRAC], (float)CSF_MARK_LUM_FRACTION);
+    }
     glBindVertexArray(p->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -914,6 +947,58 @@ csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_e
     return glGetError() == GL_NO_ERROR ? CSF_OK
                                        : csf_error_set(err, CSF_E_DEVICE, "OpenGL error in a clear frame");
 }
+
+/* ---------------- place marks ---------------- */
+
+/* The shader declares its mark arrays with this size. */
+_Static_assert(CSF_PRESENTER_MAX_MARKS == 8, "fs_src declares u_markc[8]: keep them equal");
+
+csf_status csf_presenter_set_marks(csf_presenter *p, int n, const double *ecc_deg,
+                                   const double *polar_deg, double radius_deg, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "place marks: NULL presenter");
+    if (n < 0 || n > CSF_PRESENTER_MAX_MARKS)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "place marks: %d marks requested; the number must be 0 to %d", n,
+                             CSF_PRESENTER_MAX_MARKS);
+    if (n == 0) {
+        p->n_marks = 0;
+        return CSF_OK;
+    }
+    if (!ecc_deg || !polar_deg)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "place marks: NULL eccentricity or polar angle list");
+    if (!(radius_deg > 0 && radius_deg <= CSF_MARK_MAX_RADIUS_DEG))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "place marks: ring radius %g deg is outside (0, %g] deg", radius_deg,
+                             (double)CSF_MARK_MAX_RADIUS_DEG);
+    float c[CSF_PRESENTER_MAX_MARKS][3];
+    for (int i = 0; i < n; i++) {
+        double e = ecc_deg[i], a = polar_deg[i];
+        if (!isfinite(e) || !isfinite(a))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "place mark %d: eccentricity %g deg / polar angle %g deg must be finite",
+                                 i, e, a);
+        if (!(e >= 0 && e < 90))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "place mark %d: eccentricity %g deg is outside 0 to 90 deg", i, e);
+        double x, y;
+        if (!csf_geometry_deg_to_mm(&p->geom, e, a, &x, &y) || !csf_geometry_on_screen(&p->geom, x, y))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "place mark %d at eccentricity %.3g deg, polar angle %.3g deg is "
+                                 "off-screen: the screen reaches %.3g deg in that direction",
+                                 i, e, a, csf_geometry_max_ecc(&p->geom, a));
+        double cd[3], h[3], v[3];
+        csf_geometry_centre_basis(&p->geom, e, a, cd, h, v);
+        for (int k = 0; k < 3; k++) c[i][k] = (float)cd[k];
+    }
+    /* all checked: replace the set (a refused call leaves the previous marks as they were) */
+    memcpy(p->mark_c, c, sizeof(float) * 3 * (size_t)n);
+    p->mark_radius_deg = radius_deg;
+    p->n_marks = n;
+    return CSF_OK;
+}
+
+int csf_presenter_mark_count(const csf_presenter *p) { return p ? p->n_marks : 0; }
 
 /* ---------------- measurement patches ---------------- */
 

@@ -125,6 +125,39 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
 csf_status csf_presenter_draw(csf_presenter *p, const csf_stimulus *s, int fixation,
                               csf_frame_info *out, csf_error *err);
 
+/* ---- place marks (placeholders / pre-cues) ----
+ * Marks the places where a grating may appear, so that an observer has no spatial uncertainty:
+ * each mark is a thin dark ring of radius radius_deg around the direction (ecc_deg[i],
+ * polar_deg[i]) (geometry.h conventions), computed per fragment as the exact angular distance
+ * from that direction, like the stimulus (so the ring is a circle in visual angle, not on the
+ * screen). Look: line CSF_MARK_WIDTH_DEG wide, but never thinner than 2 render pixels,
+ * antialiased over one pixel; luminance CSF_MARK_LUM_FRACTION x the frame's mean luminance (the
+ * stimulus' mean_lum_cdm2, or the display's mid luminance on a blank frame), i.e. 30 % darker,
+ * drawn through the same profile inverse and dithering as every stimulus, so it respects the
+ * display profile. Inside the ring nothing changes: the place's centre and the field between
+ * rings stay at the mean. The fixation mark is drawn over a ring.
+ *
+ * While set, the marks are drawn on every frame of csf_presenter_draw and
+ * csf_presenter_run_trial (blank and stimulus frames alike), never on text screens or measurement
+ * patches. Setting them costs no GL work (bookkeeping-only presenters, render_every = -1, accept
+ * them and just keep the state); they take effect from the next frame drawn. A ring that reaches
+ * past the screen edge is clipped there.
+ *
+ * n = 0 clears (ecc_deg, polar_deg and radius_deg are then ignored). Refused, with the limit in
+ * the message, and leaving the current marks as they were: n < 0 or n > CSF_PRESENTER_MAX_MARKS,
+ * NULL lists, a radius that is not in (0, CSF_MARK_MAX_RADIUS_DEG], a non-finite eccentricity or
+ * polar angle, an eccentricity outside [0, 90) deg, a centre that is off-screen. Psychophysical
+ * use: show them before the stimulus and clear them before it begins, so that they cannot mask
+ * it (calib/observer_calib.c), with a radius outside the visible patch (3 sigma of a Gabor). */
+#define CSF_PRESENTER_MAX_MARKS 8
+#define CSF_MARK_WIDTH_DEG 0.12     /* line width (deg), at least 2 render pixels */
+#define CSF_MARK_LUM_FRACTION 0.7   /* ring luminance / the frame's mean luminance */
+#define CSF_MARK_MAX_RADIUS_DEG 30.0
+csf_status csf_presenter_set_marks(csf_presenter *p, int n, const double *ecc_deg,
+                                   const double *polar_deg, double radius_deg, csf_error *err);
+/* Number of marks now set (0 when cleared). */
+int csf_presenter_mark_count(const csf_presenter *p);
+
 /* Baseline for benchmarks: a frame that only clears to the mean grey (no stimulus shader). */
 csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_error *err);
 
