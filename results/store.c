@@ -256,6 +256,59 @@ static int grow(void **buf, size_t *cap, size_t n, size_t elem)
     return 0;
 }
 
+/* One reader of many rows (the csf_store_get_* and csf_store_list_* functions): its SQL, how one
+ * result row fills one element of the array, and the words for its errors. */
+typedef struct {
+    const char *sql;
+    int binds_session;     /* the SQL's one parameter is the session id */
+    size_t elem_size;
+    /* Fills one zeroed element from the current row; 0, or -1 when out of memory. */
+    int (*row)(sqlite3_stmt *st, void *elem, int64_t session_id);
+    /* Releases what an element owns, also one the row function failed half-way (NULL: nothing). */
+    void (*free_elem)(void *elem);
+    const char *what;      /* failure: "store PATH: failed while <what> (...)" */
+    const char *oom_what;  /* no memory: "store: out of memory <oom_what>" */
+} row_query;
+
+/* Runs q and returns its rows as one malloc'd array in *out (NULL when there are none). */
+static csf_status query_rows(csf_store *s, const row_query *q, int64_t session_id, void **out,
+                             size_t *n, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
+    *out = NULL;
+    *n = 0;
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, q->sql, &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, q->what);
+    if (q->binds_session) sqlite3_bind_int64(st, 1, session_id);
+    unsigned char *list = NULL;
+    size_t cap = 0, cnt = 0;
+    int oom = 0;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (grow((void **)&list, &cap, cnt, q->elem_size) < 0) {
+            oom = 1;
+            break;
+        }
+        void *elem = list + cnt++ * q->elem_size;
+        memset(elem, 0, q->elem_size);
+        if (q->row(st, elem, session_id) < 0) {
+            oom = 1;
+            break;
+        }
+    }
+    sqlite3_finalize(st);
+    if (!oom && rc == SQLITE_DONE) {
+        *out = list;
+        *n = cnt;
+        return CSF_OK;
+    }
+    for (size_t i = 0; q->free_elem && i < cnt; i++) q->free_elem(list + i * q->elem_size);
+    free(list);
+    if (oom) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory %s", q->oom_what);
+    return fail(s, err, rc, q->what);
+}
+
 /* ---- open: checks before SQLite touches anything ----------------------------------------- */
 
 static void dir_of(const char *path, char *out, size_t cap)
@@ -859,34 +912,21 @@ csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *sta
     return cs;
 }
 
+static int session_row(sqlite3_stmt *st, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    return read_session_row(st, elem);
+}
+
+static void session_elem_free(void *elem) { csf_session_info_free(elem); }
+
 csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err)
 {
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, SESSION_COLS " ORDER BY s.id", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "listing sessions");
-    csf_session_info *list = NULL;
-    size_t cap = 0, cnt = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0 || read_session_row(st, &list[cnt]) < 0) {
-            if (cnt < cap) csf_session_info_free(&list[cnt]);
-            csf_session_list_free(list, cnt);
-            sqlite3_finalize(st);
-            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory listing sessions");
-        }
-        cnt++;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        csf_session_list_free(list, cnt);
-        return fail(s, err, rc, "listing sessions");
-    }
-    *out = list;
-    *n = cnt;
-    return CSF_OK;
+    static const row_query q = {
+        .sql = SESSION_COLS " ORDER BY s.id", .elem_size = sizeof(csf_session_info),
+        .row = session_row, .free_elem = session_elem_free,
+        .what = "listing sessions", .oom_what = "listing sessions"};
+    return query_rows(s, &q, 0, (void **)out, n, err);
 }
 
 static void format_unix(double t, char out[32])
@@ -996,48 +1036,32 @@ csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *
     return fail(s, err, rc, "storing a photometer reading");
 }
 
+static int reading_row(sqlite3_stmt *st, void *elem, int64_t session_id)
+{
+    csf_reading *r = elem;
+    r->session_id = session_id;
+    r->seq = sqlite3_column_int(st, 0);
+    col_text(st, 1, r->channel, sizeof r->channel);
+    r->drive01 = col_real(st, 2);
+    r->lum_cdm2 = col_real(st, 3);
+    r->has_xyz = sqlite3_column_type(st, 4) != SQLITE_NULL;
+    r->X = col_real(st, 4);
+    r->Y = col_real(st, 5);
+    r->Z = col_real(st, 6);
+    r->t_s = col_real(st, 7);
+    col_text(st, 8, r->status, sizeof r->status);
+    return 0;
+}
+
 csf_status csf_store_get_readings(csf_store *s, int64_t session_id, csf_reading **out, size_t *n,
                                   csf_error *err)
 {
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT seq, channel, drive01, lum_cdm2, x, y, z, t_s, status FROM readings"
-                        " WHERE session_id = ? ORDER BY seq", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading photometer readings");
-    sqlite3_bind_int64(st, 1, session_id);
-    csf_reading *list = NULL;
-    size_t cap = 0, cnt = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0) {
-            free(list);
-            sqlite3_finalize(st);
-            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading readings");
-        }
-        csf_reading *r = &list[cnt++];
-        memset(r, 0, sizeof *r);
-        r->session_id = session_id;
-        r->seq = sqlite3_column_int(st, 0);
-        col_text(st, 1, r->channel, sizeof r->channel);
-        r->drive01 = col_real(st, 2);
-        r->lum_cdm2 = col_real(st, 3);
-        r->has_xyz = sqlite3_column_type(st, 4) != SQLITE_NULL;
-        r->X = col_real(st, 4);
-        r->Y = col_real(st, 5);
-        r->Z = col_real(st, 6);
-        r->t_s = col_real(st, 7);
-        col_text(st, 8, r->status, sizeof r->status);
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        free(list);
-        return fail(s, err, rc, "reading photometer readings");
-    }
-    *out = list;
-    *n = cnt;
-    return CSF_OK;
+    static const row_query q = {
+        .sql = "SELECT seq, channel, drive01, lum_cdm2, x, y, z, t_s, status FROM readings"
+        " WHERE session_id = ? ORDER BY seq",
+        .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
+        .what = "reading photometer readings", .oom_what = "reading readings"};
+    return query_rows(s, &q, session_id, (void **)out, n, err);
 }
 
 /* ---- trials ------------------------------------------------------------------------------ */
@@ -1160,67 +1184,51 @@ csf_status csf_store_add_trial_frames(csf_store *s, const csf_trial *t, const do
     return CSF_OK;
 }
 
+static int trial_row(sqlite3_stmt *st, void *elem, int64_t session_id)
+{
+    csf_trial *t = elem;
+    int c = 0;
+    t->session_id = session_id;
+    t->seq = sqlite3_column_int(st, c++);
+    col_text(st, c++, t->method, sizeof t->method);
+    t->freq_cpd = col_real(st, c++);
+    t->ecc_deg = col_real(st, c++);
+    t->polar_deg = col_real(st, c++);
+    t->orientation_deg = col_real(st, c++);
+    t->sigma_deg = col_real(st, c++);
+    t->velocity_dps = col_real(st, c++);
+    t->mean_lum_cdm2 = col_real(st, c++);
+    t->is_catch = sqlite3_column_int(st, c++);
+    t->is_practice = sqlite3_column_int(st, c++);
+    t->contrast_requested = col_real(st, c++);
+    t->contrast_shown_mean = col_real(st, c++);
+    t->contrast_shown_max = col_real(st, c++);
+    t->frames_planned = sqlite3_column_int(st, c++);
+    t->frames_shown = sqlite3_column_int(st, c++);
+    t->frames_missed = sqlite3_column_int(st, c++);
+    t->signal_interval = sqlite3_column_int(st, c++);
+    t->response = sqlite3_column_int(st, c++);
+    t->rt_s = col_real(st, c++);
+    t->click_x_deg = col_real(st, c++);
+    t->click_y_deg = col_real(st, c++);
+    t->valid = sqlite3_column_int(st, c++);
+    col_text(st, c++, t->flags, sizeof t->flags);
+    t->n_alternatives = sqlite3_column_int(st, c++);
+    return 0;
+}
+
 csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
                                 csf_error *err)
 {
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
-                        " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
-                        " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
-                        " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-                        " valid, flags, n_alternatives FROM trials WHERE session_id = ? ORDER BY seq", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading trials");
-    sqlite3_bind_int64(st, 1, session_id);
-    csf_trial *list = NULL;
-    size_t cap = 0, cnt = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0) {
-            free(list);
-            sqlite3_finalize(st);
-            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading trials");
-        }
-        csf_trial *t = &list[cnt++];
-        memset(t, 0, sizeof *t);
-        int c = 0;
-        t->session_id = session_id;
-        t->seq = sqlite3_column_int(st, c++);
-        col_text(st, c++, t->method, sizeof t->method);
-        t->freq_cpd = col_real(st, c++);
-        t->ecc_deg = col_real(st, c++);
-        t->polar_deg = col_real(st, c++);
-        t->orientation_deg = col_real(st, c++);
-        t->sigma_deg = col_real(st, c++);
-        t->velocity_dps = col_real(st, c++);
-        t->mean_lum_cdm2 = col_real(st, c++);
-        t->is_catch = sqlite3_column_int(st, c++);
-        t->is_practice = sqlite3_column_int(st, c++);
-        t->contrast_requested = col_real(st, c++);
-        t->contrast_shown_mean = col_real(st, c++);
-        t->contrast_shown_max = col_real(st, c++);
-        t->frames_planned = sqlite3_column_int(st, c++);
-        t->frames_shown = sqlite3_column_int(st, c++);
-        t->frames_missed = sqlite3_column_int(st, c++);
-        t->signal_interval = sqlite3_column_int(st, c++);
-        t->response = sqlite3_column_int(st, c++);
-        t->rt_s = col_real(st, c++);
-        t->click_x_deg = col_real(st, c++);
-        t->click_y_deg = col_real(st, c++);
-        t->valid = sqlite3_column_int(st, c++);
-        col_text(st, c++, t->flags, sizeof t->flags);
-        t->n_alternatives = sqlite3_column_int(st, c++);
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        free(list);
-        return fail(s, err, rc, "reading trials");
-    }
-    *out = list;
-    *n = cnt;
-    return CSF_OK;
+    static const row_query q = {
+        .sql = "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
+        " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
+        " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
+        " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
+        " valid, flags, n_alternatives FROM trials WHERE session_id = ? ORDER BY seq",
+        .binds_session = 1, .elem_size = sizeof(csf_trial), .row = trial_row,
+        .what = "reading trials", .oom_what = "reading trials"};
+    return query_rows(s, &q, session_id, (void **)out, n, err);
 }
 
 csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int trial_seq,
@@ -1249,36 +1257,21 @@ csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int t
     return CSF_OK;
 }
 
+static int interval_row(sqlite3_stmt *st, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    *(double *)elem = sqlite3_column_double(st, 0);
+    return 0;
+}
+
 csf_status csf_store_get_frame_intervals(csf_store *s, int64_t session_id, double **out, size_t *n,
                                          csf_error *err)
 {
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT interval_s FROM frame_intervals WHERE session_id = ?"
-                        " ORDER BY trial_seq, idx", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading frame intervals");
-    sqlite3_bind_int64(st, 1, session_id);
-    double *list = NULL;
-    size_t cap = 0, cnt = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0) {
-            free(list);
-            sqlite3_finalize(st);
-            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading frame intervals");
-        }
-        list[cnt++] = sqlite3_column_double(st, 0);
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        free(list);
-        return fail(s, err, rc, "reading frame intervals");
-    }
-    *out = list;
-    *n = cnt;
-    return CSF_OK;
+    static const row_query q = {
+        .sql = "SELECT interval_s FROM frame_intervals WHERE session_id = ? ORDER BY trial_seq, idx",
+        .binds_session = 1, .elem_size = sizeof(double), .row = interval_row,
+        .what = "reading frame intervals", .oom_what = "reading frame intervals"};
+    return query_rows(s, &q, session_id, (void **)out, n, err);
 }
 
 /* ---- thresholds -------------------------------------------------------------------------- */
@@ -1340,44 +1333,30 @@ csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_
     return CSF_OK;
 }
 
+static int threshold_row(sqlite3_stmt *st, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    csf_threshold_row *r = elem;
+    r->freq_cpd = col_real(st, 0);
+    r->ecc_deg = col_real(st, 1);
+    r->velocity_dps = col_real(st, 2);
+    r->lum_cdm2 = col_real(st, 3);
+    r->threshold = col_real(st, 4);
+    r->stderr_log10 = col_real(st, 5);
+    r->n_trials = sqlite3_column_int(st, 6);
+    return 0;
+}
+
 csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_threshold_row **out,
                                     size_t *n, csf_error *err)
 {
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold, stderr_log10,"
-                        " n_trials FROM thresholds WHERE session_id = ?"
-                        " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading thresholds");
-    sqlite3_bind_int64(st, 1, session_id);
-    csf_threshold_row *list = NULL;
-    size_t cap = 0, cnt = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0) {
-            free(list);
-            sqlite3_finalize(st);
-            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading thresholds");
-        }
-        csf_threshold_row *r = &list[cnt++];
-        r->freq_cpd = col_real(st, 0);
-        r->ecc_deg = col_real(st, 1);
-        r->velocity_dps = col_real(st, 2);
-        r->lum_cdm2 = col_real(st, 3);
-        r->threshold = col_real(st, 4);
-        r->stderr_log10 = col_real(st, 5);
-        r->n_trials = sqlite3_column_int(st, 6);
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        free(list);
-        return fail(s, err, rc, "reading thresholds");
-    }
-    *out = list;
-    *n = cnt;
-    return CSF_OK;
+    static const row_query q = {
+        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold, stderr_log10,"
+        " n_trials FROM thresholds WHERE session_id = ?"
+        " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
+        .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
+        .what = "reading thresholds", .oom_what = "reading thresholds"};
+    return query_rows(s, &q, session_id, (void **)out, n, err);
 }
 
 /* ---- artifacts --------------------------------------------------------------------------- */
