@@ -126,6 +126,32 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
     }
 }
 
+int csf_cli_option_default(csf_cli *cli, const char *cmd, const char *help, int opt, char **argv)
+{
+    switch (opt) {
+    case 'h':
+        fputs(help, stdout);
+        fputs(csf_cli_common_help, stdout);
+        return 0;
+    case ':':
+        fprintf(stderr, "csfcal: %s: option %s needs a value\n", cmd, argv[optind - 1]);
+        return 2;
+    case '?':
+        fprintf(stderr, "csfcal: %s: unknown option '%s' (try csfcal %s --help)\n", cmd,
+                argv[optind - 1], cmd);
+        return 2;
+    default: {
+        int h = csf_cli_common_option(cli, opt, optarg);
+        if (h < 0) return 2;
+        if (h == 0) {
+            fprintf(stderr, "csfcal: %s: unexpected option\n", cmd);
+            return 2;
+        }
+        return -1;
+    }
+    }
+}
+
 int csf_cli_want_headless(const csf_cli *cli)
 {
     if (cli->headless) return 1;

@@ -66,6 +66,14 @@ int csf_parse_int(const char *text, const char *name, long lo, long hi, long *ou
 /* Comma-separated list of doubles, each in [lo, hi]; at most max values. Returns the count or -1. */
 int csf_parse_double_list(const char *text, const char *name, double lo, double hi, double *out, int max);
 
+/* The default: branch of a subcommand's getopt_long loop (optstring starting with ':', opterr 0),
+ * for every option the subcommand does not handle itself. 'h' (-h, and --help given as 'h' in the
+ * option table) prints help and csf_cli_common_help to stdout; ':' prints "csfcal: CMD: option
+ * --x needs a value"; '?' prints "csfcal: CMD: unknown option '--x' (try csfcal CMD --help)"; any
+ * other goes to csf_cli_common_option. Returns -1 to go on parsing, else the exit status to return
+ * at once: 0 after help, 2 after a usage error (already reported on stderr). */
+int csf_cli_option_default(csf_cli *cli, const char *cmd, const char *help, int opt, char **argv);
+
 /* Prints "csfcal: <msg>" to stderr and returns the exit status for the error (1 runtime, 2 usage). */
 int csf_cli_report(const char *context, const csf_error *err);
 

@@ -23,11 +23,9 @@ static const char report_help[] =
     "  - every session: a histogram of frame intervals with the missed-frame limit.\n"
     "PDF has one page per panel; PNG and SVG stack the panels on one tall page.\n\n";
 
-enum { OPT_HELP = CSF_OPT_FIRST_FREE };
-
 static const struct option report_options[] = {
     {"output", required_argument, 0, 'o'},
-    {"help", no_argument, 0, OPT_HELP},
+    {"help", no_argument, 0, 'h'},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -44,26 +42,9 @@ int csf_cmd_report(int argc, char **argv)
     while ((c = getopt_long(argc, argv, ":o:h", report_options, NULL)) != -1) {
         switch (c) {
         case 'o': out_path = optarg; break;
-        case 'h':
-        case OPT_HELP:
-            fputs(report_help, stdout);
-            fputs(csf_cli_common_help, stdout);
-            return 0;
-        case ':':
-            fprintf(stderr, "csfcal: report: option %s needs a value\n", argv[optind - 1]);
-            return 2;
-        case '?':
-            fprintf(stderr, "csfcal: report: unknown option '%s' (try csfcal report --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        default: {
-            int h = csf_cli_common_option(&cli, c, optarg);
-            if (h < 0) return 2;
-            if (h == 0) {
-                fprintf(stderr, "csfcal: report: unexpected option\n");
-                return 2;
-            }
-        }
+        default:
+            rc = csf_cli_option_default(&cli, "report", report_help, c, argv);
+            if (rc >= 0) return rc;
         }
     }
     if (argc - optind != 1) {

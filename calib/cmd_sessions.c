@@ -31,7 +31,7 @@ static const char sessions_help[] =
     "        Writes to standard output unless -o FILE is given. See docs/store.md.\n"
     "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n\n";
 
-enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE, OPT_HELP };
+enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE };
 
 static const struct option sessions_options[] = {
     {"format", required_argument, 0, OPT_FORMAT},
@@ -39,7 +39,7 @@ static const struct option sessions_options[] = {
     {"kind", required_argument, 0, OPT_KIND},
     {"state", required_argument, 0, OPT_STATE},
     {"output", required_argument, 0, 'o'},
-    {"help", no_argument, 0, OPT_HELP},
+    {"help", no_argument, 0, 'h'},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -299,26 +299,9 @@ int csf_cmd_sessions(int argc, char **argv)
             state = optarg;
             break;
         case 'o': out_path = optarg; break;
-        case 'h':
-        case OPT_HELP:
-            fputs(sessions_help, stdout);
-            fputs(csf_cli_common_help, stdout);
-            return 0;
-        case ':':
-            fprintf(stderr, "csfcal: sessions: option %s needs a value\n", argv[optind - 1]);
-            return 2;
-        case '?':
-            fprintf(stderr, "csfcal: sessions: unknown option '%s' (try csfcal sessions --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        default: {
-            int h = csf_cli_common_option(&cli, c, optarg);
-            if (h < 0) return 2;
-            if (h == 0) {
-                fprintf(stderr, "csfcal: sessions: unexpected option\n");
-                return 2;
-            }
-        }
+        default:
+            rc = csf_cli_option_default(&cli, "sessions", sessions_help, c, argv);
+            if (rc >= 0) return rc;
         }
     }
     int npos = argc - optind;
