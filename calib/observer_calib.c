@@ -42,6 +42,19 @@
 /* Refuse when the wrong answers at 4x the estimated threshold say the person guessed on more than
  * half of those trials: > 25 % wrong with two intervals, > 37.5 % with four places. */
 #define AFC_GUESS_LIMIT 0.5
+/* Place cues (placeholders) before a forced-choice trial: rings around the places where the
+ * grating can appear (the four places, or the one place of both intervals), so that the person
+ * knows where to attend; spatial uncertainty would raise a human's threshold above the detection
+ * threshold the table must hold. The rings are on for the first CUE_S of the fixation period and
+ * are removed CUE_GAP_S before the grating appears, so that they cannot mask it and their offset
+ * is over by its onset (cue onset to grating onset = FIXATION_S, a usual pre-cue lead); the
+ * fixation period keeps its length, so the trials' frame counts and timing are unchanged. Their
+ * radius is the patch radius (3 sigma, CSF_AFC_PATCH_RADIUS_SIGMAS), outside the visible Gabor;
+ * the four places are at least two patch radii apart, so their rings do not overlap. Not used by
+ * the fade method, whose grating appears at an unknown place on purpose. */
+#define CUE_S 0.2
+#define CUE_GAP_S (FIXATION_S - CUE_S)
+#define CUE_RADIUS_DEG (CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG)
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX };
 
@@ -484,14 +497,30 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
     return CSF_OK;
 }
 
-/* One 2AFC trial: two intervals, the grating in one of them; the person picks one. */
+/* The fixation period of a forced-choice trial with its place cues: rings at the n places for
+ * CUE_S, then fixation alone for CUE_GAP_S. The rings are removed on every way out (a pause
+ * included), so they are never on during a grating, the answer or a pause screen. */
+static csf_status cued_fixation(runner *r, int n, double ecc, const double *polar, csf_error *err)
+{
+    double eccs[4] = {ecc, ecc, ecc, ecc};
+    csf_status st = csf_presenter_set_marks(r->pres, n, eccs, polar, CUE_RADIUS_DEG, err);
+    if (st != CSF_OK) return st;
+    st = blank_frames(r, CUE_S, 1, 0, err);
+    csf_error e;
+    csf_presenter_set_marks(r->pres, 0, NULL, NULL, 0, &e); /* clearing cannot fail */
+    if (st != CSF_OK || r->who->paused) return st;
+    return blank_frames(r, CUE_GAP_S, 1, 0, err);
+}
+
+/* One 2AFC trial: place cue, two intervals, the grating in one of them; the person picks one. */
 static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            double polar, trial_result *tr, csf_error *err)
 {
     person *p = r->who;
     memset(tr, 0, sizeof *tr);
     tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
-    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
+    /* one ring: the grating appears at the same place in both intervals */
+    csf_status st = cued_fixation(r, 1, c->ecc_deg, &polar, err);
     if (st != CSF_OK || p->paused) return st;
     double shown[2] = {0, 0};
     for (int k = 0; k < 2; k++) {
@@ -556,9 +585,9 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
     }
 }
 
-/* One four-place trial (spatial 4AFC): fixation, then one interval as long as a 2AFC interval
- * with the grating at place plan->signal_interval of the layout (the plan's polar_deg is not
- * used), then the answer: a click (the nearest place) or a place key. */
+/* One four-place trial (spatial 4AFC): fixation with the four places cued, then one interval as
+ * long as a 2AFC interval with the grating at place plan->signal_interval of the layout (the
+ * plan's polar_deg is not used), then the answer: a click (the nearest place) or a place key. */
 static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            const csf_afc_layout *lay, trial_result *tr, csf_error *err)
 {
@@ -569,7 +598,7 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
         return csf_error_set(err, CSF_E_INVALID_ARG, "four-place trial at %g cpd, %g deg: place %d of "
                              "a %d-alternative layout", c->freq_cpd, c->ecc_deg, plan->signal_interval,
                              lay->n_alternatives);
-    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
+    csf_status st = cued_fixation(r, 4, c->ecc_deg, lay->polar_deg, err);
     if (st != CSF_OK || p->paused) return st;
     double shown[4] = {0, 0, 0, 0};
     int sig = plan->signal_interval;
@@ -1039,14 +1068,17 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         st = person_screen(&who,
                            S.ops->task == CSF_TASK_2AFC && res->n_cells_four_place > 0
                                ? "Look at the central mark and keep your eyes on it.\n"
-                                 "Sometimes a faint pattern appears in one of two intervals:\n"
+                                 "Rings mark the places just before the pattern appears.\n"
+                                 "One ring: the pattern appears there in one of two intervals:\n"
                                  "press 1 or Left for the first, 2 or Right for the second.\n"
-                                 "Sometimes it appears once, at one of four places around the mark:\n"
+                                 "Four rings: it appears once, at one of the four places:\n"
                                  "click that place, or press keypad 9 7 1 3 or I U J K\n"
                                  "(upper right, upper left, lower left, lower right).\n"
                                  "When unsure, guess. Escape pauses. Press a key to start."
                            : S.ops->task == CSF_TASK_2AFC
-                               ? "Look at the central mark.\nA faint pattern appears in one of two intervals.\n"
+                               ? "Look at the central mark.\n"
+                                 "A ring marks the place just before the pattern appears.\n"
+                                 "The pattern appears there in one of two intervals.\n"
                                  "Press 1 or Left for the first, 2 or Right for the second.\n"
                                  "Escape pauses. Press a key to start."
                                : "Look at the central mark and keep your eyes on it.\n"
