@@ -512,6 +512,27 @@ static csf_status cued_fixation(runner *r, int n, double ecc, const double *pola
     return blank_frames(r, CUE_GAP_S, 1, 0, err);
 }
 
+/* One forced-choice interval with the grating at polar_deg: its frames go into tr, and *shown is
+ * the mean contrast the presenter actually put on screen (what the person could see). */
+static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_deg, double contrast,
+                                    trial_result *tr, double *shown, csf_error *err)
+{
+    csf_stimulus s;
+    make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar_deg, contrast, r->mean_lum);
+    csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
+    csf_status st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
+    if (st != CSF_OK) return st;
+    tr->have_rec = 1;
+    *shown = round9(tr->rec.contrast_shown_mean);
+    tr->shown_mean = tr->rec.contrast_shown_mean;
+    tr->shown_max = tr->rec.contrast_shown_max;
+    tr->frames_planned = tr->rec.frames_planned;
+    tr->frames_shown = tr->rec.frames_shown;
+    tr->frames_missed = tr->rec.frames_missed;
+    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+    return CSF_OK;
+}
+
 /* One 2AFC trial: place cue, two intervals, the grating in one of them; the person picks one. */
 static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            double polar, trial_result *tr, csf_error *err)
@@ -533,19 +554,8 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
             if (st != CSF_OK || p->paused) return st;
             continue;
         }
-        csf_stimulus s;
-        make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar, plan->contrast, r->mean_lum);
-        csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
-        st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
+        st = show_afc_interval(r, c, polar, plan->contrast, tr, &shown[k], err);
         if (st != CSF_OK) return st;
-        tr->have_rec = 1;
-        shown[k] = round9(tr->rec.contrast_shown_mean);
-        tr->shown_mean = tr->rec.contrast_shown_mean;
-        tr->shown_max = tr->rec.contrast_shown_max;
-        tr->frames_planned = tr->rec.frames_planned;
-        tr->frames_shown = tr->rec.frames_shown;
-        tr->frames_missed = tr->rec.frames_missed;
-        if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
     }
     tr->valid = 1;
     tr->contrast_at_response = shown[plan->signal_interval];
@@ -602,19 +612,8 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
     if (st != CSF_OK || p->paused) return st;
     double shown[4] = {0, 0, 0, 0};
     int sig = plan->signal_interval;
-    csf_stimulus s;
-    make_stimulus(&s, c->freq_cpd, c->ecc_deg, lay->polar_deg[sig], plan->contrast, r->mean_lum);
-    csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
-    st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
+    st = show_afc_interval(r, c, lay->polar_deg[sig], plan->contrast, tr, &shown[sig], err);
     if (st != CSF_OK) return st;
-    tr->have_rec = 1;
-    shown[sig] = round9(tr->rec.contrast_shown_mean);
-    tr->shown_mean = tr->rec.contrast_shown_mean;
-    tr->shown_max = tr->rec.contrast_shown_max;
-    tr->frames_planned = tr->rec.frames_planned;
-    tr->frames_shown = tr->rec.frames_shown;
-    tr->frames_missed = tr->rec.frames_missed;
-    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
     tr->valid = 1;
     tr->contrast_at_response = shown[sig];
     if (p->sim) {
