@@ -423,6 +423,18 @@ static void add_flag(char *flags, const char *f)
     snprintf(flags + n, 64 - n, "%s%s", n ? "," : "", f);
 }
 
+/* The presenter's record of the trial's stimulus frames (tr->rec, just filled) into the result. */
+static void take_record(trial_result *tr)
+{
+    tr->have_rec = 1;
+    tr->shown_mean = tr->rec.contrast_shown_mean;
+    tr->shown_max = tr->rec.contrast_shown_max;
+    tr->frames_planned = tr->rec.frames_planned;
+    tr->frames_shown = tr->rec.frames_shown;
+    tr->frames_missed = tr->rec.frames_missed;
+    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+}
+
 /* One fade trial: fixation, ramp (or blank frames for a catch trial), response window, click. */
 static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            double polar, int is_practice, trial_result *tr, csf_error *err)
@@ -452,13 +464,7 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
         if (is_practice) env = (csf_envelope){CSF_ENV_FIXED, duration, 0, 0};
         st = csf_presenter_run_trial(r->pres, &s, &env, 1, fade_stop_cb, p, &tr->rec, err);
         if (st != CSF_OK) return st;
-        tr->have_rec = 1;
-        tr->shown_mean = tr->rec.contrast_shown_mean;
-        tr->shown_max = tr->rec.contrast_shown_max;
-        tr->frames_planned = tr->rec.frames_planned;
-        tr->frames_shown = tr->rec.frames_shown;
-        tr->frames_missed = tr->rec.frames_missed;
-        if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
+        take_record(tr);
         if (!p->pressed && !p->paused) p->contrast_at_press = tr->rec.contrast_shown_last;
     }
     if (st != CSF_OK || p->paused) return st;
@@ -522,14 +528,8 @@ static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_d
     csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
     csf_status st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
     if (st != CSF_OK) return st;
-    tr->have_rec = 1;
+    take_record(tr);
     *shown = round9(tr->rec.contrast_shown_mean);
-    tr->shown_mean = tr->rec.contrast_shown_mean;
-    tr->shown_max = tr->rec.contrast_shown_max;
-    tr->frames_planned = tr->rec.frames_planned;
-    tr->frames_shown = tr->rec.frames_shown;
-    tr->frames_missed = tr->rec.frames_missed;
-    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
     return CSF_OK;
 }
 
