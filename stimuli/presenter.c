@@ -50,8 +50,13 @@ struct csf_presenter {
     int glfw_inited;
     /* GL objects */
     GLuint prog, vao, fbo, color_tex, inv_tex, fwd_tex, img_tex, text_tex, chan_tex;
+    /* two builds of the fragment shader: without and with the place-mark code. llvmpipe runs
+     * a branch's body even when a uniform says skip it, and the mark loop made every frame
+     * of a fade session 40 % slower; prog and u point at the one in use */
+    GLuint prog_plain, prog_marks;
+    GLint u_plain[48], u_marks[48];
     const csf_image *img_uploaded;
-    GLint u[48]; /* uniform locations, U_COUNT used */
+    GLint *u; /* uniform locations of prog, U_COUNT used */
     /* timing */
     long frame_index;
     double t_last, t0_real;
@@ -136,9 +141,6 @@ static const char *const fs_src =
     "  vec2 pmm = (gl_FragCoord.xy / u_render - 0.5) * u_screen;\n"
     "  vec3 d = normalize(vec3(pmm - u_eye.xy, -u_eye.z));\n"
     "  float L = u_mean;\n"
-    /* size of this pixel in degrees (for the marks' minimum width and antialiasing); taken
-     * here, in uniform control flow, where derivatives are defined */
-    "  float pxdeg = RAD2DEG * max(length(dFdx(d)), length(dFdy(d)));\n"
     "  if (u_mode == 1 || u_mode == 2) {\n"
     "    vec2 uv = local_uv(d, u_c, u_h, u_v);\n"
     "    float w = dot(uv, u_orient);\n"
@@ -166,7 +168,12 @@ static const char *const fs_src =
      * direction, exact), half-width u_markhw but at least 1 px (so every cross-section of the
      * line has a fully dark pixel), antialiased over one pixel; luminance u_markfrac x mean,
      * through the same profile inverse and dithering as everything else */
+    "#ifdef CSF_MARKS\n"
     "  if (u_nmarks > 0) {\n"
+    /* size of this pixel in degrees, for the minimum width and the antialiasing; derivatives
+     * are defined here because the branch depends on a uniform only (dynamically uniform
+     * control flow), and frames without marks (every fade frame) skip their cost */
+    "    float pxdeg = RAD2DEG * max(length(dFdx(d)), length(dFdy(d)));\n"
     "    float hw = max(u_markhw, pxdeg), cov = 0.0;\n"
     "    for (int i = 0; i < 8; i++) {\n"
     "      if (i >= u_nmarks) break;\n"
@@ -175,6 +182,7 @@ static const char *const fs_src =
     "    }\n"
     "    L = mix(L, u_markfrac * u_mean, cov);\n"
     "  }\n"
+    "#endif\n"
     "  if (u_fix != 0) {\n"
     "    if (dot(d, u_fixc) > 0.9999978068) L = u_lumrange.x + 0.1 * (u_mean - u_lumrange.x);\n"
     "  }\n"
@@ -310,30 +318,49 @@ static csf_status gl_compile(GLenum type, const char *src, GLuint *out, csf_erro
     return CSF_OK;
 }
 
-static csf_status gl_setup(csf_presenter *p, csf_error *err)
+/* Compiles and links one build of the shaders; the fragment source gets `defines` after its
+ * #version line. */
+static csf_status gl_program(const char *defines, GLuint *prog, GLint *u, csf_error *err)
 {
+    const char *nl = strchr(fs_src, '\n');
+    size_t vlen = (size_t)(nl - fs_src) + 1, dlen = strlen(defines), rlen = strlen(nl + 1);
+    char *src = malloc(vlen + dlen + rlen + 1);
+    if (!src) return csf_error_set(err, CSF_E_NOMEM, "presenter: out of memory for the shader");
+    memcpy(src, fs_src, vlen);
+    memcpy(src + vlen, defines, dlen);
+    memcpy(src + vlen + dlen, nl + 1, rlen + 1);
     GLuint vs = 0, fs = 0;
     csf_status st = gl_compile(GL_VERTEX_SHADER, vs_src, &vs, err);
-    if (st) return st;
-    st = gl_compile(GL_FRAGMENT_SHADER, fs_src, &fs, err);
+    if (st == CSF_OK) st = gl_compile(GL_FRAGMENT_SHADER, src, &fs, err);
+    free(src);
     if (st) {
-        glDeleteShader(vs);
+        if (vs) glDeleteShader(vs);
         return st;
     }
-    p->prog = glCreateProgram();
-    glAttachShader(p->prog, vs);
-    glAttachShader(p->prog, fs);
-    glLinkProgram(p->prog);
+    *prog = glCreateProgram();
+    glAttachShader(*prog, vs);
+    glAttachShader(*prog, fs);
+    glLinkProgram(*prog);
     glDeleteShader(vs);
     glDeleteShader(fs);
     GLint ok = 0;
-    glGetProgramiv(p->prog, GL_LINK_STATUS, &ok);
+    glGetProgramiv(*prog, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[400];
-        glGetProgramInfoLog(p->prog, sizeof log, NULL, log);
+        glGetProgramInfoLog(*prog, sizeof log, NULL, log);
         return csf_error_set(err, CSF_E_UNSUPPORTED, "shader link failed: %s", log);
     }
-    for (int i = 0; i < U_COUNT; i++) p->u[i] = glGetUniformLocation(p->prog, uniform_names[i]);
+    for (int i = 0; i < U_COUNT; i++) u[i] = glGetUniformLocation(*prog, uniform_names[i]);
+    return CSF_OK;
+}
+
+static csf_status gl_setup(csf_presenter *p, csf_error *err)
+{
+    csf_status st = gl_program("", &p->prog_plain, p->u_plain, err);
+    if (st == CSF_OK) st = gl_program("#define CSF_MARKS 1\n", &p->prog_marks, p->u_marks, err);
+    if (st) return st;
+    p->prog = p->prog_plain;
+    p->u = p->u_plain;
     glGenVertexArrays(1, &p->vao);
 
     /* offscreen colour target: both back ends render here, the window gets a blit */
@@ -587,7 +614,8 @@ void csf_presenter_close(csf_presenter *p)
     if (!p) return;
     int current = p->win ? 1 : (p->ctx != EGL_NO_CONTEXT);
     if (current && p->prog) {
-        glDeleteProgram(p->prog);
+        glDeleteProgram(p->prog_plain);
+        glDeleteProgram(p->prog_marks);
         glDeleteVertexArrays(1, &p->vao);
         glDeleteFramebuffers(1, &p->fbo);
         GLuint t[6] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex, p->chan_tex};
@@ -743,8 +771,10 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
 
 /* ---------------- drawing ---------------- */
 
-static void set_common_uniforms(csf_presenter *p)
+static void set_common_uniforms(csf_presenter *p, int with_marks)
 {
+    p->prog = with_marks ? p->prog_marks : p->prog_plain;
+    p->u = with_marks ? p->u_marks : p->u_plain;
     glUseProgram(p->prog);
     glUniform2f(p->u[U_RENDER], (float)p->rw, (float)p->rh);
     glUniform2f(p->u[U_SCREEN], (float)p->geom.width_mm, (float)p->geom.height_mm);
@@ -798,7 +828,7 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
 {
     glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
     glViewport(0, 0, p->rw, p->rh);
-    set_common_uniforms(p);
+    set_common_uniforms(p, !text_mode && p->n_marks > 0);
     int mode = MODE_BLANK;
     double mean = mean_lum_of(p, s);
     if (text_mode) {
@@ -1068,7 +1098,7 @@ csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_fr
         return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
     glViewport(0, 0, p->rw, p->rh);
-    set_common_uniforms(p);
+    set_common_uniforms(p, 0);
     double ml = (double)p->maxlevel;
     glUniform3f(p->u[U_DRIVE], (float)(m->drive01[0] * ml), (float)(m->drive01[1] * ml),
                 (float)(m->drive01[2] * ml));
