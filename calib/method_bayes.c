@@ -197,10 +197,10 @@ static double p_correct(const bayes_state *s, double g, double x, double t)
 
 static double cell_guess(const bayes_state *s, int c) { return s->n_alt[c] == 4 ? s->guess4 : s->guess; }
 
-/* The cell's P(correct) table (see bayes_state.ptab). */
-static const double *cell_ptab(const bayes_state *s, int c)
+/* Where the cell's layout starts in ptab and htab (see bayes_state.ptab). */
+static size_t cell_tab_offset(const bayes_state *s, int c)
 {
-    return s->ptab + (s->n_alt[c] == 4 ? 2 * (size_t)s->n_grid - 1 : 0);
+    return s->n_alt[c] == 4 ? 2 * (size_t)s->n_grid - 1 : 0;
 }
 
 /* Linear interpolation of a per-node table at continuous log10 value v (clamped to the grid). */
@@ -805,8 +805,8 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         int cx = s->g_cmax;
 #if BAYES_CRITERION_ENTROPY
         for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &cell_ptab(s, c)[gx + G - 1];
-            const double *ht = &s->htab[(pt - s->ptab)];
+            const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
+            const double *ht = &s->htab[cell_tab_offset(s, c) + gx + G - 1];
             double pc = 0.0, hc = 0.0;
             for (int g = g0; g <= g1; g++) {
                 pc += po[g] * pt[-g];
@@ -823,7 +823,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         }
         double var0 = m2 / m0 - (m1 / m0) * (m1 / m0);
         for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &cell_ptab(s, c)[gx + G - 1];
+            const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
             double a0 = 0.0, a1 = 0.0, a2 = 0.0;
             for (int g = g0; g <= g1; g++) {
                 double q = po[g] * pt[-g], t = s->tclip[g];

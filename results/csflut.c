@@ -731,17 +731,7 @@ static inline double q2_core(const csflut_axis_fast *fx, const csflut_axis_fast 
     double wf, we;
     int i = axis_fast_locate(fx, u, &wf);
     int j = axis_fast_locate(ex, e, &we);
-    int nf = fx->n;
-    const double *v = vals + (size_t)j * (size_t)nf + i;
-    double r0 = (1 - wf) * v[0] + wf * v[1];
-    double r1 = (1 - wf) * v[nf] + wf * v[nf + 1];
-    double r = (1 - we) * r0 + we * r1;
-    if (r != r) { /* an infinite node met a zero weight: redo without 0 * inf */
-        r0 = lerp_safe(v[0], v[1], wf);
-        r1 = lerp_safe(v[nf], v[nf + 1], wf);
-        r = lerp_safe(r0, r1, we);
-    }
-    return r;
+    return bilinear(vals, fx->n, i, j, wf, we);
 }
 
 static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)

@@ -454,7 +454,8 @@ static csf_status probe_write(csf_store *s, csf_error *err)
     return CSF_OK;
 }
 
-csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
+/* What both ways of opening refuse before touching the file. */
+static csf_status check_open_args(const char *path, csf_store **out, csf_error *err)
 {
     csf_error_clear(err);
     if (!out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: no output pointer");
@@ -463,6 +464,13 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: empty path (give --store PATH)");
     if (strlen(path) >= 1024)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: path longer than 1023 characters");
+    return CSF_OK;
+}
+
+csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
+{
+    csf_status as = check_open_args(path, out, err);
+    if (as != CSF_OK) return as;
     csf_status cs = check_writable(path, err);
     if (cs != CSF_OK) return cs;
     cs = check_magic(path, err);
@@ -613,13 +621,8 @@ static csf_status finish_readonly(csf_store *s, csf_error *err)
 
 csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err)
 {
-    csf_error_clear(err);
-    if (!out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: no output pointer");
-    *out = NULL;
-    if (!path || !*path)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: empty path (give --store PATH)");
-    if (strlen(path) >= 1024)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: path longer than 1023 characters");
+    csf_status as = check_open_args(path, out, err);
+    if (as != CSF_OK) return as;
     struct stat stt;
     if (stat(path, &stt) != 0)
         return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: does not exist (%s); no session has "
