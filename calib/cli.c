@@ -72,7 +72,16 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
 {
     switch (opt) {
     case CSF_OPT_CONFIG: return 1; /* already read in csf_cli_init */
-    case CSF_OPT_STORE: return set_key(cli, "store", arg);
+    case CSF_OPT_STORE:
+        /* An empty path would silently mean the default store: the data would go elsewhere. */
+        if (!*arg) {
+            char def[1024];
+            csf_config_default_store_path(def, sizeof def);
+            fprintf(stderr, "csfcal: --store: empty path (give a file, or leave --store out for the "
+                            "default %s)\n", def);
+            return -1;
+        }
+        return set_key(cli, "store", arg);
     case CSF_OPT_SEED: {
         long v;
         if (csf_parse_int(arg, "seed", 0, 0x7fffffffL, &v) < 0) return -1;
@@ -84,7 +93,13 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
     case CSF_OPT_JSON: cli->json = 1; return 1;
     case CSF_OPT_PHOTOMETER: return set_key(cli, "photometer", arg);
     case CSF_OPT_OBSERVER: return set_key(cli, "observer", arg);
-    case CSF_OPT_PROFILE: return set_key(cli, "display_profile", arg);
+    case CSF_OPT_PROFILE:
+        if (!*arg) {
+            fprintf(stderr, "csfcal: --profile: empty path (give a display profile file, or leave "
+                            "--profile out for the default display model)\n");
+            return -1;
+        }
+        return set_key(cli, "display_profile", arg);
     case CSF_OPT_MONITOR: return set_key(cli, "monitor", arg);
     case CSF_OPT_DISTANCE: return set_key(cli, "viewing_distance_mm", arg);
     case CSF_OPT_SET: {
@@ -126,6 +141,20 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
     }
 }
 
+const char *csf_cli_option_name(char **argv, char *buf, size_t len)
+{
+    /* A short option may sit inside a cluster ("-qz"): getopt names it in optopt. A long one is
+     * the whole argument, without any "=value" (a value may be long or private). */
+    if (optopt > 0 && optopt < 256 && optopt != '?') {
+        snprintf(buf, len, "-%c", optopt);
+        return buf;
+    }
+    const char *arg = optind > 0 ? argv[optind - 1] : "";
+    size_t n = strcspn(arg, "=");
+    snprintf(buf, len, "%.*s", (int)(n < len ? n : len - 1), arg);
+    return buf;
+}
+
 int csf_cli_option_default(csf_cli *cli, const char *cmd, const char *help, int opt, char **argv)
 {
     switch (opt) {
@@ -136,15 +165,19 @@ int csf_cli_option_default(csf_cli *cli, const char *cmd, const char *help, int 
     case ':':
         fprintf(stderr, "csfcal: %s: option %s needs a value\n", cmd, argv[optind - 1]);
         return 2;
-    case '?':
+    case '?': {
+        char name[64];
         fprintf(stderr, "csfcal: %s: unknown option '%s' (try csfcal %s --help)\n", cmd,
-                argv[optind - 1], cmd);
+                csf_cli_option_name(argv, name, sizeof name), cmd);
         return 2;
+    }
     default: {
         int h = csf_cli_common_option(cli, opt, optarg);
         if (h < 0) return 2;
         if (h == 0) {
-            fprintf(stderr, "csfcal: %s: unexpected option\n", cmd);
+            char name[64];
+            fprintf(stderr, "csfcal: %s: option '%s' is not handled here (try csfcal %s --help)\n", cmd,
+                    csf_cli_option_name(argv, name, sizeof name), cmd);
             return 2;
         }
         return -1;
@@ -180,8 +213,16 @@ const char *csf_cli_store_path(csf_cli *cli)
     return cli->cfg.store_path;
 }
 
+/* Callers name options with or without their dashes; messages show exactly two. */
+static const char *bare(const char *name)
+{
+    while (*name == '-') name++;
+    return name;
+}
+
 int csf_parse_double(const char *text, const char *name, double lo, double hi, double *out)
 {
+    name = bare(name);
     char *end = NULL;
     errno = 0;
     double v = strtod(text, &end);
@@ -199,6 +240,7 @@ int csf_parse_double(const char *text, const char *name, double lo, double hi, d
 
 int csf_parse_int(const char *text, const char *name, long lo, long hi, long *out)
 {
+    name = bare(name);
     char *end = NULL;
     errno = 0;
     long v = strtol(text, &end, 10);
@@ -216,21 +258,35 @@ int csf_parse_int(const char *text, const char *name, long lo, long hi, long *ou
 
 int csf_parse_double_list(const char *text, const char *name, double lo, double hi, double *out, int max)
 {
+    name = bare(name);
+    if (strlen(text) >= 1024) {
+        fprintf(stderr, "csfcal: --%s: list longer than 1023 characters\n", name);
+        return -1;
+    }
     char buf[1024];
     snprintf(buf, sizeof buf, "%s", text);
+    if (buf[0] == '\0') {
+        fprintf(stderr, "csfcal: --%s: empty list\n", name);
+        return -1;
+    }
     int n = 0;
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    /* Split by hand: strtok would skip empty items ("2,,4"), and an empty item is a typing
+     * mistake the user should hear about, not a value to drop. */
+    for (char *tok = buf;;) {
+        char *comma = strchr(tok, ',');
+        if (comma) *comma = '\0';
+        if (*tok == '\0') {
+            fprintf(stderr, "csfcal: --%s: item %d of '%s' is empty\n", name, n + 1, text);
+            return -1;
+        }
         if (n >= max) {
             fprintf(stderr, "csfcal: --%s: too many values (at most %d)\n", name, max);
             return -1;
         }
         if (csf_parse_double(tok, name, lo, hi, &out[n]) < 0) return -1;
         n++;
-    }
-    if (n == 0) {
-        fprintf(stderr, "csfcal: --%s: empty list\n", name);
-        return -1;
+        if (!comma) break;
+        tok = comma + 1;
     }
     return n;
 }

@@ -4,6 +4,7 @@
 #define CSF_CLI_H
 
 #include <getopt.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "calib/config.h"
@@ -63,7 +64,8 @@ const char *csf_cli_store_path(csf_cli *cli);
 /* Checked number parsing: on failure prints "csfcal: --name: ... (allowed lo to hi)" and returns -1. */
 int csf_parse_double(const char *text, const char *name, double lo, double hi, double *out);
 int csf_parse_int(const char *text, const char *name, long lo, long hi, long *out);
-/* Comma-separated list of doubles, each in [lo, hi]; at most max values. Returns the count or -1. */
+/* Comma-separated list of doubles, each in [lo, hi]; at most max values; an empty item ("2,,4")
+ * is refused, naming it. Returns the count or -1. name may carry its dashes or not. */
 int csf_parse_double_list(const char *text, const char *name, double lo, double hi, double *out, int max);
 
 /* The default: branch of a subcommand's getopt_long loop (optstring starting with ':', opterr 0),
@@ -73,6 +75,10 @@ int csf_parse_double_list(const char *text, const char *name, double lo, double 
  * other goes to csf_cli_common_option. Returns -1 to go on parsing, else the exit status to return
  * at once: 0 after help, 2 after a usage error (already reported on stderr). */
 int csf_cli_option_default(csf_cli *cli, const char *cmd, const char *help, int opt, char **argv);
+
+/* The option getopt_long just stopped at, as the user typed it ("--freqz", "-x"), without any
+ * "=value"; for messages. buf holds the result. */
+const char *csf_cli_option_name(char **argv, char *buf, size_t len);
 
 /* Prints "csfcal: <msg>" to stderr and returns the exit status for the error (1 runtime, 2 usage). */
 int csf_cli_report(const char *context, const csf_error *err);

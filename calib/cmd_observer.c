@@ -84,8 +84,9 @@ int csf_cmd_observer(int argc, char **argv)
         {0, 0, 0, 0},
     };
     optind = 1;
+    opterr = 0; /* csf_cli_option_default names a bad option in our own words */
     int c;
-    while ((c = getopt_long(argc, argv, "ho:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":ho:", opts, NULL)) != -1) {
         long v;
         switch (c) {
         case 'h': usage(stdout); return 0;
@@ -146,12 +147,8 @@ int csf_cmd_observer(int argc, char **argv)
             }
             break;
         default: {
-            int r = csf_cli_common_option(&cli, c, optarg);
-            if (r < 0) return 2;
-            if (r == 0) {
-                fprintf(stderr, "csfcal: observer calibrate: bad option (try csfcal observer --help)\n");
-                return 2;
-            }
+            int r = csf_cli_option_default(&cli, "observer calibrate", "", c, argv);
+            if (r >= 0) return r;
         }
         }
     }

@@ -5,6 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+
+#include "results/file_read.h"
 
 void csf_config_defaults(csf_config *c)
 {
@@ -120,6 +123,77 @@ void csf_config_default_store_path(char *out, unsigned long out_len)
     else snprintf(out, out_len, "%s/.local/share/csfcal/csfcal.sqlite", home ? home : ".");
 }
 
+/* Larger than any station configuration; a bigger file is something else given by mistake. */
+#define CONFIG_MAX_BYTES ((size_t)1 << 20)
+#define CONFIG_MAX_LINE 2046
+
+static int key_index(const char *name)
+{
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (strcmp(keys[i].name, name) == 0) return (int)i;
+    return -1;
+}
+
+/* A configuration file is text: a NUL byte or another control character (tab, CR and LF apart)
+ * means a binary file was given, which deserves that name rather than a complaint about its
+ * "line length". Returns the offset of the first such byte, or -1. */
+static long first_binary_byte(const char *data, size_t len)
+{
+    for (size_t i = 0; i < len; i++) {
+        unsigned char ch = (unsigned char)data[i];
+        if ((ch < 0x20 && ch != '\t' && ch != '\r' && ch != '\n') || ch == 0x7f) return (long)i;
+    }
+    return -1;
+}
+
+static csf_status parse_config_text(csf_config *c, const char *path, char *data, size_t len,
+                                    csf_error *err)
+{
+    long bin = first_binary_byte(data, len);
+    if (bin >= 0) {
+        int line = 1;
+        for (long i = 0; i < bin; i++) line += data[i] == '\n';
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: not a text file (byte 0x%02x at offset %ld): a "
+                             "configuration file holds 'key = value' lines", path, line,
+                             (unsigned char)data[bin], bin);
+    }
+    int set_on_line[sizeof keys / sizeof keys[0]] = {0};
+    int lineno = 0;
+    char *next = data;
+    while (next && *next) {
+        char *line = next;
+        char *nl = strchr(line, '\n');
+        if (nl) *nl = '\0';
+        next = nl ? nl + 1 : NULL;
+        lineno++;
+        char where[1100];
+        snprintf(where, sizeof where, "%s:%d", path, lineno);
+        if (strlen(line) > CONFIG_MAX_LINE)
+            return csf_error_set(err, CSF_E_FORMAT, "%s: line longer than %d characters", where, CONFIG_MAX_LINE);
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        char *s = trim(line);
+        if (*s == '\0') continue;
+        if (*s == '[') {
+            if (strcmp(s, "[station]") != 0)
+                return csf_error_set(err, CSF_E_FORMAT, "%s: unknown section %s (only [station])", where, s);
+            continue;
+        }
+        char *eq = strchr(s, '=');
+        if (!eq) return csf_error_set(err, CSF_E_FORMAT, "%s: expected 'key = value'", where);
+        *eq = '\0';
+        char *key = trim(s);
+        int k = key_index(key);
+        if (k >= 0 && set_on_line[k])
+            return csf_error_set(err, CSF_E_FORMAT, "%s: %s is set twice (first on line %d): keep one line",
+                                 where, key, set_on_line[k]);
+        csf_status st = csf_config_set(c, key, trim(eq + 1), where, err);
+        if (st != CSF_OK) return st;
+        set_on_line[k] = lineno;
+    }
+    return CSF_OK;
+}
+
 csf_status csf_config_load(csf_config *c, const char *path, csf_error *err)
 {
     char defpath[1024];
@@ -128,43 +202,26 @@ csf_status csf_config_load(csf_config *c, const char *path, csf_error *err)
         default_config_path(defpath, sizeof defpath);
         path = defpath;
     }
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        if (!explicit_path) return CSF_OK;
+    if (explicit_path && *path == '\0') {
+        default_config_path(defpath, sizeof defpath);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--config: empty path (give a configuration file, or "
+                             "leave --config out for the default %s)", defpath);
+    }
+    struct stat sb;
+    if (stat(path, &sb) != 0) {
+        if (!explicit_path && errno == ENOENT) return CSF_OK;
         return csf_error_set(err, CSF_E_IO, "cannot open configuration file %s: %s", path, strerror(errno));
     }
-    char line[2048];
-    int lineno = 0;
-    csf_status st = CSF_OK;
-    while (fgets(line, sizeof line, f)) {
-        lineno++;
-        char where[1100];
-        snprintf(where, sizeof where, "%s:%d", path, lineno);
-        if (!strchr(line, '\n') && !feof(f)) {
-            st = csf_error_set(err, CSF_E_FORMAT, "%s: line longer than %zu characters", where, sizeof line - 2);
-            break;
-        }
-        char *hash = strchr(line, '#');
-        if (hash) *hash = '\0';
-        char *s = trim(line);
-        if (*s == '\0') continue;
-        if (*s == '[') {
-            if (strcmp(s, "[station]") != 0) {
-                st = csf_error_set(err, CSF_E_FORMAT, "%s: unknown section %s (only [station])", where, s);
-                break;
-            }
-            continue;
-        }
-        char *eq = strchr(s, '=');
-        if (!eq) {
-            st = csf_error_set(err, CSF_E_FORMAT, "%s: expected 'key = value'", where);
-            break;
-        }
-        *eq = '\0';
-        st = csf_config_set(c, trim(s), trim(eq + 1), where, err);
-        if (st != CSF_OK) break;
-    }
-    fclose(f);
+    /* fopen() accepts a folder and reading it yields nothing: it would pass as an empty file and
+     * every value would silently be a default. */
+    if (S_ISDIR(sb.st_mode))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "configuration file %s is a folder, not a file", path);
+    char *data = NULL;
+    size_t len = 0;
+    csf_status st = csf_read_file(path, "configuration file", CONFIG_MAX_BYTES, &data, &len, err);
+    if (st != CSF_OK) return st;
+    st = parse_config_text(c, path, data, len, err);
+    free(data);
     if (st == CSF_OK) snprintf(c->source, sizeof c->source, "%s", path);
     return st;
 }

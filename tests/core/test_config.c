@@ -1,5 +1,6 @@
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "calib/config.h"
@@ -62,6 +63,52 @@ int main(void)
     p = write_tmp("framebuffer_bits = 9\n");
     CHECK(csf_config_load(&c, p, &err) == CSF_E_INVALID_ARG);
     unlink(p);
+
+    /* A repeated key is refused, naming both lines (the second silently won before). */
+    p = write_tmp("refresh_hz = 60\n\nrefresh_hz = 75\n");
+    CHECK(csf_config_load(&c, p, &err) == CSF_E_FORMAT);
+    CHECK_STR_CONTAINS(err.msg, ":3: refresh_hz is set twice (first on line 1)");
+    unlink(p);
+
+    /* A binary file is called that, not "a line longer than 2046 characters". */
+    {
+        char path[] = "/tmp/csfcal-test-config-XXXXXX";
+        int fd = mkstemp(path);
+        CHECK(fd >= 0);
+        static const unsigned char bin[] = {'a', ' ', '=', ' ', '1', '\n', 0x7f, 'E', 'L', 'F', 0, 1, 2, 3};
+        CHECK(write(fd, bin, sizeof bin) == (ssize_t)sizeof bin);
+        close(fd);
+        csf_config_defaults(&c);
+        CHECK(csf_config_load(&c, path, &err) == CSF_E_FORMAT);
+        CHECK_STR_CONTAINS(err.msg, ":2: not a text file");
+        unlink(path);
+    }
+    /* A long text line still gets the length message. */
+    {
+        char *big = malloc(5000);
+        CHECK(big != NULL);
+        memset(big, 'x', 4998);
+        big[4998] = '\n';
+        big[4999] = '\0';
+        p = write_tmp(big);
+        free(big);
+        CHECK(csf_config_load(&c, p, &err) == CSF_E_FORMAT);
+        CHECK_STR_CONTAINS(err.msg, "line longer than 2046 characters");
+        unlink(p);
+    }
+
+    /* A folder given as the configuration file is refused; it used to read as an empty file,
+     * so every value silently stayed a default. */
+    {
+        char dir[] = "/tmp/csfcal-test-config-dir-XXXXXX";
+        CHECK(mkdtemp(dir) != NULL);
+        csf_config_defaults(&c);
+        CHECK(csf_config_load(&c, dir, &err) != CSF_OK);
+        CHECK_STR_CONTAINS(err.msg, "is a folder, not a file");
+        rmdir(dir);
+    }
+    CHECK(csf_config_load(&c, "", &err) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "--config: empty path");
 
     CHECK(csf_config_load(&c, "/nonexistent/csfcal.conf", &err) == CSF_E_IO);
     CHECK_STR_CONTAINS(err.msg, "/nonexistent/csfcal.conf");
