@@ -24,7 +24,7 @@ static const char display_help[] =
     "                                [--patch-deg D] [--background DRIVE] [--render-width N]\n"
     "       csfcal display verify PROFILE --photometer SPEC [--levels N] [--tolerance REL]\n"
     "                                [--render|--no-render] [--patch-deg D] [--background DRIVE]\n"
-    "       csfcal display export PROFILE --format clf|ctf|cube|icc|ocio [-o OUT]\n"
+    "       csfcal display export PROFILE --format clf|ctf|cube|icc|ocio [-o OUT] [--icc-version 2|4]\n"
     "       csfcal display info PROFILE\n\n"
     "calibrate  warm-up check, dark reading, adaptive grey and r/g/b sweeps until the profile\n"
     "           meets its accuracy target; every reading is stored as it is taken. After an\n"
@@ -47,11 +47,12 @@ static const char display_help[] =
     "           (profile_max_age_days in the station configuration).\n"
     "export     clf/ctf (OpenColorIO), cube (OpenColorIO Baker), icc (Little CMS), ocio (a\n"
     "           config with display + view, and its .clf beside it). See docs/display-profile.md.\n"
+    "  --icc-version 2|4  ICC v2.4 (default: read by every ICC reader) or v4.3\n"
     "Simulated photometer: sim[:display=crt|lcd|oled|file=PATH.csv,noise=REL,abs_noise=CDM2,\n"
     "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n\n";
 
 enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
-       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH };
+       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER };
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -70,6 +71,7 @@ static const struct option display_options[] = {
     {"patch-deg", required_argument, 0, OPT_PATCHDEG},
     {"background", required_argument, 0, OPT_BG},
     {"render-width", required_argument, 0, OPT_RWIDTH},
+    {"icc-version", required_argument, 0, OPT_ICCVER},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -84,6 +86,7 @@ typedef struct {
     double patch_deg, background;
     int patch_deg_set;
     long render_width;
+    long icc_version; /* 0: the default */
 } dargs;
 
 static int parse(int argc, char **argv, dargs *a)
@@ -108,6 +111,13 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_PATCHDEG: bad = csf_parse_double(optarg, "patch-deg", 0, 90, &a->patch_deg); a->patch_deg_set = 1; break;
         case OPT_BG: bad = csf_parse_double(optarg, "background", 0, 1, &a->background); break;
         case OPT_RWIDTH: bad = csf_parse_int(optarg, "render-width", 16, 4096, &a->render_width); break;
+        case OPT_ICCVER:
+            bad = csf_parse_int(optarg, "icc-version", 2, 4, &a->icc_version);
+            if (!bad && a->icc_version == 3) {
+                fprintf(stderr, "csfcal: display: --icc-version 3 does not exist: give 2 (v2.4) or 4 (v4.3)\n");
+                bad = 2;
+            }
+            break;
         case 'h':
         case OPT_HELP: a->help = 1; break;
         case ':': fprintf(stderr, "csfcal: display: option %s needs a value\n", argv[optind - 1]); return 2;
@@ -496,6 +506,10 @@ static int cmd_export(dargs *a)
         fprintf(stderr, "csfcal: display export: unknown format '%s' (clf, ctf, cube, icc, ocio)\n", a->format);
         return 2;
     }
+    if (a->icc_version && f != CSF_EXPORT_ICC) {
+        fprintf(stderr, "csfcal: display export: --icc-version applies to --format icc only\n");
+        return 2;
+    }
     csf_display_profile *p;
     int rc = load_profile(a->file, &p);
     if (rc) return rc;
@@ -512,7 +526,8 @@ static int cmd_export(dargs *a)
     }
     csf_error err;
     csf_error_clear(&err);
-    csf_status st = csf_colour_export(p, (csf_export_format)f, out, &err);
+    csf_export_options opt = {(int)a->icc_version};
+    csf_status st = csf_colour_export(p, (csf_export_format)f, &opt, out, &err);
     csf_profile_free(p);
     if (st) return csf_cli_report("display export", &err);
     printf("wrote %s\n", out);

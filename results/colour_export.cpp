@@ -5,6 +5,7 @@
 extern "C" {
 #include "results/csf_status.h"
 #include "results/display_profile.h"
+#include "results/file_write.h"
 }
 #include "results/colour_export.h"
 
@@ -27,11 +28,11 @@ namespace {
 const char *const kNames[CSF_EXPORT_COUNT] = {"clf", "ctf", "cube", "icc", "ocio"};
 const char *const kExt[CSF_EXPORT_COUNT] = {".clf", ".ctf", ".cube", ".icc", ".ocio"};
 
-// Relative luminance of the grey curve at drive v: 0 at black, 1 at white.
+// Luminance relative to white, black included: L(v) / L(1). Every export carries this one curve,
+// so Y(0) = black / white > 0 and cd/m2 = Y * white (the ICC's luminance tag, the description).
 double rel_lum(const csf_display_profile *p, double v)
 {
-    double b = csf_profile_lum_black(p), w = csf_profile_lum_max(p);
-    return (csf_profile_grey_lum(p, v) - b) / (w - b);
+    return csf_profile_grey_lum(p, v) / csf_profile_lum_max(p);
 }
 
 OCIO::Lut1DTransformRcPtr make_lut(const csf_display_profile *p)
@@ -50,9 +51,11 @@ OCIO::Lut1DTransformRcPtr make_lut(const csf_display_profile *p)
 std::string describe(const csf_display_profile *p)
 {
     std::ostringstream d;
-    d << "csfcal display profile " << csf_profile_id(p) << ": drive (R=G=B) to relative luminance "
-      << "(0 = " << csf_profile_lum_black(p) << " cd/m2, 1 = " << csf_profile_lum_max(p)
-      << " cd/m2); measured " << csf_profile_created_utc(p) << " with " << csf_profile_instrument(p);
+    d.precision(10);
+    d << "csfcal display profile " << csf_profile_id(p) << ": drive (R=G=B) to luminance relative to "
+      << "white, black included (1 = white = " << csf_profile_lum_max(p) << " cd/m2; drive 0 gives "
+      << "black = " << csf_profile_lum_black(p) << " cd/m2; cd/m2 = value * white); measured "
+      << csf_profile_created_utc(p) << " with " << csf_profile_instrument(p);
     return d.str();
 }
 
@@ -65,7 +68,7 @@ OCIO::ConfigRcPtr make_config(const csf_display_profile *p, const std::string &l
     cfg->setDescription(describe(p).c_str());
     OCIO::ColorSpaceRcPtr lin = OCIO::ColorSpace::Create();
     lin->setName("linear");
-    lin->setDescription("relative display luminance, linear: 0 black, 1 white of the calibrated monitor");
+    lin->setDescription("display luminance relative to the white of the calibrated monitor, linear, black included (drive 0 gives black / white)");
     lin->setIsData(false);
     cfg->addColorSpace(lin);
     OCIO::ColorSpaceRcPtr drv = OCIO::ColorSpace::Create();
@@ -97,17 +100,14 @@ const char *write_format_name(const char *ext)
     return nullptr;
 }
 
-csf_status write_text(const std::string &text, const char *path, csf_error *err)
+// Every export is built in memory and then written through file_write (temporary beside the
+// destination, fsync, rename), so a full disk leaves the old file and no part of a new one.
+csf_status write_text(const std::string &text, const char *path, const char *what, csf_error *err)
 {
-    std::ofstream f(path, std::ios::binary);
-    if (!f) return csf_error_set(err, CSF_E_IO, "cannot write %s: %s", path, std::strerror(errno));
-    f << text;
-    f.close();
-    if (!f) return csf_error_set(err, CSF_E_IO, "cannot write %s", path);
-    return CSF_OK;
+    return csf_write_file_atomic(path, what, text.data(), text.size(), err);
 }
 
-csf_status write_group(const csf_display_profile *p, const char *ext, const char *path, csf_error *err)
+csf_status group_text(const csf_display_profile *p, const char *ext, std::string &out, csf_error *err)
 {
     const char *fmt = write_format_name(ext);
     if (!fmt) return csf_error_set(err, CSF_E_UNSUPPORTED, "this OpenColorIO cannot write %s files", ext);
@@ -117,7 +117,16 @@ csf_status write_group(const csf_display_profile *p, const char *ext, const char
     g->appendTransform(make_lut(p));
     std::ostringstream os;
     g->write(OCIO::Config::CreateRaw(), fmt, os);
-    return write_text(os.str(), path, err);
+    out = os.str();
+    return CSF_OK;
+}
+
+csf_status write_group(const csf_display_profile *p, const char *ext, const char *path, csf_error *err)
+{
+    std::string text;
+    csf_status st = group_text(p, ext, text, err);
+    if (st) return st;
+    return write_text(text, path, ext[1] == 'c' && ext[2] == 'l' ? "CLF file" : "CTF file", err);
 }
 
 csf_status write_cube(const csf_display_profile *p, const char *path, csf_error *err)
@@ -135,71 +144,144 @@ csf_status write_cube(const csf_display_profile *p, const char *path, csf_error 
     baker->getFormatMetadata().addChildElement(OCIO::METADATA_DESCRIPTION, describe(p).c_str());
     std::ostringstream os;
     baker->bake(os);
-    return write_text(os.str(), path, err);
+    return write_text(os.str(), path, ".cube LUT", err);
+}
+
+// Writes text through an open atomic file; the caller commits or aborts.
+csf_status put_text(csf_atomic_file *af, const std::string &text, csf_error *err)
+{
+    if (std::fwrite(text.data(), 1, text.size(), af->fp) != text.size()) {
+        int e = errno;
+        return csf_error_set(err, CSF_E_IO, "cannot write %s %s: %s", af->what, af->path, std::strerror(e));
+    }
+    return CSF_OK;
 }
 
 csf_status write_ocio(const csf_display_profile *p, const char *path, csf_error *err)
 {
     // the LUT goes beside the config, named after it, and is found through search_path "."
-    std::string cfg_path(path);
-    std::string base = cfg_path;
+    std::string base(path);
     size_t slash = base.find_last_of('/');
     std::string dir = slash == std::string::npos ? "" : base.substr(0, slash + 1);
     std::string name = slash == std::string::npos ? base : base.substr(slash + 1);
     size_t dot = name.find_last_of('.');
     if (dot != std::string::npos && dot > 0) name = name.substr(0, dot);
     std::string lut_name = name + ".clf";
-    csf_status st = write_group(p, ".clf", (dir + lut_name).c_str(), err);
+    std::string lut_text;
+    csf_status st = group_text(p, ".clf", lut_text, err);
     if (st) return st;
     OCIO::ConfigRcPtr cfg = make_config(p, lut_name);
     cfg->validate(); // throws with OpenColorIO's reason if the config would not load
     std::ostringstream os;
     cfg->serialize(os);
-    return write_text(os.str(), path, err);
+    // both files are complete on disk before either is renamed: a full disk leaves the old pair
+    csf_atomic_file lut_f = {}, cfg_f = {};
+    std::string lut_path = dir + lut_name;
+    st = csf_atomic_open(&lut_f, lut_path.c_str(), "OCIO config LUT", err);
+    if (!st) st = csf_atomic_open(&cfg_f, path, "OCIO config", err);
+    if (!st) st = put_text(&lut_f, lut_text, err);
+    if (!st) st = put_text(&cfg_f, os.str(), err);
+    if (!st) {
+        st = csf_atomic_commit(&lut_f, err);
+        if (!st) return csf_atomic_commit(&cfg_f, err);
+    }
+    csf_atomic_abort(&lut_f);
+    csf_atomic_abort(&cfg_f);
+    return st;
 }
 
-csf_status write_icc(const csf_display_profile *p, const char *path, csf_error *err)
+cmsCIEXYZ xyY_to_XYZ(const cmsCIExyY &c)
 {
-    std::vector<cmsFloat32Number> y(CSF_EXPORT_LUT_SIZE);
-    for (int i = 0; i < CSF_EXPORT_LUT_SIZE; i++)
-        y[i] = (cmsFloat32Number)rel_lum(p, (double)i / (CSF_EXPORT_LUT_SIZE - 1));
-    cmsToneCurve *curve = cmsBuildTabulatedToneCurveFloat(nullptr, CSF_EXPORT_LUT_SIZE, y.data());
+    cmsCIEXYZ r;
+    cmsxyY2XYZ(&r, &c);
+    return r;
+}
+
+// Primaries and white chromaticities from the measured XYZ when known, else Rec.709/D65.
+void chromaticities(const csf_display_profile *p, cmsCIExyYTRIPLE *prim, cmsCIExyY *white)
+{
+    *prim = {{0.64, 0.33, 1}, {0.30, 0.60, 1}, {0.15, 0.06, 1}};
+    *white = {0.3127, 0.3290, 1};
+    double rgbw[4][3];
+    if (!csf_profile_primaries_xyz(p, rgbw)) return;
+    for (int s = 0; s < 4; s++) {
+        double sum = rgbw[s][0] + rgbw[s][1] + rgbw[s][2];
+        if (!(sum > 0) || !(rgbw[s][1] > 0)) return;
+    }
+    cmsCIExyY *dst[4] = {&prim->Red, &prim->Green, &prim->Blue, white};
+    for (int s = 0; s < 4; s++) {
+        double sum = rgbw[s][0] + rgbw[s][1] + rgbw[s][2];
+        *dst[s] = {rgbw[s][0] / sum, rgbw[s][1] / sum, 1};
+    }
+}
+
+// The grey curve as a 16-bit table of CSF_ICC_TRC_SIZE entries, black included: Y(0) = black /
+// white, so relative colorimetry through the matrix/TRC model gives black where the display has it.
+cmsToneCurve *icc_curve(const csf_display_profile *p)
+{
+    std::vector<cmsUInt16Number> t(CSF_ICC_TRC_SIZE);
+    for (size_t i = 0; i < t.size(); i++) {
+        double y = rel_lum(p, (double)i / (CSF_ICC_TRC_SIZE - 1));
+        t[i] = (cmsUInt16Number)std::lround(std::fmin(std::fmax(y, 0.0), 1.0) * 65535.0);
+    }
+    return cmsBuildTabulatedToneCurve16(nullptr, (cmsUInt32Number)t.size(), t.data());
+}
+
+bool write_text_tag(cmsHPROFILE h, cmsTagSignature sig, const std::string &text)
+{
+    cmsMLU *m = cmsMLUalloc(nullptr, 1);
+    bool ok = m && cmsMLUsetASCII(m, "en", "US", text.c_str()) && cmsWriteTag(h, sig, m);
+    cmsMLUfree(m);
+    return ok;
+}
+
+// An absolute display profile (ICC.1:2001-04 for v2.4, ICC.1:2010 for v4.3): the TRCs include the
+// black, the luminance tag holds the white in cd/m2, and v2 also carries the media white and
+// black points as measured (v4 dropped the black point tag; its media white is D50 by rule).
+csf_status build_icc(const csf_display_profile *p, int version, std::vector<unsigned char> &bytes, csf_error *err)
+{
+    cmsToneCurve *curve = icc_curve(p);
     if (!curve) return csf_error_set(err, CSF_E_NOMEM, "Little CMS could not build the tone curve");
     cmsToneCurve *curves[3] = {curve, curve, curve};
-    // primaries from the measured XYZ when known, else sRGB/Rec.709 (facts of the standard)
-    cmsCIExyYTRIPLE prim = {{0.64, 0.33, 1}, {0.30, 0.60, 1}, {0.15, 0.06, 1}};
-    cmsCIExyY white = {0.3127, 0.3290, 1};
-    double rgbw[4][3];
-    if (csf_profile_primaries_xyz(p, rgbw)) {
-        cmsCIExyY *dst[4] = {&prim.Red, &prim.Green, &prim.Blue, &white};
-        bool ok = true;
-        for (int s = 0; s < 4; s++) {
-            double sum = rgbw[s][0] + rgbw[s][1] + rgbw[s][2];
-            if (!(sum > 0) || !(rgbw[s][1] > 0)) ok = false;
-        }
-        if (ok)
-            for (int s = 0; s < 4; s++) {
-                double sum = rgbw[s][0] + rgbw[s][1] + rgbw[s][2];
-                dst[s]->x = rgbw[s][0] / sum;
-                dst[s]->y = rgbw[s][1] / sum;
-                dst[s]->Y = 1;
-            }
-    }
+    cmsCIExyYTRIPLE prim;
+    cmsCIExyY white;
+    chromaticities(p, &prim, &white);
     cmsHPROFILE h = cmsCreateRGBProfile(&white, &prim, curves);
     cmsFreeToneCurve(curve);
     if (!h) return csf_error_set(err, CSF_E_FORMAT, "Little CMS could not build an RGB profile from these primaries");
-    cmsSetProfileVersion(h, 4.3);
-    cmsMLU *desc = cmsMLUalloc(nullptr, 1);
-    std::string d = std::string("csfcal ") + csf_profile_id(p);
-    cmsMLUsetASCII(desc, "en", "US", d.c_str());
-    cmsWriteTag(h, cmsSigProfileDescriptionTag, desc);
-    cmsMLUfree(desc);
+    cmsSetProfileVersion(h, version == 2 ? 2.4 : 4.3);
+    bool ok = write_text_tag(h, cmsSigProfileDescriptionTag, std::string("csfcal ") + csf_profile_id(p)) &&
+              write_text_tag(h, cmsSigCopyrightTag, "No copyright claimed; written by csfcal");
     cmsCIEXYZ lumi = {0, csf_profile_lum_max(p), 0};
-    cmsWriteTag(h, cmsSigLuminanceTag, &lumi);
-    bool ok = cmsSaveProfileToFile(h, path);
+    ok = ok && cmsWriteTag(h, cmsSigLuminanceTag, &lumi);
+    if (version == 2) {
+        // v2 readers (ArgyllCMS) take absolute colorimetry from the media white and black points
+        cmsCIEXYZ wtpt = xyY_to_XYZ(white), bkpt = wtpt;
+        double yb = rel_lum(p, 0);
+        bkpt.X *= yb;
+        bkpt.Y *= yb;
+        bkpt.Z *= yb;
+        ok = ok && cmsWriteTag(h, cmsSigMediaWhitePointTag, &wtpt) && cmsWriteTag(h, cmsSigMediaBlackPointTag, &bkpt);
+    } else {
+        ok = ok && cmsMD5computeID(h);
+    }
+    cmsUInt32Number size = 0;
+    ok = ok && cmsSaveProfileToMem(h, nullptr, &size) && size > 0;
+    if (ok) {
+        bytes.resize(size);
+        ok = cmsSaveProfileToMem(h, bytes.data(), &size);
+    }
     cmsCloseProfile(h);
-    if (!ok) return csf_error_set(err, CSF_E_IO, "cannot write ICC profile %s", path);
+    if (!ok) return csf_error_set(err, CSF_E_FORMAT, "Little CMS could not encode the ICC v%d profile", version);
     return CSF_OK;
+}
+
+csf_status write_icc(const csf_display_profile *p, int version, const char *path, csf_error *err)
+{
+    std::vector<unsigned char> bytes;
+    csf_status st = build_icc(p, version, bytes, err);
+    if (st) return st;
+    return csf_write_file_atomic(path, "ICC profile", bytes.data(), bytes.size(), err);
 }
 
 csf_status eval_processor(OCIO::ConstCPUProcessorRcPtr cpu, const double *v, double *out, size_t n)
@@ -240,17 +322,20 @@ const char *csf_export_extension(csf_export_format f)
     return (int)f >= 0 && f < CSF_EXPORT_COUNT ? kExt[f] : "";
 }
 
-csf_status csf_colour_export(const csf_display_profile *p, csf_export_format f, const char *out_path,
-                             csf_error *err)
+csf_status csf_colour_export(const csf_display_profile *p, csf_export_format f, const csf_export_options *opt,
+                             const char *out_path, csf_error *err)
 {
     if (!p || !out_path || !*out_path)
         return csf_error_set(err, CSF_E_INVALID_ARG, "export needs a profile and an output path");
+    int icc_version = opt && opt->icc_version ? opt->icc_version : CSF_ICC_VERSION_DEFAULT;
+    if (icc_version != 2 && icc_version != 4)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "ICC version %d: give 2 (v2.4) or 4 (v4.3)", icc_version);
     try {
         switch (f) {
         case CSF_EXPORT_CLF: return write_group(p, ".clf", out_path, err);
         case CSF_EXPORT_CTF: return write_group(p, ".ctf", out_path, err);
         case CSF_EXPORT_CUBE: return write_cube(p, out_path, err);
-        case CSF_EXPORT_ICC: return write_icc(p, out_path, err);
+        case CSF_EXPORT_ICC: return write_icc(p, icc_version, out_path, err);
         case CSF_EXPORT_OCIO: return write_ocio(p, out_path, err);
         default: return csf_error_set(err, CSF_E_INVALID_ARG, "unknown export format %d", (int)f);
         }
@@ -259,36 +344,44 @@ csf_status csf_colour_export(const csf_display_profile *p, csf_export_format f, 
     }
 }
 
+csf_status csf_colour_export_icc_cdm2(const char *path, const double *drive01, double *lum_cdm2, size_t n,
+                                      double *white_cdm2, csf_error *err)
+{
+    cmsHPROFILE h = cmsOpenProfileFromFile(path, "r");
+    if (!h) return csf_error_set(err, CSF_E_FORMAT, "Little CMS cannot read ICC profile %s", path);
+    const cmsCIEXYZ *lumi = (const cmsCIEXYZ *)cmsReadTag(h, cmsSigLuminanceTag);
+    if (!lumi || !(lumi->Y > 0)) {
+        cmsCloseProfile(h);
+        return csf_error_set(err, CSF_E_FORMAT, "ICC profile %s has no luminance tag (white in cd/m2)", path);
+    }
+    double white = lumi->Y;
+    // relative colorimetric: PCS Y is luminance over the media white, black included in the TRCs
+    cmsHPROFILE xyz = cmsCreateXYZProfile();
+    cmsHTRANSFORM t = xyz ? cmsCreateTransform(h, TYPE_RGB_DBL, xyz, TYPE_XYZ_DBL, INTENT_RELATIVE_COLORIMETRIC,
+                                               cmsFLAGS_NOCACHE) : nullptr;
+    if (xyz) cmsCloseProfile(xyz);
+    cmsCloseProfile(h);
+    if (!t) return csf_error_set(err, CSF_E_FORMAT, "Little CMS cannot build a transform from ICC profile %s", path);
+    for (size_t i = 0; i < n; i++) {
+        double rgb[3] = {drive01[i], drive01[i], drive01[i]};
+        cmsCIEXYZ out;
+        cmsDoTransform(t, rgb, &out, 1);
+        lum_cdm2[i] = out.Y * white;
+    }
+    cmsDeleteTransform(t);
+    if (white_cdm2) *white_cdm2 = white;
+    return CSF_OK;
+}
+
 csf_status csf_colour_export_eval(const char *path, csf_export_format f, const double *drive01,
                                   double *rel, size_t n, csf_error *err)
 {
     try {
         if (f == CSF_EXPORT_ICC) {
-            cmsHPROFILE h = cmsOpenProfileFromFile(path, "r");
-            if (!h) return csf_error_set(err, CSF_E_FORMAT, "Little CMS cannot read ICC profile %s", path);
-            cmsToneCurve *c = (cmsToneCurve *)cmsReadTag(h, cmsSigGreenTRCTag);
-            if (!c) {
-                cmsCloseProfile(h);
-                return csf_error_set(err, CSF_E_FORMAT, "ICC profile %s has no green TRC", path);
-            }
-            // evaluate the stored 16-bit table in double: cmsEvalToneCurveFloat would also
-            // quantise the input to 16 bits, adding an error the file itself does not have
-            cmsUInt32Number ne = cmsGetToneCurveEstimatedTableEntries(c);
-            const cmsUInt16Number *tab = cmsGetToneCurveEstimatedTable(c);
-            if (ne < 2 || !tab) {
-                cmsCloseProfile(h);
-                return csf_error_set(err, CSF_E_FORMAT, "ICC profile %s: green TRC has no table", path);
-            }
-            for (size_t i = 0; i < n; i++) {
-                double x = drive01[i] < 0 ? 0 : drive01[i] > 1 ? 1 : drive01[i];
-                double pos = x * (ne - 1);
-                cmsUInt32Number k = (cmsUInt32Number)pos;
-                if (k >= ne - 1) k = ne - 2;
-                double f = pos - k;
-                rel[i] = (tab[k] + f * (tab[k + 1] - tab[k])) / 65535.0;
-            }
-            cmsCloseProfile(h);
-            return CSF_OK;
+            double white = 0;
+            csf_status st = csf_colour_export_icc_cdm2(path, drive01, rel, n, &white, err);
+            for (size_t i = 0; st == CSF_OK && i < n; i++) rel[i] /= white;
+            return st;
         }
         OCIO::ConstProcessorRcPtr proc;
         if (f == CSF_EXPORT_OCIO) {
