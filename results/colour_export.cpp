@@ -235,6 +235,104 @@ bool write_text_tag(cmsHPROFILE h, cmsTagSignature sig, const std::string &text)
     return ok;
 }
 
+bool invert3(const double a[9], double out[9])
+{
+    double det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
+                 a[2] * (a[3] * a[7] - a[4] * a[6]);
+    if (!(std::fabs(det) > 1e-12)) return false;
+    out[0] = (a[4] * a[8] - a[5] * a[7]) / det;
+    out[1] = (a[2] * a[7] - a[1] * a[8]) / det;
+    out[2] = (a[1] * a[5] - a[2] * a[4]) / det;
+    out[3] = (a[5] * a[6] - a[3] * a[8]) / det;
+    out[4] = (a[0] * a[8] - a[2] * a[6]) / det;
+    out[5] = (a[2] * a[3] - a[0] * a[5]) / det;
+    out[6] = (a[3] * a[7] - a[4] * a[6]) / det;
+    out[7] = (a[1] * a[6] - a[0] * a[7]) / det;
+    out[8] = (a[0] * a[4] - a[1] * a[3]) / det;
+    return true;
+}
+
+// A float curve: constant y_lo below x_lo, then sampled segments over [x_lo, x_hi] (breaks[k]
+// split it; uniform samples inside each), constant y_hi above. `f` gives the exact value.
+template <class F>
+cmsToneCurve *segmented_curve(const std::vector<double> &breaks, const std::vector<int> &points, F f)
+{
+    size_t ns = points.size();
+    std::vector<cmsCurveSegment> seg(ns + 2);
+    std::vector<std::vector<cmsFloat32Number>> samples(ns);
+    seg[0] = {};
+    seg[0].x0 = -1e22f;
+    seg[0].x1 = (cmsFloat32Number)breaks[0];
+    seg[0].Type = 6; // (a x + b)^g + c with a = b = 0, g = 1: the constant c
+    seg[0].Params[0] = 1;
+    seg[0].Params[3] = f(breaks[0]);
+    for (size_t k = 0; k < ns; k++) {
+        // the first sample of a sampled segment is implicit (the end of the one before)
+        samples[k].resize(points[k]);
+        for (int i = 0; i < points[k]; i++)
+            samples[k][i] = (cmsFloat32Number)f(breaks[k] + (breaks[k + 1] - breaks[k]) * i / (points[k] - 1));
+        seg[k + 1] = {};
+        seg[k + 1].x0 = (cmsFloat32Number)breaks[k];
+        seg[k + 1].x1 = (cmsFloat32Number)breaks[k + 1];
+        seg[k + 1].Type = 0;
+        seg[k + 1].nGridPoints = (cmsUInt32Number)points[k];
+        seg[k + 1].SampledPoints = samples[k].data();
+    }
+    seg[ns + 1] = {};
+    seg[ns + 1].x0 = (cmsFloat32Number)breaks[ns];
+    seg[ns + 1].x1 = 1e22f;
+    seg[ns + 1].Type = 6;
+    seg[ns + 1].Params[0] = 1;
+    seg[ns + 1].Params[3] = f(breaks[ns]);
+    return cmsBuildSegmentedToneCurve(nullptr, (cmsUInt32Number)seg.size(), seg.data());
+}
+
+// v4.3 floating-point tags (multiProcessElement, ICC.1:2010 10.14): the same curve and colorants
+// as the TRC/matrix model, without its 16-bit rounding, for CMMs that evaluate in float (Little CMS
+// prefers them). D2B device -> PCS, B2D back; every intent gets the same pipelines.
+bool add_float_tags(cmsHPROFILE h, const csf_display_profile *p)
+{
+    const cmsCIEXYZ *col[3] = {(const cmsCIEXYZ *)cmsReadTag(h, cmsSigRedColorantTag),
+                               (const cmsCIEXYZ *)cmsReadTag(h, cmsSigGreenColorantTag),
+                               (const cmsCIEXYZ *)cmsReadTag(h, cmsSigBlueColorantTag)};
+    if (!col[0] || !col[1] || !col[2]) return false;
+    double fwd[9], back[9]; // rows X, Y, Z; columns r, g, b
+    for (int c = 0; c < 3; c++) {
+        fwd[c] = col[c]->X;
+        fwd[3 + c] = col[c]->Y;
+        fwd[6 + c] = col[c]->Z;
+    }
+    if (!invert3(fwd, back)) return false;
+    double white = csf_profile_lum_max(p), y0 = rel_lum(p, 0);
+    cmsToneCurve *to = segmented_curve({0.0, 1.0}, {CSF_ICC_TRC_SIZE}, [&](double v) { return rel_lum(p, v); });
+    // the inverse is steep just above black: a finer segment there
+    double knee = y0 + 0.01 * (1 - y0);
+    cmsToneCurve *from = segmented_curve({y0, knee, 1.0}, {1024, CSF_ICC_TRC_SIZE}, [&](double y) {
+        return csf_profile_grey_drive(p, y * white);
+    });
+    bool ok = to && from;
+    cmsPipeline *d2b = cmsPipelineAlloc(nullptr, 3, 3), *b2d = cmsPipelineAlloc(nullptr, 3, 3);
+    if (ok && d2b && b2d) {
+        cmsToneCurve *tc[3] = {to, to, to}, *fc[3] = {from, from, from};
+        ok = cmsPipelineInsertStage(d2b, cmsAT_END, cmsStageAllocToneCurves(nullptr, 3, tc)) &&
+             cmsPipelineInsertStage(d2b, cmsAT_END, cmsStageAllocMatrix(nullptr, 3, 3, fwd, nullptr)) &&
+             cmsPipelineInsertStage(b2d, cmsAT_END, cmsStageAllocMatrix(nullptr, 3, 3, back, nullptr)) &&
+             cmsPipelineInsertStage(b2d, cmsAT_END, cmsStageAllocToneCurves(nullptr, 3, fc));
+        ok = ok && cmsWriteTag(h, cmsSigDToB0Tag, d2b) && cmsWriteTag(h, cmsSigBToD0Tag, b2d);
+        const cmsTagSignature d[3] = {cmsSigDToB1Tag, cmsSigDToB2Tag, cmsSigDToB3Tag};
+        const cmsTagSignature b[3] = {cmsSigBToD1Tag, cmsSigBToD2Tag, cmsSigBToD3Tag};
+        for (int k = 0; ok && k < 3; k++)
+            ok = cmsLinkTag(h, d[k], cmsSigDToB0Tag) && cmsLinkTag(h, b[k], cmsSigBToD0Tag);
+    } else {
+        ok = false;
+    }
+    if (d2b) cmsPipelineFree(d2b);
+    if (b2d) cmsPipelineFree(b2d);
+    if (to) cmsFreeToneCurve(to);
+    if (from) cmsFreeToneCurve(from);
+    return ok;
+}
+
 // An absolute display profile (ICC.1:2001-04 for v2.4, ICC.1:2010 for v4.3): the TRCs include the
 // black, the luminance tag holds the white in cd/m2, and v2 also carries the media white and
 // black points as measured (v4 dropped the black point tag; its media white is D50 by rule).
@@ -263,7 +361,7 @@ csf_status build_icc(const csf_display_profile *p, int version, std::vector<unsi
         bkpt.Z *= yb;
         ok = ok && cmsWriteTag(h, cmsSigMediaWhitePointTag, &wtpt) && cmsWriteTag(h, cmsSigMediaBlackPointTag, &bkpt);
     } else {
-        ok = ok && cmsMD5computeID(h);
+        ok = ok && add_float_tags(h, p) && cmsMD5computeID(h);
     }
     cmsUInt32Number size = 0;
     ok = ok && cmsSaveProfileToMem(h, nullptr, &size) && size > 0;

@@ -24,7 +24,8 @@ typedef enum {
     CSF_EXPORT_CLF = 0,  /* Academy/ASC Common LUT Format (.clf) */
     CSF_EXPORT_CTF,      /* OCIO's CTF (.ctf) */
     CSF_EXPORT_CUBE,     /* Resolve .cube (1-D), baked by OCIO's Baker */
-    CSF_EXPORT_ICC,      /* ICC v2.4 or v4.3 RGB display profile, the curve as its TRCs (lcms2) */
+    CSF_EXPORT_ICC,      /* ICC v2.4 or v4.3 RGB display profile, the curve as its TRCs (lcms2);
+                          * v4.3 also as float D2B0/B2D0 tags */
     CSF_EXPORT_OCIO,     /* OCIO config (.ocio) plus its .clf beside it: display + view */
     CSF_EXPORT_COUNT
 } csf_export_format;
