@@ -9,7 +9,7 @@
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
-    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC
+    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE
 };
 
 static void usage(FILE *f)
@@ -36,7 +36,13 @@ static void usage(FILE *f)
             "  --render-every N     simulated sessions: rasterise every N-th frame (default 1;\n"
             "                       -1 = no rasterisation, timing and contrast bookkeeping only)\n"
             "  --render-size WxH    simulated sessions: offscreen render size (default 64x36)\n"
-            "  --quiet              no notes or progress on stderr\n\n"
+            "  --quiet              no notes or progress on stderr\n"
+            "  --allow-profile-change  with --resume: go on with a display profile other than the\n"
+            "                       one the session was measured with (refused otherwise); the\n"
+            "                       change is recorded in the session and the table names both\n\n"
+            "Every option, the output paths and the grid on this screen (its reach, the local\n"
+            "Nyquist limit) are checked before the first trial; --freqs and --eccs are sorted,\n"
+            "a value given twice is refused.\n\n"
             "Observers: --observer sim[:key=value,...] (a simulated person; see\n"
             "docs/observer-calibration.md for the keys) or --observer human (a window, keyboard and\n"
             "mouse: Space or a click when something is visible, then a click where it was; 2AFC:\n"
@@ -46,6 +52,19 @@ static void usage(FILE *f)
             "and keeps the session for --resume). Default: the station configuration's observer,\n"
             "else human when a display is available and sim without one.\n\n%s",
             csf_cli_common_help);
+}
+
+/* After a failure that left the session resumable: what is kept and the command that finishes it
+ * (the same outputs, profile and station settings). */
+static void print_resume_hint(const csf_cli *cli, const csf_obs_options *o, const csf_obs_result *res)
+{
+    fprintf(stderr, "csfcal: %d trials kept in session %lld of %s%s; after fixing the cause, finish it with:\n"
+                    "  csfcal observer calibrate --resume %lld --store %s --out %s%s%s%s%s%s%s\n",
+            res->n_stored, (long long)res->session_id, o->store_path,
+            res->table_written ? " (the table was written)" : "", (long long)res->session_id, o->store_path,
+            o->out_path, o->plot_path ? " --plot " : "", o->plot_path ? o->plot_path : "",
+            cli->cfg.display_profile[0] ? " --profile " : "", cli->cfg.display_profile,
+            cli->config_path ? " --config " : "", cli->config_path ? cli->config_path : "");
 }
 
 int csf_cmd_observer(int argc, char **argv)
@@ -79,6 +98,7 @@ int csf_cmd_observer(int argc, char **argv)
         {"render-size", required_argument, 0, OPT_RENDER_SIZE},
         {"quiet", no_argument, 0, OPT_QUIET},
         {"afc", required_argument, 0, OPT_AFC},
+        {"allow-profile-change", no_argument, 0, OPT_ALLOW_PROFILE},
         {"help", no_argument, 0, 'h'},
         CSF_CLI_COMMON_OPTIONS,
         {0, 0, 0, 0},
@@ -137,6 +157,7 @@ int csf_cmd_observer(int argc, char **argv)
             break;
         }
         case OPT_QUIET: o.quiet = 1; break;
+        case OPT_ALLOW_PROFILE: o.allow_profile_change = 1; break;
         case OPT_AFC:
             if (strcmp(optarg, "2") == 0) o.afc = 2;
             else if (strcmp(optarg, "4") == 0) o.afc = 4;
@@ -183,7 +204,11 @@ int csf_cmd_observer(int argc, char **argv)
             snprintf(buf + n - 1, sizeof buf - n + 1, ",\"status\":\"%s\"}", st == CSF_OK ? "ok" : csf_status_name(st));
         printf("%s\n", buf);
     }
-    if (st != CSF_OK) return csf_cli_report("observer calibrate", &err);
+    if (st != CSF_OK) {
+        int status = csf_cli_report("observer calibrate", &err);
+        if (res.resumable) print_resume_hint(&cli, &o, &res);
+        return status;
+    }
     if (!cli.json) printf("%s\n", res.summary);
     return 0;
 }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include "results/file_read.h"
 #include "results/csflut.h"
 #include "results/display_profile.h"
+#include "results/file_write.h"
 #include "results/plot.h"
 #include "results/rng.h"
 #include "results/store.h"
@@ -101,6 +103,8 @@ typedef struct {
     int n_freqs, n_eccs;
     int break_every;
     int afc;        /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
+    char profile_id[256]; /* display profile the session began with ("" in sessions stored
+                             before it was kept here: the session row's display then says) */
 } session_settings;
 
 static void settings_to_json(const session_settings *s, char *buf, size_t len)
@@ -115,7 +119,7 @@ static void settings_to_json(const session_settings *s, char *buf, size_t len)
     if (n < len) n += (size_t)snprintf(buf + n, len - n, "],\"eccs_deg\":[");
     for (int i = 0; i < s->n_eccs && n < len; i++)
         n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->eccs[i]);
-    if (n < len) snprintf(buf + n, len - n, "]}");
+    if (n < len) snprintf(buf + n, len - n, "],\"profile_id\":\"%s\"}", s->profile_id);
 }
 
 static const char *json_key(const char *json, const char *key)
@@ -178,6 +182,7 @@ static int settings_from_json(const char *json, session_settings *s)
     /* Sessions stored before four-place trials existed were two-interval throughout. */
     if (json_int(json, "afc", &s->afc) != 0) s->afc = 2;
     if (s->afc != 2 && s->afc != 4) return -1;
+    if (json_string(json, "profile_id", s->profile_id, sizeof s->profile_id) != 0) s->profile_id[0] = '\0';
     s->n_freqs = json_list(json, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS);
     s->n_eccs = json_list(json, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS);
     return (s->n_freqs > 0 && s->n_eccs > 0) ? 0 : -1;
@@ -388,6 +393,24 @@ static void make_stimulus(csf_stimulus *s, double freq, double ecc, double polar
     s->mean_lum_cdm2 = mean_lum;
 }
 
+/* 1 when a Gabor of freq at ecc fits on screen, below the Nyquist limit there, at some whole-degree
+ * polar angle (the first one into *polar if not NULL); else 0, with the presenter's reason for
+ * polar angle 0 in *why (if not NULL). */
+static int cell_fits(csf_presenter *pres, double freq, double ecc, double mean_lum, double *polar,
+                     csf_error *why)
+{
+    csf_error e;
+    for (int a = 0; a < 360; a++) {
+        csf_stimulus s;
+        make_stimulus(&s, freq, ecc, a, 0.5, mean_lum);
+        if (csf_presenter_validate(pres, &s, a == 0 && why ? why : &e) == CSF_OK) {
+            if (polar) *polar = a;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* A polar angle on the cell's eccentricity ring where the whole patch fits on screen: the plan's
  * own if it fits, else the nearest of 24 rotations that does (deterministic, so resume agrees). */
 static int fit_polar(csf_presenter *pres, double freq, double ecc, double polar, double mean_lum,
@@ -403,7 +426,9 @@ static int fit_polar(csf_presenter *pres, double freq, double ecc, double polar,
             return 0;
         }
     }
-    return -1;
+    /* Where only a narrow arc of the ring fits, every whole degree: the same search the checks
+     * before the first trial make (cell_fits), so a grid they accept can always be shown. */
+    return cell_fits(pres, freq, ecc, mean_lum, out, NULL) ? 0 : -1;
 }
 
 typedef struct {
@@ -845,6 +870,256 @@ static double practice_latency(const csf_trial *t, size_t n)
     return k ? sum / k : NAN;
 }
 
+/* ---- checks before the first trial ---------------------------------------------------------- */
+
+/* Output paths, before anything is measured: a session that cannot write its table at the end
+ * would have cost the person the whole session. Usage errors (exit status 2). */
+static csf_status check_outputs(const csf_obs_options *opt, csf_error *err)
+{
+    csf_status st = csf_check_output_path(opt->out_path, "threshold table", err);
+    if (st == CSF_OK && opt->plot_path) {
+        const char *ext = strrchr(opt->plot_path, '.');
+        if (!ext || (strcasecmp(ext, ".png") && strcasecmp(ext, ".pdf") && strcasecmp(ext, ".svg")))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "--plot %s: unknown plot format '%s' (allowed "
+                                 ".png, .pdf, .svg)", opt->plot_path, ext ? ext : "(none)");
+        if (strcmp(opt->plot_path, opt->out_path) == 0)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "--plot and --out are both %s: give two files",
+                                 opt->out_path);
+        st = csf_check_output_path(opt->plot_path, "report plot", err);
+    }
+    if (st != CSF_OK && st != CSF_E_NOMEM) {
+        err->code = CSF_E_INVALID_ARG;
+        return CSF_E_INVALID_ARG;
+    }
+    return st;
+}
+
+/* One grid axis: values in range and strictly increasing (the table format's rule; equal values
+ * would measure one cell twice and leave the table unwritable). A new session's values are sorted
+ * first (sort = 1); a stored session's must already be in order. */
+static csf_status check_axis(const char *opt, const char *unit, double *v, int n, double lo, double hi,
+                             int sort, csf_error *err)
+{
+    if (n < 1 || n > CSF_OBS_MAX_AXIS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %d values (allowed 1 to %d)", opt, n, CSF_OBS_MAX_AXIS);
+    for (int i = 0; i < n; i++)
+        if (!(v[i] >= lo && v[i] <= hi))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s is out of range (allowed %g to %g %s)",
+                                 opt, v[i], unit, lo, hi, unit);
+    if (sort) qsort(v, (size_t)n, sizeof *v, cmp_d);
+    for (int i = 1; i < n; i++) {
+        if (v[i] == v[i - 1])
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s is given twice (each value once)", opt,
+                                 v[i], unit);
+        if (!(v[i] > v[i - 1]))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s comes after %g %s (values must "
+                                 "increase)", opt, v[i], unit, v[i - 1], unit);
+    }
+    /* and what the table writer will demand of it at the end (neighbours it can tell apart) */
+    double thr[CSF_OBS_MAX_AXIS];
+    for (int i = 0; i < n; i++) thr[i] = 0.01;
+    double other = 1.0;
+    csflut_build b;
+    memset(&b, 0, sizeof b);
+    int is_freq = strcmp(unit, "cpd") == 0;
+    b.n_freq = is_freq ? n : 1;
+    b.n_ecc = is_freq ? 1 : n;
+    b.freq_cpd = is_freq ? v : &other;
+    b.ecc_deg = is_freq ? &other : v;
+    b.threshold = thr;
+    csflut_diag d;
+    memset(&d, 0, sizeof d);
+    if (csflut_validate_build(&b, &d) != CSFLUT_OK)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s", opt, d.message);
+    return CSF_OK;
+}
+
+static csf_status check_settings(session_settings *set, int sort, csf_error *err)
+{
+    csf_status st = check_axis("--freqs", "cpd", set->freqs, set->n_freqs, 0.01, 200, sort, err);
+    if (st == CSF_OK) st = check_axis("--eccs", "deg", set->eccs, set->n_eccs, 0, 80, sort, err);
+    if (st == CSF_OK && !(set->trials >= 1 && set->trials <= 5000))
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--trials: %d is out of range (allowed 1 to 5000)", set->trials);
+    if (st == CSF_OK && !(set->practice >= 0 && set->practice <= 50))
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--practice: %d is out of range (allowed 0 to 50)", set->practice);
+    if (st == CSF_OK && !(set->break_every >= 1 && set->break_every <= 5000))
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--break-every: %d is out of range (allowed 1 to 5000)",
+                           set->break_every);
+    return st;
+}
+
+/* Every cell of the grid, and the practice grating, can be drawn on this screen: checked before
+ * the first trial, so a session never stops at a cell it cannot show. The messages name the
+ * limit: how far the screen reaches, or the local Nyquist limit. */
+static csf_status check_grid_on_screen(csf_presenter *pres, const csf_config *cfg, const session_settings *set,
+                                       int practice_left, double mean_lum, csf_error *err)
+{
+    const csf_geometry *g = csf_presenter_geometry(pres);
+    const double low_cpd = 0.05; /* far below any Nyquist limit: only the place decides */
+    csf_error why;
+    csf_error_clear(&why);
+    if (!cell_fits(pres, low_cpd, 0, mean_lum, NULL, &why))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "this display cannot show the test gratings: %s", why.msg);
+    double reach = 0, reach_polar = 0;
+    for (int a = 0; a < 360; a++) {
+        double m = csf_geometry_max_ecc(g, a);
+        if (m > reach) {
+            reach = m;
+            reach_polar = a;
+        }
+    }
+    const double patch_deg = CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG;
+    for (int e = 0; e < set->n_eccs; e++) {
+        double ecc = set->eccs[e];
+        if (cell_fits(pres, low_cpd, ecc, mean_lum, NULL, NULL)) continue;
+        /* the largest eccentricity where a patch fits somewhere: bisection (fitting shrinks with
+         * eccentricity) */
+        double lo = 0, hi = ecc;
+        for (int i = 0; i < 30; i++) {
+            double mid = 0.5 * (lo + hi);
+            if (cell_fits(pres, low_cpd, mid, mean_lum, NULL, NULL)) lo = mid;
+            else hi = mid;
+        }
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--eccs: %g deg does not fit on this screen: it reaches %.3g deg from the "
+                             "fixation mark at most (towards polar angle %g deg; %g x %g mm seen from %g mm), "
+                             "a Gabor patch needs %g deg around its centre, so the largest eccentricity "
+                             "is %.3g deg", ecc, reach, reach_polar, cfg->screen_width_mm, cfg->screen_height_mm,
+                             cfg->viewing_distance_mm, patch_deg, floor(lo * 100) / 100);
+    }
+    for (int e = 0; e < set->n_eccs; e++)
+        for (int f = 0; f < set->n_freqs; f++) {
+            double ecc = set->eccs[e], freq = set->freqs[f];
+            if (cell_fits(pres, freq, ecc, mean_lum, NULL, NULL)) continue;
+            double lo = low_cpd, hi = freq;
+            for (int i = 0; i < 30; i++) {
+                double mid = sqrt(lo * hi);
+                if (cell_fits(pres, mid, ecc, mean_lum, NULL, NULL)) lo = mid;
+                else hi = mid;
+            }
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "--freqs: %g cpd at %g deg is above the local Nyquist limit of %.3g cpd "
+                                 "there (0.5 cycle/pixel; %d x %d px over %g x %g mm seen from %g mm): "
+                                 "lower the frequency or increase the viewing distance",
+                                 freq, ecc, floor(lo * 1000) / 1000, cfg->screen_width_px, cfg->screen_height_px,
+                                 cfg->screen_width_mm, cfg->screen_height_mm, cfg->viewing_distance_mm);
+        }
+    if (practice_left > 0) {
+        csf_stimulus ps;
+        make_stimulus(&ps, PRACTICE_FREQ, 0, 0, PRACTICE_CONTRAST, mean_lum);
+        if (csf_presenter_validate(pres, &ps, &why) != CSF_OK)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "--practice: practice trials show %g cpd at the "
+                                 "fixation mark, which this display cannot: %s; give --practice 0",
+                                 PRACTICE_FREQ, why.msg);
+    }
+    return CSF_OK;
+}
+
+/* ---- display profile across --resume --------------------------------------------------------- */
+
+/* The session's profile history, kept as a "profile_change" artifact whose newest copy holds all
+ * of it: one line per profile, "TRIAL PROFILE_ID" (the stored trial count from which it was
+ * used). Absent when the profile never changed. */
+#define PROFILE_HISTORY_KIND "profile_change"
+
+static char *profile_history(csf_store *store, int64_t sid)
+{
+    void *blob = NULL;
+    size_t len = 0;
+    csf_error e;
+    if (csf_store_get_artifact(store, sid, PROFILE_HISTORY_KIND, &blob, &len, NULL, 0, &e) != CSF_OK) return NULL;
+    return blob; /* NUL-terminated by the store */
+}
+
+/* The profile id the session used last: the history's last line, else the one it began with. */
+static void last_profile(const char *history, const char *began, char *out, size_t len)
+{
+    snprintf(out, len, "%s", began);
+    if (!history) return;
+    const char *line = history;
+    while (*line) {
+        const char *nl = strchr(line, '\n');
+        size_t n = nl ? (size_t)(nl - line) : strlen(line);
+        const char *sp = memchr(line, ' ', n);
+        if (sp && n > (size_t)(sp + 1 - line))
+            snprintf(out, len, "%.*s", (int)(n - (size_t)(sp + 1 - line)), sp + 1);
+        if (!nl) break;
+        line = nl + 1;
+    }
+}
+
+/* On --resume: the profile this run has must be the one the session used last, unless the user
+ * said --allow-profile-change; then the change is added to the history. */
+static csf_status check_profile_on_resume(csf_store *store, int64_t sid, const char *began, int n_stored,
+                                          const csf_display_profile *now, const csf_config *cfg,
+                                          int allow, int quiet, csf_error *err)
+{
+    char *hist = profile_history(store, sid);
+    char last[256];
+    last_profile(hist, began, last, sizeof last);
+    const char *id = csf_profile_id(now);
+    csf_status st = CSF_OK;
+    /* Sessions stored before the settings kept the profile id have only the session row's
+     * display, cut at 63 characters. */
+    size_t cmp_len = !hist && strlen(last) == sizeof ((csf_session_info *)0)->display - 1 ? strlen(last) : sizeof last;
+    if (strncmp(last, id, cmp_len) == 0) goto done;
+    if (!allow) {
+        st = csf_error_set(err, CSF_E_INVALID_ARG,
+                           "--resume %lld: the session was measured with display profile '%s', this run "
+                           "has '%s' (%s): one table would mix two displays. Resume with --profile FILE of "
+                           "'%s', or give --allow-profile-change to go on with '%s' (recorded in the "
+                           "session and the table)", (long long)sid, last, id,
+                           cfg->display_profile[0] ? cfg->display_profile : "the default display model, no --profile",
+                           last, id);
+        goto done;
+    }
+    char entry[400];
+    snprintf(entry, sizeof entry, "%d %s\n", n_stored, id);
+    size_t hl = hist ? strlen(hist) : 0;
+    char first[300] = "";
+    if (!hist) snprintf(first, sizeof first, "0 %s\n", began);
+    size_t total = strlen(first) + hl + strlen(entry) + 1;
+    char *blob = malloc(total);
+    if (!blob) {
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        goto done;
+    }
+    snprintf(blob, total, "%s%s%s", first, hist ? hist : "", entry);
+    st = csf_store_add_artifact(store, sid, PROFILE_HISTORY_KIND, "", blob, strlen(blob), err);
+    free(blob);
+    if (st == CSF_OK && !quiet)
+        fprintf(stderr, "csfcal: observer: session %lld goes on with display profile '%s' from trial %d (it "
+                        "was measured with '%s'): --allow-profile-change, recorded in the session and the "
+                        "table\n", (long long)sid, id, n_stored, last);
+done:
+    free(hist);
+    return st;
+}
+
+/* The table's display_profile_id: the one profile, or every profile with the trial it began at. */
+static void table_profile_id(csf_store *store, int64_t sid, const char *id, char *out, size_t len)
+{
+    char *hist = profile_history(store, sid);
+    if (!hist) {
+        snprintf(out, len, "%s", id);
+        return;
+    }
+    size_t n = 0;
+    out[0] = '\0';
+    for (const char *line = hist; *line && n < len;) {
+        const char *nl = strchr(line, '\n');
+        size_t l = nl ? (size_t)(nl - line) : strlen(line);
+        const char *sp = memchr(line, ' ', l);
+        if (sp)
+            n += (size_t)snprintf(out + n, len - n, "%s%.*s from trial %.*s", n ? ", " : "",
+                                  (int)(l - (size_t)(sp + 1 - line)), sp + 1, (int)(sp - line), line);
+        if (!nl) break;
+        line = nl + 1;
+    }
+    if (n < len) snprintf(out + n, len - n, " (--allow-profile-change)");
+    free(hist);
+}
+
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
 {
     memset(res, 0, sizeof *res);
@@ -853,10 +1128,11 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     clock_gettime(CLOCK_MONOTONIC, &w0);
     if (!opt->out_path || !*opt->out_path)
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
+    csf_status st = check_outputs(opt, err);
+    if (st != CSF_OK) return st;
     const csf_config *cfg = opt->cfg;
     session_res S;
     memset(&S, 0, sizeof S);
-    csf_status st;
     session_settings set;
     memset(&set, 0, sizeof set);
 
@@ -864,27 +1140,48 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     st = csf_geometry_init(&geom, CSF_GEOMETRY_FROM_CONFIG(*cfg), err);
     if (st != CSF_OK) return st;
 
-    st = csf_store_open(opt->store_path, &S.store, err);
-    if (st != CSF_OK) return st;
     int64_t sid = opt->resume_id;
     uint64_t seed = opt->seed;
+    int resume_n_stored = 0;
     if (sid) {
+        /* A new session opens the store only once every check has passed (nothing is written for
+         * a refused one); a resumed one needs its settings first. */
+        st = csf_store_open(opt->store_path, &S.store, err);
+        if (st != CSF_OK) return st;
         csf_session_info info;
         memset(&info, 0, sizeof info);
         st = csf_store_get_session(S.store, sid, &info, err);
         if (st != CSF_OK) goto out;
-        int bad = strcmp(info.kind, "observer") != 0 ||
-                  !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0) ||
-                  settings_from_json(info.settings_json, &set) != 0;
+        int wrong = strcmp(info.kind, "observer") != 0 ||
+                    !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
         char kind[16], state[16];
         snprintf(kind, sizeof kind, "%s", info.kind);
         snprintf(state, sizeof state, "%s", info.state);
         seed = info.seed;
+        resume_n_stored = info.n_trials;
+        int unreadable = !wrong && settings_from_json(info.settings_json, &set) != 0;
+        csf_error why;
+        csf_error_clear(&why);
+        int invalid = !wrong && !unreadable && check_settings(&set, 0, &why) != CSF_OK;
+        if (!wrong && !set.profile_id[0]) snprintf(set.profile_id, sizeof set.profile_id, "%s", info.display);
         csf_session_info_free(&info);
-        if (bad) {
+        if (wrong) {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
                                "--resume %lld: session is a %s session in state '%s'; only running or "
                                "paused observer sessions can be resumed", (long long)sid, kind, state);
+            goto out;
+        }
+        if (unreadable || invalid) {
+            /* Replaying them would fail the same way at every attempt: say so once, and take the
+             * session off the resumable list; its trials stay in the store. */
+            csf_error e2;
+            csf_store_set_session_state(S.store, sid, "aborted", &e2);
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "--resume %lld: the session's stored settings %s%s. It cannot be resumed "
+                               "and is now marked aborted; its %d trials stay in the store (csfcal "
+                               "sessions export %lld); start a new session", (long long)sid,
+                               unreadable ? "cannot be read" : "are not valid: ", unreadable ? "" : why.msg,
+                               resume_n_stored, (long long)sid);
             goto out;
         }
     } else {
@@ -904,27 +1201,23 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
                                "(four places where they fit)", opt->afc);
             goto out;
         }
+        if (opt->n_freqs < 0 || opt->n_freqs > CSF_OBS_MAX_AXIS || opt->n_eccs < 0 || opt->n_eccs > CSF_OBS_MAX_AXIS) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--freqs/--eccs: at most %d values each", CSF_OBS_MAX_AXIS);
+            goto out;
+        }
         memcpy(set.freqs, opt->freqs_cpd, sizeof set.freqs);
         memcpy(set.eccs, opt->eccs_deg, sizeof set.eccs);
         set.n_freqs = opt->n_freqs;
         set.n_eccs = opt->n_eccs;
-        for (int i = 0; i < set.n_freqs; i++) {
-            double nyq = csf_geometry_nyquist_cpd_any(&geom, 0, 0);
-            if (set.freqs[i] > nyq) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG,
-                                   "--freqs: %g cpd is above this display's Nyquist limit of %.3g cpd "
-                                   "(%d px over %g mm at %g mm)", set.freqs[i], nyq, cfg->screen_width_px,
-                                   cfg->screen_width_mm, cfg->viewing_distance_mm);
-                goto out;
-            }
-        }
         default_axes(&geom, &set, opt->quiet);
-        qsort(set.freqs, (size_t)set.n_freqs, sizeof(double), cmp_d);
-        qsort(set.eccs, (size_t)set.n_eccs, sizeof(double), cmp_d);
         if (set.n_freqs == 0 || set.n_eccs == 0) {
             st = csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
             goto out;
         }
+        /* Any order is accepted and sorted (the table's axes increase); a value given twice is
+         * refused. */
+        st = check_settings(&set, 1, err);
+        if (st != CSF_OK) goto out;
     }
     S.ops = csf_procedure_find(set.method);
     if (!S.ops) {
@@ -996,7 +1289,26 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     double mean_lum = 0.5 * (lb + lm);
     double max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
 
+    st = check_grid_on_screen(S.pres, cfg, &set, set.practice, mean_lum, err);
+    if (st != CSF_OK) {
+        if (sid) {
+            char m[sizeof err->msg];
+            snprintf(m, sizeof m, "%s", err->msg);
+            csf_error_set(err, CSF_E_INVALID_ARG, "--resume %lld: %s (this screen cannot show the session's "
+                          "grid: resume with the screen settings it began with)", (long long)sid, m);
+        }
+        goto out;
+    }
+    if (sid) {
+        st = check_profile_on_resume(S.store, sid, set.profile_id, resume_n_stored, S.profile, cfg,
+                                     opt->allow_profile_change, opt->quiet, err);
+        if (st != CSF_OK) goto out;
+    }
+
     if (!sid) {
+        snprintf(set.profile_id, sizeof set.profile_id, "%s", csf_profile_id(S.profile));
+        st = csf_store_open(opt->store_path, &S.store, err);
+        if (st != CSF_OK) goto out;
         char json[2048];
         settings_to_json(&set, json, sizeof json);
         char obs_name[64];
@@ -1022,6 +1334,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     size_t n_stored = 0;
     st = csf_store_get_trials(S.store, sid, &S.stored, &n_stored, err);
     if (st != CSF_OK) goto out;
+    res->n_stored = (int)n_stored;
     st = choose_layouts(&S, csf_presenter_geometry(S.pres), n_cells, set.afc, mean_lum, err);
     if (st != CSF_OK) goto out;
     res->afc = set.afc;
@@ -1124,6 +1437,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
                    mean_lum, &plan, 1, &tr);
         st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
+        res->n_stored = (int)n_stored;
         seq++;
     }
     if (S.ops->task == CSF_TASK_FADE) res->latency_s = practice_latency(S.stored, n_stored);
@@ -1229,6 +1543,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         /* Stored (durably) before the procedure sees it and before the next trial is shown. */
         st = store_trial(&S, &n_stored, &t, &tr, err);
         if (st != CSF_OK) goto restore;
+        res->n_stored = (int)n_stored;
         seq++;
         if (four) res->n_four_place++;
         csf_trial_outcome o = outcome_of(&t, S.ops->task);
@@ -1393,7 +1708,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     b.threshold = thr;
     b.stderr_log10 = se;
     b.observer = obs_desc;
-    b.display_profile_id = csf_profile_id(S.profile);
+    char profile_ids[1024];
+    table_profile_id(S.store, sid, csf_profile_id(S.profile), profile_ids, sizeof profile_ids);
+    b.display_profile_id = profile_ids;
     b.method = set.method;
     b.date_utc = date;
     b.tool_version = CSF_VERSION;
@@ -1428,7 +1745,16 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
 restore:
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
-out:;
+out:
+    /* A failure after the session began (the store or the disk refused a write, the table or the
+     * plot could not be written) keeps every stored trial: the session is left paused so that
+     * --resume finishes it (the store may refuse that too on a full disk; a running session is
+     * resumable as well). Pauses already said so, refusals of the data (aborted) end it. */
+    if (st != CSF_OK && st != CSF_E_ABORTED && st != CSF_E_INSUFFICIENT && res->session_id) {
+        csf_error e2;
+        csf_store_set_session_state(S.store, res->session_id, "paused", &e2);
+        res->resumable = 1;
+    }
     struct timespec w1;
     clock_gettime(CLOCK_MONOTONIC, &w1);
     res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;

@@ -40,6 +40,9 @@ typedef struct {
     int afc;                    /* forced-choice layout for 2AFC-task methods (bayes, 2afc): 4 =
                                    four places shown at once where they fit (default), 2 = two
                                    intervals everywhere; 0 = default. Stored with the session. */
+    int allow_profile_change;   /* --resume with a display profile other than the session's: refused
+                                   unless set; then the change is recorded in the session (a
+                                   "profile_change" artifact) and the table names every profile */
 } csf_obs_options;
 
 typedef struct {
@@ -56,13 +59,19 @@ typedef struct {
     double median_se_log10;
     int finished_early;         /* the procedure ran out of unstable cells before the budget */
     int table_written;
+    int n_stored;               /* trials in the store for this session, practice included */
+    int resumable;              /* failed after the session began: it was left paused (every
+                                   stored trial kept) and --resume finishes it */
     double wall_s;
     char summary[600];          /* the one-line summary */
 } csf_obs_result;
 
 void csf_obs_options_defaults(csf_obs_options *o);
 
-/* Runs (or resumes) a session. CSF_E_INSUFFICIENT: the data cannot support a table (the message
+/* Runs (or resumes) a session. Every option, the output paths, the grid on this screen (reach and
+ * local Nyquist limit) and, on resume, the stored settings and the display profile are checked
+ * before the first trial; a refused new session writes nothing (CSF_E_INVALID_ARG).
+ * CSF_E_INSUFFICIENT: the data cannot support a table (the message
  * says why: unreliable observer, cells without data ...) and nothing was written.
  * CSF_E_ABORTED: paused by Escape or a signal; the message names the --resume ID. */
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err);
