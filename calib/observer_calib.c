@@ -1143,6 +1143,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     int64_t sid = opt->resume_id;
     uint64_t seed = opt->seed;
     int resume_n_stored = 0;
+    int said_paused = 0; /* the pause message already names --resume */
     if (sid) {
         /* A new session opens the store only once every check has passed (nothing is written for
          * a refused one); a resumed one needs its settings first. */
@@ -1553,6 +1554,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
     if (who.paused || stop_requested) {
         csf_store_set_session_state(S.store, sid, "paused", NULL);
+        said_paused = 1;
         st = csf_error_set(err, CSF_E_ABORTED,
                            "session %lld paused after %d trials; continue with --resume %lld",
                            (long long)sid, trial_index, (long long)sid);
@@ -1717,11 +1719,15 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     b.viewing_distance_mm = cfg->viewing_distance_mm;
     b.mean_lum_cdm2 = round9(mean_lum);
     b.trials = res->n_trials;
-    csflut_status ls = csflut_write_file(&b, opt->out_path);
+    csflut_diag diag;
+    memset(&diag, 0, sizeof diag);
+    csflut_status ls = csflut_write_file_diag(&b, opt->out_path, &diag);
     free(thr);
     free(se);
     if (ls != CSFLUT_OK) {
-        st = csf_error_set(err, CSF_E_IO, "writing %s: %s", opt->out_path, csflut_strerror(ls));
+        /* the writer's diagnostic carries the OS error ("No space left on device") */
+        st = csf_error_set(err, ls == CSFLUT_E_NOMEM ? CSF_E_NOMEM : CSF_E_IO, "writing the threshold table %s: %s",
+                           opt->out_path, diag.message[0] ? diag.message : csflut_strerror(ls));
         goto restore;
     }
     res->table_written = 1;
@@ -1749,8 +1755,9 @@ out:
     /* A failure after the session began (the store or the disk refused a write, the table or the
      * plot could not be written) keeps every stored trial: the session is left paused so that
      * --resume finishes it (the store may refuse that too on a full disk; a running session is
-     * resumable as well). Pauses already said so, refusals of the data (aborted) end it. */
-    if (st != CSF_OK && st != CSF_E_ABORTED && st != CSF_E_INSUFFICIENT && res->session_id) {
+     * resumable as well); so is a closed window. Pauses already said so, refusals of the data
+     * (aborted) end it. */
+    if (st != CSF_OK && !said_paused && st != CSF_E_INSUFFICIENT && res->session_id) {
         csf_error e2;
         csf_store_set_session_state(S.store, res->session_id, "paused", &e2);
         res->resumable = 1;
@@ -1787,11 +1794,11 @@ void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const ch
              "\"false_alarms\":%d,\"fa_rate\":%s,\"invalid_clicks\":%d,\"anticipations\":%d,\"lapses\":%d,"
              "\"missed_frame_trials\":%d,\"reaction_latency_s\":%s,\"cells\":%d,\"visible\":%d,"
              "\"not_visible\":%d,\"median_se_log10\":%s,\"finished_early\":%s,\"table\":\"%s\",\"plot\":%s%s%s,"
-             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"wall_s\":%.3f}",
+             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"resumable\":%s,\"wall_s\":%.3f}",
              (long long)r->session_id, r->method, r->n_trials, r->n_valid, r->n_practice, r->n_catch,
              r->n_false_alarms, fa, r->n_invalid_click, r->n_anticipations, r->n_lapses,
              r->n_missed_frame_trials, lat, r->n_cells, r->n_visible, r->n_invisible, se,
              r->finished_early ? "true" : "false", out_path ? out_path : "", plot_path ? "\"" : "null",
              plot_path ? plot_path : "", plot_path ? "\"" : "", r->afc, r->n_cells_four_place,
-             r->n_four_place, r->wall_s);
+             r->n_four_place, r->resumable ? "true" : "false", r->wall_s);
 }

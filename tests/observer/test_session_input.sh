@@ -95,13 +95,15 @@ if unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$1"' _ "$T/full" 2>/dev/n
     unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$1/full" || exit 99
         dd if=/dev/zero of="$1/full/fill" bs=4k 2>/dev/null
         "$2" observer calibrate --headless --quiet --store "$1/t.sqlite" --method 2afc --freqs 1,4 --eccs 0 \
-            --trials 8 --practice 0 --render-every -1 --out "$1/full/x.csflut" >/dev/null 2>"$1/t1.err"
+            --trials 8 --practice 0 --render-every -1 --out "$1/full/x.csflut" --json >"$1/t1.out" 2>"$1/t1.err"
         echo $? >"$1/t1.rc"' _ "$T" "$CSFCAL"
     rc=$(cat "$T/t1.rc")
     check "table folder full: exit 1 (got $rc)" test "$rc" -eq 1
     check "table folder full: prints the resume command" grep -qF "csfcal observer calibrate --resume 1 --store $T/t.sqlite --out $T/full/x.csflut" "$T/t1.err"
     check "table folder full: 8 trials kept" grep -q "8 trials kept in session 1" "$T/t1.err"
     check "table folder full: session paused" test "$(state "$T/t.sqlite" 1)" = paused
+    check "table folder full: names the table" grep -q "writing the threshold table $T/full/x.csflut: " "$T/t1.err"
+    check "table folder full: JSON says resumable" grep -q '"resumable":true' "$T/t1.out"
     out=$(run --store "$T/t.sqlite" --resume 1 --out "$T/full/x.csflut" --json)
     check "table folder full: --resume writes the table" grep -q '"status":"ok"' <<<"$out"
     check "table folder full: table there" test -s "$T/full/x.csflut"
