@@ -936,6 +936,13 @@ static csf_status check_axis(const char *opt, const char *unit, double *v, int n
 
 static csf_status check_settings(session_settings *set, int sort, csf_error *err)
 {
+    if (strcmp(set->method, "bayes") && strcmp(set->method, "fade") && strcmp(set->method, "2afc"))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--method %s: unknown (bayes, fade, 2afc)", set->method);
+    int sim = strncmp(set->observer, "sim", 3) == 0 && (set->observer[3] == '\0' || set->observer[3] == ':');
+    int human = strncmp(set->observer, "human", 5) == 0 && (set->observer[5] == '\0' || set->observer[5] == ':');
+    if (!sim && !human)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human[:NAME]",
+                             set->observer);
     csf_status st = check_axis("--freqs", "cpd", set->freqs, set->n_freqs, 0.01, 200, sort, err);
     if (st == CSF_OK) st = check_axis("--eccs", "deg", set->eccs, set->n_eccs, 0, 80, sort, err);
     if (st == CSF_OK && !(set->trials >= 1 && set->trials <= 5000))

@@ -64,6 +64,12 @@ check "bad stored settings: state aborted" test "$(state "$T/b.sqlite" 1)" = abo
 check "bad stored settings: 6 trials kept" test "$(ntrials "$T/b.sqlite" 1)" = 6
 err=$(run --store "$T/b.sqlite" --resume 1 --out "$T/b2.csflut" 2>&1 >/dev/null)
 check "bad stored settings: a second --resume says aborted" grep -q "state 'aborted'" <<<"$err"
+run --store "$T/b.sqlite" --method 2afc --freqs 1,4 --eccs 0 --trials 6 --practice 0 --render-every -1 \
+    --out "$T/b.csflut" >/dev/null
+sqlite3 "$T/b.sqlite" "UPDATE sessions SET state = 'paused', settings_json = replace(settings_json, '\"2afc\"', '\"nope\"') WHERE id = 2"
+err=$(run --store "$T/b.sqlite" --resume 2 --out "$T/b2.csflut" 2>&1 >/dev/null); rc=$?
+check "unknown stored method: exit 2 (got $rc), marked aborted" test $rc -eq 2 -a "$(state "$T/b.sqlite" 2)" = aborted
+check "unknown stored method: says why" grep -qF "stored settings are not valid: --method nope: unknown" <<<"$err"
 
 # 3. The store cannot grow (RLIMIT_FSIZE, SIGXFSZ ignored: writes fail with EFBIG) in the middle
 # of a session: non-zero exit, the trials so far kept, the command that finishes it printed; the
