@@ -23,7 +23,8 @@ static const char display_help[] =
     "                                [--name NAME] [--quiet] [--render|--no-render]\n"
     "                                [--patch-deg D] [--background DRIVE] [--render-width N]\n"
     "       csfcal display verify PROFILE --photometer SPEC [--levels N] [--tolerance REL]\n"
-    "                                [--render|--no-render] [--patch-deg D] [--background DRIVE]\n"
+    "                                [--channels] [--render|--no-render] [--patch-deg D]\n"
+    "                                [--background DRIVE]\n"
     "       csfcal display export PROFILE --format clf|ctf|cube|icc|ocio [-o OUT] [--icc-version 2|4]\n"
     "       csfcal display info PROFILE\n\n"
     "calibrate  warm-up check, dark reading, adaptive grey and r/g/b sweeps until the profile\n"
@@ -42,9 +43,16 @@ static const char display_help[] =
     "                  field); --background DRIVE: grey drive around it (default 0)\n"
     "  --render-width N  offscreen render width for the simulator (default 128 px; height by\n"
     "                  the screen's aspect)\n"
-    "verify     re-measures a few grey levels and reports drift against the profile; exit 1\n"
-    "           when it exceeds --tolerance (default 0.02). Old profiles are flagged\n"
-    "           (profile_max_age_days in the station configuration).\n"
+    "verify     waits for the monitor to warm up (the same check as calibrate), re-measures\n"
+    "           white and a few grey levels (--channels: and r, g, b) and reports drift against\n"
+    "           the profile; exit 1 when it exceeds --tolerance (default 0.02) or when the\n"
+    "           monitor is not warm yet. Old profiles are flagged (profile_max_age_days).\n"
+    "info       the profile's id, levels and the grey drive for 10/50/90 %% of white, where\n"
+    "           \"%% of white\" is luminance over white, black included (L / white), as in every\n"
+    "           export\n"
+    "--json     calibrate, verify, info and export print one JSON object on stdout\n"
+    "A photometer must be named (--photometer, or photometer in the station configuration):\n"
+    "there is no default; the simulator is chosen with sim[:...] and says so on stderr.\n"
     "export     clf/ctf (OpenColorIO), cube (OpenColorIO Baker), icc (Little CMS), ocio (a\n"
     "           config with display + view, and its .clf beside it). See docs/display-profile.md.\n"
     "  --icc-version 2|4  ICC v2.4 (default: read by every ICC reader) or v4.3\n"
@@ -52,7 +60,8 @@ static const char display_help[] =
     "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n\n";
 
 enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
-       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER };
+       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER,
+       OPT_CHANNELS };
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -72,6 +81,7 @@ static const struct option display_options[] = {
     {"background", required_argument, 0, OPT_BG},
     {"render-width", required_argument, 0, OPT_RWIDTH},
     {"icc-version", required_argument, 0, OPT_ICCVER},
+    {"channels", no_argument, 0, OPT_CHANNELS},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -81,7 +91,8 @@ typedef struct {
     const char *out, *name, *format, *file;
     double target, tol;
     long budget, levels;
-    int no_channels, quiet, help;
+    int no_channels, channels, quiet, help;
+    int photometer_given; /* --photometer on the command line (else from the configuration) */
     int render; /* 1 --render, -1 --no-render, 0 default (render) */
     double patch_deg, background;
     int patch_deg_set;
@@ -101,6 +112,7 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
         case OPT_BUDGET: bad = csf_parse_int(optarg, "budget", 8, 4096, &a->budget); break;
         case OPT_NOCH: a->no_channels = 1; break;
+        case OPT_CHANNELS: a->channels = 1; break;
         case OPT_NAME: a->name = optarg; break;
         case OPT_QUIET: a->quiet = 1; break;
         case OPT_LEVELS: bad = csf_parse_int(optarg, "levels", 1, 64, &a->levels); break;
@@ -123,6 +135,7 @@ static int parse(int argc, char **argv, dargs *a)
         case ':': fprintf(stderr, "csfcal: display: option %s needs a value\n", argv[optind - 1]); return 2;
         case '?': fprintf(stderr, "csfcal: display: unknown option '%s' (see csfcal display --help)\n", argv[optind - 1]); return 2;
         default: {
+            if (c == CSF_OPT_PHOTOMETER) a->photometer_given = 1;
             int r = csf_cli_common_option(&a->cli, c, optarg);
             if (r < 0) return 2;
             if (r == 0) {
@@ -141,6 +154,45 @@ static void age_warning(const csf_display_profile *p, const csf_cli *cli)
     char msg[400];
     if (csf_profile_age_warning(p, cli->cfg.profile_max_age_days, msg, sizeof msg))
         fprintf(stderr, "csfcal: warning: %s\n", msg);
+}
+
+/* ---- --json ---- */
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *u = (const unsigned char *)(s ? s : ""); *u; u++) {
+        if (*u == '"' || *u == '\\') fprintf(f, "\\%c", *u);
+        else if (*u == '\n') fputs("\\n", f);
+        else if (*u < 0x20) fprintf(f, "\\u%04x", *u);
+        else fputc(*u, f);
+    }
+    fputc('"', f);
+}
+
+/* JSON has no NaN or infinity: null */
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v)) fprintf(f, "%.10g", v);
+    else fputs("null", f);
+}
+
+/* The photometer to use. There is no default instrument: without one the command is refused,
+ * and a simulated one is announced on stderr (a simulated "ok" says nothing about the monitor).
+ * Returns the spec, or NULL after printing why (exit 2). */
+static const char *photometer_spec(const dargs *a, const char *what)
+{
+    const char *spec = a->cli.cfg.photometer[0] ? a->cli.cfg.photometer : NULL;
+    if (!spec) {
+        fprintf(stderr, "csfcal: %s: no photometer: give --photometer SPEC, or set photometer = SPEC in the "
+                        "station configuration (csfcal devices lists the instruments it finds; "
+                        "--photometer sim:display=lcd measures a simulated monitor instead)\n", what);
+        return NULL;
+    }
+    if (strncmp(spec, "sim", 3) == 0 && (spec[3] == 0 || spec[3] == ':'))
+        fprintf(stderr, "csfcal: %s: note: photometer '%s' (from %s) is the SIMULATOR: no light of this "
+                        "monitor is measured\n", what, spec,
+                a->photometer_given ? "--photometer" : a->cli.cfg.source);
+    return spec;
 }
 
 /* ---- --render: patches drawn through the presenter, the simulator reads the rendered frame ----
@@ -221,9 +273,13 @@ static csf_status rendered_pixels(void *user, const void **rgb, size_t *n_px, in
     return CSF_OK;
 }
 
-static int render_show_patch(void *user, const double rgb01[3])
+static int render_show_patch(void *user, const double rgb01[3], uint64_t reading_index)
 {
     render_ctx *r = user;
+    /* each reading's frames are numbered from its reading index, so the dither a reading
+     * integrates does not depend on what was drawn before it (a resumed session draws exactly
+     * what the uninterrupted one drew) */
+    csf_presenter_set_frame_index(r->pres, (long)(reading_index * (uint64_t)r->frames));
     for (int c = 0; c < 3; c++) r->patch.drive01[c] = rgb01[c] < 0 ? 0 : rgb01[c] > 1 ? 1 : rgb01[c];
     r->n_px = 0;
     if (render_frame(r)) {
@@ -247,7 +303,7 @@ static void render_close(render_ctx *r)
 
 /* Opens the presenter for --render. Returns 0 (r->pres set), 1 when rendering was only the
  * default and no presenter opened (a note is printed; the caller goes on without), 2 on error. */
-static int render_open(const dargs *a, csf_photometer *ph, render_ctx *r, const char *what)
+static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, const char *what)
 {
     memset(r, 0, sizeof *r);
     if (a->render < 0) return 1;
@@ -263,7 +319,7 @@ static int render_open(const dargs *a, csf_photometer *ph, render_ctx *r, const 
     pc.headless = r->simulated; /* a real instrument looks at the real screen */
     pc.refresh_hz = a->cli.cfg.refresh_hz;
     pc.framebuffer_bits = a->cli.cfg.framebuffer_bits;
-    pc.seed = a->cli.seed;
+    pc.seed = seed; /* the session's: a resumed session dithers as the original did */
     if (r->simulated) {
         int w = a->render_width > 0 ? (int)a->render_width : 128;
         int h = (int)lround((double)w * pc.geometry.height_px / pc.geometry.width_px);
@@ -309,11 +365,8 @@ static int cmd_calibrate(dargs *a)
         fprintf(stderr, "csfcal: display calibrate: --out PROFILE is required\n");
         return 2;
     }
-    const char *spec = a->cli.cfg.photometer[0] ? a->cli.cfg.photometer : NULL;
-    if (!spec) {
-        fprintf(stderr, "csfcal: display calibrate: no photometer: give --photometer SPEC (e.g. sim:display=lcd)\n");
-        return 2;
-    }
+    const char *spec = photometer_spec(a, "display calibrate");
+    if (!spec) return 2;
     csf_error err;
     csf_error_clear(&err);
     csf_display_calib_opts o;
@@ -361,8 +414,9 @@ static int cmd_calibrate(dargs *a)
                         "(--render draws the patches, but there is no driver for a real instrument yet)\n");
         return 1;
     }
+    int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
     render_ctx rctx;
-    int ro = render_open(a, ph, &rctx, "display calibrate");
+    int ro = render_open(a, ph, seed, &rctx, "display calibrate");
     if (ro == 2) {
         csf_photometer_close(ph);
         csf_store_close(store);
@@ -408,7 +462,39 @@ static int cmd_calibrate(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display calibrate", &err);
     }
-    if (!a->quiet) {
+    if (a->cli.json) {
+        static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
+        printf("{\"profile_id\": ");
+        json_str(stdout, csf_profile_id(p));
+        printf(", \"out\": ");
+        json_str(stdout, a->out);
+        printf(", \"session\": %lld, \"photometer\": ", (long long)sid);
+        json_str(stdout, spec);
+        printf(", \"simulated\": %s, \"black_cdm2\": ", simulated ? "true" : "false");
+        json_num(stdout, csf_profile_lum_black(p));
+        printf(", \"white_cdm2\": ");
+        json_num(stdout, csf_profile_lum_max(p));
+        printf(", \"readings\": %d, \"sweep_readings\": %d, \"warmup_readings\": %d, \"warmup_stable\": %s",
+               res.n_readings, res.n_sweep, res.n_warmup, res.warmup_stable ? "true" : "false");
+        printf(", \"target_rel\": ");
+        json_num(stdout, o.target_rel);
+        printf(", \"error_indicator_rel\": {");
+        for (int c = CSF_CH_GREY, k = 0; k < (o.channels ? 4 : 1); k++, c = k - 1) {
+            printf("%s\"%s\": ", k ? ", " : "", chn[c]);
+            json_num(stdout, res.est_error_rel[c]);
+        }
+        printf("}, \"noise_rel\": ");
+        json_num(stdout, res.noise_rel);
+        printf(", \"drift_rel\": ");
+        json_num(stdout, res.drift_rel);
+        printf(", \"additivity_error\": ");
+        json_num(stdout, o.channels ? res.additivity_error : NAN);
+        printf(", \"monotonic\": %s, \"rendered\": %s", res.monotonic_violations ? "false" : "true",
+               ro == 0 ? "true" : "false");
+        printf(", \"wall_s\": ");
+        json_num(stdout, t_cal);
+        printf("}\n");
+    } else if (!a->quiet) {
         printf("display profile %s written to %s (session %lld)\n", csf_profile_id(p), a->out, (long long)sid);
         printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(p), csf_profile_lum_max(p));
         printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res.n_sweep,
@@ -446,15 +532,19 @@ static int cmd_verify(dargs *a)
         fprintf(stderr, "csfcal: display verify: give the PROFILE to check\n");
         return 2;
     }
-    const char *spec = a->cli.cfg.photometer[0] ? a->cli.cfg.photometer : NULL;
-    if (!spec) {
-        fprintf(stderr, "csfcal: display verify: no photometer: give --photometer SPEC\n");
-        return 2;
-    }
+    const char *spec = photometer_spec(a, "display verify");
+    if (!spec) return 2;
     csf_display_profile *p;
     int rc = load_profile(a->file, &p);
     if (rc) return rc;
     age_warning(p, &a->cli);
+    if (a->channels && !csf_profile_has_channels(p)) {
+        fprintf(stderr, "csfcal: display verify: --channels: profile %s has no r, g, b curves (it was "
+                        "calibrated with --no-channels); verify grey only, or calibrate with channels\n",
+                csf_profile_id(p));
+        csf_profile_free(p);
+        return 2;
+    }
     csf_error err;
     csf_error_clear(&err);
     csf_photometer *ph;
@@ -470,17 +560,23 @@ static int cmd_verify(dargs *a)
         return 1;
     }
     render_ctx rctx;
-    int ro = render_open(a, ph, &rctx, "display verify");
+    int ro = render_open(a, ph, a->cli.seed, &rctx, "display verify");
     if (ro == 2) {
         csf_photometer_close(ph);
         csf_profile_free(p);
         return 1;
     }
-    double dev, white;
     double tol = a->tol > 0 ? a->tol : 0.02;
-    csf_status st = csf_display_verify_shown(ph, p, a->levels > 0 ? (int)a->levels : 5,
-                                             ro == 0 ? render_show_patch : NULL, ro == 0 ? &rctx : NULL,
-                                             &dev, &white, &err);
+    csf_display_verify_opts vo;
+    csf_display_verify_defaults(&vo);
+    if (a->levels > 0) vo.n_levels = (int)a->levels;
+    vo.channels = a->channels;
+    if (ro == 0) {
+        vo.show_patch = render_show_patch;
+        vo.show_patch_user = &rctx;
+    }
+    csf_display_verify_result vr;
+    csf_status st = csf_display_verify_run(ph, p, &vo, &vr, &err);
     if (st && ro == 0 && rctx.failed && rctx.err.msg[0])
         fprintf(stderr, "csfcal: display verify: drawing the patch: %s\n", rctx.err.msg);
     if (ro == 0) render_close(&rctx);
@@ -489,10 +585,50 @@ static int cmd_verify(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display verify", &err);
     }
-    printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%): %s\n",
-           csf_profile_id(p), 100 * white, 100 * dev, 100 * tol, dev <= tol ? "ok" : "DRIFTED, recalibrate");
+    int drifted = vr.max_dev_rel > tol;
+    /* a display still warming up is neither "ok" nor "drifted": say so, and fail */
+    const char *verdict = !vr.warm ? "not_warm" : drifted ? "drifted" : "ok";
+    static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
+    if (a->cli.json) {
+        printf("{\"profile_id\": ");
+        json_str(stdout, csf_profile_id(p));
+        printf(", \"photometer\": ");
+        json_str(stdout, spec);
+        printf(", \"verdict\": \"%s\", \"warm\": %s, \"warmup_readings\": %d, \"warmup_s\": ", verdict,
+               vr.warm ? "true" : "false", vr.n_warmup);
+        json_num(stdout, vr.warmup_s);
+        printf(", \"warmup_change_rel\": ");
+        json_num(stdout, vr.warmup_change_rel);
+        printf(", \"white_dev_rel\": ");
+        json_num(stdout, vr.white_dev_rel);
+        printf(", \"max_dev_rel\": ");
+        json_num(stdout, vr.max_dev_rel);
+        printf(", \"tolerance_rel\": ");
+        json_num(stdout, tol);
+        printf(", \"curves\": {");
+        int first = 1;
+        for (int c = 0; c < CSF_CH_COUNT; c++) {
+            if (!isfinite(vr.dev_rel[c])) continue;
+            printf("%s\"%s\": {\"max_dev_rel\": ", first ? "" : ", ", chn[c]);
+            json_num(stdout, vr.dev_rel[c]);
+            printf(", \"levels\": %d}", vr.n_checked[c]);
+            first = 0;
+        }
+        printf("}, \"readings\": %d}\n", vr.n_readings);
+    } else {
+        if (!vr.warm)
+            printf("profile %s: the monitor is NOT WARM YET: white still changed by %.2f %% between the last "
+                   "readings after %.0f s (%d readings); verify again when it has been on longer\n",
+                   csf_profile_id(p), 100 * vr.warmup_change_rel, vr.warmup_s, vr.n_warmup);
+        printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%)",
+               csf_profile_id(p), 100 * vr.white_dev_rel, 100 * vr.max_dev_rel, 100 * tol);
+        if (a->channels)
+            printf(" [grey %.2f %%, r %.2f %%, g %.2f %%, b %.2f %%]", 100 * vr.dev_rel[CSF_CH_GREY],
+                   100 * vr.dev_rel[0], 100 * vr.dev_rel[1], 100 * vr.dev_rel[2]);
+        printf(": %s\n", !vr.warm ? "NOT WARM, not verified" : drifted ? "DRIFTED, recalibrate" : "ok");
+    }
     csf_profile_free(p);
-    return dev <= tol ? 0 : 1;
+    return vr.warm && !drifted ? 0 : 1;
 }
 
 static int cmd_export(dargs *a)
@@ -530,7 +666,13 @@ static int cmd_export(dargs *a)
     csf_status st = csf_colour_export(p, (csf_export_format)f, &opt, out, &err);
     csf_profile_free(p);
     if (st) return csf_cli_report("display export", &err);
-    printf("wrote %s\n", out);
+    if (a->cli.json) {
+        printf("{\"wrote\": ");
+        json_str(stdout, out);
+        printf(", \"format\": \"%s\"}\n", a->format);
+    } else {
+        printf("wrote %s\n", out);
+    }
     return 0;
 }
 
@@ -544,6 +686,39 @@ static int cmd_info(dargs *a)
     int rc = load_profile(a->file, &p);
     if (rc) return rc;
     age_warning(p, &a->cli);
+    /* "% of white": luminance over white, black included, as in every export (csf_profile_rel_lum) */
+    static const double pct[3] = {0.1, 0.5, 0.9};
+    double drv[3];
+    for (int i = 0; i < 3; i++) drv[i] = csf_profile_grey_drive(p, csf_profile_lum_from_rel(p, pct[i]));
+    if (a->cli.json) {
+        printf("{\"id\": ");
+        json_str(stdout, csf_profile_id(p));
+        printf(", \"created_utc\": ");
+        json_str(stdout, csf_profile_created_utc(p));
+        printf(", \"age_days\": ");
+        json_num(stdout, csf_profile_age_days(p));
+        printf(", \"instrument\": ");
+        json_str(stdout, csf_profile_instrument(p));
+        printf(", \"black_cdm2\": ");
+        json_num(stdout, csf_profile_lum_black(p));
+        printf(", \"white_cdm2\": ");
+        json_num(stdout, csf_profile_lum_max(p));
+        printf(", \"channels\": %s, \"additivity_error\": ", csf_profile_has_channels(p) ? "true" : "false");
+        json_num(stdout, csf_profile_additivity_error(p));
+        printf(", \"knots\": {\"grey\": %zu", csf_profile_knots(p, CSF_CH_GREY, NULL, NULL));
+        if (csf_profile_has_channels(p))
+            printf(", \"r\": %zu, \"g\": %zu, \"b\": %zu", csf_profile_knots(p, 0, NULL, NULL),
+                   csf_profile_knots(p, 1, NULL, NULL), csf_profile_knots(p, 2, NULL, NULL));
+        printf("}, \"readings\": %zu, \"grey_drive_for_rel_lum\": {\"0.1\": ", csf_profile_readings(p, NULL));
+        json_num(stdout, drv[0]);
+        printf(", \"0.5\": ");
+        json_num(stdout, drv[1]);
+        printf(", \"0.9\": ");
+        json_num(stdout, drv[2]);
+        printf("}, \"rel_lum\": \"L / white (black included)\"}\n");
+        csf_profile_free(p);
+        return 0;
+    }
     printf("id: %s\ncreated: %s (%.1f days ago)\ninstrument: %s\nblack: %.6g cd/m2\nwhite: %.6g cd/m2\n",
            csf_profile_id(p), csf_profile_created_utc(p), csf_profile_age_days(p), csf_profile_instrument(p),
            csf_profile_lum_black(p), csf_profile_lum_max(p));
@@ -552,9 +727,8 @@ static int cmd_info(dargs *a)
     if (csf_profile_has_channels(p))
         printf(", r %zu, g %zu, b %zu", csf_profile_knots(p, 0, NULL, NULL), csf_profile_knots(p, 1, NULL, NULL),
                csf_profile_knots(p, 2, NULL, NULL));
-    printf("\nreadings: %zu\ngrey drive for 10/50/90 %% of white: %.4f %.4f %.4f\n", csf_profile_readings(p, NULL),
-           csf_profile_grey_drive(p, 0.1 * csf_profile_lum_max(p)), csf_profile_grey_drive(p, 0.5 * csf_profile_lum_max(p)),
-           csf_profile_grey_drive(p, 0.9 * csf_profile_lum_max(p)));
+    printf("\nreadings: %zu\ngrey drive for 10/50/90 %% of white (L / white, black included): %.4f %.4f %.4f\n",
+           csf_profile_readings(p, NULL), drv[0], drv[1], drv[2]);
     csf_profile_free(p);
     return 0;
 }

@@ -19,7 +19,8 @@ void csf_config_defaults(csf_config *c)
     c->viewing_distance_mm = 570.0;
     c->refresh_hz = 60.0;
     c->framebuffer_bits = 8;
-    snprintf(c->photometer, sizeof c->photometer, "sim");
+    /* photometer left empty: a display calibration must be told which instrument to read (the
+     * simulator is chosen by name, never by default: its "ok" would say nothing about the monitor) */
     /* observer left empty: the command picks a person at a display, the simulation without one */
     snprintf(c->responder, sizeof c->responder, "keyboard");
     c->profile_max_age_days = 30.0;

@@ -25,7 +25,9 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP };
+/* ROLE_DARK_REJECTED: a dark reading of a series found contradictory (see dark_series); kept in
+ * the store and replayed, used for nothing */
+enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP, ROLE_DARK_REJECTED };
 
 typedef struct {
     int role, ch;
@@ -45,9 +47,18 @@ typedef struct {
     size_t n, cap;
     csf_reading *replay;
     size_t n_replay, replay_pos;
-    int seq;
+    int seq;              /* next store sequence number (every attempt, failed ones too) */
     int live_started;
     double t_last;
+    /* The instrument's reading number and clock as an uninterrupted session would have them: a
+     * failed attempt ends the run, so after a resume it is retried under its own number and from
+     * the time of the last reading that counted (neither the number nor the clock of the failed
+     * attempt carries over: a faulted and resumed session reads what an unfaulted one read). */
+    uint64_t inst_index;
+    double t_accepted;
+    double pending_wait_s; /* wait before the next live reading (warm-up); nothing while replaying */
+    int dark_unconfirmed;  /* the dark series answered only "too dark": confirm after white */
+    int dark_live_series;  /* dark series taken live in this run (the re-measure limit) */
     int n_sweep, n_warmup;
     double noise_rel, noise_abs;
     double black;
@@ -150,6 +161,9 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         int ok = strcmp(s->status, "ok") == 0;
         int dark = strcmp(s->status, "too_dark") == 0;
         if (!ok && !(dark && accept_dark)) continue; /* a failed attempt: the live run retried it */
+        c->inst_index++;
+        c->t_accepted = s->t_s;
+        c->pending_wait_s = 0; /* the stored reading already includes any wait before it */
         out->lum = ok ? s->lum_cdm2 : NAN;
         out->xyz[0] = s->X;
         out->xyz[1] = s->Y;
@@ -163,9 +177,11 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         return rst;
     }
     if (!c->live_started) {
-        csf_photometer_resume_at(c->ph, (uint64_t)c->seq, c->t_last);
+        csf_photometer_resume_at(c->ph, c->inst_index, c->t_accepted);
         c->live_started = 1;
     }
+    if (c->pending_wait_s > 0) csf_photometer_wait(c->ph, c->pending_wait_s);
+    c->pending_wait_s = 0;
     double rgb[3] = {drive, drive, drive};
     if (ch < 3) {
         rgb[0] = rgb[1] = rgb[2] = 0;
@@ -174,7 +190,7 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     /* the instrument is told the patch first (the built-in uniform source), then the hook draws
      * it and may install a screen source of its own (the rendered frame, csfcal display --render) */
     csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
-    if (c->o->show_patch && c->o->show_patch(c->o->show_patch_user, rgb) != 0)
+    if (c->o->show_patch && c->o->show_patch(c->o->show_patch_user, rgb, c->inst_index) != 0)
         return csf_error_set(err, CSF_E_ABORTED, "the patch could not be drawn; readings so far are kept");
     csf_photometer_reading pr;
     csf_error merr;
@@ -203,6 +219,8 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         *err = merr;
         return st;
     }
+    c->inst_index++;
+    c->t_accepted = pr.t_s;
     out->lum = st ? NAN : pr.lum_cdm2;
     memcpy(out->xyz, pr.xyz, sizeof pr.xyz);
     out->has_xyz = !st && pr.has_xyz;
@@ -921,6 +939,18 @@ static double sd3(const double *x, int n)
     return n > 1 ? sqrt(s / (n - 1)) : 0;
 }
 
+int csf_display_warm_settled(const double *w, int n, double target_rel, double *change_rel)
+{
+    if (change_rel) *change_rel = NAN;
+    if (n < 6) return 0;
+    double m1 = (w[n - 1] + w[n - 2] + w[n - 3]) / 3, m0 = (w[n - 4] + w[n - 5] + w[n - 6]) / 3;
+    double s = sd3(&w[n - 3], 3) / m1;
+    double tol = fmax(target_rel / 4, 2.5 * s * sqrt(2.0 / 3.0));
+    double change = fabs(m1 - m0) / m1;
+    if (change_rel) *change_rel = change;
+    return change < tol;
+}
+
 static csf_status warmup(ctx *c, csf_display_calib_result *res, csf_error *err)
 {
     double w[256];
@@ -928,22 +958,105 @@ static csf_status warmup(ctx *c, csf_display_calib_result *res, csf_error *err)
     res->warmup_stable = 0;
     int maxn = c->o->warmup_max < 6 ? 6 : (c->o->warmup_max > 256 ? 256 : c->o->warmup_max);
     while (n < maxn) {
-        if (n > 0 && c->replay_pos >= c->n_replay) csf_photometer_wait(c->ph, c->o->warmup_wait_s);
+        c->pending_wait_s = n > 0 ? c->o->warmup_wait_s : 0;
         rd x;
         csf_status st = take(c, ROLE_WARMUP, CSF_CH_GREY, 1.0, 0, &x, err);
         if (st) return st;
         w[n++] = x.lum;
-        if (n >= 6) {
-            double m1 = (w[n - 1] + w[n - 2] + w[n - 3]) / 3, m0 = (w[n - 4] + w[n - 5] + w[n - 6]) / 3;
-            double s = sd3(&w[n - 3], 3) / m1;
-            double tol = fmax(c->o->target_rel / 4, 2.5 * s * sqrt(2.0 / 3.0));
-            if (fabs(m1 - m0) / m1 < tol) {
-                res->warmup_stable = 1;
-                break;
-            }
+        if (csf_display_warm_settled(w, n, c->o->target_rel, NULL)) {
+            res->warmup_stable = 1;
+            break;
         }
     }
     c->noise_rel = n >= 3 ? sd3(&w[n - 3], 3) / w[n - 1] : 0.001;
+    return CSF_OK;
+}
+
+/* Black level and absolute noise from the dark readings that count. */
+static void dark_stats(ctx *c)
+{
+    double d[64];
+    int k = 0;
+    for (size_t i = 0; i < c->n && k < 64; i++)
+        if (c->r[i].role == ROLE_DARK) d[k++] = isnan(c->r[i].lum) ? 0 : c->r[i].lum;
+    c->noise_abs = k > 1 ? sd3(d, k) : 0;
+    update_black(c);
+}
+
+static void reject_darks(ctx *c)
+{
+    for (size_t i = 0; i < c->n; i++)
+        if (c->r[i].role == ROLE_DARK) c->r[i].role = ROLE_DARK_REJECTED;
+}
+
+enum { DARK_N = 6, DARK_MAX_LIVE_SERIES = 3 };
+
+/* The dark series: DARK_N readings at drive 0, the black level every channel curve is measured
+ * from and the absolute noise that decides repeats for dim levels (5 degrees of freedom).
+ * A "too dark" answer is a fact about an OLED's black, but it is also what a sensor that slipped
+ * off the screen says. So:
+ *  - a series that mixes "too dark" with real readings contradicts itself (a black level cannot
+ *    be below the instrument's floor and above it within seconds): it is set aside and measured
+ *    again; after DARK_MAX_LIVE_SERIES such series in one run the calibration stops (resumable);
+ *  - a series of only "too dark" answers is confirmed by one more dark reading after the first
+ *    white references (confirm_dark): a real reading there contradicts it and the series is
+ *    measured again; a stored session whose sensor fell off during the darks (the white after them
+ *    failed too) is therefore repaired when it is resumed, not kept as black = 0.
+ * Every decision depends only on the readings, so a resumed session replays it identically. */
+static csf_status dark_series(ctx *c, csf_error *err)
+{
+    for (;;) {
+        int n_dark = 0, n_real = 0;
+        double lo = INFINITY, hi = 0;
+        for (int i = 0; i < DARK_N; i++) {
+            rd x;
+            csf_status st = take(c, ROLE_DARK, CSF_CH_GREY, 0.0, 1, &x, err);
+            if (st) return st;
+            if (isnan(x.lum)) {
+                n_dark++;
+            } else {
+                n_real++;
+                lo = fmin(lo, x.lum);
+                hi = fmax(hi, x.lum);
+            }
+        }
+        if (c->live_started) c->dark_live_series++;
+        c->dark_unconfirmed = n_real == 0;
+        if (n_dark == 0 || n_real == 0) break;
+        reject_darks(c);
+        if (c->dark_live_series >= DARK_MAX_LIVE_SERIES)
+            return csf_error_set(err, CSF_E_INSUFFICIENT,
+                                 "the dark readings (drive 0) mix 'too dark' answers with readings of "
+                                 "%.4g to %.4g cd/m2 in %d series: the sensor is not steady on the patch, "
+                                 "or stray light reaches it, or the black level sits at the instrument's "
+                                 "floor; fix the cause and resume the session", lo, hi, c->dark_live_series);
+    }
+    dark_stats(c);
+    return CSF_OK;
+}
+
+/* One dark reading after the first white references when the dark series answered only "too
+ * dark" (see dark_series). */
+static csf_status confirm_dark(ctx *c, csf_error *err)
+{
+    while (c->dark_unconfirmed) {
+        rd x;
+        csf_status st = take(c, ROLE_DARK, CSF_CH_GREY, 0.0, 1, &x, err);
+        if (st) return st;
+        if (isnan(x.lum)) {
+            c->dark_unconfirmed = 0; /* black really is below the floor (OLED) */
+            break;
+        }
+        /* the screen's black is measurable: the "too dark" series was the sensor, not the display */
+        reject_darks(c);
+        if (c->dark_live_series >= DARK_MAX_LIVE_SERIES)
+            return csf_error_set(err, CSF_E_INSUFFICIENT,
+                                 "the dark readings (drive 0) answered 'too dark' and then %.4g cd/m2 "
+                                 "in %d series: the sensor is not steady on the patch; fix the cause and "
+                                 "resume the session", x.lum, c->dark_live_series);
+        if ((st = dark_series(c, err))) return st;
+    }
+    dark_stats(c);
     return CSF_OK;
 }
 
@@ -951,17 +1064,7 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
 {
     csf_status st = warmup(c, res, err);
     if (st) return st;
-    /* 6 dark readings: the black level every channel curve is measured from, and the absolute
-     * noise that decides repeats for dim levels (5 degrees of freedom) */
-    double d[6];
-    for (int i = 0; i < 6; i++) {
-        rd x;
-        st = take(c, ROLE_DARK, CSF_CH_GREY, 0.0, 1, &x, err);
-        if (st) return st;
-        d[i] = isnan(x.lum) ? 0 : x.lum;
-    }
-    c->noise_abs = sd3(d, 6);
-    update_black(c);
+    if ((st = dark_series(c, err))) return st;
     /* first white reference: 6 readings in a row (no drift to speak of over 3 s after the
      * warm-up) give the noise estimate, 5 degrees of freedom */
     double wv[6];
@@ -972,6 +1075,7 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
         wv[i] = x.lum;
     }
     c->noise_rel = sd3(wv, 6) / wv[5];
+    if ((st = confirm_dark(c, err))) return st;
     int budget = c->o->budget;
     /* channels are fitted through the grey curve (few parameters), so grey gets half */
     int grey_budget = c->o->channels ? (int)(budget * 0.5 + 0.5) : budget;
@@ -1061,7 +1165,7 @@ static csf_status build_profile(ctx *c, const char *display_name, const char *in
     size_t k = 0;
     for (size_t i = 0; i < c->n; i++) {
         const rd *x = &c->r[i];
-        if (x->role == ROLE_WARMUP) continue;
+        if (x->role == ROLE_WARMUP || x->role == ROLE_DARK_REJECTED) continue;
         double f = drift_factor(c, x->t_s);
         pr[k].channel = x->role == ROLE_SWEEP ? x->ch : CSF_CH_GREY;
         pr[k].drive01 = x->drive;
@@ -1213,52 +1317,115 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     return st;
 }
 
-csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
-                              double *max_dev_rel, double *white_dev_rel, csf_error *err)
+void csf_display_verify_defaults(csf_display_verify_opts *o)
 {
-    return csf_display_verify_shown(ph, p, n_levels, NULL, NULL, max_dev_rel, white_dev_rel, err);
+    memset(o, 0, sizeof *o);
+    o->n_levels = 5;
+    o->target_rel = 0.0025;
+    o->warmup_wait_s = 5;
+    o->warmup_max = 40;
 }
 
-/* Tells the instrument the patch, then lets the hook draw it (as take() does). */
-static csf_status verify_show(csf_photometer *ph, int (*show_patch)(void *, const double[3]), void *user,
-                              double v, csf_error *err)
+typedef struct {
+    csf_photometer *ph;
+    const csf_display_verify_opts *o;
+    uint64_t index;
+} vctx;
+
+/* Tells the instrument the patch, lets the hook draw it (as take() does), reads it. */
+static csf_status verify_read(vctx *v, const double rgb[3], csf_photometer_reading *r, csf_error *err)
 {
-    csf_photometer_show_patch(ph, v, v, v);
-    const double rgb[3] = {v, v, v};
-    if (show_patch && show_patch(user, rgb) != 0)
+    csf_photometer_show_patch(v->ph, rgb[0], rgb[1], rgb[2]);
+    if (v->o->show_patch && v->o->show_patch(v->o->show_patch_user, rgb, v->index) != 0)
         return csf_error_set(err, CSF_E_ABORTED, "the verification patch could not be drawn");
+    v->index++;
+    return csf_photometer_measure(v->ph, r, err);
+}
+
+csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
+                                  const csf_display_verify_opts *o, csf_display_verify_result *res,
+                                  csf_error *err)
+{
+    memset(res, 0, sizeof *res);
+    for (int c = 0; c < CSF_CH_COUNT; c++) res->dev_rel[c] = NAN;
+    res->warmup_change_rel = NAN;
+    if (o->n_levels < 1 || o->n_levels > 64)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", o->n_levels);
+    if (o->channels && !csf_profile_has_channels(p))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "profile %s has no r, g, b curves (it was calibrated "
+                             "with --no-channels): verify grey only, or calibrate again with channels",
+                             csf_profile_id(p));
+    vctx v = {ph, o, 0};
+    csf_photometer_reading r;
+    const double white_rgb[3] = {1, 1, 1};
+    /* warm-up: the same readings and the same test as calibrate; a display still warming up
+     * would be reported as drifted (or, worse, as fine) for a reason that goes away by itself */
+    double w[256];
+    int maxn = o->warmup_max < 6 ? 6 : (o->warmup_max > 256 ? 256 : o->warmup_max);
+    double t0 = NAN;
+    while (res->n_warmup < maxn) {
+        if (res->n_warmup > 0) csf_photometer_wait(ph, o->warmup_wait_s);
+        csf_status st = verify_read(&v, white_rgb, &r, err);
+        if (st) return st;
+        if (isnan(t0)) t0 = r.t_s - r.integration_s;
+        w[res->n_warmup++] = r.lum_cdm2;
+        res->warmup_s = r.t_s - t0;
+        if (csf_display_warm_settled(w, res->n_warmup, o->target_rel, &res->warmup_change_rel)) {
+            res->warm = 1;
+            break;
+        }
+    }
+    /* white: the mean of the last three warm-up readings (the settled level) */
+    int n = res->n_warmup, k = n < 3 ? n : 3;
+    double wm = 0;
+    for (int i = n - k; i < n; i++) wm += w[i];
+    wm /= k;
+    double peak = csf_profile_lum_max(p), black = csf_profile_lum_black(p);
+    res->white_dev_rel = wm / peak - 1;
+    res->dev_rel[CSF_CH_GREY] = fabs(res->white_dev_rel);
+    res->n_checked[CSF_CH_GREY] = 1;
+    for (int ch = o->channels ? 0 : CSF_CH_GREY; ch < CSF_CH_COUNT; ch++) {
+        double cpeak = ch == CSF_CH_GREY ? peak : black + csf_profile_channel_lum(p, ch, 1.0);
+        if (ch < 3) {
+            res->dev_rel[ch] = 0;
+            res->n_checked[ch] = 0;
+        }
+        /* channels are checked at full drive too (grey's full drive is the white above) */
+        int top = ch == CSF_CH_GREY ? o->n_levels : o->n_levels + 1;
+        for (int i = 1; i <= top; i++) {
+            double d = i > o->n_levels ? 1.0 : (double)i / (o->n_levels + 1);
+            double rgb[3] = {d, d, d};
+            if (ch < 3) {
+                rgb[0] = rgb[1] = rgb[2] = 0;
+                rgb[ch] = d;
+            }
+            double want = ch == CSF_CH_GREY ? csf_profile_grey_lum(p, d) : black + csf_profile_channel_lum(p, ch, d);
+            csf_status st = verify_read(&v, rgb, &r, err);
+            if (st == CSF_E_TOO_DARK && want < 0.1 * cpeak) continue;
+            if (st) return st;
+            if (want < 0.1 * cpeak) continue;
+            double dev = fabs(r.lum_cdm2 / want - 1);
+            if (dev > res->dev_rel[ch]) res->dev_rel[ch] = dev;
+            res->n_checked[ch]++;
+        }
+    }
+    res->max_dev_rel = 0;
+    for (int c = 0; c < CSF_CH_COUNT; c++)
+        if (isfinite(res->dev_rel[c]) && res->dev_rel[c] > res->max_dev_rel) res->max_dev_rel = res->dev_rel[c];
+    res->n_readings = (int)v.index;
     return CSF_OK;
 }
 
-csf_status csf_display_verify_shown(csf_photometer *ph, const csf_display_profile *p, int n_levels,
-                                    int (*show_patch)(void *user, const double rgb01[3]), void *user,
-                                    double *max_dev_rel, double *white_dev_rel, csf_error *err)
+csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
+                              double *max_dev_rel, double *white_dev_rel, csf_error *err)
 {
-    if (n_levels < 1 || n_levels > 64)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", n_levels);
-    double peak = csf_profile_lum_max(p);
-    double worst = 0;
-    csf_photometer_reading r;
-    /* white first, twice: the second after the first has settled the instrument */
-    for (int k = 0; k < 2; k++) {
-        csf_status st = verify_show(ph, show_patch, user, 1, err);
-        if (!st) st = csf_photometer_measure(ph, &r, err);
-        if (st) return st;
-    }
-    *white_dev_rel = r.lum_cdm2 / peak - 1;
-    worst = fabs(*white_dev_rel);
-    for (int i = 1; i <= n_levels; i++) {
-        double v = (double)i / (n_levels + 1);
-        csf_status st = verify_show(ph, show_patch, user, v, err);
-        if (st) return st;
-        st = csf_photometer_measure(ph, &r, err);
-        if (st == CSF_E_TOO_DARK) continue;
-        if (st) return st;
-        double want = csf_profile_grey_lum(p, v);
-        if (want < 0.1 * peak) continue;
-        double dev = fabs(r.lum_cdm2 / want - 1);
-        if (dev > worst) worst = dev;
-    }
-    *max_dev_rel = worst;
+    csf_display_verify_opts o;
+    csf_display_verify_defaults(&o);
+    o.n_levels = n_levels;
+    csf_display_verify_result res;
+    csf_status st = csf_display_verify_run(ph, p, &o, &res, err);
+    if (st) return st;
+    *max_dev_rel = res.max_dev_rel;
+    *white_dev_rel = res.white_dev_rel;
     return CSF_OK;
 }

@@ -27,9 +27,12 @@ typedef struct {
      * nothing is drawn, which only a simulated instrument can work with. The photometer is told
      * the patch (csf_photometer_show_patch) just before the hook runs, so the hook may replace
      * that built-in uniform source with the rendered frame (csf_photometer_set_source: what
-     * `csfcal display calibrate --render` does for the simulator). Returns 0, or non-zero to
-     * abort. */
-    int (*show_patch)(void *user, const double rgb01[3]);
+     * `csfcal display calibrate --render` does for the simulator). reading_index is the
+     * instrument's reading number (what the simulator's noise is drawn with; a failed attempt
+     * that stopped the session is retried under the same number after --resume): a hook that
+     * makes its frames a function of it (the dither's frame number) shows a resumed session
+     * exactly what the uninterrupted one showed. Returns 0, or non-zero to abort. */
+    int (*show_patch)(void *user, const double rgb01[3], uint64_t reading_index);
     void *show_patch_user;
     int drive_levels;      /* highest framebuffer code: levels are multiples of 1/drive_levels
                               (255 for 8 bit, 1023 for 10 bit); 0 = continuous (default: csfcal
@@ -65,14 +68,48 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
                                  csf_display_profile **out, csf_display_calib_result *res,
                                  csf_error *err);
 
-/* Re-measures n_levels grey levels (and white) and compares them with the profile. Returns the
- * largest relative deviation above 10 % of peak in *max_dev_rel and the white drift. */
+/* The warm-up test both calibrate and verify use: white read every warmup_wait_s until the mean
+ * of the last three readings differs from the three before by less than
+ * max(target_rel / 4, 2.5 sd of the last three x sqrt(2/3)). Returns 1 when w[0..n-1] passes;
+ * *change_rel (may be NULL) gets that relative change (NAN under 6 readings). */
+int csf_display_warm_settled(const double *white_cdm2, int n, double target_rel, double *change_rel);
+
+typedef struct {
+    int n_levels;          /* levels per curve between black and full drive (5; 1 to 64) */
+    int channels;          /* 1: also the r, g, b curves (the profile must have them) */
+    double target_rel;     /* warm-up criterion as in calibrate (0.0025) */
+    double warmup_wait_s;  /* as in calibrate (5 s) */
+    int warmup_max;        /* as in calibrate (40); the verdict is "not warm" when white has not
+                              settled by then */
+    int (*show_patch)(void *user, const double rgb01[3], uint64_t reading_index); /* as above */
+    void *show_patch_user;
+} csf_display_verify_opts;
+
+void csf_display_verify_defaults(csf_display_verify_opts *o);
+
+typedef struct {
+    int warm;              /* 1: white settled during the warm-up check (same test as calibrate) */
+    int n_warmup;          /* warm-up readings taken */
+    double warmup_s;       /* instrument time the warm-up check took */
+    double warmup_change_rel; /* last relative change between 3-reading means of white */
+    double white_dev_rel;  /* white (grey at full drive) against the profile */
+    double max_dev_rel;    /* largest deviation above 10 % of the curve's peak, all curves */
+    double dev_rel[CSF_CH_COUNT]; /* the same per curve (r, g, b, grey); NAN when not checked */
+    int n_checked[CSF_CH_COUNT];  /* levels compared per curve */
+    int n_readings;        /* every reading, warm-up included */
+} csf_display_verify_result;
+
+/* Checks warm-up as calibrate does, then re-measures white and n_levels levels of grey (and of
+ * r, g, b with o->channels) and compares them with the profile: channel c at drive v against
+ * black + csf_profile_channel_lum(c, v). Refuses (CSF_E_INVALID_ARG) channels on a profile without
+ * them. Deviations count above 10 % of each curve's peak (the range the accuracy target covers). */
+csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
+                                  const csf_display_verify_opts *o, csf_display_verify_result *res,
+                                  csf_error *err);
+
+/* Grey only with the default options (warm-up check included). Returns the largest relative
+ * deviation above 10 % of peak in *max_dev_rel and the white drift. */
 csf_status csf_display_verify(csf_photometer *ph, const csf_display_profile *p, int n_levels,
                               double *max_dev_rel, double *white_dev_rel, csf_error *err);
-
-/* The same with a hook that draws each patch before it is read (see show_patch above). */
-csf_status csf_display_verify_shown(csf_photometer *ph, const csf_display_profile *p, int n_levels,
-                                    int (*show_patch)(void *user, const double rgb01[3]), void *user,
-                                    double *max_dev_rel, double *white_dev_rel, csf_error *err);
 
 #endif

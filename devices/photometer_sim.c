@@ -11,9 +11,11 @@
  *   warmup_s=S (20)  drift=REL (0.01)            reading scale 1 - drift*exp(-t/warmup_s)
  *   integration_s=S (0.5)                        virtual time per reading
  *   floor_cdm2=L (0.01)  sat_cdm2=L (2000)       measuring range
- *   fault=KIND@N                                 KIND: unplug, timeout, garbage, dark, saturate;
+ *   fault=KIND@N[+COUNT]                         KIND: unplug, timeout, garbage, dark, saturate;
  *                                                from reading number N (0-based). timeout and
- *                                                garbage hit reading N only; the others persist. */
+ *                                                garbage hit reading N only; the others persist,
+ *                                                or last COUNT readings (N to N+COUNT-1) when given
+ *                                                (a sensor that slips off the screen and back). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -32,11 +34,12 @@ enum { STREAM_REL = 0x5e01, STREAM_ABS, STREAM_X, STREAM_Z };
 
 typedef struct {
     csf_display_model *display;
-    char display_spec[600];
+    char display_spec[1100];
     uint64_t seed;
     double noise_rel, noise_abs_cdm2, warmup_s, drift, integration_s, floor_cdm2, sat_cdm2;
     int fault;
     uint64_t fault_at;
+    uint64_t fault_count; /* 0: the kind's default (one reading, or for good) */
     uint64_t n;   /* readings attempted so far: the rng index of the next one */
     double t_s;   /* virtual clock */
 } sim_state;
@@ -110,12 +113,19 @@ static csf_status sim_open(const char *options, uint64_t seed, void **state, csf
             s->fault = -1;
             for (int f = 1; f <= FAULT_SATURATE; f++)
                 if (strlen(fault_names[f]) == kl && strncmp(v, fault_names[f], kl) == 0) s->fault = f;
-            if (s->fault < 0 || !at || num(at + 1, 0, 1e9, &x) || x != floor(x)) {
+            char nbuf[64] = "";
+            const char *plus = at ? strchr(at + 1, '+') : NULL;
+            double cnt = 0;
+            if (at) snprintf(nbuf, sizeof nbuf, "%.*s", plus ? (int)(plus - at - 1) : (int)strlen(at + 1), at + 1);
+            if (s->fault < 0 || !at || num(nbuf, 0, 1e9, &x) || x != floor(x) ||
+                (plus && (num(plus + 1, 1, 1e9, &cnt) || cnt != floor(cnt)))) {
                 st = csf_error_set(err, CSF_E_INVALID_ARG,
-                                   "sim photometer: fault=%s not understood (KIND@N, KIND one of unplug, "
-                                   "timeout, garbage, dark, saturate; N a reading number >= 0)", v);
+                                   "sim photometer: fault=%s not understood (KIND@N or KIND@N+COUNT, KIND one of "
+                                   "unplug, timeout, garbage, dark, saturate; N a reading number >= 0, COUNT "
+                                   "the readings it lasts, >= 1)", v);
             } else {
                 s->fault_at = (uint64_t)x;
+                s->fault_count = (uint64_t)cnt;
             }
         } else {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
@@ -210,18 +220,19 @@ static csf_status sim_measure(void *state, const csf_screen_source *src, csf_pho
     s->t_s += s->integration_s;
     out->t_s = s->t_s;
     out->integration_s = s->integration_s;
-    if (s->fault && i >= s->fault_at) {
+    int faulty = s->fault && i >= s->fault_at && (s->fault_count == 0 || i - s->fault_at < s->fault_count);
+    if (faulty) {
         switch (s->fault) {
         case FAULT_UNPLUG:
             return csf_error_set(err, CSF_E_GONE, "photometer disconnected at reading %llu "
                                  "(reconnect it and resume the session)", (unsigned long long)i);
         case FAULT_TIMEOUT:
-            if (i == s->fault_at)
+            if (i == s->fault_at || s->fault_count)
                 return csf_error_set(err, CSF_E_TIMEOUT, "photometer did not answer reading %llu within "
                                      "%.1f s", (unsigned long long)i, 10 * s->integration_s + 2);
             break;
         case FAULT_GARBAGE:
-            if (i == s->fault_at)
+            if (i == s->fault_at || s->fault_count)
                 return csf_error_set(err, CSF_E_PROTOCOL, "photometer sent an unreadable answer to "
                                      "reading %llu (bytes 0x%02x 0x%02x ...)", (unsigned long long)i,
                                      (unsigned)(csf_rng_u64(s->seed, 7, i) & 0xff),
@@ -234,11 +245,11 @@ static csf_status sim_measure(void *state, const csf_screen_source *src, csf_pho
     double xyz[3];
     csf_status st = sensed_light(s, src, xyz, err);
     if (st) return st;
-    if (s->fault == FAULT_SATURATE && i >= s->fault_at) {
+    if (faulty && s->fault == FAULT_SATURATE) {
         /* e.g. the sensor slipped onto a brighter light source */
         for (int k = 0; k < 3; k++) xyz[k] = s->sat_cdm2 * 2;
     }
-    if (s->fault == FAULT_DARK && i >= s->fault_at) {
+    if (faulty && s->fault == FAULT_DARK) {
         /* e.g. the sensor fell off the screen, facing the desk */
         for (int k = 0; k < 3; k++) xyz[k] = 0;
     }

@@ -32,7 +32,7 @@ const char *const kExt[CSF_EXPORT_COUNT] = {".clf", ".ctf", ".cube", ".icc", ".o
 // so Y(0) = black / white > 0 and cd/m2 = Y * white (the ICC's luminance tag, the description).
 double rel_lum(const csf_display_profile *p, double v)
 {
-    return csf_profile_grey_lum(p, v) / csf_profile_lum_max(p);
+    return csf_profile_rel_lum(p, v); // the one definition (results/display_profile.h), as display info
 }
 
 OCIO::Lut1DTransformRcPtr make_lut(const csf_display_profile *p)

@@ -309,6 +309,15 @@ double csf_profile_grey_lum(const csf_display_profile *p, double drive01)
 {
     return curve_lum(&p->c[CSF_CH_GREY], drive01);
 }
+double csf_profile_rel_lum(const csf_display_profile *p, double drive01)
+{
+    double w = csf_profile_lum_max(p);
+    return w > 0 ? csf_profile_grey_lum(p, drive01) / w : NAN;
+}
+double csf_profile_lum_from_rel(const csf_display_profile *p, double rel)
+{
+    return rel * csf_profile_lum_max(p);
+}
 double csf_profile_grey_drive(const csf_display_profile *p, double lum_cdm2)
 {
     return curve_drive(&p->c[CSF_CH_GREY], lum_cdm2);
@@ -393,21 +402,49 @@ void csf_profile_free(csf_display_profile *p)
     free(p);
 }
 
-/* FNV-1a over the knot values: the id changes when the model does. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
+{
+    const unsigned char *b = data;
+    for (size_t k = 0; k < len; k++) h = (h ^ b[k]) * 1099511628211ull;
+    return h;
+}
+
+#define FNV_OFFSET 1469598103934665603ull
+#define ID_NAME_MAX 24 /* longest display name kept readable in an id */
+
+/* The display part of an id: the name itself when it is short and holds no path (a name given
+ * with --name, "sim:display=lcd"), else its first word and a hash of the whole name, so that a
+ * photometer spec with a file path ("sim:display=file=/data/lab/kink.csv") gives "sim-1f0c2a9e":
+ * ids go into table metadata, file names and reports, where a path is noise and may be private. */
+static void id_name(const char *display, char *out, size_t cap)
+{
+    size_t len = strlen(display);
+    int pathlike = strchr(display, '/') != NULL || strchr(display, '\\') != NULL;
+    size_t j = 0;
+    if (!pathlike && len <= ID_NAME_MAX) {
+        for (const char *s = display; *s && j + 1 < cap; s++)
+            out[j++] = (isalnum((unsigned char)*s) || *s == '.' || *s == '_') ? *s : '-';
+        out[j] = 0;
+        return;
+    }
+    for (const char *s = display; *s && j < 12 && j + 1 < cap && (isalnum((unsigned char)*s) || *s == '_'); s++)
+        out[j++] = *s;
+    uint64_t h = fnv1a(FNV_OFFSET, display, len);
+    snprintf(out + j, cap - j, "%s%08x", j ? "-" : "", (unsigned)(h ^ (h >> 32)));
+}
+
+/* "<display>-<date>-<hash of the model>": the hash (FNV-1a over the knot values) changes when
+ * the model does. */
 static void make_id(csf_display_profile *p)
 {
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = FNV_OFFSET;
     for (int c = 0; c < CSF_CH_COUNT; c++)
         for (int i = 0; i < p->c[c].n; i++) {
             double pair[2] = {p->c[c].v[i], p->c[c].lum[i]};
-            const unsigned char *b = (const unsigned char *)pair;
-            for (size_t k = 0; k < sizeof pair; k++) h = (h ^ b[k]) * 1099511628211ull;
+            h = fnv1a(h, pair, sizeof pair);
         }
-    char disp[64];
-    size_t j = 0;
-    for (const char *s = p->display; *s && j < sizeof disp - 1; s++)
-        disp[j++] = (isalnum((unsigned char)*s) || *s == '.' || *s == '_') ? *s : '-';
-    disp[j] = 0;
+    char disp[48];
+    id_name(p->display, disp, sizeof disp);
     char date[16] = "undated";
     if (strlen(p->created_utc) >= 10)
         snprintf(date, sizeof date, "%.4s%.2s%.2s", p->created_utc, p->created_utc + 5,

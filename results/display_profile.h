@@ -32,7 +32,9 @@ csf_status csf_profile_to_text(const csf_display_profile *p, char **out, csf_err
 csf_display_profile *csf_profile_default(void);
 void csf_profile_free(csf_display_profile *p);
 
-/* Stable id for table metadata: "<display>-<date>-<hash of the model>". */
+/* Stable id for table metadata: "<display>-<date>-<hash of the model>", at most 48 characters.
+ * <display> is the display name when it has at most 24 characters and no '/' (path), else its
+ * first word and a hash of the whole name (no file paths of a photometer spec in an id). */
 const char *csf_profile_id(const csf_display_profile *p);
 double csf_profile_lum_black(const csf_display_profile *p); /* cd/m2, grey at drive 0 */
 double csf_profile_lum_max(const csf_display_profile *p);   /* cd/m2, grey at drive 1 */
@@ -40,6 +42,13 @@ double csf_profile_lum_max(const csf_display_profile *p);   /* cd/m2, grey at dr
 double csf_profile_grey_lum(const csf_display_profile *p, double drive01);
 /* Exact inverse of the forward model; luminance outside [black, max] is clamped to [0,1]. */
 double csf_profile_grey_drive(const csf_display_profile *p, double lum_cdm2);
+/* "% of white" has one meaning everywhere in csfcal (display info, every export): luminance over
+ * white, black included, Y = L / white, so drive 0 gives black / white and cd/m2 = Y * white (the
+ * exports keep the black so that a reader gets absolute luminance back; docs/display-profile.md).
+ * csf_profile_rel_lum gives Y of the grey curve at drive01 (NAN for a profile without light);
+ * csf_profile_lum_from_rel turns a Y back into cd/m2: Y * white. */
+double csf_profile_rel_lum(const csf_display_profile *p, double drive01);
+double csf_profile_lum_from_rel(const csf_display_profile *p, double rel);
 /* 1 when per-channel curves were measured (or modelled, for the default profile). */
 int csf_profile_has_channels(const csf_display_profile *p);
 /* Channel curves: luminance of channel ch alone at drive01, *excluding* the black level, so that

@@ -1088,6 +1088,11 @@ csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *m, 
     return CSF_OK;
 }
 
+void csf_presenter_set_frame_index(csf_presenter *p, long frame_index)
+{
+    if (p && frame_index >= 0) p->frame_index = frame_index;
+}
+
 csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_frame_info *out, csf_error *err)
 {
     if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_patch: NULL presenter");

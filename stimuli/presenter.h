@@ -187,6 +187,11 @@ typedef struct {
  * instrument integrates so the temporal dither averages out. */
 csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *patch, csf_frame_info *out,
                                     csf_error *err);
+/* Sets the number of the next frame (what the temporal dither's per-frame offset and injected
+ * misses key on). A measurement that starts each reading at a frame number of its own (reading k
+ * at k x frames per reading) draws the same dithered frames whenever it is repeated: a resumed
+ * display calibration shows exactly what the uninterrupted one showed. */
+void csf_presenter_set_frame_index(csf_presenter *p, long frame_index);
 /* The patch's pixels in the readback's coordinates (top row first): x, y, w, h render pixels. */
 csf_status csf_presenter_patch_rect(const csf_presenter *p, const csf_patch *patch, int *x, int *y,
                                     int *w, int *h, csf_error *err);

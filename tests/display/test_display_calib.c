@@ -14,9 +14,10 @@ typedef struct {
     double last[3];
 } patch_log;
 
-static int log_patch(void *user, const double rgb01[3])
+static int log_patch(void *user, const double rgb01[3], uint64_t reading_index)
 {
     patch_log *l = user;
+    CHECK_INT_EQ((long long)reading_index, (long long)l->calls); /* one index per live reading, in order */
     memcpy(l->last, rgb01, sizeof l->last);
     return ++l->calls == l->abort_at;
 }
@@ -55,6 +56,20 @@ static void errors(const csf_display_profile *p, const char *display_spec, doubl
 }
 
 static int budget_override = 0;
+
+/* Two profiles with the same model: every knot of every curve and the black level, bit for bit. */
+static int same_model(const csf_display_profile *a, const csf_display_profile *b)
+{
+    if (csf_profile_lum_black(a) != csf_profile_lum_black(b)) return 0;
+    for (int c = 0; c < CSF_CH_COUNT; c++) {
+        const double *va, *la, *vb, *lb;
+        size_t na = csf_profile_knots(a, c, &va, &la), nb = csf_profile_knots(b, c, &vb, &lb);
+        if (na != nb) return 0;
+        for (size_t i = 0; i < na; i++)
+            if (va[i] != vb[i] || la[i] != lb[i]) return 0;
+    }
+    return 1;
+}
 
 static csf_display_profile *calibrate(const char *spec, uint64_t seed, csf_store *store, int64_t *sid,
                                       csf_display_calib_result *res, csf_status *st_out, csf_error *err)
@@ -196,6 +211,145 @@ int main(void)
         csf_photometer_close(ph);
     }
 
+    /* "too dark" during the dark readings (issue 11 item 1): the sensor off the screen must not
+     * become black = 0 cd/m2, uninterrupted or resumed. The LCD's true black is 0.35 cd/m2. */
+    {
+        csf_display_calib_result base;
+        csf_display_profile *p0 = calibrate("sim:display=lcd", 5, NULL, NULL, &base, NULL, &err);
+        CHECK(p0 != NULL);
+        int nw = base.n_warmup; /* the dark series is readings nw .. nw+5 */
+        double black0 = p0 ? csf_profile_lum_black(p0) : 0;
+        CHECK_MSG(fabs(black0 / 0.35 - 1) < 0.02, "lcd black %g", black0);
+        /* a series that mixes "too dark" and real readings is measured again */
+        char spec[160];
+        snprintf(spec, sizeof spec, "sim:display=lcd,fault=dark@%d+3", nw + 2);
+        csf_display_calib_result res;
+        csf_display_profile *p = calibrate(spec, 5, NULL, NULL, &res, NULL, &err);
+        CHECK_MSG(p != NULL, "%s: %s", spec, err.msg);
+        if (p) {
+            CHECK_MSG(fabs(csf_profile_lum_black(p) / 0.35 - 1) < 0.02, "mixed dark series: black %g", csf_profile_lum_black(p));
+            CHECK_INT_EQ(res.n_readings, base.n_readings + 6);
+        }
+        csf_profile_free(p);
+        /* a series of only "too dark" on a display whose black is measurable: the confirming dark
+         * reading after the white references contradicts it, and it is measured again */
+        snprintf(spec, sizeof spec, "sim:display=lcd,fault=dark@%d+6", nw);
+        p = calibrate(spec, 5, NULL, NULL, &res, NULL, &err);
+        CHECK_MSG(p != NULL, "%s: %s", spec, err.msg);
+        if (p) {
+            CHECK_MSG(fabs(csf_profile_lum_black(p) / 0.35 - 1) < 0.02, "too-dark series: black %g", csf_profile_lum_black(p));
+            CHECK_INT_EQ(res.n_readings, base.n_readings + 7);
+        }
+        csf_profile_free(p);
+        /* an OLED's black really is below the floor: "too dark" confirmed, black 0 */
+        p = calibrate("sim:display=oled", 5, NULL, NULL, &res, NULL, &err);
+        CHECK(p != NULL);
+        if (p) CHECK_NEAR(csf_profile_lum_black(p), 0, 0);
+        csf_profile_free(p);
+        /* resumed: the sensor fell off at the dark series and stayed off (the session stops at the
+         * white after it); resumed with it back on, the stored "too dark" series is not kept */
+        char sdir[] = "/tmp/csfcal-test-dark-XXXXXX";
+        CHECK(mkdtemp(sdir) != NULL);
+        char sdb[600];
+        snprintf(sdb, sizeof sdb, "%s/store.sqlite", sdir);
+        csf_store *ds = NULL;
+        CHECK_INT_EQ(csf_store_open(sdb, &ds, &err), CSF_OK);
+        for (int k = 0; ds && k < 2; k++) {
+            /* k = 0: the issue's case, the whole series too dark; k = 1: a mixed series, then a
+             * second one too dark */
+            snprintf(spec, sizeof spec, "sim:display=lcd,fault=dark@%d", nw + (k ? 3 : 0));
+            int64_t sid = 0;
+            csf_status st;
+            p = calibrate(spec, 5, ds, &sid, &res, &st, &err);
+            CHECK_MSG(st == CSF_E_TOO_DARK, "%s: status %d (%s)", spec, (int)st, err.msg);
+            csf_profile_free(p);
+            p = calibrate("sim:display=lcd", 5, ds, &sid, &res, &st, &err);
+            CHECK_MSG(st == CSF_OK && p, "resume after %s: %s", spec, err.msg);
+            if (p) CHECK_MSG(fabs(csf_profile_lum_black(p) / 0.35 - 1) < 0.02, "resumed after %s: black %g", spec,
+                             csf_profile_lum_black(p));
+            csf_profile_free(p);
+        }
+        /* a black level at the instrument's floor answers both ways in every series: refused after
+         * three, with the reason, and resumable */
+        {
+            int64_t sid = 0;
+            csf_status st;
+            p = calibrate("sim:display=lcd,black=0.01,abs_noise=0.002", 5, ds, &sid, &res, &st, &err);
+            CHECK_MSG(st == CSF_E_INSUFFICIENT, "black at the floor: status %d (%s)", (int)st, err.msg);
+            CHECK_STR_CONTAINS(err.msg, "mix 'too dark' answers");
+            CHECK(p == NULL);
+            csf_session_info si;
+            memset(&si, 0, sizeof si);
+            if (ds && csf_store_get_session(ds, sid, &si, &err) == CSF_OK) {
+                CHECK(strcmp(si.state, "paused") == 0);
+                csf_session_info_free(&si);
+            }
+        }
+        csf_store_close(ds);
+        char cmd[700];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", sdir);
+        CHECK_INT_EQ(system(cmd), 0);
+        csf_profile_free(p0);
+    }
+
+    /* verify: warm-up as in calibrate (a cold display is not reported from its first readings),
+     * channels too */
+    {
+        csf_display_calib_result res;
+        csf_display_profile *p = calibrate("sim:display=lcd", 8, NULL, NULL, &res, NULL, &err);
+        csf_photometer *ph = NULL;
+        csf_display_verify_opts vo;
+        csf_display_verify_defaults(&vo);
+        vo.channels = 1;
+        csf_display_verify_result vr;
+        /* the default simulated monitor starts 1 % dim and settles in about a minute: after the
+         * warm-up check it matches its fresh profile to its noise, r, g, b included */
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd", 31, &ph, &err), CSF_OK);
+        if (p && ph) {
+            CHECK_INT_EQ(csf_display_verify_run(ph, p, &vo, &vr, &err), CSF_OK);
+            CHECK(vr.warm);
+            CHECK(vr.n_warmup >= 6);
+            CHECK_MSG(fabs(vr.white_dev_rel) < 0.003, "warm white deviation %g", vr.white_dev_rel);
+            for (int c = 0; c < CSF_CH_COUNT; c++) {
+                CHECK_MSG(vr.dev_rel[c] < 0.01, "curve %d deviation %g", c, vr.dev_rel[c]);
+                CHECK_MSG(vr.n_checked[c] >= 3, "curve %d: %d levels", c, vr.n_checked[c]);
+            }
+        }
+        csf_photometer_close(ph);
+        /* a monitor that is still warming up after the check's 40 readings: not warm */
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd,warmup_s=120,drift=0.3", 31, &ph, &err), CSF_OK);
+        if (p && ph) {
+            CHECK_INT_EQ(csf_display_verify_run(ph, p, &vo, &vr, &err), CSF_OK);
+            CHECK(!vr.warm);
+            CHECK_INT_EQ(vr.n_warmup, 40);
+        }
+        csf_photometer_close(ph);
+        /* a brighter monitor of the same kind: every curve deviates */
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd,lmax=200", 31, &ph, &err), CSF_OK);
+        if (p && ph) {
+            CHECK_INT_EQ(csf_display_verify_run(ph, p, &vo, &vr, &err), CSF_OK);
+            for (int c = 0; c < CSF_CH_COUNT; c++) CHECK_MSG(vr.dev_rel[c] > 0.05, "curve %d deviation %g", c, vr.dev_rel[c]);
+        }
+        csf_photometer_close(ph);
+        ph = NULL;
+        /* channels on a grey-only profile: refused */
+        csf_photometer *ph2 = NULL;
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd", 31, &ph2, &err), CSF_OK);
+        csf_photometer_open("sim:display=lcd", 31, &ph, &err);
+        csf_display_calib_opts o;
+        csf_display_calib_defaults(&o);
+        o.channels = 0;
+        csf_display_profile *grey = NULL;
+        if (ph2 && csf_display_calibrate(ph2, &o, NULL, NULL, 8, &grey, &res, &err) == CSF_OK && ph) {
+            CHECK_INT_EQ(csf_display_verify_run(ph, grey, &vo, &vr, &err), CSF_E_INVALID_ARG);
+            CHECK_STR_CONTAINS(err.msg, "no r, g, b curves");
+        }
+        csf_profile_free(grey);
+        csf_photometer_close(ph);
+        csf_photometer_close(ph2);
+        csf_profile_free(p);
+    }
+
     /* 8-bit levels only: every measured drive is k/255, and the target still holds on the lcd */
     {
         csf_photometer *ph = NULL;
@@ -255,6 +409,11 @@ int main(void)
         {"saturate@28", CSF_E_SATURATED, "saturated"},
         {"timeout@60", CSF_E_TIMEOUT, "did not answer"}, /* inside the channel sweeps */
     };
+    /* the profile an unfaulted session makes: a faulted session, resumed, must make the same one
+     * (the failed attempt is retried under its own reading number and clock) */
+    csf_display_calib_result ref_res;
+    csf_display_profile *ref = calibrate("sim:display=lcd", 21, NULL, NULL, &ref_res, NULL, &err);
+    CHECK(ref != NULL);
     char dir[] = "/tmp/csfcal-test-calib-XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
     char db[600];
@@ -296,6 +455,9 @@ int main(void)
             errors(p, "lcd", e);
             CHECK_MSG(e[3] <= 0.0025, "resumed grey error %g", e[3]);
             CHECK(res.n_sweep <= 48);
+            CHECK_MSG(ref && same_model(p, ref), "resumed after %s: not the unfaulted session's profile",
+                      faults[k].fault);
+            CHECK_INT_EQ(res.n_readings, ref_res.n_readings);
             csf_profile_free(p);
         }
         CHECK_INT_EQ(csf_store_get_session(store, sid, &si, &err), CSF_OK);
@@ -344,6 +506,7 @@ int main(void)
         snprintf(cmd, sizeof cmd, "rm -f '%s' '%s-wal' '%s-shm'", db2, db2, db2);
         CHECK_INT_EQ(system(cmd), 0);
     }
+    csf_profile_free(ref);
     csf_store_close(store);
     unlink(db);
     char wal[620];

@@ -8,6 +8,8 @@ fail=0
 t=$(mktemp -d)
 trap 'rm -rf "$t"' EXIT
 db="$t/s.sqlite"
+# no station configuration of the machine's user leaks in
+export XDG_CONFIG_HOME="$t/cfg" XDG_DATA_HOME="$t/data"
 "$exe" display calibrate --photometer sim:display=lcd --seed 1 --store "$db" --out "$t/lcd.profile" --quiet \
   || { echo "calibrate failed"; fail=1; }
 head -1 "$t/lcd.profile" | grep -q '^csfcal-display-profile 1$' || { echo "profile header"; fail=1; }
@@ -58,4 +60,72 @@ printf 'csfcal-display-profile 1\n[curve grey]\ntransform_gamma = 2\ndrive01,lum
 "$exe" display info "$t/bad.profile" 2>"$t/e" && { echo "bad profile accepted"; fail=1; }
 grep -q "bad.profile:6: knots must rise" "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
 "$exe" display frobnicate 2>/dev/null && { echo "unknown subcommand accepted"; fail=1; }
+# --json: every display command that takes it prints one JSON object
+jq_py='import json,sys; d=json.load(sys.stdin); print(d[sys.argv[1]])'
+"$exe" display calibrate --photometer sim:display=lcd --seed 2 --store "$db" --out "$t/j.profile" --no-render --json \
+  >"$t/j" 2>"$t/e" || { echo "calibrate --json failed: $(cat "$t/e")"; fail=1; }
+python3 -c "$jq_py" profile_id <"$t/j" >/dev/null || { echo "calibrate --json: $(cat "$t/j")"; fail=1; }
+[ "$(python3 -c "$jq_py" readings <"$t/j")" -gt 40 ] || { echo "calibrate --json readings: $(cat "$t/j")"; fail=1; }
+"$exe" display verify "$t/j.profile" --photometer sim:display=lcd --no-render --channels --json >"$t/j" 2>"$t/e" \
+  || { echo "verify --json failed: $(cat "$t/j") $(cat "$t/e")"; fail=1; }
+[ "$(python3 -c "$jq_py" verdict <"$t/j")" = ok ] || { echo "verify --json: $(cat "$t/j")"; fail=1; }
+python3 -c 'import json,sys; d=json.load(sys.stdin); assert set(d["curves"]) == {"r","g","b","grey"}, d' <"$t/j" \
+  || { echo "verify --channels --json curves: $(cat "$t/j")"; fail=1; }
+"$exe" display info "$t/j.profile" --json >"$t/j" || { echo "info --json failed"; fail=1; }
+python3 -c "$jq_py" grey_drive_for_rel_lum <"$t/j" >/dev/null || { echo "info --json: $(cat "$t/j")"; fail=1; }
+"$exe" display export "$t/j.profile" --format cube -o "$t/j.cube" --json >"$t/jx" || { echo "export --json failed"; fail=1; }
+python3 -c "$jq_py" wrote <"$t/jx" >/dev/null || { echo "export --json: $(cat "$t/jx")"; fail=1; }
+# "% of white" means one thing in info and the exports: the .cube (drive -> relative luminance)
+# gives 0.1, 0.5, 0.9 at the drives info names for 10/50/90 %
+python3 - "$t/j" "$t/j.cube" <<'PY' || { echo "info and cube disagree on % of white"; fail=1; }
+import json, sys
+info = json.load(open(sys.argv[1]))
+rows = [l.split() for l in open(sys.argv[2]) if l.strip() and l.split()[0].replace('.', '').replace('-', '').replace('e', '').isdigit()]
+ys = [float(r[0]) for r in rows if len(r) == 3]
+n = len(ys)
+for key, want in (("0.1", 0.1), ("0.5", 0.5), ("0.9", 0.9)):
+    d = info["grey_drive_for_rel_lum"][key] * (n - 1)
+    i = min(int(d), n - 2)
+    y = ys[i] + (ys[i + 1] - ys[i]) * (d - i)
+    assert abs(y - want) < 2e-4, (key, y, n)
+PY
+# no photometer named: refused with how to choose one (no silent simulator)
+"$exe" display calibrate --store "$db" --out "$t/x.profile" 2>"$t/e"
+[ $? -eq 2 ] || { echo "calibrate without --photometer not refused"; fail=1; }
+grep -q -- '--photometer SPEC' "$t/e" && grep -q 'sim:display=lcd' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
+[ -e "$t/x.profile" ] && { echo "profile written without a photometer"; fail=1; }
+"$exe" display verify "$t/lcd.profile" >"$t/v" 2>"$t/e"
+[ $? -eq 2 ] || { echo "verify without --photometer not refused: $(cat "$t/v")"; fail=1; }
+grep -q ': ok' "$t/v" && { echo "verify without a photometer says ok"; fail=1; }
+# a simulator is announced on stderr, also when it comes from the station configuration
+mkdir -p "$t/cfg/csfcal"
+printf 'photometer = sim:display=lcd\n' > "$t/cfg/csfcal/station.conf"
+"$exe" display verify "$t/lcd.profile" --no-render >/dev/null 2>"$t/e" || { echo "verify with configured sim: $(cat "$t/e")"; fail=1; }
+grep -q "SIMULATOR" "$t/e" && grep -q "station.conf" "$t/e" || { echo "configured simulator not announced: $(cat "$t/e")"; fail=1; }
+rm -f "$t/cfg/csfcal/station.conf"
+# --config DIR and --store "" are refused, not replaced by defaults
+"$exe" display info "$t/lcd.profile" --config "$t" >/dev/null 2>"$t/e"
+[ $? -eq 2 ] || { echo "--config DIR accepted"; fail=1; }
+grep -q 'is a folder' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
+"$exe" display calibrate --photometer sim --store "" --out "$t/x.profile" 2>"$t/e"
+[ $? -eq 2 ] || { echo "--store '' accepted"; fail=1; }
+grep -q 'empty path' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
+# verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
+"$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
+[ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }
+grep -q 'NOT WARM' "$t/v" || { echo "cold monitor: $(cat "$t/v")"; fail=1; }
+# a profile id carries no file path of the photometer spec
+"$exe" display calibrate --photometer "sim:display=file=$data/kink.csv" --store "$db" --out "$t/k2.profile" --no-render --json \
+  >"$t/j" 2>/dev/null || { echo "csv calibrate --json failed"; fail=1; }
+id=$(python3 -c "$jq_py" profile_id <"$t/j")
+case "$id" in */*|*kink*) echo "id carries the path: $id"; fail=1;; esac
+[ ${#id} -le 48 ] || { echo "id too long: $id"; fail=1; }
+# issue 11 item 1 as reported: "too dark" during the dark readings, then --resume without the fault:
+# black is the LCD's 0.35 cd/m2, not 0
+"$exe" display calibrate --photometer sim:display=lcd,fault=dark@13 --no-render --seed 5 --store "$t/d.sqlite" \
+  --out "$t/d.profile" --quiet 2>/dev/null && { echo "dark fault: no error"; fail=1; }
+"$exe" display calibrate --photometer sim:display=lcd --no-render --resume 1 --store "$t/d.sqlite" --out "$t/d.profile" \
+  --json >"$t/j" 2>/dev/null || { echo "dark fault: resume failed"; fail=1; }
+python3 -c 'import json,sys; b=json.load(sys.stdin)["black_cdm2"]; assert abs(b/0.35-1) < 0.02, b' <"$t/j" \
+  || { echo "dark fault: resumed black $(cat "$t/j")"; fail=1; }
 exit $fail

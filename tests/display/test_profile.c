@@ -66,6 +66,36 @@ int main(void)
     CHECK_STR_CONTAINS(amsg, "days old (limit profile_max_age_days = 0.5)");
     CHECK_INT_EQ(csf_profile_age_warning(p, 0, amsg, sizeof amsg), 0);
     CHECK_STR_CONTAINS(csf_profile_id(p), "test-display-20261120-");
+    /* "% of white" is luminance over white, black included: one function for info and the exports */
+    CHECK_NEAR(csf_profile_rel_lum(p, 0), truth(0) / truth(1), 1e-12);
+    CHECK_NEAR(csf_profile_rel_lum(p, 1), 1, 1e-12);
+    CHECK_NEAR(csf_profile_lum_from_rel(p, 0.5), 0.5 * truth(1), 1e-9);
+    for (int i = 1; i < 10; i++) {
+        double rel = i / 10.0;
+        double v = csf_profile_grey_drive(p, csf_profile_lum_from_rel(p, rel));
+        CHECK_NEAR(csf_profile_rel_lum(p, v), rel, 1e-9);
+    }
+    /* ids stay short: a photometer spec with a file path gives its first word and a hash of the
+     * whole name, never the path; different paths, different ids; a short name is kept */
+    {
+        const char *names[3] = {"sim:display=file=/home/someone/private/lab/curves/monitor-7.csv,noise=0.001",
+                                "sim:display=file=/home/someone/private/lab/curves/monitor-8.csv,noise=0.001",
+                                "lab-lcd-3"};
+        char ids[3][200];
+        for (int k = 0; k < 3; k++) {
+            csf_profile_meta m2 = {names[k], "unit test", "2026-11-20T10:00:00Z", "t", NAN};
+            csf_display_profile *q = NULL;
+            CHECK_INT_EQ(csf_profile_build(r, n, &m2, &q, &err), CSF_OK);
+            snprintf(ids[k], sizeof ids[k], "%s", q ? csf_profile_id(q) : "");
+            CHECK_MSG(strlen(ids[k]) <= 48, "id '%s' longer than 48", ids[k]);
+            CHECK_MSG(!strchr(ids[k], '/') && !strstr(ids[k], "home") && !strstr(ids[k], "csv"),
+                      "id '%s' carries the path", ids[k]);
+            csf_profile_free(q);
+        }
+        CHECK_MSG(strncmp(ids[0], "sim-", 4) == 0 && strstr(ids[0], "-20261120-"), "id '%s'", ids[0]);
+        CHECK(strcmp(ids[0], ids[1]) != 0);
+        CHECK_MSG(strncmp(ids[2], "lab-lcd-3-20261120-", 19) == 0, "id '%s'", ids[2]);
+    }
 
     /* save / load round trip: identical model */
     char path[] = "/tmp/csfcal-test-profile-XXXXXX";
