@@ -21,7 +21,9 @@ static const char report_help[] =
     "  - display sessions: luminance vs drive level per channel and the residuals from the\n"
     "    stored display profile (or from the neighbouring readings when there is none);\n"
     "  - every session: a histogram of frame intervals with the missed-frame limit.\n"
-    "PDF has one page per panel; PNG and SVG stack the panels on one tall page.\n\n";
+    "PDF (A4 landscape, for printing; the frame timing shares the summary page when it fits)\n"
+    "has one page per panel; PNG and SVG stack the panels on one tall page. The file is\n"
+    "written whole or not at all.\n\n";
 
 static const struct option report_options[] = {
     {"output", required_argument, 0, 'o'},

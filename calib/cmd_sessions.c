@@ -1,6 +1,7 @@
 /* `csfcal sessions [list|show|export|abort]`: what the results store holds, session by session.
  * Listing shows each session's state so an unfinished one can be continued with --resume ID;
  * export writes tidy CSV/JSON (one row per trial, reading or threshold) for pandas and R. */
+#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +10,7 @@
 
 #include "calib/cli.h"
 #include "calib/commands.h"
+#include "results/file_write.h"
 #include "results/store.h"
 #include "results/store_export.h"
 
@@ -65,6 +67,9 @@ static void print_session_json(FILE *out, const csf_session_info *si, int with_s
     json_str(out, si->observer);
     fputs(", \"display\": ", out);
     json_str(out, si->display);
+    fputs(", \"profile_id\": ", out);
+    if (si->profile_id[0]) json_str(out, si->profile_id);
+    else fputs("null", out);
     fprintf(out, ", \"seed\": %llu, \"tool_version\": ", (unsigned long long)si->seed);
     json_str(out, si->tool_version);
     fputs(", \"created_utc\": ", out);
@@ -76,6 +81,27 @@ static void print_session_json(FILE *out, const csf_session_info *si, int with_s
         json_str(out, si->settings_json ? si->settings_json : "{}");
     }
     fputc('}', out);
+}
+
+/* The command that continues an unfinished session: each kind has its own (a display session
+ * is continued by display calibrate, which needs the photometer and the profile file again). */
+static void print_resume_hint(FILE *out, const csf_session_info *si, const char *store_path)
+{
+    long long id = (long long)si->id;
+    if (!strcmp(si->kind, "display"))
+        fprintf(out, "  %lld (display):  csfcal display calibrate --resume %lld --store %s --photometer SPEC "
+                "--out FILE.profile\n", id, id, store_path);
+    else if (!strcmp(si->kind, "observer"))
+        fprintf(out, "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --out FILE.csflut\n",
+                id, id, store_path);
+    else
+        fprintf(out, "  %lld (%s): cannot be resumed by this csfcal; csfcal sessions abort %lld --store %s "
+                "closes it\n", id, si->kind, id, store_path);
+}
+
+static int unfinished(const csf_session_info *si)
+{
+    return !strcmp(si->state, "running") || !strcmp(si->state, "paused");
 }
 
 static int parse_id(const char *text, int64_t *id)
@@ -138,17 +164,19 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
     } else {
         printf("%-5s %-8s %-9s %-14s %-18s %7s %8s  %s\n", "ID", "KIND", "STATE", "OBSERVER",
                "DISPLAY", "TRIALS", "READINGS", "CREATED (UTC)");
-        int unfinished = 0;
+        int n_open = 0;
         for (size_t i = 0; i < n; i++) {
             const csf_session_info *si = &list[i];
             printf("%-5lld %-8s %-9s %-14.14s %-18.18s %7d %8d  %s\n", (long long)si->id, si->kind,
                    si->state, si->observer[0] ? si->observer : "-", si->display[0] ? si->display : "-",
                    si->n_trials, si->n_readings, si->created_utc);
-            unfinished += !strcmp(si->state, "running") || !strcmp(si->state, "paused");
+            n_open += unfinished(si);
         }
-        if (unfinished)
-            printf("\n%d unfinished session%s: continue with --resume ID (e.g. csfcal observer "
-                   "calibrate --resume ID).\n", unfinished, unfinished == 1 ? "" : "s");
+        if (n_open) {
+            printf("\n%d unfinished session%s; continue with:\n", n_open, n_open == 1 ? "" : "s");
+            for (size_t i = 0; i < n; i++)
+                if (unfinished(&list[i])) print_resume_hint(stdout, &list[i], csf_store_path(s));
+        }
     }
     csf_session_list_free(list, n);
     csf_store_close(s);
@@ -173,11 +201,16 @@ static int cmd_show(csf_cli *cli, int64_t id)
         printf("\n");
     } else {
         printf("session      %lld\nkind         %s\nstate        %s\nobserver     %s\ndisplay      %s\n"
-               "seed         %llu\ntool version %s\ncreated      %s\nlast write   %s\ntrials       %d\n"
-               "readings     %d\nsettings     %s\n",
+               "profile      %s\nseed         %llu\ntool version %s\ncreated      %s\nlast write   %s\n"
+               "trials       %d\nreadings     %d\nsettings     %s\n",
                (long long)si.id, si.kind, si.state, si.observer[0] ? si.observer : "-",
-               si.display[0] ? si.display : "-", (unsigned long long)si.seed, si.tool_version, created,
-               updated, si.n_trials, si.n_readings, si.settings_json);
+               si.display[0] ? si.display : "-", si.profile_id[0] ? si.profile_id : "-",
+               (unsigned long long)si.seed, si.tool_version, created, updated, si.n_trials,
+               si.n_readings, si.settings_json);
+        if (unfinished(&si)) {
+            printf("unfinished; continue with:\n");
+            print_resume_hint(stdout, &si, csf_store_path(s));
+        }
     }
     csf_session_info_free(&si);
     csf_store_close(s);
@@ -248,24 +281,27 @@ static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *
         return csf_cli_report("sessions export", &err);
     }
     csf_session_info_free(&si);
+    /* A file is written beside its destination and renamed over it when complete: a full disk
+     * leaves the old file (or none), never half an export. */
     FILE *out = stdout;
-    if (out_path && strcmp(out_path, "-") != 0) {
-        out = fopen(out_path, "w");
-        if (!out) {
-            perror("csfcal: sessions export: cannot write output file");
-            fprintf(stderr, "csfcal: sessions export: (file was %s)\n", out_path);
+    csf_atomic_file af = {0};
+    int to_file = out_path && strcmp(out_path, "-") != 0;
+    if (to_file) {
+        if (csf_atomic_open(&af, out_path, "session export", &err) != CSF_OK) {
             csf_store_close(s);
-            return 1;
+            return csf_cli_report("sessions export", &err);
         }
+        out = af.fp;
     }
     csf_status st = csf_store_export(s, id, tab, fmt, out, &err);
-    int close_failed = out != stdout && fclose(out) != 0;
     csf_store_close(s);
-    if (st != CSF_OK || close_failed) {
-        if (out != stdout) unlink(out_path);
-        if (st == CSF_OK) csf_error_set(&err, CSF_E_IO, "writing %s failed", out_path);
-        return csf_cli_report("sessions export", &err);
+    if (to_file) {
+        if (st == CSF_OK) st = csf_atomic_commit(&af, &err);
+        else csf_atomic_abort(&af);
+    } else if (st == CSF_OK && fflush(stdout) != 0) {
+        st = csf_error_set(&err, CSF_E_IO, "writing to standard output failed (%s)", strerror(errno));
     }
+    if (st != CSF_OK) return csf_cli_report("sessions export", &err);
     return 0;
 }
 

@@ -1321,7 +1321,8 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         settings_to_json(&set, json, sizeof json);
         char obs_name[64];
         snprintf(obs_name, sizeof obs_name, "%.60s", is_sim ? "sim" : (set.observer[5] == ':' ? set.observer + 6 : "human"));
-        st = csf_store_begin_session(S.store, "observer", obs_name, csf_profile_id(S.profile), json, seed, &sid, err);
+        st = csf_store_begin_session_profile(S.store, "observer", obs_name, csf_profile_display(S.profile),
+                                             csf_profile_id(S.profile), json, seed, &sid, err);
         if (st != CSF_OK) goto out;
     } else {
         st = csf_store_set_session_state(S.store, sid, "running", err);

@@ -300,6 +300,7 @@ static int curve_finish(curve *c, int is_channel, double g_fixed)
 /* ---------- accessors ---------- */
 
 const char *csf_profile_id(const csf_display_profile *p) { return p->id; }
+const char *csf_profile_display(const csf_display_profile *p) { return p->display; }
 double csf_profile_lum_black(const csf_display_profile *p) { return p->c[CSF_CH_GREY].base; }
 double csf_profile_lum_max(const csf_display_profile *p)
 {

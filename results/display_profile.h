@@ -36,6 +36,9 @@ void csf_profile_free(csf_display_profile *p);
  * <display> is the display name when it has at most 24 characters and no '/' (path), else its
  * first word and a hash of the whole name (no file paths of a photometer spec in an id). */
 const char *csf_profile_id(const csf_display_profile *p);
+/* Name of the display the profile was measured on (its "display" line; "default" for the
+ * documented default display). */
+const char *csf_profile_display(const csf_display_profile *p);
 double csf_profile_lum_black(const csf_display_profile *p); /* cd/m2, grey at drive 0 */
 double csf_profile_lum_max(const csf_display_profile *p);   /* cd/m2, grey at drive 1 */
 /* Forward model, R=G=B=drive01 (clamped to [0,1]). */

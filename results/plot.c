@@ -5,6 +5,7 @@
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,11 @@
 #include <time.h>
 
 #include "results/display_profile.h"
+#include "results/file_write.h"
+
+#ifndef CSF_VERSION
+#define CSF_VERSION "unknown"
+#endif
 
 /* Page size in cairo units: PDF points (A4 landscape) or pixels for PNG/SVG. */
 #define PAGE_W 842.0
@@ -32,6 +38,7 @@ typedef struct {
     double *frames;
     size_t n_frames;
     csf_display_profile *profile; /* from the session's "profile" artifact, if it parses */
+    int frames_inline;            /* the frame-timing histogram is on the summary page */
 } report_data;
 
 /* ---- log-parabola fit ---------------------------------------------------------------------
@@ -146,6 +153,9 @@ static void text_at(cairo_t *cr, double x, double y, double size, int bold, doub
     cairo_text_extents(cr, s, &e);
     cairo_move_to(cr, x - align * e.x_advance, y);
     cairo_show_text(cr, s);
+    /* show_text leaves the current point at the end of the text: the next arc would otherwise
+     * start with a line from there. */
+    cairo_new_path(cr);
 }
 
 static void title(cairo_t *cr, const char *s)
@@ -291,7 +301,159 @@ static double median_of(const double *v, size_t n)
     return m;
 }
 
-static void draw_summary(cairo_t *cr, const report_data *d)
+/* Draws text from (x, y) in lines no wider than width_pt, breaking after spaces and commas
+ * (inside a word only when the word alone is wider than a line); draw = 0 only measures.
+ * Returns the baseline of the line after the last one. */
+static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, double size, int bold,
+                           double line_h, const char *text, int draw)
+{
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+                           bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    size_t len = strlen(text);
+    char *buf = malloc(len + 1);
+    if (!buf) return y + line_h;
+    size_t start = 0;
+    while (start < len) {
+        /* Longest run from start that fits, ending at a break point if there is one. */
+        size_t end = start, last_break = 0, last_fit = start;
+        while (end < len) {
+            size_t next = end + 1;
+            while (next < len && ((unsigned char)text[next] & 0xC0) == 0x80) next++;
+            memcpy(buf, text + start, next - start);
+            buf[next - start] = '\0';
+            cairo_text_extents_t e;
+            cairo_text_extents(cr, buf, &e);
+            if (e.x_advance > width_pt && end > start) break;
+            end = next;
+            last_fit = end;
+            if (text[end - 1] == ' ' || text[end - 1] == ',') last_break = end;
+        }
+        size_t stop = end >= len ? len : last_break > start ? last_break : last_fit;
+        memcpy(buf, text + start, stop - start);
+        buf[stop - start] = '\0';
+        if (draw) {
+            cairo_move_to(cr, x, y);
+            cairo_show_text(cr, buf);
+            cairo_new_path(cr);
+        }
+        y += line_h;
+        start = stop;
+        while (start < len && text[start] == ' ') start++;
+    }
+    free(buf);
+    return len ? y : y + line_h;
+}
+
+static double wrap_text(cairo_t *cr, double x, double y, double width_pt, double size, int bold,
+                        double line_h, const char *text)
+{
+    return wrap_text_ex(cr, x, y, width_pt, size, bold, line_h, text, 1);
+}
+
+/* One "key": value pair of a flat JSON object, from *pos; strings are unquoted, arrays and
+ * objects kept as written. 0 at the end of the object or on anything else. */
+static int json_item(const char *js, size_t *pos, char *key, size_t kcap, char *val, size_t vcap)
+{
+    size_t i = *pos;
+    while (js[i] == ' ' || js[i] == ',' || js[i] == '\n' || js[i] == '{') i++;
+    if (js[i] != '"') return 0;
+    size_t k = 0;
+    for (i++; js[i] && js[i] != '"'; i++)
+        if (k + 1 < kcap) key[k++] = js[i];
+    key[k] = '\0';
+    if (js[i] != '"') return 0;
+    for (i++; js[i] == ' '; i++) {}
+    if (js[i] != ':') return 0;
+    for (i++; js[i] == ' '; i++) {}
+    size_t v = 0;
+    if (js[i] == '"') {
+        for (i++; js[i] && js[i] != '"'; i++) {
+            if (js[i] == '\\' && js[i + 1]) i++;
+            if (v + 1 < vcap) val[v++] = js[i];
+        }
+        if (js[i] != '"') return 0;
+        i++;
+    } else {
+        int depth = 0, in_str = 0;
+        for (; js[i]; i++) {
+            char c = js[i];
+            if (in_str) {
+                if (c == '\\' && js[i + 1]) i++;
+                else if (c == '"') in_str = 0;
+            } else if (c == '"') {
+                in_str = 1;
+            } else if (c == '[' || c == '{') {
+                depth++;
+            } else if (c == ']' || c == '}') {
+                if (depth == 0) break;
+                depth--;
+            } else if (c == ',' && depth == 0) {
+                break;
+            }
+            if (v + 1 < vcap) val[v++] = c;
+        }
+    }
+    val[v] = '\0';
+    *pos = i;
+    return 1;
+}
+
+/* The settings the session ran with, as a table of key and value in three columns, each value
+ * wrapped inside its column; rows that do not fit the page are counted at the bottom. */
+static double draw_settings(cairo_t *cr, const char *js, double y)
+{
+    const double x0 = 40, gap = 18, bottom = PAGE_H - 44;
+    const double col_w = (PAGE_W - 2 * x0 - 2 * gap) / 3, key_w = 92;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text_at(cr, x0, y, 12, 1, 0, "Settings");
+    cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+    cairo_set_line_width(cr, 0.5);
+    cairo_move_to(cr, x0, y + 5);
+    cairo_line_to(cr, PAGE_W - x0, y + 5);
+    cairo_stroke(cr);
+    y += 20;
+    char key[64], val[1024];
+    size_t pos = 0;
+    int col = 0, left_out = 0, parsed = 0;
+    double row_bottom = y;
+    while (json_item(js, &pos, key, sizeof key, val, sizeof val)) {
+        parsed++;
+        double x = x0 + col * (col_w + gap);
+        double h = wrap_text_ex(cr, x + key_w, y, col_w - key_w, 8.5, 0, 11, val, 0) - y;
+        if (y + h - 11 > bottom) {
+            left_out++;
+            continue;
+        }
+        cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+        wrap_text(cr, x, y, key_w - 4, 8.5, 0, 11, key);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        row_bottom = fmax(row_bottom, wrap_text(cr, x + key_w, y, col_w - key_w, 8.5, 0, 11, val));
+        if (++col == 3) {
+            col = 0;
+            y = row_bottom + 3;
+        }
+    }
+    if (col) y = row_bottom;
+    if (!parsed) { /* not a flat object: the text as stored, wrapped at word boundaries */
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        y = wrap_text(cr, x0, y, PAGE_W - 2 * x0, 8.5, 0, 11, js);
+    }
+    if (left_out) {
+        char note[96];
+        snprintf(note, sizeof note, "%d more settings did not fit: csfcal sessions show ID lists them all",
+                 left_out);
+        cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
+        text_at(cr, x0, bottom + 12, 8.5, 0, 0, note);
+        y = bottom + 12;
+    }
+    return y;
+}
+
+static void draw_frames_area(cairo_t *cr, const report_data *d, double top_pt, double bottom_pt);
+
+/* Title, facts, verdicts and settings; returns the y below the last line. */
+static double summary_body(cairo_t *cr, const report_data *d)
 {
     const csf_session_info *si = &d->info;
     char buf[512];
@@ -351,15 +513,31 @@ static void draw_summary(cairo_t *cr, const report_data *d)
     lines[9][1] = v_frames;
     lines[10][1] = v_read;
     lines[11][1] = v_th;
-    double y = 70;
-    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++, y += 17) {
-        cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-        text_at(cr, 40, y, 11, 0, 0, lines[i][0]);
+    /* Left column: the facts; right column: the verdicts, what a person looks at first. */
+    double y = 72;
+    /* A display session has no trials, an observer session no readings: rows that would only
+     * say "0" are left out (a count that is not 0 is always shown). */
+    int is_display = !strcmp(si->kind, "display");
+    int skip[sizeof lines / sizeof lines[0]] = {0};
+    skip[1] = is_display && !si->observer[0];
+    skip[8] = skip[9] = is_display && !d->n_trials && !planned;
+    skip[10] = !is_display && !d->n_readings;
+    skip[11] = is_display && !d->n_th;
+    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++) {
+        if (skip[i]) continue;
+        cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+        text_at(cr, 40, y, 10, 0, 0, lines[i][0]);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        text_at(cr, 200, y, 11, 0, 0, lines[i][1]);
+        y = wrap_text(cr, 160, y, 300, 10, 0, 13, lines[i][1]) + 2;
+        if (i == 2 && si->profile_id[0]) { /* after Display */
+            cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+            text_at(cr, 40, y, 10, 0, 0, "Display profile");
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            y = wrap_text(cr, 160, y, 300, 10, 0, 13, si->profile_id) + 2;
+        }
     }
+    double y_left = y;
 
-    /* Verdict: what a person should look at first. */
     verdict v[8];
     int nv = 0;
     if (strcmp(si->state, "finished") != 0)
@@ -391,31 +569,107 @@ static void draw_summary(cairo_t *cr, const report_data *d)
         if (d->n_th) snprintf(v[nv++].text, sizeof v[0].text, "%zu thresholds measured", d->n_th);
         else snprintf(v[nv++].text, sizeof v[0].text, "no thresholds stored yet");
     }
-    y += 14;
+    const double gx = 500;
+    y = 72;
     cairo_set_source_rgb(cr, 0, 0, 0);
-    text_at(cr, 40, y, 13, 1, 0, "At a glance");
+    text_at(cr, gx, y, 12, 1, 0, "At a glance");
     y += 20;
-    static const double lvl_col[3][3] = {{0.1, 0.6, 0.2}, {0.9, 0.6, 0.0}, {0.8, 0.1, 0.1}};
+    static const double lvl_col[3][3] = {{0.1, 0.55, 0.2}, {0.85, 0.55, 0.0}, {0.8, 0.1, 0.1}};
     static const char *lvl_name[3] = {"OK", "CHECK", "PROBLEM"};
-    for (int i = 0; i < nv; i++, y += 17) {
+    for (int i = 0; i < nv; i++) {
         set_rgb(cr, lvl_col[v[i].level]);
-        cairo_arc(cr, 46, y - 4, 5, 0, 2 * M_PI);
+        cairo_new_path(cr);
+        cairo_arc(cr, gx + 5, y - 3.5, 4.5, 0, 2 * M_PI);
         cairo_fill(cr);
-        text_at(cr, 58, y, 11, 1, 0, lvl_name[v[i].level]);
+        text_at(cr, gx + 15, y, 9, 1, 0, lvl_name[v[i].level]);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        text_at(cr, 130, y, 11, 0, 0, v[i].text);
+        y = wrap_text(cr, gx + 72, y, PAGE_W - 40 - (gx + 72), 10, 0, 13, v[i].text) + 6;
     }
-    /* Settings the session ran with, wrapped. */
-    y += 14;
-    text_at(cr, 40, y, 13, 1, 0, "Settings");
-    y += 17;
-    const char *js = si->settings_json ? si->settings_json : "{}";
-    size_t len = strlen(js);
-    for (size_t off = 0; off < len && y < PAGE_H - 20; off += 110, y += 14) {
-        char chunk[111];
-        snprintf(chunk, sizeof chunk, "%.*s", (int)(len - off < 110 ? len - off : 110), js + off);
-        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-        text_at(cr, 40, y, 9, 0, 0, chunk);
+    y = fmax(y, y_left) + 10;
+    y = draw_settings(cr, si->settings_json ? si->settings_json : "{}", y);
+    return y;
+}
+
+/* Where the summary's text ends, measured by drawing it on a scratch surface (the toy font
+ * API measures the same on every surface). */
+static double summary_height(const report_data *d)
+{
+    cairo_surface_t *scratch = cairo_image_surface_create(CAIRO_FORMAT_A8, 1, 1);
+    cairo_t *cr = cairo_create(scratch);
+    double y = summary_body(cr, d);
+    cairo_destroy(cr);
+    cairo_surface_destroy(scratch);
+    return y;
+}
+
+/* The frame-timing histogram goes under the summary when it has the room (a printed summary
+ * with half a page blank helps nobody); else it gets its own page. */
+#define FRAMES_INLINE_MIN_PT 150.0
+
+/* Display sessions: per channel, how many readings, how many failed, and the luminance at the
+ * lowest and highest drive measured; what a printed summary of a calibration should show. */
+static void draw_readings_table(cairo_t *cr, const report_data *d, double y)
+{
+    static const char *const chans[] = {"dark", "white", "grey", "r", "g", "b"};
+    static const char *const head[] = {"channel", "readings", "not ok", "lowest drive",
+                                       "cd/m\xc2\xb2 there", "highest drive", "cd/m\xc2\xb2 there"};
+    static const double col_x[] = {40, 130, 210, 290, 390, 500, 600};
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text_at(cr, 40, y, 12, 1, 0, "Photometer readings");
+    cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+    cairo_set_line_width(cr, 0.5);
+    cairo_move_to(cr, 40, y + 5);
+    cairo_line_to(cr, PAGE_W - 40, y + 5);
+    cairo_stroke(cr);
+    y += 20;
+    cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+    for (int c = 0; c < 7; c++) text_at(cr, col_x[c], y, 9, 1, 0, head[c]);
+    for (size_t k = 0; k < sizeof chans / sizeof chans[0]; k++) {
+        int n = 0, bad = 0;
+        double lo_v = INFINITY, hi_v = -INFINITY, lo_l = NAN, hi_l = NAN;
+        for (size_t i = 0; i < d->n_readings; i++) {
+            const csf_reading *r = &d->readings[i];
+            if (strcmp(r->channel, chans[k])) continue;
+            n++;
+            if (strcmp(r->status, "ok")) {
+                bad++;
+                continue;
+            }
+            if (r->drive01 < lo_v) lo_v = r->drive01, lo_l = r->lum_cdm2;
+            if (r->drive01 > hi_v) hi_v = r->drive01, hi_l = r->lum_cdm2;
+        }
+        if (!n) continue;
+        y += 14;
+        char cell[7][32];
+        snprintf(cell[0], 32, "%s", chans[k]);
+        snprintf(cell[1], 32, "%d", n);
+        snprintf(cell[2], 32, "%d", bad);
+        snprintf(cell[3], 32, isfinite(lo_v) ? "%.3f" : "-", lo_v);
+        snprintf(cell[4], 32, isfinite(lo_l) ? "%.4g" : "-", lo_l);
+        snprintf(cell[5], 32, isfinite(hi_v) ? "%.3f" : "-", hi_v);
+        snprintf(cell[6], 32, isfinite(hi_l) ? "%.4g" : "-", hi_l);
+        for (int c = 0; c < 7; c++) {
+            if (c == 2 && bad) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+            else cairo_set_source_rgb(cr, 0, 0, 0);
+            text_at(cr, col_x[c], y, 9.5, 0, 0, cell[c]);
+        }
+    }
+}
+
+static void draw_summary(cairo_t *cr, const report_data *d)
+{
+    double y = summary_body(cr, d);
+    if (!d->frames_inline && d->n_readings && !d->n_frames) draw_readings_table(cr, d, y + 14);
+    if (d->frames_inline && d->n_frames) {
+        y += 14;
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text_at(cr, 40, y, 12, 1, 0, "Frame timing");
+        cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+        cairo_set_line_width(cr, 0.5);
+        cairo_move_to(cr, 40, y + 5);
+        cairo_line_to(cr, PAGE_W - 40, y + 5);
+        cairo_stroke(cr);
+        draw_frames_area(cr, d, y + 22, PAGE_H - 80);
     }
 }
 
@@ -436,6 +690,7 @@ static int same_cond(const condition *a, const csf_threshold_row *r)
 
 static void marker(cairo_t *cr, double x, double y, int shape, double r)
 {
+    cairo_new_path(cr);
     switch (shape % 3) {
     case 0: cairo_arc(cr, x, y, r, 0, 2 * M_PI); break;
     case 1: cairo_rectangle(cr, x - r, y - r, 2 * r, 2 * r); break;
@@ -738,13 +993,9 @@ static void draw_display(cairo_t *cr, const report_data *d)
 
 /* ---- frame timing ------------------------------------------------------------------------- */
 
-static void draw_frames(cairo_t *cr, const report_data *d)
+/* The histogram and its figures with the plot area from y top_pt to bottom_pt. */
+static void draw_frames_area(cairo_t *cr, const report_data *d, double top_pt, double bottom_pt)
 {
-    if (d->n_frames == 0) {
-        message_page(cr, "Frame timing", "No frame intervals recorded for this session.");
-        return;
-    }
-    title(cr, "Frame timing");
     double med = median_of(d->frames, d->n_frames);
     double vmax = 0;
     size_t late = 0;
@@ -770,7 +1021,7 @@ static void draw_frames(cairo_t *cr, const report_data *d)
         bins[k]++;
     }
     for (int k = 0; k < NB; k++) bmax = bins[k] > bmax ? bins[k] : bmax;
-    axes a = {80, 60, 560, PAGE_H - 140, 0, hi_ms, 0, ceil(log10((double)bmax * 2)), 0, 1};
+    axes a = {80, top_pt, 560, bottom_pt - top_pt, 0, hi_ms, 0, ceil(log10((double)bmax * 2)), 0, 1};
     draw_axes(cr, &a, "frame interval (ms)", "frames");
     cairo_set_source_rgb(cr, 0.0, 0.45, 0.70);
     for (int k = 0; k < NB; k++) {
@@ -812,6 +1063,16 @@ static void draw_frames(cairo_t *cr, const report_data *d)
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
     text_at(cr, tx, ty += 22, 9, 0, 0, "green: median interval");
     text_at(cr, tx, ty += 12, 9, 0, 0, "red: missed-frame limit");
+}
+
+static void draw_frames(cairo_t *cr, const report_data *d)
+{
+    if (d->n_frames == 0) {
+        message_page(cr, "Frame timing", "No frame intervals recorded for this session.");
+        return;
+    }
+    title(cr, "Frame timing");
+    draw_frames_area(cr, d, 60, PAGE_H - 80);
 }
 
 /* ---- driver ------------------------------------------------------------------------------- */
@@ -874,6 +1135,37 @@ static csf_status load_data(csf_store *s, int64_t id, report_data *d, csf_error 
 
 typedef void (*panel_fn)(cairo_t *, const report_data *);
 
+/* cairo writes the file through this into the temporary file; the OS error of a failed write
+ * (a full disk) is kept for the message. */
+typedef struct {
+    FILE *fp;
+    int errno_saved;
+} stream_sink;
+
+static cairo_status_t sink_write(void *closure, const unsigned char *data, unsigned int len)
+{
+    stream_sink *k = closure;
+    errno = 0;
+    if (fwrite(data, 1, len, k->fp) == len) return CAIRO_STATUS_SUCCESS;
+    k->errno_saved = errno ? errno : EIO;
+    return CAIRO_STATUS_WRITE_ERROR;
+}
+
+/* What a printed page needs to be found again: which report, which page. */
+static void draw_footer(cairo_t *cr, const char *doc_title, int page, int n_pages)
+{
+    char right[64];
+    snprintf(right, sizeof right, "page %d of %d", page, n_pages);
+    cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+    cairo_set_line_width(cr, 0.5);
+    cairo_move_to(cr, 40, PAGE_H - 28);
+    cairo_line_to(cr, PAGE_W - 40, PAGE_H - 28);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
+    text_at(cr, 40, PAGE_H - 16, 8, 0, 0, doc_title);
+    text_at(cr, PAGE_W - 40, PAGE_H - 16, 8, 0, 1, right);
+}
+
 csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_path, csf_error *err)
 {
     csf_error_clear(err);
@@ -900,39 +1192,73 @@ csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_pa
     panels[np++] = draw_summary;
     if (!strcmp(d.info.kind, "observer") || !strcmp(d.info.kind, "study") || d.n_th) panels[np++] = draw_csf;
     if (!strcmp(d.info.kind, "display") || d.n_readings) panels[np++] = draw_display;
-    panels[np++] = draw_frames;
+    d.frames_inline = d.n_frames && PAGE_H - 80 - summary_height(&d) >= FRAMES_INLINE_MIN_PT;
+    /* A session without frame intervals (display sessions) gets no page that says so. */
+    if (!d.frames_inline && d.n_frames) panels[np++] = draw_frames;
 
+    /* The file is written through a temporary beside it (results/file_write.h) and renamed
+     * when complete: a full disk or a failed draw leaves no partial report. */
+    csf_atomic_file af = {0};
+    st = csf_atomic_open(&af, out_path, "report", err);
+    if (st != CSF_OK) {
+        free_data(&d);
+        return st;
+    }
+    stream_sink sink = {af.fp, 0};
     cairo_surface_t *surf = NULL;
-    if (kind == OUT_PDF) surf = cairo_pdf_surface_create(out_path, PAGE_W, PAGE_H);
-    else if (kind == OUT_SVG) surf = cairo_svg_surface_create(out_path, PAGE_W, PAGE_H * np);
+    if (kind == OUT_PDF) surf = cairo_pdf_surface_create_for_stream(sink_write, &sink, PAGE_W, PAGE_H);
+    else if (kind == OUT_SVG) surf = cairo_svg_surface_create_for_stream(sink_write, &sink, PAGE_W, PAGE_H * np);
     else surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)PAGE_W, (int)PAGE_H * np);
     if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
         st = csf_error_set(err, CSF_E_IO, "report: cannot create %s (%s)", out_path,
                            cairo_status_to_string(cairo_surface_status(surf)));
         cairo_surface_destroy(surf);
+        csf_atomic_abort(&af);
         free_data(&d);
         return st;
+    }
+    char doc_title[160];
+    snprintf(doc_title, sizeof doc_title, "csfcal session %lld: %s calibration report",
+             (long long)d.info.id, d.info.kind);
+    if (kind == OUT_PDF) {
+        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_TITLE, doc_title);
+        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_SUBJECT,
+                                       "Session summary, verdicts, measurements and frame timing");
+        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_CREATOR, "csfcal " CSF_VERSION);
     }
     cairo_t *cr = cairo_create(surf);
     for (int i = 0; i < np; i++) {
         cairo_save(cr);
         if (kind != OUT_PDF) cairo_translate(cr, 0, PAGE_H * i);
-        cairo_set_source_rgb(cr, 0.97, 0.97, 0.97);
+        cairo_set_source_rgb(cr, 1, 1, 1);
         cairo_rectangle(cr, 0, 0, PAGE_W, PAGE_H);
         cairo_fill(cr);
+        /* The panels are drawn for the whole page; shrunk by 4 % about the top centre they
+         * leave the bottom 24 pt to the footer, inside a printer's margin. */
+        cairo_save(cr);
+        cairo_translate(cr, PAGE_W * 0.02, 0);
+        cairo_scale(cr, 0.96, 0.96);
         panels[i](cr, &d);
+        cairo_restore(cr);
+        draw_footer(cr, doc_title, i + 1, np);
         cairo_restore(cr);
         if (kind == OUT_PDF) cairo_show_page(cr);
     }
     cairo_status_t cst = cairo_status(cr);
     cairo_destroy(cr);
-    if (cst == CAIRO_STATUS_SUCCESS && kind == OUT_PNG) cst = cairo_surface_write_to_png(surf, out_path);
+    if (cst == CAIRO_STATUS_SUCCESS && kind == OUT_PNG)
+        cst = cairo_surface_write_to_png_stream(surf, sink_write, &sink);
     cairo_surface_finish(surf);
     if (cst == CAIRO_STATUS_SUCCESS) cst = cairo_surface_status(surf);
     cairo_surface_destroy(surf);
     free_data(&d);
-    if (cst != CAIRO_STATUS_SUCCESS)
-        return csf_error_set(err, CSF_E_IO, "report: writing %s failed (%s)", out_path,
+    if (cst != CAIRO_STATUS_SUCCESS) {
+        csf_atomic_abort(&af);
+        if (sink.errno_saved)
+            return csf_error_set(err, CSF_E_IO, "report: writing %s failed (%s)", out_path,
+                                 strerror(sink.errno_saved));
+        return csf_error_set(err, CSF_E_IO, "report: drawing %s failed (%s)", out_path,
                              cairo_status_to_string(cst));
-    return CSF_OK;
+    }
+    return csf_atomic_commit(&af, err);
 }

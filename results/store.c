@@ -108,6 +108,88 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
      * intervals (signal_interval 1 or 2). */
     "ALTER TABLE trials ADD COLUMN n_alternatives INTEGER NOT NULL DEFAULT 0;"
     "UPDATE trials SET n_alternatives = 2 WHERE signal_interval > 0;",
+
+    /* -> v5: observer sessions name the display they ran on and, apart, the profile they used
+     * (before, the profile id stood in the display column and a display row with no profile was
+     * made for it); a profile file is one artifact row, not a row with the bytes and another
+     * with the path; units in column names; one threshold per cell; CHECKs on enumerations.
+     * Tables whose columns change are rebuilt (SQLite cannot add a CHECK to a table); the
+     * migration runs with foreign keys off, as SQLite's documented rebuild procedure requires. */
+    "CREATE TABLE sessions_v5 (id INTEGER PRIMARY KEY,"
+    "  kind TEXT NOT NULL CHECK (kind IN ('display', 'observer', 'study')),"
+    "  state TEXT NOT NULL CHECK (state IN ('running', 'paused', 'finished', 'aborted')),"
+    "  observer TEXT NOT NULL DEFAULT '', display TEXT NOT NULL DEFAULT '', profile_id TEXT,"
+    "  settings_json TEXT NOT NULL, seed INTEGER NOT NULL, tool_version TEXT NOT NULL,"
+    "  created_utc TEXT NOT NULL, updated_utc TEXT NOT NULL);"
+    /* A profile id as display: the default profile's id, an id with a recorded history, or the
+     * "<display>-<yyyymmdd|undated>-<8 hex digits>" form every measured profile's id has. */
+    "INSERT INTO sessions_v5 (id, kind, state, observer, display, profile_id, settings_json, seed,"
+    "  tool_version, created_utc, updated_utc)"
+    "  SELECT id, kind, state, observer, display,"
+    "  CASE WHEN kind = 'observer' AND (display = 'default-gamma2.2-100cdm2'"
+    "    OR display IN (SELECT profile_id FROM display_profiles)"
+    "    OR display GLOB '*-[0-9][0-9][0-9][0-9][0-9][0-9][0-9][0-9]-[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]'"
+    "    OR display GLOB '*-undated-[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]')"
+    "  THEN display END, settings_json, seed, tool_version, created_utc, updated_utc FROM sessions;"
+    "DROP TABLE sessions;"
+    "ALTER TABLE sessions_v5 RENAME TO sessions;"
+    /* The real display: the one the profile was measured on when this store measured it; the
+     * default profile's display is 'default'; otherwise unknown (''), the profile id is kept. */
+    "UPDATE sessions SET display = COALESCE((SELECT d.name FROM display_profiles p"
+    "  JOIN displays d ON d.id = p.display_id WHERE p.profile_id = sessions.profile_id"
+    "  ORDER BY p.id DESC LIMIT 1),"
+    "  CASE WHEN profile_id = 'default-gamma2.2-100cdm2' THEN 'default' ELSE '' END)"
+    "  WHERE profile_id IS NOT NULL;"
+    "DELETE FROM displays WHERE profile_id IS NULL"
+    "  AND name IN (SELECT profile_id FROM sessions WHERE profile_id IS NOT NULL)"
+    "  AND name NOT IN (SELECT display FROM sessions)"
+    "  AND id NOT IN (SELECT display_id FROM display_profiles);"
+    "INSERT INTO displays (name, profile_id, created_utc) SELECT display, NULL, MIN(created_utc)"
+    "  FROM sessions WHERE display <> '' AND display NOT IN (SELECT name FROM displays)"
+    "  GROUP BY display;"
+    "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
+    "  SELECT d.id, s.profile_id, NULL, MIN(s.created_utc) FROM sessions s"
+    "  JOIN displays d ON d.name = s.display WHERE s.profile_id IS NOT NULL AND NOT EXISTS"
+    "  (SELECT 1 FROM display_profiles p WHERE p.display_id = d.id AND p.profile_id = s.profile_id)"
+    "  GROUP BY d.id, s.profile_id;"
+    "UPDATE displays SET profile_id = (SELECT p.profile_id FROM display_profiles p"
+    "  WHERE p.display_id = displays.id ORDER BY p.id DESC LIMIT 1) WHERE profile_id IS NULL;"
+
+    "CREATE TABLE readings_v5 (session_id INTEGER NOT NULL REFERENCES sessions(id),"
+    "  seq INTEGER NOT NULL CHECK (seq >= 0),"
+    "  channel TEXT NOT NULL CHECK (channel IN ('dark', 'white', 'grey', 'r', 'g', 'b')),"
+    "  drive01 REAL NOT NULL CHECK (drive01 >= 0 AND drive01 <= 1), lum_cdm2 REAL,"
+    "  X_cdm2 REAL, Y_cdm2 REAL, Z_cdm2 REAL, t_s REAL NOT NULL,"
+    "  status TEXT NOT NULL CHECK (status IN ('ok', 'too_dark', 'saturated', 'timeout', 'error')),"
+    "  stored_s REAL, PRIMARY KEY (session_id, seq));"
+    "INSERT INTO readings_v5 SELECT session_id, seq, channel, drive01, lum_cdm2, x, y, z, t_s,"
+    "  status, stored_s FROM readings;"
+    "DROP TABLE readings;"
+    "ALTER TABLE readings_v5 RENAME TO readings;"
+
+    /* put_thresholds always replaced a session's rows whole, so a duplicate cell can only come
+     * from a caller passing one twice: the last row stored wins, as a reader saw it last. */
+    "CREATE TABLE thresholds_v5 (session_id INTEGER NOT NULL REFERENCES sessions(id),"
+    "  freq_cpd REAL NOT NULL, ecc_deg REAL NOT NULL, velocity_dps REAL NOT NULL DEFAULT 0,"
+    "  lum_cdm2 REAL NOT NULL, threshold_michelson REAL, stderr_log10 REAL,"
+    "  n_trials INTEGER NOT NULL,"
+    "  UNIQUE (session_id, lum_cdm2, velocity_dps, ecc_deg, freq_cpd));"
+    "INSERT INTO thresholds_v5 SELECT session_id, freq_cpd, ecc_deg, velocity_dps, lum_cdm2,"
+    "  threshold, stderr_log10, n_trials FROM thresholds t WHERE rowid = (SELECT MAX(rowid)"
+    "  FROM thresholds u WHERE u.session_id = t.session_id AND u.lum_cdm2 = t.lum_cdm2"
+    "  AND u.velocity_dps = t.velocity_dps AND u.ecc_deg = t.ecc_deg AND u.freq_cpd = t.freq_cpd);"
+    "DROP TABLE thresholds;"
+    "ALTER TABLE thresholds_v5 RENAME TO thresholds;"
+
+    /* One profile file, one row: the row with the bytes takes the path of the path-only row. */
+    "UPDATE artifacts SET path = (SELECT b.path FROM artifacts b WHERE b.session_id ="
+    "  artifacts.session_id AND b.kind = artifacts.kind AND b.content IS NULL AND b.path <> ''"
+    "  ORDER BY b.id LIMIT 1) WHERE path = '' AND content IS NOT NULL AND EXISTS (SELECT 1"
+    "  FROM artifacts b WHERE b.session_id = artifacts.session_id AND b.kind = artifacts.kind"
+    "  AND b.content IS NULL AND b.path <> '');"
+    "DELETE FROM artifacts WHERE content IS NULL AND path <> '' AND EXISTS (SELECT 1 FROM"
+    "  artifacts a WHERE a.session_id = artifacts.session_id AND a.kind = artifacts.kind"
+    "  AND a.content IS NOT NULL AND a.path = artifacts.path);",
 };
 
 /* ---- helpers ----------------------------------------------------------------------------- */
@@ -318,6 +400,15 @@ static void dir_of(const char *path, char *out, size_t cap)
     copy_str(out, cap, dirname(tmp));
 }
 
+/* /dev/null, a FIFO or a terminal: SQLite would fail later with a bare I/O error. */
+static csf_status not_regular(const char *path, mode_t mode, csf_error *err)
+{
+    const char *what = S_ISCHR(mode) ? "a character device" : S_ISBLK(mode) ? "a block device"
+                       : S_ISFIFO(mode) ? "a pipe" : S_ISSOCK(mode) ? "a socket" : "not a plain file";
+    return csf_error_set(err, CSF_E_STORE, "store %s: is %s, not a database file; give the path "
+                         "of a file (it is created if missing) with --store", path, what);
+}
+
 /* Read-only checks. Running as root, access() says yes to everything, so a file or folder whose
  * mode has no write bit at all is also treated as read-only: someone marked it so on purpose. */
 static csf_status check_writable(const char *path, csf_error *err)
@@ -329,6 +420,7 @@ static csf_status check_writable(const char *path, csf_error *err)
     int exists = stat(path, &st) == 0;
     if (exists && S_ISDIR(st.st_mode))
         return csf_error_set(err, CSF_E_STORE, "store %s: is a folder, not a database file", path);
+    if (exists && !S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
     struct stat dst;
     if (stat(dir, &dst) != 0)
         return csf_error_set(err, CSF_E_STORE, "store %s: folder %s does not exist (%s)", path, dir,
@@ -393,31 +485,60 @@ static int query_int(sqlite3 *db, const char *sql, int *out, int *rc_out)
     return rc == SQLITE_OK ? 0 : -1;
 }
 
-static csf_status migrate(csf_store *s, csf_error *err)
+/* Version of the schema as this connection sees it now: 0 for an empty file, -1 for someone
+ * else's database (tables but no schema_version). */
+static int read_version(csf_store *s, int *version, int *rc)
 {
-    int rc, n_tables = 0, version = 0;
-    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table'", &n_tables, &rc) < 0)
-        return fail(s, err, rc, "reading the schema");
-    int has_version = 0;
-    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
-                         "name = 'schema_version'", &has_version, &rc) < 0)
-        return fail(s, err, rc, "reading the schema");
-    if (n_tables > 0 && !has_version)
+    int n_tables = 0, has_version = 0;
+    *version = 0;
+    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table'", &n_tables, rc) < 0 ||
+        query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
+                         "name = 'schema_version'", &has_version, rc) < 0)
+        return -1;
+    if (n_tables > 0 && !has_version) {
+        *version = -1;
+        return 0;
+    }
+    if (has_version && query_int(s->db, "SELECT MAX(version) FROM schema_version", version, rc) < 0)
+        return -1;
+    return 0;
+}
+
+/* Refuses a foreign database or a newer schema; called before anything is written, so a file
+ * that is refused is left byte for byte as it was. */
+static csf_status check_schema(csf_store *s, int version, csf_error *err)
+{
+    if (version < 0)
         return csf_error_set(err, CSF_E_STORE,
                              "store %s: an SQLite database but not a csfcal store (no "
                              "schema_version table); refusing to change it", s->path);
-    if (has_version && query_int(s->db, "SELECT MAX(version) FROM schema_version", &version, &rc) < 0)
-        return fail(s, err, rc, "reading the schema version");
     if (version > CSF_STORE_SCHEMA_VERSION)
         return csf_error_set(err, CSF_E_STORE,
                              "store %s: schema version %d is newer than this csfcal understands "
                              "(%d); use a newer csfcal", s->path, version, CSF_STORE_SCHEMA_VERSION);
-    for (int v = version; v < CSF_STORE_SCHEMA_VERSION; v++) {
-        /* Each step is one transaction: a crash mid-migration leaves the old version intact. */
+    return CSF_OK;
+}
+
+/* One step per transaction, and the version is read again inside it: several processes that
+ * open a new or old store at once wait for each other's step and skip what is already done. */
+static csf_status migrate_steps(csf_store *s, csf_error *err)
+{
+    for (;;) {
+        int rc = exec_s(s, "BEGIN IMMEDIATE");
+        if (rc != SQLITE_OK) return fail(s, err, rc, "migrating the schema");
+        int v = 0;
+        if (read_version(s, &v, &rc) < 0) {
+            csf_status st = fail(s, err, rc, "reading the schema version");
+            exec_s(s, "ROLLBACK");
+            return st;
+        }
+        csf_status cs = check_schema(s, v, err);
+        if (cs != CSF_OK || v == CSF_STORE_SCHEMA_VERSION) {
+            exec_s(s, "ROLLBACK");
+            return cs;
+        }
         char what[64];
         snprintf(what, sizeof what, "migrating the schema from version %d to %d", v, v + 1);
-        rc = exec_s(s, "BEGIN IMMEDIATE");
-        if (rc != SQLITE_OK) return fail(s, err, rc, what);
         rc = exec_s(s, csf_store_migrations[v]);
         if (rc == SQLITE_OK) {
             char upd[96];
@@ -431,7 +552,17 @@ static csf_status migrate(csf_store *s, csf_error *err)
             return st;
         }
     }
-    return CSF_OK;
+}
+
+/* Table rebuilds (v5) need foreign keys off, and that cannot change inside a transaction. */
+static csf_status migrate(csf_store *s, csf_error *err)
+{
+    int rc = exec_s(s, "PRAGMA foreign_keys = OFF");
+    if (rc != SQLITE_OK) return fail(s, err, rc, "migrating the schema");
+    csf_status cs = migrate_steps(s, err);
+    rc = exec_s(s, "PRAGMA foreign_keys = ON");
+    if (cs == CSF_OK && rc != SQLITE_OK) cs = fail(s, err, rc, "migrating the schema");
+    return cs;
 }
 
 /* Commits a real write (and removes it again) so a full disk or quota shows up now, not at
@@ -494,6 +625,16 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
     /* A second csfcal on the same store waits a little instead of failing at once. */
     sqlite3_busy_timeout(s->db, 5000);
 
+    /* Someone else's database, or a newer csfcal's, is refused before the switch to WAL
+     * below rewrites its header: a refused file stays exactly as it was. */
+    int version = 0;
+    if (read_version(s, &version, &rc) < 0) {
+        cs = fail(s, err, rc, "reading the schema");
+        goto bad;
+    }
+    cs = check_schema(s, version, err);
+    if (cs != CSF_OK) goto bad;
+
     char mode[16] = "";
     sqlite3_stmt *st = NULL;
     rc = prepare(s, "PRAGMA journal_mode = WAL", &st);
@@ -551,7 +692,8 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
                     " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
                     "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
     if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, x, y, z,"
+        rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
+                        " Y_cdm2, Z_cdm2,"
                         " t_s, status, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?)", &s->ins_reading);
     if (rc == SQLITE_OK)
         rc = prepare(s, "INSERT INTO frame_intervals (session_id, trial_seq, idx, interval_s)"
@@ -619,7 +761,22 @@ static csf_status finish_readonly(csf_store *s, csf_error *err)
     return CSF_OK;
 }
 
+static csf_status open_readonly_once(const char *path, csf_store **out, csf_error *err);
+
+/* A store of an older schema on a writable file (the first listing after an upgrade) is migrated
+ * by a writable open first; on read-only media it is refused with a message saying so. */
 csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err)
+{
+    csf_status cs = open_readonly_once(path, out, err);
+    if (cs != CSF_E_STORE || !err || !strstr(err->msg, "must be migrated") || access(path, W_OK) != 0)
+        return cs;
+    csf_store *w = NULL;
+    cs = csf_store_open(path, &w, err);
+    csf_store_close(w);
+    return cs == CSF_OK ? open_readonly_once(path, out, err) : cs;
+}
+
+static csf_status open_readonly_once(const char *path, csf_store **out, csf_error *err)
 {
     csf_status as = check_open_args(path, out, err);
     if (as != CSF_OK) return as;
@@ -629,6 +786,7 @@ csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error 
                              "been recorded there yet", path, strerror(errno));
     if (S_ISDIR(stt.st_mode))
         return csf_error_set(err, CSF_E_STORE, "store %s: is a folder, not a database file", path);
+    if (!S_ISREG(stt.st_mode)) return not_regular(path, stt.st_mode, err);
     csf_status cs = check_magic(path, err);
     if (cs != CSF_OK) return cs;
     if (stt.st_size == 0)
@@ -778,9 +936,44 @@ csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id
     return upsert_named(s, "observers", name, NULL, id, err);
 }
 
+/* The profile a session uses, in its display's history; the display's current profile only
+ * when it has none (an old profile file must not replace a newer measurement). */
+static csf_status link_profile(csf_store *s, const char *display, const char *profile_id,
+                               csf_error *err)
+{
+    static const char *const sql[] = {
+        "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
+        " SELECT id, ?2, NULL, ?3 FROM displays WHERE name = ?1 AND NOT EXISTS (SELECT 1 FROM"
+        " display_profiles p WHERE p.display_id = displays.id AND p.profile_id = ?2)",
+        "UPDATE displays SET profile_id = ?2 WHERE name = ?1 AND profile_id IS NULL",
+    };
+    char now[32];
+    utc_now(now);
+    for (size_t i = 0; i < sizeof sql / sizeof sql[0]; i++) {
+        sqlite3_stmt *st = NULL;
+        int rc = prepare(s, sql[i], &st);
+        if (rc != SQLITE_OK) return fail(s, err, rc, "recording a session's display profile");
+        sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 2, profile_id, -1, SQLITE_TRANSIENT);
+        if (i == 0) sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
+        csf_status cs = run_simple(s, st, "recording a session's display profile", err);
+        if (cs != CSF_OK) return cs;
+    }
+    return CSF_OK;
+}
+
 csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
                                    const char *display, const char *settings_json, uint64_t seed,
                                    int64_t *id, csf_error *err)
+{
+    return csf_store_begin_session_profile(s, kind, observer, display, NULL, settings_json, seed,
+                                           id, err);
+}
+
+csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const char *observer,
+                                           const char *display, const char *profile_id,
+                                           const char *settings_json, uint64_t seed, int64_t *id,
+                                           csf_error *err)
 {
     csf_error_clear(err);
     if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
@@ -793,17 +986,21 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name longer than 255 characters");
     if (display && strlen(display) > 255)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 255 characters");
+    if (profile_id && strlen(profile_id) > 127)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
+    if (profile_id && !*profile_id) profile_id = NULL;
     /* Observer and display rows are written in the same transaction as the session. */
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "starting a session");
     csf_status cs = CSF_OK;
     if (observer && *observer) cs = upsert_named(s, "observers", observer, NULL, NULL, err);
     if (cs == CSF_OK && display && *display) cs = upsert_named(s, "displays", display, NULL, NULL, err);
+    if (cs == CSF_OK && display && *display && profile_id) cs = link_profile(s, display, profile_id, err);
     sqlite3_stmt *st = NULL;
     if (cs == CSF_OK) {
         rc = prepare(s, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
-                        " tool_version, created_utc, updated_utc) VALUES (?,'running',?,?,?,?,?,?,?)",
-                     &st);
+                        " tool_version, created_utc, updated_utc, profile_id)"
+                        " VALUES (?,'running',?,?,?,?,?,?,?,?)", &st);
         if (rc != SQLITE_OK) cs = fail(s, err, rc, "starting a session");
     }
     if (cs == CSF_OK) {
@@ -818,6 +1015,8 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
         sqlite3_bind_text(st, 6, CSF_VERSION, -1, SQLITE_STATIC);
         sqlite3_bind_text(st, 7, now, -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 8, now, -1, SQLITE_TRANSIENT);
+        if (profile_id) sqlite3_bind_text(st, 9, profile_id, -1, SQLITE_TRANSIENT);
+        else sqlite3_bind_null(st, 9);
         cs = run_simple(s, st, "starting a session", err);
     }
     if (cs == CSF_OK) {
@@ -838,7 +1037,7 @@ csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *o
     "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
     " s.tool_version, s.created_utc,"                                                        \
     " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id) FROM sessions s"
+    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id FROM sessions s"
 
 static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
 {
@@ -855,6 +1054,7 @@ static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
     col_text(st, 8, o->created_utc, sizeof o->created_utc);
     o->n_trials = sqlite3_column_int(st, 9);
     o->n_readings = sqlite3_column_int(st, 10);
+    col_text(st, 11, o->profile_id, sizeof o->profile_id);
     return o->settings_json ? 0 : -1;
 }
 
@@ -932,12 +1132,18 @@ csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t 
     return query_rows(s, &q, 0, (void **)out, n, err);
 }
 
-static void format_unix(double t, char out[32])
+/* Unix seconds to ISO 8601; 0 with "" for a value that is no time of this era (a damaged row:
+ * converting an out-of-range double to time_t is undefined). */
+static int format_unix(double t, char out[32])
 {
+    out[0] = '\0';
+    /* 1970 to the end of year 9999, the range ISO 8601's four-digit year can write. */
+    if (!(t >= 0.0 && t < 253402300800.0)) return 0;
     time_t tt = (time_t)floor(t);
     struct tm tm;
     gmtime_r(&tt, &tm);
     strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return 1;
 }
 
 csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32],
@@ -965,9 +1171,8 @@ csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32
     /* ISO 8601 strings of one format compare like the times they name. */
     for (int c = 2; c <= 3; c++) {
         double t = col_real(st, c);
-        if (!isnan(t)) {
-            char u[32];
-            format_unix(t, u);
+        char u[32];
+        if (format_unix(t, u)) {
             if (strcmp(u, updated) > 0) copy_str(updated, sizeof updated, u);
         }
     }
@@ -1060,7 +1265,7 @@ csf_status csf_store_get_readings(csf_store *s, int64_t session_id, csf_reading 
                                   csf_error *err)
 {
     static const row_query q = {
-        .sql = "SELECT seq, channel, drive01, lum_cdm2, x, y, z, t_s, status FROM readings"
+        .sql = "SELECT seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status FROM readings"
         " WHERE session_id = ? ORDER BY seq",
         .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
         .what = "reading photometer readings", .oom_what = "reading readings"};
@@ -1310,7 +1515,7 @@ csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_
     }
     if (rc == SQLITE_OK)
         rc = prepare(s, "INSERT INTO thresholds (session_id, freq_cpd, ecc_deg, velocity_dps, lum_cdm2,"
-                        " threshold, stderr_log10, n_trials) VALUES (?,?,?,?,?,?,?,?)", &st);
+                        " threshold_michelson, stderr_log10, n_trials) VALUES (?,?,?,?,?,?,?,?)", &st);
     for (size_t i = 0; i < n && rc == SQLITE_OK; i++) {
         const csf_threshold_row *r = &rows[i];
         sqlite3_reset(st);
@@ -1354,7 +1559,7 @@ csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_thresh
                                     size_t *n, csf_error *err)
 {
     static const row_query q = {
-        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold, stderr_log10,"
+        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold_michelson, stderr_log10,"
         " n_trials FROM thresholds WHERE session_id = ?"
         " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
         .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
@@ -1424,6 +1629,39 @@ static int record_profile(csf_store *s, int64_t session_id, const void *blob, si
     return rc == SQLITE_DONE ? SQLITE_OK : rc;
 }
 
+/* The writer of a file and the code that produced its bytes may each record it (display
+ * calibrate stores the profile text, then the command that saved it the path): the second call
+ * completes the first call's row. *merged = 1 when a row was completed. */
+static int complete_half_record(csf_store *s, int64_t session_id, const char *kind,
+                                const char *path, const void *blob, size_t len, int *merged)
+{
+    *merged = 0;
+    int has_path = path && *path;
+    if (has_path == (blob != NULL)) return SQLITE_OK; /* a whole record, or nothing to add */
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, has_path
+                     ? "UPDATE artifacts SET path = ?3 WHERE id = (SELECT id FROM artifacts WHERE"
+                       " session_id = ?1 AND kind = ?2 AND path = '' AND content IS NOT NULL"
+                       " ORDER BY id DESC LIMIT 1)"
+                     : "UPDATE artifacts SET content = ?3, size_bytes = ?4 WHERE id = (SELECT id"
+                       " FROM artifacts WHERE session_id = ?1 AND kind = ?2 AND path <> ''"
+                       " AND content IS NULL ORDER BY id DESC LIMIT 1)", &st);
+    if (rc != SQLITE_OK) return rc;
+    sqlite3_bind_int64(st, 1, session_id);
+    sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
+    if (has_path) {
+        sqlite3_bind_text(st, 3, path, -1, SQLITE_TRANSIENT);
+    } else {
+        sqlite3_bind_blob64(st, 3, blob, len, SQLITE_STATIC);
+        sqlite3_bind_int64(st, 4, (sqlite3_int64)len);
+    }
+    rc = step(s, st);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) return rc;
+    *merged = sqlite3_changes(s->db) > 0;
+    return SQLITE_OK;
+}
+
 csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   const char *path, const void *blob, size_t len, csf_error *err)
 {
@@ -1437,10 +1675,13 @@ csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes (limit 512 MiB)", len);
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing an artifact");
+    int merged = 0;
+    rc = complete_half_record(s, session_id, kind, path, blob, len, &merged);
     sqlite3_stmt *st = NULL;
-    rc = prepare(s, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content, created_utc)"
-                    " VALUES (?,?,?,?,?,?)", &st);
-    if (rc == SQLITE_OK) {
+    if (rc == SQLITE_OK && !merged)
+        rc = prepare(s, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content, created_utc)"
+                        " VALUES (?,?,?,?,?,?)", &st);
+    if (rc == SQLITE_OK && !merged) {
         char now[32];
         utc_now(now);
         sqlite3_bind_int64(st, 1, session_id);

@@ -26,7 +26,7 @@ typedef struct csf_store csf_store;
 
 /* Newest schema version this build writes (older stores are migrated forward on open; a newer
  * one is refused rather than misread). */
-#define CSF_STORE_SCHEMA_VERSION 4
+#define CSF_STORE_SCHEMA_VERSION 5
 
 /* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
  * written (a probe write inside a transaction that is rolled back). */
@@ -53,7 +53,9 @@ typedef struct {
     char state[16];       /* "running", "paused", "finished", "aborted" */
     char observer[64];    /* observer name (observer/study sessions), "" otherwise; the store
                              keeps up to 255 characters, this shows the first 63 */
-    char display[64];     /* display name / profile id (same length rule) */
+    char display[64];     /* display name (same length rule); "" when unknown */
+    char profile_id[128]; /* observer and study sessions: id of the display profile the stimuli
+                             were mapped through ("" when none was recorded) */
     char *settings_json;  /* malloc'd; the settings the session was started with */
     uint64_t seed;
     char tool_version[32];
@@ -68,6 +70,14 @@ void csf_session_info_free(csf_session_info *s); /* frees settings_json */
 csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
                                    const char *display, const char *settings_json, uint64_t seed,
                                    int64_t *id, csf_error *err);
+/* The same, for a session that shows stimuli through a display profile: display is the display
+ * the profile was measured on, profile_id the profile's id (NULL or "" = none). The display is
+ * recorded in its own table and the profile in the display's profile history; the display's
+ * current profile changes only when it has none. */
+csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const char *observer,
+                                           const char *display, const char *profile_id,
+                                           const char *settings_json, uint64_t seed, int64_t *id,
+                                           csf_error *err);
 csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
 /* state: "running", "paused", "finished", "aborted"; also updates the session's updated time. */
 csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err);
@@ -158,7 +168,10 @@ csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_thresh
 
 /* ---- artifacts (files written from a session, kept with their bytes) --------------------- */
 
-/* kind: "csflut", "profile", "plot" (others allowed, up to 15 chars). blob may be NULL (len 0). */
+/* kind: "csflut", "profile", "plot" (others allowed, up to 15 chars). blob may be NULL (len 0).
+ * One file is one row: a path-only record (blob NULL) completes the session's newest record of
+ * that kind that has the bytes but no path, and bytes without a path complete a path-only
+ * record, instead of adding a second, half record. */
 csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   const char *path, const void *blob, size_t len, csf_error *err);
 /* Newest artifact of that kind for the session, preferring one stored with content over a

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Reports and session exports read back by other people's tools, and written safely.
+
+- pdfinfo: the PDF has a Title; pdftotext: the text is extractable and carries the summary's key
+  fields, and each setting value is whole (not wrapped inside a word or a number list).
+- SVG: no filled dot path starts with a line from elsewhere (the stray hairline from the end of the
+  previous text to each "At a glance" dot: a path with both a line-to and the arc's curve-tos).
+- Full disk (RLIMIT_FSIZE with SIGXFSZ ignored, which fails writes like a full disk): report -o
+  (pdf, png, svg) and sessions export -o fail with the OS error, leave the previous file as it
+  was and no temporary beside it.
+- sessions list/show: the resume hint names the command of the session's kind.
+"""
+import os
+import re
+import resource
+import signal
+import sqlite3
+import subprocess
+import sys
+import tempfile
+
+csfcal, make_sample = sys.argv[1], sys.argv[2]
+failures = 0
+checks = 0
+
+
+def check(cond, what):
+    global failures, checks
+    checks += 1
+    if not cond:
+        failures += 1
+        print("FAIL:", what, file=sys.stderr)
+
+
+def run(*args, expect=0, fsize=None):
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+    p = subprocess.run([csfcal, *args], capture_output=True, text=True,
+                       preexec_fn=limit if fsize is not None else None)
+    check(p.returncode == expect, f"csfcal {' '.join(args)}: exit {p.returncode}, expected {expect}; stderr: {p.stderr.strip()}")
+    return p
+
+
+def tool(*args):
+    return subprocess.run(list(args), capture_output=True, text=True)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    store = os.path.join(tmp, "s.sqlite")
+    obs, disp = subprocess.run([make_sample, store], capture_output=True, text=True, check=True).stdout.split()
+    S = ["--store", store]
+
+    # --- PDF metadata and text ---
+    pdf = os.path.join(tmp, "r.pdf")
+    run("report", obs, "-o", pdf, *S)
+    info = tool("pdfinfo", pdf).stdout
+    m = re.search(r"^Title:\s*(.+)$", info, re.M)
+    check(m is not None and m.group(1).strip() == f"csfcal session {obs}: observer calibration report",
+          f"pdfinfo title: {info}")
+    check(re.search(r"^Pages:\s*2$", info, re.M) is not None, f"observer report pages: {info}")
+    text = tool("pdftotext", "-layout", pdf, "-").stdout
+    for field in ("At a glance", "Kind / state", "observer / finished", "Observer", "sim-observer",
+                  "Display", "sim-lcd", "Seed", "77", "Trials", "240 (221 valid", "Settings",
+                  "Frame timing", "page 1 of 2", "Contrast sensitivity"):
+        check(field in text, f"pdftotext: '{field}' missing")
+    # Settings values whole: the frequency list on one line, keys unbroken.
+    check("[0.5,1,2,4,8,16,24]" in text and "[0,5,10,20]" in text, "settings values wrapped inside")
+    for line in text.splitlines():
+        if "freqs_cpd" in line:
+            check("[0.5,1,2,4,8,16,24]" in line, f"settings line: {line}")
+    dpdf = os.path.join(tmp, "d.pdf")
+    run("report", disp, "-o", dpdf, *S)
+    dtext = tool("pdftotext", "-layout", dpdf, "-").stdout
+    check("display calibration report" in dtext and "Photometer readings" in dtext and "grey" in dtext,
+          "display report text")
+    check("No frame intervals" not in dtext, "display report has no empty frame-timing page")
+
+    # --- hairlines: in the SVG, every filled path that draws an arc starts at the arc ---
+    svg = os.path.join(tmp, "r.svg")
+    run("report", obs, "-o", svg, *S)
+    with open(svg) as f:
+        body = f.read()
+    body = body.split("</defs>", 1)[-1]  # the glyph outlines are defined before: not drawing
+    paths = re.findall(r'<path[^>]* d="([^"]*)"', body)
+    check(len(paths) > 20, f"svg paths {len(paths)}")
+    stray = [d for d in paths if " C " in f" {d} " and re.search(r"\bL\b", d)]
+    check(not stray, f"{len(stray)} arc paths start with a line (stray hairline), e.g. {stray[:1]}")
+
+    # --- full disk: no partial file, old file kept, OS error named ---
+    for ext in ("pdf", "png", "svg"):
+        out = os.path.join(tmp, f"full.{ext}")
+        with open(out, "w") as f:
+            f.write("previous contents\n")
+        p = run("report", obs, "-o", out, *S, expect=1, fsize=4096)
+        check("File too large" in p.stderr, f"report .{ext} on a full disk: {p.stderr.strip()}")
+        with open(out) as f:
+            check(f.read() == "previous contents\n", f"report .{ext}: previous file changed")
+    exp = os.path.join(tmp, "full.csv")
+    with open(exp, "w") as f:
+        f.write("previous contents\n")
+    p = run("sessions", "export", obs, "--format", "csv", "--table", "frames", "-o", exp, *S, expect=1, fsize=4096)
+    check("File too large" in p.stderr, f"export on a full disk: {p.stderr.strip()}")
+    with open(exp) as f:
+        check(f.read() == "previous contents\n", "export: previous file changed")
+    leftovers = [n for n in os.listdir(tmp) if n.startswith("full.") and n not in
+                 ("full.pdf", "full.png", "full.svg", "full.csv")] + [n for n in os.listdir(tmp) if ".tmp" in n]
+    check(not leftovers, f"temporaries left: {leftovers}")
+    ok = os.path.join(tmp, "ok.csv")
+    run("sessions", "export", obs, "--format", "csv", "-o", ok, *S)
+    with open(ok) as f:
+        check(f.readline().startswith("session_id,seq,"), "export -o writes the file")
+
+    # --- resume hints name the right command ---
+    db = sqlite3.connect(store)
+    db.execute("UPDATE sessions SET state = 'paused'")
+    db.commit()
+    db.close()
+    p = run("sessions", *S)
+    hint = p.stdout.split("unfinished", 1)[-1]
+    check(f"csfcal display calibrate --resume {disp}" in hint, f"display resume hint: {hint}")
+    check(f"csfcal observer calibrate --resume {obs}" in hint, f"observer resume hint: {hint}")
+    check(f"observer calibrate --resume {disp}" not in hint, "display session sent to observer calibrate")
+    p = run("sessions", "show", disp, *S)
+    check(f"csfcal display calibrate --resume {disp}" in p.stdout, f"show hint: {p.stdout}")
+
+print(f"{checks} checks, {failures} failed", file=sys.stderr)
+sys.exit(1 if failures else 0)

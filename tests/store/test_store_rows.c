@@ -1,0 +1,279 @@
+/* What the rows mean (issue 10 item 9, issue 11 item 8): a store written by the schema-4 code
+ * (fixtures/schema_v4.sql, made by csfcal itself) is repaired by the v5 migration; new sessions
+ * record the display and the profile apart; one file is one artifact row; units in column names,
+ * one threshold per cell, CHECKs on enumerations; someone else's database is refused without a
+ * byte changed; /dev/null is named as what it is; a damaged stored_s is ignored, not cast. */
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "results/store.h"
+#include "results/store_internal.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static char *read_all(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    size_t got = fread(buf, 1, (size_t)n, f);
+    buf[got] = '\0';
+    fclose(f);
+    if (len) *len = got;
+    return buf;
+}
+
+static int exec_db(const char *path, const char *sql)
+{
+    sqlite3 *db = NULL;
+    int rc = sqlite3_open(path, &db);
+    char *msg = NULL;
+    if (rc == SQLITE_OK) rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
+    if (rc != SQLITE_OK) fprintf(stderr, "sql failed: %s\n", msg ? msg : sqlite3_errmsg(db));
+    sqlite3_free(msg);
+    sqlite3_close(db);
+    return rc;
+}
+
+/* First column of the first row as text ("" when none), through the open store's connection. */
+static void sql_text(csf_store *s, const char *sql, char *out, size_t cap)
+{
+    out[0] = '\0';
+    sqlite3_stmt *st = NULL;
+    if (sqlite3_prepare_v2(csf_store_db(s), sql, -1, &st, NULL) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW) {
+        const unsigned char *t = sqlite3_column_text(st, 0);
+        snprintf(out, cap, "%s", t ? (const char *)t : "");
+    }
+    sqlite3_finalize(st);
+}
+
+static int sql_int(csf_store *s, const char *sql)
+{
+    char buf[64];
+    sql_text(s, sql, buf, sizeof buf);
+    return atoi(buf);
+}
+
+static void check_sound(csf_store *s)
+{
+    char buf[256];
+    sql_text(s, "PRAGMA integrity_check", buf, sizeof buf);
+    CHECK_MSG(!strcmp(buf, "ok"), "integrity_check: %s", buf);
+    sql_text(s, "SELECT COUNT(*) FROM pragma_foreign_key_check", buf, sizeof buf);
+    CHECK_MSG(!strcmp(buf, "0"), "foreign_key_check rows: %s", buf);
+}
+
+static void test_v4_repair(const char *dir)
+{
+    const char *fx = getenv("CSF_STORE_FIXTURES");
+    char fixture[600], path[700];
+    snprintf(fixture, sizeof fixture, "%s/schema_v4.sql", fx ? fx : "tests/store/fixtures");
+    char *sql = read_all(fixture, NULL);
+    CHECK_MSG(sql != NULL, "cannot read %s", fixture);
+    if (!sql) return;
+    snprintf(path, sizeof path, "%s/v4.sqlite", dir);
+    CHECK_INT_EQ(exec_db(path, sql), SQLITE_OK);
+    free(sql);
+
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+    check_sound(s);
+
+    /* Observer sessions: the display the profile was measured on, and the profile apart. */
+    csf_session_info si;
+    CHECK_INT_EQ(csf_store_get_session(s, 2, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.display, "sim:display=lcd"));
+    CHECK(!strcmp(si.profile_id, "sim-display-lcd-20261123-76c386bb"));
+    csf_session_info_free(&si);
+    CHECK_INT_EQ(csf_store_get_session(s, 3, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.display, "default"));
+    CHECK(!strcmp(si.profile_id, "default-gamma2.2-100cdm2"));
+    csf_session_info_free(&si);
+    CHECK_INT_EQ(csf_store_get_session(s, 1, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.display, "sim:display=lcd") && si.profile_id[0] == '\0');
+    csf_session_info_free(&si);
+
+    /* No display row named after a profile, none without a profile, and every session's display
+     * and profile join to a row. */
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays WHERE name IN (SELECT profile_id FROM display_profiles)"), 0);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays WHERE profile_id IS NULL"), 0);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays"), 2);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM sessions s JOIN displays d ON d.name = s.display"), 3);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM sessions s JOIN displays d ON d.name = s.display"
+                            " JOIN display_profiles p ON p.display_id = d.id AND p.profile_id = s.profile_id"), 2);
+
+    /* The profile file: one row with its path and its bytes. */
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts WHERE session_id = 1 AND kind = 'profile'"), 1);
+    void *blob = NULL;
+    size_t len = 0;
+    char apath[256] = "";
+    CHECK_INT_EQ(csf_store_get_artifact(s, 1, "profile", &blob, &len, apath, sizeof apath, &err), CSF_OK);
+    CHECK(!strcmp(apath, "lcd.profile"));
+    CHECK_INT_EQ(len, 9525);
+    CHECK(blob && !strncmp(blob, "csfcal-display-profile", 22));
+    free(blob);
+
+    /* Units in the names; the values came across. */
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM pragma_table_info('readings') WHERE name IN"
+                            " ('X_cdm2', 'Y_cdm2', 'Z_cdm2')"), 3);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM pragma_table_info('thresholds') WHERE name = 'threshold_michelson'"), 1);
+    csf_reading *r = NULL;
+    size_t nr = 0;
+    CHECK_INT_EQ(csf_store_get_readings(s, 1, &r, &nr, &err), CSF_OK);
+    CHECK(nr > 10);
+    if (nr > 0) {
+        CHECK(r[0].has_xyz);
+        CHECK_NEAR(r[0].X, 169.76714800874373168, 0);
+        CHECK_NEAR(r[0].Z, 194.51857434367065025, 0);
+    }
+    free(r);
+
+    /* One threshold per cell: the duplicate row of the fixture is gone, the last one kept. */
+    csf_threshold_row *th = NULL;
+    size_t nth = 0;
+    CHECK_INT_EQ(csf_store_get_thresholds(s, 3, &th, &nth, &err), CSF_OK);
+    CHECK_INT_EQ(nth, 2);
+    if (nth == 2) CHECK_NEAR(th[1].threshold, 0.0031, 0);
+    free(th);
+    csf_store_close(s);
+
+    /* Reading commands migrate an old store on a writable file instead of refusing it. */
+    snprintf(path, sizeof path, "%s/v4-ro.sqlite", dir);
+    sql = read_all(fixture, NULL);
+    CHECK_INT_EQ(exec_db(path, sql), SQLITE_OK);
+    free(sql);
+    CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
+    if (s) {
+        CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+        csf_store_close(s);
+    }
+}
+
+static void test_new_rows(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/new.sqlite", dir);
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) return;
+    int64_t disp = 0, obs = 0, obs2 = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, "lab-oled", NULL, 1, &disp, &err), CSF_OK);
+    /* display calibrate stores the bytes, then the command that saved the file its path. */
+    const char text[] = "csfcal-display-profile 1\nid = lab-oled-20261123-0badf00d\ndisplay = lab-oled\n";
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", NULL, text, sizeof text - 1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "oled.profile", NULL, 0, &err), CSF_OK);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts"), 1);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts WHERE path = 'oled.profile' AND"
+                            " size_bytes = length(content)"), 1);
+    /* The other order completes the row too. */
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "plot", "p.png", NULL, 0, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, disp, "plot", NULL, "PNG", 3, &err), CSF_OK);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts WHERE kind = 'plot' AND path = 'p.png'"
+                            " AND size_bytes = 3"), 1);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts"), 2);
+
+    /* An observer session on that display with its profile: no display row for the profile. */
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20261123-0badf00d",
+                                                 NULL, 2, &obs, &err), CSF_OK);
+    csf_session_info si;
+    CHECK_INT_EQ(csf_store_get_session(s, obs, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.display, "lab-oled") && !strcmp(si.profile_id, "lab-oled-20261123-0badf00d"));
+    csf_session_info_free(&si);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays"), 1);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 1);
+    /* An older profile file for that display goes into its history but does not become current. */
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20260101-00000001",
+                                                 NULL, 3, &obs2, &err), CSF_OK);
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 2);
+    char cur[128];
+    CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-oled", cur, sizeof cur, &err), CSF_OK);
+    CHECK(!strcmp(cur, "lab-oled-20261123-0badf00d"));
+
+    /* One threshold per cell. */
+    csf_threshold_row rows[2] = {{2, 0, 0, 50, 0.01, 0.1, 8}, {2, 0, 0, 50, 0.02, 0.1, 8}};
+    CHECK_INT_EQ(csf_store_put_thresholds(s, obs, rows, 2, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "UNIQUE");
+    rows[1].freq_cpd = 4;
+    CHECK_INT_EQ(csf_store_put_thresholds(s, obs, rows, 2, &err), CSF_OK);
+
+    /* CHECK constraints hold against writers that bypass this API. */
+    sqlite3 *db = csf_store_db(s);
+    CHECK(sqlite3_exec(db, "UPDATE sessions SET state = 'done' WHERE id = 1", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "UPDATE sessions SET kind = 'movie' WHERE id = 1", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "INSERT INTO readings (session_id, seq, channel, drive01, t_s, status)"
+                           " VALUES (1, 0, 'purple', 0.5, 0, 'ok')", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "INSERT INTO readings (session_id, seq, channel, drive01, t_s, status)"
+                           " VALUES (1, 0, 'grey', 0.5, 0, 'fine')", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "INSERT INTO readings (session_id, seq, channel, drive01, t_s, status)"
+                           " VALUES (1, 0, 'grey', 0.5, 0, 'ok')", NULL, NULL, NULL) == SQLITE_OK);
+    check_sound(s);
+
+    /* A damaged stored_s (here 1e300 s) does not become the session's last write time: it is
+     * no time at all, and converting it to time_t would be undefined. */
+    CHECK(sqlite3_exec(db, "UPDATE readings SET stored_s = 1e300", NULL, NULL, NULL) == SQLITE_OK);
+    char created[32], updated[32];
+    CHECK_INT_EQ(csf_store_session_times(s, 1, created, updated, &err), CSF_OK);
+    CHECK_MSG(!strcmp(created, updated), "created %s, updated %s", created, updated);
+    /* 1e13 s is the year 318857: a time_t, but no time a row was stored at; it used to become
+     * "318857-..." as the last write. */
+    CHECK(sqlite3_exec(db, "UPDATE readings SET stored_s = 1e13", NULL, NULL, NULL) == SQLITE_OK);
+    CHECK_INT_EQ(csf_store_session_times(s, 1, created, updated, &err), CSF_OK);
+    CHECK_MSG(!strcmp(created, updated), "created %s, updated %s", created, updated);
+    CHECK(sqlite3_exec(db, "UPDATE readings SET stored_s = -1e19", NULL, NULL, NULL) == SQLITE_OK);
+    CHECK_INT_EQ(csf_store_session_times(s, 1, created, updated, &err), CSF_OK);
+    CHECK_MSG(!strcmp(created, updated), "created %s, updated %s", created, updated);
+    csf_store_close(s);
+}
+
+static void test_refusals(const char *dir)
+{
+    /* Someone else's database: refused, and not one byte of it changed (it stays in rollback
+     * journal mode; before, the WAL switch rewrote its header). */
+    char path[700];
+    snprintf(path, sizeof path, "%s/photos.sqlite", dir);
+    CHECK_INT_EQ(exec_db(path, "CREATE TABLE photos (id INTEGER, name TEXT); INSERT INTO photos VALUES (1, 'a');"),
+                 SQLITE_OK);
+    size_t n0 = 0, n1 = 0;
+    char *before = read_all(path, &n0);
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "not a csfcal store");
+    char *after = read_all(path, &n1);
+    CHECK(before && after && n0 == n1 && memcmp(before, after, n0) == 0);
+    free(before);
+    free(after);
+    char wal[720];
+    snprintf(wal, sizeof wal, "%s-wal", path);
+    struct stat st;
+    CHECK(stat(wal, &st) != 0);
+
+    /* /dev/null is named as a device, for writing and for reading. */
+    CHECK_INT_EQ(csf_store_open("/dev/null", &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "character device");
+    CHECK_STR_CONTAINS(err.msg, "--store");
+    CHECK_INT_EQ(csf_store_open_readonly("/dev/null", &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "character device");
+}
+
+int main(void)
+{
+    char dir[512];
+    if (tmp_dir(dir, sizeof dir, "rows") < 0) return 1;
+    test_v4_repair(dir);
+    test_new_rows(dir);
+    test_refusals(dir);
+    rm_rf(dir);
+    return CHECK_RESULT();
+}
