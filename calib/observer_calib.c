@@ -1171,7 +1171,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         csf_error why;
         csf_error_clear(&why);
         int invalid = !wrong && !unreadable && check_settings(&set, 0, &why) != CSF_OK;
-        if (!wrong && !set.profile_id[0]) snprintf(set.profile_id, sizeof set.profile_id, "%s", info.display);
+        /* Sessions stored before the settings carried the profile id: the store's profile_id
+         * (schema 5 moved it there from the display column). */
+        if (!wrong && !set.profile_id[0]) snprintf(set.profile_id, sizeof set.profile_id, "%s", info.profile_id);
         csf_session_info_free(&info);
         if (wrong) {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
