@@ -1,7 +1,9 @@
 /* bench_lut: threshold lookups per second on one core over a realistic 8 x 6 table (the default
  * model observer, never-visible cells as +inf), scalar and batch, against the analytic CSF the
- * table was made from (log-parabola x stelaCSF eccentricity, results/csf_model.h), with exactness
- * checked against a straightforward reference interpolator (libm log, linear cell search).
+ * table was made from (log-parabola x stelaCSF eccentricity, results/csf_model.h), in the same
+ * run; exactness checked against a straightforward reference interpolator (libm log and exp,
+ * linear cell search); and how often a truly visible query (analytic threshold <= 1) is answered
+ * too high or "never visible", by the library and by the linear blend it had before 2.0.0.
  *   usage: bench_lut [N_QUERIES]   (default 2,000,000) */
 #include <math.h>
 #include <stdio.h>
@@ -23,8 +25,20 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* The straightforward way: clamp, scan for the cell, weights from libm log, lerp. */
-static double ref_lerp(double a, double b, double w)
+static void cell(double f, double e, int *i, int *j, double *wf, double *we)
+{
+    f = fmin(fmax(f, freq[0]), freq[7]);
+    e = fmin(fmax(e, ecc[0]), ecc[5]);
+    *i = 0;
+    *j = 0;
+    while (*i < 6 && f >= freq[*i + 1]) (*i)++;
+    while (*j < 4 && e >= ecc[*j + 1]) (*j)++;
+    *wf = (log(f) - log(freq[*i])) / (log(freq[*i + 1]) - log(freq[*i]));
+    *we = (e - ecc[*j]) / (ecc[*j + 1] - ecc[*j]);
+}
+
+/* Before csflut 2.0.0: linear blend of thresholds, one +inf corner makes the cell +inf. */
+static double old_lerp(double a, double b, double w)
 {
     if (w <= 0) return a;
     if (w >= 1) return b;
@@ -32,17 +46,67 @@ static double ref_lerp(double a, double b, double w)
     return a + (b - a) * w;
 }
 
+static double old_threshold(const double *v, double f, double e)
+{
+    int i, j;
+    double wf, we;
+    cell(f, e, &i, &j, &wf, &we);
+    return old_lerp(old_lerp(v[j * 8 + i], v[j * 8 + i + 1], wf),
+                    old_lerp(v[(j + 1) * 8 + i], v[(j + 1) * 8 + i + 1], wf), we);
+}
+
+/* The documented interpolation, the plain way: natural-log thresholds blended, an invisible node
+ * as the cap (2^cap_log2 with cap_log2 the smallest power of two >= log2(max(1, highest finite))
+ * + 1), +inf only when every weighted corner is invisible. */
 static double ref_threshold(const double *v, double f, double e)
 {
-    f = fmin(fmax(f, freq[0]), freq[7]);
-    e = fmin(fmax(e, ecc[0]), ecc[5]);
-    int i = 0, j = 0;
-    while (i < 6 && f >= freq[i + 1]) i++;
-    while (j < 4 && e >= ecc[j + 1]) j++;
-    double wf = (log(f) - log(freq[i])) / (log(freq[i + 1]) - log(freq[i]));
-    double we = (e - ecc[j]) / (ecc[j + 1] - ecc[j]);
-    return ref_lerp(ref_lerp(v[j * 8 + i], v[j * 8 + i + 1], wf),
-                    ref_lerp(v[(j + 1) * 8 + i], v[(j + 1) * 8 + i + 1], wf), we);
+    int i, j;
+    double wf, we;
+    cell(f, e, &i, &j, &wf, &we);
+    double m = 1, cap = 1;
+    for (int k = 0; k < 48; k++)
+        if (isfinite(v[k]) && v[k] > m) m = v[k];
+    while (cap < log2(m) + 1) cap *= 2;
+    cap *= log(2);
+    const double w[4] = {(1 - wf) * (1 - we), wf * (1 - we), (1 - wf) * we, wf * we};
+    const double c[4] = {v[j * 8 + i], v[j * 8 + i + 1], v[(j + 1) * 8 + i], v[(j + 1) * 8 + i + 1]};
+    double sum = 0;
+    int visible = 0;
+    for (int k = 0; k < 4; k++) {
+        if (w[k] > 0 && isfinite(c[k])) visible = 1;
+        sum += w[k] * (isfinite(c[k]) ? log(c[k]) : cap);
+    }
+    return visible ? exp(sum) : INFINITY;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Of the truly visible queries: how many answered +inf, how many higher than the truth, and the
+ * median / 90th percentile / maximum excess in log10 among those answered too high. */
+static void fail_open_report(const char *name, const double *got, const double *truth, size_t n)
+{
+    size_t visible = 0, n_inf = 0, n_high = 0, n_high01 = 0;
+    double *ex = malloc(n * sizeof *ex);
+    if (!ex) return;
+    for (size_t i = 0; i < n; i++) {
+        if (!(truth[i] <= 1)) continue;
+        visible++;
+        if (isinf(got[i])) n_inf++;
+        else if (got[i] > truth[i]) {
+            ex[n_high++] = log10(got[i] / truth[i]);
+            if (ex[n_high - 1] > 0.1) n_high01++;
+        }
+    }
+    qsort(ex, n_high, sizeof *ex, cmp_double);
+    printf("%-30s %8.2f %% %8.2f %% %8.2f %% %+8.3f %+8.3f %+8.3f\n", name,
+           100.0 * (double)n_inf / (double)visible, 100.0 * (double)n_high / (double)visible,
+           100.0 * (double)n_high01 / (double)visible, n_high ? ex[n_high / 2] : 0.0,
+           n_high ? ex[n_high * 9 / 10] : 0.0, n_high ? ex[n_high - 1] : 0.0);
+    free(ex);
 }
 
 typedef struct {
@@ -147,7 +211,28 @@ int main(int argc, char **argv)
            1e9 / r_model, 1.0);
     printf("\nexactness vs reference (raw view): max relative difference %.3g over %zu finite results;\n"
            "%zu never-visible results, %zu disagreeing on infinity\n", worst, n - n_inf, n_inf, n_bad);
-    printf("targets: batch >= 100 M/s %s, scalar >= 30 M/s %s, exact to 1e-6 %s\n",
+
+    /* fail-open: truly visible queries answered too high or never visible */
+    double *truth = malloc(n * sizeof *truth), *old = malloc(n * sizeof *old);
+    if (!truth || !old) return 1;
+    run_model(&j);
+    memcpy(truth, out, n * sizeof *out);
+    for (size_t i = 0; i < n; i++) old[i] = old_threshold(thr, f[i], e[i]);
+    printf("\nagainst the analytic CSF, share of the truly visible queries (analytic threshold <= 1)\n"
+           "answered never visible or too high, and the excess (log10) of those answered too high:\n");
+    printf("%-30s %10s %10s %10s %8s %8s %8s\n", "interpolation", "invisible", "too high",
+           "> +0.1 lg", "median", "p90", "max");
+    fail_open_report("linear, inf poisons (< 2.0)", old, truth, n);
+    csflut_set_conservative(t, 0);
+    run_batch(&j);
+    fail_open_report("geometric + cap, raw", out, truth, n);
+    csflut_set_conservative(t, 1);
+    run_batch(&j);
+    fail_open_report("geometric + cap, conservative", out, truth, n);
+    free(truth);
+    free(old);
+
+    printf("\ntargets: batch >= 100 M/s %s, scalar >= 30 M/s %s, exact to 1e-6 %s\n",
            r_batch >= 100e6 ? "MET" : "NOT MET", r_scalar >= 30e6 ? "MET" : "NOT MET",
            worst <= 1e-6 && n_bad == 0 ? "MET" : "NOT MET");
     csflut_close(t);

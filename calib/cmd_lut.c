@@ -1,6 +1,7 @@
 /* `csfcal lut info|lookup|export|import`: inspect, query and convert threshold tables (.csflut).
  * Thin layer over the csflut library: everything a renderer sees through the library, a user can
  * see from the shell. */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -10,8 +11,9 @@
 
 #include "calib/cli.h"
 #include "calib/commands.h"
-#include "results/file_read.h"
 #include "results/csflut.h"
+#include "results/file_read.h"
+#include "results/file_write.h"
 
 static const char lut_help[] =
     "usage: csfcal lut info FILE [--json] [--raw]\n"
@@ -63,7 +65,7 @@ typedef struct {
     const char *file, *out, *prefix, *format;
     const char *observer, *display, *method, *date;
     double freq, ecc, contrast, vel, lum, shift, dist, meanlum;
-    int have_freq, have_ecc, have_contrast, have_vel, have_lum, raw, json, help;
+    int have_freq, have_ecc, have_contrast, have_vel, have_lum, have_trials, raw, json, help;
     long trials;
 } lut_args;
 
@@ -85,7 +87,10 @@ static int parse_args(int argc, char **argv, lut_args *a)
         case OPT_SHIFT: bad = csf_parse_double(optarg, "shift", 0, 10, &a->shift); break;
         case OPT_DIST: bad = csf_parse_double(optarg, "distance-mm", 1, 1e6, &a->dist); break;
         case OPT_MEANLUM: bad = csf_parse_double(optarg, "mean-lum", 1e-9, 1e9, &a->meanlum); break;
-        case OPT_TRIALS: bad = csf_parse_int(optarg, "trials", 0, 0x7fffffffL, &a->trials); break;
+        case OPT_TRIALS:
+            bad = csf_parse_int(optarg, "trials", 0, 0x7fffffffL, &a->trials);
+            a->have_trials = 1;
+            break;
         case OPT_RAW: a->raw = 1; break;
         case OPT_JSON: a->json = 1; break;
         case OPT_FORMAT: a->format = optarg; break;
@@ -124,7 +129,9 @@ static int open_table(const lut_args *a, csflut_table **t)
     csflut_diag d;
     csflut_status st = csflut_open_file_diag(a->file, t, &d);
     if (st != CSFLUT_OK) {
-        fprintf(stderr, "csfcal: lut: %s: %s (%s)\n", a->file, d.message, csflut_strerror(st));
+        /* an I/O message already names the file and the OS error */
+        if (st == CSFLUT_E_IO) fprintf(stderr, "csfcal: lut: %s\n", d.message);
+        else fprintf(stderr, "csfcal: lut: %s: %s (%s)\n", a->file, d.message, csflut_strerror(st));
         return 1;
     }
     csflut_set_conservative(*t, !a->raw);
@@ -254,7 +261,7 @@ static int cmd_lookup(const lut_args *a)
     double vel = a->have_vel ? a->vel : csflut_default_velocity(t);
     double lum = a->have_lum ? a->lum : csflut_default_luminance(t);
     double thr = csflut_threshold4(t, a->freq, a->ecc, vel, lum);
-    double maxf = a->have_contrast ? csflut_max_frequency4(t, a->contrast, a->ecc, vel, lum) : NAN;
+    double maxf = a->have_contrast ? csflut_max_frequency4(t, a->ecc, vel, lum, a->contrast) : NAN;
     int vis = a->have_contrast ? a->contrast >= thr : 0;
     if (a->json) {
         printf("{\"freq_cpd\": %.17g, \"ecc_deg\": %.17g", a->freq, a->ecc);
@@ -304,6 +311,11 @@ static int cmd_export(const lut_args *a)
         fprintf(stderr, "csfcal: lut export: --format '%s' is not one of csv, json, c, glsl\n", a->format);
         return 2;
     }
+    csf_error werr;
+    if (a->out && csf_check_output_path(a->out, "export", &werr) != CSF_OK) {
+        fprintf(stderr, "csfcal: lut export: %s\n", werr.msg);
+        return 2;
+    }
     csflut_table *t;
     int rc = open_table(a, &t);
     if (rc) return rc;
@@ -320,27 +332,55 @@ static int cmd_export(const lut_args *a)
         fprintf(stderr, "csfcal: lut export: %s\n", csflut_strerror(st));
         return 1;
     }
-    FILE *f = a->out ? fopen(a->out, "w") : stdout;
-    if (!f) {
-        fprintf(stderr, "csfcal: lut export: cannot write %s\n", a->out);
+    if (a->out) { /* temporary beside it, fsync, rename: never a partial file */
+        csf_status ws = csf_write_file_atomic(a->out, "export", text, len, &werr);
         free(text);
-        return 1;
+        if (ws != CSF_OK) {
+            fprintf(stderr, "csfcal: lut export: %s\n", werr.msg);
+            return 1;
+        }
+        return 0;
     }
-    int ok = fwrite(text, 1, len, f) == len;
-    if (a->out) ok = (fclose(f) == 0) && ok;
-    else ok = (fflush(f) == 0) && ok;
+    int ok = fwrite(text, 1, len, stdout) == len;
+    ok = (fflush(stdout) == 0) && ok;
     free(text);
     if (!ok) {
-        fprintf(stderr, "csfcal: lut export: write error on %s\n", a->out ? a->out : "stdout");
+        fprintf(stderr, "csfcal: lut export: cannot write to stdout: %s\n", strerror(errno));
         return 1;
     }
     return 0;
+}
+
+/* A real UTC date and time in the form csfcal writes, YYYY-MM-DDTHH:MM:SSZ (ISO 8601). */
+static int valid_iso8601_utc(const char *s)
+{
+    static const char form[] = "dddd-dd-ddTdd:dd:ddZ";
+    if (strlen(s) != sizeof form - 1) return 0;
+    for (size_t i = 0; form[i]; i++)
+        if (form[i] == 'd' ? !(s[i] >= '0' && s[i] <= '9') : s[i] != form[i]) return 0;
+    int y, mo, d, h, mi, se;
+    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d:%2dZ", &y, &mo, &d, &h, &mi, &se) != 6) return 0;
+    static const int mdays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    int leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+    if (y < 1 || mo < 1 || mo > 12 || d < 1) return 0;
+    if (d > mdays[mo - 1] + (mo == 2 && leap)) return 0;
+    return h <= 23 && mi <= 59 && se <= 60; /* 60: a leap second */
 }
 
 static int cmd_import(const lut_args *a)
 {
     if (!a->file || !a->out) {
         fprintf(stderr, "csfcal: lut import: give the CSV file and -o FILE.csflut\n");
+        return 2;
+    }
+    if (a->date && !valid_iso8601_utc(a->date)) {
+        fprintf(stderr, "csfcal: lut import: --date '%s' is not a UTC date and time in the form "
+                        "YYYY-MM-DDTHH:MM:SSZ (ISO 8601, e.g. 2026-11-23T14:05:00Z)\n", a->date);
+        return 2;
+    }
+    csf_error werr;
+    if (csf_check_output_path(a->out, "threshold table", &werr) != CSF_OK) {
+        fprintf(stderr, "csfcal: lut import: %s\n", werr.msg);
         return 2;
     }
     size_t len;
@@ -364,18 +404,23 @@ static int cmd_import(const lut_args *a)
     struct tm tmv;
     gmtime_r(&now, &tmv);
     strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &tmv);
-    b->observer = a->observer;
-    b->display_profile_id = a->display;
-    b->method = a->method ? a->method : "import";
-    b->date_utc = a->date ? a->date : date;
-    b->tool_version = "csfcal " CSF_VERSION;
-    b->viewing_distance_mm = a->dist;
-    b->mean_lum_cdm2 = a->meanlum;
-    b->trials = (int)a->trials;
+    /* an option overrides the CSV's metadata comments (what `lut export` writes), which override
+     * the defaults */
+    if (a->observer) b->observer = a->observer;
+    if (a->display) b->display_profile_id = a->display;
+    if (a->method) b->method = a->method;
+    else if (!b->method || !*b->method) b->method = "import";
+    if (a->date) b->date_utc = a->date;
+    else if (!b->date_utc || !*b->date_utc) b->date_utc = date;
+    if (!b->tool_version || !*b->tool_version) b->tool_version = "csfcal " CSF_VERSION;
+    if (!isnan(a->dist)) b->viewing_distance_mm = a->dist;
+    if (!isnan(a->meanlum)) b->mean_lum_cdm2 = a->meanlum;
+    if (a->have_trials) b->trials = (int)a->trials;
     st = csflut_write_file_diag(b, a->out, &d);
     csflut_grid_free(g);
     if (st) {
-        fprintf(stderr, "csfcal: lut import: %s: %s\n", a->out, d.message);
+        if (st == CSFLUT_E_IO) fprintf(stderr, "csfcal: lut import: %s\n", d.message);
+        else fprintf(stderr, "csfcal: lut import: %s: %s\n", a->out, d.message);
         return 1;
     }
     return 0;

@@ -1,6 +1,7 @@
 /* csflut reader: parses and validates .csflut files (docs/csflut.md), derives the conservative
  * view, and answers threshold / perceptibility / inverse queries by multilinear interpolation.
  * libc + libm only. */
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -8,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csflut.h"
-#include "results/csflut_internal.h"
+#include "csflut.h"
+#include "csflut_internal.h"
 
 static const char *const axis_names[4] = {"freq", "ecc", "velocity", "luminance"};
 static const char *const axis_units[4] = {"cpd", "deg", "deg/s", "cd/m2"};
@@ -62,11 +63,9 @@ uint32_t csflut_crc32(const unsigned char *p, size_t n)
     return c ^ 0xFFFFFFFFu;
 }
 
-/* log2 for the interpolation coordinate. glibc's log2 is table driven, < 1 ulp and faster than
- * any series we could write here; the guard gives -inf for x <= 0 so the query clamps to the
- * lowest frequency. Every query path and the exported C header use the same function. */
-static inline double log2_guarded(double x) { return log2(x > 0 ? x : 0.0); }
-double csflut_log2(double x) { return log2_guarded(x); }
+/* log2 of a frequency, -inf for x <= 0 (below every grid): the interpolation coordinate. */
+static inline double log2_guarded(double x) { return csflut_log2i(x); }
+double csflut_log2(double x) { return csflut_log2i(x); }
 
 /* ---- little-endian reading with bounds checks ---------------------------------------------- */
 typedef struct {
@@ -240,18 +239,35 @@ static inline int axis_fast_locate(const csflut_axis_fast *a, double x, double *
     return i;
 }
 
+/* Clamp to [lo, hi]; NaN becomes lo, so the cell search never sees NaN (the batch path marks
+ * NaN queries afterwards). */
 static inline double clampd(double x, double lo, double hi)
 {
-    return x < lo ? lo : (x > hi ? hi : x);
+    x = x > lo ? x : lo;
+    return x < hi ? x : hi;
 }
 
-/* Linear interpolation that never makes NaN from infinities: the end points are returned exactly
- * at w = 0 and w = 1, and an infinite end point makes the open interval infinite. */
-static inline double lerp_safe(double a, double b, double w)
+/* Interpolation runs on log2 thresholds (a geometric blend, never above the linear one). An
+ * invisible (+inf) node enters as the finite cap t->cap_log2, so a query next to a visible node
+ * gets a threshold close to that node's; only a result equal to the cap (every corner with a
+ * non-zero weight invisible) is +inf. All values are finite here, so the plain blend is exact at
+ * w = 0 and w = 1, and blending equal caps gives the cap exactly: cap_log2 is a power of two, and
+ * fl(fl(1 - w) + w) == 1 for every w in [0, 1]. */
+static inline double lerp(double a, double b, double w) { return (1 - w) * a + w * b; }
+
+/* Finite thresholds above 2^500 (no contrast comes near) are held at 2^500, so every blend stays
+ * in exp2's range: the cap is then at most 512. */
+#define CSFLUT_LOG2_MAX_FINITE 500.0
+static inline double to_log(const csflut_table *t, double v)
 {
-    if (w == 0) return a;
-    if (w == 1) return b;
-    return (1 - w) * a + w * b;
+    if (isinf(v)) return t->cap_log2;
+    double l = csflut_log2i(v);
+    return l < CSFLUT_LOG2_MAX_FINITE ? l : CSFLUT_LOG2_MAX_FINITE;
+}
+
+static inline double from_log(double r, double cap_log2)
+{
+    return r >= cap_log2 ? HUGE_VAL : csflut_exp2i(r);
 }
 
 /* Generic locate on any axis (used by the N-D path): index i0, i1 and weight. */
@@ -296,7 +312,8 @@ static size_t node_index(const csflut_table *t, int f, int e, int v, int l)
     return (((size_t)l * nv + (size_t)v) * ne + (size_t)e) * nf + (size_t)f;
 }
 
-/* Full multilinear interpolation, nested freq, ecc, velocity, luminance. */
+/* Full multilinear interpolation of log2 thresholds, nested freq, ecc, velocity, luminance;
+ * returns the log2 result (the cap means never visible). */
 static double interp_nd(const csflut_table *t, const double *vals, double f, double e, double v,
                         double l)
 {
@@ -321,13 +338,15 @@ static double interp_nd(const csflut_table *t, const double *vals, double f, dou
         double byv[2];
         for (int vi = 0; vi < 2; vi++) {
             int V = vi ? v1 : v0;
-            double r0 = lerp_safe(vals[node_index(t, f0, e0, V, L)], vals[node_index(t, f1, e0, V, L)], wf);
-            double r1 = lerp_safe(vals[node_index(t, f0, e1, V, L)], vals[node_index(t, f1, e1, V, L)], wf);
-            byv[vi] = lerp_safe(r0, r1, we);
+            double r0 = lerp(to_log(t, vals[node_index(t, f0, e0, V, L)]),
+                             to_log(t, vals[node_index(t, f1, e0, V, L)]), wf);
+            double r1 = lerp(to_log(t, vals[node_index(t, f0, e1, V, L)]),
+                             to_log(t, vals[node_index(t, f1, e1, V, L)]), wf);
+            byv[vi] = lerp(r0, r1, we);
         }
-        byl[li] = lerp_safe(byv[0], byv[1], wv);
+        byl[li] = lerp(byv[0], byv[1], wv);
     }
-    return lerp_safe(byl[0], byl[1], wl);
+    return lerp(byl[0], byl[1], wl);
 }
 
 static void compute_conservative(csflut_table *t)
@@ -353,7 +372,8 @@ static void compute_conservative(csflut_table *t)
     }
 }
 
-/* The 2-D slice at the default velocity/luminance, padded to >= 2 points per axis. */
+/* The 2-D slice of log2 thresholds (invisible = cap) at the default velocity/luminance, padded to
+ * >= 2 points per axis. */
 static void compute_slice(csflut_table *t, const double *vals, double *slice)
 {
     int nf = t->fx.n, ne = t->ex.n;
@@ -362,20 +382,35 @@ static void compute_slice(csflut_table *t, const double *vals, double *slice)
             int fs = f < t->n[0] ? f : t->n[0] - 1, es = e < t->n[1] ? e : t->n[1] - 1;
             double r;
             if (t->n[2] == 0 && t->n[3] == 0) {
-                r = vals[node_index(t, fs, es, 0, 0)];
+                r = to_log(t, vals[node_index(t, fs, es, 0, 0)]);
             } else {
                 int v0 = 0, v1 = 0, l0 = 0, l1 = 0;
                 double wv = 0, wl = 0;
                 if (t->n[2] > 0) axis_locate(t, CSFLUT_AXIS_VEL, t->def_vel, &v0, &v1, &wv);
                 if (t->n[3] > 0) axis_locate(t, CSFLUT_AXIS_LUM, t->def_lum, &l0, &l1, &wl);
-                double a = lerp_safe(vals[node_index(t, fs, es, v0, l0)],
-                                     vals[node_index(t, fs, es, v1, l0)], wv);
-                double b = lerp_safe(vals[node_index(t, fs, es, v0, l1)],
-                                     vals[node_index(t, fs, es, v1, l1)], wv);
-                r = lerp_safe(a, b, wl);
+                double a = lerp(to_log(t, vals[node_index(t, fs, es, v0, l0)]),
+                                to_log(t, vals[node_index(t, fs, es, v1, l0)]), wv);
+                double b = lerp(to_log(t, vals[node_index(t, fs, es, v0, l1)]),
+                                to_log(t, vals[node_index(t, fs, es, v1, l1)]), wv);
+                r = lerp(a, b, wl);
             }
             slice[(size_t)e * (size_t)nf + (size_t)f] = r;
         }
+}
+
+/* The cap for invisible nodes, in log2 units: at least one octave above both the highest
+ * displayable Michelson contrast (1) and the highest finite threshold of the table, so it is
+ * above every visible value and a blend towards it stays finite; rounded up to a power of two so
+ * that blending caps gives the cap exactly. Derived, not stored (docs/csflut.md sec. 2). */
+static double compute_cap_log2(const csflut_table *t)
+{
+    double m = 1.0;
+    for (size_t k = 0; k < t->n_nodes; k++)
+        if (isfinite(t->raw[k]) && t->raw[k] > m) m = t->raw[k];
+    double l = csflut_log2(m);
+    double want = (l < CSFLUT_LOG2_MAX_FINITE ? l : CSFLUT_LOG2_MAX_FINITE) + 1.0, cap = 1.0;
+    while (cap < want) cap *= 2;
+    return cap;
 }
 
 csflut_status csflut_table_finish(csflut_table *t)
@@ -386,6 +421,7 @@ csflut_status csflut_table_finish(csflut_table *t)
                              : (isfinite(t->mean_lum) ? t->mean_lum : 0);
     t->cons = malloc(sizeof(double) * t->n_nodes);
     if (!t->cons) return CSFLUT_E_NOMEM;
+    t->cap_log2 = compute_cap_log2(t);
     csflut_status st = axis_fast_init(&t->fx, t->pts[0], t->n[0], 1);
     if (st) return st;
     st = axis_fast_init(&t->ex, t->pts[1], t->n[1], 0);
@@ -631,9 +667,10 @@ csflut_status csflut_open_file_diag(const char *path, csflut_table **out, csflut
     *out = NULL;
     FILE *f = fopen(path, "rb");
     if (!f) {
-        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot open %s", path);
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot open %s: %s", path, strerror(errno));
         return CSFLUT_E_IO;
     }
+    errno = 0; /* a failed fread below names its own error */
     /* Read in chunks rather than trusting fseek/ftell (pipes, /proc files); cap at a size no
      * valid table reaches so a huge file cannot exhaust memory. */
     const size_t cap = (size_t)CSFLUT_MAX_NODES * 16 + (size_t)4 * CSFLUT_MAX_POINTS * 8 + (1u << 20);
@@ -663,11 +700,11 @@ csflut_status csflut_open_file_diag(const char *path, csflut_table **out, csflut
             return CSFLUT_E_BAD_HEADER;
         }
     }
-    int err = ferror(f);
+    int err = ferror(f) ? (errno ? errno : EIO) : 0;
     fclose(f);
     if (err) {
         free(buf);
-        csflut_diag_set(diag, CSFLUT_E_IO, 0, "read error on %s", path);
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot read %s: %s", path, strerror(err));
         return CSFLUT_E_IO;
     }
     csflut_status st = csflut_open_memory_diag(buf, len, out, diag);
@@ -698,28 +735,13 @@ csflut_status csflut_set_stderr_shift(csflut_table *t, double k)
 double csflut_get_stderr_shift(const csflut_table *t) { return t ? t->k_shift : 0; }
 
 /* ---- queries ------------------------------------------------------------------------------------ */
-/* axis_fast_locate for an axis with buckets and an exact last reciprocal (the usual case):
- * no branch at all. Same arithmetic, so the same results. */
-static inline int axis_fast_locate_nb(const csflut_axis_fast *a, double x, double *w)
-{
-    int s = a->first[bucket_of(a, x)];
-    int i = s + (x >= a->next[s]);
-    *w = (x - a->node[i]) * a->inv_step[i];
-    return i;
-}
-
+/* Bilinear blend of the log2 slice; the caller turns the log2 result into a threshold. */
 static inline double bilinear(const double *vals, int nf, int i, int j, double wf, double we)
 {
     const double *v = vals + (size_t)j * (size_t)nf + i;
-    double r0 = (1 - wf) * v[0] + wf * v[1];
-    double r1 = (1 - wf) * v[nf] + wf * v[nf + 1];
-    double r = (1 - we) * r0 + we * r1;
-    if (r != r) { /* an infinite node met a zero weight: redo without 0 * inf */
-        r0 = lerp_safe(v[0], v[1], wf);
-        r1 = lerp_safe(v[nf], v[nf + 1], wf);
-        r = lerp_safe(r0, r1, we);
-    }
-    return r;
+    double r0 = lerp(v[0], v[1], wf);
+    double r1 = lerp(v[nf], v[nf + 1], wf);
+    return lerp(r0, r1, we);
 }
 
 /* The 2-D fast path after the frequency's log2 is known: cell search on both axes, bilinear. */
@@ -737,8 +759,9 @@ static inline double q2_core(const csflut_axis_fast *fx, const csflut_axis_fast 
 static inline double q2(const csflut_table *t, double freq_cpd, double ecc_deg)
 {
     if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;
-    return q2_core(&t->fx, &t->ex, t->conservative ? t->slice_cons : t->slice_raw,
-                   log2_guarded(freq_cpd), ecc_deg);
+    return from_log(q2_core(&t->fx, &t->ex, t->conservative ? t->slice_cons : t->slice_raw,
+                            log2_guarded(freq_cpd), ecc_deg),
+                    t->cap_log2);
 }
 
 double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg)
@@ -751,50 +774,57 @@ double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg,
 {
     if (!t) return NAN;
     if (t->n[2] == 0 && t->n[3] == 0) return q2(t, freq_cpd, ecc_deg);
-    return interp_nd(t, t->conservative ? t->cons : t->raw, freq_cpd, ecc_deg, vel_dps, lum_cdm2);
+    double r = interp_nd(t, t->conservative ? t->cons : t->raw, freq_cpd, ecc_deg, vel_dps,
+                         lum_cdm2);
+    return r != r ? NAN : from_log(r, t->cap_log2);
 }
 
-int csflut_perceptible(const csflut_table *t, double freq_cpd, double contrast, double ecc_deg)
+int csflut_perceptible(const csflut_table *t, double freq_cpd, double ecc_deg, double contrast)
 {
     double th = csflut_threshold(t, freq_cpd, ecc_deg);
     return contrast >= th;
 }
 
-/* Highest frequency whose interpolated threshold is <= c, given the column of thresholds at the
- * frequency nodes (already interpolated over the other axes). */
+/* Highest frequency whose interpolated threshold is <= c, given the column of log2 thresholds at
+ * the frequency nodes (already interpolated over the other axes; the cap = never visible). Solved
+ * on the same piecewise-linear curve (log2 threshold against log2 frequency) the queries use. */
 static double invert_column(const csflut_table *t, const double *col, double c)
 {
     int n = t->fx.n;
+    double cap = t->cap_log2;
     if (c != c) return NAN;
-    if (col[n - 1] <= c) return HUGE_VAL;
+    if (!(c > 0)) return 0.0;
+    double lc = csflut_log2(c);
+    if (col[n - 1] < cap && col[n - 1] <= lc) return HUGE_VAL;
     for (int i = n - 2; i >= 0; i--) {
-        if (col[i] <= c) {
+        if (col[i] < cap && col[i] <= lc) {
             double a = col[i], b = col[i + 1];
             /* the crossing is the node itself: return the stored grid point exactly */
-            if (!isfinite(b) || a == c) return t->pts[0][i < t->n[0] ? i : t->n[0] - 1];
-            double w = (c - a) / (b - a);
+            if (a == lc) return t->pts[0][i < t->n[0] ? i : t->n[0] - 1];
+            /* a contrast above the cap is visible up to (not at) the invisible node i + 1 */
+            double w = lc >= b ? 1.0 : (lc - a) / (b - a);
             return exp2(t->fx.node[i] + w * (t->fx.node[i + 1] - t->fx.node[i]));
         }
     }
     return 0.0;
 }
 
-double csflut_max_frequency(const csflut_table *t, double contrast, double ecc_deg)
+double csflut_max_frequency(const csflut_table *t, double ecc_deg, double contrast)
 {
     if (!t || ecc_deg != ecc_deg) return NAN;
     double col[CSFLUT_MAX_POINTS + 1];
     double e = clampd(ecc_deg, t->ex.lo, t->ex.hi), we;
     int j = axis_fast_locate(&t->ex, e, &we), nf = t->fx.n;
     const double *s = (t->conservative ? t->slice_cons : t->slice_raw) + (size_t)j * (size_t)nf;
-    for (int i = 0; i < nf; i++) col[i] = lerp_safe(s[i], s[i + nf], we);
+    for (int i = 0; i < nf; i++) col[i] = lerp(s[i], s[i + nf], we);
     return invert_column(t, col, contrast);
 }
 
-double csflut_max_frequency4(const csflut_table *t, double contrast, double ecc_deg,
-                             double vel_dps, double lum_cdm2)
+double csflut_max_frequency4(const csflut_table *t, double ecc_deg, double vel_dps,
+                             double lum_cdm2, double contrast)
 {
     if (!t) return NAN;
-    if (t->n[2] == 0 && t->n[3] == 0) return csflut_max_frequency(t, contrast, ecc_deg);
+    if (t->n[2] == 0 && t->n[3] == 0) return csflut_max_frequency(t, ecc_deg, contrast);
     double col[CSFLUT_MAX_POINTS + 1];
     int nf = t->fx.n;
     for (int i = 0; i < nf; i++) {
@@ -815,7 +845,7 @@ double csflut_peak_frequency(const csflut_table *t, double ecc_deg)
     int best = 0;
     double bv = HUGE_VAL;
     for (int i = 0; i < nf; i++) {
-        double v = lerp_safe(s[i], s[i + t->fx.n], we);
+        double v = lerp(s[i], s[i + t->fx.n], we);
         if (v <= bv) {
             bv = v;
             best = i;
@@ -833,22 +863,22 @@ double csflut_threshold_wavelength(const csflut_table *t, double wavelength_rad,
 {
     return csflut_threshold(t, 1.0 / (wavelength_rad * DEG_PER_RAD), ecc_rad * DEG_PER_RAD);
 }
-int csflut_perceptible_cpr(const csflut_table *t, double freq_cpr, double contrast, double ecc_rad)
+int csflut_perceptible_cpr(const csflut_table *t, double freq_cpr, double ecc_rad, double contrast)
 {
     return contrast >= csflut_threshold_cpr(t, freq_cpr, ecc_rad);
 }
-int csflut_perceptible_wavelength(const csflut_table *t, double wavelength_rad, double contrast,
-                                  double ecc_rad)
+int csflut_perceptible_wavelength(const csflut_table *t, double wavelength_rad, double ecc_rad,
+                                  double contrast)
 {
     return contrast >= csflut_threshold_wavelength(t, wavelength_rad, ecc_rad);
 }
-double csflut_max_frequency_cpr(const csflut_table *t, double contrast, double ecc_rad)
+double csflut_max_frequency_cpr(const csflut_table *t, double ecc_rad, double contrast)
 {
-    return csflut_max_frequency(t, contrast, ecc_rad * DEG_PER_RAD) * DEG_PER_RAD;
+    return csflut_max_frequency(t, ecc_rad * DEG_PER_RAD, contrast) * DEG_PER_RAD;
 }
-double csflut_min_wavelength(const csflut_table *t, double contrast, double ecc_rad)
+double csflut_min_wavelength(const csflut_table *t, double ecc_rad, double contrast)
 {
-    double f = csflut_max_frequency_cpr(t, contrast, ecc_rad);
+    double f = csflut_max_frequency_cpr(t, ecc_rad, contrast);
     if (f != f) return f;
     return 1.0 / f; /* inf -> 0 (every wavelength visible), 0 -> inf (none) */
 }
@@ -857,33 +887,41 @@ void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const
                             double *out, size_t n)
 {
     if (!t || !freq_cpd || !ecc_deg || !out) return;
-    /* Blocks: the log2 calls in one tight loop, then the table work with the axes in locals, so
-     * the compiler keeps them in registers (no call, no aliasing store in between). Same
-     * arithmetic as csflut_threshold, so the results are bit-identical. */
+    /* Blocks: the arithmetic that needs no table (log2, clamps, bucket numbers; exp2 and the
+     * infinity/NaN selects) in loops the compiler vectorises, the table look-ups in between with
+     * the axes in locals. Same arithmetic as csflut_threshold, so the results are bit-identical. */
     const csflut_axis_fast fx = t->fx, ex = t->ex;
     const double *vals = t->conservative ? t->slice_cons : t->slice_raw;
+    const double cap = t->cap_log2;
     const int plain = fx.n_buckets && fx.last_exact && ex.n_buckets && ex.last_exact;
-    double u[256];
-    for (size_t b0 = 0; b0 < n; b0 += 256) {
-        size_t m = n - b0 < 256 ? n - b0 : 256;
-        for (size_t k = 0; k < m; k++) u[k] = log2_guarded(freq_cpd[b0 + k]);
+    enum { BLOCK = 512 };
+    double u[BLOCK], ec[BLOCK];
+    int bu[BLOCK], be[BLOCK];
+    for (size_t b0 = 0; b0 < n; b0 += BLOCK) {
+        size_t m = n - b0 < BLOCK ? n - b0 : BLOCK;
         if (plain) {
+            /* vectorised: log2, clamps and bucket numbers */
             for (size_t k = 0; k < m; k++) {
-                double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
-                if (f != f || e != e) {
-                    out[b0 + k] = NAN;
-                    continue;
-                }
-                double wf, we;
-                int i = axis_fast_locate_nb(&fx, clampd(u[k], fx.lo, fx.hi), &wf);
-                int j = axis_fast_locate_nb(&ex, clampd(e, ex.lo, ex.hi), &we);
-                out[b0 + k] = bilinear(vals, fx.n, i, j, wf, we);
+                u[k] = clampd(log2_guarded(freq_cpd[b0 + k]), fx.lo, fx.hi);
+                ec[k] = clampd(ecc_deg[b0 + k], ex.lo, ex.hi);
+                bu[k] = bucket_of(&fx, u[k]);
+                be[k] = bucket_of(&ex, ec[k]);
+            }
+            /* scalar: the cell search and the blend (table look-ups) */
+            for (size_t k = 0; k < m; k++) {
+                int s = fx.first[bu[k]], i = s + (u[k] >= fx.next[s]);
+                int r = ex.first[be[k]], j = r + (ec[k] >= ex.next[r]);
+                double wf = (u[k] - fx.node[i]) * fx.inv_step[i];
+                double we = (ec[k] - ex.node[j]) * ex.inv_step[j];
+                u[k] = bilinear(vals, fx.n, i, j, wf, we);
             }
         } else {
-            for (size_t k = 0; k < m; k++) {
-                double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k];
-                out[b0 + k] = (f != f || e != e) ? NAN : q2_core(&fx, &ex, vals, u[k], e);
-            }
+            for (size_t k = 0; k < m; k++)
+                u[k] = q2_core(&fx, &ex, vals, log2_guarded(freq_cpd[b0 + k]), ecc_deg[b0 + k]);
+        }
+        for (size_t k = 0; k < m; k++) { /* from_log, written so that it vectorises */
+            double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k], v = csflut_exp2i(u[k]);
+            out[b0 + k] = (f != f || e != e) ? NAN : (u[k] >= cap ? HUGE_VAL : v);
         }
     }
 }
@@ -898,7 +936,7 @@ void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, cons
 }
 
 void csflut_perceptible_batch(const csflut_table *t, const double *freq_cpd,
-                              const double *contrast, const double *ecc_deg, unsigned char *out,
+                              const double *ecc_deg, const double *contrast, unsigned char *out,
                               size_t n)
 {
     if (!t || !freq_cpd || !contrast || !ecc_deg || !out) return;

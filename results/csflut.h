@@ -1,27 +1,35 @@
 /* csflut — reader and writer for csfcal threshold-contrast tables (.csflut).
  *
- * A .csflut file holds the threshold Michelson contrast an observer needs to see a pattern, on a
- * grid of spatial frequency (cpd) x eccentricity (deg), optionally x velocity (deg/s) x adapting
- * luminance (cd/m2). The format is specified in docs/csflut.md. This library depends on libc and
- * libm only, so a renderer can link or vendor it without anything else from csfcal.
+ * For renderers that decide whether a detail may be simplified away: a .csflut file holds the
+ * threshold Michelson contrast an observer needs to see a pattern, on a grid of spatial frequency
+ * (cpd) x eccentricity (deg), optionally x velocity (deg/s) x adapting luminance (cd/m2). The
+ * format is specified in docs/csflut.md. This library depends on libc and libm only, so a renderer
+ * can link it (pkg-config csflut) or vendor its four .c files and two headers from one folder.
  *
- * Interpolation: multilinear, in log2 frequency, linear eccentricity, log (or linear, if the file
- * says so) velocity and log luminance, nested in that order. Outside the grid every axis is
- * clamped to its edge: a query above the highest frequency gets the threshold of the highest
- * frequency, a query beyond the last eccentricity gets the last eccentricity's threshold. With the
- * conservative view (default) that is the safe direction: it may call something visible that is
- * not, never the other way round. A NaN argument gives a NaN threshold.
+ * Argument order: every query takes the position of the pattern first, in the order frequency,
+ * eccentricity (then velocity, luminance), and the contrast last.
  *
- * Infinity: a threshold of +INFINITY means "not visible at any contrast". Interpolating between a
- * finite and an infinite node gives +INFINITY everywhere strictly inside the cell.
+ * Interpolation: geometric (linear in log threshold), in log2 frequency, linear eccentricity, log
+ * (or linear, if the file says so) velocity and log luminance, nested in that order. A geometric
+ * blend is never above the linear one. Outside the grid every axis is clamped to its edge. With the
+ * conservative view (default) both are the safe direction: the table may call something visible
+ * that is not, never the other way round. A NaN argument gives a NaN threshold.
+ *
+ * Never visible: a node of +INFINITY means "not visible at any contrast". Inside a cell such a node
+ * enters the blend as a finite cap (at least one octave above contrast 1 and above the table's
+ * highest finite threshold; docs/csflut.md), so a query next to a visible node gets a threshold
+ * close to that node's. The result is +INFINITY only where every corner with a non-zero weight is
+ * never visible. Grid nodes return the stored value to within a few units in the last place.
  *
  * Conservative view (default ON): each node's threshold is replaced by the lowest threshold among
  * all nodes at the same or higher frequency and the same or higher eccentricity (for each velocity
  * and luminance slice). Below the most sensitive frequency the threshold is therefore the peak's
- * (Luebke & Hallen 2001, sec. 6.1); above it thresholds never fall as frequency or eccentricity
- * rise, so measurement noise never makes one cell claim "invisible" where a neighbour at a higher
- * frequency or eccentricity says "visible". Optionally every node is first lowered by k standard
- * errors: threshold * 10^(-k * stderr_log10) (nodes with unknown stderr are not shifted).
+ * (the conservative clamp of D. Luebke and B. Hallen, "Perceptually Driven Simplification for
+ * Interactive Rendering", Eurographics Workshop on Rendering 2001); above it thresholds never fall
+ * as frequency or eccentricity rise, so measurement noise never makes one cell claim "invisible"
+ * where a neighbour at a higher frequency or eccentricity says "visible". Optionally every node
+ * is first lowered by k standard errors: threshold * 10^(-k * stderr_log10) (nodes with unknown
+ * stderr are not shifted).
  *
  * Thread safety: a table is read-only after open, so queries may run concurrently from any number
  * of threads. csflut_set_conservative / csflut_set_stderr_shift change the table: do not call them
@@ -36,8 +44,21 @@
 extern "C" {
 #endif
 
+/* Only the functions below are exported from the shared library. */
+#if defined(_WIN32)
+#define CSFLUT_API
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#define CSFLUT_API __attribute__((visibility("default")))
+#else
+#define CSFLUT_API
+#endif
+
 #define CSFLUT_VERSION_MAJOR 1 /* file format major version this library reads and writes */
 #define CSFLUT_VERSION_MINOR 0
+/* Library (API) version; the shared library's soname and pkg-config carry the same number.
+ * 2.0.0: every query takes (freq, ecc, ..., contrast); geometric interpolation. */
+#define CSFLUT_LIB_VERSION "2.0.0"
+#define CSFLUT_LIB_VERSION_MAJOR 2
 
 typedef enum {
     CSFLUT_OK = 0,
@@ -58,7 +79,7 @@ typedef enum {
 } csflut_status;
 
 /* A short English sentence for a status code; never NULL. */
-const char *csflut_strerror(csflut_status s);
+CSFLUT_API const char *csflut_strerror(csflut_status s);
 
 /* Detailed diagnostic filled by the *_diag variants: the code, the byte offset (or CSV line) of the
  * problem, and a message that names the problem and the limit. */
@@ -71,64 +92,65 @@ typedef struct {
 typedef struct csflut_table csflut_table;
 
 /* ---- opening ---------------------------------------------------------------------------- */
-csflut_status csflut_open_file(const char *path, csflut_table **out);
-csflut_status csflut_open_memory(const void *buf, size_t len, csflut_table **out);
+CSFLUT_API csflut_status csflut_open_file(const char *path, csflut_table **out);
+CSFLUT_API csflut_status csflut_open_memory(const void *buf, size_t len, csflut_table **out);
 /* Same, with a detailed diagnostic (diag may be NULL). */
-csflut_status csflut_open_file_diag(const char *path, csflut_table **out, csflut_diag *diag);
-csflut_status csflut_open_memory_diag(const void *buf, size_t len, csflut_table **out,
+CSFLUT_API csflut_status csflut_open_file_diag(const char *path, csflut_table **out, csflut_diag *diag);
+CSFLUT_API csflut_status csflut_open_memory_diag(const void *buf, size_t len, csflut_table **out,
                                       csflut_diag *diag);
-void csflut_close(csflut_table *t);
+CSFLUT_API void csflut_close(csflut_table *t);
 
 /* ---- views -------------------------------------------------------------------------------- */
 /* Conservative view on (1, the default) or raw measured values (0). */
-void csflut_set_conservative(csflut_table *t, int on);
-int csflut_get_conservative(const csflut_table *t);
+CSFLUT_API void csflut_set_conservative(csflut_table *t, int on);
+CSFLUT_API int csflut_get_conservative(const csflut_table *t);
 /* Shift of the conservative view by k standard errors (k >= 0, finite; default 0). */
-csflut_status csflut_set_stderr_shift(csflut_table *t, double k_stderr);
-double csflut_get_stderr_shift(const csflut_table *t);
+CSFLUT_API csflut_status csflut_set_stderr_shift(csflut_table *t, double k_stderr);
+CSFLUT_API double csflut_get_stderr_shift(const csflut_table *t);
 
 /* ---- queries (cycles per degree, degrees) ------------------------------------------------- */
 /* Threshold Michelson contrast at (freq, ecc), at the table's default velocity and luminance
  * (the lowest velocity grid point; the metadata mean luminance, or the lowest luminance grid point
  * when the metadata has none). May exceed 1 or be +INFINITY (never visible). */
-double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg);
+CSFLUT_API double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg);
 /* Full query. For a table without a velocity or luminance axis that argument is ignored. */
-double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
+CSFLUT_API double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
                          double lum_cdm2);
-/* The seed's IsPerceptible: 1 if contrast >= threshold(freq, ecc), else 0 (NaN: 0). */
-int csflut_perceptible(const csflut_table *t, double freq_cpd, double contrast, double ecc_deg);
-/* The inverse (seed 000 sec. 5.3): the highest frequency at which `contrast` is still visible at
- * ecc, exact with respect to the interpolated table, so threshold(max_frequency(c, e), e) == c
- * (to rounding) wherever the crossing lies inside the grid. Returns +INFINITY when the contrast is
- * visible at the highest grid frequency (clamping makes it visible at every higher frequency) and
- * 0 when it is not visible at any frequency. */
-double csflut_max_frequency(const csflut_table *t, double contrast, double ecc_deg);
-double csflut_max_frequency4(const csflut_table *t, double contrast, double ecc_deg,
-                             double vel_dps, double lum_cdm2);
+/* 1 if a pattern of this contrast is visible at (freq, ecc): contrast >= threshold(freq, ecc)
+ * (the perceptibility test of Luebke & Hallen 2001); NaN gives 0. */
+CSFLUT_API int csflut_perceptible(const csflut_table *t, double freq_cpd, double ecc_deg, double contrast);
+/* The inverse, as a level-of-detail renderer uses it: the highest frequency at which `contrast` is still
+ * visible at ecc, exact with respect to the interpolated table, so threshold(max_frequency(e, c),
+ * e) == c (to rounding) wherever the crossing lies inside the grid. Returns +INFINITY when the
+ * contrast is visible at the highest grid frequency (clamping makes it visible at every higher
+ * frequency) and 0 when it is not visible at any frequency. */
+CSFLUT_API double csflut_max_frequency(const csflut_table *t, double ecc_deg, double contrast);
+CSFLUT_API double csflut_max_frequency4(const csflut_table *t, double ecc_deg, double vel_dps,
+                             double lum_cdm2, double contrast);
 /* Frequency of the lowest threshold at ecc (the peak of the CSF), a grid frequency. */
-double csflut_peak_frequency(const csflut_table *t, double ecc_deg);
+CSFLUT_API double csflut_peak_frequency(const csflut_table *t, double ecc_deg);
 
 /* ---- the forms the LOD runtime uses: cycles per radian, wavelength in radians per cycle,
  *      eccentricity in radians ------------------------------------------------------------ */
-double csflut_threshold_cpr(const csflut_table *t, double freq_cpr, double ecc_rad);
-double csflut_threshold_wavelength(const csflut_table *t, double wavelength_rad, double ecc_rad);
-int csflut_perceptible_cpr(const csflut_table *t, double freq_cpr, double contrast, double ecc_rad);
-int csflut_perceptible_wavelength(const csflut_table *t, double wavelength_rad, double contrast,
-                                  double ecc_rad);
-double csflut_max_frequency_cpr(const csflut_table *t, double contrast, double ecc_rad);
+CSFLUT_API double csflut_threshold_cpr(const csflut_table *t, double freq_cpr, double ecc_rad);
+CSFLUT_API double csflut_threshold_wavelength(const csflut_table *t, double wavelength_rad, double ecc_rad);
+CSFLUT_API int csflut_perceptible_cpr(const csflut_table *t, double freq_cpr, double ecc_rad, double contrast);
+CSFLUT_API int csflut_perceptible_wavelength(const csflut_table *t, double wavelength_rad, double ecc_rad,
+                                  double contrast);
+CSFLUT_API double csflut_max_frequency_cpr(const csflut_table *t, double ecc_rad, double contrast);
 /* Smallest wavelength (radians per cycle) still visible: 1 / max_frequency_cpr; 0 when every
  * wavelength is visible, +INFINITY when none is. */
-double csflut_min_wavelength(const csflut_table *t, double contrast, double ecc_rad);
+CSFLUT_API double csflut_min_wavelength(const csflut_table *t, double ecc_rad, double contrast);
 
 /* ---- batch ------------------------------------------------------------------------------ */
 /* out[i] = csflut_threshold(t, freq_cpd[i], ecc_deg[i]) for i < n (bit-identical results). */
-void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+CSFLUT_API void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
                             double *out, size_t n);
-void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+CSFLUT_API void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
                              const double *vel_dps, const double *lum_cdm2, double *out, size_t n);
-/* out[i] = csflut_perceptible(t, freq_cpd[i], contrast[i], ecc_deg[i]). */
-void csflut_perceptible_batch(const csflut_table *t, const double *freq_cpd,
-                              const double *contrast, const double *ecc_deg, unsigned char *out,
+/* out[i] = csflut_perceptible(t, freq_cpd[i], ecc_deg[i], contrast[i]). */
+CSFLUT_API void csflut_perceptible_batch(const csflut_table *t, const double *freq_cpd,
+                              const double *ecc_deg, const double *contrast, unsigned char *out,
                               size_t n);
 
 /* ---- axes, values and metadata ----------------------------------------------------------- */
@@ -137,29 +159,29 @@ typedef enum { CSFLUT_AXIS_FREQ = 0, CSFLUT_AXIS_ECC = 1, CSFLUT_AXIS_VEL = 2, C
 typedef enum { CSFLUT_SCALE_LINEAR = 0, CSFLUT_SCALE_LOG = 1 } csflut_scale;
 
 /* Number of grid points on an axis; 0 when the axis is absent. */
-int csflut_axis_size(const csflut_table *t, csflut_axis a);
-const double *csflut_axis_points(const csflut_table *t, csflut_axis a); /* NULL if absent */
-csflut_scale csflut_axis_scale(const csflut_table *t, csflut_axis a);
-const char *csflut_axis_name(csflut_axis a); /* "freq", "ecc", "velocity", "luminance" */
-const char *csflut_axis_unit(csflut_axis a); /* "cpd", "deg", "deg/s", "cd/m2" */
+CSFLUT_API int csflut_axis_size(const csflut_table *t, csflut_axis a);
+CSFLUT_API const double *csflut_axis_points(const csflut_table *t, csflut_axis a); /* NULL if absent */
+CSFLUT_API csflut_scale csflut_axis_scale(const csflut_table *t, csflut_axis a);
+CSFLUT_API const char *csflut_axis_name(csflut_axis a); /* "freq", "ecc", "velocity", "luminance" */
+CSFLUT_API const char *csflut_axis_unit(csflut_axis a); /* "cpd", "deg", "deg/s", "cd/m2" */
 /* Stored node values, index ((lum*n_vel' + vel)*n_ecc + ecc)*n_freq + freq (n' = max(n, 1)). */
-size_t csflut_node_count(const csflut_table *t);
-const double *csflut_raw_thresholds(const csflut_table *t);
-const double *csflut_conservative_thresholds(const csflut_table *t); /* under the current shift */
-const double *csflut_stderr_log10(const csflut_table *t); /* NULL when the file has none */
+CSFLUT_API size_t csflut_node_count(const csflut_table *t);
+CSFLUT_API const double *csflut_raw_thresholds(const csflut_table *t);
+CSFLUT_API const double *csflut_conservative_thresholds(const csflut_table *t); /* under the current shift */
+CSFLUT_API const double *csflut_stderr_log10(const csflut_table *t); /* NULL when the file has none */
 
-int csflut_version_major(const csflut_table *t);
-int csflut_version_minor(const csflut_table *t);
-const char *csflut_observer(const csflut_table *t);           /* "" when absent, never NULL */
-const char *csflut_display_profile_id(const csflut_table *t);
-const char *csflut_method(const csflut_table *t);
-const char *csflut_date_utc(const csflut_table *t);
-const char *csflut_tool_version(const csflut_table *t);
-double csflut_viewing_distance_mm(const csflut_table *t);     /* NaN when unknown */
-double csflut_mean_lum_cdm2(const csflut_table *t);           /* NaN when unknown */
-int csflut_trials(const csflut_table *t);
-double csflut_default_velocity(const csflut_table *t);        /* used by the 2-D queries */
-double csflut_default_luminance(const csflut_table *t);
+CSFLUT_API int csflut_version_major(const csflut_table *t);
+CSFLUT_API int csflut_version_minor(const csflut_table *t);
+CSFLUT_API const char *csflut_observer(const csflut_table *t);           /* "" when absent, never NULL */
+CSFLUT_API const char *csflut_display_profile_id(const csflut_table *t);
+CSFLUT_API const char *csflut_method(const csflut_table *t);
+CSFLUT_API const char *csflut_date_utc(const csflut_table *t);
+CSFLUT_API const char *csflut_tool_version(const csflut_table *t);
+CSFLUT_API double csflut_viewing_distance_mm(const csflut_table *t);     /* NaN when unknown */
+CSFLUT_API double csflut_mean_lum_cdm2(const csflut_table *t);           /* NaN when unknown */
+CSFLUT_API int csflut_trials(const csflut_table *t);
+CSFLUT_API double csflut_default_velocity(const csflut_table *t);        /* used by the 2-D queries */
+CSFLUT_API double csflut_default_luminance(const csflut_table *t);
 
 /* ---- writer (csflut_write.c) ------------------------------------------------------------- */
 typedef struct {
@@ -173,37 +195,40 @@ typedef struct {
     int trials;
 } csflut_build;
 
-csflut_status csflut_write_file(const csflut_build *b, const char *path);
-csflut_status csflut_write_memory(const csflut_build *b, unsigned char **out, size_t *len);
+CSFLUT_API csflut_status csflut_write_file(const csflut_build *b, const char *path);
+CSFLUT_API csflut_status csflut_write_memory(const csflut_build *b, unsigned char **out, size_t *len);
 /* Same, with a diagnostic naming the offending field (diag may be NULL). */
-csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **out, size_t *len,
+CSFLUT_API csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **out, size_t *len,
                                        csflut_diag *diag);
-csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag);
+CSFLUT_API csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag);
 /* Checks a build description without writing (same rules as the reader). */
-csflut_status csflut_validate_build(const csflut_build *b, csflut_diag *diag);
+CSFLUT_API csflut_status csflut_validate_build(const csflut_build *b, csflut_diag *diag);
 /* Fills b with pointers into t (raw values), valid while t is open. */
-void csflut_table_to_build(const csflut_table *t, csflut_build *b);
+CSFLUT_API void csflut_table_to_build(const csflut_table *t, csflut_build *b);
 
 /* ---- CSV import (csflut_csv.c) ----------------------------------------------------------
  * Columns by header name: freq_cpd, ecc_deg, [velocity_dps], [lum_cdm2], threshold,
  * [stderr_log10], in any order; '#' starts a comment line; "inf" = never visible, empty or "nan"
- * stderr = unknown. Every grid combination must appear exactly once. */
+ * stderr = unknown. Every grid combination must appear exactly once. The metadata comments that
+ * csflut_export writes ("# observer: ...", "# viewing_distance_mm: 600", "# trials: 240", every
+ * field of csflut_build) fill the build's metadata, so export -> import keeps all of it. */
 typedef struct csflut_grid csflut_grid;
-csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
+CSFLUT_API csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
                                 csflut_diag *diag);
-/* The grid's build description; metadata pointers may be set by the caller (they are not freed). */
-csflut_build *csflut_grid_build(csflut_grid *g);
-void csflut_grid_free(csflut_grid *g);
+/* The grid's build description, metadata from the CSV comments included (owned by the grid); the
+ * caller may point metadata elsewhere (such pointers are not freed). */
+CSFLUT_API csflut_build *csflut_grid_build(csflut_grid *g);
+CSFLUT_API void csflut_grid_free(csflut_grid *g);
 
 /* ---- exports (csflut_export.c) ----------------------------------------------------------
  * CSV and JSON hold every axis and the raw values (+ stderr); the C header and GLSL hold the 2-D
  * (frequency, eccentricity) view at the default velocity and luminance, in the table's current
  * view (conservative or raw), as a self-contained function named PREFIX_threshold(freq_cpd,
- * ecc_deg) that reproduces csflut_threshold. `prefix` must be a C identifier (NULL = "csflut_gen").
+ * ecc_deg) that reproduces csflut_threshold (C: bit for bit; GLSL: in float32). `prefix` must be a C identifier (NULL = "csflut_gen").
  * *out is malloc'd and NUL-terminated. */
 typedef enum { CSFLUT_FORMAT_CSV = 0, CSFLUT_FORMAT_JSON, CSFLUT_FORMAT_C, CSFLUT_FORMAT_GLSL }
     csflut_format;
-csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char *prefix,
+CSFLUT_API csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char *prefix,
                             char **out, size_t *len);
 
 #ifdef __cplusplus

@@ -7,17 +7,28 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csflut.h"
-#include "results/csflut_internal.h"
+#include "csflut.h"
+#include "csflut_internal.h"
 
 enum { COL_FREQ, COL_ECC, COL_VEL, COL_LUM, COL_THR, COL_SE, N_COLS };
 static const char *const col_names[N_COLS] = {"freq_cpd", "ecc_deg", "velocity_dps",
                                               "lum_cdm2", "threshold", "stderr_log10"};
 
+/* The metadata comments `csflut_export` writes ("# observer: ...", "# trials: 240"), read back
+ * so an export -> import round trip keeps them. */
+static const char *const meta_keys[CSFLUT_N_STRINGS] = {"observer", "display_profile_id",
+                                                         "method", "date_utc", "tool_version"};
+typedef struct {
+    char *str[CSFLUT_N_STRINGS];
+    double dist_mm, mean_lum;
+    long trials;
+} csv_meta;
+
 struct csflut_grid {
     csflut_build build;
     double *pts[4];
     double *thr, *se;
+    char *meta[CSFLUT_N_STRINGS];
 };
 
 csflut_build *csflut_grid_build(csflut_grid *g) { return g ? &g->build : NULL; }
@@ -28,6 +39,7 @@ void csflut_grid_free(csflut_grid *g)
     for (int a = 0; a < 4; a++) free(g->pts[a]);
     free(g->thr);
     free(g->se);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(g->meta[k]);
     free(g);
 }
 
@@ -35,6 +47,62 @@ typedef struct {
     double v[N_COLS];
     size_t line;
 } row;
+
+/* A comment line [q, le) (q at the '#'): "# key: value" for a known key sets that field; other
+ * comments are ignored. Returns CSFLUT_OK, CSFLUT_E_NOMEM or CSFLUT_E_CSV (msg filled). */
+static csflut_status parse_meta(const char *q, const char *le, csv_meta *m, char *msg, size_t msz)
+{
+    q++;
+    while (q < le && (*q == ' ' || *q == '\t')) q++;
+    const char *colon = memchr(q, ':', (size_t)(le - q));
+    if (!colon) return CSFLUT_OK;
+    size_t kl = (size_t)(colon - q);
+    const char *v = colon + 1, *ve = le;
+    while (v < ve && (*v == ' ' || *v == '\t')) v++;
+    while (ve > v && (ve[-1] == ' ' || ve[-1] == '\t')) ve--;
+    size_t vl = (size_t)(ve - v);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
+        if (strlen(meta_keys[k]) != kl || memcmp(q, meta_keys[k], kl) != 0) continue;
+        if (vl > CSFLUT_MAX_STRING || memchr(v, 0, vl)) {
+            snprintf(msg, msz, "%s is longer than %d bytes or contains a NUL byte", meta_keys[k],
+                     CSFLUT_MAX_STRING);
+            return CSFLUT_E_CSV;
+        }
+        free(m->str[k]);
+        m->str[k] = malloc(vl + 1);
+        if (!m->str[k]) return CSFLUT_E_NOMEM;
+        memcpy(m->str[k], v, vl);
+        m->str[k][vl] = 0;
+        return CSFLUT_OK;
+    }
+    static const char *const num_keys[3] = {"viewing_distance_mm", "mean_lum_cdm2", "trials"};
+    for (int k = 0; k < 3; k++) {
+        if (strlen(num_keys[k]) != kl || memcmp(q, num_keys[k], kl) != 0) continue;
+        char buf[64];
+        double x = NAN;
+        int ok = vl > 0 && vl < sizeof buf;
+        if (ok) {
+            memcpy(buf, v, vl);
+            buf[vl] = 0;
+            char *end;
+            x = strtod(buf, &end);
+            ok = *end == 0;
+        }
+        /* NaN = unknown for the two reals; the same limits as the file header */
+        if (k < 2) ok = ok && (x != x || (isfinite(x) && x > 0));
+        else ok = ok && x >= 0 && x <= 2147483647.0 && x == floor(x);
+        if (!ok) {
+            snprintf(msg, msz, "%s \"%.*s\" is not %s", num_keys[k], (int)(vl < 40 ? vl : 40), v,
+                     k < 2 ? "a number > 0 (or nan for unknown)" : "a whole number 0 to 2147483647");
+            return CSFLUT_E_CSV;
+        }
+        if (k == 0) m->dist_mm = x;
+        else if (k == 1) m->mean_lum = x;
+        else m->trials = (long)x;
+        return CSFLUT_OK;
+    }
+    return CSFLUT_OK;
+}
 
 /* Splits the line [s, e) at commas into at most max fields (trimmed). Returns the count, or -1
  * if there are more. */
@@ -113,6 +181,7 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
     const char *p = text ? text : "", *end = p + len;
     csflut_grid *g = NULL;
     size_t *node_line = NULL;
+    csv_meta meta = {.dist_mm = NAN, .mean_lum = NAN};
 
     while (p < end) {
         const char *e = memchr(p, '\n', (size_t)(end - p));
@@ -123,6 +192,11 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
         if (le > p && le[-1] == '\r') le--;
         const char *q = p;
         while (q < le && (*q == ' ' || *q == '\t')) q++;
+        if (q < le && *q == '#') {
+            st = parse_meta(q, le, &meta, msg, sizeof msg);
+            if (st == CSFLUT_E_CSV) st = csv_fail(diag, line, msg);
+            if (st) goto done;
+        }
         if (q == le || *q == '#') {
             p = next;
             continue;
@@ -325,8 +399,18 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
     b->lum_cdm2 = g->pts[3];
     b->threshold = g->thr;
     b->stderr_log10 = g->se;
-    b->viewing_distance_mm = NAN;
-    b->mean_lum_cdm2 = NAN;
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
+        g->meta[k] = meta.str[k];
+        meta.str[k] = NULL;
+    }
+    b->observer = g->meta[0];
+    b->display_profile_id = g->meta[1];
+    b->method = g->meta[2];
+    b->date_utc = g->meta[3];
+    b->tool_version = g->meta[4];
+    b->viewing_distance_mm = meta.dist_mm;
+    b->mean_lum_cdm2 = meta.mean_lum;
+    b->trials = (int)meta.trials;
     csflut_diag vd;
     st = csflut_validate_build(b, &vd);
     if (st) {
@@ -336,6 +420,7 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
 done:
     free(rows);
     free(node_line);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(meta.str[k]);
     if (st) {
         if (st == CSFLUT_E_NOMEM) csflut_diag_set(diag, st, line, "out of memory");
         csflut_grid_free(g);

@@ -5,8 +5,9 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
-#include "results/csflut.h"
+#include "csflut.h"
 
 /* File layout (docs/csflut.md): 64-byte header, axis records, thresholds, optional stderr,
  * metadata strings, CRC-32 trailer. All little-endian. */
@@ -51,7 +52,9 @@ struct csflut_table {
     int trials;
     double def_vel, def_lum;
     csflut_axis_fast fx, ex;  /* frequency (log2) and eccentricity (linear) */
-    double *slice_raw, *slice_cons; /* ex.n * fx.n values, freq fastest */
+    double cap_log2;          /* log2 threshold an invisible node enters interpolation with */
+    double *slice_raw, *slice_cons; /* ex.n * fx.n log2 thresholds (cap = never visible),
+                                       freq fastest */
 };
 
 void csflut_diag_set(csflut_diag *d, csflut_status code, size_t where, const char *fmt, ...)
@@ -60,8 +63,77 @@ void csflut_diag_set(csflut_diag *d, csflut_status code, size_t where, const cha
 #endif
     ;
 uint32_t csflut_crc32(const unsigned char *p, size_t n);
-/* log2(x) for the interpolation coordinate: accurate to about 1 ulp; x <= 0 gives -HUGE_VAL,
- * +inf gives +inf. Used by every query so all paths agree bit for bit. */
+/* log2 and exp2 for the interpolation, written out here (a polynomial, no table, no branch) so
+ * the batch loops vectorise and the exported C header can carry the same arithmetic, operation
+ * for operation, and so match the library bit for bit. Both are accurate to about 1 ulp on
+ * normal numbers. log2 clamps its argument to [DBL_MIN, DBL_MAX] (NaN gives log2(DBL_MIN) =
+ * -1022): frequencies that small are below every grid, and callers check NaN themselves. exp2
+ * takes r in [-1022, 1023], so its result is p * 2^k with k a normal exponent (the same as
+ * ldexp(p, k)). The coefficients (Estrin's scheme, spelled out so the exporter can copy them) are the Taylor series of 2^f for |f| <= 1/2 (degree 13) and of
+ * log2 m = (2 / ln 2) atanh((m - 1) / (m + 1)) for m in [sqrt(1/2), sqrt(2)] (up to s^21;
+ * the next term is below 1e-17 relative). */
+static inline double csflut_log2_poly(double m, double e)
+{
+    /* Estrin's scheme: short dependency chains, so consecutive queries overlap */
+    double s = (m - 1) / (m + 1), z = s * s, z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;
+    double a0 = 2.8853900817779268 + 0.9617966939259757 * z;
+    double a1 = 0.5770780163555853 + 0.41219858311113244 * z;
+    double a2 = 0.3205988979753252 + 0.2623081892525388 * z;
+    double a3 = 0.2219530832136867 + 0.19235933878519512 * z;
+    double a4 = 0.16972882833987804 + 0.15186263588304877 * z;
+    double b0 = a0 + a1 * z2, b1 = a2 + a3 * z2, b2 = a4 + 0.1373995277037108 * z2;
+    double p = (b0 + b1 * z4) + b2 * z8;
+    return e + s * p;
+}
+
+static inline double csflut_log2i(double x)
+{
+    x = x > 0x1p-1022 ? x : 0x1p-1022;
+    x = x < 0x1.fffffffffffffp1023 ? x : 0x1.fffffffffffffp1023;
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    /* x = m * 2^e with m in [sqrt(1/2), sqrt(2)): big = 1 when the mantissa is >= sqrt(2)'s
+     * (adding 2^52 - mantissa(sqrt 2) carries into bit 52); integer arithmetic only, so the loop
+     * vectorises */
+    uint64_t mant = b & 0x000FFFFFFFFFFFFFull;
+    uint64_t big = (mant + 0x95F619980C433ull) >> 52;
+    int32_t e = (int32_t)(b >> 52) - 1023 + (int32_t)big;
+    uint64_t mb = mant | ((1023 - big) << 52);
+    double m;
+    memcpy(&m, &mb, sizeof m);
+    return csflut_log2_poly(m, (double)e);
+}
+
+static inline double csflut_exp2_poly(double f)
+{
+    double f2 = f * f, f4 = f2 * f2, f8 = f4 * f4;
+    double a0 = 1.0 + 0.6931471805599453 * f;
+    double a1 = 0.2402265069591007 + 0.055504108664821576 * f;
+    double a2 = 0.009618129107628477 + 0.0013333558146428441 * f;
+    double a3 = 0.00015403530393381606 + 1.5252733804059838e-05 * f;
+    double a4 = 1.3215486790144305e-06 + 1.0178086009239696e-07 * f;
+    double a5 = 7.054911620801121e-09 + 4.44553827187081e-10 * f;
+    double a6 = 2.5678435993488196e-11 + 1.3691488853904124e-12 * f;
+    double b0 = a0 + a1 * f2, b1 = a2 + a3 * f2, b2 = a4 + a5 * f2;
+    double c0 = b0 + b1 * f4, c1 = b2 + a6 * f4;
+    return c0 + c1 * f8;
+}
+
+/* r must lie in [-1022, 1023]: every caller passes a blend of csflut_log2i values (>= -1022)
+ * and the cap (<= 512, see csflut_table_finish), or clamps. */
+static inline double csflut_exp2i(double r)
+{
+    double t = r + 0x1.8p52; /* rounds r to the nearest integer k, held in t's low bits */
+    double k = t - 0x1.8p52;
+    uint64_t tb, sb;
+    memcpy(&tb, &t, sizeof tb);
+    sb = (tb - 0x4338000000000000ull + 1023) << 52; /* 2^k */
+    double scale;
+    memcpy(&scale, &sb, sizeof scale);
+    return csflut_exp2_poly(r - k) * scale;
+}
+
+/* Not exported: csflut_log2i as a function, for the writer's axis check. */
 double csflut_log2(double x);
 /* Creates the derived data (conservative view, 2-D slices) of a table whose axes and values are
  * filled. */

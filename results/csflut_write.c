@@ -1,13 +1,22 @@
 /* csflut writer: validates a csflut_build with the reader's rules and serialises it in the
- * little-endian v1 layout of docs/csflut.md, CRC-32 last. */
+ * little-endian v1 layout of docs/csflut.md, CRC-32 last. Files are written to a temporary in the
+ * same folder, fsynced and renamed (POSIX), so a reader never sees half a table. */
+#if !defined(_POSIX_C_SOURCE) || _POSIX_C_SOURCE < 200809L
+#undef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L /* mkstemp, fsync, fileno: this file builds on its own when vendored */
+#endif
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
-#include "results/csflut.h"
-#include "results/csflut_internal.h"
+#include "csflut.h"
+#include "csflut_internal.h"
 
 static const char *const axis_name16[4] = {"freq", "ecc", "velocity", "luminance"};
 static const char *const axis_unit16[4] = {"cpd", "deg", "deg/s", "cd/m2"};
@@ -192,6 +201,80 @@ csflut_status csflut_write_memory(const csflut_build *b, unsigned char **out, si
     return csflut_write_memory_diag(b, out, len, NULL);
 }
 
+/* Writes all of buf to fd; 0 or an errno value. */
+static int write_all(int fd, const unsigned char *buf, size_t len)
+{
+    while (len > 0) {
+        ssize_t w = write(fd, buf, len);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return errno;
+        }
+        if (w == 0) return EIO;
+        buf += w;
+        len -= (size_t)w;
+    }
+    return 0;
+}
+
+/* The folder of path ("." when it has none), for the temporary and the directory fsync. */
+static char *dir_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path) : 1;
+    if (slash && n == 0) n = 1; /* "/x": the root */
+    char *d = malloc(n + 1);
+    if (!d) return NULL;
+    memcpy(d, slash ? path : ".", n);
+    d[n] = 0;
+    return d;
+}
+
+/* buf -> temporary beside path -> fsync -> rename over path -> fsync of the folder. On failure
+ * the temporary is removed, path is untouched, and the OS error is named. */
+static csflut_status write_atomic(const char *path, const unsigned char *buf, size_t len,
+                                  csflut_diag *diag)
+{
+    size_t pl = strlen(path);
+    char *tmp = malloc(pl + 16), *dir = dir_of(path);
+    if (!tmp || !dir) {
+        free(tmp);
+        free(dir);
+        csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory");
+        return CSFLUT_E_NOMEM;
+    }
+    snprintf(tmp, pl + 16, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(tmp), err = 0;
+    const char *step = "cannot create a temporary file in";
+    if (fd < 0) {
+        err = errno;
+    } else {
+        step = "cannot write";
+        err = write_all(fd, buf, len);
+        if (!err && fsync(fd) != 0) err = errno;
+        if (close(fd) != 0 && !err) err = errno;
+        if (!err && chmod(tmp, 0644) != 0) err = errno; /* mkstemp makes 0600 */
+        if (!err && rename(tmp, path) != 0) {
+            err = errno;
+            step = "cannot rename the temporary file over";
+        }
+        if (err) remove(tmp);
+    }
+    if (err) {
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "%s %s: %s", step, fd < 0 ? dir : path,
+                        strerror(err));
+    } else {
+        int dfd = open(dir, O_RDONLY);
+        if (dfd >= 0) { /* the rename itself reaches the disk; failure here is not fatal */
+            (void)fsync(dfd);
+            close(dfd);
+        }
+    }
+    free(tmp);
+    free(dir);
+    return err ? CSFLUT_E_IO : CSFLUT_OK;
+}
+
 csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag)
 {
     if (!path) {
@@ -202,27 +285,7 @@ csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, cs
     size_t len;
     csflut_status st = csflut_write_memory_diag(b, &buf, &len, diag);
     if (st) return st;
-    /* Write a temporary file and rename it, so a reader never sees half a table and a failed
-     * write never destroys the previous one. */
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + 16);
-    if (!tmp) {
-        free(buf);
-        csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory");
-        return CSFLUT_E_NOMEM;
-    }
-    snprintf(tmp, pl + 16, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    int ok = f != NULL;
-    if (ok) ok = fwrite(buf, 1, len, f) == len;
-    if (f && fclose(f) != 0) ok = 0;
-    if (ok) ok = rename(tmp, path) == 0;
-    if (!ok) {
-        remove(tmp);
-        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s", path);
-        st = CSFLUT_E_IO;
-    }
-    free(tmp);
+    st = write_atomic(path, buf, len, diag);
     free(buf);
     return st;
 }

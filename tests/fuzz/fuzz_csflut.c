@@ -26,9 +26,9 @@ static void exercise(const unsigned char *buf, size_t len)
             for (size_t j = 0; j < sizeof e / sizeof e[0]; j++) {
                 sink += csflut_threshold(t, f[i], e[j]);
                 sink += csflut_threshold4(t, f[i], e[j], f[i], f[i]);
-                sink += csflut_max_frequency(t, fabs(f[i]) * 0.01, e[j]);
-                sink += csflut_max_frequency4(t, 0.05, e[j], 1, 50);
-                sink += csflut_perceptible(t, f[i], 0.02, e[j]);
+                sink += csflut_max_frequency(t, e[j], fabs(f[i]) * 0.01);
+                sink += csflut_max_frequency4(t, e[j], 1, 50, 0.05);
+                sink += csflut_perceptible(t, f[i], e[j], 0.02);
             }
         sink += csflut_peak_frequency(t, 3);
     }

@@ -18,7 +18,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (csflut_write_memory(csflut_grid_build(g), &buf, &len) != CSFLUT_OK) abort();
     csflut_table *t;
     if (csflut_open_memory(buf, len, &t) != CSFLUT_OK) abort();
-    volatile double s = csflut_threshold(t, 2, 3) + csflut_max_frequency(t, 0.1, 1);
+    volatile double s = csflut_threshold(t, 2, 3) + csflut_max_frequency(t, 1, 0.1);
     (void)s;
     csflut_close(t);
     free(buf);

@@ -61,13 +61,18 @@ static inline csflut_table *fx_open(const csflut_build *b)
     return t;
 }
 
-/* Reference: bilinear in (ln f, ecc) over node values v (freq fastest), clamped, inf-safe. */
-static inline double ref_lerp(double a, double b, double w)
+/* Reference: the library's documented interpolation written the plain way. Natural log of the
+ * thresholds blended bilinearly in (ln f, ecc), clamped; an invisible node enters as the cap
+ * (log2 cap: the smallest power of two >= log2(max(1, highest finite threshold)) + 1); +inf only
+ * when every corner with a non-zero weight is invisible. */
+static inline double ref_cap_ln(const double *v, int n)
 {
-    if (w <= 0) return a;
-    if (w >= 1) return b;
-    if (isinf(a) || isinf(b)) return INFINITY;
-    return a + (b - a) * w;
+    double m = 1;
+    for (int k = 0; k < n; k++)
+        if (isfinite(v[k]) && v[k] > m) m = v[k];
+    double want = log(m) / log(2) + 1, cap = 1;
+    while (cap < want) cap *= 2;
+    return cap * log(2);
 }
 
 static inline double ref_threshold(const double *fr, int nf, const double *ec, int ne, const double *v,
@@ -89,9 +94,16 @@ static inline double ref_threshold(const double *fr, int nf, const double *ec, i
     int i1 = nf > 1 ? i + 1 : i, j1 = ne > 1 ? j + 1 : j;
     double wf = nf > 1 ? (log(f) - log(fr[i])) / (log(fr[i1]) - log(fr[i])) : 0;
     double we = ne > 1 ? (e - ec[j]) / (ec[j1] - ec[j]) : 0;
-    double r0 = ref_lerp(v[j * nf + i], v[j * nf + i1], wf);
-    double r1 = ref_lerp(v[j1 * nf + i], v[j1 * nf + i1], wf);
-    return ref_lerp(r0, r1, we);
+    double cap = ref_cap_ln(v, nf * ne);
+    const double w[4] = {(1 - wf) * (1 - we), wf * (1 - we), (1 - wf) * we, wf * we};
+    const double c[4] = {v[j * nf + i], v[j * nf + i1], v[j1 * nf + i], v[j1 * nf + i1]};
+    double sum = 0;
+    int visible = 0;
+    for (int k = 0; k < 4; k++) {
+        if (w[k] > 0 && isfinite(c[k])) visible = 1;
+        sum += w[k] * (isfinite(c[k]) ? log(c[k]) : cap);
+    }
+    return visible ? exp(sum) : INFINITY;
 }
 
 /* Relative difference that treats equal infinities as equal. */

@@ -58,7 +58,45 @@ printf 'freq_cpd,ecc_deg,threshold\n1,0,0.01\n2,0,oops\n' >"$T/bad.csv"
 head -c 100 "$T/a.csflut" >"$T/trunc.csflut"
 "$CSFCAL" lut info "$T/trunc.csflut" >"$T/out" 2>&1; expect "truncated file" 1 "truncated" "$T/out" $?
 "$CSFCAL" lut info "$EXAMPLES/example_default_observer.csv" >"$T/out" 2>&1; expect "csv is not a table" 1 "magic" "$T/out" $?
-"$CSFCAL" lut info "$T/none.csflut" >"$T/out" 2>&1; expect "missing file" 1 "cannot open" "$T/out" $?
+"$CSFCAL" lut info "$T/none.csflut" >"$T/out" 2>&1; expect "missing file says why" 1 "cannot open .*none.csflut: No such file or directory" "$T/out" $?
+"$CSFCAL" lut info "$T" >"$T/out" 2>&1; expect "a folder says why" 1 "Is a directory" "$T/out" $?
+# issue 11 item 10: --date must be a real UTC date and time, and the message names the form
+for d in yesterday 2026-13-45T99:99:99Z 2026-02-29T00:00:00Z 2026-11-23 2026-11-23T10:00:00 2026-04-31T00:00:00Z; do
+    "$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/d.csflut" --date "$d" >"$T/out" 2>&1
+    expect "--date $d refused" 2 "YYYY-MM-DDTHH:MM:SSZ" "$T/out" $?
+done
+[ ! -e "$T/d.csflut" ] && ok "no table for a bad date" || bad "no table for a bad date"
+"$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/d.csflut" --date 2024-02-29T23:59:60Z >"$T/out" 2>&1
+[ $? = 0 ] && [ -s "$T/d.csflut" ] && ok "--date leap day, leap second accepted" || { bad "--date leap day accepted"; cat "$T/out"; }
+# issue 10 item 5: export -> import keeps every metadata field the CSV export writes
+"$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/m.csflut" --observer "Ann O." \
+    --display-profile "lcd-7 #2" --method fade --date 2025-01-02T03:04:05Z --distance-mm 650 \
+    --mean-lum 90 --trials 120 >"$T/out" 2>&1 || bad "import with metadata"
+"$CSFCAL" lut export "$T/m.csflut" --format csv -o "$T/m.csv" || bad "export m"
+"$CSFCAL" lut import "$T/m.csv" -o "$T/m2.csflut" >"$T/out" 2>&1 || bad "re-import m"
+"$CSFCAL" lut export "$T/m2.csflut" --format csv -o "$T/m2.csv" || bad "export m2"
+grep -c '^# [a-z0-9_]*: ' "$T/m.csv" | grep -qx 8 && ok "csv export has 8 metadata fields" || bad "csv export has 8 metadata fields"
+cmp -s "$T/m.csv" "$T/m2.csv" && ok "metadata round trip (every line equal)" || { bad "metadata round trip"; diff "$T/m.csv" "$T/m2.csv"; }
+"$CSFCAL" lut info "$T/m.csflut" --json 2>&1 | sed 's/"file": "[^"]*"//' >"$T/j1"
+"$CSFCAL" lut info "$T/m2.csflut" --json 2>&1 | sed 's/"file": "[^"]*"//' >"$T/j2"
+cmp -s "$T/j1" "$T/j2" && grep -q '"display_profile_id": "lcd-7 #2"' "$T/j2" && ok "metadata round trip (info --json equal)" || { bad "info json equal"; diff "$T/j1" "$T/j2"; }
+"$CSFCAL" lut import "$T/m.csv" -o "$T/m3.csflut" --observer Bob --trials 7 >"$T/out" 2>&1 || bad "re-import with overrides"
+"$CSFCAL" lut info "$T/m3.csflut" --json >"$T/out" 2>&1
+grep -q '"observer": "Bob"' "$T/out" && grep -q '"trials": 7' "$T/out" && grep -q '"method": "fade"' "$T/out" && ok "options override the CSV metadata" || { bad "options override"; cat "$T/out"; }
+printf '# trials: many\nfreq_cpd,ecc_deg,threshold\n1,0,0.01\n' >"$T/badmeta.csv"
+"$CSFCAL" lut import "$T/badmeta.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "bad metadata comment names line 1" 1 "line 1.*trials" "$T/out" $?
+# issue 11 item 6: an output that does not fit (RLIMIT_FSIZE, SIGXFSZ ignored: fails like a full
+# disk) leaves no partial file and no temporary, keeps what was there, and says why
+echo old >"$T/keep.c"
+(trap '' XFSZ; ulimit -f 2; exec "$CSFCAL" lut export "$T/a.csflut" --format c -o "$T/keep.c") >"$T/out" 2>&1
+expect "export past the file size limit fails with the OS error" 1 "File too large" "$T/out" $?
+[ "$(cat "$T/keep.c")" = old ] && ok "export: destination kept" || bad "export: destination kept"
+(trap '' XFSZ; ulimit -f 1; exec "$CSFCAL" lut import "$T/m.csv" -o "$T/full.csflut") >"$T/out" 2>&1
+expect "import past the file size limit fails with the OS error" 1 "File too large" "$T/out" $?
+[ ! -e "$T/full.csflut" ] && ok "import: no partial table" || bad "import: no partial table"
+ls "$T" | grep -q 'tmp' && { bad "temporaries left behind"; ls "$T"; } || ok "no temporaries left behind"
+"$CSFCAL" lut export "$T/a.csflut" --format c -o "$T/nodir/x.c" >"$T/out" 2>&1; expect "export into a missing folder refused up front" 2 "nodir" "$T/out" $?
+"$CSFCAL" lut import "$T/m.csv" -o "$T/nodir/x.csflut" >"$T/out" 2>&1; expect "import into a missing folder refused up front" 2 "nodir" "$T/out" $?
 "$CSFCAL" lut lookup "$T/a.csflut" --freq -1 --ecc 0 >"$T/out" 2>&1; expect "negative freq" 2 "allowed" "$T/out" $?
 "$CSFCAL" lut lookup "$T/a.csflut" --freq 4 >"$T/out" 2>&1; expect "missing --ecc" 2 "required" "$T/out" $?
 "$CSFCAL" lut export "$T/a.csflut" --format xml >"$T/out" 2>&1; expect "bad format" 2 "csv, json, c, glsl" "$T/out" $?

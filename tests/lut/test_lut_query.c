@@ -1,5 +1,6 @@
-/* csflut queries: interpolation against a straightforward reference, out-of-grid clamping,
- * infinities, the conservative view's properties on noisy tables, the inverse lookup, the radian
+/* csflut queries: geometric interpolation against a straightforward reference, out-of-grid
+ * clamping, never-visible nodes (a finite cap inside a cell, +inf only where every corner is
+ * invisible), the issue-10 figures on the bundled example table, the conservative view's properties on noisy tables, the inverse lookup, the radian
  * and wavelength forms, and the batch API. */
 #include <stdint.h>
 #include <stdio.h>
@@ -24,11 +25,12 @@ static void test_raw_matches_reference(void)
         if (!t) return;
         csflut_set_conservative(t, 0);
         CHECK_INT_EQ(csflut_get_conservative(t), 0);
-        /* exact at every node */
+        /* the stored value at every node (through log2 and exp2: a few ulp) */
         int exact = 1;
         for (int e = 0; e < 6; e++)
             for (int f = 0; f < 8; f++)
-                if (!(csflut_threshold(t, fx_freq[f], fx_ecc[e]) == fx.thr[e * 8 + f])) exact = 0;
+                if (rel_diff(csflut_threshold(t, fx_freq[f], fx_ecc[e]), fx.thr[e * 8 + f]) > 2e-15)
+                    exact = 0;
         CHECK(exact);
         /* random points, including outside the grid */
         csf_rng r;
@@ -52,24 +54,25 @@ static void test_interpolation_and_clamping(void)
     fx_make(&fx, 21, 0.0, 1e30);
     csflut_table *t = fx_open(&fx.b);
     csflut_set_conservative(t, 0);
-    /* log-frequency interpolation: the geometric mean of two nodes is the arithmetic mean of
-     * their thresholds */
+    /* geometric blend: at the geometric mean of two frequencies the threshold is the geometric
+     * mean of theirs, and so half-way between two eccentricities */
     double mid = csflut_threshold(t, sqrt(2 * 4), 5);
-    CHECK(rel_diff(mid, 0.5 * (fx.thr[8 + 2] + fx.thr[8 + 3])) < 1e-13);
-    /* linear eccentricity */
-    CHECK(rel_diff(csflut_threshold(t, 8, 25), 0.5 * (fx.thr[3 * 8 + 4] + fx.thr[4 * 8 + 4])) < 1e-13);
+    CHECK(rel_diff(mid, sqrt(fx.thr[8 + 2] * fx.thr[8 + 3])) < 1e-13);
+    CHECK(rel_diff(csflut_threshold(t, 8, 25), sqrt(fx.thr[3 * 8 + 4] * fx.thr[4 * 8 + 4])) < 1e-13);
+    /* never above the linear blend */
+    CHECK(mid <= 0.5 * (fx.thr[8 + 2] + fx.thr[8 + 3]));
     /* clamping to the edges */
-    CHECK(csflut_threshold(t, 0.01, 0) == fx.thr[0]);
-    CHECK(csflut_threshold(t, 0.0, 0) == fx.thr[0]);
-    CHECK(csflut_threshold(t, -3.0, 0) == fx.thr[0]);
-    CHECK(csflut_threshold(t, 1000, 0) == fx.thr[7]);
-    CHECK(csflut_threshold(t, INFINITY, 0) == fx.thr[7]);
-    CHECK(csflut_threshold(t, 4, -5) == fx.thr[3]);
-    CHECK(csflut_threshold(t, 4, 90) == fx.thr[5 * 8 + 3]);
-    CHECK(csflut_threshold(t, 1e-300, 1e300) == fx.thr[5 * 8]);
+    CHECK(rel_diff(csflut_threshold(t, 0.01, 0), fx.thr[0]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, 0.0, 0), fx.thr[0]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, -3.0, 0), fx.thr[0]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, 1000, 0), fx.thr[7]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, INFINITY, 0), fx.thr[7]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, 4, -5), fx.thr[3]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, 4, 90), fx.thr[5 * 8 + 3]) < 2e-15);
+    CHECK(rel_diff(csflut_threshold(t, 1e-300, 1e300), fx.thr[5 * 8]) < 2e-15);
     CHECK(isnan(csflut_threshold(t, NAN, 3)));
     CHECK(isnan(csflut_threshold(t, 3, NAN)));
-    CHECK(!csflut_perceptible(t, NAN, 1, 0));
+    CHECK(!csflut_perceptible(t, NAN, 0, 1));
     CHECK(isnan(csflut_threshold(NULL, 3, 3)));
     csflut_close(t);
 }
@@ -77,23 +80,42 @@ static void test_interpolation_and_clamping(void)
 static void test_infinity(void)
 {
     fx_table fx;
-    fx_make(&fx, 22, 0.0, 1e30);
-    fx.thr[5 * 8 + 7] = INFINITY; /* 32 cpd at 40 deg */
-    fx.thr[5 * 8 + 6] = INFINITY; /* 24 cpd at 40 deg */
+    fx_make(&fx, 22, 0.0, 1.0); /* above contrast 1: never visible (16-32 cpd beyond 0 deg) */
+    fx.thr[7] = INFINITY;       /* 32 cpd at 0 deg */
+    fx.thr[6] = INFINITY;       /* 24 cpd at 0 deg */
     csflut_table *t = fx_open(&fx.b);
     csflut_set_conservative(t, 0);
-    CHECK(isinf(csflut_threshold(t, 32, 40)));
-    CHECK(isinf(csflut_threshold(t, 28, 40)));
-    CHECK(isinf(csflut_threshold(t, 20, 40)));       /* between finite 16 and infinite 24 */
-    CHECK(isinf(csflut_threshold(t, 32, 35)));       /* between finite 30 deg and infinite 40 */
-    CHECK(csflut_threshold(t, 16, 40) == fx.thr[5 * 8 + 5]); /* exactly on the finite node */
-    CHECK(csflut_threshold(t, 32, 30) == fx.thr[4 * 8 + 7]);
-    CHECK(!csflut_perceptible(t, 30, 1.0, 40));
-    CHECK(csflut_perceptible(t, 30, 1.0, 30) == (1.0 >= fx.thr[4 * 8 + 7]) ||
-          csflut_perceptible(t, 30, 1.0, 30) == (1.0 >= csflut_threshold(t, 30, 30)));
-    /* the inverse stops at the last finite node */
-    double c = fx.thr[5 * 8 + 5] * 1.5;
-    CHECK(csflut_max_frequency(t, c, 40) == 16);
+    /* +inf only where every corner with a weight is invisible */
+    CHECK(isinf(csflut_threshold(t, 32, 0)));
+    CHECK(isinf(csflut_threshold(t, 28, 0)));
+    CHECK(isinf(csflut_threshold(t, 28, 3)));
+    CHECK(isinf(csflut_threshold(t, 50, 45)));
+    CHECK(!csflut_perceptible(t, 30, 0, 1.0));
+    /* next to a visible node the threshold is close to that node's (finite cap), not +inf */
+    double t16 = fx.thr[5], t8_5 = fx.thr[8 + 4];
+    double near16 = csflut_threshold(t, 16 * 1.01, 0), near8 = csflut_threshold(t, 8, 5.05);
+    CHECK_MSG(isfinite(near16) && near16 >= t16 && near16 < t16 * 1.2, "16.16 cpd: %g vs %g",
+              near16, t16);
+    CHECK_MSG(isfinite(near8) && near8 < t8_5 * 1.2, "8 cpd at 5.05 deg: %g vs %g", near8, t8_5);
+    CHECK(isfinite(csflut_threshold(t, 9, 1))); /* the issue's query: a cell with 3 of 4 visible */
+    /* the cap is twice contrast 1 here, so a blend towards it rises monotonically below 2 */
+    double prev = t16;
+    int rising = 1;
+    for (int k = 1; k < 100; k++) {
+        double f = 16 * pow(1.5, k / 100.0), th = csflut_threshold(t, f, 0);
+        if (!(th >= prev && th < 2.0)) rising = 0;
+        prev = th;
+    }
+    CHECK(rising);
+    CHECK(rel_diff(csflut_threshold(t, 16, 0), t16) < 2e-15); /* on the finite node */
+    /* the inverse is exact against the new interpolation, also inside a cell with a cap */
+    double c = t16 * 1.5;
+    double mf = csflut_max_frequency(t, 0, c);
+    CHECK_MSG(mf > 16 && mf < 24 && rel_diff(csflut_threshold(t, mf, 0), c) < 1e-11,
+              "max_frequency %g, threshold there %g, want %g", mf, csflut_threshold(t, mf, 0), c);
+    /* a contrast above the cap is visible up to, not at, the invisible node */
+    CHECK(csflut_max_frequency(t, 0, 100.0) == 24);
+    CHECK(csflut_max_frequency(t, 0, INFINITY) == 24);
     /* no NaN anywhere */
     csf_rng r;
     csf_rng_init(&r, 22, 2);
@@ -101,6 +123,49 @@ static void test_infinity(void)
     for (int i = 0; i < 5000; i++)
         if (isnan(csflut_threshold(t, rnd_freq(&r), rnd_ecc(&r)))) nan_seen = 1;
     CHECK(!nan_seen);
+    csflut_close(t);
+}
+
+/* Issue 10 item 1, reproduced on the bundled example: thresholds next to visible nodes must come
+ * back close to the analytic model the table was made from, not "never visible" or far too high;
+ * and over a query mix almost no truly visible query may be answered invisible or too high. */
+static void test_example_table_fails_safe(const char *path)
+{
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_file(path, &t), CSFLUT_OK);
+    if (!t) return;
+    csf_model_params p = csf_model_default();
+    const double q[3][3] = {{9, 1, 0.014}, {8.5, 0.5, 0.010}, {5.7, 10, 0.125}};
+    for (int view = 1; view >= 0; view--) {
+        csflut_set_conservative(t, view);
+        for (int k = 0; k < 3; k++) {
+            double truth = csf_model_threshold(&p, q[k][0], q[k][1]);
+            double got = csflut_threshold(t, q[k][0], q[k][1]);
+            CHECK(fabs(truth - q[k][2]) < 0.001); /* the issue's model values */
+            CHECK_MSG(isfinite(got) && fabs(log10(got / truth)) < 0.1,
+                      "%g cpd at %g deg (%s view): %g against a true %g", q[k][0], q[k][1],
+                      view ? "conservative" : "raw", got, truth);
+            CHECK(csflut_perceptible(t, q[k][0], q[k][1], truth * 1.3));
+        }
+    }
+    /* bench_lut's query mix: 0.5-32 cpd log-uniform, 0-40 deg */
+    csflut_set_conservative(t, 1);
+    csf_rng r;
+    csf_rng_init(&r, 2026, 1);
+    int n = 200000, visible = 0, invisible = 0, high = 0;
+    for (int i = 0; i < n; i++) {
+        double f = 0.5 * pow(64.0, csf_rng_next_uniform(&r)), e = 40.0 * csf_rng_next_uniform(&r);
+        double truth = csf_model_threshold(&p, f, e);
+        if (!(truth <= 1)) continue;
+        visible++;
+        double got = csflut_threshold(t, f, e);
+        if (isinf(got)) invisible++;
+        else if (log10(got / truth) > 0.1) high++;
+    }
+    fprintf(stderr, "example table: %d truly visible queries, %d answered invisible, %d more than "
+            "0.1 log10 too high\n", visible, invisible, high);
+    CHECK(invisible == 0);
+    CHECK(high < visible * 3 / 100); /* interpolating a convex log-CSF errs high between nodes */
     csflut_close(t);
 }
 
@@ -210,7 +275,7 @@ static void test_max_frequency(void)
         for (int i = 0; i < 4000; i++) {
             double e = 45 * csf_rng_next_uniform(&r);
             double c = pow(10, -2.6 + 2.8 * csf_rng_next_uniform(&r)); /* 0.0025 .. 1.6 */
-            double mf = csflut_max_frequency(t, c, e);
+            double mf = csflut_max_frequency(t, e, c);
             if (isinf(mf)) {
                 if (!(csflut_threshold(t, 32, e) <= c)) edge = 0;
                 continue;
@@ -231,17 +296,17 @@ static void test_max_frequency(void)
             for (double f = mf * 1.001; f < 40; f *= 1.05)
                 if (csflut_threshold(t, f, e) <= c) highest = 0;
             /* and the result agrees with the radian / wavelength forms */
-            double cpr = csflut_max_frequency_cpr(t, c, e / DEG_PER_RAD);
+            double cpr = csflut_max_frequency_cpr(t, e / DEG_PER_RAD, c);
             if (rel_diff(cpr, mf * DEG_PER_RAD) > 1e-12) exact = 0;
-            if (rel_diff(csflut_min_wavelength(t, c, e / DEG_PER_RAD), 1 / cpr) > 1e-15) exact = 0;
+            if (rel_diff(csflut_min_wavelength(t, e / DEG_PER_RAD, c), 1 / cpr) > 1e-15) exact = 0;
         }
         CHECK_MSG(reached > 1000, "only %d reachable", reached);
         CHECK(exact);
         CHECK(highest);
         CHECK(edge);
-        CHECK(isinf(csflut_min_wavelength(t, 1e-6, 0)));        /* nothing visible */
-        CHECK(csflut_min_wavelength(t, 1e6, 0) == 0);            /* everything visible */
-        CHECK(isnan(csflut_max_frequency(t, NAN, 0)));
+        CHECK(isinf(csflut_min_wavelength(t, 0, 1e-6)));        /* nothing visible */
+        CHECK(csflut_min_wavelength(t, 0, 1e6) == 0);            /* everything visible */
+        CHECK(isnan(csflut_max_frequency(t, 0, NAN)));
         csflut_close(t);
     }
 }
@@ -265,18 +330,18 @@ static void test_radian_forms_and_batch(void)
     f[7] = NAN;
     csflut_threshold_batch(t, f, e, out, N);
     csflut_threshold4_batch(t, f, e, NULL, NULL, out4, N);
-    csflut_perceptible_batch(t, f, c, e, vis, N);
+    csflut_perceptible_batch(t, f, e, c, vis, N);
     int same = 1, forms = 1, vis_ok = 1;
     for (int i = 0; i < N; i++) {
         double s = csflut_threshold(t, f[i], e[i]);
         if (memcmp(&s, &out[i], 8) != 0 || memcmp(&s, &out4[i], 8) != 0) same = 0;
-        if (vis[i] != csflut_perceptible(t, f[i], c[i], e[i])) vis_ok = 0;
+        if (vis[i] != csflut_perceptible(t, f[i], e[i], c[i])) vis_ok = 0;
         if (i == 7) continue;
         double fc = f[i] * DEG_PER_RAD, er = e[i] / DEG_PER_RAD;
         if (rel_diff(csflut_threshold_cpr(t, fc, er), s) > 1e-12) forms = 0;
         if (rel_diff(csflut_threshold_wavelength(t, 1 / fc, er), s) > 1e-12) forms = 0;
-        if (csflut_perceptible_cpr(t, fc, s * 1.001, er) != 1) forms = 0;
-        if (csflut_perceptible_wavelength(t, 1 / fc, s * 0.999, er) != 0 && isfinite(s)) forms = 0;
+        if (csflut_perceptible_cpr(t, fc, er, s * 1.001) != 1) forms = 0;
+        if (csflut_perceptible_wavelength(t, 1 / fc, er, s * 0.999) != 0 && isfinite(s)) forms = 0;
     }
     CHECK(same);
     CHECK(vis_ok);
@@ -291,11 +356,16 @@ static void test_radian_forms_and_batch(void)
     csflut_close(t);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc != 2) {
+        fprintf(stderr, "usage: test_lut_query EXAMPLE.csflut\n");
+        return 2;
+    }
     test_raw_matches_reference();
     test_interpolation_and_clamping();
     test_infinity();
+    test_example_table_fails_safe(argv[1]);
     test_conservative_view();
     test_max_frequency();
     test_radian_forms_and_batch();
