@@ -93,6 +93,7 @@ typedef struct {
     long budget, levels;
     int no_channels, channels, quiet, help;
     int photometer_given; /* --photometer on the command line (else from the configuration) */
+    unsigned long given;  /* bit (opt - OPT_OUT) per subcommand option given, 'o' as OPT_OUT */
     int render; /* 1 --render, -1 --no-render, 0 default (render) */
     double patch_deg, background;
     int patch_deg_set;
@@ -107,6 +108,8 @@ static int parse(int argc, char **argv, dargs *a)
     int c;
     while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
         int bad = 0;
+        if (c == 'o') a->given |= 1ul;
+        else if (c >= OPT_OUT && c <= OPT_CHANNELS && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
         switch (c) {
         case 'o': a->out = optarg; break;
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
@@ -733,6 +736,37 @@ static int cmd_info(dargs *a)
     return 0;
 }
 
+#define OPTBIT(o) (1ul << ((o) - OPT_OUT))
+/* An option of another subcommand (calibrate --tolerance, verify --budget, info --out) would be
+ * silently ignored: refuse it, naming it. */
+static int refuse_foreign_options(const char *sub, const dargs *a)
+{
+    static const struct { const char *sub; unsigned long ok; } allowed[] = {
+        {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) | OPTBIT(OPT_NAME) |
+                      OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) |
+                      OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH)},
+        {"verify", OPTBIT(OPT_LEVELS) | OPTBIT(OPT_TOL) | OPTBIT(OPT_CHANNELS) | OPTBIT(OPT_RENDER) |
+                   OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH)},
+        {"export", OPTBIT(OPT_OUT) | OPTBIT(OPT_FORMAT) | OPTBIT(OPT_ICCVER)},
+        {"info", 0},
+    };
+    for (size_t i = 0; i < sizeof allowed / sizeof allowed[0]; i++) {
+        if (strcmp(sub, allowed[i].sub) != 0) continue;
+        unsigned long extra = a->given & ~allowed[i].ok;
+        if (!extra) return 0;
+        for (const struct option *o = display_options; o->name; o++) {
+            int bit = o->val == 'o' ? 0 : o->val - OPT_OUT;
+            if (bit >= 0 && bit < 63 && (extra >> bit) & 1ul) {
+                fprintf(stderr, "csfcal: display %s: --%s does not apply to %s (see csfcal display --help)\n", sub,
+                        o->name, sub);
+                return 1;
+            }
+        }
+        return 1;
+    }
+    return 0;
+}
+
 int csf_cmd_display(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
@@ -759,6 +793,7 @@ int csf_cmd_display(int argc, char **argv)
         return 2;
     }
     if (nfree == 1) a.file = argv[1 + optind];
+    if (refuse_foreign_options(sub, &a)) return 2;
     if (strcmp(sub, "calibrate") == 0) {
         if (a.file) {
             fprintf(stderr, "csfcal: display calibrate: unexpected argument '%s' (the profile goes in --out)\n", a.file);

@@ -110,6 +110,13 @@ grep -q 'is a folder' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
 "$exe" display calibrate --photometer sim --store "" --out "$t/x.profile" 2>"$t/e"
 [ $? -eq 2 ] || { echo "--store '' accepted"; fail=1; }
 grep -q 'empty path' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
+# an option of another subcommand is refused, named, not ignored
+"$exe" display verify "$t/lcd.profile" --photometer sim --budget 10 >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--budget does not apply to verify' "$t/e" || { echo "verify --budget: $(cat "$t/e")"; fail=1; }
+"$exe" display calibrate --photometer sim --tolerance 0.1 --store "$db" --out "$t/x.profile" 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--tolerance does not apply to calibrate' "$t/e" || { echo "calibrate --tolerance: $(cat "$t/e")"; fail=1; }
+"$exe" display info "$t/lcd.profile" -o "$t/x" >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--out does not apply to info' "$t/e" || { echo "info -o: $(cat "$t/e")"; fail=1; }
 # verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
 [ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }
