@@ -1,5 +1,6 @@
 /* Simulated observer (see observer_sim.h for the model). */
 #include "devices/observer_sim.h"
+#include "devices/observer_sdt.h"
 
 #include <errno.h>
 #include <math.h>
@@ -15,7 +16,11 @@
 enum {
     ST_ATTEND = 0x0b501, ST_DETECT, ST_RT, ST_SPONT, ST_SPONT_T, ST_ANTICIP, ST_ANTICIP_T,
     ST_CLICK_X, ST_CLICK_Y, ST_GUESS_R, ST_GUESS_A, ST_2AFC, ST_2AFC_RT, ST_RT_N,
-    ST_AFC, ST_AFC_WRONG, ST_AFC_RT
+    ST_AFC, ST_AFC_WRONG, ST_AFC_RT,
+    /* added with the decision models and session effects: new streams only, so the default
+     * observer's draws are unchanged */
+    ST_DRAW, ST_SDT_Z, ST_SDT_LAPSE, ST_SDT_GUESS, ST_LOOK, ST_WALK_BLOCK, ST_WALK_STEP,
+    ST_RUN_START, ST_RUN_LEN, ST_RUN_GUESS
 };
 
 #define FRAMES_PER_TRIAL 4096u
@@ -299,7 +304,25 @@ static const param_key keys[] = {
     PK("click_sd", 0, 20, click_sd_deg),
     PK("click_sd_ecc", 0, 1, click_sd_ecc),
     PK("click_range", 0, 90, click_range_deg),
+    PK("k", 0.5, 8, k_transducer),
+    PK("criterion", 0, 6, criterion_dprime),
+    PK("look", 0.02, 1, look_s),
+    PK("fatigue", 0, 0.5, fatigue_log10_per_100),
+    PK("drift", 0, 0.1, drift_log10),
+    PK("lapse_runs", 0, 0.2, lapse_run_rate),
+    PK("run_max", 2, 20, lapse_run_max),
+    PK("pieron_k", 0, 2, pieron_k_s),
+    PK("pieron_beta", 0.1, 2, pieron_beta),
 };
+
+/* Per-observer draws (slope=draw, lapse=draw, k=draw), from the seed: slope log-uniform over
+ * 1.5-6, lapse uniform over 0-0.08, k log-uniform over 1.25-5 (a Weibull fitted to the sdt
+ * observer's 2AFC function has slope about 1.21 k, so 1.5-6 again). */
+#define DRAW_SLOPE_LO 1.5
+#define DRAW_SLOPE_HI 6.0
+#define DRAW_LAPSE_HI 0.08
+#define DRAW_K_LO 1.25
+#define DRAW_K_HI 5.0
 
 static void params_default(csf_observer_sim_params *p)
 {
@@ -316,6 +339,49 @@ static void params_default(csf_observer_sim_params *p)
     p->click_sd_deg = 0.4;
     p->click_sd_ecc = 0.08;
     p->click_range_deg = 20;
+    p->decision = CSF_SIM_WEIBULL;
+    p->k_transducer = 2.5;
+    p->criterion_dprime = 3.0;
+    p->look_s = 0.1;
+    p->lapse_run_max = 4;
+    p->pieron_beta = 0.67;
+}
+
+static double draw_log_uniform(uint64_t seed, uint64_t which, double lo, double hi)
+{
+    return lo * pow(hi / lo, csf_rng_uniform(seed, ST_DRAW, which));
+}
+
+/* The default observer's description is unchanged; the newer keys appear only when set. */
+static void describe(csf_observer_sim *o, const char *table_path)
+{
+    const csf_observer_sim_params *p = &o->p;
+    int n;
+    if (o->table) {
+        const char *base = strrchr(table_path, '/');
+        n = snprintf(o->desc, sizeof o->desc, "sim(table=%.200s,slope=%g,lapse=%g,fa=%g",
+                     base ? base + 1 : table_path, p->slope, p->lapse, p->fa);
+    } else {
+        n = snprintf(o->desc, sizeof o->desc,
+                     "sim(smax=%g,fmax=%g,beta=%g,delta=%g,ecc_a=%g,ecc_b=%g,slope=%g,lapse=%g,fa=%g",
+                     p->model.smax, p->model.fmax_cpd, p->model.beta_oct, p->model.delta_log10,
+                     p->model.ecc_a, p->model.ecc_b, p->slope, p->lapse, p->fa);
+    }
+    char extra[256] = "";
+    size_t e = 0;
+#define ADD(...) e += (size_t)snprintf(extra + e, e < sizeof extra ? sizeof extra - e : 0, __VA_ARGS__)
+    if (p->decision == CSF_SIM_SDT)
+        ADD(",decision=sdt,k=%g,criterion=%g,look=%g", p->k_transducer, p->criterion_dprime, p->look_s);
+    if (p->fatigue_log10_per_100 > 0) ADD(",fatigue=%g", p->fatigue_log10_per_100);
+    if (p->drift_log10 > 0) ADD(",drift=%g", p->drift_log10);
+    if (p->lapse_run_rate > 0) ADD(",lapse_runs=%g,run_max=%g", p->lapse_run_rate, p->lapse_run_max);
+    if (p->pieron_k_s > 0) ADD(",pieron_k=%g,pieron_beta=%g", p->pieron_k_s, p->pieron_beta);
+    if (p->slope_drawn || p->lapse_drawn || p->k_drawn)
+        ADD(",drawn:%s%s%s", p->slope_drawn ? "slope" : "", p->lapse_drawn ? " lapse" : "",
+            p->k_drawn ? " k" : "");
+#undef ADD
+    if (n > 0 && (size_t)n < sizeof o->desc)
+        snprintf(o->desc + n, sizeof o->desc - (size_t)n, "%s)", extra);
 }
 
 csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer_sim **out,
@@ -358,6 +424,30 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
             snprintf(table_path, sizeof table_path, "%s", val);
             continue;
         }
+        if (strcmp(tok, "decision") == 0) {
+            if (strcmp(val, "weibull") == 0) o->p.decision = CSF_SIM_WEIBULL;
+            else if (strcmp(val, "sdt") == 0) o->p.decision = CSF_SIM_SDT;
+            else {
+                st = csf_error_set(err, CSF_E_INVALID_ARG,
+                                   "--observer: decision=%s: must be weibull or sdt", val);
+                break;
+            }
+            continue;
+        }
+        if (strcmp(val, "draw") == 0 &&
+            (!strcmp(tok, "slope") || !strcmp(tok, "lapse") || !strcmp(tok, "k"))) {
+            if (!strcmp(tok, "slope")) {
+                o->p.slope = draw_log_uniform(seed, 0, DRAW_SLOPE_LO, DRAW_SLOPE_HI);
+                o->p.slope_drawn = 1;
+            } else if (!strcmp(tok, "lapse")) {
+                o->p.lapse = DRAW_LAPSE_HI * csf_rng_uniform(seed, ST_DRAW, 1);
+                o->p.lapse_drawn = 1;
+            } else {
+                o->p.k_transducer = draw_log_uniform(seed, 2, DRAW_K_LO, DRAW_K_HI);
+                o->p.k_drawn = 1;
+            }
+            continue;
+        }
         if (strcmp(tok, "field") == 0) {
             if (strcmp(val, "temporal") != 0)
                 st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: field must be temporal or nasal");
@@ -382,8 +472,9 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         if (!k) {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
                                "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b "
-                               "field table slope lapse guess fa anticip rt_mean rt_mu rt_sigma rt_tau "
-                               "click_sd click_sd_ecc click_range)", tok);
+                               "field table decision slope lapse k criterion look guess fa anticip "
+                               "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
+                               "lapse_runs run_max click_sd click_sd_ecc click_range)", tok);
             break;
         }
         if (bad_num || v < k->lo || v > k->hi) {
@@ -391,7 +482,14 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
                                k->lo, k->hi);
             break;
         }
+        if (k->off == offsetof(csf_observer_sim_params, lapse_run_max) && v != floor(v)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: run_max=%s must be a whole number of trials", val);
+            break;
+        }
         *(double *)((char *)&o->p + k->off) = v;
+        if (k->off == offsetof(csf_observer_sim_params, slope)) o->p.slope_drawn = 0;
+        if (k->off == offsetof(csf_observer_sim_params, lapse)) o->p.lapse_drawn = 0;
+        if (k->off == offsetof(csf_observer_sim_params, k_transducer)) o->p.k_drawn = 0;
     }
     if (st == CSF_OK && !isnan(rt_mean)) {
         o->p.rt_mu_s = rt_mean - o->p.rt_tau_s;
@@ -407,17 +505,7 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         csf_observer_sim_free(o);
         return st;
     }
-    if (o->table)
-    {
-        const char *base = strrchr(table_path, '/');
-        snprintf(o->desc, sizeof o->desc, "sim(table=%.200s,slope=%g,lapse=%g,fa=%g)",
-                 base ? base + 1 : table_path, o->p.slope, o->p.lapse, o->p.fa);
-    }
-    else
-        snprintf(o->desc, sizeof o->desc,
-                 "sim(smax=%g,fmax=%g,beta=%g,delta=%g,ecc_a=%g,ecc_b=%g,slope=%g,lapse=%g,fa=%g)",
-                 o->p.model.smax, o->p.model.fmax_cpd, o->p.model.beta_oct, o->p.model.delta_log10,
-                 o->p.model.ecc_a, o->p.model.ecc_b, o->p.slope, o->p.lapse, o->p.fa);
+    describe(o, table_path);
     *out = o;
     return CSF_OK;
 }
@@ -446,6 +534,62 @@ double csf_observer_sim_threshold(const csf_observer_sim *o, double freq_cpd, do
     return th >= 1 ? INFINITY : th;
 }
 
+/* ---- over a session: fatigue, criterion drift, lapse runs --------------------------------------- */
+
+static uint64_t session_trial(uint64_t trial_index)
+{
+    return trial_index >= CSF_SIM_PRACTICE_INDEX ? 0 : trial_index;
+}
+
+double csf_observer_sim_trial_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                        uint64_t trial_index)
+{
+    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    if (!isfinite(th) || o->p.fatigue_log10_per_100 == 0) return th;
+    th *= pow(10.0, o->p.fatigue_log10_per_100 * (double)session_trial(trial_index) / 100.0);
+    return th >= 1 ? INFINITY : th;
+}
+
+/* Gaussian random walk W(n) = sum of n steps, computed in O(n / 64 + 64) as a pure function of
+ * (seed, n): whole blocks of 64 steps are drawn as one normal each (sd 8), and the partial block
+ * is a discrete Brownian bridge from the block's start to its drawn end, which has exactly the
+ * law of the 64 individual steps given their sum. */
+#define WALK_BLOCK 64
+double csf_observer_sim_drift_log10(const csf_observer_sim *o, uint64_t trial_index)
+{
+    if (o->p.drift_log10 == 0) return 0.0;
+    uint64_t n = session_trial(trial_index), nb = n / WALK_BLOCK, j = n % WALK_BLOCK;
+    double w = 0;
+    for (uint64_t b = 0; b < nb; b++) w += sqrt((double)WALK_BLOCK) * csf_rng_normal(o->seed, ST_WALK_BLOCK, b);
+    if (j > 0) {
+        double pj = 0, pall = 0;
+        for (uint64_t i = 0; i < WALK_BLOCK; i++) {
+            double z = csf_rng_normal(o->seed, ST_WALK_STEP, nb * WALK_BLOCK + i);
+            if (i < j) pj += z;
+            pall += z;
+        }
+        double end = sqrt((double)WALK_BLOCK) * csf_rng_normal(o->seed, ST_WALK_BLOCK, nb);
+        w += pj - (double)j / WALK_BLOCK * (pall - end);
+    }
+    return o->p.drift_log10 * w;
+}
+
+/* A run starts at a trial with probability lapse_runs and lasts 2 .. run_max trials (uniform);
+ * the trial is in a run when one started within the last run_max trials and still lasts. */
+int csf_observer_sim_in_lapse_run(const csf_observer_sim *o, uint64_t trial_index)
+{
+    if (o->p.lapse_run_rate == 0 || trial_index >= CSF_SIM_PRACTICE_INDEX) return 0;
+    int max = (int)o->p.lapse_run_max;
+    for (int j = 0; j < max && (uint64_t)j <= trial_index; j++) {
+        uint64_t s = trial_index - (uint64_t)j;
+        if (csf_rng_uniform(o->seed, ST_RUN_START, s) >= o->p.lapse_run_rate) continue;
+        int len = 2 + (int)(csf_rng_uniform(o->seed, ST_RUN_LEN, s) * (max - 1));
+        if (len > max) len = max;
+        if (len > j) return 1;
+    }
+    return 0;
+}
+
 /* ---- trials ---------------------------------------------------------------------------------- */
 
 static double ex_gaussian(const csf_observer_sim *o, uint64_t idx)
@@ -454,6 +598,16 @@ static double ex_gaussian(const csf_observer_sim *o, uint64_t idx)
     double u = csf_rng_uniform(o->seed, ST_RT, idx);
     double rt = o->p.rt_mu_s + o->p.rt_sigma_s * z - o->p.rt_tau_s * log(u);
     return rt < 0.1 ? 0.1 : rt; /* no one presses faster than ~100 ms after detecting */
+}
+
+/* Pieron's law: the extra time to respond to contrast c at threshold t, pieron_k (c/t)^-beta,
+ * with c/t floored at 0.1 (a press on noise alone is slow, not endless). */
+static double pieron_extra(const csf_observer_sim *o, double contrast, double t_log10)
+{
+    if (o->p.pieron_k_s == 0 || !isfinite(t_log10)) return 0.0;
+    double ratio = contrast > 0 ? contrast / pow(10.0, t_log10) : 0;
+    if (ratio < 0.1) ratio = 0.1;
+    return o->p.pieron_k_s * pow(ratio, -o->p.pieron_beta);
 }
 
 void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
@@ -466,10 +620,17 @@ void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index
     tr->freq_cpd = freq_cpd;
     tr->ecc_deg = ecc_deg;
     tr->polar_deg = polar_deg;
-    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
-    tr->t_log10 = isfinite(th) ? log10(th) : INFINITY;
+    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
+    double drift = csf_observer_sim_drift_log10(o, trial_index);
+    tr->t_sens_log10 = isfinite(th) ? log10(th) : INFINITY;
+    /* Weibull: the latent threshold itself moves with the criterion; sdt: the criterion moves so
+     * the contrast at which d' reaches it moves by the same log10 amount. */
+    tr->t_log10 = tr->t_sens_log10 + drift;
+    tr->criterion_dprime = o->p.criterion_dprime * pow(10.0, o->p.k_transducer * drift);
+    tr->last_look = -1;
     tr->onset_s = onset_s;
-    tr->attending = csf_rng_uniform(o->seed, ST_ATTEND, base) >= o->p.lapse;
+    tr->attending = csf_rng_uniform(o->seed, ST_ATTEND, base) >= o->p.lapse &&
+                    !csf_observer_sim_in_lapse_run(o, trial_index);
     tr->t_spont_s = INFINITY;
     if (csf_rng_uniform(o->seed, ST_SPONT, base) < o->p.fa)
         tr->t_spont_s = onset_s + duration_s * csf_rng_uniform(o->seed, ST_SPONT_T, base);
@@ -483,6 +644,31 @@ void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index
     tr->press_spontaneous = isfinite(tr->t_spont_s);
 }
 
+/* Weibull: the latent-threshold hazard on the running maximum (observer_sim.h). */
+static int weibull_detects(const csf_observer_sim *o, csf_sim_fade_trial *tr, uint64_t idx,
+                           double contrast_shown)
+{
+    if (!(contrast_shown > 0) || !isfinite(tr->t_log10)) return 0;
+    double x = log10(contrast_shown);
+    double h = csf_psy_fade_hazard(tr->x_max, x, tr->t_log10, o->p.slope);
+    if (x > tr->x_max) tr->x_max = x;
+    return h > 0 && csf_rng_uniform(o->seed, ST_DETECT, idx) < h;
+}
+
+/* sdt yes/no: one look every look_s from onset at what is on screen then (blank screens too):
+ * yes when d'(c) + N(0, 1) exceeds the criterion. */
+static int sdt_detects(const csf_observer_sim *o, csf_sim_fade_trial *tr, double t_s,
+                       double contrast_shown)
+{
+    int look = (int)floor((t_s - tr->onset_s) / o->p.look_s + 1e-9);
+    if (look <= tr->last_look || look < 0) return 0;
+    tr->last_look = look;
+    if (look > (int)FRAMES_PER_TRIAL - 1) look = (int)FRAMES_PER_TRIAL - 1;
+    double d = csf_sdt_dprime(contrast_shown, pow(10.0, tr->t_sens_log10), o->p.k_transducer);
+    double z = csf_rng_normal(o->seed, ST_LOOK, tr->trial * FRAMES_PER_TRIAL + (uint64_t)look);
+    return d + z > tr->criterion_dprime;
+}
+
 int csf_observer_sim_fade_frame(const csf_observer_sim *o, csf_sim_fade_trial *tr, double t_s,
                                 double contrast_shown, double *press_t_s)
 {
@@ -490,14 +676,13 @@ int csf_observer_sim_fade_frame(const csf_observer_sim *o, csf_sim_fade_trial *t
                                                                  ? tr->frame
                                                                  : (int)FRAMES_PER_TRIAL - 1);
     tr->frame++;
-    if (!tr->detected && tr->attending && contrast_shown > 0 && isfinite(tr->t_log10)) {
-        double x = log10(contrast_shown);
-        double h = csf_psy_fade_hazard(tr->x_max, x, tr->t_log10, o->p.slope);
-        if (x > tr->x_max) tr->x_max = x;
-        if (h > 0 && csf_rng_uniform(o->seed, ST_DETECT, idx) < h) {
+    if (!tr->detected && tr->attending) {
+        int det = o->p.decision == CSF_SIM_SDT ? sdt_detects(o, tr, t_s, contrast_shown)
+                                               : weibull_detects(o, tr, idx, contrast_shown);
+        if (det) {
             tr->detected = 1;
             tr->t_detect_s = t_s;
-            double tp = t_s + ex_gaussian(o, tr->trial);
+            double tp = t_s + ex_gaussian(o, tr->trial) + pieron_extra(o, contrast_shown, tr->t_sens_log10);
             if (tp < tr->t_press_s) {
                 tr->t_press_s = tp;
                 tr->press_spontaneous = 0;
@@ -529,18 +714,49 @@ void csf_observer_sim_click(const csf_observer_sim *o, const csf_sim_fade_trial 
     }
 }
 
+/* sdt m-AFC: a lapse (probability lapse * m / (m - 1), so the upper asymptote is 1 - lapse as in
+ * the Weibull) or a lapse run is a uniform guess; otherwise each place gives d'(c_k) + N(0, 1)
+ * and the person picks the largest. */
+static int sdt_choose(const csf_observer_sim *o, uint64_t trial_index, double t_log10,
+                      const double *contrast_shown, int m, int in_run)
+{
+    uint64_t base = trial_index * FRAMES_PER_TRIAL;
+    double th = isfinite(t_log10) ? pow(10.0, t_log10) : INFINITY;
+    if (in_run || csf_rng_uniform(o->seed, ST_SDT_LAPSE, base) < o->p.lapse * m / (m - 1)) {
+        int k = (int)(csf_rng_uniform(o->seed, ST_SDT_GUESS, base) * m);
+        return k < m ? k : m - 1;
+    }
+    int best = 0;
+    double best_r = -INFINITY;
+    for (int k = 0; k < m; k++) {
+        double r = csf_sdt_dprime(contrast_shown[k], th, o->p.k_transducer) +
+                   csf_rng_normal(o->seed, ST_SDT_Z, base + (uint64_t)k);
+        if (r > best_r) best_r = r, best = k;
+    }
+    return best;
+}
+
+static int run_guess(const csf_observer_sim *o, uint64_t trial_index, int m)
+{
+    int k = (int)(csf_rng_uniform(o->seed, ST_RUN_GUESS, trial_index) * m);
+    return k < m ? k : m - 1;
+}
+
 int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                           double ecc_deg, const double contrast_shown[2], double *rt_s)
 {
     uint64_t base = trial_index * FRAMES_PER_TRIAL;
-    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
     double t = isfinite(th) ? log10(th) : INFINITY;
+    if (rt_s) *rt_s = exp(log(0.6) + 0.3 * csf_rng_normal(o->seed, ST_2AFC_RT, base));
+    int in_run = csf_observer_sim_in_lapse_run(o, trial_index);
+    if (o->p.decision == CSF_SIM_SDT) return sdt_choose(o, trial_index, t, contrast_shown, 2, in_run);
+    if (in_run) return run_guess(o, trial_index, 2);
     int sig = contrast_shown[1] > contrast_shown[0] ? 1 : 0;
     double diff = fabs(contrast_shown[1] - contrast_shown[0]);
     double x = diff > 0 ? log10(diff) : -INFINITY;
     double p = csf_psy_p4(x, t, o->p.slope, o->p.guess_2afc, o->p.lapse);
     int correct = csf_rng_uniform(o->seed, ST_2AFC, base) < p;
-    if (rt_s) *rt_s = exp(log(0.6) + 0.3 * csf_rng_normal(o->seed, ST_2AFC_RT, base));
     return correct ? sig : 1 - sig;
 }
 
@@ -551,8 +767,12 @@ int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double
     int m = n_alternatives;
     if (m < 2 || m > CSF_SIM_AFC_MAX) m = 2;
     uint64_t base = trial_index * FRAMES_PER_TRIAL;
-    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
     double t = isfinite(th) ? log10(th) : INFINITY;
+    if (rt_s) *rt_s = exp(log(0.7) + 0.3 * csf_rng_normal(o->seed, ST_AFC_RT, base));
+    int in_run = csf_observer_sim_in_lapse_run(o, trial_index);
+    if (o->p.decision == CSF_SIM_SDT) return sdt_choose(o, trial_index, t, contrast_shown, m, in_run);
+    if (in_run) return run_guess(o, trial_index, m);
     /* The signal is where the most contrast was shown (the first such place on a tie); the
      * others showed nothing or less, and only the difference is there to be seen. */
     int sig = 0;
@@ -565,7 +785,6 @@ int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double
     double x = diff > 0 ? log10(diff) : -INFINITY;
     double p = csf_psy_p4(x, t, o->p.slope, 1.0 / m, o->p.lapse);
     int correct = csf_rng_uniform(o->seed, ST_AFC, base) < p;
-    if (rt_s) *rt_s = exp(log(0.7) + 0.3 * csf_rng_normal(o->seed, ST_AFC_RT, base));
     if (correct) return sig;
     /* a wrong answer: uniformly one of the other m - 1 places */
     int k = (int)(csf_rng_uniform(o->seed, ST_AFC_WRONG, base) * (m - 1));

@@ -64,12 +64,30 @@ double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double e
 
 /* ---- the simulated person ------------------------------------------------------------------- */
 
+/* Decision models (key decision=weibull|sdt). */
+typedef enum { CSF_SIM_WEIBULL = 0, CSF_SIM_SDT = 1 } csf_sim_decision;
+
 typedef struct {
     csf_model_params model;
     double slope, lapse, guess_2afc, fa, anticip;
     double rt_mu_s, rt_sigma_s, rt_tau_s;
     double click_sd_deg, click_sd_ecc, click_range_deg;
+    /* Decision model; sdt: transducer exponent k, yes/no criterion (d' units) and look time. */
+    csf_sim_decision decision;
+    double k_transducer, criterion_dprime, look_s;
+    /* Over a session (all 0 = off, the default): threshold rise per 100 trials (log10), sd per
+     * trial of the yes/no criterion's random walk (log10 contrast), probability per trial that
+     * a run of attention lapses starts, and the longest run (trials). */
+    double fatigue_log10_per_100, drift_log10, lapse_run_rate, lapse_run_max;
+    /* Pieron reaction time in the fade task: extra pieron_k_s * (c / t)^-pieron_beta s. */
+    double pieron_k_s, pieron_beta;
+    /* 1 where the value was drawn from the seed (slope=draw, lapse=draw, k=draw). */
+    int slope_drawn, lapse_drawn, k_drawn;
 } csf_observer_sim_params;
+
+/* Trial indices from this value up are practice trials (the session's keys): for fatigue,
+ * criterion drift and lapse runs they count as the session's first trial. */
+#define CSF_SIM_PRACTICE_INDEX 1000000u
 
 typedef struct csf_observer_sim csf_observer_sim;
 
@@ -85,12 +103,23 @@ const char *csf_observer_sim_describe(const csf_observer_sim *o);
 /* The TRUE threshold (Michelson; INFINITY = never visible). For tests and benchmarks only: a
  * session never calls it. */
 double csf_observer_sim_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg);
+/* The same at a trial: raised by fatigue (fatigue * n / 100 log10 at session trial n). */
+double csf_observer_sim_trial_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                        uint64_t trial_index);
+/* The yes/no criterion's offset at a trial (log10 contrast; 0 without drift): a Gaussian random
+ * walk with sd `drift` per trial, a pure function of (seed, n). */
+double csf_observer_sim_drift_log10(const csf_observer_sim *o, uint64_t trial_index);
+/* 1 when the trial falls in a run of attention lapses (the person guesses / does not look). */
+int csf_observer_sim_in_lapse_run(const csf_observer_sim *o, uint64_t trial_index);
 
 /* One fade-in trial, driven frame by frame. */
 typedef struct {
     uint64_t trial;
     double freq_cpd, ecc_deg, polar_deg; /* where the grating is drawn (if anything is drawn) */
-    double t_log10;          /* true threshold there (private to the model) */
+    double t_log10;          /* latent threshold there, fatigue and drift included (private) */
+    double t_sens_log10;     /* the trial's sensitivity threshold (fatigue, no drift) */
+    double criterion_dprime; /* sdt: this trial's yes/no criterion (drift included) */
+    int last_look;           /* sdt: the last look taken (-1 none) */
     double onset_s;
     int attending;
     double t_spont_s;        /* spontaneous press time (false alarm / anticipation), INFINITY none */
