@@ -1067,8 +1067,8 @@ static csf_status check_profile_on_resume(csf_store *store, int64_t sid, const c
     const char *id = csf_profile_id(now);
     csf_status st = CSF_OK;
     /* Sessions stored before the settings kept the profile id have only the session row's
-     * display, cut at 63 characters. */
-    size_t cmp_len = !hist && strlen(last) == sizeof ((csf_session_info *)0)->display - 1 ? strlen(last) : sizeof last;
+     * profile_id, cut at 127 characters. */
+    size_t cmp_len = !hist && strlen(last) == sizeof ((csf_session_info *)0)->profile_id - 1 ? strlen(last) : sizeof last;
     if (strncmp(last, id, cmp_len) == 0) goto done;
     if (!allow) {
         st = csf_error_set(err, CSF_E_INVALID_ARG,

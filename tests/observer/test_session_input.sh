@@ -136,8 +136,8 @@ fi
 
 # 5. --resume with another display profile: refused naming both ids (it mixed two displays in one
 # table); --allow-profile-change goes on, recorded in the store and in the table's metadata.
-"$CSFCAL" display calibrate --photometer sim:display=lcd --out "$T/a.profile" --store "$T/d.sqlite" --no-render --quiet >/dev/null
-"$CSFCAL" display calibrate --photometer sim:display=oled --out "$T/b.profile" --store "$T/d.sqlite" --no-render --quiet >/dev/null
+"$CSFCAL" display calibrate --photometer sim:display=lcd --out "$T/a.profile" --store "$T/d.sqlite" --no-render --quiet >/dev/null 2>&1
+"$CSFCAL" display calibrate --photometer sim:display=oled --out "$T/b.profile" --store "$T/d.sqlite" --no-render --quiet >/dev/null 2>&1
 ida=$(sed -n 's/^id = //p' "$T/a.profile"); idb=$(sed -n 's/^id = //p' "$T/b.profile")
 check "two profiles with different ids ($ida, $idb)" test -n "$ida" -a -n "$idb" -a "$ida" != "$idb"
 timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --quiet --store "$T/p.sqlite" \
@@ -152,6 +152,11 @@ check "other profile on resume: names both ids" grep -qF "measured with display 
 check "other profile on resume: names the override" grep -qF -- "--allow-profile-change" <<<"$err"
 check "other profile on resume: nothing added" test "$(ntrials "$T/p.sqlite" 1)" = "$n1"
 check "other profile on resume: still paused" test "$(state "$T/p.sqlite" 1)" = paused
+# a session stored before its settings kept the profile id: the session row's profile_id decides
+sqlite3 "$T/p.sqlite" "UPDATE sessions SET settings_json = replace(settings_json, ',\"profile_id\":\"$ida\"', '') WHERE id = 1"
+check "settings without profile_id" bash -c "! sqlite3 \"\$0\" 'SELECT settings_json FROM sessions' | grep -q profile_id" "$T/p.sqlite"
+err=$(run --store "$T/p.sqlite" --resume 1 --profile "$T/b.profile" --render-every -1 --out "$T/p.csflut" 2>&1 >/dev/null); rc=$?
+check "older session, other profile: refused naming both ids (rc $rc)" grep -qF "measured with display profile '$ida', this run has '$idb'" <<<"$err"
 err=$(run --store "$T/p.sqlite" --resume 1 --render-every -1 --out "$T/p.csflut" 2>&1 >/dev/null); rc=$?
 check "no --profile on resume: refused (the default model is another profile)" grep -qF "this run has 'default-gamma2.2-100cdm2'" <<<"$err"
 out=$(run --store "$T/p.sqlite" --resume 1 --profile "$T/b.profile" --allow-profile-change --render-every -1 \
