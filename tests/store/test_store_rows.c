@@ -127,6 +127,21 @@ static void test_v4_repair(const char *dir)
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM pragma_table_info('readings') WHERE name IN"
                             " ('X_cdm2', 'Y_cdm2', 'Z_cdm2')"), 3);
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM pragma_table_info('thresholds') WHERE name = 'threshold_michelson'"), 1);
+    /* Trials came across whole: every column of the rebuilt table, and the rows. */
+    CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM pragma_table_info('trials')"), 27);
+    csf_trial *tr = NULL;
+    size_t ntr = 0;
+    CHECK_INT_EQ(csf_store_get_trials(s, 2, &tr, &ntr, &err), CSF_OK);
+    CHECK_INT_EQ(ntr, 6);
+    if (ntr == 6) {
+        CHECK(tr[5].seq == 5 && !strcmp(tr[5].method, "bayes") && tr[5].n_alternatives == 4);
+        CHECK_NEAR(tr[5].ecc_deg, 10.0, 0);
+        CHECK_NEAR(tr[5].polar_deg, 45.0, 0);
+        CHECK_NEAR(tr[5].contrast_requested, 0.05616293790000000119, 0);
+        CHECK_NEAR(tr[5].rt_s, 0.8417427440000000427, 0);
+        CHECK(tr[5].valid == 1 && tr[5].signal_interval == 1 && isnan(tr[5].click_x_deg));
+    }
+    free(tr);
     csf_reading *r = NULL;
     size_t nr = 0;
     CHECK_INT_EQ(csf_store_get_readings(s, 1, &r, &nr, &err), CSF_OK);
@@ -217,6 +232,12 @@ static void test_new_rows(const char *dir)
                            " VALUES (1, 0, 'grey', 0.5, 0, 'fine')", NULL, NULL, NULL) != SQLITE_OK);
     CHECK(sqlite3_exec(db, "INSERT INTO readings (session_id, seq, channel, drive01, t_s, status)"
                            " VALUES (1, 0, 'grey', 0.5, 0, 'ok')", NULL, NULL, NULL) == SQLITE_OK);
+    csf_trial t = make_trial(obs, 0, 9);
+    CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_OK);
+    CHECK(sqlite3_exec(db, "UPDATE trials SET valid = 2", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "UPDATE trials SET is_catch = -1", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "UPDATE trials SET n_alternatives = 1", NULL, NULL, NULL) != SQLITE_OK);
+    CHECK(sqlite3_exec(db, "UPDATE trials SET n_alternatives = 4", NULL, NULL, NULL) == SQLITE_OK);
     check_sound(s);
 
     /* A damaged stored_s (here 1e300 s) does not become the session's last write time: it is

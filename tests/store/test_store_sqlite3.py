@@ -125,5 +125,21 @@ with tempfile.TemporaryDirectory() as tmp:
     sound(old, "migrating a schema-4 store")
     check(sql(old, "SELECT MAX(version) FROM schema_version") == "5", "migrated to 5")
 
+    # Writing commands refuse someone else's SQLite file without changing a byte (it used to be
+    # switched to WAL first), and name /dev/null for what it is.
+    foreign = os.path.join(tmp, "photos.sqlite")
+    sql(foreign, "CREATE TABLE photos (id INTEGER, name TEXT); INSERT INTO photos VALUES (1, 'a');")
+    before = digest(foreign)
+    for cmd in (["display", "calibrate", "--photometer", "sim:display=lcd", "--no-render", "--out",
+                 os.path.join(tmp, "f.profile")],
+                [*obs, "--out", os.path.join(tmp, "f.csflut"), "--trials", "5"]):
+        p = subprocess.run([csfcal, *cmd, "--store", foreign], capture_output=True, text=True)
+        check(p.returncode != 0 and "not a csfcal store" in p.stderr, f"{cmd[0]} on a foreign file: {p.stderr.strip()}")
+        check(digest(foreign) == before and not os.path.exists(foreign + "-wal"), f"{cmd[0]} changed a foreign file")
+    check(sql(foreign, "PRAGMA journal_mode") == "delete", "foreign file still in rollback-journal mode")
+    p = subprocess.run([csfcal, *obs, "--out", os.path.join(tmp, "n.csflut"), "--trials", "5", "--store", "/dev/null"],
+                       capture_output=True, text=True)
+    check(p.returncode != 0 and "character device" in p.stderr, f"/dev/null store: {p.stderr.strip()}")
+
 print(f"{checks} checks, {failures} failed", file=sys.stderr)
 sys.exit(1 if failures else 0)
