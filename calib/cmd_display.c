@@ -465,6 +465,8 @@ static int cmd_calibrate(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display calibrate", &err);
     }
+    /* the session's own setting decides on --resume (stored), not this command line */
+    int has_ch = csf_profile_has_channels(p);
     if (a->cli.json) {
         static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
         printf("{\"profile_id\": ");
@@ -482,7 +484,7 @@ static int cmd_calibrate(dargs *a)
         printf(", \"target_rel\": ");
         json_num(stdout, o.target_rel);
         printf(", \"error_indicator_rel\": {");
-        for (int c = CSF_CH_GREY, k = 0; k < (o.channels ? 4 : 1); k++, c = k - 1) {
+        for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
             printf("%s\"%s\": ", k ? ", " : "", chn[c]);
             json_num(stdout, res.est_error_rel[c]);
         }
@@ -491,7 +493,7 @@ static int cmd_calibrate(dargs *a)
         printf(", \"drift_rel\": ");
         json_num(stdout, res.drift_rel);
         printf(", \"additivity_error\": ");
-        json_num(stdout, o.channels ? res.additivity_error : NAN);
+        json_num(stdout, has_ch ? res.additivity_error : NAN);
         printf(", \"monotonic\": %s, \"rendered\": %s", res.monotonic_violations ? "false" : "true",
                ro == 0 ? "true" : "false");
         printf(", \"wall_s\": ");
@@ -504,12 +506,12 @@ static int cmd_calibrate(dargs *a)
                res.n_readings, res.n_warmup, res.warmup_stable ? "" : ", white never settled");
         printf("  error indicator (leave-one-out, pessimistic; stopping rule aims below %.3f %%): grey %.3f %%",
                100 * o.target_rel / 4, 100 * res.est_error_rel[CSF_CH_GREY]);
-        if (o.channels)
+        if (has_ch)
             printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res.est_error_rel[0], 100 * res.est_error_rel[1],
                    100 * res.est_error_rel[2]);
         printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res.noise_rel,
                100 * res.drift_rel);
-        if (o.channels) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res.additivity_error);
+        if (has_ch) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res.additivity_error);
         printf("  monotonic: %s\n", res.monotonic_violations ? res.monotonic_msg : "yes");
         fputs(rinfo, stdout);
     }

@@ -89,6 +89,13 @@ for key, want in (("0.1", 0.1), ("0.5", 0.5), ("0.9", 0.9)):
     y = ys[i] + (ys[i + 1] - ys[i]) * (d - i)
     assert abs(y - want) < 2e-4, (key, y, n)
 PY
+# a --no-channels session resumed without the option is reported as what it is (grey only)
+"$exe" display calibrate --photometer sim:display=lcd,fault=unplug@40 --no-channels --no-render --store "$t/nc.sqlite" \
+  --out "$t/nc.profile" --quiet 2>/dev/null
+"$exe" display calibrate --photometer sim:display=lcd --resume 1 --no-render --store "$t/nc.sqlite" --out "$t/nc.profile" \
+  --json >"$t/j" 2>/dev/null || { echo "no-channels resume failed"; fail=1; }
+python3 -c 'import json,sys; d=json.load(sys.stdin); assert list(d["error_indicator_rel"]) == ["grey"] and d["additivity_error"] is None, d' \
+  <"$t/j" || { echo "no-channels resume --json: $(cat "$t/j")"; fail=1; }
 # no photometer named: refused with how to choose one (no silent simulator)
 "$exe" display calibrate --store "$db" --out "$t/x.profile" 2>"$t/e"
 [ $? -eq 2 ] || { echo "calibrate without --photometer not refused"; fail=1; }
