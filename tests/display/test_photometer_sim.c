@@ -154,5 +154,25 @@ int main(void)
         CHECK_STR_CONTAINS(err.msg, msg[k]);
     }
     csf_display_model_free(truth);
+    /* fault=KIND@N+COUNT: readings N .. N+COUNT-1 only (a sensor that slips off and back) */
+    {
+        csf_photometer *q = open_sim("sim:display=lcd,fault=dark@2+2", 3);
+        csf_photometer_reading rr;
+        csf_error e2;
+        for (int i = 0; q && i < 6; i++) {
+            csf_photometer_show_patch(q, 1, 1, 1);
+            csf_status fst = csf_photometer_measure(q, &rr, &e2);
+            CHECK_MSG(fst == ((i == 2 || i == 3) ? CSF_E_TOO_DARK : CSF_OK), "reading %d: status %d", i, (int)fst);
+        }
+        csf_photometer_close(q);
+        const char *badc[] = {"sim:fault=dark@2+0", "sim:fault=dark@2+x", "sim:fault=dark@+2", "sim:fault=dark@2+1.5"};
+        for (int k = 0; k < 4; k++) {
+            q = NULL;
+            csf_error_clear(&e2);
+            CHECK_INT_EQ(csf_photometer_open(badc[k], 1, &q, &e2), CSF_E_INVALID_ARG);
+            CHECK_STR_CONTAINS(e2.msg, "KIND@N+COUNT");
+            CHECK(q == NULL);
+        }
+    }
     return CHECK_RESULT();
 }
