@@ -151,6 +151,15 @@ grep -E '^[a-z_0-9]+ = ' "$conf" | while IFS= read -r line; do
   put fuzz_cli_values "set$i.bin" "$tmp/set$i.bin"
 done
 
+# The date the bayes table was written with, as lut import --date takes it; the observer specs
+# of the configuration and the fade session (fuzz_observer_spec reads what follows "sim:").
+sed -n 's/^# date_utc: //p' "$tmp/bayes.csv" 2>/dev/null | head -1 | tr -d '\n' >"$tmp/date.txt"
+put fuzz_lut_date date.txt "$tmp/date.txt"
+sed -n 's/^observer = sim://p' "$conf" | tr -d '\n' >"$tmp/obs-conf.txt"
+put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
+printf 'smax=150' >"$tmp/obs-fade.txt"
+put fuzz_observer_spec fade.txt "$tmp/obs-fade.txt"
+
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"
 exit $failed
