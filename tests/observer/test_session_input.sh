@@ -102,13 +102,14 @@ if unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$1"' _ "$T/full" 2>/dev/n
         dd if=/dev/zero of="$1/full/fill" bs=4k 2>/dev/null
         "$2" observer calibrate --headless --quiet --store "$1/t.sqlite" --method 2afc --freqs 1,4 --eccs 0 \
             --trials 8 --practice 0 --render-every -1 --out "$1/full/x.csflut" --json >"$1/t1.out" 2>"$1/t1.err"
-        echo $? >"$1/t1.rc"' _ "$T" "$CSFCAL"
+        echo $? >"$1/t1.rc"; ls -A "$1/full" >"$1/t1.ls"' _ "$T" "$CSFCAL"
     rc=$(cat "$T/t1.rc")
     check "table folder full: exit 1 (got $rc)" test "$rc" -eq 1
     check "table folder full: prints the resume command" grep -qF "csfcal observer calibrate --resume 1 --store $T/t.sqlite --out $T/full/x.csflut" "$T/t1.err"
     check "table folder full: 8 trials kept" grep -q "8 trials kept in session 1" "$T/t1.err"
     check "table folder full: session paused" test "$(state "$T/t.sqlite" 1)" = paused
-    check "table folder full: names the table" grep -q "writing the threshold table $T/full/x.csflut: " "$T/t1.err"
+    check "table folder full: names the table and the OS error" grep -q "writing the threshold table $T/full/x.csflut: .*No space left on device" "$T/t1.err"
+    check "table folder full: nothing partial left ($(tr '\n' ' ' <"$T/t1.ls"))" test "$(cat "$T/t1.ls")" = fill
     check "table folder full: JSON says resumable" grep -q '"resumable":true' "$T/t1.out"
     out=$(run --store "$T/t.sqlite" --resume 1 --out "$T/full/x.csflut" --json)
     check "table folder full: --resume writes the table" grep -q '"status":"ok"' <<<"$out"
@@ -121,11 +122,13 @@ if unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs "$1"' _ "$T/full" 2>/dev/n
         "$2" observer calibrate --headless --quiet --store "$1/t.sqlite" --method 2afc --freqs 1,4 --eccs 0 \
             --trials 8 --practice 0 --render-every -1 --out "$1/full/y.csflut" --plot "$1/full/y.png" \
             >/dev/null 2>"$1/t2.err"
-        echo $? >"$1/t2.rc"' _ "$T" "$CSFCAL"
+        echo $? >"$1/t2.rc"; ls -A "$1/full" >"$1/t2.ls"' _ "$T" "$CSFCAL"
     rc=$(cat "$T/t2.rc")
     check "plot folder full: exit 1 (got $rc)" test "$rc" -eq 1
     check "plot folder full: prints the resume command with --plot" grep -qF "csfcal observer calibrate --resume 2 --store $T/t.sqlite --out $T/full/y.csflut --plot $T/full/y.png" "$T/t2.err"
     check "plot folder full: says the table was written" grep -q "(the table was written)" "$T/t2.err"
+    check "plot folder full: names the OS error" grep -q "y.png.*No space left on device" "$T/t2.err"
+    check "plot folder full: the table and no partial plot ($(tr '\n' ' ' <"$T/t2.ls"))" test "$(cat "$T/t2.ls")" = y.csflut
     check "plot folder full: session paused, not finished" test "$(state "$T/t.sqlite" 2)" = paused
     out=$(run --store "$T/t.sqlite" --resume 2 --out "$T/full/y.csflut" --plot "$T/full/y.png" --json)
     check "plot folder full: --resume writes the plot" grep -q '"status":"ok"' <<<"$out"
