@@ -1,9 +1,13 @@
 /* The .csflut file format: writer/reader round trips (memory and file, 2-D and 4-D), metadata,
  * and every kind of bad file refused with its own error code, never an out-of-bounds read. */
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "results/csflut_internal.h"
@@ -390,6 +394,71 @@ static void test_writer_refuses(void)
     CHECK_INT_EQ(csflut_write_memory(NULL, &buf, &len), CSFLUT_E_ARG);
 }
 
+static int dir_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
+    closedir(d);
+    return n;
+}
+
+/* Issue 11 item 6: csflut_write_file on a "full disk" (RLIMIT_FSIZE, SIGXFSZ ignored, fails the
+ * write like ENOSPC) leaves the previous table intact and no temporary, and the diagnostic names
+ * the OS error; file errors on open name theirs too. */
+static void test_write_fails_cleanly(void)
+{
+    char dir[] = "/tmp/csflut-write-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[600];
+    snprintf(path, sizeof path, "%s/t.csflut", dir);
+    fx_table fx;
+    fx_make(&fx, 3, 0.1, 1.0);
+    csflut_diag d;
+    CHECK_INT_EQ(csflut_write_file_diag(&fx.b, path, &d), CSFLUT_OK);
+    CHECK_INT_EQ(dir_entries(dir), 1);
+    /* a bigger table that does not fit under the limit */
+    static double f[300], thr[300 * 6];
+    for (int i = 0; i < 300; i++) f[i] = 0.5 * pow(1.02, i);
+    for (int i = 0; i < 300 * 6; i++) thr[i] = 0.01;
+    csflut_build big = fx.b;
+    big.n_freq = 300;
+    big.freq_cpd = f;
+    big.threshold = thr;
+    big.stderr_log10 = NULL;
+    signal(SIGXFSZ, SIG_IGN);
+    struct rlimit old_lim, lim;
+    getrlimit(RLIMIT_FSIZE, &old_lim);
+    lim = old_lim;
+    lim.rlim_cur = 4096;
+    CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    csflut_status st = csflut_write_file_diag(&big, path, &d);
+    setrlimit(RLIMIT_FSIZE, &old_lim);
+    CHECK_INT_EQ(st, CSFLUT_E_IO);
+    CHECK_MSG(strstr(d.message, strerror(EFBIG)) && strstr(d.message, path), "message: %s",
+              d.message);
+    CHECK_INT_EQ(dir_entries(dir), 1); /* no temporary left */
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_file_diag(path, &t, &d), CSFLUT_OK); /* the old table, whole */
+    if (t) CHECK_INT_EQ(csflut_axis_size(t, CSFLUT_AXIS_FREQ), 8);
+    csflut_close(t);
+    /* a missing folder and a missing file: the OS error in the message */
+    char bad[700];
+    snprintf(bad, sizeof bad, "%s/no/t.csflut", dir);
+    CHECK_INT_EQ(csflut_write_file_diag(&fx.b, bad, &d), CSFLUT_E_IO);
+    CHECK_MSG(strstr(d.message, strerror(ENOENT)) != NULL, "message: %s", d.message);
+    CHECK_INT_EQ(csflut_open_file_diag(bad, &t, &d), CSFLUT_E_IO);
+    CHECK_MSG(strstr(d.message, strerror(ENOENT)) && strstr(d.message, bad), "message: %s",
+              d.message);
+    CHECK_INT_EQ(csflut_open_file_diag(dir, &t, &d), CSFLUT_E_IO);
+    CHECK_MSG(strstr(d.message, strerror(EISDIR)) != NULL, "message: %s", d.message);
+    remove(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     test_round_trip_memory();
@@ -398,5 +467,6 @@ int main(void)
     test_single_point_axes();
     test_bad_files();
     test_writer_refuses();
+    test_write_fails_cleanly();
     return CHECK_RESULT();
 }
