@@ -16,8 +16,17 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
+ *                       [--sim SPEC ...]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
+ * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
+ * with the simulated observer of devices/observer_sim.h built from SPEC ("sim:key=value,...",
+ * e.g. sim:slope=2.2,lapse=0.05 or sim:decision=sdt), seeded with the seed, on the same three
+ * truths (",table=FILE" is appended for the table observers). The methods are set up as a
+ * session sets them up (slope 3.5, lapse 0.02), NOT with the observer's values: these are
+ * observers that are not the method's model, and the figure is what a session would get.
+ * Printed per spec and truth: RMS, cells of the wrong visibility, and the mean signed error of
+ * the two-interval and of the four-place cells (a task-dependent threshold shows there).
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -27,9 +36,14 @@
 
 #include "calib/afc_layout.h"
 #include "calib/procedure.h"
+#include "devices/observer_sim.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2 };
+enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2, MAX_SPECS = 8 };
+
+/* What calib/observer_calib.c gives every method, whatever the person. */
+#define SESSION_SLOPE 3.5
+#define SESSION_LAPSE 0.02
 
 static double now_s(void)
 {
@@ -46,6 +60,129 @@ static double guess_log10(const csf_cell *c)
                           .delta_log10 = 0.5, .ecc_a = 0.03, .ecc_b = 0.02};
     double t = -csf_model_log10_sensitivity(&p, c->freq_cpd, c->ecc_deg);
     return t > 0.0 ? 0.0 : t;
+}
+
+/* One simulated session of a --sim observer: as sim2afc_run_alt, answers from devices/observer_sim
+ * (trial k is the observer's trial index: fatigue, drift and lapse runs follow the session). */
+static int run_sim_session(const csf_procedure_ops *ops, const csf_observer_sim *o, const csf_cell *cells,
+                           int n_cells, const int *n_alt, int budget, uint64_t proc_seed,
+                           double max_contrast, csf_cell_estimate *est)
+{
+    csf_procedure_setup setup = {.cells = cells, .n_cells = n_cells, .trial_budget = budget,
+                                 .seed = proc_seed, .max_contrast = max_contrast,
+                                 .min_contrast = 0.0005, .slope_beta = SESSION_SLOPE,
+                                 .lapse = SESSION_LAPSE, .guess = 0.5, .n_alternatives = n_alt};
+    csf_error err = {0};
+    void *st = NULL;
+    if (ops->create(&setup, &st, &err) != CSF_OK) {
+        fprintf(stderr, "%s: create: %s\n", ops->name, err.msg);
+        return -1;
+    }
+    for (int k = 0; k < budget; k++) {
+        csf_trial_plan plan;
+        csf_status rc = ops->next(st, k, &plan);
+        if (rc == CSF_E_ABORTED) break;
+        int m = plan.n_alternatives == 4 ? 4 : 2;
+        if (rc != CSF_OK || plan.cell < 0 || plan.cell >= n_cells || plan.signal_interval < 0 ||
+            plan.signal_interval >= m) {
+            fprintf(stderr, "%s: next failed at trial %d\n", ops->name, k);
+            ops->destroy(st);
+            return -1;
+        }
+        const csf_cell *c = &cells[plan.cell];
+        double shown[4] = {0, 0, 0, 0}, rt;
+        shown[plan.signal_interval] = plan.contrast;
+        csf_trial_outcome out = {.rt_s = 0.6, .contrast_at_response = plan.contrast, .valid = 1};
+        out.response = m == 4 ? csf_observer_sim_afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, 4, &rt)
+                              : csf_observer_sim_2afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, &rt);
+        ops->update(st, k, &plan, &out);
+    }
+    csf_status rc = ops->estimate(st, est, &err);
+    ops->destroy(st);
+    if (rc != CSF_OK) {
+        fprintf(stderr, "%s: estimate: %s\n", ops->name, err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+/* RMS error of log10 threshold over the truly visible cells (as sim2afc_rms); also adds the signed
+ * errors of the visible cells to bias_sum[0] (two-interval cells) or [1] (four places), and
+ * counts them in bias_n. */
+static double sim_rms(const csf_observer_sim *o, const csf_cell *cells, int n_cells, const int *n_alt,
+                      const csf_cell_estimate *est, double max_contrast, int *n_wrong_vis,
+                      double bias_sum[2], int bias_n[2])
+{
+    double se = 0.0;
+    int n = 0, wrong = 0;
+    for (int c = 0; c < n_cells; c++) {
+        double th = csf_observer_sim_threshold(o, cells[c].freq_cpd, cells[c].ecc_deg);
+        int vis = th < max_contrast;
+        int est_vis = isfinite(est[c].threshold);
+        wrong += vis != est_vis;
+        if (!vis) continue;
+        double e = est_vis ? log10(est[c].threshold) : log10(max_contrast);
+        se += (e - log10(th)) * (e - log10(th));
+        n++;
+        int four = n_alt[c] == 4;
+        bias_sum[four] += e - log10(th);
+        bias_n[four]++;
+    }
+    *n_wrong_vis = wrong;
+    return n ? sqrt(se / n) : NAN;
+}
+
+/* The --sim observers: RMS per spec, truth, method and budget, printed as one table per layout. */
+static int run_specs(const char *const *specs, int n_specs, const int *use_obs, const char *table,
+                     const char *table2, const csf_procedure_ops *const *methods, int n_methods,
+                     const int *budgets, int n_budgets, int first_seed, int n_seeds,
+                     const csf_cell *cells, int n, const int *n_alt, double cmax)
+{
+    const char *truth_name[N_OBS] = {"parametric", "bumpy", "mscaled"};
+    const char *truth_key[N_OBS] = {"", table, table2};
+    printf("| observer spec | truth | method | trials | RMS | wrong | mean error, two intervals | mean error, four places | ms/session |\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    for (int sp = 0; sp < n_specs; sp++)
+        for (int ob = 0; ob < N_OBS; ob++) {
+            if (!use_obs[ob]) continue;
+            char spec[1300];
+            snprintf(spec, sizeof spec, "%s%s%s%s", specs[sp], strchr(specs[sp], ':') ? "" : ":",
+                     ob ? ",table=" : "", truth_key[ob]);
+            if (spec[strlen(spec) - 1] == ':') spec[strlen(spec) - 1] = '\0';
+            for (int m = 0; m < n_methods; m++)
+                for (int b = 0; b < n_budgets; b++) {
+                    double sum_sq = 0, t0 = now_s();
+                    int wrong_total = 0, bias_n[2] = {0, 0};
+                    double bias_sum[2] = {0, 0};
+                    for (int s = first_seed; s < first_seed + n_seeds; s++) {
+                        csf_observer_sim *o;
+                        csf_error err;
+                        if (csf_observer_sim_create(spec, (uint64_t)s, &o, &err) != CSF_OK) {
+                            fprintf(stderr, "bench_observer: --sim %s: %s\n", specs[sp], err.msg);
+                            return 1;
+                        }
+                        csf_cell_estimate est[24];
+                        int wrong;
+                        if (run_sim_session(methods[m], o, cells, n, n_alt, budgets[b], 1000 + (uint64_t)s,
+                                            cmax, est)) {
+                            csf_observer_sim_free(o);
+                            return 1;
+                        }
+                        double r = sim_rms(o, cells, n, n_alt, est, cmax, &wrong, bias_sum, bias_n);
+                        sum_sq += r * r;
+                        wrong_total += wrong;
+                        csf_observer_sim_free(o);
+                    }
+                    char b2[16] = "-", b4[16] = "-";
+                    if (bias_n[0]) snprintf(b2, sizeof b2, "%+.3f", bias_sum[0] / bias_n[0]);
+                    if (bias_n[1]) snprintf(b4, sizeof b4, "%+.3f", bias_sum[1] / bias_n[1]);
+                    printf("| %s | %s | %s | %d | %.3f | %d | %s | %s | %.1f |\n", specs[sp], truth_name[ob],
+                           methods[m]->name, budgets[b], sqrt(sum_sq / n_seeds), wrong_total, b2, b4,
+                           (now_s() - t0) * 1000.0 / n_seeds);
+                    fflush(stdout);
+                }
+        }
+    return 0;
 }
 
 static int parse_budgets(const char *s, int *b)
@@ -73,6 +210,8 @@ int main(int argc, char **argv)
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
     int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
     int per_cell = 0;
+    const char *specs[MAX_SPECS];
+    int n_specs = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
             n_seeds = atoi(argv[++i]);
@@ -119,13 +258,19 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_observer: --first-seed must be 1-1000000\n");
                 return 1;
             }
+        } else if (!strcmp(argv[i], "--sim") && i + 1 < argc) {
+            if (n_specs == MAX_SPECS) {
+                fprintf(stderr, "bench_observer: at most %d --sim observers\n", MAX_SPECS);
+                return 1;
+            }
+            specs[n_specs++] = argv[++i];
         } else if (!strcmp(argv[i], "--cells")) {
             per_cell = 1;
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -166,6 +311,16 @@ int main(int argc, char **argv)
             csf_afc_layout lay;
             csf_afc_choose_layout(&geom, cells[c].ecc_deg, 1.0, ly == 0 ? 4 : 2, &lay);
             n_alt[c] = lay.n_alternatives;
+        }
+        if (n_specs > 0) {
+            printf("\n== layout: %s ==\n", layout_name[ly]);
+            printf("observers that are not the method: devices/observer_sim answers, methods set up as a "
+                   "session (slope %.1f, lapse %.2f); RMS of log10 threshold over visible cells, "
+                   "seeds %d-%d\n\n", SESSION_SLOPE, SESSION_LAPSE, first_seed, first_seed + n_seeds - 1);
+            if (run_specs(specs, n_specs, use_obs, table, table2, methods, n_methods, budgets, n_budgets,
+                          first_seed, n_seeds, cells, n, n_alt, cmax))
+                return 1;
+            continue;
         }
         double rms[N_OBS][MAX_METHODS][MAX_BUDGETS], ms_per_session[N_OBS][MAX_METHODS][MAX_BUDGETS];
         int wrong_vis[N_OBS][MAX_METHODS][MAX_BUDGETS];
