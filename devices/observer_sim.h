@@ -30,6 +30,13 @@
  * signal place (minus the highest elsewhere), a wrong answer uniformly one of the other places,
  * response time log-normal around 0.7 s.
  *
+ * Decision models and session effects (docs/observer-calibration.md, all off by default, so the
+ * default observer is the one described above): decision=sdt (signal detection, devices/
+ * observer_sdt.h: m-AFC by the largest of m noisy internal responses, yes/no fade by looks
+ * against a criterion), slope/lapse/k drawn from the seed, fatigue (threshold rising with the
+ * trial index), criterion drift (a seeded random walk over trials, yes/no only), runs of
+ * attention lapses, and Pieron reaction times in the fade task.
+ *
  * Every random draw comes from results/rng.h keyed by (seed, stream, trial index * 4096 + frame),
  * so a trial replays identically after a kill and resume. The model reads only what a person
  * would see (what is on screen, when); never the procedure's plan, catch flag or estimates. */
