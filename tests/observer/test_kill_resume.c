@@ -74,6 +74,23 @@ static int wait_exit(pid_t pid)
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+/* 1 when session 1 is finished: a kill that lands after the table was written and the session
+ * marked finished, but before the process exits, leaves nothing to resume. */
+static int session_finished(const char *store)
+{
+    csf_store *s;
+    csf_error err;
+    if (access(store, F_OK) != 0 || csf_store_open(store, &s, &err) != CSF_OK) return 0;
+    csf_session_info info;
+    int done = 0;
+    if (csf_store_get_session(s, 1, &info, &err) == CSF_OK) {
+        done = strcmp(info.state, "finished") == 0;
+        csf_session_info_free(&info);
+    }
+    csf_store_close(s);
+    return done;
+}
+
 /* Number of trials stored in session 1, or -1 when there is no session yet. */
 static int stored_trials(const char *store, csf_trial **out, size_t *n)
 {
@@ -233,7 +250,7 @@ static void run_case(const char *method, const char *afc, uint64_t seed, int n_k
             kill(pid, SIGKILL);
             int st = wait_exit(pid);
             if (st == 128 + SIGKILL) kills++;
-            else if (st == 0) {
+            if (st == 0 || session_finished(store)) {
                 rc = 0;
                 break;
             }
