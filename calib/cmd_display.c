@@ -362,6 +362,19 @@ static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render
     return 0;
 }
 
+/* A session the calibration took off the resumable list (damaged stored settings) gets no resume
+ * hint. */
+static int session_aborted(csf_store *store, int64_t sid)
+{
+    csf_session_info si;
+    csf_error e;
+    memset(&si, 0, sizeof si);
+    if (csf_store_get_session(store, sid, &si, &e) != CSF_OK) return 0;
+    int aborted = strcmp(si.state, "aborted") == 0;
+    csf_session_info_free(&si);
+    return aborted;
+}
+
 static int cmd_calibrate(dargs *a)
 {
     if (!a->out) {
@@ -448,7 +461,7 @@ static int cmd_calibrate(dargs *a)
     csf_photometer_close(ph);
     if (st) {
         int rc = csf_cli_report("display calibrate", &err);
-        if (sid > 0)
+        if (sid > 0 && !session_aborted(store, sid))
             fprintf(stderr, "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
                             "  csfcal display calibrate --resume %lld --store %s --photometer SPEC --out %s\n",
                     res.n_readings, (long long)sid, store_path, (long long)sid, store_path, a->out);

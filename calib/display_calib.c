@@ -18,6 +18,7 @@
  * warming up does not bend the curve (references interpolated in time when the curve does not
  * fit). */
 #include "calib/display_calib.h"
+#include "results/json_read.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -1192,15 +1193,27 @@ static void settings_json(const csf_display_calib_opts *o, const char *spec, cha
              o->channels, o->warmup_wait_s, o->warmup_max, o->drive_levels);
 }
 
-static void json_num(const char *js, const char *key, double *out)
+/* The stored settings decide on resume, so the replay takes the same path. They are outside input
+ * by then (a damaged or hostile store): every value is range-checked before it is used, with the
+ * same limits a new session gets; keys an older session did not store keep today's defaults. */
+static csf_status stored_settings(const char *json, int64_t sid, csf_display_calib_opts *o, csf_error *err)
 {
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    const char *p = js ? strstr(js, pat) : NULL;
-    if (p) {
-        double v;
-        if (sscanf(p + strlen(pat), "%lf", &v) == 1 && isfinite(v)) *out = v;
-    }
+    char what[64];
+    snprintf(what, sizeof what, "stored settings of display session %lld", (long long)sid);
+    csf_json_doc *d;
+    csf_status st = csf_json_parse_object(json, what, &d, err);
+    if (st) return st;
+    int channels = o->channels;
+    int bad = csf_json_get_number(d, "target_rel", 1e-5, 0.5, &o->target_rel, err) < 0 ||
+              csf_json_get_int(d, "budget", 8, 4096, &o->budget, err) < 0 ||
+              csf_json_get_int(d, "channels", 0, 1, &channels, err) < 0 ||
+              csf_json_get_number(d, "warmup_wait_s", 0, 86400, &o->warmup_wait_s, err) < 0 ||
+              csf_json_get_int(d, "warmup_max", 0, 4096, &o->warmup_max, err) < 0 ||
+              csf_json_get_int(d, "drive_levels", 0, 65535, &o->drive_levels, err) < 0;
+    csf_json_free(d);
+    if (bad) return CSF_E_FORMAT;
+    o->channels = channels != 0;
+    return CSF_OK;
 }
 
 csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opts *opts_in,
@@ -1242,18 +1255,18 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
             return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
                                  (long long)*session_id);
         }
-        /* the stored settings decide, so the replay takes the same path */
-        double v = o.target_rel, b = o.budget, ch = o.channels, ww = o.warmup_wait_s, wm = o.warmup_max,
-               dlv = o.drive_levels;
-        json_num(si.settings_json, "target_rel", &v);
-        json_num(si.settings_json, "budget", &b);
-        json_num(si.settings_json, "channels", &ch);
-        json_num(si.settings_json, "warmup_wait_s", &ww);
-        json_num(si.settings_json, "warmup_max", &wm);
-        json_num(si.settings_json, "drive_levels", &dlv);
-        o.target_rel = v; o.budget = (int)b; o.channels = ch != 0; o.warmup_wait_s = ww; o.warmup_max = (int)wm;
-        o.drive_levels = (int)dlv;
+        st = stored_settings(si.settings_json, *session_id, &o, err);
         csf_session_info_free(&si);
+        if (st) {
+            /* Every later resume would fail the same way: take the session off the resumable
+             * list, keep its readings. */
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err ? err->msg : "stored settings are damaged");
+            csf_store_set_session_state(store, *session_id, "aborted", NULL);
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s; the session cannot be resumed and is now "
+                                 "marked aborted (its readings stay in the store: csfcal sessions export %lld)",
+                                 why, (long long)*session_id);
+        }
         c.sid = *session_id;
         st = csf_store_get_readings(store, c.sid, &c.replay, &c.n_replay, err);
         if (st) return st;

@@ -19,6 +19,7 @@
 #include "results/csflut.h"
 #include "results/display_profile.h"
 #include "results/file_write.h"
+#include "results/json_read.h"
 #include "results/plot.h"
 #include "results/rng.h"
 #include "results/store.h"
@@ -122,70 +123,28 @@ static void settings_to_json(const session_settings *s, char *buf, size_t len)
     if (n < len) snprintf(buf + n, len - n, "],\"profile_id\":\"%s\"}", s->profile_id);
 }
 
-static const char *json_key(const char *json, const char *key)
-{
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    const char *p = strstr(json, pat);
-    return p ? p + strlen(pat) : NULL;
-}
-
-static int json_string(const char *json, const char *key, char *out, size_t len)
-{
-    const char *p = json_key(json, key);
-    if (!p || *p != '"') return -1;
-    p++;
-    const char *e = strchr(p, '"');
-    if (!e || (size_t)(e - p) >= len) return -1;
-    memcpy(out, p, (size_t)(e - p));
-    out[e - p] = '\0';
-    return 0;
-}
-
-static int json_int(const char *json, const char *key, int *out)
-{
-    const char *p = json_key(json, key);
-    if (!p) return -1;
-    char *end;
-    long v = strtol(p, &end, 10);
-    if (end == p || v < -1 || v > 1000000) return -1;
-    *out = (int)v;
-    return 0;
-}
-
-static int json_list(const char *json, const char *key, double *out, int max)
-{
-    const char *p = json_key(json, key);
-    if (!p || *p != '[') return -1;
-    p++;
-    int n = 0;
-    while (*p && *p != ']') {
-        char *end;
-        double v = strtod(p, &end);
-        if (end == p || n >= max || !isfinite(v)) return -1;
-        out[n++] = v;
-        p = end;
-        if (*p == ',') p++;
-    }
-    return *p == ']' ? n : -1;
-}
-
+/* The stored settings are outside input once they have been on disk: read through jansson with
+ * every value in range (a damaged store is refused at resume, never cast). Keys that older sessions
+ * did not store have their documented fallbacks. */
 static int settings_from_json(const char *json, session_settings *s)
 {
     memset(s, 0, sizeof *s);
-    if (!json) return -1;
-    if (json_string(json, "method", s->method, sizeof s->method) ||
-        json_string(json, "observer", s->observer, sizeof s->observer) ||
-        json_int(json, "trials", &s->trials) || json_int(json, "practice", &s->practice) ||
-        json_int(json, "break_every", &s->break_every))
-        return -1;
+    csf_json_doc *d;
+    csf_error err;
+    if (csf_json_parse_object(json, "stored observer settings", &d, &err) != CSF_OK) return -1;
+    int ok = csf_json_get_string(d, "method", s->method, sizeof s->method, &err) == 1 &&
+             csf_json_get_string(d, "observer", s->observer, sizeof s->observer, &err) == 1 &&
+             csf_json_get_int(d, "trials", -1, 1000000, &s->trials, &err) == 1 &&
+             csf_json_get_int(d, "practice", -1, 1000000, &s->practice, &err) == 1 &&
+             csf_json_get_int(d, "break_every", -1, 1000000, &s->break_every, &err) == 1 &&
+             csf_json_get_numbers(d, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS, &s->n_freqs, &err) == 1 &&
+             csf_json_get_numbers(d, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS, &s->n_eccs, &err) == 1;
     /* Sessions stored before four-place trials existed were two-interval throughout. */
-    if (json_int(json, "afc", &s->afc) != 0) s->afc = 2;
-    if (s->afc != 2 && s->afc != 4) return -1;
-    if (json_string(json, "profile_id", s->profile_id, sizeof s->profile_id) != 0) s->profile_id[0] = '\0';
-    s->n_freqs = json_list(json, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS);
-    s->n_eccs = json_list(json, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS);
-    return (s->n_freqs > 0 && s->n_eccs > 0) ? 0 : -1;
+    s->afc = 2;
+    if (ok) ok = csf_json_get_int(d, "afc", 2, 4, &s->afc, &err) >= 0 && (s->afc == 2 || s->afc == 4);
+    if (ok) ok = csf_json_get_string(d, "profile_id", s->profile_id, sizeof s->profile_id, &err) >= 0;
+    csf_json_free(d);
+    return ok ? 0 : -1;
 }
 
 /* ---- the person: simulated or human behind the same few calls --------------------------------- */

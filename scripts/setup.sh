@@ -11,7 +11,7 @@ PACKAGES=(
   libopencolorio-dev opencolorio-tools liblcms2-dev liblcms2-utils
   libusb-1.0-0-dev libhidapi-dev
   xvfb xauth x11-xserver-utils xdotool
-  python3 poppler-utils argyll glslang-tools
+  python3 poppler-utils argyll glslang-tools libjansson-dev
 )
 
 missing=()

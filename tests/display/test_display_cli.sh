@@ -44,6 +44,22 @@ sid=$(sed -n 's/.*--resume \([0-9]*\).*/\1/p' "$t/e" | head -1)
 # the instrument spec changed (the fault is gone): said, not refused
 grep -q "was measured on 'sim:display=crt,fault=unplug@30'" "$t/e2" || { echo "no spec-change warning: $(cat "$t/e2")"; fail=1; }
 [ -s "$t/crt.profile" ] || { echo "no profile after resume"; fail=1; }
+# damaged stored settings (a value no session could have): refused once, exit 2, named with its
+# range, the session marked aborted and its readings kept; no resume hint (it would fail forever)
+db3="$t/damaged.sqlite"
+"$exe" display calibrate --photometer sim:display=lcd,fault=unplug@20 --store "$db3" --out "$t/d.profile" --quiet 2>/dev/null
+sqlite3 "$db3" "UPDATE sessions SET settings_json = replace(settings_json, '\"budget\":', '\"budget\":1e300,\"x\":') WHERE id = 1"
+sqlite3 "$db3" "SELECT settings_json FROM sessions WHERE id = 1" | python3 -c 'import json,sys; assert json.load(sys.stdin)["budget"] == 1e300' \
+  || { echo "could not damage the stored settings"; fail=1; }
+kept=$(sqlite3 "$db3" "SELECT count(*) FROM readings WHERE session_id = 1")
+"$exe" display calibrate --photometer sim:display=lcd --resume 1 --store "$db3" --out "$t/d.profile" --quiet 2>"$t/e3"
+rc=$?
+[ "$rc" -eq 2 ] || { echo "damaged settings: exit $rc, want 2: $(cat "$t/e3")"; fail=1; }
+grep -q 'budget = 1e+300 is not a whole number from 8 to 4096' "$t/e3" || { echo "damaged settings message: $(cat "$t/e3")"; fail=1; }
+grep -q 'finish it with' "$t/e3" && { echo "resume hint for a session that cannot resume"; fail=1; }
+[ "$(sqlite3 "$db3" "SELECT state FROM sessions WHERE id = 1")" = aborted ] || { echo "damaged session not aborted"; fail=1; }
+[ "$(sqlite3 "$db3" "SELECT count(*) FROM readings WHERE session_id = 1")" = "$kept" ] && [ "$kept" -gt 0 ] \
+  || { echo "readings lost: $kept before"; fail=1; }
 # CSV display
 "$exe" display calibrate --photometer "sim:display=file=$data/kink.csv" --store "$db" --out "$t/k.profile" --quiet \
   || { echo "csv calibrate failed"; fail=1; }
