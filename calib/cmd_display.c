@@ -12,6 +12,7 @@
 #include "calib/commands.h"
 #include "calib/display_calib.h"
 #include "devices/photometer.h"
+#include "results/file_write.h"
 #include "results/colour_export.h"
 #include "results/display_profile.h"
 #include "results/store.h"
@@ -385,6 +386,11 @@ static int cmd_calibrate(dargs *a)
     if (!spec) return 2;
     csf_error err;
     csf_error_clear(&err);
+    /* before the first reading: a calibration takes minutes of the instrument's time */
+    if (csf_check_output_path(a->out, "display profile", &err) != CSF_OK) {
+        csf_cli_report("display calibrate", &err);
+        return 2;
+    }
     csf_display_calib_opts o;
     csf_display_calib_defaults(&o);
     if (a->target > 0) o.target_rel = a->target;

@@ -186,6 +186,11 @@ int csf_cmd_observer(int argc, char **argv)
     /* Unless told otherwise, a station with a display measures the person in front of it; without
      * one there is nobody to ask, so the simulated observer runs (and says so in its summary). */
     o.observer_spec = cli.cfg.observer[0] ? cli.cfg.observer : (o.headless ? "sim" : "human");
+    /* A table from the simulation must never pass for a person's: say it where the user looks,
+     * even with --quiet, when nobody asked for the simulator. */
+    if (!cli.cfg.observer[0] && o.headless && !cli.resume_id)
+        fprintf(stderr, "csfcal: observer calibrate: note: no display and no --observer: the SIMULATED "
+                        "observer answers (--observer sim); no person is measured\n");
     o.resume_id = cli.resume_id;
     o.store_path = csf_cli_store_path(&cli);
     if (cli.json) o.quiet = 1;

@@ -7,6 +7,7 @@
  * many more readings. g is fitted per curve and stored, so the model is fully determined by the
  * file and the inverse is exact on the same piecewise cubic. */
 #include "results/display_profile.h"
+#include "results/file_write.h"
 #include "results/file_read.h"
 
 #include <ctype.h>
@@ -938,28 +939,8 @@ csf_status csf_profile_save(const csf_display_profile *p, const char *path, csf_
     char *text;
     csf_status st = csf_profile_to_text(p, &text, err);
     if (st) return st;
-    /* write to a temporary then rename, so a crash never leaves half a profile */
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + 16);
-    if (!tmp) {
-        free(text);
-        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    }
-    snprintf(tmp, pl + 16, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        st = csf_error_set(err, CSF_E_IO, "cannot write profile %s: %s", path, strerror(errno));
-    } else {
-        size_t len = strlen(text);
-        int ok = fwrite(text, 1, len, f) == len;
-        ok = (fflush(f) == 0) && ok;
-        ok = (fclose(f) == 0) && ok;
-        if (!ok || rename(tmp, path) != 0) {
-            st = csf_error_set(err, CSF_E_IO, "cannot write profile %s: %s", path, strerror(errno));
-            remove(tmp);
-        }
-    }
-    free(tmp);
+    /* a crash or a full disk never leaves half a profile, and the old one stays */
+    st = csf_write_file_atomic(path, "display profile", text, strlen(text), err);
     free(text);
     return st;
 }

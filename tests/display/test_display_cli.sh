@@ -44,6 +44,13 @@ sid=$(sed -n 's/.*--resume \([0-9]*\).*/\1/p' "$t/e" | head -1)
 # the instrument spec changed (the fault is gone): said, not refused
 grep -q "was measured on 'sim:display=crt,fault=unplug@30'" "$t/e2" || { echo "no spec-change warning: $(cat "$t/e2")"; fail=1; }
 [ -s "$t/crt.profile" ] || { echo "no profile after resume"; fail=1; }
+# an --out that cannot be written is refused before the first reading: exit 2, no session stored
+"$exe" display calibrate --photometer sim:display=lcd --store "$t/noout.sqlite" --out "$t/missing/x.profile" --quiet 2>"$t/e4"
+rc=$?
+[ "$rc" -eq 2 ] || { echo "unwritable --out: exit $rc, want 2"; fail=1; }
+grep -q 'missing.*No such file or directory' "$t/e4" || { echo "unwritable --out message: $(cat "$t/e4")"; fail=1; }
+[ ! -e "$t/noout.sqlite" ] || [ "$(sqlite3 "$t/noout.sqlite" "SELECT count(*) FROM sessions")" = 0 ] \
+  || { echo "unwritable --out: a session was started"; fail=1; }
 # damaged stored settings (a value no session could have): refused once, exit 2, named with its
 # range, the session marked aborted and its readings kept; no resume hint (it would fail forever)
 db3="$t/damaged.sqlite"

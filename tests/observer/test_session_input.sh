@@ -170,4 +170,13 @@ check "--allow-profile-change: recorded in the store" grep -qF "$n1 $idb" <<<"$(
 info=$("$CSFCAL" lut info "$T/p.csflut")
 check "--allow-profile-change: the table names both profiles" grep -qF "$ida from trial 0, $idb from trial $n1 (--allow-profile-change)" <<<"$info"
 
+# 5. Nobody asked for the simulator: a headless run without --observer says on stderr, even with
+# --quiet, that the simulated observer answered; an explicit --observer sim is not nagged.
+XDG_CONFIG_HOME="$T/nocfg" "$CSFCAL" observer calibrate --headless --quiet --trials 6 --practice 0 \
+    --store "$T/n.sqlite" --out "$T/n.csflut" 2>"$T/n.err" >/dev/null
+check "implicit simulator: announced on stderr" grep -q 'the SIMULATED observer answers' "$T/n.err"
+XDG_CONFIG_HOME="$T/nocfg" "$CSFCAL" observer calibrate --headless --quiet --trials 6 --practice 0 \
+    --observer sim --store "$T/n2.sqlite" --out "$T/n2.csflut" 2>"$T/n2.err" >/dev/null
+check "explicit --observer sim: no note" test ! -s "$T/n2.err"
+
 exit $fail
