@@ -165,12 +165,15 @@ static void fc_slopes(const double *x, const double *y, double *m, double *ml, i
             continue;
         }
         double a = m[i] / d, b = ml[i + 1] / d;
+        /* A slope against the secant (a one-sided end or corner slope can point back) takes the
+         * cubic outside the Fritsch-Carlson region: it dips and the curve is no longer monotone
+         * (found by fuzz_profile on a nearly flat segment beside a steep one). */
+        if (!(a > 0)) a = 0;
+        if (!(b > 0)) b = 0;
         double s = a * a + b * b;
-        if (s > 9) {
-            double t = 3 / sqrt(s);
-            m[i] = t * a * d;
-            ml[i + 1] = t * b * d;
-        }
+        double t = s > 9 ? 3 / sqrt(s) : 1;
+        m[i] = t * a * d;
+        ml[i + 1] = t * b * d;
     }
     /* away from corners keep the curve smooth: the smaller slope satisfies both intervals'
      * monotonicity limits (shrinking a slope never leaves the Fritsch–Carlson region) */
@@ -190,8 +193,11 @@ static double hermite(const curve *c, int i, double t)
      * curve non-monotone there (found by fuzz_profile). Here a flat segment (equal ends, zero
      * slopes) is exactly y0, and the result is kept between the segment's ends, which is where a
      * monotone cubic lies. */
-    double y = c->y[i] + (3 * t2 - 2 * t3) * (c->y[i + 1] - c->y[i]) +
-               h * ((t3 - 2 * t2 + t) * c->m[i] + (t3 - t2) * c->ml[i + 1]);
+    /* The increment is summed before it meets y0: (y0 + a) + b rounds twice, and on a segment a
+     * few hundred ulps tall that made the curve step down by an ulp near its end (fuzz_profile). */
+    double inc = (3 * t2 - 2 * t3) * (c->y[i + 1] - c->y[i]) +
+                 h * ((t3 - 2 * t2 + t) * c->m[i] + (t3 - t2) * c->ml[i + 1]);
+    double y = c->y[i] + inc;
     double lo = c->y[i] < c->y[i + 1] ? c->y[i] : c->y[i + 1];
     double hi = c->y[i] < c->y[i + 1] ? c->y[i + 1] : c->y[i];
     return y < lo ? lo : y > hi ? hi : y;

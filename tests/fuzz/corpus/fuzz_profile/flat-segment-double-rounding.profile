@@ -1,0 +1,11 @@
+csfcal-display-profile 1
+#ack 0
+lum_mRls = 1
+
+[curve grey]
+transform_gamma = 2.но07380870107265
+drive01,lum_cdm2
+0,0
+0.125,1.994108826611
+0.807073125,1.9941088266112174
+1,239.9109189095780484
