@@ -27,6 +27,14 @@
  * observers that are not the method's model, and the figure is what a session would get.
  * Printed per spec and truth: RMS, cells of the wrong visibility, and the mean signed error of
  * the two-interval and of the four-place cells (a task-dependent threshold shows there).
+ * --honest [--quick] (issue 12 item 5): one table per layout, side by side in one run: bayes's
+ * prior-only table (zero trials), bayes at 120 and 240 trials, per-cell QUEST (bench/quest_cell.h,
+ * Psychtoolbox's algorithm in C) with prior sd 0.3, 0.5 and 1 log10 at 120 and 240 trials, and a
+ * joint QUEST+ over the qCSF x stelaCSF surface (bench/questplus.h) at 120 trials, on observers
+ * the methods were tuned on (the three truths above, default Weibull 3.5/0.02) and six held out
+ * of all tuning (bench/data/observer_heldout.py's truths with other slopes, lapses and the sdt
+ * decision model). All answer through devices/observer_sim. Default 10 seeds (--quick: 3;
+ * --seeds N overrides). RMS per group is over observers x seeds.
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -37,6 +45,9 @@
 #include "calib/afc_layout.h"
 #include "calib/procedure.h"
 #include "devices/observer_sim.h"
+#include "quest_cell.h"
+#include "questplus.h"
+#include "results/rng.h"
 #include "tests/bayes/sim_2afc.h"
 
 enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2, MAX_SPECS = 8 };
@@ -185,6 +196,239 @@ static int run_specs(const char *const *specs, int n_specs, const int *use_obs, 
     return 0;
 }
 
+/* ---- --honest: one table, tuned vs held-out observers, prior, bayes, QUEST, QUEST+ ----------- */
+
+typedef struct {
+    const char *name, *spec;
+    int held_out; /* 1: not used to tune any method (made for this benchmark, 2026-11-23) */
+} honest_observer;
+
+static const honest_observer HONEST_OBS[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0},
+    {"msdexp, Weibull 2.2/0.05", "sim:slope=2.2,lapse=0.05,table=bench/data/observer_msdexp.csv", 1},
+    {"msdexp, sdt k 2.5/0.02", "sim:decision=sdt,table=bench/data/observer_msdexp.csv", 1},
+    {"older, Weibull 5/0", "sim:slope=5,lapse=0,table=bench/data/observer_older.csv", 1},
+    {"older, sdt k 2/0.05", "sim:decision=sdt,k=2,lapse=0.05,table=bench/data/observer_older.csv", 1},
+    {"dexp, Weibull drawn", "sim:slope=draw,lapse=draw,table=bench/data/observer_dexp.csv", 1},
+    {"dexp, Weibull 1.5/0.08", "sim:slope=1.5,lapse=0.08,table=bench/data/observer_dexp.csv", 1},
+};
+enum { N_HONEST_OBS = (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]) };
+
+static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
+enum { HM_PRIOR, HM_BAYES120, HM_BAYES240, HM_QUEST120, HM_QUEST240 = HM_QUEST120 + 3, HM_QPLUS120 = HM_QUEST240 + 3,
+       N_HM };
+
+static const char *honest_method_name(int m, char *buf, size_t len)
+{
+    if (m == HM_PRIOR) snprintf(buf, len, "bayes, prior only");
+    else if (m == HM_BAYES120 || m == HM_BAYES240) snprintf(buf, len, "bayes");
+    else if (m >= HM_QUEST120 && m < HM_QPLUS120)
+        snprintf(buf, len, "QUEST per cell, prior sd %.1f", QUEST_SDS[(m - HM_QUEST120) % 3]);
+    else snprintf(buf, len, "QUEST+ joint qCSF x stelaCSF");
+    return buf;
+}
+
+static int honest_trials(int m)
+{
+    if (m == HM_PRIOR) return 0;
+    if (m == HM_BAYES120 || m == HM_QPLUS120 || (m >= HM_QUEST120 && m < HM_QUEST240)) return 120;
+    return 240;
+}
+
+/* The observer's psychometric function as the anchors are given it: the Weibull's own slope and
+ * lapse; for a signal-detection observer the Weibull that fits its 2AFC function (slope 1.21 k). */
+static void anchor_psychometric(const csf_observer_sim *o, double *slope, double *lapse)
+{
+    const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
+    *slope = p->decision == CSF_SIM_SDT ? 1.21 * p->k_transducer : p->slope;
+    *lapse = p->lapse < 0.001 ? 0.001 : p->lapse;
+}
+
+/* One forced-choice answer of the simulated person at trial k: 1 = correct. */
+static int sim_correct(const csf_observer_sim *o, uint64_t seed, int k, const csf_cell *c, int m, double x_log10)
+{
+    double shown[4] = {0, 0, 0, 0}, rt;
+    int sig = (int)(csf_rng_u64(seed, 0x9e5, (uint64_t)k) % (uint64_t)m);
+    shown[sig] = pow(10.0, x_log10);
+    int r = m == 4 ? csf_observer_sim_afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, 4, &rt)
+                   : csf_observer_sim_2afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, &rt);
+    return r == sig;
+}
+
+/* Per-cell QUEST. Allocation: each trial goes to the cell with the fewest trials among those whose
+ * posterior gives at least 20 % to "visible" (t < log10 cmax), ties broken by a seeded rotation;
+ * if no cell qualifies, to the one most likely visible. A cell the posterior calls more likely
+ * invisible than visible is reported never visible. */
+static void run_quest_cells(const csf_observer_sim *o, uint64_t seed, const csf_cell *cells, int n,
+                            const int *n_alt, int budget, double sd, double cmax, csf_cell_estimate *est)
+{
+    quest_cell q[24];
+    int trials[24] = {0};
+    double slope, lapse, lcmax = log10(cmax), lcmin = log10(0.0005);
+    anchor_psychometric(o, &slope, &lapse);
+    for (int c = 0; c < n; c++) quest_cell_init(&q[c], guess_log10(&cells[c]), sd, slope, lapse, 1.0 / n_alt[c]);
+    int rot = (int)(csf_rng_u64(seed, 0x9e6, 0) % (uint64_t)n);
+    for (int k = 0; k < budget; k++) {
+        int best = -1, best_any = 0;
+        double pv_any = -1.0;
+        for (int i = 0; i < n; i++) {
+            int c = (i + rot) % n;
+            double pv = quest_cell_prob_below(&q[c], lcmax);
+            if (pv > pv_any) pv_any = pv, best_any = c;
+            if (pv >= 0.2 && (best < 0 || trials[c] < trials[best])) best = c;
+        }
+        int c = best >= 0 ? best : best_any;
+        double x = quest_cell_quantile(&q[c], 0.5);
+        x = x < lcmin ? lcmin : x > lcmax ? lcmax : x;
+        quest_cell_update(&q[c], x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
+        trials[c]++;
+    }
+    for (int c = 0; c < n; c++) {
+        double m = quest_cell_mean(&q[c]);
+        est[c].threshold = quest_cell_prob_below(&q[c], lcmax) < 0.5 ? INFINITY : pow(10.0, m < lcmax ? m : lcmax);
+        est[c].n_trials = trials[c];
+    }
+}
+
+static int run_questplus(const csf_observer_sim *o, uint64_t seed, const csf_cell *cells, int n, const int *n_alt,
+                         int budget, double cmax, csf_cell_estimate *est)
+{
+    double slope, lapse, lt[24];
+    anchor_psychometric(o, &slope, &lapse); /* the slope is QUEST+'s own parameter; lapse given */
+    questplus *q = questplus_create(cells, n, n_alt, lapse, log10(0.0005), log10(cmax));
+    if (!q) return -1;
+    for (int k = 0; k < budget; k++) {
+        int c;
+        double x;
+        questplus_next(q, seed, k, &c, &x);
+        questplus_update(q, c, x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
+    }
+    questplus_estimate(q, lt);
+    for (int c = 0; c < n; c++) est[c].threshold = isfinite(lt[c]) ? pow(10.0, lt[c]) : INFINITY;
+    questplus_free(q);
+    return 0;
+}
+
+/* The best the QUEST+ surface family can fit this truth (RMS over visible cells). */
+static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, int n, const int *n_alt, double cmax)
+{
+    double truth[24];
+    questplus *q = questplus_create(cells, n, n_alt, 0.02, log10(0.0005), log10(cmax));
+    if (!q) return NAN;
+    for (int c = 0; c < n; c++) {
+        double th = csf_observer_sim_threshold(o, cells[c].freq_cpd, cells[c].ecc_deg);
+        truth[c] = th < cmax ? log10(th) : log10(cmax);
+    }
+    double r = questplus_best_fit_rms(q, truth);
+    questplus_free(q);
+    return r;
+}
+
+static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seeds, const csf_cell *cells, int n,
+                      const int *n_alt, double cmax, const char *layout_name)
+{
+    static double sq[N_HONEST_OBS][N_HM], ms[N_HM];
+    double floor_rms[N_HONEST_OBS];
+    memset(sq, 0, sizeof sq);
+    memset(ms, 0, sizeof ms);
+    for (int ob = 0; ob < N_HONEST_OBS; ob++) {
+        floor_rms[ob] = 0.0;
+        for (int s = first_seed; s < first_seed + n_seeds; s++) {
+            csf_observer_sim *o;
+            csf_error err;
+            if (csf_observer_sim_create(HONEST_OBS[ob].spec, (uint64_t)s, &o, &err) != CSF_OK) {
+                fprintf(stderr, "bench_observer: %s: %s\n", HONEST_OBS[ob].spec, err.msg);
+                return 1;
+            }
+            if (s == first_seed) floor_rms[ob] = questplus_floor(o, cells, n, n_alt, cmax);
+            for (int m = 0; m < N_HM; m++) {
+                csf_cell_estimate est[24];
+                memset(est, 0, sizeof est);
+                double t0 = now_s();
+                uint64_t pseed = 1000 + (uint64_t)s;
+                int rc = 0;
+                if (m == HM_PRIOR) {
+                    csf_procedure_setup setup = {.cells = cells, .n_cells = n, .trial_budget = 0, .seed = pseed,
+                                                 .max_contrast = cmax, .min_contrast = 0.0005,
+                                                 .slope_beta = SESSION_SLOPE, .lapse = SESSION_LAPSE, .guess = 0.5,
+                                                 .n_alternatives = n_alt};
+                    void *st = NULL;
+                    rc = bayes->create(&setup, &st, &err) != CSF_OK || bayes->estimate(st, est, &err) != CSF_OK;
+                    if (st) bayes->destroy(st);
+                } else if (m == HM_BAYES120 || m == HM_BAYES240) {
+                    rc = run_sim_session(bayes, o, cells, n, n_alt, honest_trials(m), pseed, cmax, est);
+                } else if (m < HM_QPLUS120) {
+                    run_quest_cells(o, pseed, cells, n, n_alt, honest_trials(m), QUEST_SDS[(m - HM_QUEST120) % 3], cmax, est);
+                } else {
+                    rc = run_questplus(o, pseed, cells, n, n_alt, honest_trials(m), cmax, est);
+                }
+                if (rc) {
+                    fprintf(stderr, "bench_observer: method %d failed on %s\n", m, HONEST_OBS[ob].name);
+                    csf_observer_sim_free(o);
+                    return 1;
+                }
+                ms[m] += (now_s() - t0) * 1000.0;
+                int wrong, bn[2] = {0, 0};
+                double bs[2] = {0, 0};
+                double r = sim_rms(o, cells, n, n_alt, est, cmax, &wrong, bs, bn);
+                sq[ob][m] += r * r;
+            }
+            csf_observer_sim_free(o);
+        }
+        fprintf(stderr, "  %s done\n", HONEST_OBS[ob].name);
+    }
+    printf("\n== layout: %s ==\n", layout_name);
+    printf("RMS error of log10 threshold over the truly visible cells (6 x 4 grid), RMS over observers x seeds; "
+           "seeds %d-%d; bayes set up as a session (slope %.1f, lapse %.2f); QUEST and QUEST+ given the "
+           "observer's own Weibull lapse (and QUEST its slope; sdt observers: slope 1.21 k)\n\n",
+           first_seed, first_seed + n_seeds - 1, SESSION_SLOPE, SESSION_LAPSE);
+    printf("| method | trials | tuned-on observers (%d) | held-out observers (%d) | worst held-out observer | ms/session |\n"
+           "|---|---|---|---|---|---|\n", 3, N_HONEST_OBS - 3);
+    double group[N_HM][2];
+    for (int m = 0; m < N_HM; m++) {
+        double g[2] = {0, 0}, worst = 0;
+        int gn[2] = {0, 0};
+        for (int ob = 0; ob < N_HONEST_OBS; ob++) {
+            int h = HONEST_OBS[ob].held_out;
+            g[h] += sq[ob][m], gn[h] += n_seeds;
+            if (h && sqrt(sq[ob][m] / n_seeds) > worst) worst = sqrt(sq[ob][m] / n_seeds);
+        }
+        group[m][0] = sqrt(g[0] / gn[0]), group[m][1] = sqrt(g[1] / gn[1]);
+        char nb[64];
+        printf("| %s | %d | %.3f | %.3f | %.3f | %.1f |\n", honest_method_name(m, nb, sizeof nb), honest_trials(m),
+               group[m][0], group[m][1], worst, ms[m] / (N_HONEST_OBS * n_seeds));
+    }
+    for (int b = 0; b < 2; b++) {
+        int best = HM_QUEST120 + 3 * b;
+        for (int m = best; m < best + 3; m++)
+            if (group[m][1] < group[best][1]) best = m;
+        int bm = b ? HM_BAYES240 : HM_BAYES120;
+        printf("best QUEST at %d trials (held-out): prior sd %.1f, %.3f; bayes at %d: %.3f (%s)\n", 120 * (b + 1),
+               QUEST_SDS[(best - HM_QUEST120) % 3], group[best][1], 120 * (b + 1), group[bm][1],
+               group[bm][1] < group[best][1] ? "bayes better" : "bayes NOT better");
+        if (b == 1)
+            printf("bayes at 120 vs best QUEST at 240 (held-out): %.3f vs %.3f (%s)\n", group[HM_BAYES120][1],
+                   group[best][1], group[HM_BAYES120][1] < group[best][1] ? "bayes better" : "bayes NOT better");
+    }
+    printf("QUEST+ at 120 (held-out): %.3f; bayes at 120: %.3f (%s)\n\n", group[HM_QPLUS120][1],
+           group[HM_BAYES120][1], group[HM_BAYES120][1] < group[HM_QPLUS120][1] ? "bayes better" : "bayes NOT better");
+    printf("per observer (RMS over seeds; * = held out of all tuning; floor = best fit of the QUEST+ surface grid)\n\n"
+           "| observer | floor | prior | bayes 120 | bayes 240 | QUEST 120 sd .3/.5/1 | QUEST 240 sd .3/.5/1 | QUEST+ 120 |\n"
+           "|---|---|---|---|---|---|---|---|\n");
+    for (int ob = 0; ob < N_HONEST_OBS; ob++) {
+        double r[N_HM];
+        for (int m = 0; m < N_HM; m++) r[m] = sqrt(sq[ob][m] / n_seeds);
+        printf("| %s%s | %.3f | %.3f | %.3f | %.3f | %.3f/%.3f/%.3f | %.3f/%.3f/%.3f | %.3f |\n", HONEST_OBS[ob].name,
+               HONEST_OBS[ob].held_out ? " *" : "", floor_rms[ob], r[HM_PRIOR], r[HM_BAYES120], r[HM_BAYES240],
+               r[HM_QUEST120], r[HM_QUEST120 + 1], r[HM_QUEST120 + 2], r[HM_QUEST240], r[HM_QUEST240 + 1],
+               r[HM_QUEST240 + 2], r[HM_QPLUS120]);
+    }
+    fflush(stdout);
+    return 0;
+}
+
 static int parse_budgets(const char *s, int *b)
 {
     int n = 0;
@@ -209,12 +453,13 @@ int main(int argc, char **argv)
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
     int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
-    int per_cell = 0;
+    int per_cell = 0, honest = 0, quick = 0, seeds_given = 0;
     const char *specs[MAX_SPECS];
     int n_specs = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
             n_seeds = atoi(argv[++i]);
+            seeds_given = 1;
             if (n_seeds < 1 || n_seeds > 1000) {
                 fprintf(stderr, "bench_observer: --seeds must be 1-1000\n");
                 return 1;
@@ -264,13 +509,17 @@ int main(int argc, char **argv)
                 return 1;
             }
             specs[n_specs++] = argv[++i];
+        } else if (!strcmp(argv[i], "--honest")) {
+            honest = 1;
+        } else if (!strcmp(argv[i], "--quick")) {
+            quick = 1;
         } else if (!strcmp(argv[i], "--cells")) {
             per_cell = 1;
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -311,6 +560,15 @@ int main(int argc, char **argv)
             csf_afc_layout lay;
             csf_afc_choose_layout(&geom, cells[c].ecc_deg, 1.0, ly == 0 ? 4 : 2, &lay);
             n_alt[c] = lay.n_alternatives;
+        }
+        if (honest) {
+            const csf_procedure_ops *bayes = csf_procedure_find("bayes");
+            if (!bayes) {
+                fprintf(stderr, "bench_observer: --honest needs the bayes method\n");
+                return 1;
+            }
+            if (run_honest(bayes, first_seed, seeds_given ? n_seeds : quick ? 3 : 10, cells, n, n_alt, cmax, layout_name[ly])) return 1;
+            continue;
         }
         if (n_specs > 0) {
             printf("\n== layout: %s ==\n", layout_name[ly]);

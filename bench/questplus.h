@@ -1,0 +1,41 @@
+/* Joint QUEST+ (Watson 2017, J. Vision 17(3):10) over a parametric CSF surface, for the honest
+ * benchmark (bench_observer --honest): the anchor a vision scientist would pick instead of our
+ * bayes method. The surface is qCSF's truncated log-parabola (Lesmes et al. 2010: Smax, fmax,
+ * bandwidth, truncation) extended to eccentricity with the stelaCSF factor 10^-((a + b f) e)
+ * (DESIGN.md), i.e. results/csf_model.h. The Weibull slope is a parameter too and is marginalised
+ * in the estimate; the lapse and the guess rate per cell (1/2 or 1/4) are given.
+ *
+ * Grids (documented in BENCHMARKS.md): log10 Smax 1.5..2.9 step 0.2 (8), log10 fmax -0.1..0.8
+ * step 0.15 (7), bandwidth 2, 3, 4.5 octaves, truncation delta 0.25, 0.75 log10, a 0, 0.02,
+ * 0.04, 0.07 /deg, b 0, 0.012, 0.025, 0.045 /(cpd deg): 5376 surfaces; slope 2, 3.2, 5: 16128
+ * hypotheses. Prior: normal on log10 Smax (2.25, sd 0.35) and log10 fmax (0.45, sd 0.25), the
+ * population the bayes method's prior centres on, flat on the rest.
+ * Stimuli: cell x log10 contrast -3.3..0 step 0.15 (23 levels, clamped to the display); each
+ * trial scores a random subset of QP_CELLS_PER_TRIAL cells (keyed by seed and trial) and picks
+ * the stimulus of least expected entropy of the joint posterior. Hypotheses whose posterior falls
+ * below 1e-7 of the largest are dropped from the sums (they cannot matter at 120 trials).
+ * Estimate per cell: the posterior mean of min(t, log10 cmax); "never visible" (INFINITY) when the
+ * posterior gives more than half its mass to t >= log10 cmax. */
+#ifndef BENCH_QUESTPLUS_H
+#define BENCH_QUESTPLUS_H
+
+#include <stdint.h>
+
+#include "calib/procedure.h"
+
+enum { QP_CELLS_PER_TRIAL = 6 };
+
+typedef struct questplus questplus;
+
+questplus *questplus_create(const csf_cell *cells, int n_cells, const int *n_alt, double lapse,
+                            double log10_cmin, double log10_cmax);
+void questplus_free(questplus *q);
+void questplus_next(questplus *q, uint64_t seed, int trial, int *cell, double *x_log10);
+void questplus_update(questplus *q, int cell, double x_log10, int correct);
+/* log10 threshold per cell, INFINITY where the posterior says never visible. */
+void questplus_estimate(const questplus *q, double *log10_t);
+/* The best the surface family can do: min over the grid's surfaces of the RMS over cells whose
+ * truth is finite (truth_log10 >= log10 cmax counts as log10 cmax). */
+double questplus_best_fit_rms(const questplus *q, const double *truth_log10);
+
+#endif
