@@ -401,8 +401,8 @@ static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seed
                group[m][0], group[m][1], worst, ms[m] / (N_HONEST_OBS * n_seeds));
     }
     for (int b = 0; b < 2; b++) {
-        int best = HM_QUEST120 + 3 * b;
-        for (int m = best; m < best + 3; m++)
+        int first = HM_QUEST120 + 3 * b, best = first;
+        for (int m = first; m < first + 3; m++)
             if (group[m][1] < group[best][1]) best = m;
         int bm = b ? HM_BAYES240 : HM_BAYES120;
         printf("best QUEST at %d trials (held-out): prior sd %.1f, %.3f; bayes at %d: %.3f (%s)\n", 120 * (b + 1),
