@@ -96,6 +96,14 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define GP_BROAD_SD 0.25       /* log10: broad prior used to summarise a cell's trials as a Gaussian */
 #define GP_MAX_SHIFT 0.6       /* log10: cap on a predicted offset */
 #define MIN_LAPSE 1e-3         /* a zero lapse rate would make one wrong answer at high contrast fatal */
+/* The person's psychometric slope and lapse (nuisance parameters, one pair per person, shared by
+ * every cell): a grid over the range of real observers, uniform prior over its nodes (log-uniform
+ * in slope). Marginalised unless the setup asks for fixed values (docs/bayes-method.md). */
+static const double eta_slopes[] = {1.5, 1.89, 2.38, 3.0, 3.78, 4.76, 6.0};
+static const double eta_lapses[] = {MIN_LAPSE, 0.02, 0.04, 0.06, 0.08};
+enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
+       N_ETA_LAPSE = sizeof eta_lapses / sizeof eta_lapses[0] };
+#define ETA_REBUILD_CHANGE 2e-3 /* rebuild every cell's mixed likelihood when a weight moves this much */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
 #ifndef PRIOR_MEAN
@@ -114,7 +122,14 @@ typedef struct {
     csf_cell *cells;
     uint64_t seed;
     int trial_budget;
-    double slope, lapse, guess;
+    double guess;
+    /* psychometric nuisance (slope, lapse): n_eta grid nodes (1 when fixed by the setup) */
+    int n_eta;
+    double *eta_slope, *eta_lapse; /* [n_eta] */
+    double *eta_w;      /* [n_eta] posterior p(slope, lapse | trials), see eta_posterior */
+    double *eta_w_used; /* [n_eta] the weights every cell's mixed likelihood was built with */
+    double *loglik_eta; /* [n_eta*n_cells*n_grid] log L_c(t_g | slope, lapse) */
+    double *ptab_eta;   /* [n_eta*2*(2*n_grid-1)] P(correct) per node, layout as ptab */
     double log_cmax, log_cmin;
 
     /* threshold grid: t_g = lo + g*step, g = 0..n_grid-1; log_cmax is node g_cmax */
@@ -132,7 +147,7 @@ typedef struct {
     double *tclip;   /* [n_grid] t_g clipped at log10 max contrast + 0.1 (variance criterion) */
 
     /* per cell */
-    double *loglik;  /* [n_cells*n_grid] log L_c(t_g) */
+    double *loglik;  /* [n_cells*n_grid] log L_c(t_g), slope and lapse marginalised */
     double *logconv; /* [N_LEVELS][n_cells*n_grid] log Z_c(m = t_g) per offset level */
     int *n_trials;
 
@@ -189,10 +204,10 @@ static double log_prior(const double *th)
 
 /* Probability of a correct forced-choice answer at log10 contrast x for log10 threshold t, with
  * guess rate g (1/2 for two intervals unless the setup says otherwise, 1/4 for four locations). */
-static double p_correct(const bayes_state *s, double g, double x, double t)
+static double p_correct(double slope, double lapse, double g, double x, double t)
 {
-    double e = exp(-pow(10.0, s->slope * (x - t)));
-    return g + (1.0 - g - s->lapse) * (1.0 - e);
+    double e = exp(-pow(10.0, slope * (x - t)));
+    return g + (1.0 - g - lapse) * (1.0 - e);
 }
 
 static double cell_guess(const bayes_state *s, int c) { return s->n_alt[c] == 4 ? s->guess4 : s->guess; }
@@ -596,6 +611,83 @@ static double h2(double p)
     return -(p * log(p) + (1.0 - p) * log(1.0 - p));
 }
 
+/* P(correct | t) for stimulus choice: the nuisance (slope, lapse) marginalised over its current
+ * posterior, so that a trial is valued by what it tells about the thresholds alone. */
+static void mix_ptab(bayes_state *s)
+{
+    size_t n = 2 * (2 * (size_t)s->n_grid - 1);
+    for (size_t k = 0; k < n; k++) s->ptab[k] = 0.0;
+    for (int e = 0; e < s->n_eta; e++) {
+        const double *pe = &s->ptab_eta[(size_t)e * n];
+        for (size_t k = 0; k < n; k++) s->ptab[k] += s->eta_w[e] * pe[k];
+    }
+    for (size_t k = 0; k < n; k++) s->htab[k] = h2(s->ptab[k]);
+}
+
+/* p(slope, lapse | trials), uniform prior over the grid. The evidence is the leave-one-cell-out
+ * predictive of each cell's trials: prod_c integral L_c(t | slope, lapse) surf_c(t) dt, with
+ * surf_c the cell's surface prior from the other cells (refresh_cache). The particles cannot give
+ * the joint evidence cheaply (it would need every cell's convolution per node); the predictive
+ * product is the usual cross-validated stand-in for it. */
+static void eta_posterior(bayes_state *s)
+{
+    int G = s->n_grid, nc = s->n_cells;
+    double *lp = s->eta_w;
+    for (int e = 0; e < s->n_eta; e++) lp[e] = 0.0;
+    for (int c = 0; c < nc; c++) {
+        if (!s->n_trials[c]) continue;
+        const double *sp = &s->surf[(size_t)c * G];
+        double smax = 0.0;
+        for (int g = 0; g < G; g++)
+            if (sp[g] > smax) smax = sp[g];
+        int g0 = 0, g1 = G - 1;
+        while (g0 < g1 && sp[g0] < 1e-9 * smax) g0++;
+        while (g1 > g0 && sp[g1] < 1e-9 * smax) g1--;
+        for (int e = 0; e < s->n_eta; e++) {
+            const double *ll = &s->loglik_eta[((size_t)e * nc + c) * G];
+            double mx = -INFINITY, sum = 0.0;
+            for (int g = g0; g <= g1; g++)
+                if (ll[g] > mx) mx = ll[g];
+            for (int g = g0; g <= g1; g++) sum += sp[g] * exp(ll[g] - mx);
+            lp[e] += log(sum > 1e-300 ? sum : 1e-300) + mx;
+        }
+    }
+    double mx = -INFINITY, tot = 0.0;
+    for (int e = 0; e < s->n_eta; e++)
+        if (lp[e] > mx) mx = lp[e];
+    for (int e = 0; e < s->n_eta; e++) tot += (lp[e] = exp(lp[e] - mx));
+    for (int e = 0; e < s->n_eta; e++) lp[e] /= tot;
+}
+
+/* Cell c's likelihood with the nuisance marginalised over eta_w_used, then its convolutions and
+ * the particles' weights (importance reweighting: the target changed by the ratio of Z_c). */
+static void rebuild_cell(bayes_state *s, int c)
+{
+    int G = s->n_grid, nc = s->n_cells;
+    double *ll = &s->loglik[(size_t)c * G];
+    for (int g = 0; g < G; g++) {
+        double mx = -INFINITY;
+        for (int e = 0; e < s->n_eta; e++) {
+            if (!(s->eta_w_used[e] > 0.0)) continue;
+            double v = s->loglik_eta[((size_t)e * nc + c) * G + g] + log(s->eta_w_used[e]);
+            if (v > mx) mx = v;
+        }
+        double sum = 0.0;
+        for (int e = 0; e < s->n_eta; e++) {
+            if (!(s->eta_w_used[e] > 0.0)) continue;
+            sum += s->eta_w_used[e] * exp(s->loglik_eta[((size_t)e * nc + c) * G + g] - mx);
+        }
+        ll[g] = log(sum) + mx;
+    }
+    recompute_logconv(s, c);
+    for (int i = 0; i < s->n_part; i++) {
+        size_t k = (size_t)i * nc + c;
+        double nz = interp_grid(s, logconv_of(s, s->level[i], c), s->m[k]);
+        s->logw[i] += nz - s->logz[k];
+        s->logz[k] = nz;
+    }
+}
+
 static void bayes_destroy(void *state)
 {
     bayes_state *s = state;
@@ -607,6 +699,8 @@ static void bayes_destroy(void *state)
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
     free(s->corr), free(s->gp_a), free(s->gp_inv), free(s->gp_y), free(s->gp_nv);
     free(s->gp_obs), free(s->gp_mu), free(s->gp_var), free(s->kern);
+    free(s->eta_slope), free(s->eta_lapse), free(s->eta_w), free(s->eta_w_used), free(s->loglik_eta);
+    free(s->ptab_eta);
     free(s);
 }
 
@@ -650,10 +744,8 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->n_cells = setup->n_cells;
     s->seed = setup->seed;
     s->trial_budget = setup->trial_budget;
-    s->slope = slope;
     s->guess = guess;
     s->guess4 = 0.25;
-    s->lapse = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
     s->log_cmax = log10(setup->max_contrast);
     /* below 1e-4 Michelson nobody sees anything; it also bounds the grid */
     s->log_cmin = log10(setup->min_contrast > 1e-4 ? setup->min_contrast : 1e-4);
@@ -707,7 +799,15 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
-    if (!s->gp_mu || !s->gp_var || !s->kern) {
+    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE;
+    s->eta_slope = malloc(sizeof(double) * (size_t)s->n_eta);
+    s->eta_lapse = malloc(sizeof(double) * (size_t)s->n_eta);
+    s->eta_w = malloc(sizeof(double) * (size_t)s->n_eta);
+    s->eta_w_used = malloc(sizeof(double) * (size_t)s->n_eta);
+    s->loglik_eta = calloc((size_t)s->n_eta * nc * G, sizeof(double));
+    s->ptab_eta = malloc(sizeof(double) * (size_t)s->n_eta * 2 * (size_t)(2 * G - 1));
+    if (!s->gp_mu || !s->gp_var || !s->kern || !s->eta_slope || !s->eta_lapse || !s->eta_w ||
+        !s->eta_w_used || !s->loglik_eta || !s->ptab_eta) {
         bayes_destroy(s);
         return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
     }
@@ -745,12 +845,23 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
                                           offset_sd_levels[l] * s->step / sqrt(2.0 * M_PI);
         }
     for (int g = 0; g < G; g++) s->tclip[g] = fmin(s->lo + g * s->step, s->log_cmax + 0.1);
-    for (int a = 0; a < 2; a++)
-        for (int d = -(G - 1); d <= G - 1; d++) {
-            double pr = p_correct(s, a ? s->guess4 : s->guess, d * s->step, 0.0);
-            s->ptab[(size_t)a * (2 * G - 1) + d + G - 1] = pr;
-            s->htab[(size_t)a * (2 * G - 1) + d + G - 1] = h2(pr);
+    if (setup->fixed_psychometric) {
+        s->eta_slope[0] = slope;
+        s->eta_lapse[0] = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
+    } else {
+        for (int e = 0; e < s->n_eta; e++) {
+            s->eta_slope[e] = eta_slopes[e / N_ETA_LAPSE];
+            s->eta_lapse[e] = eta_lapses[e % N_ETA_LAPSE];
         }
+    }
+    for (int e = 0; e < s->n_eta; e++) {
+        s->eta_w[e] = s->eta_w_used[e] = 1.0 / s->n_eta;
+        for (int a = 0; a < 2; a++)
+            for (int d = -(G - 1); d <= G - 1; d++)
+                s->ptab_eta[((size_t)e * 2 + a) * (2 * G - 1) + d + G - 1] =
+                    p_correct(s->eta_slope[e], s->eta_lapse[e], a ? s->guess4 : s->guess, d * s->step, 0.0);
+    }
+    mix_ptab(s);
     /* particles from the prior (rejection for the truncation), deterministic in the seed */
     csf_rng r;
     csf_rng_init(&r, s->seed, STREAM_INIT);
@@ -880,19 +991,29 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
     int correct = outcome->response == plan->signal_interval;
     double x = log10(plan->contrast);
     int G = s->n_grid;
-    double *ll = &s->loglik[(size_t)c * G];
-    for (int g = 0; g < G; g++) {
-        double pr = p_correct(s, cell_guess(s, c), x, s->lo + g * s->step);
-        ll[g] += log(correct ? pr : 1.0 - pr);
+    /* the surface priors before this trial, for the nuisance's evidence (a pure function of the
+     * state, so a replay computes exactly what the live session did) */
+    if (s->n_eta > 1) refresh_cache(s);
+    for (int e = 0; e < s->n_eta; e++) {
+        double *ll = &s->loglik_eta[((size_t)e * s->n_cells + c) * G];
+        for (int g = 0; g < G; g++) {
+            double pr = p_correct(s->eta_slope[e], s->eta_lapse[e], cell_guess(s, c), x, s->lo + g * s->step);
+            ll[g] += log(correct ? pr : 1.0 - pr);
+        }
     }
     s->n_trials[c]++;
-    recompute_logconv(s, c);
-    for (int i = 0; i < s->n_part; i++) {
-        size_t k = (size_t)i * s->n_cells + c;
-        double nz = interp_grid(s, logconv_of(s, s->level[i], c), s->m[k]);
-        s->logw[i] += nz - s->logz[k];
-        s->logz[k] = nz;
+    int rebuild_all = 0;
+    if (s->n_eta > 1) {
+        eta_posterior(s);
+        for (int e = 0; e < s->n_eta; e++)
+            if (fabs(s->eta_w[e] - s->eta_w_used[e]) > ETA_REBUILD_CHANGE) rebuild_all = 1;
+        if (rebuild_all) {
+            memcpy(s->eta_w_used, s->eta_w, sizeof(double) * (size_t)s->n_eta);
+            mix_ptab(s);
+        }
     }
+    for (int k = 0; k < s->n_cells; k++)
+        if (k == c || (rebuild_all && s->n_trials[k])) rebuild_cell(s, k);
     if (ess(s) < 0.5 * s->n_part) resample_move(s, trial_index);
     s->cache_valid = 0;
 }
@@ -974,6 +1095,19 @@ csf_status csf_bayes_check(void *state, csf_bayes_cell_check *out, csf_error *er
         out[c].n_trials = s->n_trials[c];
     }
     return CSF_OK;
+}
+
+void csf_bayes_psychometric(void *state, double *slope, double *lapse)
+{
+    bayes_state *s = state;
+    double ls = 0.0, la = 0.0;
+    if (s)
+        for (int e = 0; e < s->n_eta; e++) {
+            ls += s->eta_w_used[e] * log(s->eta_slope[e]);
+            la += s->eta_w_used[e] * s->eta_lapse[e];
+        }
+    *slope = s ? exp(ls) : NAN;
+    *lapse = s ? la : NAN;
 }
 
 double csf_bayes_effective_particles(void *state)

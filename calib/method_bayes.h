@@ -20,6 +20,11 @@ typedef struct {
 /* Fills out[n_cells] (n_cells of the setup). state = the pointer create() returned. */
 csf_status csf_bayes_check(void *state, csf_bayes_cell_check *out, csf_error *err);
 
+/* The person's psychometric slope (geometric posterior mean over the grid 1.5-6) and lapse rate
+ * (posterior mean over 0-0.08) as the method currently weighs them; the setup's values when it
+ * asked for fixed_psychometric. */
+void csf_bayes_psychometric(void *state, double *slope, double *lapse);
+
 /* Effective number of particles behind the surface posterior right now (diagnostic). */
 double csf_bayes_effective_particles(void *state);
 

@@ -24,6 +24,12 @@ typedef struct {
     double f[64], e[64];   /* sorted axes */
     double lt[64 * 64];    /* log10 threshold [ie*n_f + i_f] */
     double slope, lapse;   /* Weibull slope (log10 units) and lapse rate */
+    /* How the method is set up: 0 (what memset gives) = told this observer's slope and lapse
+     * (fixed_psychometric), i.e. the psychometric function is known and the test is about
+     * something else; 1 = as a session sets it up: slope and lapse unknown (marginalised);
+     * 2 = fixed at method_slope / method_lapse, whatever the observer's are. */
+    int method_psychometric;
+    double method_slope, method_lapse;
     uint64_t seed;
 } sim2afc;
 
@@ -145,7 +151,9 @@ static inline int sim2afc_run_alt(const csf_procedure_ops *ops, const sim2afc *o
     csf_procedure_setup setup = {.cells = cells, .n_cells = n_cells, .trial_budget = budget,
                                  .seed = proc_seed, .max_contrast = max_contrast,
                                  .min_contrast = 0.0005, .slope_beta = o->slope, .lapse = o->lapse,
-                                 .guess = 0.5, .n_alternatives = n_alternatives};
+                                 .guess = 0.5, .n_alternatives = n_alternatives,
+                                 .fixed_psychometric = o->method_psychometric != 1};
+    if (o->method_psychometric == 2) setup.slope_beta = o->method_slope, setup.lapse = o->method_lapse;
     csf_error err = {0};
     void *st = NULL;
     if (ops->create(&setup, &st, &err) != CSF_OK) {
