@@ -1,6 +1,11 @@
 /* Two-interval forced choice with the Psi method (Kontsevich & Tyler 1999) per cell: a posterior
- * over the threshold t (log10 Michelson) on a grid, slope, guess (0.5) and lapse fixed from the
- * setup; each trial shows the contrast that minimises the expected posterior entropy. Cells are
+ * over the threshold t (log10 Michelson) on a grid; each trial shows the contrast that minimises
+ * the expected entropy of the threshold's posterior. The person's slope and lapse are unknown
+ * (psi-marginal, Prins 2013): one pair per person, shared by all cells, on the same grid as the
+ * bayes method (slope 1.5-6 log-uniform x lapse 0.001-0.08); each cell keeps a posterior per
+ * pair, the pair's posterior is the product over cells of their evidence (exact here: the cells
+ * are independent a priori), and every read-out mixes the pairs by it. fixed_psychometric = 1
+ * in the setup keeps one pair (slope_beta, lapse). Cells are
  * interleaved: every trial goes to the cell with the widest posterior (ties broken by a per-trial
  * random rotation), so the budget is spread where it buys the most.
  *
@@ -27,10 +32,19 @@
 
 enum { ST_INTERVAL = 0x2afc1, ST_POLAR, ST_ROTATE };
 
+static const double eta_slopes[] = {1.5, 1.89, 2.38, 3.0, 3.78, 4.76, 6.0};
+static const double eta_lapses[] = {0.001, 0.02, 0.04, 0.06, 0.08};
+enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
+       N_ETA_LAPSE = sizeof eta_lapses / sizeof eta_lapses[0] };
+
 typedef struct {
     csf_procedure_setup s;
     csf_cell *cells;
-    csf_psy_grid *grid;
+    int n_eta;      /* (slope, lapse) pairs; 1 when fixed */
+    csf_psy_grid *grid; /* [n_cells * n_eta] */
+    double *log_ev; /* [n_eta] log evidence of all trials given the pair */
+    double *eta_w;  /* [n_eta] normalised posterior of the pair */
+    double *mix;    /* [AFC_GRID_N] scratch: a cell's mixed posterior */
     int *n_trials;
     int *n_alt;     /* per cell: 2 or 4 */
     double x_lo, x_hi;
@@ -41,8 +55,9 @@ static void afc_destroy(void *state)
     afc_state *a = state;
     if (!a) return;
     if (a->grid)
-        for (int i = 0; i < a->s.n_cells; i++) csf_psy_grid_free(&a->grid[i]);
+        for (int i = 0; i < a->s.n_cells * a->n_eta; i++) csf_psy_grid_free(&a->grid[i]);
     free(a->grid);
+    free(a->log_ev), free(a->eta_w), free(a->mix);
     free(a->cells);
     free(a->n_trials);
     free(a->n_alt);
@@ -68,10 +83,14 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     a->x_hi = log10(setup->max_contrast);
     int n = setup->n_cells;
     a->cells = malloc((size_t)n * sizeof *a->cells);
-    a->grid = calloc((size_t)n, sizeof *a->grid);
+    a->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE;
+    a->grid = calloc((size_t)n * a->n_eta, sizeof *a->grid);
+    a->log_ev = calloc((size_t)a->n_eta, sizeof *a->log_ev);
+    a->eta_w = malloc((size_t)a->n_eta * sizeof *a->eta_w);
+    a->mix = malloc(AFC_GRID_N * sizeof *a->mix);
     a->n_trials = calloc((size_t)n, sizeof *a->n_trials);
     a->n_alt = malloc((size_t)n * sizeof *a->n_alt);
-    if (!a->cells || !a->grid || !a->n_trials || !a->n_alt) {
+    if (!a->cells || !a->grid || !a->n_trials || !a->n_alt || !a->log_ev || !a->eta_w || !a->mix) {
         afc_destroy(a);
         return csf_error_set(err, CSF_E_NOMEM, "2afc: out of memory");
     }
@@ -87,17 +106,97 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         double m = log10(csf_model_threshold(&pop, a->cells[i].freq_cpd, a->cells[i].ecc_deg));
         if (!(m < a->x_hi + 0.5)) m = a->x_hi + 0.5;
         if (m < a->x_lo) m = a->x_lo;
-        if (csf_psy_grid_init(&a->grid[i], AFC_GRID_N, a->x_lo - 0.5, a->x_hi + 1.0, m,
-                              AFC_PRIOR_SD, a->s.slope_beta, a->n_alt[i] == 4 ? 0.25 : 0.5,
-                              a->s.lapse) != 0) {
+        int bad = 0;
+        for (int e = 0; e < a->n_eta; e++) {
+            double slope = a->n_eta == 1 ? a->s.slope_beta : eta_slopes[e / N_ETA_LAPSE];
+            double lapse = a->n_eta == 1 ? a->s.lapse : eta_lapses[e % N_ETA_LAPSE];
+            bad |= csf_psy_grid_init(&a->grid[(size_t)i * a->n_eta + e], AFC_GRID_N, a->x_lo - 0.5,
+                                     a->x_hi + 1.0, m, AFC_PRIOR_SD, slope,
+                                     a->n_alt[i] == 4 ? 0.25 : 0.5, lapse) != 0;
+        }
+        if (bad) {
             double slope = a->s.slope_beta, lapse = a->s.lapse;
             afc_destroy(a);
             return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: bad psychometric parameters "
                                  "(slope %g, lapse %g)", slope, lapse);
         }
     }
+    for (int e = 0; e < a->n_eta; e++) a->eta_w[e] = 1.0 / a->n_eta;
     *state = a;
     return CSF_OK;
+}
+
+/* Normalised posterior of one (cell, pair) grid into w; returns nothing. */
+static void grid_weights(const csf_psy_grid *g, double *w)
+{
+    double mx = -INFINITY, tot = 0.0;
+    for (int k = 0; k < g->n; k++)
+        if (g->log_post[k] > mx) mx = g->log_post[k];
+    for (int k = 0; k < g->n; k++) tot += (w[k] = exp(g->log_post[k] - mx));
+    for (int k = 0; k < g->n; k++) w[k] /= tot;
+}
+
+/* Cell i's threshold posterior with the pair marginalised, into a->mix. */
+static void cell_mix(afc_state *a, int i)
+{
+    double w[AFC_GRID_N];
+    for (int k = 0; k < AFC_GRID_N; k++) a->mix[k] = 0.0;
+    for (int e = 0; e < a->n_eta; e++) {
+        if (a->eta_w[e] < 1e-9) continue;
+        grid_weights(&a->grid[(size_t)i * a->n_eta + e], w);
+        for (int k = 0; k < AFC_GRID_N; k++) a->mix[k] += a->eta_w[e] * w[k];
+    }
+}
+
+static void mix_moments(const afc_state *a, int i, double *mean, double *sd, double *p_above)
+{
+    const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta];
+    double m = 0.0, m2 = 0.0, pa = 0.0;
+    for (int k = 0; k < g->n; k++) {
+        double t = g->t_lo + k * g->t_step;
+        m += a->mix[k] * t, m2 += a->mix[k] * t * t;
+        if (t > a->x_hi) pa += a->mix[k];
+    }
+    if (mean) *mean = m;
+    if (sd) *sd = sqrt(fmax(m2 - m * m, 0.0));
+    if (p_above) *p_above = pa;
+}
+
+static double h_of(const double *q, int n)
+{
+    double tot = 0.0, h = 0.0;
+    for (int k = 0; k < n; k++) tot += q[k];
+    if (!(tot > 0.0)) return 0.0;
+    for (int k = 0; k < n; k++)
+        if (q[k] > 0.0) h -= q[k] / tot * log(q[k] / tot);
+    return h;
+}
+
+/* Psi with the pair marginalised: the x minimising the expected entropy of the threshold's
+ * marginal posterior (information about t only, not about slope or lapse). */
+static double mix_best_x(afc_state *a, int i)
+{
+    double wts[AFC_GRID_N], qc[AFC_GRID_N], qw[AFC_GRID_N];
+    double best_x = a->x_hi, best_h = INFINITY;
+    for (int j = 0; j < AFC_X_CANDIDATES; j++) {
+        double x = a->x_lo + (a->x_hi - a->x_lo) * j / (AFC_X_CANDIDATES - 1);
+        for (int k = 0; k < AFC_GRID_N; k++) qc[k] = qw[k] = 0.0;
+        for (int e = 0; e < a->n_eta; e++) {
+            if (a->eta_w[e] < 1e-6) continue;
+            const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta + e];
+            grid_weights(g, wts);
+            for (int k = 0; k < g->n; k++) {
+                double pc = csf_psy_p4(x, g->t_lo + k * g->t_step, g->beta, g->guess, g->lapse);
+                qc[k] += a->eta_w[e] * wts[k] * pc;
+                qw[k] += a->eta_w[e] * wts[k] * (1.0 - pc);
+            }
+        }
+        double pc = 0.0, pw = 0.0;
+        for (int k = 0; k < AFC_GRID_N; k++) pc += qc[k], pw += qw[k];
+        double h = pc * h_of(qc, AFC_GRID_N) + pw * h_of(qw, AFC_GRID_N);
+        if (h < best_h - 1e-12) best_h = h, best_x = x;
+    }
+    return best_x;
 }
 
 static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
@@ -109,7 +208,8 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
     for (int k = 0; k < n; k++) {
         int i = (k + rot) % n;
         double sd;
-        csf_psy_grid_moments(&a->grid[i], NULL, &sd);
+        cell_mix(a, i);
+        mix_moments(a, i, NULL, &sd, NULL);
         if (sd <= AFC_SD_STABLE) continue;
         if (sd > best_sd + 1e-12) {
             best_sd = sd;
@@ -120,7 +220,8 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
     memset(plan, 0, sizeof *plan);
     plan->task = CSF_TASK_2AFC;
     plan->cell = best;
-    double x = csf_psy_grid_best_x(&a->grid[best], a->x_lo, a->x_hi, AFC_X_CANDIDATES);
+    double x = a->n_eta == 1 ? csf_psy_grid_best_x(&a->grid[best], a->x_lo, a->x_hi, AFC_X_CANDIDATES)
+                             : mix_best_x(a, best);
     plan->contrast = pow(10.0, x);
     double u = csf_rng_uniform(a->s.seed, ST_INTERVAL, (uint64_t)trial_index);
     plan->n_alternatives = a->n_alt[best];
@@ -138,7 +239,25 @@ static void afc_update(void *state, int trial_index, const csf_trial_plan *plan,
     if (!o->valid || plan->cell < 0 || plan->cell >= a->s.n_cells || !(plan->contrast > 0)) return;
     /* Use the contrast actually shown when the caller measured it (missed frames lower it). */
     double c = (o->contrast_at_response > 0) ? o->contrast_at_response : plan->contrast;
-    csf_psy_grid_update(&a->grid[plan->cell], log10(c), o->response == plan->signal_interval);
+    int correct = o->response == plan->signal_interval;
+    double w[AFC_GRID_N], mx = -INFINITY, tot = 0.0;
+    for (int e = 0; e < a->n_eta; e++) {
+        csf_psy_grid *g = &a->grid[(size_t)plan->cell * a->n_eta + e];
+        if (a->n_eta > 1) { /* evidence: the predictive probability of this answer given the pair */
+            double pr = 0.0;
+            grid_weights(g, w);
+            for (int k = 0; k < g->n; k++) {
+                double pc = csf_psy_p4(log10(c), g->t_lo + k * g->t_step, g->beta, g->guess, g->lapse);
+                pr += w[k] * (correct ? pc : 1.0 - pc);
+            }
+            a->log_ev[e] += log(pr > 1e-300 ? pr : 1e-300);
+        }
+        csf_psy_grid_update(g, log10(c), correct);
+    }
+    for (int e = 0; e < a->n_eta; e++)
+        if (a->log_ev[e] > mx) mx = a->log_ev[e];
+    for (int e = 0; e < a->n_eta; e++) tot += (a->eta_w[e] = exp(a->log_ev[e] - mx));
+    for (int e = 0; e < a->n_eta; e++) a->eta_w[e] /= tot;
     a->n_trials[plan->cell]++;
 }
 
@@ -147,13 +266,14 @@ static csf_status afc_estimate(void *state, csf_cell_estimate *out, csf_error *e
     afc_state *a = state;
     (void)err;
     for (int i = 0; i < a->s.n_cells; i++) {
-        double m, sd;
-        csf_psy_grid_moments(&a->grid[i], &m, &sd);
+        double m, sd, p_above;
+        cell_mix(a, i);
+        mix_moments(a, i, &m, &sd, &p_above);
         out[i].n_trials = a->n_trials[i];
         if (a->n_trials[i] == 0) {
             out[i].threshold = NAN;
             out[i].stderr_log10 = NAN;
-        } else if (csf_psy_grid_prob_above(&a->grid[i], a->x_hi) > 0.5) {
+        } else if (p_above > 0.5) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;
         } else {

@@ -15,6 +15,10 @@ static const csf_cell cells[] = {{1.0, 0}, {4.0, 0}, {1.0, 10}, {4.0, 10}, {40.0
 
 /* Forced-choice layout per cell for the 2afc method (NULL = two intervals everywhere). */
 static const int *layout;
+/* The simulated observer's spec, and whether the method is told slope 3.5 / lapse 0.02 as fixed
+ * values (the behaviour before issue 12 item 3) instead of marginalising them. */
+static const char *obs_spec = "sim";
+static int fixed_psy;
 
 static double rms_error(const csf_procedure_ops *ops, int budget, int n_seeds, double *max_bias,
                         int *invisible_ok)
@@ -25,9 +29,10 @@ static double rms_error(const csf_procedure_ops *ops, int budget, int n_seeds, d
     for (int seed = 1; seed <= n_seeds; seed++) {
         csf_observer_sim *obs;
         csf_error err;
-        if (csf_observer_sim_create("sim", (uint64_t)seed * 7919, &obs, &err) != CSF_OK) return NAN;
+        if (csf_observer_sim_create(obs_spec, (uint64_t)seed * 7919, &obs, &err) != CSF_OK) return NAN;
         csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, budget, (uint64_t)seed, ops->task);
         s.n_alternatives = layout;
+        if (fixed_psy) s.fixed_psychometric = 1, s.slope_beta = 3.5, s.lapse = 0.02;
         csf_cell_estimate est[N_CELLS];
         sim_loop_run(ops, &s, obs, est);
         for (int i = 0; i < N_CELLS; i++) {
@@ -60,6 +65,27 @@ static void test_method(const char *name, int budget, double rms_limit, double b
     CHECK_MSG(rms <= rms_limit, "%s RMS %.3f > %.3f", name, rms, rms_limit);
     CHECK_MSG(fabs(bias) <= bias_limit, "%s bias %.3f", name, bias);
     CHECK_MSG(inv_ok, "%s: invisible cell not reported as +inf", name);
+}
+
+/* Issue 12 item 3: a person with slope 2.2 and lapse 0.05 (a naive observer). On the same seeds,
+ * the 2afc method with slope and lapse marginalised (the default) is more accurate and less
+ * biased than with the old fixed 3.5 / 0.02. */
+static void test_2afc_unknown_slope(void)
+{
+    const csf_procedure_ops *ops = csf_procedure_find("2afc");
+    double bias_fixed, bias_marg;
+    int inv_fixed, inv_marg;
+    obs_spec = "sim:slope=2.2,lapse=0.05";
+    fixed_psy = 1;
+    double rms_fixed = rms_error(ops, 200, 16, &bias_fixed, &inv_fixed);
+    fixed_psy = 0;
+    double rms_marg = rms_error(ops, 200, 16, &bias_marg, &inv_marg);
+    obs_spec = "sim";
+    fprintf(stderr, "2afc, slope 2.2 / lapse 0.05: fixed 3.5/0.02 RMS %.3f bias %+.3f; marginal RMS %.3f bias %+.3f\n",
+            rms_fixed, bias_fixed, rms_marg, bias_marg);
+    CHECK_MSG(rms_marg < rms_fixed, "marginal RMS %.3f not below fixed %.3f", rms_marg, rms_fixed);
+    CHECK_MSG(fabs(bias_marg) < fabs(bias_fixed), "marginal bias %.3f not below fixed %.3f", bias_marg, bias_fixed);
+    CHECK(inv_marg);
 }
 
 static void test_reproducible(const char *name)
@@ -130,6 +156,7 @@ int main(void)
     test_method("2afc", 200, 0.15, 0.08);
     test_reproducible("fade");
     test_reproducible("2afc");
+    test_2afc_unknown_slope();
     test_four_places();
     return CHECK_RESULT();
 }
