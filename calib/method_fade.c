@@ -8,6 +8,12 @@
  * A plain exponential ML (no lapse term) is ruined by one lapse on a full-range ramp, so the
  * method keeps a posterior over t on a grid (flat prior) per cell; the estimate is the posterior
  * mean in log10, its standard error the posterior sd.
+ * The person's slope and lapse are unknown (issue 12 item 3): one pair per person on the bayes
+ * method's grid (slope 1.5-6 x lapse 0.001-0.08); each cell keeps its posterior per pair, the
+ * pair's posterior is the product of every trial's predictive density given the pair (cells are
+ * independent a priori, so this is exact), and estimates use the threshold's marginal.
+ * fixed_psychometric = 1 in the setup keeps one pair (slope_beta, lapse). The reaction time is
+ * still a constant latency (not contrast-dependent): that part of item 3 is not done.
  *
  * Reaction-time correction: a press comes a reaction time after detection, when the ramp has
  * already climbed further; the detection contrast is the contrast at the press moved back along
@@ -40,8 +46,15 @@ enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE };
 #define FADE_GRID_N 141
 #define FADE_SPONT 0.01  /* assumed rate of valid guessed presses per trial */
 
+/* The person's slope and lapse (one pair per person, all cells): marginalised on the bayes
+ * method's grid unless the setup fixes them (fixed_psychometric). */
+static const double eta_slopes[] = {1.5, 1.89, 2.38, 3.0, 3.78, 4.76, 6.0};
+static const double eta_lapses[] = {0.001, 0.02, 0.04, 0.06, 0.08};
+enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
+       N_ETA_LAPSE = sizeof eta_lapses / sizeof eta_lapses[0], N_ETA = N_ETA_SLOPE * N_ETA_LAPSE };
+
 typedef struct {
-    double log_post[FADE_GRID_N];
+    double log_post[N_ETA][FADE_GRID_N]; /* per (slope, lapse) pair; only [0] when fixed */
     int n_det, n_cens, n_cens_full, n_trials;
 } fade_cell;
 
@@ -52,6 +65,10 @@ typedef struct {
     double rate_log10_per_s;
     double t_lo, t_step, x_lo, x_hi;
     double sd_stable;   /* posterior sd at which a cell counts as measured */
+    int n_eta;
+    double eta_slope[N_ETA], eta_lapse[N_ETA];
+    double log_ev[N_ETA]; /* log evidence of all trials given the pair */
+    double eta_w[N_ETA];  /* its normalised posterior (uniform prior) */
 } fade_state;
 
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
@@ -74,6 +91,12 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     if (!(f->s.ramp_s > 0)) f->s.ramp_s = (f->s.ramp_end_log10 - f->s.ramp_start_log10) / 0.5;
     f->rate_log10_per_s = (f->s.ramp_end_log10 - f->s.ramp_start_log10) / f->s.ramp_s;
     if (!(f->s.lapse >= 0 && f->s.lapse < 0.5)) f->s.lapse = 0.02;
+    f->n_eta = setup->fixed_psychometric ? 1 : N_ETA;
+    for (int e = 0; e < f->n_eta; e++) {
+        f->eta_slope[e] = f->n_eta == 1 ? f->s.slope_beta : eta_slopes[e / N_ETA_LAPSE];
+        f->eta_lapse[e] = f->n_eta == 1 ? f->s.lapse : eta_lapses[e % N_ETA_LAPSE];
+        f->eta_w[e] = 1.0 / f->n_eta;
+    }
     f->x_lo = lo;
     f->x_hi = hi;
     f->t_lo = lo - 0.5;
@@ -110,15 +133,21 @@ static void fade_destroy(void *state)
 static void cell_moments(const fade_state *f, const fade_cell *c, double *mean, double *sd,
                          double *p_above)
 {
-    double mx = -INFINITY, w = 0, s1 = 0, s2 = 0, above = 0;
-    for (int i = 0; i < FADE_GRID_N; i++)
-        if (c->log_post[i] > mx) mx = c->log_post[i];
-    for (int i = 0; i < FADE_GRID_N; i++) {
-        double p = exp(c->log_post[i] - mx), t = f->t_lo + i * f->t_step;
-        w += p;
-        s1 += p * t;
-        s2 += p * t * t;
-        if (t > f->x_hi) above += p;
+    double w = 0, s1 = 0, s2 = 0, above = 0;
+    for (int e = 0; e < f->n_eta; e++) { /* the threshold's marginal over the (slope, lapse) pairs */
+        if (f->eta_w[e] < 1e-9) continue;
+        const double *lp = c->log_post[e];
+        double mx = -INFINITY, tot = 0.0;
+        for (int i = 0; i < FADE_GRID_N; i++)
+            if (lp[i] > mx) mx = lp[i];
+        for (int i = 0; i < FADE_GRID_N; i++) tot += exp(lp[i] - mx);
+        for (int i = 0; i < FADE_GRID_N; i++) {
+            double p = f->eta_w[e] * exp(lp[i] - mx) / tot, t = f->t_lo + i * f->t_step;
+            w += p;
+            s1 += p * t;
+            s2 += p * t * t;
+            if (t > f->x_hi) above += p;
+        }
     }
     double m = s1 / w, v = s2 / w - m * m;
     if (mean) *mean = m;
@@ -178,22 +207,36 @@ static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
 
 /* Adds one trial's log likelihood over the grid: detected at x (detected = 1) or a ramp that
  * ended at x unanswered (detected = 0). */
-static void cell_add(const fade_state *f, fade_cell *c, double x, int detected, double range_log10)
+static void cell_add(fade_state *f, fade_cell *c, double x, int detected, double range_log10)
 {
-    double beta = f->s.slope_beta, lapse = f->s.lapse;
-    double mx = -INFINITY;
-    for (int i = 0; i < FADE_GRID_N; i++) {
-        double t = f->t_lo + i * f->t_step;
-        double y = pow(10.0, fmin(beta * (x - t), 300.0));
-        double l;
-        if (detected)
-            l = (1 - lapse) * beta * M_LN10 * y * exp(-y) + FADE_SPONT / range_log10;
-        else
-            l = lapse + (1 - lapse) * exp(-y);
-        c->log_post[i] += log(l > 1e-300 ? l : 1e-300);
-        if (c->log_post[i] > mx) mx = c->log_post[i];
+    for (int e = 0; e < f->n_eta; e++) {
+        double beta = f->eta_slope[e], lapse = f->eta_lapse[e];
+        double *lp = c->log_post[e];
+        double mx0 = -INFINITY, tot = 0.0, pred = 0.0, mx = -INFINITY;
+        for (int i = 0; i < FADE_GRID_N; i++)
+            if (lp[i] > mx0) mx0 = lp[i];
+        for (int i = 0; i < FADE_GRID_N; i++) {
+            double t = f->t_lo + i * f->t_step;
+            double y = pow(10.0, fmin(beta * (x - t), 300.0));
+            double l;
+            if (detected)
+                l = (1 - lapse) * beta * M_LN10 * y * exp(-y) + FADE_SPONT / range_log10;
+            else
+                l = lapse + (1 - lapse) * exp(-y);
+            double p = exp(lp[i] - mx0);
+            tot += p, pred += p * l;
+            lp[i] += log(l > 1e-300 ? l : 1e-300);
+            if (lp[i] > mx) mx = lp[i];
+        }
+        for (int i = 0; i < FADE_GRID_N; i++) lp[i] -= mx;
+        /* evidence: the predictive probability (density) of this outcome given the pair */
+        f->log_ev[e] += log(pred / tot > 1e-300 ? pred / tot : 1e-300);
     }
-    for (int i = 0; i < FADE_GRID_N; i++) c->log_post[i] -= mx;
+    double mx = -INFINITY, tot = 0.0;
+    for (int e = 0; e < f->n_eta; e++)
+        if (f->log_ev[e] > mx) mx = f->log_ev[e];
+    for (int e = 0; e < f->n_eta; e++) tot += (f->eta_w[e] = exp(f->log_ev[e] - mx));
+    for (int e = 0; e < f->n_eta; e++) f->eta_w[e] /= tot;
 }
 
 static void fade_update(void *state, int trial_index, const csf_trial_plan *plan,

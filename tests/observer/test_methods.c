@@ -68,21 +68,21 @@ static void test_method(const char *name, int budget, double rms_limit, double b
 }
 
 /* Issue 12 item 3: a person with slope 2.2 and lapse 0.05 (a naive observer). On the same seeds,
- * the 2afc method with slope and lapse marginalised (the default) is more accurate and less
- * biased than with the old fixed 3.5 / 0.02. */
-static void test_2afc_unknown_slope(void)
+ * the method with slope and lapse marginalised (the default) is more accurate and less biased
+ * than with the old fixed 3.5 / 0.02. */
+static void test_unknown_slope(const char *name, int budget)
 {
-    const csf_procedure_ops *ops = csf_procedure_find("2afc");
+    const csf_procedure_ops *ops = csf_procedure_find(name);
     double bias_fixed, bias_marg;
     int inv_fixed, inv_marg;
     obs_spec = "sim:slope=2.2,lapse=0.05";
     fixed_psy = 1;
-    double rms_fixed = rms_error(ops, 200, 16, &bias_fixed, &inv_fixed);
+    double rms_fixed = rms_error(ops, budget, 16, &bias_fixed, &inv_fixed);
     fixed_psy = 0;
-    double rms_marg = rms_error(ops, 200, 16, &bias_marg, &inv_marg);
+    double rms_marg = rms_error(ops, budget, 16, &bias_marg, &inv_marg);
     obs_spec = "sim";
-    fprintf(stderr, "2afc, slope 2.2 / lapse 0.05: fixed 3.5/0.02 RMS %.3f bias %+.3f; marginal RMS %.3f bias %+.3f\n",
-            rms_fixed, bias_fixed, rms_marg, bias_marg);
+    fprintf(stderr, "%s, slope 2.2 / lapse 0.05: fixed 3.5/0.02 RMS %.3f bias %+.3f; marginal RMS %.3f bias %+.3f\n",
+            name, rms_fixed, bias_fixed, rms_marg, bias_marg);
     CHECK_MSG(rms_marg < rms_fixed, "marginal RMS %.3f not below fixed %.3f", rms_marg, rms_fixed);
     CHECK_MSG(fabs(bias_marg) < fabs(bias_fixed), "marginal bias %.3f not below fixed %.3f", bias_marg, bias_fixed);
     CHECK(inv_marg);
@@ -156,7 +156,8 @@ int main(void)
     test_method("2afc", 200, 0.15, 0.08);
     test_reproducible("fade");
     test_reproducible("2afc");
-    test_2afc_unknown_slope();
+    test_unknown_slope("2afc", 200);
+    test_unknown_slope("fade", 60);
     test_four_places();
     return CHECK_RESULT();
 }
