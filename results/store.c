@@ -608,6 +608,32 @@ static csf_status probe_write(csf_store *s, csf_error *err)
     return CSF_OK;
 }
 
+/* Switching to WAL needs the file to itself for a moment. When several stations open a new
+ * store at once, SQLite may answer SQLITE_BUSY at once instead of calling the busy handler (it
+ * does so where waiting could deadlock), so the switch is retried here for up to ~10 s. */
+static int switch_to_wal(csf_store *s, char *mode, size_t mode_len)
+{
+    long wait_ms = 5, waited_ms = 0;
+    for (;;) {
+        sqlite3_stmt *st = NULL;
+        int rc = prepare(s, "PRAGMA journal_mode = WAL", &st);
+        if (rc == SQLITE_OK) {
+            rc = step(s, st);
+            if (rc == SQLITE_ROW) {
+                col_text(st, 0, mode, mode_len);
+                rc = SQLITE_OK;
+            }
+        }
+        sqlite3_finalize(st);
+        int busy = (rc & 0xff) == SQLITE_BUSY || (rc & 0xff) == SQLITE_LOCKED;
+        if (!busy || waited_ms >= 10000) return rc;
+        struct timespec ts = {0, wait_ms * 1000000L};
+        nanosleep(&ts, NULL);
+        waited_ms += wait_ms;
+        if (wait_ms < 100) wait_ms *= 2;
+    }
+}
+
 /* What both ways of opening refuse before touching the file. */
 static csf_status check_open_args(const char *path, csf_store **out, csf_error *err)
 {
@@ -659,16 +685,8 @@ csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
     if (cs != CSF_OK) goto bad;
 
     char mode[16] = "";
+    rc = switch_to_wal(s, mode, sizeof mode);
     sqlite3_stmt *st = NULL;
-    rc = prepare(s, "PRAGMA journal_mode = WAL", &st);
-    if (rc == SQLITE_OK) {
-        rc = step(s, st);
-        if (rc == SQLITE_ROW) {
-            col_text(st, 0, mode, sizeof mode);
-            rc = SQLITE_OK;
-        }
-    }
-    sqlite3_finalize(st);
     if (rc != SQLITE_OK) {
         cs = fail(s, err, rc, "switching to write-ahead logging");
         goto bad;
