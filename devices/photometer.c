@@ -7,6 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "devices/screen_mirror.h"
+
 struct csf_photometer {
     const csf_photometer_driver *drv;
     void *state;
@@ -14,6 +16,8 @@ struct csf_photometer {
     int own_source;         /* 1: the built-in uniform patch is the source */
     double patch_rgb01[3];
     char spec[512];
+    csf_screen_mirror *mirror; /* CSFCAL_SCREEN_MIRROR: tells an emulator what is on screen */
+    uint64_t n_asked;          /* readings asked for (the mirror's seq) */
 };
 
 static const csf_photometer_driver *const drivers[] = {
@@ -59,8 +63,11 @@ csf_status csf_photometer_open(const char *spec, uint64_t seed, csf_photometer *
     if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     p->drv = drv;
     snprintf(p->spec, sizeof p->spec, "%s", spec);
-    csf_status st = drv->open(colon ? colon + 1 : "", seed, &p->state, err);
+    csf_status st = CSF_OK;
+    if (!(drv->caps & CSF_PHOT_CAP_SIMULATED)) st = csf_screen_mirror_from_env(&p->mirror, err);
+    if (!st) st = drv->open(colon ? colon + 1 : "", seed, &p->state, err);
     if (st) {
+        csf_screen_mirror_free(p->mirror);
         free(p);
         return st;
     }
@@ -73,6 +80,7 @@ void csf_photometer_close(csf_photometer *p)
 {
     if (!p) return;
     p->drv->close(p->state);
+    csf_screen_mirror_free(p->mirror);
     free(p);
 }
 
@@ -81,9 +89,40 @@ csf_status csf_photometer_identify(csf_photometer *p, char *buf, size_t len, csf
     return p->drv->identify(p->state, buf, len, err);
 }
 
+/* What the screen source shows, as drive values: the uniform patch, or the mean framebuffer level
+ * of the rendered pixels per channel. */
+static csf_status source_drive(csf_photometer *p, double rgb01[3], size_t *n_px, csf_error *err)
+{
+    *n_px = 1;
+    if (p->src.patch) {
+        csf_status st = p->src.patch(p->src.user, rgb01);
+        return st ? csf_error_set(err, st, "screen source failed to give the patch for the screen mirror") : CSF_OK;
+    }
+    const void *px = NULL;
+    int bits = 8;
+    csf_status st = p->src.pixels(p->src.user, &px, n_px, &bits);
+    if (st) return csf_error_set(err, st, "screen source failed to give the pixels for the screen mirror");
+    if (*n_px == 0 || bits < 1 || bits > 16)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "screen source gave %zu pixels of %d bits", *n_px, bits);
+    double acc[3] = {0, 0, 0}, maxv = (double)((1u << bits) - 1);
+    for (size_t i = 0; i < *n_px; i++)
+        for (int c = 0; c < 3; c++)
+            acc[c] += bits <= 8 ? ((const unsigned char *)px)[3 * i + c] : ((const uint16_t *)px)[3 * i + c];
+    for (int c = 0; c < 3; c++) rgb01[c] = acc[c] / ((double)*n_px * maxv);
+    return CSF_OK;
+}
+
 csf_status csf_photometer_measure(csf_photometer *p, csf_photometer_reading *out, csf_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (p->mirror) {
+        double rgb[3];
+        size_t n_px;
+        csf_status st = source_drive(p, rgb, &n_px, err);
+        if (!st) st = csf_screen_mirror_write(p->mirror, p->n_asked, rgb, n_px, err);
+        if (st) return st;
+    }
+    p->n_asked++;
     return p->drv->measure(p->state, &p->src, out, err);
 }
 
