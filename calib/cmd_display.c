@@ -58,7 +58,10 @@ static const char display_help[] =
     "           config with display + view, and its .clf beside it). See docs/display-profile.md.\n"
     "  --icc-version 2|4  ICC v2.4 (default: read by every ICC reader) or v4.3\n"
     "Simulated photometer: sim[:display=crt|lcd|oled|file=PATH.csv,noise=REL,abs_noise=CDM2,\n"
-    "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n\n";
+    "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n"
+    "USB meters: colorcal2[:SERIAL][,zero=1][,timeout_s=S] (CRS ColorCAL MkII),\n"
+    "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2);\n"
+    "  see docs/instruments.md\n\n";
 
 enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
        OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER,
@@ -427,15 +430,6 @@ static int cmd_calibrate(dargs *a)
         csf_store_close(store);
         return csf_cli_report("display calibrate", &err);
     }
-    if (!(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED)) {
-        /* --render's show_patch hook would draw the patches for it in a window, but no real
-         * instrument driver exists yet to read them */
-        csf_photometer_close(ph);
-        csf_store_close(store);
-        fprintf(stderr, "csfcal: display calibrate: only simulated photometers in this release "
-                        "(--render draws the patches, but there is no driver for a real instrument yet)\n");
-        return 1;
-    }
     int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
     render_ctx rctx;
     int ro = render_open(a, ph, seed, &rctx, "display calibrate");
@@ -575,13 +569,6 @@ static int cmd_verify(dargs *a)
     if (csf_photometer_open(spec, a->cli.seed, &ph, &err)) {
         csf_profile_free(p);
         return csf_cli_report("display verify", &err);
-    }
-    if (!(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED)) {
-        csf_photometer_close(ph);
-        csf_profile_free(p);
-        fprintf(stderr, "csfcal: display verify: only simulated photometers in this release "
-                        "(--render draws the patches, but there is no driver for a real instrument yet)\n");
-        return 1;
     }
     render_ctx rctx;
     int ro = render_open(a, ph, a->cli.seed, &rctx, "display verify");

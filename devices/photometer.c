@@ -22,6 +22,8 @@ struct csf_photometer {
 
 static const csf_photometer_driver *const drivers[] = {
     &csf_photometer_sim_driver,
+    &csf_photometer_colorcal2_driver,
+    &csf_photometer_colorhug2_driver,
     NULL,
 };
 
@@ -164,7 +166,10 @@ void csf_photometer_wait(csf_photometer *p, double seconds)
     }
 }
 
-int csf_photometer_caps(const csf_photometer *p) { return p->drv->caps; }
+int csf_photometer_caps(const csf_photometer *p)
+{
+    return p->drv->instance_caps ? p->drv->instance_caps(p->state) : p->drv->caps;
+}
 double csf_photometer_integration_s(const csf_photometer *p)
 {
     return p->drv->integration_s ? p->drv->integration_s(p->state) : 0.0;

@@ -63,6 +63,9 @@ typedef struct csf_photometer_driver {
     /* Seconds of light one reading integrates (a rendered source shows that many frames of a
      * dithered patch). NULL: unknown. */
     double (*integration_s)(void *state);
+    /* Capabilities of this open instrument when they differ from `caps` (a USB driver talking to
+     * its test emulator measures a simulated display). May be NULL. */
+    int (*instance_caps)(void *state);
 } csf_photometer_driver;
 
 /* Byte transport for real instruments (USB bulk/HID/serial/process pipe); protocols are written
@@ -102,5 +105,8 @@ const csf_photometer_driver *const *csf_photometer_drivers(void);
 
 /* The simulator's driver (devices/photometer_sim.c). */
 extern const csf_photometer_driver csf_photometer_sim_driver;
+/* USB meters (devices/photometer_colorcal2.c, photometer_colorhug2.c; docs/instruments.md). */
+extern const csf_photometer_driver csf_photometer_colorcal2_driver;
+extern const csf_photometer_driver csf_photometer_colorhug2_driver;
 
 #endif

@@ -160,6 +160,16 @@ put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
 printf 'smax=150' >"$tmp/obs-fade.txt"
 put fuzz_observer_spec fade.txt "$tmp/obs-fade.txt"
 
+# USB meter replies: the instruments' formats, not csfcal's, so they do not go stale; the checked-in
+# corpus holds the error, truncated and garbage cases. A ColorCAL MES answer and a ColorHug2
+# TAKE_READINGS report (retval 0, command 0x22, three 16.16 fixed-point numbers).
+printf 'OK00,1.2345,80.5021,-0.0012\r\n' >"$tmp/cc2.txt"
+put fuzz_colorcal2_reply mes.txt "$tmp/cc2.txt"
+python3 -c 'import struct,sys
+b = bytes([0, 0x22]) + b"".join(struct.pack("<i", round(v * 65536)) for v in (12.5, 80.25, 0.75))
+sys.stdout.buffer.write(b + bytes(64 - len(b)))' >"$tmp/ch2.bin"
+put fuzz_colorhug2_reply readings.bin "$tmp/ch2.bin"
+
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"
 exit $failed
