@@ -59,7 +59,7 @@ static const char display_help[] =
     "  --icc-version 2|4  ICC v2.4 (default: read by every ICC reader) or v4.3\n"
     "Simulated photometer: sim[:display=crt|lcd|oled|file=PATH.csv,noise=REL,abs_noise=CDM2,\n"
     "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n"
-    "USB meters: colorcal2[:SERIAL][,zero=1][,timeout_s=S] (CRS ColorCAL MkII),\n"
+    "USB meters: colorcal2[:SERIAL][,zero=1][,zero_wait_s=S][,timeout_s=S] (CRS ColorCAL MkII),\n"
     "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2);\n"
     "  see docs/instruments.md\n\n";
 

@@ -1,7 +1,8 @@
 /* CRS ColorCAL MkII (USB 0861:1001) through libusb. Spec:
- *   colorcal2[:SERIAL][,zero=1][,timeout_s=S]
+ *   colorcal2[:SERIAL][,zero=1][,zero_wait_s=S][,timeout_s=S]
  * At open: identify (IDR), read the factory calibration matrix (rows r01..r03, Minolta format)
- * and, with zero=1, zero-calibrate (UZC: the sensor must be in the dark -- capped or covered).
+ * and, with zero=1, zero-calibrate (UZC: the sensor must be in the dark -- capped or covered),
+ * then give the person zero_wait_s (15 s) to uncap it and put it on the screen.
  * Each reading: MES, raw x y z, times the matrix = XYZ in cd/m2. The kernel's cdc_acm driver is
  * detached while csfcal holds the meter and re-attached when it lets go (transport_libusb.c).
  * Range as this driver enforces it: below 0.005 cd/m2 is "too dark", above 2000 cd/m2 "over range"
@@ -27,6 +28,7 @@ typedef struct {
     double matrix[3][3];
     long rom, build;
     int zero;
+    double zero_wait_s; /* after UZC: time to take the cap off and put the meter on the screen */
 } cc2_state;
 
 static int cc2_key(void *state, const char *k, const char *v, csf_error *err)
@@ -41,6 +43,8 @@ static int cc2_key(void *state, const char *k, const char *v, csf_error *err)
         s->zero = (int)x;
         return 1;
     }
+    if (strcmp(k, "zero_wait_s") == 0)
+        return csf_usb_number("colorcal2", k, v, 0, 600, &s->zero_wait_s, err) ? -1 : 1;
     return 0;
 }
 
@@ -82,6 +86,13 @@ static csf_status cc2_setup(cc2_state *s, csf_error *err)
                                  "dark; cover it or fit its cap and open it again with zero=1");
         if (!r.ok || r.code != 0)
             return csf_error_set(err, CSF_E_DEVICE, "zero calibration failed (%s%02d)", r.ok ? "OK" : "ER", r.code);
+        if (s->zero_wait_s > 0) {
+            /* the cap is still on: the person needs a moment before the first reading */
+            if (!s->m.emu)
+                fprintf(stderr, "csfcal: %s %s zeroed; take the cap off and put it on the screen: the first "
+                        "reading follows in %.0f s\n", CC2_NAME, s->m.serial, s->zero_wait_s);
+            csf_usb_wait(&s->m, s->zero_wait_s);
+        }
     }
     return CSF_OK;
 }
@@ -94,6 +105,7 @@ static csf_status cc2_open(const char *options, uint64_t seed, void **state, csf
     s->m.instrument = CC2_NAME;
     s->m.spec_name = "colorcal2";
     s->m.timeout_s = 5;
+    s->zero_wait_s = 15;
     csf_status st = csf_usb_parse_options(&s->m, options, cc2_key, s, err);
     if (!st && !s->m.t) {
         csf_usb_control_config cfg = {

@@ -60,7 +60,7 @@ static void hid_tr_close(csf_transport *t)
     if (!t) return;
     hid_tr *h = t->user;
     if (h->h) hid_close(h->h);
-    hid_exit();
+    /* no hid_exit(): hidapi's state is per process and a HID response box may still be using it */
     free(h);
 }
 
@@ -73,7 +73,6 @@ csf_status csf_transport_hidapi_open(uint16_t vid, uint16_t pid, const char *ser
     wchar_t wserial[64];
     if (serial && *serial) {
         if (mbstowcs(wserial, serial, 63) == (size_t)-1) {
-            hid_exit();
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s: serial number '%s' is not text", instrument, serial);
         }
         wserial[63] = 0;
@@ -84,7 +83,6 @@ csf_status csf_transport_hidapi_open(uint16_t vid, uint16_t pid, const char *ser
         struct hid_device_info *list = hid_enumerate(vid, pid);
         int present = list != NULL;
         hid_free_enumeration(list);
-        hid_exit();
         if (present)
             return csf_error_set(err, CSF_E_DEVICE, "%s (USB %04x:%04x) found but could not be opened: permission "
                                  "denied or held by another program (install csfcal's udev rules and re-plug it)",
@@ -97,7 +95,6 @@ csf_status csf_transport_hidapi_open(uint16_t vid, uint16_t pid, const char *ser
     hid_tr *h = calloc(1, sizeof *h);
     if (!h) {
         hid_close(dev);
-        hid_exit();
         return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     }
     h->h = dev;

@@ -17,6 +17,7 @@ typedef struct {
     emu_common c; /* first */
     double m[3][3], minv[3][3];
     int zeroed;
+    int uncapped; /* uncapped=1: light reaches the sensor before csfcal shows anything */
 } cc2_emu;
 
 /* Minolta-representable: the driver reads these exactly */
@@ -92,6 +93,7 @@ static void on_command(emu_common *e, const uint8_t *buf, size_t len)
     } else if (!strcmp(cmd, "UZC")) {
         double xyz[3];
         emu_sense(e, xyz);
+        if (s->uncapped && !e->has_src) xyz[1] = 120; /* room light */
         if (xyz[1] > 0.05) {
             reply_text(e, "ER11");
         } else {
@@ -103,6 +105,17 @@ static void on_command(emu_common *e, const uint8_t *buf, size_t len)
     }
 }
 
+static int proto_key(emu_common *e, const char *k, const char *v, csf_error *err)
+{
+    if (strcmp(k, "uncapped") != 0) return 0;
+    if (strcmp(v, "0") && strcmp(v, "1")) {
+        csf_error_set(err, CSF_E_INVALID_ARG, "emulator: uncapped=%s (0 or 1)", v);
+        return -1;
+    }
+    ((cc2_emu *)e)->uncapped = v[0] == '1';
+    return 1;
+}
+
 csf_status emu_colorcal2_open(const char *options, csf_emu_device **out, csf_error *err)
 {
     cc2_emu *s = calloc(1, sizeof *s);
@@ -111,7 +124,7 @@ csf_status emu_colorcal2_open(const char *options, csf_emu_device **out, csf_err
     invert3(s->m, s->minv);
     snprintf(s->c.serial, sizeof s->c.serial, "%s", "10230157");
     s->c.on_command = on_command;
-    csf_status st = emu_common_init(&s->c, "ColorCAL MkII", options, NULL, err);
+    csf_status st = emu_common_init(&s->c, "ColorCAL MkII", options, proto_key, err);
     if (st) {
         csf_display_model_free(s->c.display);
         free(s);

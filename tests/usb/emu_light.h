@@ -12,6 +12,7 @@
  *                               (a timeout if S exceeds the driver's timeout_s)
  *   fault=KIND@N[+COUNT]        from measurement N (0-based): unplug, timeout, garbage, truncated,
  *                               error (an instrument error code), dark (sensor facing the desk),
+ *   (ColorCAL only) uncapped=1  light reaches the sensor at open, so a zero calibration fails
  *                               saturate (a light far above range). timeout, garbage, truncated and
  *                               error hit measurement N only; the others persist, or last COUNT. */
 #ifndef CSF_EMU_LIGHT_H

@@ -239,6 +239,29 @@ static void test_driver_options(void)
         csf_photometer_close(p);
     }
     CHECK(csf_photometer_open("colorcal2:emulator,zero=2", 1, &p, &e) == CSF_E_INVALID_ARG);
+    /* the person gets zero_wait_s to uncap the meter: the first reading comes after it */
+    CHECK(csf_photometer_open("colorcal2:emulator,zero=1,zero_wait_s=30", 1, &p, &e) == CSF_OK);
+    if (p) {
+        csf_photometer_reading r;
+        CHECK(measure_patch(p, 1, &r, &e) == CSF_OK);
+        CHECK(r.t_s >= 30);
+        csf_photometer_close(p);
+    }
+    /* zeroing with the cap off: ER11, said as such */
+    CHECK(csf_photometer_open("colorcal2:emulator,zero=1,uncapped=1", 1, &p, &e) == CSF_E_SATURATED);
+    CHECK_MSG(strstr(e.msg, "ColorCAL MkII") && strstr(e.msg, "ER11") && strstr(e.msg, "dark"), "%s", e.msg);
+    /* without zeroing the offset stays in the reading (the emulator's 0.004 raw units) */
+    double dark_unzeroed = 0, dark_zeroed = 0;
+    for (int z = 0; z < 2; z++) {
+        CHECK(csf_photometer_open(z ? "colorcal2:emulator,noise=0,abs_noise=0,zero=1,zero_wait_s=0"
+                                    : "colorcal2:emulator,noise=0,abs_noise=0", 1, &p, &e) == CSF_OK);
+        if (!p) continue;
+        csf_photometer_reading r;
+        CHECK(measure_patch(p, 0.3, &r, &e) == CSF_OK);
+        *(z ? &dark_zeroed : &dark_unzeroed) = r.lum_cdm2;
+        csf_photometer_close(p);
+    }
+    CHECK_NEAR(dark_unzeroed - dark_zeroed, 0.004 * (0.0207 + 0.9874 + 0.0105), 2e-4);
     /* without the test variable an emulator spec is refused */
     const char *mod = getenv("CSFCAL_TEST_USB_EMULATOR");
     char saved[1024] = "";
