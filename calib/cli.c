@@ -7,11 +7,15 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "results/store.h"
+
 const char csf_cli_common_help[] =
     "Common options:\n"
     "  --config FILE        station configuration (default $XDG_CONFIG_HOME/csfcal/station.conf)\n"
     "  --set KEY=VALUE      override one configuration key (see csfcal(1) for the keys)\n"
-    "  --store PATH         results database (default $XDG_DATA_HOME/csfcal/csfcal.sqlite)\n"
+    "  --store PATH|URI     results store: an SQLite file (default\n"
+    "                       $XDG_DATA_HOME/csfcal/csfcal.sqlite) or a PostgreSQL server\n"
+    "                       (postgresql://[user@]host/db?..., service=NAME; no password)\n"
     "  --seed N             seed for simulated devices (reproducible runs)\n"
     "  --headless           render offscreen through EGL (automatic without a display)\n"
     "  --photometer SPEC    photometer, e.g. sim or sim:display=lcd,noise=0.002\n"
@@ -79,6 +83,15 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
             csf_config_default_store_path(def, sizeof def);
             fprintf(stderr, "csfcal: --store: empty path (give a file, or leave --store out for the "
                             "default %s)\n", def);
+            return -1;
+        }
+        /* A password here would sit in shell history and process lists: libpq reads it from
+         * ~/.pgpass, PGPASSFILE or a service file instead. The message does not repeat it. */
+        if (csf_store_has_password(arg)) {
+            char red[1024];
+            csf_store_redact(arg, red, sizeof red);
+            fprintf(stderr, "csfcal: --store: a password on the command line is refused (%s); put it "
+                            "in ~/.pgpass or the file PGPASSFILE names (docs/store.md)\n", red);
             return -1;
         }
         return set_key(cli, "store", arg);
@@ -209,7 +222,7 @@ const char *csf_cli_store_path(csf_cli *cli)
 {
     if (cli->cfg.store_path[0] == '\0')
         csf_config_default_store_path(cli->cfg.store_path, sizeof cli->cfg.store_path);
-    mkdir_parents(cli->cfg.store_path);
+    if (!csf_store_is_server(cli->cfg.store_path)) mkdir_parents(cli->cfg.store_path);
     return cli->cfg.store_path;
 }
 

@@ -1,641 +1,105 @@
-/* SQLite results store (see results/store.h for the contract).
- *
- * Every write is one transaction committed before the call returns: single-row inserts run as
- * one autocommit statement, multi-row writes inside BEGIN IMMEDIATE ... COMMIT. With WAL and
- * synchronous=FULL, SQLite fsyncs the WAL at each commit, so a row reported stored survives a
- * SIGKILL or a power cut. */
+/* The results store's front: checks every argument at the API boundary, picks the backend from
+ * the location and calls through its table (results/store_backend.h). The SQLite backend is in
+ * results/store_sqlite.c, the PostgreSQL one in results/store_pg.c. */
 #include "results/store.h"
 
-#include <errno.h>
-#include <fcntl.h>
-#include <libgen.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/statvfs.h>
-#include <time.h>
-#include <unistd.h>
 
-#include "results/store_internal.h"
+#include "results/store_backend.h"
 
-#ifndef CSF_VERSION
-#define CSF_VERSION "unknown"
-#endif
+/* ---- locations ------------------------------------------------------------------------------ */
 
-/* Refuse to start a session with less free space than this: a session is a few hundred KiB,
- * and SQLite needs room for the WAL and a checkpoint. */
-#define STORE_MIN_FREE_BYTES (4.0 * 1024 * 1024)
-/* Size of the write probe committed (then deleted) at open, to find a full disk or quota. */
-#define STORE_PROBE_BYTES (128 * 1024)
-
-struct csf_store {
-    sqlite3 *db;
-    char path[1024];
-    sqlite3_stmt *ins_trial, *ins_reading, *ins_frame;
-    int sys_errno; /* errno of the last failed step, caught before finalize/reset can clear it */
-};
-
-sqlite3 *csf_store_db(csf_store *s) { return s ? s->db : NULL; }
-const char *csf_store_path(const csf_store *s) { return s ? s->path : ""; }
-
-/* ---- schema ------------------------------------------------------------------------------
- * Portable types only (INTEGER, REAL, TEXT, BLOB); booleans are INTEGER 0/1; times are ISO 8601
- * text (created/updated) or Unix seconds as REAL (per-row stored_s). NaN is stored as NULL. */
-const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
-    /* -> v1: sessions, readings, trials, thresholds, displays, observers */
-    "CREATE TABLE schema_version (version INTEGER NOT NULL);"
-    "INSERT INTO schema_version (version) VALUES (0);"
-    "CREATE TABLE displays (id INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE, profile_id TEXT,"
-    "  created_utc TEXT NOT NULL);"
-    "CREATE TABLE observers (id INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE,"
-    "  created_utc TEXT NOT NULL);"
-    "CREATE TABLE sessions (id INTEGER PRIMARY KEY, kind TEXT NOT NULL, state TEXT NOT NULL,"
-    "  observer TEXT NOT NULL DEFAULT '', display TEXT NOT NULL DEFAULT '',"
-    "  settings_json TEXT NOT NULL, seed INTEGER NOT NULL, tool_version TEXT NOT NULL,"
-    "  created_utc TEXT NOT NULL, updated_utc TEXT NOT NULL);"
-    "CREATE TABLE readings (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  seq INTEGER NOT NULL, channel TEXT NOT NULL, drive01 REAL NOT NULL, lum_cdm2 REAL,"
-    "  x REAL, y REAL, z REAL, t_s REAL NOT NULL, status TEXT NOT NULL,"
-    "  PRIMARY KEY (session_id, seq));"
-    "CREATE TABLE trials (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  seq INTEGER NOT NULL, method TEXT NOT NULL, freq_cpd REAL NOT NULL, ecc_deg REAL NOT NULL,"
-    "  polar_deg REAL NOT NULL, orientation_deg REAL NOT NULL, sigma_deg REAL NOT NULL,"
-    "  mean_lum_cdm2 REAL NOT NULL, is_catch INTEGER NOT NULL, is_practice INTEGER NOT NULL,"
-    "  contrast_requested REAL NOT NULL, contrast_shown_mean REAL, contrast_shown_max REAL,"
-    "  frames_planned INTEGER NOT NULL, frames_shown INTEGER NOT NULL,"
-    "  frames_missed INTEGER NOT NULL, signal_interval INTEGER NOT NULL,"
-    "  response INTEGER NOT NULL, rt_s REAL, valid INTEGER NOT NULL,"
-    "  PRIMARY KEY (session_id, seq));"
-    "CREATE TABLE thresholds (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  freq_cpd REAL NOT NULL, ecc_deg REAL NOT NULL, lum_cdm2 REAL NOT NULL, threshold REAL,"
-    "  stderr_log10 REAL, n_trials INTEGER NOT NULL);",
-
-    /* -> v2: moving stimuli and click responses in trials, problem flags, per-row store time,
-     * frame intervals, artifacts (tables, profiles, plots with their bytes). */
-    "ALTER TABLE trials ADD COLUMN velocity_dps REAL NOT NULL DEFAULT 0;"
-    "ALTER TABLE trials ADD COLUMN click_x_deg REAL;"
-    "ALTER TABLE trials ADD COLUMN click_y_deg REAL;"
-    "ALTER TABLE trials ADD COLUMN flags TEXT NOT NULL DEFAULT '';"
-    "ALTER TABLE trials ADD COLUMN stored_s REAL;"
-    "ALTER TABLE readings ADD COLUMN stored_s REAL;"
-    "ALTER TABLE thresholds ADD COLUMN velocity_dps REAL NOT NULL DEFAULT 0;"
-    "CREATE TABLE frame_intervals (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  trial_seq INTEGER NOT NULL, idx INTEGER NOT NULL, interval_s REAL NOT NULL,"
-    "  PRIMARY KEY (session_id, trial_seq, idx));"
-    "CREATE TABLE artifacts (id INTEGER PRIMARY KEY,"
-    "  session_id INTEGER NOT NULL REFERENCES sessions(id), kind TEXT NOT NULL,"
-    "  path TEXT NOT NULL, size_bytes INTEGER NOT NULL, content BLOB,"
-    "  created_utc TEXT NOT NULL);",
-
-    /* -> v3: studies and participants (2AFC user studies), display profiles per display. */
-    "CREATE TABLE studies (id INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE,"
-    "  design_json TEXT NOT NULL, created_utc TEXT NOT NULL);"
-    "CREATE TABLE participants (id INTEGER PRIMARY KEY,"
-    "  study_id INTEGER NOT NULL REFERENCES studies(id), code TEXT NOT NULL,"
-    "  created_utc TEXT NOT NULL, UNIQUE (study_id, code));"
-    "CREATE TABLE session_participants (session_id INTEGER PRIMARY KEY REFERENCES sessions(id),"
-    "  participant_id INTEGER NOT NULL REFERENCES participants(id));"
-    "CREATE TABLE display_profiles (id INTEGER PRIMARY KEY,"
-    "  display_id INTEGER NOT NULL REFERENCES displays(id), profile_id TEXT NOT NULL,"
-    "  session_id INTEGER REFERENCES sessions(id), created_utc TEXT NOT NULL);"
-    "CREATE INDEX artifacts_session ON artifacts (session_id, kind);"
-    "CREATE INDEX thresholds_session ON thresholds (session_id);",
-
-    /* -> v4: forced-choice layout per trial: 2 = two intervals, 4 = four places shown at once
-     * (spatial 4AFC), 0 = not forced choice. Every forced-choice trial stored before had two
-     * intervals (signal_interval 1 or 2). */
-    "ALTER TABLE trials ADD COLUMN n_alternatives INTEGER NOT NULL DEFAULT 0;"
-    "UPDATE trials SET n_alternatives = 2 WHERE signal_interval > 0;",
-
-    /* -> v5: observer sessions name the display they ran on and, apart, the profile they used
-     * (before, the profile id stood in the display column and a display row with no profile was
-     * made for it); a profile file is one artifact row, not a row with the bytes and another
-     * with the path; units in column names; one threshold per cell; CHECKs on enumerations.
-     * Tables whose columns change are rebuilt (SQLite cannot add a CHECK to a table); the
-     * migration runs with foreign keys off, as SQLite's documented rebuild procedure requires. */
-    "CREATE TABLE sessions_v5 (id INTEGER PRIMARY KEY,"
-    "  kind TEXT NOT NULL CHECK (kind IN ('display', 'observer', 'study')),"
-    "  state TEXT NOT NULL CHECK (state IN ('running', 'paused', 'finished', 'aborted')),"
-    "  observer TEXT NOT NULL DEFAULT '', display TEXT NOT NULL DEFAULT '', profile_id TEXT,"
-    "  settings_json TEXT NOT NULL, seed INTEGER NOT NULL, tool_version TEXT NOT NULL,"
-    "  created_utc TEXT NOT NULL, updated_utc TEXT NOT NULL);"
-    /* A profile id as display: the default profile's id, an id with a recorded history, or the
-     * "<display>-<yyyymmdd|undated>-<8 hex digits>" form every measured profile's id has. */
-    "INSERT INTO sessions_v5 (id, kind, state, observer, display, profile_id, settings_json, seed,"
-    "  tool_version, created_utc, updated_utc)"
-    "  SELECT id, kind, state, observer, display,"
-    "  CASE WHEN kind = 'observer' AND (display = 'default-gamma2.2-100cdm2'"
-    "    OR display IN (SELECT profile_id FROM display_profiles)"
-    "    OR display GLOB '*-[0-9][0-9][0-9][0-9][0-9][0-9][0-9][0-9]-[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]'"
-    "    OR display GLOB '*-undated-[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]')"
-    "  THEN display END, settings_json, seed, tool_version, created_utc, updated_utc FROM sessions;"
-    "DROP TABLE sessions;"
-    "ALTER TABLE sessions_v5 RENAME TO sessions;"
-    /* The real display: the one the profile was measured on when this store measured it; the
-     * default profile's display is 'default'; otherwise unknown (''), the profile id is kept. */
-    "UPDATE sessions SET display = COALESCE((SELECT d.name FROM display_profiles p"
-    "  JOIN displays d ON d.id = p.display_id WHERE p.profile_id = sessions.profile_id"
-    "  ORDER BY p.id DESC LIMIT 1),"
-    "  CASE WHEN profile_id = 'default-gamma2.2-100cdm2' THEN 'default' ELSE '' END)"
-    "  WHERE profile_id IS NOT NULL;"
-    "DELETE FROM displays WHERE profile_id IS NULL"
-    "  AND name IN (SELECT profile_id FROM sessions WHERE profile_id IS NOT NULL)"
-    "  AND name NOT IN (SELECT display FROM sessions)"
-    "  AND id NOT IN (SELECT display_id FROM display_profiles);"
-    "INSERT INTO displays (name, profile_id, created_utc) SELECT display, NULL, MIN(created_utc)"
-    "  FROM sessions WHERE display <> '' AND display NOT IN (SELECT name FROM displays)"
-    "  GROUP BY display;"
-    "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
-    "  SELECT d.id, s.profile_id, NULL, MIN(s.created_utc) FROM sessions s"
-    "  JOIN displays d ON d.name = s.display WHERE s.profile_id IS NOT NULL AND NOT EXISTS"
-    "  (SELECT 1 FROM display_profiles p WHERE p.display_id = d.id AND p.profile_id = s.profile_id)"
-    "  GROUP BY d.id, s.profile_id;"
-    "UPDATE displays SET profile_id = (SELECT p.profile_id FROM display_profiles p"
-    "  WHERE p.display_id = displays.id ORDER BY p.id DESC LIMIT 1) WHERE profile_id IS NULL;"
-
-    "CREATE TABLE readings_v5 (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  seq INTEGER NOT NULL CHECK (seq >= 0),"
-    "  channel TEXT NOT NULL CHECK (channel IN ('dark', 'white', 'grey', 'r', 'g', 'b')),"
-    "  drive01 REAL NOT NULL CHECK (drive01 >= 0 AND drive01 <= 1), lum_cdm2 REAL,"
-    "  X_cdm2 REAL, Y_cdm2 REAL, Z_cdm2 REAL, t_s REAL NOT NULL,"
-    "  status TEXT NOT NULL CHECK (status IN ('ok', 'too_dark', 'saturated', 'timeout', 'error')),"
-    "  stored_s REAL, PRIMARY KEY (session_id, seq));"
-    "INSERT INTO readings_v5 SELECT session_id, seq, channel, drive01, lum_cdm2, x, y, z, t_s,"
-    "  status, stored_s FROM readings;"
-    "DROP TABLE readings;"
-    "ALTER TABLE readings_v5 RENAME TO readings;"
-
-    "CREATE TABLE trials_v5 (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  seq INTEGER NOT NULL CHECK (seq >= 0), method TEXT NOT NULL, freq_cpd REAL NOT NULL,"
-    "  ecc_deg REAL NOT NULL, polar_deg REAL NOT NULL, orientation_deg REAL NOT NULL,"
-    "  sigma_deg REAL NOT NULL, mean_lum_cdm2 REAL NOT NULL,"
-    "  is_catch INTEGER NOT NULL CHECK (is_catch IN (0, 1)),"
-    "  is_practice INTEGER NOT NULL CHECK (is_practice IN (0, 1)),"
-    "  contrast_requested REAL NOT NULL, contrast_shown_mean REAL, contrast_shown_max REAL,"
-    "  frames_planned INTEGER NOT NULL, frames_shown INTEGER NOT NULL,"
-    "  frames_missed INTEGER NOT NULL, signal_interval INTEGER NOT NULL,"
-    "  response INTEGER NOT NULL, rt_s REAL, valid INTEGER NOT NULL CHECK (valid IN (0, 1)),"
-    "  velocity_dps REAL NOT NULL DEFAULT 0, click_x_deg REAL, click_y_deg REAL,"
-    "  flags TEXT NOT NULL DEFAULT '', stored_s REAL,"
-    "  n_alternatives INTEGER NOT NULL DEFAULT 0"
-    "  CHECK (n_alternatives = 0 OR n_alternatives BETWEEN 2 AND 16),"
-    "  PRIMARY KEY (session_id, seq));"
-    "INSERT INTO trials_v5 SELECT session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
-    "  orientation_deg, sigma_deg, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
-    "  contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown, frames_missed,"
-    "  signal_interval, response, rt_s, valid, velocity_dps, click_x_deg, click_y_deg, flags,"
-    "  stored_s, n_alternatives FROM trials;"
-    "DROP TABLE trials;"
-    "ALTER TABLE trials_v5 RENAME TO trials;"
-
-    /* put_thresholds always replaced a session's rows whole, so a duplicate cell can only come
-     * from a caller passing one twice: the last row stored wins, as a reader saw it last. */
-    "CREATE TABLE thresholds_v5 (session_id INTEGER NOT NULL REFERENCES sessions(id),"
-    "  freq_cpd REAL NOT NULL, ecc_deg REAL NOT NULL, velocity_dps REAL NOT NULL DEFAULT 0,"
-    "  lum_cdm2 REAL NOT NULL, threshold_michelson REAL, stderr_log10 REAL,"
-    "  n_trials INTEGER NOT NULL,"
-    "  UNIQUE (session_id, lum_cdm2, velocity_dps, ecc_deg, freq_cpd));"
-    "INSERT INTO thresholds_v5 SELECT session_id, freq_cpd, ecc_deg, velocity_dps, lum_cdm2,"
-    "  threshold, stderr_log10, n_trials FROM thresholds t WHERE rowid = (SELECT MAX(rowid)"
-    "  FROM thresholds u WHERE u.session_id = t.session_id AND u.lum_cdm2 = t.lum_cdm2"
-    "  AND u.velocity_dps = t.velocity_dps AND u.ecc_deg = t.ecc_deg AND u.freq_cpd = t.freq_cpd);"
-    "DROP TABLE thresholds;"
-    "ALTER TABLE thresholds_v5 RENAME TO thresholds;"
-
-    /* One profile file, one row: the row with the bytes takes the path of the path-only row. */
-    "UPDATE artifacts SET path = (SELECT b.path FROM artifacts b WHERE b.session_id ="
-    "  artifacts.session_id AND b.kind = artifacts.kind AND b.content IS NULL AND b.path <> ''"
-    "  ORDER BY b.id LIMIT 1) WHERE path = '' AND content IS NOT NULL AND EXISTS (SELECT 1"
-    "  FROM artifacts b WHERE b.session_id = artifacts.session_id AND b.kind = artifacts.kind"
-    "  AND b.content IS NULL AND b.path <> '');"
-    "DELETE FROM artifacts WHERE content IS NULL AND path <> '' AND EXISTS (SELECT 1 FROM"
-    "  artifacts a WHERE a.session_id = artifacts.session_id AND a.kind = artifacts.kind"
-    "  AND a.content IS NOT NULL AND a.path = artifacts.path);",
-};
-
-/* ---- helpers ----------------------------------------------------------------------------- */
-
-static void utc_now(char out[32])
+int csf_store_is_server(const char *location)
 {
-    time_t t = time(NULL);
-    struct tm tm;
-    gmtime_r(&t, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    if (!location) return 0;
+    return !strncmp(location, "postgresql://", 13) || !strncmp(location, "postgres://", 11) ||
+           !strncmp(location, "service=", 8);
 }
 
-static double unix_now_s(void)
+/* Copies n bytes of src (n may exceed what is left: clipped) into out at *o. */
+static void put(char *out, size_t cap, size_t *o, const char *src, size_t n)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+    while (n-- > 0 && *o + 1 < cap) out[(*o)++] = *src++;
+    out[*o] = '\0';
 }
 
-static void copy_str(char *dst, size_t cap, const char *src)
+/* postgresql://user:secret@host/db -> postgresql://user@host/db (the userinfo is the part of
+ * the authority before the last '@'; the authority ends at the first '/', '?' or '#'). */
+static void redact_uri(const char *in, char *out, size_t cap)
 {
-    snprintf(dst, cap, "%s", src ? src : "");
-}
-
-/* Turns an SQLite failure into a sentence that names the store file and the cause. */
-static csf_status store_fail(csf_error *err, const char *path, sqlite3 *db, int sys_saved, int rc,
-                             const char *what)
-{
-    int primary = rc & 0xff;
-    int sys = sys_saved ? sys_saved : db ? sqlite3_system_errno(db) : 0;
-    const char *detail = db ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
-    switch (primary) {
-    case SQLITE_FULL:
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: disk full while %s (%s); free space on that disk or choose "
-                             "another file with --store", path, what, detail);
-    case SQLITE_READONLY:
-    case SQLITE_PERM:
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: read-only, cannot write while %s (%s); make the file and "
-                             "its folder writable or choose another file with --store", path, what,
-                             detail);
-    case SQLITE_NOTADB:
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: not a database (the file is not SQLite; it may be another "
-                             "file or badly damaged); refusing to overwrite it", path);
-    case SQLITE_CORRUPT:
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: database is corrupt (malformed) while %s (%s); restore it "
-                             "from a backup or start a new store with --store", path, what, detail);
-    case SQLITE_BUSY:
-    case SQLITE_LOCKED:
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: locked by another process while %s; is another csfcal "
-                             "running on the same store?", path, what);
-    case SQLITE_CANTOPEN:
-        return csf_error_set(err, CSF_E_STORE, "store %s: cannot open (%s%s%s)", path, detail,
-                             sys ? ": " : "", sys ? strerror(sys) : "");
-    case SQLITE_IOERR:
-        if (sys == ENOSPC || sys == EDQUOT || sys == EFBIG)
-            return csf_error_set(err, CSF_E_STORE,
-                                 "store %s: disk full while %s (%s); free space on that disk or "
-                                 "choose another file with --store", path, what, strerror(sys));
-        if (rc == SQLITE_IOERR_WRITE)
-            return csf_error_set(err, CSF_E_STORE,
-                                 "store %s: cannot write while %s (disk full, quota or file-size "
-                                 "limit reached, or a failing disk)", path, what);
-        if (sys == EROFS || sys == EACCES || sys == EPERM)
-            return csf_error_set(err, CSF_E_STORE, "store %s: read-only while %s (%s)", path,
-                                 what, strerror(sys));
-        return csf_error_set(err, CSF_E_STORE, "store %s: input/output error while %s (%s%s%s)",
-                             path, what, detail, sys ? ": " : "", sys ? strerror(sys) : "");
-    case SQLITE_CONSTRAINT:
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: %s refused: %s", path, what, detail);
-    default:
-        return csf_error_set(err, CSF_E_STORE, "store %s: failed while %s (%s)", path, what, detail);
-    }
-}
-
-static csf_status fail(csf_store *s, csf_error *err, int rc, const char *what)
-{
-    csf_status st = store_fail(err, s->path, s->db, s->sys_errno, rc, what);
-    s->sys_errno = 0;
-    return st;
-}
-
-/* SQLite records the OS error for some failures only (not for a failed write()); for an I/O
- * error the errno left by the failing call is the best account of the cause. */
-static int os_errno(sqlite3 *db, int rc)
-{
-    int sys = sqlite3_system_errno(db);
-    if (sys == 0 && (rc & 0xff) == SQLITE_IOERR) sys = errno;
-    return sys;
-}
-
-/* sqlite3_step that remembers the OS error of a failure (ENOSPC, EFBIG, EROFS ...). */
-static int step(csf_store *s, sqlite3_stmt *st)
-{
-    errno = 0;
-    int rc = sqlite3_step(st);
-    s->sys_errno = rc != SQLITE_ROW && rc != SQLITE_DONE ? os_errno(s->db, rc) : 0;
-    return rc;
-}
-
-static int exec_s(csf_store *s, const char *sql)
-{
-    errno = 0;
-    int rc = sqlite3_exec(s->db, sql, NULL, NULL, NULL);
-    s->sys_errno = rc != SQLITE_OK ? os_errno(s->db, rc) : 0;
-    return rc;
-}
-
-
-/* Binds a double, storing NaN as NULL (SQL has no NaN). */
-static void bind_real(sqlite3_stmt *st, int i, double v)
-{
-    if (isnan(v)) sqlite3_bind_null(st, i);
-    else sqlite3_bind_double(st, i, v);
-}
-
-static double col_real(sqlite3_stmt *st, int i)
-{
-    return sqlite3_column_type(st, i) == SQLITE_NULL ? NAN : sqlite3_column_double(st, i);
-}
-
-static void col_text(sqlite3_stmt *st, int i, char *dst, size_t cap)
-{
-    const unsigned char *t = sqlite3_column_text(st, i);
-    copy_str(dst, cap, t ? (const char *)t : "");
-}
-
-static int prepare(csf_store *s, const char *sql, sqlite3_stmt **st)
-{
-    return sqlite3_prepare_v2(s->db, sql, -1, st, NULL);
-}
-
-/* Growable array used by the get_* functions. */
-static int grow(void **buf, size_t *cap, size_t n, size_t elem)
-{
-    if (n < *cap) return 0;
-    size_t nc = *cap ? *cap * 2 : 64;
-    void *p = realloc(*buf, nc * elem);
-    if (!p) return -1;
-    *buf = p;
-    *cap = nc;
-    return 0;
-}
-
-/* One reader of many rows (the csf_store_get_* and csf_store_list_* functions): its SQL, how one
- * result row fills one element of the array, and the words for its errors. */
-typedef struct {
-    const char *sql;
-    int binds_session;     /* the SQL's one parameter is the session id */
-    size_t elem_size;
-    /* Fills one zeroed element from the current row; 0, or -1 when out of memory. */
-    int (*row)(sqlite3_stmt *st, void *elem, int64_t session_id);
-    /* Releases what an element owns, also one the row function failed half-way (NULL: nothing). */
-    void (*free_elem)(void *elem);
-    const char *what;      /* failure: "store PATH: failed while <what> (...)" */
-    const char *oom_what;  /* no memory: "store: out of memory <oom_what>" */
-} row_query;
-
-/* Runs q and returns its rows as one malloc'd array in *out (NULL when there are none). */
-static csf_status query_rows(csf_store *s, const row_query *q, int64_t session_id, void **out,
-                             size_t *n, csf_error *err)
-{
-    csf_error_clear(err);
-    if (!s || !out || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    *out = NULL;
-    *n = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, q->sql, &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, q->what);
-    if (q->binds_session) sqlite3_bind_int64(st, 1, session_id);
-    unsigned char *list = NULL;
-    size_t cap = 0, cnt = 0;
-    int oom = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (grow((void **)&list, &cap, cnt, q->elem_size) < 0) {
-            oom = 1;
-            break;
+    const char *auth = strstr(in, "://") + 3;
+    size_t alen = strcspn(auth, "/?#");
+    const char *at = NULL;
+    for (const char *p = auth; p < auth + alen; p++)
+        if (*p == '@') at = p;
+    const char *colon = at ? memchr(auth, ':', (size_t)(at - auth)) : NULL;
+    size_t o = 0;
+    out[0] = '\0';
+    put(out, cap, &o, in, colon ? (size_t)(colon - in) : (size_t)(auth + alen - in));
+    if (colon) put(out, cap, &o, at, (size_t)(auth + alen - at));
+    const char *rest = auth + alen;
+    /* ...?sslmode=require&password=x: the password parameter goes, the others stay. */
+    while (*rest) {
+        size_t seg = strcspn(rest + 1, "&#") + 1;
+        int is_pw = (rest[0] == '?' || rest[0] == '&') && !strncmp(rest + 1, "password=", 9);
+        if (is_pw && rest[0] == '?' && rest[seg] == '&') {
+            put(out, cap, &o, "?", 1);
+            rest += seg + 1;
+            continue;
         }
-        void *elem = list + cnt++ * q->elem_size;
-        memset(elem, 0, q->elem_size);
-        if (q->row(st, elem, session_id) < 0) {
-            oom = 1;
-            break;
+        if (!is_pw) put(out, cap, &o, rest, seg);
+        rest += seg;
+    }
+}
+
+/* service=lab password=x host=h -> service=lab host=h (a quoted value may hold spaces). */
+static void redact_conninfo(const char *in, char *out, size_t cap)
+{
+    size_t o = 0;
+    out[0] = '\0';
+    const char *p = in;
+    while (*p) {
+        while (*p == ' ') p++;
+        if (!*p) break;
+        const char *start = p;
+        int quoted = 0;
+        while (*p && (quoted || *p != ' ')) {
+            if (*p == '\\' && p[1]) p++;
+            else if (*p == '\'') quoted = !quoted;
+            p++;
         }
-    }
-    sqlite3_finalize(st);
-    if (!oom && rc == SQLITE_DONE) {
-        *out = list;
-        *n = cnt;
-        return CSF_OK;
-    }
-    for (size_t i = 0; q->free_elem && i < cnt; i++) q->free_elem(list + i * q->elem_size);
-    free(list);
-    if (oom) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory %s", q->oom_what);
-    return fail(s, err, rc, q->what);
-}
-
-/* ---- open: checks before SQLite touches anything ----------------------------------------- */
-
-static void dir_of(const char *path, char *out, size_t cap)
-{
-    char tmp[1024];
-    copy_str(tmp, sizeof tmp, path);
-    copy_str(out, cap, dirname(tmp));
-}
-
-/* /dev/null, a FIFO or a terminal: SQLite would fail later with a bare I/O error. */
-static csf_status not_regular(const char *path, mode_t mode, csf_error *err)
-{
-    const char *what = S_ISCHR(mode) ? "a character device" : S_ISBLK(mode) ? "a block device"
-                       : S_ISFIFO(mode) ? "a pipe" : S_ISSOCK(mode) ? "a socket" : "not a plain file";
-    return csf_error_set(err, CSF_E_STORE, "store %s: is %s, not a database file; give the path "
-                         "of a file (it is created if missing) with --store", path, what);
-}
-
-/* Read-only checks. Running as root, access() says yes to everything, so a file or folder whose
- * mode has no write bit at all is also treated as read-only: someone marked it so on purpose. */
-static csf_status check_writable(const char *path, csf_error *err)
-{
-    char dir[1024];
-    dir_of(path, dir, sizeof dir);
-    struct stat st;
-    struct statvfs vfs;
-    int exists = stat(path, &st) == 0;
-    if (exists && S_ISDIR(st.st_mode))
-        return csf_error_set(err, CSF_E_STORE, "store %s: is a folder, not a database file", path);
-    if (exists && !S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
-    struct stat dst;
-    if (stat(dir, &dst) != 0)
-        return csf_error_set(err, CSF_E_STORE, "store %s: folder %s does not exist (%s)", path, dir,
-                             strerror(errno));
-    if (statvfs(dir, &vfs) == 0 && (vfs.f_flag & ST_RDONLY))
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: read-only file system, results could not be saved; "
-                             "choose another file with --store", path);
-    if (exists && (access(path, W_OK) != 0 || (st.st_mode & 0222) == 0))
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: read-only file (permissions %03o), results could not be "
-                             "saved; make it writable or choose another file with --store", path,
-                             (unsigned)(st.st_mode & 0777));
-    /* SQLite creates the -wal and -shm files next to the store, so the folder must be writable. */
-    if (access(dir, W_OK) != 0 || (dst.st_mode & 0222) == 0)
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: folder %s is read-only (permissions %03o); the store needs "
-                             "to create its journal there", path, dir, (unsigned)(dst.st_mode & 0777));
-    if (statvfs(dir, &vfs) == 0) {
-        double free_b = (double)vfs.f_bavail * (double)vfs.f_frsize;
-        if (free_b < STORE_MIN_FREE_BYTES)
-            return csf_error_set(err, CSF_E_STORE,
-                                 "store %s: disk full: only %.0f KiB free on the disk holding it "
-                                 "(need at least %.0f KiB to start a session)", path,
-                                 free_b / 1024.0, STORE_MIN_FREE_BYTES / 1024.0);
-    }
-    return CSF_OK;
-}
-
-/* A non-empty file must start with SQLite's magic; say so before SQLite is asked to open it. */
-static csf_status check_magic(const char *path, csf_error *err)
-{
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return CSF_OK; /* does not exist yet */
-    unsigned char hdr[16];
-    ssize_t got = read(fd, hdr, sizeof hdr);
-    close(fd);
-    if (got == 0) return CSF_OK; /* empty file: becomes a new store */
-    if (got != (ssize_t)sizeof hdr || memcmp(hdr, "SQLite format 3", 16) != 0)
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: not a database (the file does not start with the SQLite "
-                             "header; it may be another file or badly damaged); refusing to "
-                             "overwrite it", path);
-    return CSF_OK;
-}
-
-static int query_int(sqlite3 *db, const char *sql, int *out, int *rc_out)
-{
-    sqlite3_stmt *st = NULL;
-    int rc = sqlite3_prepare_v2(db, sql, -1, &st, NULL);
-    if (rc == SQLITE_OK) {
-        rc = sqlite3_step(st);
-        if (rc == SQLITE_ROW) {
-            *out = sqlite3_column_int(st, 0);
-            rc = SQLITE_OK;
-        } else if (rc == SQLITE_DONE) {
-            rc = SQLITE_NOTFOUND;
-        }
-    }
-    sqlite3_finalize(st);
-    if (rc_out) *rc_out = rc;
-    return rc == SQLITE_OK ? 0 : -1;
-}
-
-/* Version of the schema as this connection sees it now: 0 for an empty file, -1 for someone
- * else's database (tables but no schema_version). */
-static int read_version(csf_store *s, int *version, int *rc)
-{
-    int n_tables = 0, has_version = 0;
-    *version = 0;
-    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table'", &n_tables, rc) < 0 ||
-        query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
-                         "name = 'schema_version'", &has_version, rc) < 0)
-        return -1;
-    if (n_tables > 0 && !has_version) {
-        *version = -1;
-        return 0;
-    }
-    if (has_version && query_int(s->db, "SELECT MAX(version) FROM schema_version", version, rc) < 0)
-        return -1;
-    return 0;
-}
-
-/* Refuses a foreign database or a newer schema; called before anything is written, so a file
- * that is refused is left byte for byte as it was. */
-static csf_status check_schema(csf_store *s, int version, csf_error *err)
-{
-    if (version < 0)
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: an SQLite database but not a csfcal store (no "
-                             "schema_version table); refusing to change it", s->path);
-    if (version > CSF_STORE_SCHEMA_VERSION)
-        return csf_error_set(err, CSF_E_STORE,
-                             "store %s: schema version %d is newer than this csfcal understands "
-                             "(%d); use a newer csfcal", s->path, version, CSF_STORE_SCHEMA_VERSION);
-    return CSF_OK;
-}
-
-/* One step per transaction, and the version is read again inside it: several processes that
- * open a new or old store at once wait for each other's step and skip what is already done. */
-static csf_status migrate_steps(csf_store *s, csf_error *err)
-{
-    for (;;) {
-        int rc = exec_s(s, "BEGIN IMMEDIATE");
-        if (rc != SQLITE_OK) return fail(s, err, rc, "migrating the schema");
-        int v = 0;
-        if (read_version(s, &v, &rc) < 0) {
-            csf_status st = fail(s, err, rc, "reading the schema version");
-            exec_s(s, "ROLLBACK");
-            return st;
-        }
-        csf_status cs = check_schema(s, v, err);
-        if (cs != CSF_OK || v == CSF_STORE_SCHEMA_VERSION) {
-            exec_s(s, "ROLLBACK");
-            return cs;
-        }
-        char what[64];
-        snprintf(what, sizeof what, "migrating the schema from version %d to %d", v, v + 1);
-        rc = exec_s(s, csf_store_migrations[v]);
-        if (rc == SQLITE_OK) {
-            char upd[96];
-            snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %d", v + 1);
-            rc = exec_s(s, upd);
-        }
-        if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
-        if (rc != SQLITE_OK) {
-            csf_status st = fail(s, err, rc, what);
-            exec_s(s, "ROLLBACK");
-            return st;
-        }
+        const char *k = start;
+        while (*k == ' ') k++;
+        if (!strncmp(k, "password", 8) && (k[8] == '=' || k[8] == ' ')) continue;
+        if (o > 0) put(out, cap, &o, " ", 1);
+        put(out, cap, &o, start, (size_t)(p - start));
     }
 }
 
-/* Table rebuilds (v5) need foreign keys off, and that cannot change inside a transaction. */
-static csf_status migrate(csf_store *s, csf_error *err)
+void csf_store_redact(const char *location, char *out, size_t cap)
 {
-    int rc = exec_s(s, "PRAGMA foreign_keys = OFF");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "migrating the schema");
-    csf_status cs = migrate_steps(s, err);
-    rc = exec_s(s, "PRAGMA foreign_keys = ON");
-    if (cs == CSF_OK && rc != SQLITE_OK) cs = fail(s, err, rc, "migrating the schema");
-    return cs;
+    if (!out || cap == 0) return;
+    out[0] = '\0';
+    if (!location) return;
+    if (strstr(location, "://") && csf_store_is_server(location)) redact_uri(location, out, cap);
+    else if (csf_store_is_server(location)) redact_conninfo(location, out, cap);
+    else snprintf(out, cap, "%s", location);
 }
 
-/* Commits a real write (and removes it again) so a full disk or quota shows up now, not at
- * trial 180. Rows of a probe table leave no trace in the data tables. */
-static csf_status probe_write(csf_store *s, csf_error *err)
+int csf_store_has_password(const char *location)
 {
-    int rc = exec_s(s, "CREATE TABLE IF NOT EXISTS write_probe (id INTEGER PRIMARY KEY, content BLOB)");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
-    sqlite3_stmt *st = NULL;
-    rc = prepare(s, "INSERT INTO write_probe (content) VALUES (?)", &st);
-    if (rc == SQLITE_OK) {
-        sqlite3_bind_zeroblob(st, 1, STORE_PROBE_BYTES);
-        rc = step(s, st);
-        if (rc == SQLITE_DONE) rc = SQLITE_OK;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
-    rc = exec_s(s, "DELETE FROM write_probe");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "checking that the store can be written");
-    return CSF_OK;
+    char red[2048];
+    if (!location || strlen(location) >= sizeof red) return 0;
+    csf_store_redact(location, red, sizeof red);
+    return strcmp(red, location) != 0;
 }
 
-/* Switching to WAL needs the file to itself for a moment. When several stations open a new
- * store at once, SQLite may answer SQLITE_BUSY at once instead of calling the busy handler (it
- * does so where waiting could deadlock), so the switch is retried here for up to ~10 s. */
-static int switch_to_wal(csf_store *s, char *mode, size_t mode_len)
-{
-    long wait_ms = 5, waited_ms = 0;
-    for (;;) {
-        sqlite3_stmt *st = NULL;
-        int rc = prepare(s, "PRAGMA journal_mode = WAL", &st);
-        if (rc == SQLITE_OK) {
-            rc = step(s, st);
-            if (rc == SQLITE_ROW) {
-                col_text(st, 0, mode, mode_len);
-                rc = SQLITE_OK;
-            }
-        }
-        sqlite3_finalize(st);
-        int busy = (rc & 0xff) == SQLITE_BUSY || (rc & 0xff) == SQLITE_LOCKED;
-        if (!busy || waited_ms >= 10000) return rc;
-        struct timespec ts = {0, wait_ms * 1000000L};
-        nanosleep(&ts, NULL);
-        waited_ms += wait_ms;
-        if (wait_ms < 100) wait_ms *= 2;
-    }
-}
+/* ---- open and close ----------------------------------------------------------------------- */
 
-/* What both ways of opening refuse before touching the file. */
-static csf_status check_open_args(const char *path, csf_store **out, csf_error *err)
+static csf_status open_any(const char *path, int readonly, csf_store **out, csf_error *err)
 {
     csf_error_clear(err);
     if (!out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: no output pointer");
@@ -644,364 +108,100 @@ static csf_status check_open_args(const char *path, csf_store **out, csf_error *
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: empty path (give --store PATH)");
     if (strlen(path) >= 1024)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: path longer than 1023 characters");
-    return CSF_OK;
+    csf_status cs;
+    if (csf_store_is_server(path)) {
+        /* A password in the location would end up in shell history, process lists and any
+         * message that names the store: libpq reads it from its own files instead. */
+        if (csf_store_has_password(path)) {
+            char red[1024];
+            csf_store_redact(path, red, sizeof red);
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "store %s: a password in the store location is refused; put it "
+                                 "in ~/.pgpass (or the file PGPASSFILE names) or a service file "
+                                 "(PGSERVICEFILE), see docs/store.md", red);
+        }
+        cs = csf_store_pg_open(path, readonly, out, err);
+    } else {
+        cs = csf_store_sqlite_open(path, readonly, out, err);
+    }
+    if (cs == CSF_OK) (*out)->readonly = readonly;
+    return cs;
 }
 
 csf_status csf_store_open(const char *path, csf_store **out, csf_error *err)
 {
-    csf_status as = check_open_args(path, out, err);
-    if (as != CSF_OK) return as;
-    csf_status cs = check_writable(path, err);
-    if (cs != CSF_OK) return cs;
-    cs = check_magic(path, err);
-    if (cs != CSF_OK) return cs;
-
-    csf_store *s = calloc(1, sizeof *s);
-    if (!s) return csf_error_set(err, CSF_E_NOMEM, "store %s: out of memory", path);
-    copy_str(s->path, sizeof s->path, path);
-    int rc = sqlite3_open_v2(path, &s->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
-                             SQLITE_OPEN_NOMUTEX, NULL);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "opening");
-        csf_store_close(s);
-        return cs;
-    }
-    sqlite3_extended_result_codes(s->db, 1);
-    /* The file is outside input: do not run functions a crafted schema might name in views or
-     * triggers, and refuse writes that could corrupt it on purpose. */
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
-    /* A second csfcal on the same store waits a little instead of failing at once. */
-    sqlite3_busy_timeout(s->db, 5000);
-
-    /* Someone else's database, or a newer csfcal's, is refused before the switch to WAL
-     * below rewrites its header: a refused file stays exactly as it was. */
-    int version = 0;
-    if (read_version(s, &version, &rc) < 0) {
-        cs = fail(s, err, rc, "reading the schema");
-        goto bad;
-    }
-    cs = check_schema(s, version, err);
-    if (cs != CSF_OK) goto bad;
-
-    char mode[16] = "";
-    rc = switch_to_wal(s, mode, sizeof mode);
-    sqlite3_stmt *st = NULL;
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "switching to write-ahead logging");
-        goto bad;
-    }
-    if (strcmp(mode, "wal") != 0) {
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: cannot use write-ahead logging (journal "
-                           "mode stays '%s'); is the file on a network file system?", path, mode);
-        goto bad;
-    }
-    rc = exec_s(s, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "setting durability");
-        goto bad;
-    }
-    /* quick_check reads every page: a malformed file is refused here rather than mid-session. */
-    char check[256] = "";
-    rc = prepare(s, "PRAGMA quick_check(1)", &st);
-    if (rc == SQLITE_OK) {
-        rc = step(s, st);
-        if (rc == SQLITE_ROW) {
-            col_text(st, 0, check, sizeof check);
-            rc = SQLITE_OK;
-        }
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "checking integrity");
-        goto bad;
-    }
-    if (strcmp(check, "ok") != 0) {
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s); "
-                           "restore it from a backup or start a new store with --store", path, check);
-        goto bad;
-    }
-    cs = migrate(s, err);
-    if (cs != CSF_OK) goto bad;
-    cs = probe_write(s, err);
-    if (cs != CSF_OK) goto bad;
-
-    rc = prepare(s, "INSERT INTO trials (session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
-                    " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
-                    " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
-                    " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
-                    " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
-                    "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
-    if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
-                        " Y_cdm2, Z_cdm2,"
-                        " t_s, status, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?)", &s->ins_reading);
-    if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO frame_intervals (session_id, trial_seq, idx, interval_s)"
-                        " VALUES (?,?,?,?)", &s->ins_frame);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "preparing statements");
-        goto bad;
-    }
-    *out = s;
-    return CSF_OK;
-bad:
-    csf_store_close(s);
-    return cs;
+    return open_any(path, 0, out, err);
 }
 
-/* Percent-encodes the characters that end or escape a path in an SQLite URI filename. */
-static void uri_path(const char *path, char *out, size_t cap)
-{
-    size_t o = 0;
-    for (const char *p = path; *p && o + 4 < cap; p++) {
-        if (*p == '?' || *p == '#' || *p == '%') o += (size_t)snprintf(out + o, cap - o, "%%%02X", (unsigned char)*p);
-        else out[o++] = *p;
-    }
-    out[o] = '\0';
-}
-
-static csf_status finish_readonly(csf_store *s, csf_error *err)
-{
-    sqlite3_extended_result_codes(s->db, 1);
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
-    sqlite3_busy_timeout(s->db, 5000);
-    char check[256] = "";
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "PRAGMA quick_check(1)", &st);
-    if (rc == SQLITE_OK) {
-        rc = step(s, st);
-        if (rc == SQLITE_ROW) {
-            col_text(st, 0, check, sizeof check);
-            rc = SQLITE_OK;
-        }
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "checking integrity");
-    if (strcmp(check, "ok") != 0)
-        return csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s)",
-                             s->path, check);
-    int has_version = 0, version = 0;
-    if (query_int(s->db, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
-                         "name = 'schema_version'", &has_version, &rc) < 0)
-        return fail(s, err, rc, "reading the schema");
-    if (!has_version)
-        return csf_error_set(err, CSF_E_STORE, "store %s: not a csfcal store (no schema_version "
-                             "table)", s->path);
-    if (query_int(s->db, "SELECT MAX(version) FROM schema_version", &version, &rc) < 0)
-        return fail(s, err, rc, "reading the schema version");
-    if (version > CSF_STORE_SCHEMA_VERSION)
-        return csf_error_set(err, CSF_E_STORE, "store %s: schema version %d is newer than this "
-                             "csfcal understands (%d); use a newer csfcal", s->path, version,
-                             CSF_STORE_SCHEMA_VERSION);
-    if (version < CSF_STORE_SCHEMA_VERSION)
-        return csf_error_set(err, CSF_E_STORE, "store %s: schema version %d must be migrated to %d "
-                             "before it can be read, which needs write access; open a writable "
-                             "copy once", s->path, version, CSF_STORE_SCHEMA_VERSION);
-    return CSF_OK;
-}
-
-static csf_status open_readonly_once(const char *path, csf_store **out, csf_error *err);
-
-/* A store of an older schema on a writable file (the first listing after an upgrade) is migrated
- * by a writable open first; on read-only media it is refused with a message saying so. */
 csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err)
 {
-    csf_status cs = open_readonly_once(path, out, err);
-    if (cs != CSF_E_STORE || !err || !strstr(err->msg, "must be migrated") || access(path, W_OK) != 0)
-        return cs;
-    csf_store *w = NULL;
-    cs = csf_store_open(path, &w, err);
-    csf_store_close(w);
-    return cs == CSF_OK ? open_readonly_once(path, out, err) : cs;
-}
-
-static csf_status open_readonly_once(const char *path, csf_store **out, csf_error *err)
-{
-    csf_status as = check_open_args(path, out, err);
-    if (as != CSF_OK) return as;
-    struct stat stt;
-    if (stat(path, &stt) != 0)
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: does not exist (%s); no session has "
-                             "been recorded there yet", path, strerror(errno));
-    if (S_ISDIR(stt.st_mode))
-        return csf_error_set(err, CSF_E_STORE, "store %s: is a folder, not a database file", path);
-    if (!S_ISREG(stt.st_mode)) return not_regular(path, stt.st_mode, err);
-    csf_status cs = check_magic(path, err);
-    if (cs != CSF_OK) return cs;
-    if (stt.st_size == 0)
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: empty file, no sessions", path);
-    csf_store *s = calloc(1, sizeof *s);
-    if (!s) return csf_error_set(err, CSF_E_NOMEM, "store %s: out of memory", path);
-    copy_str(s->path, sizeof s->path, path);
-    int rc = sqlite3_open_v2(path, &s->db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, NULL);
-    cs = rc == SQLITE_OK ? finish_readonly(s, err) : fail(s, err, rc, "opening");
-    if (cs != CSF_OK && err && strstr(err->msg, "corrupt") == NULL && strstr(err->msg, "schema") == NULL &&
-        strstr(err->msg, "csfcal store") == NULL) {
-        /* A WAL store on read-only media: SQLite cannot create the -shm file next to it. Read
-         * it as immutable (nothing can be writing to read-only media). */
-        sqlite3_close(s->db);
-        s->db = NULL;
-        char uri[3200] = "file:";
-        uri_path(path, uri + 5, sizeof uri - 5);
-        strncat(uri, "?immutable=1", sizeof uri - strlen(uri) - 1);
-        rc = sqlite3_open_v2(uri, &s->db, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX, NULL);
-        cs = rc == SQLITE_OK ? finish_readonly(s, err) : fail(s, err, rc, "opening read-only");
-    }
-    if (cs != CSF_OK) {
-        csf_store_close(s);
-        return cs;
-    }
-    *out = s;
-    return CSF_OK;
+    return open_any(path, 1, out, err);
 }
 
 void csf_store_close(csf_store *s)
 {
-    if (!s) return;
-    sqlite3_finalize(s->ins_trial);
-    sqlite3_finalize(s->ins_reading);
-    sqlite3_finalize(s->ins_frame);
-    sqlite3_close(s->db);
-    free(s);
+    if (s) s->ops->close(s);
 }
 
-int csf_store_schema_version(csf_store *s)
+const char *csf_store_path(const csf_store *s) { return s ? s->path : ""; }
+
+const char *csf_store_backend(const csf_store *s) { return s ? s->ops->name : ""; }
+
+int csf_store_schema_version(csf_store *s) { return s ? s->ops->schema_version(s) : -1; }
+
+/* ---- argument checks ---------------------------------------------------------------------- */
+
+static csf_status not_open(csf_error *err)
 {
-    int v = 0;
-    if (!s || query_int(s->db, "SELECT MAX(version) FROM schema_version", &v, NULL) < 0) return -1;
-    return v;
+    return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
 }
 
-/* ---- sessions ---------------------------------------------------------------------------- */
-
-static int valid_kind(const char *k)
+static csf_status read_only(const csf_store *s, const char *what, csf_error *err)
 {
-    return k && (!strcmp(k, "display") || !strcmp(k, "observer") || !strcmp(k, "study"));
+    return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store %s", s->path,
+                         what);
 }
 
-static int valid_state(const char *k)
+static int one_of(const char *v, const char *const *ok, size_t n)
 {
-    return k && (!strcmp(k, "running") || !strcmp(k, "paused") || !strcmp(k, "finished") ||
-                 !strcmp(k, "aborted"));
+    for (size_t i = 0; v && i < n; i++)
+        if (!strcmp(v, ok[i])) return 1;
+    return 0;
 }
 
-static csf_status run_simple(csf_store *s, sqlite3_stmt *st, const char *what, csf_error *err)
+#define ONE_OF(v, ...)                                                                       \
+    one_of(v, (const char *const[]){__VA_ARGS__},                                            \
+           sizeof((const char *const[]){__VA_ARGS__}) / sizeof(const char *))
+
+/* Fixed-size text fields in the structs must be NUL-terminated within their size. */
+static int terminated(const char *f, size_t cap) { return memchr(f, '\0', cap) != NULL; }
+
+static csf_status check_trial(const csf_store *s, const csf_trial *t, csf_error *err)
 {
-    int rc = step(s, st);
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) return fail(s, err, rc, what);
+    if (!s || !t) return not_open(err);
+    if (t->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial seq %d < 0", t->seq);
+    if (!terminated(t->method, sizeof t->method) || !terminated(t->flags, sizeof t->flags))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial method or flags not terminated");
+    if (!isfinite(t->freq_cpd) || !isfinite(t->ecc_deg) || !isfinite(t->contrast_requested))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has a non-finite frequency, "
+                             "eccentricity or contrast", t->seq);
+    if (t->n_alternatives != 0 && (t->n_alternatives < 2 || t->n_alternatives > 16))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has %d alternatives (0 = not "
+                             "forced choice, else 2-16)", t->seq, t->n_alternatives);
+    if (s->readonly) return read_only(s, "a trial", err);
     return CSF_OK;
 }
 
-static csf_status upsert_named(csf_store *s, const char *table, const char *name,
-                               const char *profile_id, int64_t *id, csf_error *err)
+static csf_status check_name(const char *v, const char *what, size_t max, int required,
+                             csf_error *err)
 {
-    char sql[256], what[64];
-    snprintf(what, sizeof what, "recording a %s", table);
-    sqlite3_stmt *st = NULL;
-    snprintf(sql, sizeof sql, "SELECT id FROM %s WHERE name = ?", table);
-    int rc = prepare(s, sql, &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, what);
-    sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    if (rc == SQLITE_ROW) {
-        int64_t found = sqlite3_column_int64(st, 0);
-        sqlite3_finalize(st);
-        if (id) *id = found;
-        if (profile_id && !strcmp(table, "displays")) {
-            rc = prepare(s, "UPDATE displays SET profile_id = ? WHERE id = ?", &st);
-            if (rc != SQLITE_OK) return fail(s, err, rc, what);
-            sqlite3_bind_text(st, 1, profile_id, -1, SQLITE_TRANSIENT);
-            sqlite3_bind_int64(st, 2, found);
-            return run_simple(s, st, what, err);
-        }
-        return CSF_OK;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) return fail(s, err, rc, what);
-    char now[32];
-    utc_now(now);
-    if (!strcmp(table, "displays")) {
-        rc = prepare(s, "INSERT INTO displays (name, profile_id, created_utc) VALUES (?,?,?)", &st);
-        if (rc != SQLITE_OK) return fail(s, err, rc, what);
-        sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-        if (profile_id) sqlite3_bind_text(st, 2, profile_id, -1, SQLITE_TRANSIENT);
-        else sqlite3_bind_null(st, 2);
-        sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    } else {
-        rc = prepare(s, "INSERT INTO observers (name, created_utc) VALUES (?,?)", &st);
-        if (rc != SQLITE_OK) return fail(s, err, rc, what);
-        sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 2, now, -1, SQLITE_TRANSIENT);
-    }
-    csf_status cs = run_simple(s, st, what, err);
-    if (cs == CSF_OK && id) *id = sqlite3_last_insert_rowid(s->db);
-    return cs;
-}
-
-csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *profile_id,
-                                    int64_t *id, csf_error *err)
-{
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name must be 1 to 255 characters");
-    csf_status cs = upsert_named(s, "displays", name, profile_id, id, err);
-    if (cs != CSF_OK || !profile_id) return cs;
-    /* Keep the history of profiles per display (one row per distinct profile id). */
-    int64_t did = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT id FROM displays WHERE name = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "recording a display profile");
-    sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    if (sqlite3_step(st) == SQLITE_ROW) did = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    rc = prepare(s, "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
-                    " SELECT ?, ?, NULL, ? WHERE NOT EXISTS (SELECT 1 FROM display_profiles"
-                    " WHERE display_id = ? AND profile_id = ?)", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "recording a display profile");
-    char now[32];
-    utc_now(now);
-    sqlite3_bind_int64(st, 1, did);
-    sqlite3_bind_text(st, 2, profile_id, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_int64(st, 4, did);
-    sqlite3_bind_text(st, 5, profile_id, -1, SQLITE_TRANSIENT);
-    return run_simple(s, st, "recording a display profile", err);
-}
-
-csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err)
-{
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 255 characters");
-    return upsert_named(s, "observers", name, NULL, id, err);
-}
-
-/* The profile a session uses, in its display's history; the display's current profile only
- * when it has none (an old profile file must not replace a newer measurement). */
-static csf_status link_profile(csf_store *s, const char *display, const char *profile_id,
-                               csf_error *err)
-{
-    static const char *const sql[] = {
-        "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
-        " SELECT id, ?2, NULL, ?3 FROM displays WHERE name = ?1 AND NOT EXISTS (SELECT 1 FROM"
-        " display_profiles p WHERE p.display_id = displays.id AND p.profile_id = ?2)",
-        "UPDATE displays SET profile_id = ?2 WHERE name = ?1 AND profile_id IS NULL",
-    };
-    char now[32];
-    utc_now(now);
-    for (size_t i = 0; i < sizeof sql / sizeof sql[0]; i++) {
-        sqlite3_stmt *st = NULL;
-        int rc = prepare(s, sql[i], &st);
-        if (rc != SQLITE_OK) return fail(s, err, rc, "recording a session's display profile");
-        sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 2, profile_id, -1, SQLITE_TRANSIENT);
-        if (i == 0) sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-        csf_status cs = run_simple(s, st, "recording a session's display profile", err);
-        if (cs != CSF_OK) return cs;
-    }
+    if ((required && (!v || !*v)) || (v && strlen(v) > max))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: %s must be %s%zu characters", what,
+                             required ? "1 to " : "at most ", max);
     return CSF_OK;
 }
+
+/* ---- sessions ------------------------------------------------------------------------------ */
 
 csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
                                    const char *display, const char *settings_json, uint64_t seed,
@@ -1017,8 +217,8 @@ csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const
                                            csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!valid_kind(kind))
+    if (!s) return not_open(err);
+    if (!ONE_OF(kind, "display", "observer", "study"))
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "store: session kind '%s' unknown (allowed display, observer, study)",
                              kind ? kind : "(null)");
@@ -1029,74 +229,38 @@ csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 255 characters");
     if (profile_id && strlen(profile_id) > 127)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
+    if (s->readonly) return read_only(s, "a session", err);
     if (profile_id && !*profile_id) profile_id = NULL;
-    /* Observer and display rows are written in the same transaction as the session. */
-    int rc = exec_s(s, "BEGIN IMMEDIATE");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "starting a session");
-    csf_status cs = CSF_OK;
-    if (observer && *observer) cs = upsert_named(s, "observers", observer, NULL, NULL, err);
-    if (cs == CSF_OK && display && *display) cs = upsert_named(s, "displays", display, NULL, NULL, err);
-    if (cs == CSF_OK && display && *display && profile_id) cs = link_profile(s, display, profile_id, err);
-    sqlite3_stmt *st = NULL;
-    if (cs == CSF_OK) {
-        rc = prepare(s, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
-                        " tool_version, created_utc, updated_utc, profile_id)"
-                        " VALUES (?,'running',?,?,?,?,?,?,?,?)", &st);
-        if (rc != SQLITE_OK) cs = fail(s, err, rc, "starting a session");
-    }
-    if (cs == CSF_OK) {
-        char now[32];
-        utc_now(now);
-        sqlite3_bind_text(st, 1, kind, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 2, observer ? observer : "", -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 3, display ? display : "", -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 4, settings_json ? settings_json : "{}", -1, SQLITE_TRANSIENT);
-        /* Seeds are unsigned 64-bit; SQL integers are signed: stored as the same 64 bits. */
-        sqlite3_bind_int64(st, 5, (sqlite3_int64)seed);
-        sqlite3_bind_text(st, 6, CSF_VERSION, -1, SQLITE_STATIC);
-        sqlite3_bind_text(st, 7, now, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 8, now, -1, SQLITE_TRANSIENT);
-        if (profile_id) sqlite3_bind_text(st, 9, profile_id, -1, SQLITE_TRANSIENT);
-        else sqlite3_bind_null(st, 9);
-        cs = run_simple(s, st, "starting a session", err);
-    }
-    if (cs == CSF_OK) {
-        int64_t new_id = sqlite3_last_insert_rowid(s->db);
-        rc = exec_s(s, "COMMIT");
-        if (rc != SQLITE_OK) {
-            cs = fail(s, err, rc, "starting a session");
-        } else {
-            if (id) *id = new_id;
-            return CSF_OK;
-        }
-    }
-    exec_s(s, "ROLLBACK");
-    return cs;
+    return s->ops->begin_session(s, kind, observer, display, profile_id, settings_json, seed, id,
+                                 err);
 }
 
-#define SESSION_COLS                                                                         \
-    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
-    " s.tool_version, s.created_utc,"                                                        \
-    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id FROM sessions s"
-
-static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
+csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err)
 {
-    memset(o, 0, sizeof *o);
-    o->id = sqlite3_column_int64(st, 0);
-    col_text(st, 1, o->kind, sizeof o->kind);
-    col_text(st, 2, o->state, sizeof o->state);
-    col_text(st, 3, o->observer, sizeof o->observer);
-    col_text(st, 4, o->display, sizeof o->display);
-    const unsigned char *js = sqlite3_column_text(st, 5);
-    o->settings_json = strdup(js ? (const char *)js : "{}");
-    o->seed = (uint64_t)sqlite3_column_int64(st, 6);
-    col_text(st, 7, o->tool_version, sizeof o->tool_version);
-    col_text(st, 8, o->created_utc, sizeof o->created_utc);
-    o->n_trials = sqlite3_column_int(st, 9);
-    o->n_readings = sqlite3_column_int(st, 10);
-    col_text(st, 11, o->profile_id, sizeof o->profile_id);
-    return o->settings_json ? 0 : -1;
+    csf_error_clear(err);
+    if (!s || !out) return not_open(err);
+    memset(out, 0, sizeof *out);
+    return s->ops->get_session(s, id, out, err);
+}
+
+csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s) return not_open(err);
+    if (!ONE_OF(state, "running", "paused", "finished", "aborted"))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: session state '%s' unknown (allowed "
+                             "running, paused, finished, aborted)", state ? state : "(null)");
+    if (s->readonly) return read_only(s, "a session state", err);
+    return s->ops->set_session_state(s, id, state, err);
+}
+
+csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !out || !n) return not_open(err);
+    *out = NULL;
+    *n = 0;
+    return s->ops->list_sessions(s, out, n, err);
 }
 
 void csf_session_info_free(csf_session_info *s)
@@ -1113,298 +277,50 @@ void csf_session_list_free(csf_session_info *list, size_t n)
     free(list);
 }
 
-csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err)
-{
-    csf_error_clear(err);
-    if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    memset(out, 0, sizeof *out);
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, SESSION_COLS " WHERE s.id = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading a session");
-    sqlite3_bind_int64(st, 1, id);
-    rc = step(s, st);
-    csf_status cs = CSF_OK;
-    if (rc == SQLITE_ROW) {
-        if (read_session_row(st, out) < 0) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
-    } else if (rc == SQLITE_DONE) {
-        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path, (long long)id);
-    } else {
-        cs = fail(s, err, rc, "reading a session");
-    }
-    sqlite3_finalize(st);
-    return cs;
-}
-
-csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err)
-{
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!valid_state(state))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: session state '%s' unknown (allowed "
-                             "running, paused, finished, aborted)", state ? state : "(null)");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "UPDATE sessions SET state = ?, updated_utc = ? WHERE id = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "changing a session's state");
-    char now[32];
-    utc_now(now);
-    sqlite3_bind_text(st, 1, state, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 2, now, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_int64(st, 3, id);
-    csf_status cs = run_simple(s, st, "changing a session's state", err);
-    if (cs == CSF_OK && sqlite3_changes(s->db) == 0)
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path, (long long)id);
-    return cs;
-}
-
-static int session_row(sqlite3_stmt *st, void *elem, int64_t session_id)
-{
-    (void)session_id;
-    return read_session_row(st, elem);
-}
-
-static void session_elem_free(void *elem) { csf_session_info_free(elem); }
-
-csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err)
-{
-    static const row_query q = {
-        .sql = SESSION_COLS " ORDER BY s.id", .elem_size = sizeof(csf_session_info),
-        .row = session_row, .free_elem = session_elem_free,
-        .what = "listing sessions", .oom_what = "listing sessions"};
-    return query_rows(s, &q, 0, (void **)out, n, err);
-}
-
-/* Unix seconds to ISO 8601; 0 with "" for a value that is no time of this era (a damaged row:
- * converting an out-of-range double to time_t is undefined). */
-static int format_unix(double t, char out[32])
-{
-    out[0] = '\0';
-    /* 1970 to the end of year 9999, the range ISO 8601's four-digit year can write. */
-    if (!(t >= 0.0 && t < 253402300800.0)) return 0;
-    time_t tt = (time_t)floor(t);
-    struct tm tm;
-    gmtime_r(&tt, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    return 1;
-}
-
 csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32],
                                    char updated_utc[32], csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT created_utc, updated_utc,"
-                        " (SELECT MAX(stored_s) FROM trials WHERE session_id = s.id),"
-                        " (SELECT MAX(stored_s) FROM readings WHERE session_id = s.id)"
-                        " FROM sessions s WHERE id = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading session times");
-    sqlite3_bind_int64(st, 1, id);
-    rc = step(s, st);
-    if (rc != SQLITE_ROW) {
-        sqlite3_finalize(st);
-        if (rc == SQLITE_DONE)
-            return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path, (long long)id);
-        return fail(s, err, rc, "reading session times");
-    }
-    char created[32], updated[32];
-    col_text(st, 0, created, sizeof created);
-    col_text(st, 1, updated, sizeof updated);
-    /* ISO 8601 strings of one format compare like the times they name. */
-    for (int c = 2; c <= 3; c++) {
-        double t = col_real(st, c);
-        char u[32];
-        if (format_unix(t, u)) {
-            if (strcmp(u, updated) > 0) copy_str(updated, sizeof updated, u);
-        }
-    }
-    sqlite3_finalize(st);
-    if (created_utc) copy_str(created_utc, 32, created);
-    if (updated_utc) copy_str(updated_utc, 32, updated);
-    return CSF_OK;
+    if (!s) return not_open(err);
+    return s->ops->session_times(s, id, created_utc, updated_utc, err);
 }
 
-/* ---- readings ---------------------------------------------------------------------------- */
-
-static int valid_channel(const char *c)
-{
-    static const char *const ok[] = {"dark", "white", "grey", "r", "g", "b"};
-    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
-        if (!strcmp(c, ok[i])) return 1;
-    return 0;
-}
-
-static int valid_reading_status(const char *c)
-{
-    static const char *const ok[] = {"ok", "too_dark", "saturated", "timeout", "error"};
-    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
-        if (!strcmp(c, ok[i])) return 1;
-    return 0;
-}
-
-/* Fixed-size text fields in the structs must be NUL-terminated within their size. */
-static int terminated(const char *f, size_t cap) { return memchr(f, '\0', cap) != NULL; }
+/* ---- readings, trials, frames, thresholds ------------------------------------------------ */
 
 csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !r) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!terminated(r->channel, sizeof r->channel) || !valid_channel(r->channel))
+    if (!s || !r) return not_open(err);
+    if (!terminated(r->channel, sizeof r->channel) ||
+        !ONE_OF(r->channel, "dark", "white", "grey", "r", "g", "b"))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading channel must be dark, white, "
                              "grey, r, g or b");
-    if (!terminated(r->status, sizeof r->status) || !valid_reading_status(r->status))
+    if (!terminated(r->status, sizeof r->status) ||
+        !ONE_OF(r->status, "ok", "too_dark", "saturated", "timeout", "error"))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading status must be ok, too_dark, "
                              "saturated, timeout or error");
     if (r->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading seq %d < 0", r->seq);
     if (!(r->drive01 >= 0.0 && r->drive01 <= 1.0))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading drive01 %g outside [0, 1]", r->drive01);
-    if (!s->ins_reading)
-        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a reading", s->path);
-    sqlite3_stmt *st = s->ins_reading;
-    sqlite3_reset(st);
-    sqlite3_clear_bindings(st);
-    sqlite3_bind_int64(st, 1, r->session_id);
-    sqlite3_bind_int(st, 2, r->seq);
-    sqlite3_bind_text(st, 3, r->channel, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_double(st, 4, r->drive01);
-    bind_real(st, 5, r->lum_cdm2);
-    if (r->has_xyz) {
-        bind_real(st, 6, r->X);
-        bind_real(st, 7, r->Y);
-        bind_real(st, 8, r->Z);
-    }
-    bind_real(st, 9, isnan(r->t_s) ? 0.0 : r->t_s);
-    sqlite3_bind_text(st, 10, r->status, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_double(st, 11, unix_now_s());
-    int rc = step(s, st);
-    sqlite3_reset(st);
-    if (rc == SQLITE_DONE) return CSF_OK;
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: reading %d of session %lld refused "
-                             "(session unknown or seq already stored): %s", s->path, r->seq,
-                             (long long)r->session_id, sqlite3_errmsg(s->db));
-    return fail(s, err, rc, "storing a photometer reading");
-}
-
-static int reading_row(sqlite3_stmt *st, void *elem, int64_t session_id)
-{
-    csf_reading *r = elem;
-    r->session_id = session_id;
-    r->seq = sqlite3_column_int(st, 0);
-    col_text(st, 1, r->channel, sizeof r->channel);
-    r->drive01 = col_real(st, 2);
-    r->lum_cdm2 = col_real(st, 3);
-    r->has_xyz = sqlite3_column_type(st, 4) != SQLITE_NULL;
-    r->X = col_real(st, 4);
-    r->Y = col_real(st, 5);
-    r->Z = col_real(st, 6);
-    r->t_s = col_real(st, 7);
-    col_text(st, 8, r->status, sizeof r->status);
-    return 0;
+    if (s->readonly) return read_only(s, "a reading", err);
+    return s->ops->add_reading(s, r, err);
 }
 
 csf_status csf_store_get_readings(csf_store *s, int64_t session_id, csf_reading **out, size_t *n,
                                   csf_error *err)
 {
-    static const row_query q = {
-        .sql = "SELECT seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status FROM readings"
-        " WHERE session_id = ? ORDER BY seq",
-        .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
-        .what = "reading photometer readings", .oom_what = "reading readings"};
-    return query_rows(s, &q, session_id, (void **)out, n, err);
-}
-
-/* ---- trials ------------------------------------------------------------------------------ */
-
-static csf_status check_trial(csf_store *s, const csf_trial *t, csf_error *err)
-{
-    if (!s || !t) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (t->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial seq %d < 0", t->seq);
-    if (!terminated(t->method, sizeof t->method) || !terminated(t->flags, sizeof t->flags))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial method or flags not terminated");
-    if (!isfinite(t->freq_cpd) || !isfinite(t->ecc_deg) || !isfinite(t->contrast_requested))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has a non-finite frequency, "
-                             "eccentricity or contrast", t->seq);
-    if (t->n_alternatives != 0 && (t->n_alternatives < 2 || t->n_alternatives > 16))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has %d alternatives (0 = not "
-                             "forced choice, else 2-16)", t->seq, t->n_alternatives);
-    if (!s->ins_trial)
-        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a trial", s->path);
-    return CSF_OK;
-}
-
-/* One trial row; SQLITE_OK or the failing step's code. */
-static int insert_trial(csf_store *s, const csf_trial *t)
-{
-    sqlite3_stmt *st = s->ins_trial;
-    sqlite3_reset(st);
-    sqlite3_clear_bindings(st);
-    int i = 1;
-    sqlite3_bind_int64(st, i++, t->session_id);
-    sqlite3_bind_int(st, i++, t->seq);
-    sqlite3_bind_text(st, i++, t->method, -1, SQLITE_TRANSIENT);
-    bind_real(st, i++, t->freq_cpd);
-    bind_real(st, i++, t->ecc_deg);
-    sqlite3_bind_double(st, i++, isnan(t->polar_deg) ? 0.0 : t->polar_deg);
-    sqlite3_bind_double(st, i++, isnan(t->orientation_deg) ? 0.0 : t->orientation_deg);
-    sqlite3_bind_double(st, i++, isnan(t->sigma_deg) ? 0.0 : t->sigma_deg);
-    sqlite3_bind_double(st, i++, isnan(t->velocity_dps) ? 0.0 : t->velocity_dps);
-    sqlite3_bind_double(st, i++, isnan(t->mean_lum_cdm2) ? 0.0 : t->mean_lum_cdm2);
-    sqlite3_bind_int(st, i++, t->is_catch != 0);
-    sqlite3_bind_int(st, i++, t->is_practice != 0);
-    bind_real(st, i++, t->contrast_requested);
-    bind_real(st, i++, t->contrast_shown_mean);
-    bind_real(st, i++, t->contrast_shown_max);
-    sqlite3_bind_int(st, i++, t->frames_planned);
-    sqlite3_bind_int(st, i++, t->frames_shown);
-    sqlite3_bind_int(st, i++, t->frames_missed);
-    sqlite3_bind_int(st, i++, t->signal_interval);
-    sqlite3_bind_int(st, i++, t->response);
-    bind_real(st, i++, t->rt_s);
-    bind_real(st, i++, t->click_x_deg);
-    bind_real(st, i++, t->click_y_deg);
-    sqlite3_bind_int(st, i++, t->valid != 0);
-    sqlite3_bind_text(st, i++, t->flags, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_double(st, i++, unix_now_s());
-    sqlite3_bind_int(st, i++, t->n_alternatives);
-    int rc = step(s, st);
-    sqlite3_reset(st);
-    return rc == SQLITE_DONE ? SQLITE_OK : rc;
-}
-
-static csf_status trial_failed(csf_store *s, const csf_trial *t, int rc, csf_error *err)
-{
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: trial %d of session %lld refused "
-                             "(session unknown or seq already stored): %s", s->path, t->seq,
-                             (long long)t->session_id, sqlite3_errmsg(s->db));
-    return fail(s, err, rc, "storing a trial");
+    csf_error_clear(err);
+    if (!s || !out || !n) return not_open(err);
+    *out = NULL;
+    *n = 0;
+    return s->ops->get_readings(s, session_id, out, n, err);
 }
 
 csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err)
 {
     csf_error_clear(err);
     csf_status cs = check_trial(s, t, err);
-    if (cs != CSF_OK) return cs;
-    int rc = insert_trial(s, t);
-    return rc == SQLITE_OK ? CSF_OK : trial_failed(s, t, rc, err);
-}
-
-/* Frame interval rows of one trial inside the caller's transaction. */
-static int insert_frames(csf_store *s, int64_t session_id, int trial_seq, const double *interval_s, int n)
-{
-    sqlite3_stmt *st = s->ins_frame;
-    int rc = SQLITE_OK;
-    for (int i = 0; i < n && rc == SQLITE_OK; i++) {
-        sqlite3_reset(st);
-        sqlite3_bind_int64(st, 1, session_id);
-        sqlite3_bind_int(st, 2, trial_seq);
-        sqlite3_bind_int(st, 3, i);
-        sqlite3_bind_double(st, 4, isfinite(interval_s[i]) ? interval_s[i] : 0.0);
-        rc = step(s, st);
-        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
-    }
-    sqlite3_reset(st);
-    return rc;
+    return cs != CSF_OK ? cs : s->ops->add_trial_frames(s, t, NULL, 0, err);
 }
 
 csf_status csf_store_add_trial_frames(csf_store *s, const csf_trial *t, const double *interval_s,
@@ -1415,357 +331,75 @@ csf_status csf_store_add_trial_frames(csf_store *s, const csf_trial *t, const do
     if (cs != CSF_OK) return cs;
     if (n < 0 || (n > 0 && !interval_s))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
-    int rc = exec_s(s, "BEGIN IMMEDIATE");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "storing a trial");
-    rc = insert_trial(s, t);
-    if (rc != SQLITE_OK) {
-        cs = trial_failed(s, t, rc, err);
-        exec_s(s, "ROLLBACK");
-        return cs;
-    }
-    rc = insert_frames(s, t->session_id, t->seq, interval_s, n);
-    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "storing a trial's frame intervals");
-        exec_s(s, "ROLLBACK");
-        return cs;
-    }
-    return CSF_OK;
-}
-
-static int trial_row(sqlite3_stmt *st, void *elem, int64_t session_id)
-{
-    csf_trial *t = elem;
-    int c = 0;
-    t->session_id = session_id;
-    t->seq = sqlite3_column_int(st, c++);
-    col_text(st, c++, t->method, sizeof t->method);
-    t->freq_cpd = col_real(st, c++);
-    t->ecc_deg = col_real(st, c++);
-    t->polar_deg = col_real(st, c++);
-    t->orientation_deg = col_real(st, c++);
-    t->sigma_deg = col_real(st, c++);
-    t->velocity_dps = col_real(st, c++);
-    t->mean_lum_cdm2 = col_real(st, c++);
-    t->is_catch = sqlite3_column_int(st, c++);
-    t->is_practice = sqlite3_column_int(st, c++);
-    t->contrast_requested = col_real(st, c++);
-    t->contrast_shown_mean = col_real(st, c++);
-    t->contrast_shown_max = col_real(st, c++);
-    t->frames_planned = sqlite3_column_int(st, c++);
-    t->frames_shown = sqlite3_column_int(st, c++);
-    t->frames_missed = sqlite3_column_int(st, c++);
-    t->signal_interval = sqlite3_column_int(st, c++);
-    t->response = sqlite3_column_int(st, c++);
-    t->rt_s = col_real(st, c++);
-    t->click_x_deg = col_real(st, c++);
-    t->click_y_deg = col_real(st, c++);
-    t->valid = sqlite3_column_int(st, c++);
-    col_text(st, c++, t->flags, sizeof t->flags);
-    t->n_alternatives = sqlite3_column_int(st, c++);
-    return 0;
+    return s->ops->add_trial_frames(s, t, interval_s, n, err);
 }
 
 csf_status csf_store_get_trials(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
                                 csf_error *err)
 {
-    static const row_query q = {
-        .sql = "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
-        " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
-        " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
-        " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-        " valid, flags, n_alternatives FROM trials WHERE session_id = ? ORDER BY seq",
-        .binds_session = 1, .elem_size = sizeof(csf_trial), .row = trial_row,
-        .what = "reading trials", .oom_what = "reading trials"};
-    return query_rows(s, &q, session_id, (void **)out, n, err);
+    csf_error_clear(err);
+    if (!s || !out || !n) return not_open(err);
+    *out = NULL;
+    *n = 0;
+    return s->ops->get_trials(s, session_id, out, n, err);
 }
 
 csf_status csf_store_add_frame_intervals(csf_store *s, int64_t session_id, int trial_seq,
                                          const double *interval_s, int n, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
+    if (!s) return not_open(err);
     if (n < 0 || (n > 0 && !interval_s))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
     if (n == 0) return CSF_OK;
-    if (!s->ins_frame)
-        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store frame intervals", s->path);
-    int rc = exec_s(s, "BEGIN IMMEDIATE");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "storing frame intervals");
-    rc = insert_frames(s, session_id, trial_seq, interval_s, n);
-    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
-    if (rc != SQLITE_OK) {
-        csf_status cs = (rc & 0xff) == SQLITE_CONSTRAINT
-            ? csf_error_set(err, CSF_E_INVALID_ARG, "store %s: frame intervals of trial %d of "
-                            "session %lld refused (session unknown or already stored)", s->path,
-                            trial_seq, (long long)session_id)
-            : fail(s, err, rc, "storing frame intervals");
-        exec_s(s, "ROLLBACK");
-        return cs;
-    }
-    return CSF_OK;
-}
-
-static int interval_row(sqlite3_stmt *st, void *elem, int64_t session_id)
-{
-    (void)session_id;
-    *(double *)elem = sqlite3_column_double(st, 0);
-    return 0;
+    if (s->readonly) return read_only(s, "frame intervals", err);
+    return s->ops->add_frame_intervals(s, session_id, trial_seq, interval_s, n, err);
 }
 
 csf_status csf_store_get_frame_intervals(csf_store *s, int64_t session_id, double **out, size_t *n,
                                          csf_error *err)
 {
-    static const row_query q = {
-        .sql = "SELECT interval_s FROM frame_intervals WHERE session_id = ? ORDER BY trial_seq, idx",
-        .binds_session = 1, .elem_size = sizeof(double), .row = interval_row,
-        .what = "reading frame intervals", .oom_what = "reading frame intervals"};
-    return query_rows(s, &q, session_id, (void **)out, n, err);
+    csf_error_clear(err);
+    if (!s || !out || !n) return not_open(err);
+    *out = NULL;
+    *n = 0;
+    return s->ops->get_frame_intervals(s, session_id, out, n, err);
 }
-
-/* ---- thresholds -------------------------------------------------------------------------- */
 
 csf_status csf_store_put_thresholds(csf_store *s, int64_t session_id, const csf_threshold_row *rows,
                                     size_t n, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || (n > 0 && !rows)) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    int rc = exec_s(s, "BEGIN IMMEDIATE");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "storing thresholds");
-    sqlite3_stmt *st = NULL;
-    int exists = 0;
-    rc = prepare(s, "SELECT COUNT(*) FROM sessions WHERE id = ?", &st);
-    if (rc == SQLITE_OK) {
-        sqlite3_bind_int64(st, 1, session_id);
-        if (sqlite3_step(st) == SQLITE_ROW) exists = sqlite3_column_int(st, 0);
-        sqlite3_finalize(st);
-        st = NULL;
-    }
-    if (rc == SQLITE_OK && !exists) {
-        exec_s(s, "ROLLBACK");
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path,
-                             (long long)session_id);
-    }
-    if (rc == SQLITE_OK) rc = prepare(s, "DELETE FROM thresholds WHERE session_id = ?", &st);
-    if (rc == SQLITE_OK) {
-        sqlite3_bind_int64(st, 1, session_id);
-        rc = step(s, st);
-        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
-        sqlite3_finalize(st);
-        st = NULL;
-    }
-    if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO thresholds (session_id, freq_cpd, ecc_deg, velocity_dps, lum_cdm2,"
-                        " threshold_michelson, stderr_log10, n_trials) VALUES (?,?,?,?,?,?,?,?)", &st);
-    for (size_t i = 0; i < n && rc == SQLITE_OK; i++) {
-        const csf_threshold_row *r = &rows[i];
-        sqlite3_reset(st);
-        sqlite3_bind_int64(st, 1, session_id);
-        bind_real(st, 2, r->freq_cpd);
-        bind_real(st, 3, r->ecc_deg);
-        sqlite3_bind_double(st, 4, isnan(r->velocity_dps) ? 0.0 : r->velocity_dps);
-        sqlite3_bind_double(st, 5, isnan(r->lum_cdm2) ? 0.0 : r->lum_cdm2);
-        /* INFINITY (never visible) is a valid IEEE value in SQLite and PostgreSQL alike. */
-        bind_real(st, 6, r->threshold);
-        bind_real(st, 7, r->stderr_log10);
-        sqlite3_bind_int(st, 8, r->n_trials);
-        rc = step(s, st);
-        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
-    }
-    sqlite3_finalize(st);
-    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
-    if (rc != SQLITE_OK) {
-        csf_status cs = fail(s, err, rc, "storing thresholds");
-        exec_s(s, "ROLLBACK");
-        return cs;
-    }
-    return CSF_OK;
-}
-
-static int threshold_row(sqlite3_stmt *st, void *elem, int64_t session_id)
-{
-    (void)session_id;
-    csf_threshold_row *r = elem;
-    r->freq_cpd = col_real(st, 0);
-    r->ecc_deg = col_real(st, 1);
-    r->velocity_dps = col_real(st, 2);
-    r->lum_cdm2 = col_real(st, 3);
-    r->threshold = col_real(st, 4);
-    r->stderr_log10 = col_real(st, 5);
-    r->n_trials = sqlite3_column_int(st, 6);
-    return 0;
+    if (!s || (n > 0 && !rows)) return not_open(err);
+    if (s->readonly) return read_only(s, "thresholds", err);
+    return s->ops->put_thresholds(s, session_id, rows, n, err);
 }
 
 csf_status csf_store_get_thresholds(csf_store *s, int64_t session_id, csf_threshold_row **out,
                                     size_t *n, csf_error *err)
 {
-    static const row_query q = {
-        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold_michelson, stderr_log10,"
-        " n_trials FROM thresholds WHERE session_id = ?"
-        " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
-        .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
-        .what = "reading thresholds", .oom_what = "reading thresholds"};
-    return query_rows(s, &q, session_id, (void **)out, n, err);
+    csf_error_clear(err);
+    if (!s || !out || !n) return not_open(err);
+    *out = NULL;
+    *n = 0;
+    return s->ops->get_thresholds(s, session_id, out, n, err);
 }
 
-/* ---- artifacts --------------------------------------------------------------------------- */
-
-/* Value of a "key = value" line in the header of a display profile text (docs/display-profile.md),
- * looked for in the first 4 KiB only; "" when absent. */
-static void profile_key(const char *text, size_t len, const char *key, char *out, size_t cap)
-{
-    out[0] = '\0';
-    size_t lim = len < 4096 ? len : 4096, kl = strlen(key);
-    for (size_t i = 0; i < lim; i++) {
-        if ((i == 0 || text[i - 1] == '\n') && i + kl + 3 <= lim && memcmp(text + i, key, kl) == 0 &&
-            memcmp(text + i + kl, " = ", 3) == 0) {
-            size_t j = i + kl + 3, o = 0;
-            while (j < lim && text[j] != '\n' && text[j] != '\r' && text[j] != '\0' && o + 1 < cap)
-                out[o++] = text[j++];
-            out[o] = '\0';
-            return;
-        }
-    }
-}
-
-/* A display profile written by a session is also recorded as that display's current profile. */
-static int record_profile(csf_store *s, int64_t session_id, const void *blob, size_t len)
-{
-    const char *text = blob;
-    const char magic[] = "csfcal-display-profile";
-    if (!blob || len < sizeof magic || memcmp(text, magic, sizeof magic - 1) != 0) return SQLITE_OK;
-    char id[128], display[256];
-    profile_key(text, len, "id", id, sizeof id);
-    profile_key(text, len, "display", display, sizeof display);
-    if (!id[0] || !display[0]) return SQLITE_OK;
-    char now[32];
-    utc_now(now);
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "INSERT INTO displays (name, profile_id, created_utc) SELECT ?, ?, ?"
-                        " WHERE NOT EXISTS (SELECT 1 FROM displays WHERE name = ?)", &st);
-    if (rc != SQLITE_OK) return rc;
-    sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 2, id, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 4, display, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) return rc;
-    rc = prepare(s, "UPDATE displays SET profile_id = ? WHERE name = ?", &st);
-    if (rc != SQLITE_OK) return rc;
-    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 2, display, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) return rc;
-    rc = prepare(s, "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
-                    " SELECT id, ?, ?, ? FROM displays WHERE name = ?", &st);
-    if (rc != SQLITE_OK) return rc;
-    sqlite3_bind_text(st, 1, id, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_int64(st, 2, session_id);
-    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 4, display, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    return rc == SQLITE_DONE ? SQLITE_OK : rc;
-}
-
-/* The writer of a file and the code that produced its bytes may each record it (display
- * calibrate stores the profile text, then the command that saved it the path): the second call
- * completes the first call's row. *merged = 1 when a row was completed. */
-static int complete_half_record(csf_store *s, int64_t session_id, const char *kind,
-                                const char *path, const void *blob, size_t len, int *merged)
-{
-    *merged = 0;
-    int has_path = path && *path;
-    if (has_path == (blob != NULL)) return SQLITE_OK; /* a whole record, or nothing to add */
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, has_path
-                     ? "UPDATE artifacts SET path = ?3 WHERE id = (SELECT id FROM artifacts WHERE"
-                       " session_id = ?1 AND kind = ?2 AND path = '' AND content IS NOT NULL"
-                       " ORDER BY id DESC LIMIT 1)"
-                     : "UPDATE artifacts SET content = ?3, size_bytes = ?4 WHERE id = (SELECT id"
-                       " FROM artifacts WHERE session_id = ?1 AND kind = ?2 AND path <> ''"
-                       " AND content IS NULL ORDER BY id DESC LIMIT 1)", &st);
-    if (rc != SQLITE_OK) return rc;
-    sqlite3_bind_int64(st, 1, session_id);
-    sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
-    if (has_path) {
-        sqlite3_bind_text(st, 3, path, -1, SQLITE_TRANSIENT);
-    } else {
-        sqlite3_bind_blob64(st, 3, blob, len, SQLITE_STATIC);
-        sqlite3_bind_int64(st, 4, (sqlite3_int64)len);
-    }
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) return rc;
-    *merged = sqlite3_changes(s->db) > 0;
-    return SQLITE_OK;
-}
+/* ---- artifacts ----------------------------------------------------------------------------- */
 
 csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *kind,
                                   const char *path, const void *blob, size_t len, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
+    if (!s) return not_open(err);
     if (!kind || !*kind || strlen(kind) > 15)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact kind must be 1 to 15 characters");
     if (len > 0 && !blob)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes without content", len);
     if (len > 512u * 1024 * 1024)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes (limit 512 MiB)", len);
-    int rc = exec_s(s, "BEGIN IMMEDIATE");
-    if (rc != SQLITE_OK) return fail(s, err, rc, "storing an artifact");
-    int merged = 0;
-    rc = complete_half_record(s, session_id, kind, path, blob, len, &merged);
-    sqlite3_stmt *st = NULL;
-    if (rc == SQLITE_OK && !merged)
-        rc = prepare(s, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content, created_utc)"
-                        " VALUES (?,?,?,?,?,?)", &st);
-    if (rc == SQLITE_OK && !merged) {
-        char now[32];
-        utc_now(now);
-        sqlite3_bind_int64(st, 1, session_id);
-        sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_text(st, 3, path ? path : "", -1, SQLITE_TRANSIENT);
-        sqlite3_bind_int64(st, 4, (sqlite3_int64)len);
-        if (blob) sqlite3_bind_blob64(st, 5, blob, len, SQLITE_STATIC);
-        else sqlite3_bind_null(st, 5);
-        sqlite3_bind_text(st, 6, now, -1, SQLITE_TRANSIENT);
-        rc = step(s, st);
-        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
-    }
-    sqlite3_finalize(st);
-    if (rc == SQLITE_OK && !strcmp(kind, "profile")) rc = record_profile(s, session_id, blob, len);
-    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
-    if (rc == SQLITE_OK) return CSF_OK;
-    csf_status cs = (rc & 0xff) == SQLITE_CONSTRAINT
-        ? csf_error_set(err, CSF_E_NOT_FOUND, "store %s: artifact refused: no session %lld",
-                        s->path, (long long)session_id)
-        : fail(s, err, rc, "storing an artifact");
-    exec_s(s, "ROLLBACK");
-    return cs;
-}
-
-csf_status csf_store_display_profile_id(csf_store *s, const char *display, char *out, size_t cap,
-                                        csf_error *err)
-{
-    csf_error_clear(err);
-    if (!s || !display || !out || cap == 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    out[0] = '\0';
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT profile_id FROM displays WHERE name = ? AND profile_id IS NOT NULL", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading a display's profile");
-    sqlite3_bind_text(st, 1, display, -1, SQLITE_TRANSIENT);
-    rc = sqlite3_step(st);
-    csf_status cs = CSF_OK;
-    if (rc == SQLITE_ROW) col_text(st, 0, out, cap);
-    else if (rc == SQLITE_DONE)
-        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no profile recorded for display '%s'",
-                           s->path, display);
-    else cs = fail(s, err, rc, "reading a display's profile");
-    sqlite3_finalize(st);
-    return cs;
+    if (s->readonly) return read_only(s, "an artifact", err);
+    return s->ops->add_artifact(s, session_id, kind, path, blob, len, err);
 }
 
 csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *kind,
@@ -1773,144 +407,85 @@ csf_status csf_store_get_artifact(csf_store *s, int64_t session_id, const char *
                                   csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !kind || !blob || !len) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
+    if (!s || !kind || !blob || !len) return not_open(err);
     *blob = NULL;
     *len = 0;
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT content, path FROM artifacts WHERE session_id = ? AND kind = ?"
-                        " ORDER BY CASE WHEN content IS NULL THEN 1 ELSE 0 END, id DESC LIMIT 1", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "reading an artifact");
-    sqlite3_bind_int64(st, 1, session_id);
-    sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    if (rc == SQLITE_DONE) {
-        sqlite3_finalize(st);
-        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: session %lld has no '%s' artifact",
-                             s->path, (long long)session_id, kind);
-    }
-    if (rc != SQLITE_ROW) {
-        sqlite3_finalize(st);
-        return fail(s, err, rc, "reading an artifact");
-    }
-    int nb = sqlite3_column_bytes(st, 0);
-    const void *p = sqlite3_column_blob(st, 0);
-    /* One spare NUL byte so text artifacts (profiles) can be parsed as strings. */
-    unsigned char *copy = malloc((size_t)nb + 1);
-    if (!copy) {
-        sqlite3_finalize(st);
-        return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading an artifact");
-    }
-    if (nb > 0 && p) memcpy(copy, p, (size_t)nb);
-    copy[nb] = '\0';
-    if (path_out && path_len) col_text(st, 1, path_out, path_len);
-    sqlite3_finalize(st);
-    *blob = copy;
-    *len = (size_t)nb;
-    return CSF_OK;
+    return s->ops->get_artifact(s, session_id, kind, blob, len, path_out, path_len, err);
 }
 
-/* ---- studies and participants ------------------------------------------------------------ */
+/* ---- displays, observers, studies, participants ------------------------------------------ */
+
+csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *profile_id,
+                                    int64_t *id, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !name || !*name || strlen(name) > 255)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name must be 1 to 255 characters");
+    if (profile_id && strlen(profile_id) > 127)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
+    if (s->readonly) return read_only(s, "a display", err);
+    return s->ops->upsert_display(s, name, profile_id, id, err);
+}
+
+csf_status csf_store_display_profile_id(csf_store *s, const char *display, char *out, size_t cap,
+                                        csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !display || !out || cap == 0) return not_open(err);
+    out[0] = '\0';
+    return s->ops->display_profile_id(s, display, out, cap, err);
+}
+
+csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s || !name || !*name || strlen(name) > 255)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 255 characters");
+    if (s->readonly) return read_only(s, "an observer", err);
+    return s->ops->upsert_observer(s, name, id, err);
+}
 
 csf_status csf_store_create_study(csf_store *s, const char *name, const char *design_json,
                                   int64_t *id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: study name must be 1 to 255 characters");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "INSERT INTO studies (name, design_json, created_utc) VALUES (?,?,?)", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "creating a study");
-    char now[32];
-    utc_now(now);
-    sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 2, design_json ? design_json : "{}", -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: a study named '%s' already exists",
-                             s->path, name);
-    if (rc != SQLITE_DONE) return fail(s, err, rc, "creating a study");
-    if (id) *id = sqlite3_last_insert_rowid(s->db);
-    return CSF_OK;
+    if (!s) return not_open(err);
+    csf_status cs = check_name(name, "study name", 255, 1, err);
+    if (cs != CSF_OK) return cs;
+    if (s->readonly) return read_only(s, "a study", err);
+    return s->ops->create_study(s, name, design_json, id, err);
 }
 
 csf_status csf_store_find_study(csf_store *s, const char *name, int64_t *id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !name) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT id FROM studies WHERE name = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "finding a study");
-    sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    csf_status cs = CSF_OK;
-    if (rc == SQLITE_ROW) {
-        if (id) *id = sqlite3_column_int64(st, 0);
-    } else if (rc == SQLITE_DONE) {
-        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no study named '%s'", s->path, name);
-    } else {
-        cs = fail(s, err, rc, "finding a study");
-    }
-    sqlite3_finalize(st);
-    return cs;
+    if (!s || !name) return not_open(err);
+    return s->ops->find_study(s, name, id, err);
 }
 
 csf_status csf_store_add_participant(csf_store *s, int64_t study_id, const char *code,
                                      int64_t *id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!code || !*code || strlen(code) > 63)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: participant code must be 1 to 63 characters");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "INSERT INTO participants (study_id, code, created_utc) VALUES (?,?,?)", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "adding a participant");
-    char now[32];
-    utc_now(now);
-    sqlite3_bind_int64(st, 1, study_id);
-    sqlite3_bind_text(st, 2, code, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: participant '%s' refused (study %lld "
-                             "unknown or code already used in it)", s->path, code, (long long)study_id);
-    if (rc != SQLITE_DONE) return fail(s, err, rc, "adding a participant");
-    if (id) *id = sqlite3_last_insert_rowid(s->db);
-    return CSF_OK;
+    if (!s) return not_open(err);
+    csf_status cs = check_name(code, "participant code", 63, 1, err);
+    if (cs != CSF_OK) return cs;
+    if (s->readonly) return read_only(s, "a participant", err);
+    return s->ops->add_participant(s, study_id, code, id, err);
 }
 
 csf_status csf_store_count_participants(csf_store *s, int64_t study_id, int *n, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "SELECT COUNT(*) FROM participants WHERE study_id = ?", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "counting participants");
-    sqlite3_bind_int64(st, 1, study_id);
-    rc = step(s, st);
-    if (rc == SQLITE_ROW) *n = sqlite3_column_int(st, 0);
-    sqlite3_finalize(st);
-    return rc == SQLITE_ROW ? CSF_OK : fail(s, err, rc, "counting participants");
+    if (!s || !n) return not_open(err);
+    return s->ops->count_participants(s, study_id, n, err);
 }
 
 csf_status csf_store_link_session_participant(csf_store *s, int64_t session_id,
                                               int64_t participant_id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    sqlite3_stmt *st = NULL;
-    int rc = prepare(s, "INSERT INTO session_participants (session_id, participant_id) VALUES (?,?)", &st);
-    if (rc != SQLITE_OK) return fail(s, err, rc, "linking a session to a participant");
-    sqlite3_bind_int64(st, 1, session_id);
-    sqlite3_bind_int64(st, 2, participant_id);
-    rc = step(s, st);
-    sqlite3_finalize(st);
-    if ((rc & 0xff) == SQLITE_CONSTRAINT)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: session %lld cannot be linked to "
-                             "participant %lld (unknown, or already linked)", s->path,
-                             (long long)session_id, (long long)participant_id);
-    return rc == SQLITE_DONE ? CSF_OK : fail(s, err, rc, "linking a session to a participant");
+    if (!s) return not_open(err);
+    if (s->readonly) return read_only(s, "a participant link", err);
+    return s->ops->link_session_participant(s, session_id, participant_id, err);
 }

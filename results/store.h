@@ -1,17 +1,29 @@
-/* Results store: every photometer reading and every trial is written to one SQLite database file
- * the moment it is made, so a crash, a power cut or an Escape loses nothing that was reported as
- * stored, and any unfinished session can be resumed from its stored trials.
+/* Results store: every photometer reading and every trial is written to the store the moment it
+ * is made, so a crash, a power cut or an Escape loses nothing that was reported as stored, and any
+ * unfinished session can be resumed from its stored trials.
  *
- * Durability contract: WAL journal, synchronous=FULL, foreign keys on. Every csf_store_add_* and
- * csf_store_put_* call runs in its own transaction and is durably committed when it returns
- * CSF_OK; a caller may show the next stimulus only after that.
+ * Two backends sit behind this one interface (results/store_backend.h): an SQLite file (the
+ * default, embedded, one station) and a PostgreSQL server through libpq (several stations of a
+ * lab), chosen by the location given to csf_store_open: a file path, or a libpq connection URI
+ * (postgresql://... or postgres://...) or service=NAME. The procedures do not know which is in use.
  *
- * Portability: the schema uses only INTEGER, REAL, TEXT and BLOB columns and plain SQL (no
- * SQLite-only types or functions in the schema), so a PostgreSQL backend can sit behind this same
- * interface later. The schema is versioned (table schema_version) and migrated forward on open.
+ * Durability contract: every csf_store_add_* and csf_store_put_* call runs in its own transaction
+ * and is durably committed when it returns CSF_OK; a caller may show the next stimulus only after
+ * that. SQLite: WAL journal, synchronous=FULL, foreign keys on. PostgreSQL: synchronous_commit on
+ * and a server with fsync on (a server without is refused). If the server goes away mid-session,
+ * rows are kept in a local SQLite spool and sent when it is back (docs/store.md).
  *
- * Open refuses, with a message naming the file and the cause, a read-only file or directory, a
- * file that is not a database or is malformed, and a full disk: before anything is shown.
+ * Portability: the schema uses only INTEGER, REAL, TEXT and BLOB columns and plain SQL (mapped to
+ * BIGINT, DOUBLE PRECISION, TEXT and BYTEA on PostgreSQL). The schema is versioned (table
+ * schema_version) and migrated forward on open.
+ *
+ * Sessions on a server are claimed: the station that starts or resumes one holds it (a PostgreSQL
+ * advisory lock, released when the station ends or its connection dies), and a second station
+ * that tries to resume or change it is refused.
+ *
+ * Open refuses, with a message naming the store and the cause, a read-only file or directory, a
+ * file that is not a database or is malformed, a full disk, an unreachable server and a password
+ * in the location: before anything is shown. Messages never show a password.
  * All functions return csf_status and fill *err (may be NULL) on failure. A csf_store is not
  * shared between threads. */
 #ifndef CSF_STORE_H
@@ -40,9 +52,19 @@ void csf_store_close(csf_store *s);
  * put_* calls on such a store fail with a read-only error. */
 csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error *err);
 
+/* 1 when location names a PostgreSQL server (postgresql://, postgres:// or service=NAME). */
+int csf_store_is_server(const char *location);
+/* The location with any password removed (URI user:password@, password= in a URI query or a
+ * key=value connection string); a file path is copied unchanged. out is always terminated. */
+void csf_store_redact(const char *location, char *out, size_t cap);
+/* 1 when the location carries a password (csf_store_open refuses it). */
+int csf_store_has_password(const char *location);
+/* "sqlite" or "postgresql". */
+const char *csf_store_backend(const csf_store *s);
+
 /* Schema version stored in the open database (after migration: CSF_STORE_SCHEMA_VERSION). */
 int csf_store_schema_version(csf_store *s);
-/* Path the store was opened with. */
+/* Location the store was opened with, without any password. */
 const char *csf_store_path(const csf_store *s);
 
 /* ---- sessions ---------------------------------------------------------------------------- */

@@ -12,6 +12,7 @@ PACKAGES=(
   libusb-1.0-0-dev libhidapi-dev
   xvfb xauth x11-xserver-utils xdotool
   python3 poppler-utils argyll glslang-tools libjansson-dev
+  libpq-dev postgresql
 )
 
 missing=()

@@ -8,8 +8,12 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <libpq-fe.h>
+#include <sqlite3.h>
+
 #include "results/rng.h"
 #include "results/store.h"
+#include "results/store_internal.h"
 
 /* Makes a fresh folder under $TMPDIR (or /tmp); path written to dir. */
 static inline int tmp_dir(char *dir, size_t cap, const char *tag)
@@ -24,6 +28,80 @@ static inline void rm_rf(const char *dir)
     char cmd[1200];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "warning: could not remove %s\n", dir);
+}
+
+/* The backend under test: CSF_TEST_BACKEND=postgresql (set by meson for the *_pg tests, which
+ * run inside tests/store/pg_run.sh) runs the test against a real server; SQLite otherwise. */
+static inline int test_pg(void)
+{
+    const char *b = getenv("CSF_TEST_BACKEND");
+    return b && !strcmp(b, "postgresql");
+}
+
+/* A PostgreSQL test without pg_run.sh around it has no server: that is a skip, not a pass. */
+static inline void test_pg_require(void)
+{
+    if (test_pg() && (!getenv("CSF_TEST_PG") || !getenv("CSF_TEST_PG_DIR"))) {
+        fprintf(stderr, "SKIP: no test server (run through tests/store/pg_run.sh)\n");
+        exit(77);
+    }
+}
+
+/* Runs one SQL command on the test server as its superuser; 0 on success. */
+static inline int test_pg_admin(const char *db, const char *sql)
+{
+    char uri[1024];
+    snprintf(uri, sizeof uri, "postgresql:///%s?host=%s&user=csfcal_admin", db,
+             getenv("CSF_TEST_PG_DIR"));
+    PGconn *c = PQconnectdb(uri);
+    int ok = PQstatus(c) == CONNECTION_OK;
+    if (ok) {
+        PGresult *r = PQexec(c, sql);
+        ok = PQresultStatus(r) == PGRES_COMMAND_OK || PQresultStatus(r) == PGRES_TUPLES_OK;
+        if (!ok) fprintf(stderr, "test server: %s: %s", sql, PQerrorMessage(c));
+        PQclear(r);
+    }
+    PQfinish(c);
+    return ok ? 0 : -1;
+}
+
+/* A fresh store location named name: dir/name for SQLite; for PostgreSQL a new empty database
+ * (one per location, so tests do not see each other's rows) and its URI. */
+static inline int test_store_location(const char *dir, const char *name, char *out, size_t cap)
+{
+    if (!test_pg()) {
+        snprintf(out, cap, "%s/%s", dir, name);
+        return 0;
+    }
+    static int n = 0;
+    char db[64], sql[128];
+    snprintf(db, sizeof db, "t%d_%d", (int)getpid(), n++);
+    snprintf(sql, sizeof sql, "CREATE DATABASE %s", db);
+    if (test_pg_admin("csfcal", sql) < 0) return -1;
+    snprintf(out, cap, "postgresql:///%s?host=%s&user=csfcal_admin", db, getenv("CSF_TEST_PG_DIR"));
+    return 0;
+}
+
+/* First column of the first row of sql as an integer, read on the side (not through the store
+ * interface), from either backend; -1 on any failure. */
+static inline long long test_query_int(csf_store *s, const char *location, const char *sql)
+{
+    long long v = -1;
+    if (csf_store_db(s)) {
+        sqlite3_stmt *st = NULL;
+        if (sqlite3_prepare_v2(csf_store_db(s), sql, -1, &st, NULL) == SQLITE_OK &&
+            sqlite3_step(st) == SQLITE_ROW)
+            v = sqlite3_column_int64(st, 0);
+        sqlite3_finalize(st);
+        return v;
+    }
+    PGconn *c = PQconnectdb(location);
+    PGresult *r = PQstatus(c) == CONNECTION_OK ? PQexec(c, sql) : NULL;
+    if (r && PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) > 0)
+        v = strtoll(PQgetvalue(r, 0, 0), NULL, 10);
+    PQclear(r);
+    PQfinish(c);
+    return v;
 }
 
 /* A trial whose every field depends on (seed, seq), so a wrong column shows up as a mismatch. */

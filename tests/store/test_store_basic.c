@@ -9,6 +9,21 @@
 #include "store_test_util.h"
 #include "tests/check.h"
 
+/* The server's form of the portable schema: only BIGINT/INTEGER, DOUBLE PRECISION (never the
+ * 4-byte REAL, which would round every value), TEXT and BYTEA; and the backend is the server's. */
+static void check_pg_schema(csf_store *s, const char *path)
+{
+    CHECK(!strcmp(csf_store_backend(s), "postgresql"));
+    long long cols = test_query_int(s, path, "SELECT COUNT(*) FROM information_schema.columns"
+                                              " WHERE table_schema = current_schema()");
+    long long odd = test_query_int(s, path, "SELECT COUNT(*) FROM information_schema.columns"
+                                             " WHERE table_schema = current_schema() AND data_type"
+                                             " NOT IN ('bigint', 'integer', 'double precision',"
+                                             " 'text', 'bytea')");
+    CHECK(cols > 60);
+    CHECK_INT_EQ(odd, 0);
+}
+
 static void test_sessions_trials(const char *path)
 {
     csf_error err;
@@ -97,12 +112,11 @@ static void test_sessions_trials(const char *path)
     CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-lcd", pid, sizeof pid, &err), CSF_OK);
     CHECK(!strcmp(pid, "lab-lcd-20261122-0badf00d"));
     {
-        sqlite3_stmt *q = NULL;
-        sqlite3_prepare_v2(csf_store_db(s), "SELECT COUNT(*) FROM display_profiles p JOIN displays d"
-                           " ON d.id = p.display_id WHERE d.name = 'lab-lcd' AND p.session_id = ?", -1, &q, NULL);
-        sqlite3_bind_int64(q, 1, disp);
-        CHECK(sqlite3_step(q) == SQLITE_ROW && sqlite3_column_int(q, 0) == 1);
-        sqlite3_finalize(q);
+        char q[256];
+        snprintf(q, sizeof q, "SELECT COUNT(*) FROM display_profiles p JOIN displays d"
+                 " ON d.id = p.display_id WHERE d.name = 'lab-lcd' AND p.session_id = %lld",
+                 (long long)disp);
+        CHECK_INT_EQ(test_query_int(s, path, q), 1);
     }
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p2.txt", blob, sizeof blob - 1, &err), CSF_OK);
     /* A later path-only record (file written elsewhere) does not hide the stored bytes. */
@@ -249,6 +263,11 @@ static void test_sessions_trials(const char *path)
     CHECK_INT_EQ(csf_store_session_times(s, obs, created, updated, &err), CSF_OK);
     CHECK(strcmp(updated, created) >= 0);
 
+    if (test_pg()) {
+        check_pg_schema(s, path);
+        csf_store_close(s);
+        return;
+    }
     /* Durability settings as promised in the contract. */
     sqlite3 *db = csf_store_db(s);
     sqlite3_stmt *st = NULL;
@@ -279,12 +298,46 @@ static void test_sessions_trials(const char *path)
     csf_store_close(s);
 }
 
+/* The server's refusals: a database without a store is not one to read, and a read-only store
+ * refuses writes with the same words as a read-only file. */
+static void test_pg_open(const char *path)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    char empty[1024];
+    CHECK_INT_EQ(test_store_location("", "", empty, sizeof empty), 0);
+    CHECK_INT_EQ(csf_store_open_readonly(empty, &s, &err), CSF_E_NOT_FOUND);
+    CHECK_STR_CONTAINS(err.msg, "no csfcal store");
+    CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
+    if (s) {
+        csf_session_info *list = NULL;
+        size_t nl = 0;
+        CHECK_INT_EQ(csf_store_list_sessions(s, &list, &nl, &err), CSF_OK);
+        CHECK_INT_EQ(nl, 4);
+        csf_session_list_free(list, nl);
+        int64_t id = 0;
+        CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "y", NULL, 1, &id, &err), CSF_E_STORE);
+        CHECK_STR_CONTAINS(err.msg, "read-only");
+        csf_store_close(s);
+    }
+    /* A server that is not there: refused at open, with what to do instead. */
+    CHECK_INT_EQ(csf_store_open("postgresql:///csfcal?host=/nonexistent-socket-dir", &s, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "cannot connect");
+    CHECK_STR_CONTAINS(err.msg, "sessions push");
+}
+
 int main(void)
 {
-    char dir[512], path[600];
+    char dir[512], path[1024];
+    test_pg_require();
     if (tmp_dir(dir, sizeof dir, "basic") < 0) return 1;
-    snprintf(path, sizeof path, "%s/store.sqlite", dir);
+    if (test_store_location(dir, "store.sqlite", path, sizeof path) < 0) return 1;
     test_sessions_trials(path);
+    if (test_pg()) {
+        test_pg_open(path);
+        rm_rf(dir);
+        return CHECK_RESULT();
+    }
 
     csf_error err;
     csf_store *s = NULL;

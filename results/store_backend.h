@@ -1,0 +1,69 @@
+/* The results store's backends (results/store.h is the interface the procedures see): one struct
+ * of function pointers per backend, as libusb does per OS. results/store.c checks arguments,
+ * picks the backend from the location (a file path: SQLite; a libpq URI or service=NAME:
+ * PostgreSQL) and calls through the table; a backend may assume its arguments were checked.
+ * Every backend's own store struct starts with a csf_store. */
+#ifndef CSF_STORE_BACKEND_H
+#define CSF_STORE_BACKEND_H
+
+#include "results/store.h"
+
+typedef struct csf_store_ops {
+    const char *name; /* "sqlite", "postgresql" */
+    void (*close)(csf_store *s);
+    int (*schema_version)(csf_store *s);
+    csf_status (*begin_session)(csf_store *s, const char *kind, const char *observer,
+                                const char *display, const char *profile_id,
+                                const char *settings_json, uint64_t seed, int64_t *id,
+                                csf_error *err);
+    csf_status (*get_session)(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
+    csf_status (*set_session_state)(csf_store *s, int64_t id, const char *state, csf_error *err);
+    csf_status (*list_sessions)(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
+    csf_status (*session_times)(csf_store *s, int64_t id, char created_utc[32],
+                                char updated_utc[32], csf_error *err);
+    csf_status (*add_reading)(csf_store *s, const csf_reading *r, csf_error *err);
+    csf_status (*get_readings)(csf_store *s, int64_t session_id, csf_reading **out, size_t *n,
+                               csf_error *err);
+    csf_status (*add_trial_frames)(csf_store *s, const csf_trial *t, const double *interval_s,
+                                   int n, csf_error *err); /* interval_s NULL / n 0: trial only */
+    csf_status (*get_trials)(csf_store *s, int64_t session_id, csf_trial **out, size_t *n,
+                             csf_error *err);
+    csf_status (*add_frame_intervals)(csf_store *s, int64_t session_id, int trial_seq,
+                                      const double *interval_s, int n, csf_error *err);
+    csf_status (*get_frame_intervals)(csf_store *s, int64_t session_id, double **out, size_t *n,
+                                      csf_error *err);
+    csf_status (*put_thresholds)(csf_store *s, int64_t session_id, const csf_threshold_row *rows,
+                                 size_t n, csf_error *err);
+    csf_status (*get_thresholds)(csf_store *s, int64_t session_id, csf_threshold_row **out,
+                                 size_t *n, csf_error *err);
+    csf_status (*add_artifact)(csf_store *s, int64_t session_id, const char *kind,
+                               const char *path, const void *blob, size_t len, csf_error *err);
+    csf_status (*get_artifact)(csf_store *s, int64_t session_id, const char *kind, void **blob,
+                               size_t *len, char *path_out, size_t path_len, csf_error *err);
+    csf_status (*upsert_display)(csf_store *s, const char *name, const char *profile_id,
+                                 int64_t *id, csf_error *err);
+    csf_status (*display_profile_id)(csf_store *s, const char *display, char *out, size_t cap,
+                                     csf_error *err);
+    csf_status (*upsert_observer)(csf_store *s, const char *name, int64_t *id, csf_error *err);
+    csf_status (*create_study)(csf_store *s, const char *name, const char *design_json,
+                               int64_t *id, csf_error *err);
+    csf_status (*find_study)(csf_store *s, const char *name, int64_t *id, csf_error *err);
+    csf_status (*add_participant)(csf_store *s, int64_t study_id, const char *code, int64_t *id,
+                                  csf_error *err);
+    csf_status (*count_participants)(csf_store *s, int64_t study_id, int *n, csf_error *err);
+    csf_status (*link_session_participant)(csf_store *s, int64_t session_id,
+                                           int64_t participant_id, csf_error *err);
+} csf_store_ops;
+
+struct csf_store {
+    const csf_store_ops *ops;
+    /* The location as given, with any password removed: what every message names. */
+    char path[1024];
+    int readonly;
+};
+
+/* The backends' open functions: path is checked (non-empty, shorter than 1024). */
+csf_status csf_store_sqlite_open(const char *path, int readonly, csf_store **out, csf_error *err);
+csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out, csf_error *err);
+
+#endif

@@ -1,0 +1,1354 @@
+/* PostgreSQL results store through libpq (see results/store.h for the contract, docs/store.md
+ * for a lab's set-up).
+ *
+ * Every write is one transaction committed before the call returns (single statements in
+ * autocommit, several inside BEGIN ... COMMIT), with synchronous_commit on: the server has the
+ * row in its fsynced WAL when the call returns. Credentials come only from libpq's own sources
+ * (password file, service file, environment); results/store.c refuses a location that carries a
+ * password, and every message names the location without one.
+ *
+ * Concurrency: ids come from identity columns; names (observers, displays) are inserted with ON
+ * CONFLICT DO NOTHING and read back, so stations that record the same name at once all get its
+ * one row; trials are keyed (session, seq) so a duplicate is refused, never doubled. A station
+ * holds an advisory lock on each session it started or resumed (CLAIM_CLASS, id): another
+ * station's state change of that session is refused while it is held, and the server drops it
+ * when the station's connection ends, so the session of a crashed station can be resumed.
+ *
+ * Faults: when the connection drops (server restart, network), the call waits for the server,
+ * saying so on stderr once a second, reconnects, takes its claims again and repeats the
+ * transaction; a row found already stored on the repeat (its commit got through before the
+ * drop) counts as stored. */
+#include <errno.h>
+#include <libpq-fe.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "results/store.h"
+#include "results/store_backend.h"
+#include "results/store_pg_schema.h"
+
+#ifndef CSF_VERSION
+#define CSF_VERSION "unknown"
+#endif
+
+/* Advisory lock keys: (class, object). 'CSF1' as the class keeps them apart from other users of
+ * advisory locks in the same database; object 0 serialises schema creation and migration. */
+#define CLAIM_CLASS 0x43534631
+#define MAX_ARGS 32
+
+typedef struct pg_store {
+    csf_store base; /* first: a csf_store * points here */
+    PGconn *conn;
+    char conninfo[1024];
+    int readonly;
+    int retrying;        /* the current transaction is a repeat after a reconnect */
+    double retry_limit_s;
+    int64_t *claims;     /* sessions this station holds */
+    size_t n_claims, cap_claims;
+} pg_store;
+
+static const csf_store_ops pg_ops;
+
+static pg_store *pg(csf_store *b) { return (pg_store *)b; }
+
+/* ---- parameters and results -------------------------------------------------------------- */
+
+/* Statement parameters, text format except blobs. */
+typedef struct {
+    const char *v[MAX_ARGS];
+    int len[MAX_ARGS], fmt[MAX_ARGS];
+    char buf[MAX_ARGS][32];
+    int n;
+} pgargs;
+
+static void a_txt(pgargs *a, const char *s)
+{
+    a->v[a->n] = s;
+    a->len[a->n] = 0;
+    a->fmt[a->n++] = 0;
+}
+
+static void a_i64(pgargs *a, int64_t x)
+{
+    snprintf(a->buf[a->n], sizeof a->buf[0], "%lld", (long long)x);
+    a_txt(a, a->buf[a->n]);
+}
+
+/* NaN is stored as NULL (as on SQLite); infinities as PostgreSQL writes them. */
+static void a_dbl(pgargs *a, double x)
+{
+    if (isnan(x)) a_txt(a, NULL);
+    else if (isinf(x)) a_txt(a, x > 0 ? "Infinity" : "-Infinity");
+    else {
+        snprintf(a->buf[a->n], sizeof a->buf[0], "%.17g", x);
+        a_txt(a, a->buf[a->n]);
+    }
+}
+
+static void a_bin(pgargs *a, const void *p, size_t len)
+{
+    a->v[a->n] = p;
+    a->len[a->n] = (int)len;
+    a->fmt[a->n++] = 1;
+}
+
+static int is_null(const PGresult *r, int row, int col) { return PQgetisnull(r, row, col); }
+
+static double g_dbl(const PGresult *r, int row, int col)
+{
+    return is_null(r, row, col) ? NAN : strtod(PQgetvalue(r, row, col), NULL);
+}
+
+static int64_t g_i64(const PGresult *r, int row, int col)
+{
+    return is_null(r, row, col) ? 0 : strtoll(PQgetvalue(r, row, col), NULL, 10);
+}
+
+static int g_int(const PGresult *r, int row, int col) { return (int)g_i64(r, row, col); }
+
+static void g_txt(const PGresult *r, int row, int col, char *dst, size_t cap)
+{
+    snprintf(dst, cap, "%s", is_null(r, row, col) ? "" : PQgetvalue(r, row, col));
+}
+
+static void utc_now(char out[32])
+{
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+static double unix_now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* ---- errors ------------------------------------------------------------------------------ */
+
+static const char *sqlstate(const PGresult *r)
+{
+    const char *s = r ? PQresultErrorField(r, PG_DIAG_SQLSTATE) : NULL;
+    return s ? s : "";
+}
+
+/* The server's or libpq's one-line message (without the trailing newline). */
+static void message(pg_store *p, const PGresult *r, char *out, size_t cap)
+{
+    const char *m = r ? PQresultErrorField(r, PG_DIAG_MESSAGE_PRIMARY) : NULL;
+    if (!m || !*m) m = PQerrorMessage(p->conn);
+    snprintf(out, cap, "%s", m && *m ? m : "unknown error");
+    size_t n = strlen(out);
+    while (n > 0 && (out[n - 1] == '\n' || out[n - 1] == ' ')) out[--n] = '\0';
+}
+
+static int lost(const pg_store *p) { return PQstatus(p->conn) != CONNECTION_OK; }
+
+/* 23xxx: a constraint refused the row (the SQLite backend's SQLITE_CONSTRAINT). */
+static int constraint(const PGresult *r) { return !strncmp(sqlstate(r), "23", 2); }
+static int duplicate(const PGresult *r) { return !strcmp(sqlstate(r), "23505"); }
+
+static csf_status fail(pg_store *p, const PGresult *r, const char *what, csf_error *err)
+{
+    char msg[512];
+    message(p, r, msg, sizeof msg);
+    const char *st = sqlstate(r);
+    if (lost(p))
+        return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable while %s (%s)",
+                             p->base.path, what, msg);
+    if (!strcmp(st, "42501"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: permission denied while %s (%s); the "
+                             "station's role needs the grants in data/sql/roles.sql", p->base.path,
+                             what, msg);
+    if (!strcmp(st, "25006"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot write while %s",
+                             p->base.path, what);
+    if (!strcmp(st, "53100"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: disk full on the server while %s (%s)",
+                             p->base.path, what, msg);
+    if (constraint(r))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store %s: %s refused: %s", p->base.path,
+                             what, msg);
+    return csf_error_set(err, CSF_E_STORE, "store %s: failed while %s (%s)", p->base.path, what,
+                         msg);
+}
+
+/* ---- statements ---------------------------------------------------------------------------- */
+
+/* Without arguments: PQexec, which also runs a script of several statements (the schema). */
+static PGresult *run(pg_store *p, const char *sql, const pgargs *a)
+{
+    if (!a) return PQexec(p->conn, sql);
+    return PQexecParams(p->conn, sql, a ? a->n : 0, NULL, a ? a->v : NULL, a ? a->len : NULL,
+                        a ? a->fmt : NULL, 0);
+}
+
+static int ok(const PGresult *r)
+{
+    ExecStatusType t = PQresultStatus(r);
+    return t == PGRES_COMMAND_OK || t == PGRES_TUPLES_OK;
+}
+
+/* A statement whose result only matters as success; PQclear'd here. */
+static csf_status run_cmd(pg_store *p, const char *sql, const pgargs *a, const char *what,
+                          csf_error *err)
+{
+    PGresult *r = run(p, sql, a);
+    csf_status cs = ok(r) ? CSF_OK : fail(p, r, what, err);
+    PQclear(r);
+    return cs;
+}
+
+static void rollback(pg_store *p)
+{
+    if (!lost(p)) PQclear(PQexec(p->conn, "ROLLBACK"));
+}
+
+static csf_status commit(pg_store *p, const char *what, csf_error *err)
+{
+    return run_cmd(p, "COMMIT", NULL, what, err);
+}
+
+/* ---- connection, claims, reconnecting ------------------------------------------------------ */
+
+static int has_claim(const pg_store *p, int64_t id)
+{
+    for (size_t i = 0; i < p->n_claims; i++)
+        if (p->claims[i] == id) return 1;
+    return 0;
+}
+
+static void drop_claim(pg_store *p, int64_t id)
+{
+    for (size_t i = 0; i < p->n_claims; i++)
+        if (p->claims[i] == id) p->claims[i] = p->claims[--p->n_claims];
+}
+
+static int add_claim(pg_store *p, int64_t id)
+{
+    if (has_claim(p, id)) return 0;
+    if (p->n_claims == p->cap_claims) {
+        size_t nc = p->cap_claims ? 2 * p->cap_claims : 8;
+        int64_t *c = realloc(p->claims, nc * sizeof *c);
+        if (!c) return -1;
+        p->claims = c;
+        p->cap_claims = nc;
+    }
+    p->claims[p->n_claims++] = id;
+    return 0;
+}
+
+/* Takes session id's advisory lock; *held = 0 when another station has it. */
+static csf_status try_claim(pg_store *p, int64_t id, int *held, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, CLAIM_CLASS);
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT pg_try_advisory_lock($1::int, ($2::bigint % 2147483647)::int)", &a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "claiming a session", err);
+    else *held = PQgetvalue(r, 0, 0)[0] == 't';
+    PQclear(r);
+    if (cs == CSF_OK && *held && add_claim(p, id) < 0)
+        cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory claiming a session");
+    return cs;
+}
+
+static void release_claim(pg_store *p, int64_t id)
+{
+    if (!has_claim(p, id)) return;
+    pgargs a = {0};
+    a_i64(&a, CLAIM_CLASS);
+    a_i64(&a, id);
+    PQclear(run(p, "SELECT pg_advisory_unlock($1::int, ($2::bigint % 2147483647)::int)", &a));
+    drop_claim(p, id);
+}
+
+/* What every connection sets first: durable commits, and no writes on a read-only store. */
+static csf_status setup_connection(pg_store *p, csf_error *err)
+{
+    csf_status cs = run_cmd(p, "SET synchronous_commit = on", NULL, "connecting", err);
+    if (cs == CSF_OK && p->readonly)
+        cs = run_cmd(p, "SET default_transaction_read_only = on", NULL, "connecting", err);
+    return cs;
+}
+
+/* After a reconnect: the claims went with the old connection; take them again. A claim someone
+ * else took meanwhile is a session this station must not go on writing. */
+static csf_status reclaim_all(pg_store *p, csf_error *err)
+{
+    int64_t *ids = p->n_claims ? malloc(p->n_claims * sizeof *ids) : NULL;
+    size_t n = p->n_claims;
+    if (n && !ids) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
+    if (n) memcpy(ids, p->claims, n * sizeof *ids);
+    p->n_claims = 0;
+    csf_status cs = CSF_OK;
+    for (size_t i = 0; i < n && cs == CSF_OK; i++) {
+        int held = 0;
+        cs = try_claim(p, ids[i], &held, err);
+        if (cs == CSF_OK && !held)
+            cs = csf_error_set(err, CSF_E_STORE, "store %s: session %lld was claimed by another "
+                               "station while the server was unreachable", p->base.path,
+                               (long long)ids[i]);
+    }
+    free(ids);
+    return cs;
+}
+
+/* Waits for the server after the connection dropped: one try a second, a line on stderr each
+ * time (the person at the station sees why the next stimulus is late), for retry_limit_s. */
+static csf_status reconnect(pg_store *p, csf_error *err)
+{
+    char msg[512];
+    message(p, NULL, msg, sizeof msg);
+    double waited_s = 0.0;
+    for (;;) {
+        fprintf(stderr, "csfcal: store %s: connection to the server lost (%s); retrying "
+                        "(%.0f s of %.0f s)\n", p->base.path, msg, waited_s, p->retry_limit_s);
+        PQreset(p->conn);
+        if (!lost(p)) {
+            csf_status cs = setup_connection(p, err);
+            if (cs == CSF_OK) cs = reclaim_all(p, err);
+            if (cs == CSF_OK) fprintf(stderr, "csfcal: store %s: reconnected\n", p->base.path);
+            return cs;
+        }
+        message(p, NULL, msg, sizeof msg);
+        if (waited_s >= p->retry_limit_s)
+            return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable for %.0f s (%s); "
+                                 "the session can be resumed with --resume once it is back",
+                                 p->base.path, waited_s, msg);
+        sleep(1);
+        waited_s += 1.0;
+    }
+}
+
+/* Runs one transaction (call), and again after a reconnect when the connection dropped. */
+#define RETRY(p, err, call)                                                                  \
+    do {                                                                                     \
+        (p)->retrying = 0;                                                                   \
+        for (;;) {                                                                           \
+            csf_status cs_ = (call);                                                         \
+            if (cs_ == CSF_OK || !lost(p)) return cs_;                                       \
+            csf_status rs_ = reconnect((p), (err));                                          \
+            if (rs_ != CSF_OK) return rs_;                                                   \
+            (p)->retrying = 1;                                                               \
+        }                                                                                    \
+    } while (0)
+
+/* ---- rows --------------------------------------------------------------------------------- */
+
+typedef struct {
+    const char *sql;
+    int binds_session;
+    size_t elem_size;
+    int (*row)(const PGresult *r, int i, void *elem, int64_t session_id);
+    void (*free_elem)(void *elem);
+    const char *what;
+} row_query;
+
+static csf_status query_rows_once(pg_store *p, const row_query *q, int64_t session_id, void **out,
+                                  size_t *n, csf_error *err)
+{
+    pgargs a = {0};
+    if (q->binds_session) a_i64(&a, session_id);
+    PGresult *r = run(p, q->sql, &a);
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) {
+        csf_status cs = fail(p, r, q->what, err);
+        PQclear(r);
+        return cs;
+    }
+    int rows = PQntuples(r);
+    unsigned char *list = rows ? calloc((size_t)rows, q->elem_size) : NULL;
+    int i = 0;
+    while (list && i < rows && q->row(r, i, list + (size_t)i * q->elem_size, session_id) == 0) i++;
+    PQclear(r);
+    if (i < rows) {
+        for (int k = 0; list && q->free_elem && k <= i && k < rows; k++)
+            q->free_elem(list + (size_t)k * q->elem_size);
+        free(list);
+        return csf_error_set(err, CSF_E_NOMEM, "store: out of memory %s", q->what);
+    }
+    *out = list;
+    *n = (size_t)rows;
+    return CSF_OK;
+}
+
+static csf_status query_rows(pg_store *p, const row_query *q, int64_t session_id, void **out,
+                             size_t *n, csf_error *err)
+{
+    RETRY(p, err, query_rows_once(p, q, session_id, out, n, err));
+}
+
+/* One integer from a one-row query; CSF_E_NOT_FOUND when there is no row. */
+static csf_status query_i64(pg_store *p, const char *sql, const pgargs *a, int64_t *v,
+                            const char *what, csf_error *err)
+{
+    PGresult *r = run(p, sql, a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, what, err);
+    else if (PQntuples(r) == 0) cs = CSF_E_NOT_FOUND;
+    else *v = g_i64(r, 0, 0);
+    PQclear(r);
+    return cs;
+}
+
+/* ---- open ----------------------------------------------------------------------------------- */
+
+/* Creates the schema in an empty database, or checks and migrates the one there, under a lock
+ * so stations started together on a new database wait for each other. */
+static csf_status ensure_schema(pg_store *p, csf_error *err)
+{
+    const char *what = "creating the schema";
+    csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
+    pgargs a = {0};
+    a_i64(&a, CLAIM_CLASS);
+    if (cs == CSF_OK) cs = run_cmd(p, "SELECT pg_advisory_xact_lock($1::int, 0)", &a, what, err);
+    int64_t has = 0, tables = 0, version = 0;
+    if (cs == CSF_OK)
+        cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema ="
+                          " current_schema() AND table_name = 'schema_version'", NULL, &has, what, err);
+    if (cs == CSF_OK)
+        cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema ="
+                          " current_schema()", NULL, &tables, what, err);
+    if (cs == CSF_OK && !has && tables > 0)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: the database has tables but is not a csfcal "
+                           "store (no schema_version table); refusing to change it", p->base.path);
+    if (cs == CSF_OK && !has && p->readonly)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no csfcal store in that database yet; "
+                           "no session has been recorded there", p->base.path);
+    if (cs == CSF_OK && !has) cs = run_cmd(p, csf_store_pg_schema_v5, NULL, what, err);
+    if (cs == CSF_OK)
+        cs = query_i64(p, "SELECT MAX(version) FROM schema_version", NULL, &version, what, err);
+    if (cs == CSF_OK && version != CSF_STORE_SCHEMA_VERSION)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld, this csfcal reads %d; "
+                           "use a csfcal of that version", p->base.path, (long long)version,
+                           CSF_STORE_SCHEMA_VERSION);
+    if (cs == CSF_OK) return commit(p, what, err);
+    rollback(p);
+    return cs;
+}
+
+/* A server that does not fsync cannot keep the promise a stored trial makes. */
+static csf_status check_durable(pg_store *p, csf_error *err)
+{
+    PGresult *r = run(p, "SHOW fsync", NULL);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "checking durability", err);
+    else if (strcmp(PQgetvalue(r, 0, 0), "on") != 0)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: the server runs with fsync = off, so a "
+                           "committed trial can be lost in a crash; turn fsync on", p->base.path);
+    PQclear(r);
+    return cs;
+}
+
+static double retry_limit_s(void)
+{
+    const char *e = getenv("CSF_STORE_RETRY_S");
+    char *end = NULL;
+    double v = e ? strtod(e, &end) : NAN;
+    return e && end != e && *end == '\0' && v >= 0 && v <= 86400 ? v : 120.0;
+}
+
+csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out, csf_error *err)
+{
+    pg_store *p = calloc(1, sizeof *p);
+    if (!p) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
+    p->base.ops = &pg_ops;
+    csf_store_redact(conninfo, p->base.path, sizeof p->base.path);
+    snprintf(p->conninfo, sizeof p->conninfo, "%s", conninfo);
+    p->readonly = readonly;
+    p->retry_limit_s = retry_limit_s();
+    /* dbname last: what the location says wins over these defaults. */
+    const char *keys[] = {"application_name", "connect_timeout", "dbname", NULL};
+    const char *vals[] = {"csfcal", "10", conninfo, NULL};
+    p->conn = PQconnectdbParams(keys, vals, 1);
+    csf_status cs = CSF_OK;
+    if (!p->conn) {
+        cs = csf_error_set(err, CSF_E_NOMEM, "store %s: out of memory connecting", p->base.path);
+    } else if (PQstatus(p->conn) != CONNECTION_OK) {
+        char msg[512];
+        message(p, NULL, msg, sizeof msg);
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: cannot connect to the server (%s); start "
+                           "the server or run on a local store (--store FILE) and copy it later "
+                           "with csfcal sessions push --to LOCATION", p->base.path, msg);
+    }
+    if (cs == CSF_OK) cs = setup_connection(p, err);
+    if (cs == CSF_OK && !readonly) cs = check_durable(p, err);
+    if (cs == CSF_OK) cs = ensure_schema(p, err);
+    if (cs != CSF_OK) {
+        pg_ops.close(&p->base);
+        return cs;
+    }
+    *out = &p->base;
+    return CSF_OK;
+}
+
+static void pg_close(csf_store *b)
+{
+    pg_store *p = pg(b);
+    if (p->conn) PQfinish(p->conn); /* ends the connection: the server drops its claims */
+    free(p->claims);
+    free(p);
+}
+
+static int pg_schema_version(csf_store *b)
+{
+    pg_store *p = pg(b);
+    int64_t v = -1;
+    return query_i64(p, "SELECT MAX(version) FROM schema_version", NULL, &v, "", NULL) == CSF_OK
+               ? (int)v : -1;
+}
+
+/* ---- displays and observers ------------------------------------------------------------- */
+
+/* Records a name (observers, displays) and returns its id: ON CONFLICT makes stations that
+ * record the same name at once share one row instead of one of them failing. */
+static csf_status upsert_name(pg_store *p, const char *table, const char *name, int64_t *id,
+                              csf_error *err)
+{
+    char sql[160], now[32], what[48];
+    utc_now(now);
+    snprintf(what, sizeof what, "recording a %s", table);
+    snprintf(sql, sizeof sql, "INSERT INTO %s (name, created_utc) VALUES ($1, $2)"
+             " ON CONFLICT (name) DO NOTHING", table);
+    pgargs a = {0};
+    a_txt(&a, name);
+    a_txt(&a, now);
+    csf_status cs = run_cmd(p, sql, &a, what, err);
+    if (cs != CSF_OK || !id) return cs;
+    snprintf(sql, sizeof sql, "SELECT id FROM %s WHERE name = $1", table);
+    a.n = 1;
+    cs = query_i64(p, sql, &a, id, what, err);
+    return cs == CSF_E_NOT_FOUND ? fail(p, NULL, what, err) : cs;
+}
+
+/* The display's profile history gets one row per distinct profile id. */
+static csf_status add_profile_history(pg_store *p, const char *display, const char *profile_id,
+                                      csf_error *err)
+{
+    char now[32];
+    utc_now(now);
+    pgargs a = {0};
+    a_txt(&a, display);
+    a_txt(&a, profile_id);
+    a_txt(&a, now);
+    return run_cmd(p, "INSERT INTO display_profiles (display_id, profile_id, session_id, created_utc)"
+                      " SELECT id, $2, NULL, $3 FROM displays WHERE name = $1 AND NOT EXISTS"
+                      " (SELECT 1 FROM display_profiles q WHERE q.display_id = displays.id"
+                      " AND q.profile_id = $2)", &a, "recording a display profile", err);
+}
+
+static csf_status upsert_display_once(pg_store *p, const char *name, const char *profile_id,
+                                      int64_t *id, csf_error *err)
+{
+    csf_status cs = run_cmd(p, "BEGIN", NULL, "recording a display", err);
+    if (cs == CSF_OK) cs = upsert_name(p, "displays", name, id, err);
+    if (cs == CSF_OK && profile_id) {
+        pgargs a = {0};
+        a_txt(&a, profile_id);
+        a_txt(&a, name);
+        cs = run_cmd(p, "UPDATE displays SET profile_id = $1 WHERE name = $2", &a,
+                     "recording a display", err);
+        if (cs == CSF_OK) cs = add_profile_history(p, name, profile_id, err);
+    }
+    if (cs == CSF_OK) return commit(p, "recording a display", err);
+    rollback(p);
+    return cs;
+}
+
+static csf_status pg_upsert_display(csf_store *b, const char *name, const char *profile_id,
+                                    int64_t *id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, upsert_display_once(p, name, profile_id, id, err));
+}
+
+static csf_status pg_upsert_observer(csf_store *b, const char *name, int64_t *id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, upsert_name(p, "observers", name, id, err));
+}
+
+static csf_status pg_display_profile_id(csf_store *b, const char *display, char *out, size_t cap,
+                                        csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_txt(&a, display);
+    PGresult *r = run(p, "SELECT profile_id FROM displays WHERE name = $1 AND profile_id IS NOT NULL", &a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading a display's profile", err);
+    else if (PQntuples(r) == 0)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no profile recorded for display '%s'",
+                           p->base.path, display);
+    else g_txt(r, 0, 0, out, cap);
+    PQclear(r);
+    return cs;
+}
+
+/* ---- sessions ------------------------------------------------------------------------------ */
+
+static csf_status begin_once(pg_store *p, const char *kind, const char *observer,
+                             const char *display, const char *profile_id,
+                             const char *settings_json, uint64_t seed, int64_t *id, csf_error *err)
+{
+    const char *what = "starting a session";
+    csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
+    if (cs == CSF_OK && observer && *observer) cs = upsert_name(p, "observers", observer, NULL, err);
+    if (cs == CSF_OK && display && *display) cs = upsert_name(p, "displays", display, NULL, err);
+    if (cs == CSF_OK && display && *display && profile_id) {
+        cs = add_profile_history(p, display, profile_id, err);
+        pgargs a = {0};
+        a_txt(&a, profile_id);
+        a_txt(&a, display);
+        if (cs == CSF_OK)
+            cs = run_cmd(p, "UPDATE displays SET profile_id = $1 WHERE name = $2 AND profile_id"
+                            " IS NULL", &a, what, err);
+    }
+    char now[32];
+    utc_now(now);
+    pgargs a = {0};
+    a_txt(&a, kind);
+    a_txt(&a, observer ? observer : "");
+    a_txt(&a, display ? display : "");
+    a_txt(&a, settings_json ? settings_json : "{}");
+    a_i64(&a, (int64_t)seed); /* unsigned 64 bits stored as the same signed 64 bits */
+    a_txt(&a, CSF_VERSION);
+    a_txt(&a, now);
+    a_txt(&a, profile_id);
+    int64_t new_id = 0;
+    if (cs == CSF_OK)
+        cs = query_i64(p, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
+                          " tool_version, created_utc, updated_utc, profile_id)"
+                          " VALUES ($1, 'running', $2, $3, $4, $5, $6, $7, $7, $8) RETURNING id",
+                       &a, &new_id, what, err);
+    if (cs == CSF_OK) cs = commit(p, what, err);
+    if (cs != CSF_OK) {
+        rollback(p);
+        return cs;
+    }
+    int held = 0;
+    cs = try_claim(p, new_id, &held, err);
+    if (cs == CSF_OK && id) *id = new_id;
+    return cs;
+}
+
+static csf_status pg_begin_session(csf_store *b, const char *kind, const char *observer,
+                                   const char *display, const char *profile_id,
+                                   const char *settings_json, uint64_t seed, int64_t *id,
+                                   csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, begin_once(p, kind, observer, display, profile_id, settings_json, seed, id, err));
+}
+
+#define SESSION_COLS                                                                         \
+    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
+    " s.tool_version, s.created_utc,"                                                        \
+    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
+    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id FROM sessions s"
+
+static int session_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    csf_session_info *o = elem;
+    o->id = g_i64(r, i, 0);
+    g_txt(r, i, 1, o->kind, sizeof o->kind);
+    g_txt(r, i, 2, o->state, sizeof o->state);
+    g_txt(r, i, 3, o->observer, sizeof o->observer);
+    g_txt(r, i, 4, o->display, sizeof o->display);
+    o->settings_json = strdup(is_null(r, i, 5) ? "{}" : PQgetvalue(r, i, 5));
+    o->seed = (uint64_t)g_i64(r, i, 6);
+    g_txt(r, i, 7, o->tool_version, sizeof o->tool_version);
+    g_txt(r, i, 8, o->created_utc, sizeof o->created_utc);
+    o->n_trials = g_int(r, i, 9);
+    o->n_readings = g_int(r, i, 10);
+    g_txt(r, i, 11, o->profile_id, sizeof o->profile_id);
+    return o->settings_json ? 0 : -1;
+}
+
+static void session_free(void *elem) { csf_session_info_free(elem); }
+
+static csf_status pg_get_session(csf_store *b, int64_t id, csf_session_info *out, csf_error *err)
+{
+    pg_store *p = pg(b);
+    static const row_query q = {.sql = SESSION_COLS " WHERE s.id = $1", .binds_session = 1,
+                                .elem_size = sizeof(csf_session_info), .row = session_row,
+                                .free_elem = session_free, .what = "reading a session"};
+    void *list = NULL;
+    size_t n = 0;
+    csf_status cs = query_rows(p, &q, id, &list, &n, err);
+    if (cs != CSF_OK) return cs;
+    if (n == 0)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
+                             (long long)id);
+    *out = *(csf_session_info *)list;
+    free(list);
+    return CSF_OK;
+}
+
+/* A state change needs the session's claim: a station resuming a session takes it, and one
+ * that another station holds is refused (two stations never run one session). A state other
+ * than running gives the claim back. */
+static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf_error *err)
+{
+    int held = has_claim(p, id);
+    csf_status cs = held ? CSF_OK : try_claim(p, id, &held, err);
+    if (cs != CSF_OK) return cs;
+    if (!held)
+        return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
+                             "station (it holds the session's claim); wait until it ends, or "
+                             "resume another session", p->base.path, (long long)id);
+    char now[32];
+    utc_now(now);
+    pgargs a = {0};
+    a_txt(&a, state);
+    a_txt(&a, now);
+    a_i64(&a, id);
+    PGresult *r = run(p, "UPDATE sessions SET state = $1, updated_utc = $2 WHERE id = $3", &a);
+    if (!ok(r)) cs = fail(p, r, "changing a session's state", err);
+    else if (!strcmp(PQcmdTuples(r), "0"))
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
+                           (long long)id);
+    PQclear(r);
+    if (cs != CSF_OK || strcmp(state, "running") != 0) release_claim(p, id);
+    return cs;
+}
+
+static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *state, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, set_state_once(p, id, state, err));
+}
+
+static csf_status pg_list_sessions(csf_store *b, csf_session_info **out, size_t *n, csf_error *err)
+{
+    static const row_query q = {.sql = SESSION_COLS " ORDER BY s.id",
+                                .elem_size = sizeof(csf_session_info), .row = session_row,
+                                .free_elem = session_free, .what = "listing sessions"};
+    return query_rows(pg(b), &q, 0, (void **)out, n, err);
+}
+
+/* Unix seconds to ISO 8601; 0 with "" for a value that is no time of this era. */
+static int format_unix(double t, char out[32])
+{
+    out[0] = '\0';
+    if (!(t >= 0.0 && t < 253402300800.0)) return 0;
+    time_t tt = (time_t)floor(t);
+    struct tm tm;
+    gmtime_r(&tt, &tm);
+    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return 1;
+}
+
+static csf_status pg_session_times(csf_store *b, int64_t id, char created_utc[32],
+                                   char updated_utc[32], csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT created_utc, updated_utc,"
+                         " (SELECT MAX(stored_s) FROM trials WHERE session_id = s.id),"
+                         " (SELECT MAX(stored_s) FROM readings WHERE session_id = s.id)"
+                         " FROM sessions s WHERE id = $1", &a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading session times", err);
+    else if (PQntuples(r) == 0)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
+                           (long long)id);
+    if (cs == CSF_OK) {
+        char created[32], updated[32], u[32];
+        g_txt(r, 0, 0, created, sizeof created);
+        g_txt(r, 0, 1, updated, sizeof updated);
+        for (int c = 2; c <= 3; c++)
+            if (format_unix(g_dbl(r, 0, c), u) && strcmp(u, updated) > 0)
+                snprintf(updated, sizeof updated, "%s", u);
+        if (created_utc) snprintf(created_utc, 32, "%s", created);
+        if (updated_utc) snprintf(updated_utc, 32, "%s", updated);
+    }
+    PQclear(r);
+    return cs;
+}
+
+/* ---- readings ------------------------------------------------------------------------------ */
+
+static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, rd->session_id);
+    a_i64(&a, rd->seq);
+    a_txt(&a, rd->channel);
+    a_dbl(&a, rd->drive01);
+    a_dbl(&a, rd->lum_cdm2);
+    a_dbl(&a, rd->has_xyz ? rd->X : NAN);
+    a_dbl(&a, rd->has_xyz ? rd->Y : NAN);
+    a_dbl(&a, rd->has_xyz ? rd->Z : NAN);
+    a_dbl(&a, isnan(rd->t_s) ? 0.0 : rd->t_s);
+    a_txt(&a, rd->status);
+    a_dbl(&a, unix_now_s());
+    PGresult *r = run(p, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
+                         " Y_cdm2, Z_cdm2, t_s, status, stored_s)"
+                         " VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11)", &a);
+    csf_status cs = CSF_OK;
+    if (ok(r) || (p->retrying && duplicate(r))) cs = CSF_OK; /* a repeat whose first commit got through */
+    else if (constraint(r))
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: reading %d of session %lld refused "
+                           "(session unknown or seq already stored): %s", p->base.path, rd->seq,
+                           (long long)rd->session_id, PQresultErrorField(r, PG_DIAG_MESSAGE_PRIMARY));
+    else cs = fail(p, r, "storing a photometer reading", err);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status pg_add_reading(csf_store *b, const csf_reading *rd, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, add_reading_once(p, rd, err));
+}
+
+static int reading_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    csf_reading *o = elem;
+    o->session_id = session_id;
+    o->seq = g_int(r, i, 0);
+    g_txt(r, i, 1, o->channel, sizeof o->channel);
+    o->drive01 = g_dbl(r, i, 2);
+    o->lum_cdm2 = g_dbl(r, i, 3);
+    o->has_xyz = !is_null(r, i, 4);
+    o->X = g_dbl(r, i, 4);
+    o->Y = g_dbl(r, i, 5);
+    o->Z = g_dbl(r, i, 6);
+    o->t_s = g_dbl(r, i, 7);
+    g_txt(r, i, 8, o->status, sizeof o->status);
+    return 0;
+}
+
+static csf_status pg_get_readings(csf_store *b, int64_t session_id, csf_reading **out, size_t *n,
+                                  csf_error *err)
+{
+    static const row_query q = {
+        .sql = "SELECT seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status"
+               " FROM readings WHERE session_id = $1 ORDER BY seq",
+        .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
+        .what = "reading photometer readings"};
+    return query_rows(pg(b), &q, session_id, (void **)out, n, err);
+}
+
+/* ---- trials and frames ------------------------------------------------------------------- */
+
+static void trial_args(pgargs *a, const csf_trial *t)
+{
+    a_i64(a, t->session_id);
+    a_i64(a, t->seq);
+    a_txt(a, t->method);
+    a_dbl(a, t->freq_cpd);
+    a_dbl(a, t->ecc_deg);
+    a_dbl(a, isnan(t->polar_deg) ? 0.0 : t->polar_deg);
+    a_dbl(a, isnan(t->orientation_deg) ? 0.0 : t->orientation_deg);
+    a_dbl(a, isnan(t->sigma_deg) ? 0.0 : t->sigma_deg);
+    a_dbl(a, isnan(t->velocity_dps) ? 0.0 : t->velocity_dps);
+    a_dbl(a, isnan(t->mean_lum_cdm2) ? 0.0 : t->mean_lum_cdm2);
+    a_i64(a, t->is_catch != 0);
+    a_i64(a, t->is_practice != 0);
+    a_dbl(a, t->contrast_requested);
+    a_dbl(a, t->contrast_shown_mean);
+    a_dbl(a, t->contrast_shown_max);
+    a_i64(a, t->frames_planned);
+    a_i64(a, t->frames_shown);
+    a_i64(a, t->frames_missed);
+    a_i64(a, t->signal_interval);
+    a_i64(a, t->response);
+    a_dbl(a, t->rt_s);
+    a_dbl(a, t->click_x_deg);
+    a_dbl(a, t->click_y_deg);
+    a_i64(a, t->valid != 0);
+    a_txt(a, t->flags);
+    a_dbl(a, unix_now_s());
+    a_i64(a, t->n_alternatives);
+}
+
+/* Frame intervals of one trial in one statement (one round trip however many frames). */
+static csf_status insert_frames(pg_store *p, int64_t session_id, int trial_seq,
+                                const double *interval_s, int n, csf_error *err)
+{
+    size_t cap = (size_t)n * 26 + 3;
+    char *arr = malloc(cap);
+    if (!arr) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory storing frame intervals");
+    size_t o = 0;
+    arr[o++] = '{';
+    for (int i = 0; i < n; i++)
+        o += (size_t)snprintf(arr + o, cap - o, "%s%.17g", i ? "," : "",
+                              isfinite(interval_s[i]) ? interval_s[i] : 0.0);
+    snprintf(arr + o, cap - o, "}");
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    a_i64(&a, trial_seq);
+    a_txt(&a, arr);
+    PGresult *r = run(p, "INSERT INTO frame_intervals (session_id, trial_seq, idx, interval_s)"
+                         " SELECT $1, $2, u.i - 1, u.v FROM unnest($3::double precision[])"
+                         " WITH ORDINALITY AS u(v, i)", &a);
+    free(arr);
+    csf_status cs = CSF_OK;
+    if (ok(r) || (p->retrying && duplicate(r))) cs = CSF_OK;
+    else if (constraint(r))
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: frame intervals of trial %d of "
+                           "session %lld refused (session unknown or already stored)",
+                           p->base.path, trial_seq, (long long)session_id);
+    else cs = fail(p, r, "storing frame intervals", err);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status add_trial_once(pg_store *p, const csf_trial *t, const double *iv, int n,
+                                 csf_error *err)
+{
+    csf_status cs = n > 0 ? run_cmd(p, "BEGIN", NULL, "storing a trial", err) : CSF_OK;
+    pgargs a = {0};
+    trial_args(&a, t);
+    PGresult *r = cs == CSF_OK ? run(p, "INSERT INTO trials (session_id, seq, method, freq_cpd,"
+        " ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch,"
+        " is_practice, contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
+        " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
+        " valid, flags, stored_s, n_alternatives) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,"
+        "$13,$14,$15,$16,$17,$18,$19,$20,$21,$22,$23,$24,$25,$26,$27)", &a) : NULL;
+    int repeat_done = r && p->retrying && duplicate(r);
+    if (cs == CSF_OK && !ok(r) && !repeat_done)
+        cs = constraint(r)
+            ? csf_error_set(err, CSF_E_INVALID_ARG, "store %s: trial %d of session %lld refused "
+                            "(session unknown or seq already stored): %s", p->base.path, t->seq,
+                            (long long)t->session_id, PQresultErrorField(r, PG_DIAG_MESSAGE_PRIMARY))
+            : fail(p, r, "storing a trial", err);
+    PQclear(r);
+    if (repeat_done) { /* the whole transaction got through before the drop */
+        rollback(p);
+        return CSF_OK;
+    }
+    if (cs == CSF_OK && n > 0) cs = insert_frames(p, t->session_id, t->seq, iv, n, err);
+    if (cs == CSF_OK && n > 0) cs = commit(p, "storing a trial", err);
+    if (cs != CSF_OK && n > 0) rollback(p);
+    return cs;
+}
+
+static csf_status pg_add_trial_frames(csf_store *b, const csf_trial *t, const double *iv, int n,
+                                      csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, add_trial_once(p, t, iv, n, err));
+}
+
+static int trial_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    csf_trial *t = elem;
+    int c = 0;
+    t->session_id = session_id;
+    t->seq = g_int(r, i, c++);
+    g_txt(r, i, c++, t->method, sizeof t->method);
+    t->freq_cpd = g_dbl(r, i, c++);
+    t->ecc_deg = g_dbl(r, i, c++);
+    t->polar_deg = g_dbl(r, i, c++);
+    t->orientation_deg = g_dbl(r, i, c++);
+    t->sigma_deg = g_dbl(r, i, c++);
+    t->velocity_dps = g_dbl(r, i, c++);
+    t->mean_lum_cdm2 = g_dbl(r, i, c++);
+    t->is_catch = g_int(r, i, c++);
+    t->is_practice = g_int(r, i, c++);
+    t->contrast_requested = g_dbl(r, i, c++);
+    t->contrast_shown_mean = g_dbl(r, i, c++);
+    t->contrast_shown_max = g_dbl(r, i, c++);
+    t->frames_planned = g_int(r, i, c++);
+    t->frames_shown = g_int(r, i, c++);
+    t->frames_missed = g_int(r, i, c++);
+    t->signal_interval = g_int(r, i, c++);
+    t->response = g_int(r, i, c++);
+    t->rt_s = g_dbl(r, i, c++);
+    t->click_x_deg = g_dbl(r, i, c++);
+    t->click_y_deg = g_dbl(r, i, c++);
+    t->valid = g_int(r, i, c++);
+    g_txt(r, i, c++, t->flags, sizeof t->flags);
+    t->n_alternatives = g_int(r, i, c++);
+    return 0;
+}
+
+static csf_status pg_get_trials(csf_store *b, int64_t session_id, csf_trial **out, size_t *n,
+                                csf_error *err)
+{
+    static const row_query q = {
+        .sql = "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
+               " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
+               " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
+               " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
+               " valid, flags, n_alternatives FROM trials WHERE session_id = $1 ORDER BY seq",
+        .binds_session = 1, .elem_size = sizeof(csf_trial), .row = trial_row,
+        .what = "reading trials"};
+    return query_rows(pg(b), &q, session_id, (void **)out, n, err);
+}
+
+static csf_status pg_add_frame_intervals(csf_store *b, int64_t session_id, int trial_seq,
+                                         const double *interval_s, int n, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, insert_frames(p, session_id, trial_seq, interval_s, n, err));
+}
+
+static int interval_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    *(double *)elem = g_dbl(r, i, 0);
+    return 0;
+}
+
+static csf_status pg_get_frame_intervals(csf_store *b, int64_t session_id, double **out, size_t *n,
+                                         csf_error *err)
+{
+    static const row_query q = {
+        .sql = "SELECT interval_s FROM frame_intervals WHERE session_id = $1 ORDER BY trial_seq, idx",
+        .binds_session = 1, .elem_size = sizeof(double), .row = interval_row,
+        .what = "reading frame intervals"};
+    return query_rows(pg(b), &q, session_id, (void **)out, n, err);
+}
+
+/* ---- thresholds ------------------------------------------------------------------------------ */
+
+static csf_status put_thresholds_once(pg_store *p, int64_t session_id, const csf_threshold_row *rows,
+                                      size_t n, csf_error *err)
+{
+    const char *what = "storing thresholds";
+    csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
+    pgargs s = {0};
+    a_i64(&s, session_id);
+    int64_t exists = 0;
+    if (cs == CSF_OK)
+        cs = query_i64(p, "SELECT COUNT(*) FROM sessions WHERE id = $1", &s, &exists, what, err);
+    if (cs == CSF_OK && !exists)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
+                           (long long)session_id);
+    if (cs == CSF_OK) cs = run_cmd(p, "DELETE FROM thresholds WHERE session_id = $1", &s, what, err);
+    for (size_t i = 0; i < n && cs == CSF_OK; i++) {
+        pgargs a = {0};
+        a_i64(&a, session_id);
+        a_dbl(&a, rows[i].freq_cpd);
+        a_dbl(&a, rows[i].ecc_deg);
+        a_dbl(&a, isnan(rows[i].velocity_dps) ? 0.0 : rows[i].velocity_dps);
+        a_dbl(&a, isnan(rows[i].lum_cdm2) ? 0.0 : rows[i].lum_cdm2);
+        a_dbl(&a, rows[i].threshold);
+        a_dbl(&a, rows[i].stderr_log10);
+        a_i64(&a, rows[i].n_trials);
+        cs = run_cmd(p, "INSERT INTO thresholds (session_id, freq_cpd, ecc_deg, velocity_dps,"
+                        " lum_cdm2, threshold_michelson, stderr_log10, n_trials)"
+                        " VALUES ($1,$2,$3,$4,$5,$6,$7,$8)", &a, what, err);
+    }
+    if (cs == CSF_OK) return commit(p, what, err);
+    rollback(p);
+    return cs;
+}
+
+static csf_status pg_put_thresholds(csf_store *b, int64_t session_id, const csf_threshold_row *rows,
+                                    size_t n, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, put_thresholds_once(p, session_id, rows, n, err));
+}
+
+static int threshold_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    csf_threshold_row *t = elem;
+    t->freq_cpd = g_dbl(r, i, 0);
+    t->ecc_deg = g_dbl(r, i, 1);
+    t->velocity_dps = g_dbl(r, i, 2);
+    t->lum_cdm2 = g_dbl(r, i, 3);
+    t->threshold = g_dbl(r, i, 4);
+    t->stderr_log10 = g_dbl(r, i, 5);
+    t->n_trials = g_int(r, i, 6);
+    return 0;
+}
+
+static csf_status pg_get_thresholds(csf_store *b, int64_t session_id, csf_threshold_row **out,
+                                    size_t *n, csf_error *err)
+{
+    static const row_query q = {
+        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold_michelson, stderr_log10,"
+               " n_trials FROM thresholds WHERE session_id = $1"
+               " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
+        .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
+        .what = "reading thresholds"};
+    return query_rows(pg(b), &q, session_id, (void **)out, n, err);
+}
+
+/* ---- artifacts ------------------------------------------------------------------------------ */
+
+/* Value of a "key = value" line in the first 4 KiB of a display profile text; "" when absent. */
+static void profile_key(const char *text, size_t len, const char *key, char *out, size_t cap)
+{
+    out[0] = '\0';
+    size_t lim = len < 4096 ? len : 4096, kl = strlen(key);
+    for (size_t i = 0; i < lim; i++) {
+        if ((i == 0 || text[i - 1] == '\n') && i + kl + 3 <= lim && memcmp(text + i, key, kl) == 0 &&
+            memcmp(text + i + kl, " = ", 3) == 0) {
+            size_t j = i + kl + 3, o = 0;
+            while (j < lim && text[j] != '\n' && text[j] != '\r' && text[j] != '\0' && o + 1 < cap)
+                out[o++] = text[j++];
+            out[o] = '\0';
+            return;
+        }
+    }
+}
+
+/* A display profile stored by a session becomes that display's current profile, with history. */
+static csf_status record_profile(pg_store *p, int64_t session_id, const void *blob, size_t len,
+                                 csf_error *err)
+{
+    const char magic[] = "csfcal-display-profile";
+    if (!blob || len < sizeof magic || memcmp(blob, magic, sizeof magic - 1) != 0) return CSF_OK;
+    char id[128], display[256], now[32];
+    profile_key(blob, len, "id", id, sizeof id);
+    profile_key(blob, len, "display", display, sizeof display);
+    if (!id[0] || !display[0]) return CSF_OK;
+    utc_now(now);
+    const char *what = "recording a display profile";
+    pgargs a = {0};
+    a_txt(&a, display);
+    a_txt(&a, id);
+    a_txt(&a, now);
+    csf_status cs = run_cmd(p, "INSERT INTO displays (name, profile_id, created_utc) VALUES"
+                               " ($1, $2, $3) ON CONFLICT (name) DO UPDATE SET profile_id = $2",
+                            &a, what, err);
+    a_i64(&a, session_id);
+    if (cs == CSF_OK)
+        cs = run_cmd(p, "INSERT INTO display_profiles (display_id, profile_id, session_id,"
+                        " created_utc) SELECT id, $2, $4, $3 FROM displays WHERE name = $1",
+                     &a, what, err);
+    return cs;
+}
+
+/* The writer of a file and the code that produced its bytes may each record it: the second call
+ * completes the first call's row (see csf_store_add_artifact). */
+static csf_status complete_half_record(pg_store *p, int64_t session_id, const char *kind,
+                                       const char *path, const void *blob, size_t len,
+                                       int *merged, csf_error *err)
+{
+    *merged = 0;
+    int has_path = path && *path;
+    if (has_path == (blob != NULL)) return CSF_OK;
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    a_txt(&a, kind);
+    if (has_path) a_txt(&a, path);
+    else {
+        a_bin(&a, blob, len);
+        a_i64(&a, (int64_t)len);
+    }
+    PGresult *r = run(p, has_path
+        ? "UPDATE artifacts SET path = $3 WHERE id = (SELECT id FROM artifacts WHERE"
+          " session_id = $1 AND kind = $2 AND path = '' AND content IS NOT NULL"
+          " ORDER BY id DESC LIMIT 1)"
+        : "UPDATE artifacts SET content = $3, size_bytes = $4 WHERE id = (SELECT id"
+          " FROM artifacts WHERE session_id = $1 AND kind = $2 AND path <> ''"
+          " AND content IS NULL ORDER BY id DESC LIMIT 1)", &a);
+    csf_status cs = ok(r) ? CSF_OK : fail(p, r, "storing an artifact", err);
+    if (cs == CSF_OK) *merged = strcmp(PQcmdTuples(r), "0") != 0;
+    PQclear(r);
+    return cs;
+}
+
+static csf_status add_artifact_once(pg_store *p, int64_t session_id, const char *kind,
+                                    const char *path, const void *blob, size_t len, csf_error *err)
+{
+    const char *what = "storing an artifact";
+    csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
+    int merged = 0;
+    if (cs == CSF_OK) cs = complete_half_record(p, session_id, kind, path, blob, len, &merged, err);
+    if (cs == CSF_OK && !merged) {
+        char now[32];
+        utc_now(now);
+        pgargs a = {0};
+        a_i64(&a, session_id);
+        a_txt(&a, kind);
+        a_txt(&a, path ? path : "");
+        a_i64(&a, (int64_t)len);
+        if (blob) a_bin(&a, blob, len);
+        else a_txt(&a, NULL);
+        a_txt(&a, now);
+        PGresult *r = run(p, "INSERT INTO artifacts (session_id, kind, path, size_bytes, content,"
+                             " created_utc) VALUES ($1,$2,$3,$4,$5,$6)", &a);
+        if (!ok(r))
+            cs = constraint(r) ? csf_error_set(err, CSF_E_NOT_FOUND, "store %s: artifact refused: "
+                                               "no session %lld", p->base.path, (long long)session_id)
+                               : fail(p, r, what, err);
+        PQclear(r);
+    }
+    if (cs == CSF_OK && !strcmp(kind, "profile")) cs = record_profile(p, session_id, blob, len, err);
+    if (cs == CSF_OK) return commit(p, what, err);
+    rollback(p);
+    return cs;
+}
+
+static csf_status pg_add_artifact(csf_store *b, int64_t session_id, const char *kind,
+                                  const char *path, const void *blob, size_t len, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, add_artifact_once(p, session_id, kind, path, blob, len, err));
+}
+
+static csf_status pg_get_artifact(csf_store *b, int64_t session_id, const char *kind, void **blob,
+                                  size_t *len, char *path_out, size_t path_len, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    a_txt(&a, kind);
+    /* Binary results: the bytes as stored, no hex decoding. */
+    PGresult *r = PQexecParams(p->conn, "SELECT content, path FROM artifacts WHERE session_id ="
+                               " $1::bigint AND kind = $2::text ORDER BY CASE WHEN content IS NULL"
+                               " THEN 1 ELSE 0 END, id DESC LIMIT 1",
+                               a.n, NULL, a.v, a.len, a.fmt, 1);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading an artifact", err);
+    else if (PQntuples(r) == 0)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: session %lld has no '%s' artifact",
+                           p->base.path, (long long)session_id, kind);
+    if (cs == CSF_OK) {
+        size_t nb = is_null(r, 0, 0) ? 0 : (size_t)PQgetlength(r, 0, 0);
+        unsigned char *copy = malloc(nb + 1);
+        if (!copy) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading an artifact");
+        else {
+            if (nb) memcpy(copy, PQgetvalue(r, 0, 0), nb);
+            copy[nb] = '\0';
+            *blob = copy;
+            *len = nb;
+            if (path_out && path_len) {
+                size_t pl = (size_t)PQgetlength(r, 0, 1);
+                if (pl >= path_len) pl = path_len - 1;
+                memcpy(path_out, PQgetvalue(r, 0, 1), pl);
+                path_out[pl] = '\0';
+            }
+        }
+    }
+    PQclear(r);
+    return cs;
+}
+
+/* ---- studies and participants ---------------------------------------------------------------- */
+
+static csf_status pg_create_study(csf_store *b, const char *name, const char *design_json,
+                                  int64_t *id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    char now[32];
+    utc_now(now);
+    pgargs a = {0};
+    a_txt(&a, name);
+    a_txt(&a, design_json ? design_json : "{}");
+    a_txt(&a, now);
+    PGresult *r = run(p, "INSERT INTO studies (name, design_json, created_utc) VALUES ($1,$2,$3)"
+                         " RETURNING id", &a);
+    csf_status cs = CSF_OK;
+    if (duplicate(r))
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: a study named '%s' already exists",
+                           p->base.path, name);
+    else if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "creating a study", err);
+    else if (id) *id = g_i64(r, 0, 0);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status pg_find_study(csf_store *b, const char *name, int64_t *id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_txt(&a, name);
+    int64_t v = 0;
+    csf_status cs = query_i64(p, "SELECT id FROM studies WHERE name = $1", &a, &v, "finding a study", err);
+    if (cs == CSF_E_NOT_FOUND)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no study named '%s'", p->base.path, name);
+    if (cs == CSF_OK && id) *id = v;
+    return cs;
+}
+
+static csf_status pg_add_participant(csf_store *b, int64_t study_id, const char *code, int64_t *id,
+                                     csf_error *err)
+{
+    pg_store *p = pg(b);
+    char now[32];
+    utc_now(now);
+    pgargs a = {0};
+    a_i64(&a, study_id);
+    a_txt(&a, code);
+    a_txt(&a, now);
+    PGresult *r = run(p, "INSERT INTO participants (study_id, code, created_utc) VALUES ($1,$2,$3)"
+                         " RETURNING id", &a);
+    csf_status cs = CSF_OK;
+    if (constraint(r))
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: participant '%s' refused (study %lld "
+                           "unknown or code already used in it)", p->base.path, code,
+                           (long long)study_id);
+    else if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "adding a participant", err);
+    else if (id) *id = g_i64(r, 0, 0);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status pg_count_participants(csf_store *b, int64_t study_id, int *n, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_i64(&a, study_id);
+    int64_t v = 0;
+    csf_status cs = query_i64(p, "SELECT COUNT(*) FROM participants WHERE study_id = $1", &a, &v,
+                              "counting participants", err);
+    if (cs == CSF_OK) *n = (int)v;
+    return cs;
+}
+
+static csf_status pg_link_session_participant(csf_store *b, int64_t session_id,
+                                              int64_t participant_id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    a_i64(&a, participant_id);
+    PGresult *r = run(p, "INSERT INTO session_participants (session_id, participant_id) VALUES ($1,$2)", &a);
+    csf_status cs = CSF_OK;
+    if (constraint(r))
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: session %lld cannot be linked to "
+                           "participant %lld (unknown, or already linked)", p->base.path,
+                           (long long)session_id, (long long)participant_id);
+    else if (!ok(r)) cs = fail(p, r, "linking a session to a participant", err);
+    PQclear(r);
+    return cs;
+}
+
+static const csf_store_ops pg_ops = {
+    .name = "postgresql",
+    .close = pg_close,
+    .schema_version = pg_schema_version,
+    .begin_session = pg_begin_session,
+    .get_session = pg_get_session,
+    .set_session_state = pg_set_session_state,
+    .list_sessions = pg_list_sessions,
+    .session_times = pg_session_times,
+    .add_reading = pg_add_reading,
+    .get_readings = pg_get_readings,
+    .add_trial_frames = pg_add_trial_frames,
+    .get_trials = pg_get_trials,
+    .add_frame_intervals = pg_add_frame_intervals,
+    .get_frame_intervals = pg_get_frame_intervals,
+    .put_thresholds = pg_put_thresholds,
+    .get_thresholds = pg_get_thresholds,
+    .add_artifact = pg_add_artifact,
+    .get_artifact = pg_get_artifact,
+    .upsert_display = pg_upsert_display,
+    .display_profile_id = pg_display_profile_id,
+    .upsert_observer = pg_upsert_observer,
+    .create_study = pg_create_study,
+    .find_study = pg_find_study,
+    .add_participant = pg_add_participant,
+    .count_participants = pg_count_participants,
+    .link_session_participant = pg_link_session_participant,
+};
