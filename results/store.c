@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/random.h>
 
 #include "results/store_backend.h"
 
@@ -203,6 +204,23 @@ static csf_status check_name(const char *v, const char *what, size_t max, int re
 
 /* ---- sessions ------------------------------------------------------------------------------ */
 
+int csf_store_new_uuid(char out[40])
+{
+    unsigned char b[16];
+    size_t got = 0;
+    while (got < sizeof b) {
+        ssize_t n = getrandom(b + got, sizeof b - got, 0);
+        if (n <= 0) return -1;
+        got += (size_t)n;
+    }
+    b[6] = (unsigned char)((b[6] & 0x0f) | 0x40); /* version 4: random */
+    b[8] = (unsigned char)((b[8] & 0x3f) | 0x80); /* RFC 4122 variant */
+    snprintf(out, 40, "%02x%02x%02x%02x-%02x%02x-%02x%02x-%02x%02x-%02x%02x%02x%02x%02x%02x",
+             b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8], b[9], b[10], b[11], b[12],
+             b[13], b[14], b[15]);
+    return 0;
+}
+
 csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
                                    const char *display, const char *settings_json, uint64_t seed,
                                    int64_t *id, csf_error *err)
@@ -231,8 +249,14 @@ csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
     if (s->readonly) return read_only(s, "a session", err);
     if (profile_id && !*profile_id) profile_id = NULL;
-    return s->ops->begin_session(s, kind, observer, display, profile_id, settings_json, seed, id,
-                                 err);
+    char uuid[40];
+    if (csf_store_new_uuid(uuid) < 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: no random bytes for the session's uuid",
+                             s->path);
+    csf_store_session_new nw = {.kind = kind, .observer = observer, .display = display,
+                                .profile_id = profile_id, .settings_json = settings_json,
+                                .seed = seed, .uuid = uuid};
+    return s->ops->begin_session(s, &nw, id, err);
 }
 
 csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err)

@@ -38,7 +38,7 @@ typedef struct csf_store csf_store;
 
 /* Newest schema version this build writes (older stores are migrated forward on open; a newer
  * one is refused rather than misread). */
-#define CSF_STORE_SCHEMA_VERSION 5
+#define CSF_STORE_SCHEMA_VERSION 6
 
 /* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
  * written (a probe write inside a transaction that is rolled back). */
@@ -83,6 +83,8 @@ typedef struct {
     char tool_version[32];
     char created_utc[32]; /* ISO 8601, e.g. 2026-11-22T05:31:00Z */
     int n_trials, n_readings;
+    char uuid[40];        /* random, given at the start; "" for a session stored before schema
+                             v6 that was never pushed */
 } csf_session_info;
 
 void csf_session_info_free(csf_session_info *s); /* frees settings_json */

@@ -8,14 +8,25 @@
 
 #include "results/store.h"
 
+/* A session to insert: what begin_session was given, plus what a copy from another store
+ * (csf_store_push) keeps: its uuid, creation time, state and tool version. */
+typedef struct {
+    const char *kind, *observer, *display, *profile_id, *settings_json;
+    uint64_t seed;
+    const char *uuid;         /* 36 characters, never NULL */
+    const char *created_utc;  /* NULL: now */
+    const char *state;        /* NULL: running */
+    const char *tool_version; /* NULL: this build's */
+} csf_store_session_new;
+
 typedef struct csf_store_ops {
     const char *name; /* "sqlite", "postgresql" */
     void (*close)(csf_store *s);
     int (*schema_version)(csf_store *s);
-    csf_status (*begin_session)(csf_store *s, const char *kind, const char *observer,
-                                const char *display, const char *profile_id,
-                                const char *settings_json, uint64_t seed, int64_t *id,
+    csf_status (*begin_session)(csf_store *s, const csf_store_session_new *nw, int64_t *id,
                                 csf_error *err);
+    /* CSF_E_NOT_FOUND when no session has that uuid. */
+    csf_status (*find_session_uuid)(csf_store *s, const char *uuid, int64_t *id, csf_error *err);
     csf_status (*get_session)(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
     csf_status (*set_session_state)(csf_store *s, int64_t id, const char *state, csf_error *err);
     csf_status (*list_sessions)(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
@@ -61,6 +72,9 @@ struct csf_store {
     char path[1024];
     int readonly;
 };
+
+/* A random (version 4) uuid, 36 characters; -1 when the system has no random bytes. */
+int csf_store_new_uuid(char out[40]);
 
 /* The backends' open functions: path is checked (non-empty, shorter than 1024). */
 csf_status csf_store_sqlite_open(const char *path, int readonly, csf_store **out, csf_error *err);

@@ -29,6 +29,7 @@
 
 #include "results/store.h"
 #include "results/store_backend.h"
+#include "results/store_internal.h"
 #include "results/store_pg_schema.h"
 
 #ifndef CSF_VERSION
@@ -146,6 +147,8 @@ static void message(pg_store *p, const PGresult *r, char *out, size_t cap)
     snprintf(out, cap, "%s", m && *m ? m : "unknown error");
     size_t n = strlen(out);
     while (n > 0 && (out[n - 1] == '\n' || out[n - 1] == ' ')) out[--n] = '\0';
+    for (char *c = out; *c; c++) /* libpq's messages span lines: one line per message here */
+        if (*c == '\n' || *c == '\t') *c = ' ';
 }
 
 static int lost(const pg_store *p) { return PQstatus(p->conn) != CONNECTION_OK; }
@@ -425,6 +428,18 @@ static csf_status ensure_schema(pg_store *p, csf_error *err)
     if (cs == CSF_OK && !has) cs = run_cmd(p, csf_store_pg_schema_v5, NULL, what, err);
     if (cs == CSF_OK)
         cs = query_i64(p, "SELECT MAX(version) FROM schema_version", NULL, &version, what, err);
+    if (cs == CSF_OK && version >= 5 && version < CSF_STORE_SCHEMA_VERSION && p->readonly)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld must be migrated to %d "
+                           "before it can be read; open it once with a role that may change the "
+                           "schema", p->base.path, (long long)version, CSF_STORE_SCHEMA_VERSION);
+    /* The portable migrations after version 5, the same SQL as on SQLite. */
+    while (cs == CSF_OK && version >= 5 && version < CSF_STORE_SCHEMA_VERSION) {
+        char upd[80];
+        snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %lld", (long long)version + 1);
+        cs = run_cmd(p, csf_store_migrations[version], NULL, "migrating the schema", err);
+        if (cs == CSF_OK) cs = run_cmd(p, upd, NULL, "migrating the schema", err);
+        version++;
+    }
     if (cs == CSF_OK && version != CSF_STORE_SCHEMA_VERSION)
         cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld, this csfcal reads %d; "
                            "use a csfcal of that version", p->base.path, (long long)version,
@@ -594,11 +609,13 @@ static csf_status pg_display_profile_id(csf_store *b, const char *display, char 
 
 /* ---- sessions ------------------------------------------------------------------------------ */
 
-static csf_status begin_once(pg_store *p, const char *kind, const char *observer,
-                             const char *display, const char *profile_id,
-                             const char *settings_json, uint64_t seed, int64_t *id, csf_error *err)
+static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64_t *id,
+                             csf_error *err)
 {
     const char *what = "starting a session";
+    const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
+    const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
+    uint64_t seed = nw->seed;
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
     if (cs == CSF_OK && observer && *observer) cs = upsert_name(p, "observers", observer, NULL, err);
     if (cs == CSF_OK && display && *display) cs = upsert_name(p, "displays", display, NULL, err);
@@ -619,15 +636,19 @@ static csf_status begin_once(pg_store *p, const char *kind, const char *observer
     a_txt(&a, display ? display : "");
     a_txt(&a, settings_json ? settings_json : "{}");
     a_i64(&a, (int64_t)seed); /* unsigned 64 bits stored as the same signed 64 bits */
-    a_txt(&a, CSF_VERSION);
-    a_txt(&a, now);
+    a_txt(&a, nw->tool_version ? nw->tool_version : CSF_VERSION);
+    a_txt(&a, nw->created_utc ? nw->created_utc : now);
     a_txt(&a, profile_id);
+    a_txt(&a, nw->state ? nw->state : "running");
+    a_txt(&a, nw->uuid);
+    a_txt(&a, now);
     int64_t new_id = 0;
+    /* station: the login, which the row-level policies of docs/store_roles.sql compare with. */
     if (cs == CSF_OK)
         cs = query_i64(p, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
-                          " tool_version, created_utc, updated_utc, profile_id)"
-                          " VALUES ($1, 'running', $2, $3, $4, $5, $6, $7, $7, $8) RETURNING id",
-                       &a, &new_id, what, err);
+                          " tool_version, created_utc, updated_utc, profile_id, uuid, station)"
+                          " VALUES ($1, $9, $2, $3, $4, $5, $6, $7, $11, $8, $10, current_user)"
+                          " RETURNING id", &a, &new_id, what, err);
     if (cs == CSF_OK) cs = commit(p, what, err);
     if (cs != CSF_OK) {
         rollback(p);
@@ -639,20 +660,27 @@ static csf_status begin_once(pg_store *p, const char *kind, const char *observer
     return cs;
 }
 
-static csf_status pg_begin_session(csf_store *b, const char *kind, const char *observer,
-                                   const char *display, const char *profile_id,
-                                   const char *settings_json, uint64_t seed, int64_t *id,
+static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw, int64_t *id,
                                    csf_error *err)
 {
     pg_store *p = pg(b);
-    RETRY(p, err, begin_once(p, kind, observer, display, profile_id, settings_json, seed, id, err));
+    RETRY(p, err, begin_once(p, nw, id, err));
+}
+
+static csf_status pg_find_session_uuid(csf_store *b, const char *uuid, int64_t *id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_txt(&a, uuid);
+    return query_i64(p, "SELECT id FROM sessions WHERE uuid = $1", &a, id, "finding a session", err);
 }
 
 #define SESSION_COLS                                                                         \
     "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
     " s.tool_version, s.created_utc,"                                                        \
     " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id FROM sessions s"
+    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid"        \
+    " FROM sessions s"
 
 static int session_row(const PGresult *r, int i, void *elem, int64_t session_id)
 {
@@ -670,6 +698,7 @@ static int session_row(const PGresult *r, int i, void *elem, int64_t session_id)
     o->n_trials = g_int(r, i, 9);
     o->n_readings = g_int(r, i, 10);
     g_txt(r, i, 11, o->profile_id, sizeof o->profile_id);
+    g_txt(r, i, 12, o->uuid, sizeof o->uuid);
     return o->settings_json ? 0 : -1;
 }
 
@@ -1329,6 +1358,7 @@ static const csf_store_ops pg_ops = {
     .close = pg_close,
     .schema_version = pg_schema_version,
     .begin_session = pg_begin_session,
+    .find_session_uuid = pg_find_session_uuid,
     .get_session = pg_get_session,
     .set_session_state = pg_set_session_state,
     .list_sessions = pg_list_sessions,

@@ -219,6 +219,15 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
     "DELETE FROM artifacts WHERE content IS NULL AND path <> '' AND EXISTS (SELECT 1 FROM"
     "  artifacts a WHERE a.session_id = artifacts.session_id AND a.kind = artifacts.kind"
     "  AND a.content IS NOT NULL AND a.path = artifacts.path);",
+
+    /* -> v6 (portable: run on SQLite and PostgreSQL alike): a session has a uuid, so a copy of
+     * it in another store (csfcal sessions push, a station's spool) is recognised and never
+     * doubled; and the station (server login) that started it, which the server's row-level
+     * policies use to let a station change only its own sessions. Older sessions get their
+     * uuid when first pushed. */
+    "ALTER TABLE sessions ADD COLUMN uuid TEXT;"
+    "ALTER TABLE sessions ADD COLUMN station TEXT NOT NULL DEFAULT '';"
+    "CREATE UNIQUE INDEX sessions_uuid ON sessions (uuid);",
 };
 
 /* ---- helpers ----------------------------------------------------------------------------- */
@@ -1017,12 +1026,13 @@ static csf_status link_profile(sq_store *s, const char *display, const char *pro
     return CSF_OK;
 }
 
-static csf_status sq_begin_session_profile(csf_store *base, const char *kind, const char *observer,
-                                           const char *display, const char *profile_id,
-                                           const char *settings_json, uint64_t seed, int64_t *id,
-                                           csf_error *err)
+static csf_status sq_begin_session(csf_store *base, const csf_store_session_new *nw, int64_t *id,
+                                   csf_error *err)
 {
     sq_store *s = sq(base);
+    const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
+    const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
+    uint64_t seed = nw->seed;
     csf_error_clear(err);
     if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     if (!valid_kind(kind))
@@ -1047,8 +1057,8 @@ static csf_status sq_begin_session_profile(csf_store *base, const char *kind, co
     sqlite3_stmt *st = NULL;
     if (cs == CSF_OK) {
         rc = prepare(s, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
-                        " tool_version, created_utc, updated_utc, profile_id)"
-                        " VALUES (?,'running',?,?,?,?,?,?,?,?)", &st);
+                        " tool_version, created_utc, updated_utc, profile_id, uuid)"
+                        " VALUES (?1,?10,?2,?3,?4,?5,?6,?7,?8,?9,?11)", &st);
         if (rc != SQLITE_OK) cs = fail(s, err, rc, "starting a session");
     }
     if (cs == CSF_OK) {
@@ -1060,11 +1070,13 @@ static csf_status sq_begin_session_profile(csf_store *base, const char *kind, co
         sqlite3_bind_text(st, 4, settings_json ? settings_json : "{}", -1, SQLITE_TRANSIENT);
         /* Seeds are unsigned 64-bit; SQL integers are signed: stored as the same 64 bits. */
         sqlite3_bind_int64(st, 5, (sqlite3_int64)seed);
-        sqlite3_bind_text(st, 6, CSF_VERSION, -1, SQLITE_STATIC);
-        sqlite3_bind_text(st, 7, now, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 6, nw->tool_version ? nw->tool_version : CSF_VERSION, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 7, nw->created_utc ? nw->created_utc : now, -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 8, now, -1, SQLITE_TRANSIENT);
         if (profile_id) sqlite3_bind_text(st, 9, profile_id, -1, SQLITE_TRANSIENT);
         else sqlite3_bind_null(st, 9);
+        sqlite3_bind_text(st, 10, nw->state ? nw->state : "running", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 11, nw->uuid, -1, SQLITE_TRANSIENT);
         cs = run_simple(s, st, "starting a session", err);
     }
     if (cs == CSF_OK) {
@@ -1085,7 +1097,8 @@ static csf_status sq_begin_session_profile(csf_store *base, const char *kind, co
     "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
     " s.tool_version, s.created_utc,"                                                        \
     " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id FROM sessions s"
+    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid"        \
+    " FROM sessions s"
 
 static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
 {
@@ -1103,6 +1116,7 @@ static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
     o->n_trials = sqlite3_column_int(st, 9);
     o->n_readings = sqlite3_column_int(st, 10);
     col_text(st, 11, o->profile_id, sizeof o->profile_id);
+    col_text(st, 12, o->uuid, sizeof o->uuid);
     return o->settings_json ? 0 : -1;
 }
 
@@ -1923,11 +1937,27 @@ static csf_status sq_link_session_participant(csf_store *base, int64_t session_i
     return rc == SQLITE_DONE ? CSF_OK : fail(s, err, rc, "linking a session to a participant");
 }
 
+static csf_status sq_find_session_uuid(csf_store *base, const char *uuid, int64_t *id,
+                                       csf_error *err)
+{
+    sq_store *s = sq(base);
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT id FROM sessions WHERE uuid = ?", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "finding a session");
+    sqlite3_bind_text(st, 1, uuid, -1, SQLITE_TRANSIENT);
+    rc = step(s, st);
+    if (rc == SQLITE_ROW) *id = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    if (rc == SQLITE_ROW) return CSF_OK;
+    return rc == SQLITE_DONE ? CSF_E_NOT_FOUND : fail(s, err, rc, "finding a session");
+}
+
 static const csf_store_ops sqlite_ops = {
     .name = "sqlite",
     .close = sq_close,
     .schema_version = sq_schema_version,
-    .begin_session = sq_begin_session_profile,
+    .begin_session = sq_begin_session,
+    .find_session_uuid = sq_find_session_uuid,
     .get_session = sq_get_session,
     .set_session_state = sq_set_session_state,
     .list_sessions = sq_list_sessions,

@@ -123,7 +123,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check(sql(old, "PRAGMA foreign_key_check") == "", "v4 fixture itself is consistent")
     run("sessions", "list", "--store", old)
     sound(old, "migrating a schema-4 store")
-    check(sql(old, "SELECT MAX(version) FROM schema_version") == "5", "migrated to 5")
+    check(sql(old, "SELECT MAX(version) FROM schema_version") == "6", "migrated to 6")
 
     # Writing commands refuse someone else's SQLite file without changing a byte (it used to be
     # switched to WAL first), and name /dev/null for what it is.

@@ -1,0 +1,247 @@
+/* Several stations on one server store (issue 15 items 2 and 5), each a process of its own:
+ * - stations started together on a new database all open it (the schema is made once) and
+ *   share the observer, display, study and participant rows instead of failing or doubling them;
+ * - every trial of every station arrives exactly once, equal to what a single station writes
+ *   with the same seed;
+ * - a session is claimed: a second station cannot resume one that is running elsewhere, and can
+ *   once that station is killed (the server drops a dead connection's claim);
+ * - the server restarted mid-session: the station says so, waits, reconnects and goes on, and no
+ *   trial is lost or doubled.
+ * Runs on PostgreSQL only (under tests/store/pg_run.sh); on SQLite it checks nothing and says so
+ * (exit 77: skipped). */
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "results/store.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+#define STATIONS 6
+#define TRIALS 60
+
+static csf_store *open_or_die(const char *loc, const char *who)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    if (csf_store_open(loc, &s, &err) != CSF_OK) {
+        fprintf(stderr, "%s: %s\n", who, err.msg);
+        _exit(3);
+    }
+    return s;
+}
+
+/* Trials from..to-1 of session sid, each with its frame intervals, seed-determined. */
+static int write_trials(csf_store *s, int64_t sid, int from, int to, uint64_t seed, int pause_us)
+{
+    csf_error err;
+    for (int i = from; i < to; i++) {
+        csf_trial t = make_trial(sid, i, seed);
+        double iv[3] = {1 / 60.0, 1 / 60.0, 0.001 * i};
+        if (csf_store_add_trial_frames(s, &t, iv, 3, &err) != CSF_OK) {
+            fprintf(stderr, "trial %d of session %lld: %s\n", i, (long long)sid, err.msg);
+            return -1;
+        }
+        if (pause_us) usleep((useconds_t)pause_us);
+    }
+    return 0;
+}
+
+/* One station of a study: shared observer/display/study names, its own participant. */
+static int station(const char *loc, int w, int go_fd)
+{
+    char c;
+    if (read(go_fd, &c, 1) < 0) return 9;
+    csf_store *s = open_or_die(loc, "station");
+    csf_error err;
+    int64_t study = 0, part = 0, sid = 0;
+    if (csf_store_find_study(s, "pooled", &study, &err) != CSF_OK &&
+        csf_store_create_study(s, "pooled", NULL, &study, &err) != CSF_OK &&
+        csf_store_find_study(s, "pooled", &study, &err) != CSF_OK) { /* another station made it */
+        fprintf(stderr, "station %d: %s\n", w, err.msg);
+        return 4;
+    }
+    char code[16];
+    snprintf(code, sizeof code, "P%02d", w);
+    if (csf_store_add_participant(s, study, code, &part, &err) != CSF_OK ||
+        csf_store_begin_session(s, "study", code, "booth-lcd", NULL, (uint64_t)w, &sid, &err) != CSF_OK ||
+        csf_store_link_session_participant(s, sid, part, &err) != CSF_OK ||
+        csf_store_upsert_observer(s, "shared-observer", NULL, &err) != CSF_OK) {
+        fprintf(stderr, "station %d: %s\n", w, err.msg);
+        return 5;
+    }
+    if (write_trials(s, sid, 0, TRIALS, 500 + (uint64_t)w, 0) < 0) return 6;
+    if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) return 7;
+    csf_store_close(s);
+    return 0;
+}
+
+/* Every trial of a session is there once, in order, equal to the seed's; frames too. */
+static void check_session(csf_store *s, int64_t sid, uint64_t seed, int n)
+{
+    csf_error err;
+    csf_trial *t = NULL;
+    size_t nt = 0;
+    CHECK_INT_EQ(csf_store_get_trials(s, sid, &t, &nt, &err), CSF_OK);
+    CHECK_INT_EQ(nt, n);
+    int same = nt == (size_t)n;
+    for (size_t k = 0; same && k < nt; k++) {
+        csf_trial want = make_trial(sid, (int)k, seed);
+        same = t[k].seq == (int)k && trials_equal(&t[k], &want);
+    }
+    CHECK_MSG(same, "session %lld: trials differ from the single-station run", (long long)sid);
+    free(t);
+    double *fi = NULL;
+    size_t nf = 0;
+    CHECK_INT_EQ(csf_store_get_frame_intervals(s, sid, &fi, &nf, &err), CSF_OK);
+    CHECK_INT_EQ(nf, 3 * (size_t)n);
+    free(fi);
+}
+
+static void test_many_stations(const char *loc)
+{
+    int go[2];
+    if (pipe(go) != 0) return;
+    pid_t pids[STATIONS];
+    for (int w = 0; w < STATIONS; w++) {
+        pids[w] = fork();
+        if (pids[w] == 0) {
+            close(go[1]);
+            _exit(station(loc, w, go[0]));
+        }
+    }
+    close(go[0]);
+    close(go[1]); /* all start at once, on a database with no schema yet */
+    for (int w = 0; w < STATIONS; w++) {
+        int status = 0;
+        waitpid(pids[w], &status, 0);
+        CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station %d status %d", w, status);
+    }
+    csf_store *s = open_or_die(loc, "check");
+    csf_error err;
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ(n, STATIONS);
+    for (size_t i = 0; i < n; i++) {
+        int w = atoi(list[i].observer + 1);
+        CHECK(!strcmp(list[i].state, "finished"));
+        check_session(s, list[i].id, 500 + (uint64_t)w, TRIALS);
+    }
+    csf_session_list_free(list, n);
+    CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM studies"), 1);
+    CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM participants"), STATIONS);
+    CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM displays WHERE name = 'booth-lcd'"), 1);
+    CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM observers WHERE name = 'shared-observer'"), 1);
+    CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM session_participants"), STATIONS);
+    csf_store_close(s);
+}
+
+/* A station runs a session slowly; another tries to resume it and is refused; the first is
+ * killed mid-session; now the second resumes where the stored trials end and finishes it. */
+static void test_claim_and_kill(const char *loc)
+{
+    int ready[2];
+    if (pipe(ready) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        csf_store *s = open_or_die(loc, "station A");
+        csf_error err;
+        int64_t sid = 0;
+        if (csf_store_begin_session(s, "observer", "claimed", "lcd", NULL, 77, &sid, &err) != CSF_OK) _exit(4);
+        if (write_trials(s, sid, 0, 10, 77, 0) < 0) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
+        write_trials(s, sid, 10, 100000, 77, 20000); /* until killed */
+        _exit(7);
+    }
+    close(ready[1]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    close(ready[0]);
+
+    csf_store *b = open_or_die(loc, "station B");
+    csf_error err;
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "in use by another station");
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "aborted", &err), CSF_E_STORE);
+    usleep(200000);
+    kill(a, SIGKILL);
+    int status = 0;
+    waitpid(a, &status, 0);
+    CHECK(WIFSIGNALED(status));
+    /* The server notices the dead connection at once on a unix socket; allow it a moment. */
+    csf_status cs = CSF_E_STORE;
+    for (int i = 0; i < 50 && cs != CSF_OK; i++) {
+        cs = csf_store_set_session_state(b, sid, "running", &err);
+        if (cs != CSF_OK) usleep(100000);
+    }
+    CHECK_INT_EQ(cs, CSF_OK);
+    csf_trial *t = NULL;
+    size_t nt = 0;
+    CHECK_INT_EQ(csf_store_get_trials(b, sid, &t, &nt, &err), CSF_OK);
+    free(t);
+    CHECK(nt >= 10);
+    CHECK_INT_EQ(write_trials(b, sid, (int)nt, TRIALS, 77, 0), 0);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    check_session(b, sid, 77, TRIALS);
+    csf_store_close(b);
+}
+
+/* The server restarts while a station writes: it waits, says so, reconnects, and every trial
+ * is there once. */
+static void test_server_restart(const char *loc)
+{
+    int ready[2];
+    if (pipe(ready) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        csf_store *s = open_or_die(loc, "station");
+        csf_error err;
+        int64_t sid = 0;
+        if (csf_store_begin_session(s, "observer", "restart", "lcd", NULL, 91, &sid, &err) != CSF_OK) _exit(4);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
+        if (write_trials(s, sid, 0, TRIALS, 91, 30000) < 0) _exit(5);
+        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        csf_store_close(s);
+        _exit(0);
+    }
+    close(ready[1]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    close(ready[0]);
+    usleep(400000); /* some trials in */
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "'%s' restart '%s'", getenv("CSF_TEST_PG_RUN"), getenv("CSF_TEST_PG_DIR"));
+    CHECK_INT_EQ(system(cmd), 0);
+    int status = 0;
+    waitpid(a, &status, 0);
+    CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
+    csf_store *s = open_or_die(loc, "check");
+    check_session(s, sid, 91, TRIALS);
+    csf_session_info si;
+    csf_error err;
+    CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.state, "finished"));
+    csf_session_info_free(&si);
+    csf_store_close(s);
+}
+
+int main(void)
+{
+    if (!test_pg()) {
+        fprintf(stderr, "SKIP: several stations need a server store (CSF_TEST_BACKEND=postgresql)\n");
+        return 77;
+    }
+    test_pg_require();
+    setenv("CSF_STORE_RETRY_S", "60", 1);
+    char loc[1024];
+    if (test_store_location("", "", loc, sizeof loc) < 0) return 1;
+    test_many_stations(loc);
+    test_claim_and_kill(loc);
+    test_server_restart(loc);
+    return CHECK_RESULT();
+}
