@@ -13,6 +13,7 @@
 #include "results/file_write.h"
 #include "results/store.h"
 #include "results/store_export.h"
+#include "results/store_push.h"
 
 static const char sessions_help[] =
     "usage: csfcal sessions [list] [--kind K] [--state S] [--store PATH] [--json]\n"
@@ -20,7 +21,8 @@ static const char sessions_help[] =
     "       csfcal sessions export ID --format csv|json\n"
     "                              [--table trials|readings|thresholds|frames]\n"
     "                              [-o FILE] [--store PATH]\n"
-    "       csfcal sessions abort ID [--store PATH]\n\n"
+    "       csfcal sessions abort ID [--store PATH]\n"
+    "       csfcal sessions push [ID...] --to LOCATION [--store PATH]\n\n"
     "list    every session in the store: id, kind, state, observer, display, trials, readings;\n"
     "        --kind display|observer|study and --state running|paused|finished|aborted filter.\n"
     "        Sessions in state running or paused can be continued with the --resume ID option\n"
@@ -31,15 +33,21 @@ static const char sessions_help[] =
     "        interval). Column names carry units\n"
     "        (freq_cpd, ecc_deg, lum_cdm2, rt_s ...); empty CSV cell / JSON null = missing.\n"
     "        Writes to standard output unless -o FILE is given. See docs/store.md.\n"
-    "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n\n";
+    "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n"
+    "push    copy sessions (all, or the IDs given) of --store to the store at LOCATION (a\n"
+    "        server: postgresql://..., service=NAME; or another file) without doubling\n"
+    "        anything: a session already there gets only the trials and readings it lacks.\n"
+    "        A station that ran on its own file while the server was away sends its sessions\n"
+    "        this way. Prints what it sent per session.\n\n";
 
-enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE };
+enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE, OPT_TO };
 
 static const struct option sessions_options[] = {
     {"format", required_argument, 0, OPT_FORMAT},
     {"table", required_argument, 0, OPT_TABLE},
     {"kind", required_argument, 0, OPT_KIND},
     {"state", required_argument, 0, OPT_STATE},
+    {"to", required_argument, 0, OPT_TO},
     {"output", required_argument, 0, 'o'},
     {"help", no_argument, 0, 'h'},
     CSF_CLI_COMMON_OPTIONS,
@@ -305,12 +313,76 @@ static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *
     return 0;
 }
 
+/* One session's push, reported on one line; 0 or 1. */
+static int push_one(csf_store *src, csf_store *dst, int64_t id)
+{
+    csf_error err;
+    csf_push_counts c;
+    if (csf_store_push_session(src, dst, id, &c, &err) != CSF_OK) {
+        fprintf(stderr, "csfcal: sessions push: session %lld: %s\n", (long long)id, err.msg);
+        return 1;
+    }
+    printf("session %lld -> %lld%s: %d trials sent, %d already there; %d readings sent, %d "
+           "already there\n", (long long)id, (long long)c.dest_id, c.created ? " (new)" : "",
+           c.trials_sent, c.trials_present, c.readings_sent, c.readings_present);
+    return 0;
+}
+
+static int cmd_push(csf_cli *cli, const char *to, char **ids, int n_ids)
+{
+    if (!to || !*to) {
+        fprintf(stderr, "csfcal: sessions push: --to LOCATION is required (the store to copy to)\n");
+        return 2;
+    }
+    if (csf_store_has_password(to)) {
+        char red[1024];
+        csf_store_redact(to, red, sizeof red);
+        fprintf(stderr, "csfcal: sessions push: --to: a password on the command line is refused "
+                        "(%s); put it in ~/.pgpass or the file PGPASSFILE names\n", red);
+        return 2;
+    }
+    int64_t *want = n_ids ? calloc((size_t)n_ids, sizeof *want) : NULL;
+    for (int i = 0; i < n_ids; i++)
+        if (!want || parse_id(ids[i], &want[i]) < 0) {
+            free(want);
+            return 2;
+        }
+    csf_store *src = NULL, *dst = NULL;
+    csf_error err;
+    int rc = open_store(cli, &src, 1);
+    if (rc) {
+        free(want);
+        return rc;
+    }
+    if (csf_store_open(to, &dst, &err) != CSF_OK) {
+        csf_store_close(src);
+        free(want);
+        return csf_cli_report("sessions push", &err);
+    }
+    int failed = 0;
+    if (n_ids) {
+        for (int i = 0; i < n_ids; i++) failed |= push_one(src, dst, want[i]);
+    } else {
+        csf_session_info *list = NULL;
+        size_t n = 0;
+        if (csf_store_list_sessions(src, &list, &n, &err) != CSF_OK) failed = csf_cli_report("sessions push", &err);
+        for (size_t i = 0; i < n; i++) failed |= push_one(src, dst, list[i].id);
+        if (!failed && n == 0) printf("No sessions in %s\n", csf_store_path(src));
+        csf_session_list_free(list, n);
+    }
+    csf_store_close(dst);
+    csf_store_close(src);
+    free(want);
+    return failed ? 1 : 0;
+}
+
 int csf_cmd_sessions(int argc, char **argv)
 {
     csf_cli cli;
     int rc = csf_cli_init(&cli, argc, argv);
     if (rc) return rc;
     const char *format = NULL, *table = NULL, *out_path = NULL, *kind = NULL, *state = NULL;
+    const char *to = NULL;
     optind = 0;
     opterr = 0;
     int c;
@@ -335,6 +407,7 @@ int csf_cmd_sessions(int argc, char **argv)
             state = optarg;
             break;
         case 'o': out_path = optarg; break;
+        case OPT_TO: to = optarg; break;
         default:
             rc = csf_cli_option_default(&cli, "sessions", sessions_help, c, argv);
             if (rc >= 0) return rc;
@@ -361,6 +434,8 @@ int csf_cmd_sessions(int argc, char **argv)
         if (!strcmp(sub, "abort")) return cmd_abort(&cli, id);
         return cmd_export(&cli, id, format, table, out_path);
     }
-    fprintf(stderr, "csfcal: sessions: unknown subcommand '%s' (allowed list, show, export, abort)\n", sub);
+    if (!strcmp(sub, "push")) return cmd_push(&cli, to, pos + 1, npos - 1);
+    fprintf(stderr, "csfcal: sessions: unknown subcommand '%s' (allowed list, show, export, abort, "
+                    "push)\n", sub);
     return 2;
 }

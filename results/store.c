@@ -41,19 +41,22 @@ static void redact_uri(const char *in, char *out, size_t cap)
     out[0] = '\0';
     put(out, cap, &o, in, colon ? (size_t)(colon - in) : (size_t)(auth + alen - in));
     if (colon) put(out, cap, &o, at, (size_t)(auth + alen - at));
+    /* The path, then the query without its password parameter, then any fragment. */
     const char *rest = auth + alen;
-    /* ...?sslmode=require&password=x: the password parameter goes, the others stay. */
-    while (*rest) {
-        size_t seg = strcspn(rest + 1, "&#") + 1;
-        int is_pw = (rest[0] == '?' || rest[0] == '&') && !strncmp(rest + 1, "password=", 9);
-        if (is_pw && rest[0] == '?' && rest[seg] == '&') {
-            put(out, cap, &o, "?", 1);
-            rest += seg + 1;
-            continue;
+    size_t plen = strcspn(rest, "?#");
+    put(out, cap, &o, rest, plen);
+    rest += plen;
+    int first = 1;
+    while (*rest == '?' || *rest == '&') {
+        size_t seg = strcspn(rest + 1, "&#");
+        if (strncmp(rest + 1, "password=", 9) != 0) {
+            put(out, cap, &o, first ? "?" : "&", 1);
+            put(out, cap, &o, rest + 1, seg);
+            first = 0;
         }
-        if (!is_pw) put(out, cap, &o, rest, seg);
-        rest += seg;
+        rest += seg + 1;
     }
+    put(out, cap, &o, rest, strlen(rest));
 }
 
 /* service=lab password=x host=h -> service=lab host=h (a quoted value may hold spaces). */

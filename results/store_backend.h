@@ -25,6 +25,11 @@ typedef struct csf_store_ops {
     int (*schema_version)(csf_store *s);
     csf_status (*begin_session)(csf_store *s, const csf_store_session_new *nw, int64_t *id,
                                 csf_error *err);
+    /* Gives a session without a uuid (stored before schema v6) this one. */
+    csf_status (*set_session_uuid)(csf_store *s, int64_t id, const char *uuid, csf_error *err);
+    /* Frame intervals of one trial, in order; *out malloc'd (NULL when none). */
+    csf_status (*get_trial_frames)(csf_store *s, int64_t session_id, int trial_seq, double **out,
+                                   size_t *n, csf_error *err);
     /* CSF_E_NOT_FOUND when no session has that uuid. */
     csf_status (*find_session_uuid)(csf_store *s, const char *uuid, int64_t *id, csf_error *err);
     csf_status (*get_session)(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);

@@ -167,7 +167,7 @@ static csf_status fail(pg_store *p, const PGresult *r, const char *what, csf_err
                              p->base.path, what, msg);
     if (!strcmp(st, "42501"))
         return csf_error_set(err, CSF_E_STORE, "store %s: permission denied while %s (%s); the "
-                             "station's role needs the grants in data/sql/roles.sql", p->base.path,
+                             "station's role needs the grants in docs/store_roles.sql", p->base.path,
                              what, msg);
     if (!strcmp(st, "25006"))
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot write while %s",
@@ -462,6 +462,13 @@ static csf_status check_durable(pg_store *p, csf_error *err)
     return cs;
 }
 
+/* The server's notices (NOTICE, not errors) would land among the procedure's messages. */
+static void quiet(void *arg, const char *message)
+{
+    (void)arg;
+    (void)message;
+}
+
 static double retry_limit_s(void)
 {
     const char *e = getenv("CSF_STORE_RETRY_S");
@@ -493,6 +500,7 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
                            "the server or run on a local store (--store FILE) and copy it later "
                            "with csfcal sessions push --to LOCATION", p->base.path, msg);
     }
+    if (cs == CSF_OK) PQsetNoticeProcessor(p->conn, quiet, NULL);
     if (cs == CSF_OK) cs = setup_connection(p, err);
     if (cs == CSF_OK && !readonly) cs = check_durable(p, err);
     if (cs == CSF_OK) cs = ensure_schema(p, err);
@@ -1353,12 +1361,46 @@ static csf_status pg_link_session_participant(csf_store *b, int64_t session_id,
     return cs;
 }
 
+static csf_status pg_set_session_uuid(csf_store *b, int64_t id, const char *uuid, csf_error *err)
+{
+    pg_store *p = pg(b);
+    pgargs a = {0};
+    a_txt(&a, uuid);
+    a_i64(&a, id);
+    return run_cmd(p, "UPDATE sessions SET uuid = $1 WHERE id = $2 AND uuid IS NULL", &a,
+                   "giving a session its uuid", err);
+}
+
+static csf_status pg_get_trial_frames(csf_store *b, int64_t session_id, int trial_seq,
+                                      double **out, size_t *n, csf_error *err)
+{
+    pg_store *p = pg(b);
+    *out = NULL;
+    *n = 0;
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    a_i64(&a, trial_seq);
+    PGresult *r = run(p, "SELECT interval_s FROM frame_intervals WHERE session_id = $1 AND"
+                         " trial_seq = $2 ORDER BY idx", &a);
+    csf_status cs = CSF_OK;
+    int rows = PQntuples(r);
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading frame intervals", err);
+    else if (rows > 0 && !(*out = malloc((size_t)rows * sizeof **out)))
+        cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading frame intervals");
+    for (int i = 0; cs == CSF_OK && i < rows; i++) (*out)[i] = g_dbl(r, i, 0);
+    if (cs == CSF_OK) *n = (size_t)rows;
+    PQclear(r);
+    return cs;
+}
+
 static const csf_store_ops pg_ops = {
     .name = "postgresql",
     .close = pg_close,
     .schema_version = pg_schema_version,
     .begin_session = pg_begin_session,
     .find_session_uuid = pg_find_session_uuid,
+    .set_session_uuid = pg_set_session_uuid,
+    .get_trial_frames = pg_get_trial_frames,
     .get_session = pg_get_session,
     .set_session_state = pg_set_session_state,
     .list_sessions = pg_list_sessions,

@@ -1952,12 +1952,56 @@ static csf_status sq_find_session_uuid(csf_store *base, const char *uuid, int64_
     return rc == SQLITE_DONE ? CSF_E_NOT_FOUND : fail(s, err, rc, "finding a session");
 }
 
+static csf_status sq_set_session_uuid(csf_store *base, int64_t id, const char *uuid, csf_error *err)
+{
+    sq_store *s = sq(base);
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "UPDATE sessions SET uuid = ? WHERE id = ? AND uuid IS NULL", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "giving a session its uuid");
+    sqlite3_bind_text(st, 1, uuid, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(st, 2, id);
+    return run_simple(s, st, "giving a session its uuid", err);
+}
+
+static csf_status sq_get_trial_frames(csf_store *base, int64_t session_id, int trial_seq,
+                                      double **out, size_t *n, csf_error *err)
+{
+    sq_store *s = sq(base);
+    *out = NULL;
+    *n = 0;
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT interval_s FROM frame_intervals WHERE session_id = ? AND"
+                        " trial_seq = ? ORDER BY idx", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "reading frame intervals");
+    sqlite3_bind_int64(st, 1, session_id);
+    sqlite3_bind_int(st, 2, trial_seq);
+    size_t cap = 0;
+    while ((rc = step(s, st)) == SQLITE_ROW) {
+        if (grow((void **)out, &cap, *n, sizeof **out) < 0) {
+            sqlite3_finalize(st);
+            free(*out);
+            *out = NULL;
+            *n = 0;
+            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory reading frame intervals");
+        }
+        (*out)[(*n)++] = sqlite3_column_double(st, 0);
+    }
+    sqlite3_finalize(st);
+    if (rc == SQLITE_DONE) return CSF_OK;
+    free(*out);
+    *out = NULL;
+    *n = 0;
+    return fail(s, err, rc, "reading frame intervals");
+}
+
 static const csf_store_ops sqlite_ops = {
     .name = "sqlite",
     .close = sq_close,
     .schema_version = sq_schema_version,
     .begin_session = sq_begin_session,
     .find_session_uuid = sq_find_session_uuid,
+    .set_session_uuid = sq_set_session_uuid,
+    .get_trial_frames = sq_get_trial_frames,
     .get_session = sq_get_session,
     .set_session_state = sq_set_session_state,
     .list_sessions = sq_list_sessions,

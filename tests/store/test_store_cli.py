@@ -152,5 +152,21 @@ with tempfile.TemporaryDirectory() as tmp:
     run("report", "--help")
     run("sessions", "--help")
 
+    # --- push: to another store, twice; nothing doubled; no password on the command line ---
+    lab = os.path.join(tmp, "lab.sqlite")
+    p = run("sessions", "push", "--to", lab, *S)
+    check(f"session {obs} -> 1 (new): 240 trials sent, 0 already there" in p.stdout, f"push: {p.stdout}")
+    check(f"41 readings sent" in p.stdout, f"push readings: {p.stdout}")
+    p = run("sessions", "push", obs, "--to", lab, *S)
+    check("0 trials sent, 240 already there" in p.stdout, f"push again: {p.stdout}")
+    p = run("sessions", "list", "--json", "--store", lab)
+    check([x["n_trials"] for x in json.loads(p.stdout)] == [240, 0], "pushed listing")
+    p = run("sessions", "push", "--to", "postgresql://bob:s3cret@db.lab/csf", *S, expect=2)
+    check("s3cret" not in p.stderr and "postgresql://bob@db.lab/csf" in p.stderr, f"--to password: {p.stderr}")
+    p = run("sessions", "list", "--store", "service=lab password=s3cret", expect=2)
+    check("s3cret" not in p.stderr and "service=lab" in p.stderr, f"--store password: {p.stderr}")
+    p = run("sessions", "push", *S, expect=2)
+    check("--to" in p.stderr, "push without --to")
+
 print(f"{checks} checks, {failures} failed", file=sys.stderr)
 sys.exit(1 if failures else 0)

@@ -1,0 +1,25 @@
+/* Copies a session from one store to another without doubling anything (csfcal sessions push:
+ * a station that ran on its local file while the server was away sends its sessions later).
+ * The session is matched by uuid (one is given to an older source session that has none),
+ * trials and readings by seq: pushing twice, or pushing what the destination already partly
+ * has, adds only what is missing. Trials go with their frame intervals; the thresholds are
+ * replaced by the source's; csflut, profile and plot artifacts are copied when the destination
+ * has none of that kind; the destination session takes the source's state. Study participant
+ * links are not copied. */
+#ifndef CSF_STORE_PUSH_H
+#define CSF_STORE_PUSH_H
+
+#include <stdint.h>
+
+#include "results/store.h"
+
+typedef struct {
+    int64_t dest_id;  /* the session's id in the destination */
+    int created;      /* 1: the destination had no such session */
+    int trials_sent, trials_present, readings_sent, readings_present;
+} csf_push_counts;
+
+csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,
+                                  csf_push_counts *counts, csf_error *err);
+
+#endif

@@ -1,0 +1,150 @@
+/* csfcal sessions push (issue 15 item 3): a station ran on its own SQLite file and sends its
+ * sessions to the lab store later (a server under CSF_TEST_BACKEND=postgresql, another SQLite
+ * file otherwise). Everything arrives as stored (trials with their frame intervals, readings,
+ * thresholds, artifacts, state); pushing again sends nothing; a session that grew sends only the
+ * new trials; a session from before schema v6 (no uuid) gets one and is not doubled either. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "results/store.h"
+#include "results/store_push.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static void add_trials(csf_store *s, int64_t sid, int from, int to, uint64_t seed)
+{
+    csf_error err;
+    for (int i = from; i < to; i++) {
+        csf_trial t = make_trial(sid, i, seed);
+        double iv[2] = {1 / 60.0, 0.0001 * i};
+        CHECK_INT_EQ(csf_store_add_trial_frames(s, &t, iv, 2, &err), CSF_OK);
+    }
+}
+
+static void check_copy(csf_store *dst, int64_t did, int n, uint64_t seed)
+{
+    csf_error err;
+    csf_trial *t = NULL;
+    size_t nt = 0;
+    CHECK_INT_EQ(csf_store_get_trials(dst, did, &t, &nt, &err), CSF_OK);
+    CHECK_INT_EQ(nt, n);
+    int same = nt == (size_t)n;
+    for (size_t k = 0; same && k < nt; k++) {
+        csf_trial want = make_trial(did, (int)k, seed);
+        same = trials_equal(&t[k], &want);
+    }
+    CHECK_MSG(same, "pushed trials differ");
+    free(t);
+    double *fi = NULL;
+    size_t nf = 0;
+    CHECK_INT_EQ(csf_store_get_frame_intervals(dst, did, &fi, &nf, &err), CSF_OK);
+    CHECK_INT_EQ(nf, 2 * (size_t)n);
+    if (nf == 2 * (size_t)n && n > 3) CHECK_NEAR(fi[7], 0.0001 * 3, 0);
+    free(fi);
+}
+
+static int64_t push(csf_store *src, csf_store *dst, int64_t sid, int sent, int present)
+{
+    csf_error err;
+    csf_push_counts c;
+    CHECK_INT_EQ(csf_store_push_session(src, dst, sid, &c, &err), CSF_OK);
+    CHECK_INT_EQ(c.trials_sent, sent);
+    CHECK_INT_EQ(c.trials_present, present);
+    return c.dest_id;
+}
+
+int main(void)
+{
+    test_pg_require();
+    char dir[512], local[600], lab[1024];
+    if (tmp_dir(dir, sizeof dir, "push") < 0) return 1;
+    snprintf(local, sizeof local, "%s/station.sqlite", dir);
+    if (test_store_location(dir, "lab.sqlite", lab, sizeof lab) < 0) return 1;
+    csf_error err;
+    csf_store *src = NULL, *dst = NULL;
+    CHECK_INT_EQ(csf_store_open(local, &src, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_open(lab, &dst, &err), CSF_OK);
+    if (!src || !dst) return CHECK_RESULT();
+
+    /* The lab store already has a session of its own: ids differ between the stores. */
+    int64_t other = 0, sid = 0, disp = 0;
+    CHECK_INT_EQ(csf_store_begin_session(dst, "observer", "someone", "lcd", NULL, 1, &other, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(dst, other, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "p7", "booth-lcd", "{\"a\":1}", 42, &sid, &err), CSF_OK);
+    add_trials(src, sid, 0, 30, 42);
+    csf_threshold_row rows[2] = {{4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
+                                 {32.0, 0.0, 0.0, 50.0, INFINITY, NAN, 12}};
+    CHECK_INT_EQ(csf_store_put_thresholds(src, sid, rows, 2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(src, sid, "csflut", "/tmp/p7.csflut", "LUTBYTES", 8, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, "display", NULL, "booth-lcd", NULL, 5, &disp, &err), CSF_OK);
+    for (int k = 0; k < 4; k++) {
+        csf_reading r;
+        memset(&r, 0, sizeof r);
+        r.session_id = disp;
+        r.seq = k;
+        snprintf(r.channel, sizeof r.channel, "grey");
+        r.drive01 = k / 3.0;
+        r.lum_cdm2 = 0.5 + 30.0 * k;
+        snprintf(r.status, sizeof r.status, "ok");
+        CHECK_INT_EQ(csf_store_add_reading(src, &r, &err), CSF_OK);
+    }
+
+    int64_t did = push(src, dst, sid, 30, 0);
+    CHECK(did != 0 && did != other);
+    check_copy(dst, did, 30, 42);
+    csf_session_info a, b;
+    CHECK_INT_EQ(csf_store_get_session(src, sid, &a, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_get_session(dst, did, &b, &err), CSF_OK);
+    CHECK(!strcmp(a.uuid, b.uuid) && strlen(a.uuid) == 36);
+    CHECK(!strcmp(b.state, "paused") && !strcmp(b.observer, "p7") && b.seed == 42);
+    CHECK(!strcmp(a.created_utc, b.created_utc) && !strcmp(b.settings_json, "{\"a\":1}"));
+    csf_session_info_free(&a);
+    csf_session_info_free(&b);
+    csf_threshold_row *th = NULL;
+    size_t nth = 0;
+    CHECK_INT_EQ(csf_store_get_thresholds(dst, did, &th, &nth, &err), CSF_OK);
+    CHECK_INT_EQ(nth, 2);
+    if (nth == 2) CHECK(isinf(th[1].threshold) && isnan(th[1].stderr_log10));
+    free(th);
+    void *blob = NULL;
+    size_t len = 0;
+    char path[256];
+    CHECK_INT_EQ(csf_store_get_artifact(dst, did, "csflut", &blob, &len, path, sizeof path, &err), CSF_OK);
+    CHECK(len == 8 && blob && !memcmp(blob, "LUTBYTES", 8) && !strcmp(path, "/tmp/p7.csflut"));
+    free(blob);
+
+    /* Again: nothing new. Grown: only the new trials. */
+    CHECK_INT_EQ(push(src, dst, sid, 0, 30), did);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "running", &err), CSF_OK);
+    add_trials(src, sid, 30, 45, 42);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(push(src, dst, sid, 15, 30), did);
+    check_copy(dst, did, 45, 42);
+    csf_push_counts c;
+    CHECK_INT_EQ(csf_store_push_session(src, dst, disp, &c, &err), CSF_OK);
+    CHECK_INT_EQ(c.readings_sent, 4);
+    CHECK_INT_EQ(csf_store_push_session(src, dst, disp, &c, &err), CSF_OK);
+    CHECK_INT_EQ(c.readings_sent, 0);
+    CHECK_INT_EQ(c.readings_present, 4);
+
+    /* A session stored before v6 has no uuid: it gets one on the first push, kept after. */
+    int64_t old = 0;
+    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "old", "lcd", NULL, 9, &old, &err), CSF_OK);
+    add_trials(src, old, 0, 5, 9);
+    char q[128];
+    snprintf(q, sizeof q, "UPDATE sessions SET uuid = NULL WHERE id = %lld", (long long)old);
+    CHECK_INT_EQ(sqlite3_exec(csf_store_db(src), q, NULL, NULL, NULL), SQLITE_OK);
+    int64_t dold = push(src, dst, old, 5, 0);
+    CHECK_INT_EQ(push(src, dst, old, 0, 5), dold);
+
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(dst, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ(n, 4); /* its own, and three pushed once each */
+    csf_session_list_free(list, n);
+    csf_store_close(src);
+    csf_store_close(dst);
+    rm_rf(dir);
+    return CHECK_RESULT();
+}

@@ -1,0 +1,203 @@
+/* Credentials and roles (issue 15 item 4).
+ * Always: a password in a store location is removed from every form of it csfcal shows
+ * (csf_store_redact), and a location carrying one is refused without repeating it.
+ * On a server (CSF_TEST_BACKEND=postgresql, under tests/store/pg_run.sh): the roles of
+ * docs/store_roles.sql, with passwords only in a libpq password file (PGPASSFILE):
+ * a station starts sessions and adds trials to its own, cannot change or add to another
+ * station's, cannot delete measured rows or change the schema; an analyst reads and cannot
+ * write; and no password reaches the store's rows or a message. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "results/store.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static void check_redact(const char *in, const char *want)
+{
+    char out[512];
+    csf_store_redact(in, out, sizeof out);
+    CHECK_MSG(!strcmp(out, want), "redact(%s) = %s, want %s", in, out, want);
+    CHECK_INT_EQ(csf_store_has_password(in), strcmp(in, want) != 0);
+}
+
+static void test_redact(void)
+{
+    check_redact("postgresql://bob:s3cret@db.lab:5433/csf?sslmode=require",
+                 "postgresql://bob@db.lab:5433/csf?sslmode=require");
+    check_redact("postgres://bob:p%40ss@db/csf", "postgres://bob@db/csf");
+    check_redact("postgresql://bob@db/csf?password=s3cret&sslmode=verify-full",
+                 "postgresql://bob@db/csf?sslmode=verify-full");
+    check_redact("postgresql://db/csf?sslmode=require&password=s3cret",
+                 "postgresql://db/csf?sslmode=require");
+    check_redact("postgresql://db/csf?password=s3cret", "postgresql://db/csf");
+    check_redact("postgresql:///csf?host=/run/pg&user=booth1", "postgresql:///csf?host=/run/pg&user=booth1");
+    /* '@' in a password that was not percent-encoded: the last '@' ends the user part. */
+    check_redact("postgresql://bob:a@b@db/csf", "postgresql://bob@db/csf");
+    check_redact("service=lab password=s3cret sslmode=require", "service=lab sslmode=require");
+    check_redact("service=lab password='s3 cret' user=bob", "service=lab user=bob");
+    check_redact("service=lab", "service=lab");
+    check_redact("/data/lab/csfcal.sqlite", "/data/lab/csfcal.sqlite");
+    check_redact("/data/p:w@x/csfcal.sqlite", "/data/p:w@x/csfcal.sqlite"); /* a file path */
+
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open("postgresql://bob:s3cret@127.0.0.1:1/csf", &s, &err), CSF_E_INVALID_ARG);
+    CHECK(s == NULL);
+    CHECK(strstr(err.msg, "s3cret") == NULL);
+    CHECK_STR_CONTAINS(err.msg, "pgpass");
+    CHECK_INT_EQ(csf_store_open("service=lab password=s3cret", &s, &err), CSF_E_INVALID_ARG);
+    CHECK(strstr(err.msg, "s3cret") == NULL);
+}
+
+/* Runs a file of SQL (the roles script) as the test server's superuser. */
+static int admin_script(const char *db, const char *file)
+{
+    FILE *f = fopen(file, "rb");
+    if (!f) return -1;
+    static char sql[65536];
+    size_t n = fread(sql, 1, sizeof sql - 1, f);
+    fclose(f);
+    sql[n] = '\0';
+    return test_pg_admin(db, sql);
+}
+
+static void loc_as(const char *db, const char *user, char *out, size_t cap)
+{
+    snprintf(out, cap, "postgresql:///%s?host=%s&user=%s", db, getenv("CSF_TEST_PG_DIR"), user);
+}
+
+/* A statement run directly as user (what a station role could try by hand); 0 when allowed. */
+static int try_as(const char *db, const char *user, const char *sql)
+{
+    char uri[1024];
+    loc_as(db, user, uri, sizeof uri);
+    PGconn *c = PQconnectdb(uri);
+    int ok = PQstatus(c) == CONNECTION_OK;
+    if (ok) {
+        PGresult *r = PQexec(c, sql);
+        ok = PQresultStatus(r) == PGRES_COMMAND_OK || PQresultStatus(r) == PGRES_TUPLES_OK;
+        PQclear(r);
+    }
+    PQfinish(c);
+    return ok ? 0 : -1;
+}
+
+static void test_roles(const char *roles_sql)
+{
+    char owner[1024], db[64];
+    CHECK_INT_EQ(test_store_location("", "", owner, sizeof owner), 0);
+    sscanf(owner, "postgresql:///%63[^?]", db);
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(owner, &s, &err), CSF_OK); /* the owner makes the schema */
+    csf_store_close(s);
+    CHECK_INT_EQ(admin_script(db, roles_sql), 0);
+    CHECK_INT_EQ(admin_script(db, roles_sql), 0); /* safe to run again */
+    test_pg_admin(db, "DO $$ BEGIN IF NOT EXISTS (SELECT 1 FROM pg_roles WHERE rolname = 'booth1')"
+                      " THEN CREATE ROLE booth1 LOGIN PASSWORD 'pw-booth-one' IN ROLE csf_station;"
+                      " CREATE ROLE booth2 LOGIN PASSWORD 'pw-booth-two' IN ROLE csf_station;"
+                      " CREATE ROLE alice LOGIN PASSWORD 'pw-alice' IN ROLE csf_analyst; END IF; END $$");
+    char pass[600];
+    snprintf(pass, sizeof pass, "%s/pgpass", getenv("CSF_TEST_PG_DIR"));
+    FILE *f = fopen(pass, "w");
+    if (!f) return;
+    fprintf(f, "*:*:*:booth1:pw-booth-one\n*:*:*:booth2:pw-booth-two\n*:*:*:alice:pw-alice\n");
+    fclose(f);
+    chmod(pass, 0600); /* libpq ignores a password file others can read */
+    setenv("PGPASSFILE", pass, 1);
+
+    char b1[1024], b2[1024], an[1024];
+    loc_as(db, "booth1", b1, sizeof b1);
+    loc_as(db, "booth2", b2, sizeof b2);
+    loc_as(db, "alice", an, sizeof an);
+    csf_store *s1 = NULL, *s2 = NULL, *sa = NULL;
+    CHECK_INT_EQ(csf_store_open(b1, &s1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_open(b2, &s2, &err), CSF_OK);
+    if (!s1 || !s2) {
+        fprintf(stderr, "station open: %s\n", err.msg);
+        return;
+    }
+    int64_t sid1 = 0, sid2 = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s1, "observer", "p1", "booth-lcd", NULL, 1, &sid1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s2, "observer", "p2", "booth-lcd", NULL, 2, &sid2, &err), CSF_OK);
+    for (int i = 0; i < 5; i++) {
+        csf_trial t = make_trial(sid1, i, 1);
+        CHECK_INT_EQ(csf_store_add_trial(s1, &t, &err), CSF_OK);
+    }
+    /* booth2 cannot add to booth1's session, nor change it once booth1 let go of it. */
+    csf_trial foreign = make_trial(sid1, 5, 1);
+    CHECK(csf_store_add_trial(s2, &foreign, &err) != CSF_OK);
+    CHECK_STR_CONTAINS(err.msg, "permission denied");
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "paused", &err), CSF_OK);
+    CHECK(csf_store_set_session_state(s2, sid1, "aborted", &err) != CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s2, sid2, "finished", &err), CSF_OK);
+    /* Stations list every session of the lab. */
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s2, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ(n, 2);
+    csf_session_list_free(list, n);
+    csf_store_close(s1);
+    csf_store_close(s2);
+    /* No deleting measured rows, no schema changes, no other role's work undone. */
+    CHECK(try_as(db, "booth1", "DELETE FROM trials") != 0);
+    CHECK(try_as(db, "booth1", "DROP TABLE trials") != 0);
+    CHECK(try_as(db, "booth1", "CREATE TABLE x (a INTEGER)") != 0);
+    CHECK(try_as(db, "booth1", "UPDATE trials SET response = 0") != 0);
+    CHECK(try_as(db, "booth1", "UPDATE sessions SET seed = 0") != 0);
+    CHECK(try_as(db, "booth1", "SELECT COUNT(*) FROM trials") == 0);
+
+    /* The analyst reads everything and writes nothing, through csfcal or by hand. */
+    CHECK_INT_EQ(csf_store_open_readonly(an, &sa, &err), CSF_OK);
+    if (sa) {
+        csf_trial *t = NULL;
+        size_t nt = 0;
+        CHECK_INT_EQ(csf_store_get_trials(sa, sid1, &t, &nt, &err), CSF_OK);
+        CHECK_INT_EQ(nt, 5);
+        free(t);
+        csf_store_close(sa);
+    }
+    sa = NULL;
+    CHECK_INT_EQ(csf_store_open(an, &sa, &err), CSF_OK);
+    if (sa) {
+        int64_t x = 0;
+        CHECK_INT_EQ(csf_store_begin_session(sa, "observer", "a", "d", NULL, 1, &x, &err), CSF_E_STORE);
+        CHECK_STR_CONTAINS(err.msg, "permission denied");
+        CHECK(strstr(err.msg, "pw-alice") == NULL);
+        csf_store_close(sa);
+    }
+    CHECK(try_as(db, "alice", "INSERT INTO observers (name, created_utc) VALUES ('x', 'y')") != 0);
+    CHECK(try_as(db, "alice", "SELECT COUNT(*) FROM sessions") == 0);
+
+    /* A wrong password: refused, and the message does not show it. */
+    f = fopen(pass, "w");
+    if (f) {
+        fprintf(f, "*:*:*:booth1:not-the-password\n");
+        fclose(f);
+    }
+    CHECK_INT_EQ(csf_store_open(b1, &s1, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "password authentication failed");
+    CHECK(strstr(err.msg, "not-the-password") == NULL);
+    unsetenv("PGPASSFILE");
+    /* Nothing the stations stored holds a password. */
+    CHECK_INT_EQ(test_query_int(NULL, owner, "SELECT COUNT(*) FROM sessions WHERE settings_json"
+                                             " LIKE '%pw-%' OR observer LIKE '%pw-%'"), 0);
+    CHECK_INT_EQ(test_query_int(NULL, owner, "SELECT COUNT(*) FROM sessions WHERE station = 'booth1'"), 1);
+}
+
+int main(int argc, char **argv)
+{
+    test_redact();
+    if (test_pg()) {
+        test_pg_require();
+        if (argc < 2) {
+            fprintf(stderr, "usage: test_store_security ROLES.sql\n");
+            return 2;
+        }
+        test_roles(argv[1]);
+    }
+    return CHECK_RESULT();
+}
