@@ -25,12 +25,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "results/store.h"
 #include "results/store_backend.h"
 #include "results/store_internal.h"
 #include "results/store_pg_schema.h"
+#include "results/store_push.h"
 
 #ifndef CSF_VERSION
 #define CSF_VERSION "unknown"
@@ -50,11 +52,24 @@ typedef struct pg_store {
     double retry_limit_s;
     int64_t *claims;     /* sessions this station holds */
     size_t n_claims, cap_claims;
+    /* The local spool (an SQLite store) that keeps trials while the server is away. */
+    char spool_path[1024];
+    double spool_after_s;  /* how long a write waits for the server before it is spooled */
+    csf_store *spool;
+    int spooling;          /* rows are in the spool that the server does not have yet */
+    int flushing;          /* sending the spool: writes go to the server only */
+    double next_try_s;     /* monotonic time of the next try to reach the server */
+    int n_spooled;
+    csf_session_info *known; /* sessions this station ran: what their spool copy is made from */
+    size_t n_known;
 } pg_store;
 
 static const csf_store_ops pg_ops;
 
 static pg_store *pg(csf_store *b) { return (pg_store *)b; }
+static csf_status remember(pg_store *p, int64_t id, csf_error *err);
+static void spool_path(char *out, size_t cap);
+static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err);
 
 /* ---- parameters and results -------------------------------------------------------------- */
 
@@ -306,14 +321,14 @@ static csf_status reclaim_all(pg_store *p, csf_error *err)
 
 /* Waits for the server after the connection dropped: one try a second, a line on stderr each
  * time (the person at the station sees why the next stimulus is late), for retry_limit_s. */
-static csf_status reconnect(pg_store *p, csf_error *err)
+static csf_status reconnect(pg_store *p, double limit_s, csf_error *err)
 {
     char msg[512];
     message(p, NULL, msg, sizeof msg);
     double waited_s = 0.0;
     for (;;) {
         fprintf(stderr, "csfcal: store %s: connection to the server lost (%s); retrying "
-                        "(%.0f s of %.0f s)\n", p->base.path, msg, waited_s, p->retry_limit_s);
+                        "(%.0f s of %.0f s)\n", p->base.path, msg, waited_s, limit_s);
         PQreset(p->conn);
         if (!lost(p)) {
             csf_status cs = setup_connection(p, err);
@@ -322,7 +337,7 @@ static csf_status reconnect(pg_store *p, csf_error *err)
             return cs;
         }
         message(p, NULL, msg, sizeof msg);
-        if (waited_s >= p->retry_limit_s)
+        if (waited_s >= limit_s)
             return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable for %.0f s (%s); "
                                  "the session can be resumed with --resume once it is back",
                                  p->base.path, waited_s, msg);
@@ -338,7 +353,7 @@ static csf_status reconnect(pg_store *p, csf_error *err)
         for (;;) {                                                                           \
             csf_status cs_ = (call);                                                         \
             if (cs_ == CSF_OK || !lost(p)) return cs_;                                       \
-            csf_status rs_ = reconnect((p), (err));                                          \
+            csf_status rs_ = reconnect((p), (p)->retry_limit_s, (err));                                          \
             if (rs_ != CSF_OK) return rs_;                                                   \
             (p)->retrying = 1;                                                               \
         }                                                                                    \
@@ -469,12 +484,13 @@ static void quiet(void *arg, const char *message)
     (void)message;
 }
 
-static double retry_limit_s(void)
+/* Seconds from the environment (CSF_STORE_RETRY_S, CSF_STORE_SPOOL_AFTER_S), else def_s. */
+static double env_seconds(const char *name, double def_s)
 {
-    const char *e = getenv("CSF_STORE_RETRY_S");
+    const char *e = getenv(name);
     char *end = NULL;
     double v = e ? strtod(e, &end) : NAN;
-    return e && end != e && *end == '\0' && v >= 0 && v <= 86400 ? v : 120.0;
+    return e && end != e && *end == '\0' && v >= 0 && v <= 86400 ? v : def_s;
 }
 
 csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out, csf_error *err)
@@ -485,7 +501,9 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
     csf_store_redact(conninfo, p->base.path, sizeof p->base.path);
     snprintf(p->conninfo, sizeof p->conninfo, "%s", conninfo);
     p->readonly = readonly;
-    p->retry_limit_s = retry_limit_s();
+    p->retry_limit_s = env_seconds("CSF_STORE_RETRY_S", 120.0);
+    p->spool_after_s = env_seconds("CSF_STORE_SPOOL_AFTER_S", 5.0);
+    spool_path(p->spool_path, sizeof p->spool_path);
     /* dbname last: what the location says wins over these defaults. */
     const char *keys[] = {"application_name", "connect_timeout", "dbname", NULL};
     const char *vals[] = {"csfcal", "10", conninfo, NULL};
@@ -515,6 +533,18 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
 static void pg_close(csf_store *b)
 {
     pg_store *p = pg(b);
+    if (p->spooling) {
+        csf_error e;
+        p->flushing = 1;
+        if (flush_spool(p, p->retry_limit_s, &e) != CSF_OK)
+            fprintf(stderr, "csfcal: store %s: %d writes (trials, readings, state changes) are only "
+                            "in the local spool %s; send them when the server is back with: csfcal "
+                            "sessions push --store '%s' --to '%s'\n", p->base.path, p->n_spooled, p->spool_path,
+                    p->spool_path, p->base.path);
+    }
+    if (p->spool) p->spool->ops->close(p->spool);
+    for (size_t i = 0; i < p->n_known; i++) csf_session_info_free(&p->known[i]);
+    free(p->known);
     if (p->conn) PQfinish(p->conn); /* ends the connection: the server drops its claims */
     free(p->claims);
     free(p);
@@ -664,6 +694,7 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
     }
     int held = 0;
     cs = try_claim(p, new_id, &held, err);
+    if (cs == CSF_OK) cs = remember(p, new_id, err);
     if (cs == CSF_OK && id) *id = new_id;
     return cs;
 }
@@ -754,14 +785,9 @@ static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf
         cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
                            (long long)id);
     PQclear(r);
+    if (cs == CSF_OK && !strcmp(state, "running")) cs = remember(p, id, err);
     if (cs != CSF_OK || strcmp(state, "running") != 0) release_claim(p, id);
     return cs;
-}
-
-static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *state, csf_error *err)
-{
-    pg_store *p = pg(b);
-    RETRY(p, err, set_state_once(p, id, state, err));
 }
 
 static csf_status pg_list_sessions(csf_store *b, csf_session_info **out, size_t *n, csf_error *err)
@@ -813,6 +839,201 @@ static csf_status pg_session_times(csf_store *b, int64_t id, char created_utc[32
     return cs;
 }
 
+/* ---- the local spool ----------------------------------------------------------------------
+ * When the server cannot be reached within spool_after_s, a trial, reading, frame timing or
+ * state change of a session this station runs goes into a local SQLite store (the spool) under
+ * the session's uuid, durably, and the procedure goes on. Each later write first tries the
+ * server again (at most every 5 s); once it answers, the spooled rows are sent with
+ * csf_store_push_session (matched by uuid and seq: nothing doubled) before the new one. What is
+ * still spooled at close is sent then if the server is back, else the close says how to send it
+ * (csfcal sessions push). The spool keeps its copies after sending them: a local record. */
+
+static void spool_path(char *out, size_t cap)
+{
+    const char *e = getenv("CSF_STORE_SPOOL"), *xdg = getenv("XDG_DATA_HOME"), *home = getenv("HOME");
+    if (e && *e) snprintf(out, cap, "%s", e);
+    else if (xdg && *xdg) snprintf(out, cap, "%s/csfcal/spool.sqlite", xdg);
+    else snprintf(out, cap, "%s/.local/share/csfcal/spool.sqlite", home && *home ? home : ".");
+}
+
+static void mkdir_parents(const char *path)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *c = buf + 1; *c; c++)
+        if (*c == '/') {
+            *c = '\0';
+            mkdir(buf, 0700);
+            *c = '/';
+        }
+}
+
+static const csf_session_info *known(const pg_store *p, int64_t id)
+{
+    for (size_t i = 0; i < p->n_known; i++)
+        if (p->known[i].id == id) return &p->known[i];
+    return NULL;
+}
+
+/* Keeps what a spool copy of session id is made from (read while the server is there). */
+static csf_status remember(pg_store *p, int64_t id, csf_error *err)
+{
+    if (known(p, id)) return CSF_OK;
+    csf_session_info *k = realloc(p->known, (p->n_known + 1) * sizeof *k);
+    if (!k) return csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
+    p->known = k;
+    static const row_query q = {.sql = SESSION_COLS " WHERE s.id = $1", .binds_session = 1,
+                                .elem_size = sizeof(csf_session_info), .row = session_row,
+                                .free_elem = session_free, .what = "reading a session"};
+    void *list = NULL;
+    size_t n = 0;
+    csf_status cs = query_rows_once(p, &q, id, &list, &n, err);
+    if (cs == CSF_OK && n == 1) p->known[p->n_known++] = *(csf_session_info *)list;
+    free(list);
+    return cs;
+}
+
+/* The spool's copy of server session sid (made on first use). */
+static csf_status spool_session(pg_store *p, int64_t sid, int64_t *lsid, csf_error *err)
+{
+    const csf_session_info *k = known(p, sid);
+    if (!k || !k->uuid[0])
+        return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and session %lld was "
+                             "not started or resumed by this station, so it cannot be spooled",
+                             p->base.path, (long long)sid);
+    csf_status cs = CSF_OK;
+    if (!p->spool) {
+        mkdir_parents(p->spool_path);
+        cs = csf_store_sqlite_open(p->spool_path, 0, &p->spool, err);
+        if (cs != CSF_OK) return cs;
+    }
+    cs = p->spool->ops->find_session_uuid(p->spool, k->uuid, lsid, err);
+    if (cs != CSF_E_NOT_FOUND) return cs;
+    csf_error_clear(err);
+    csf_store_session_new nw = {.kind = k->kind, .observer = k->observer, .display = k->display,
+                                .profile_id = k->profile_id[0] ? k->profile_id : NULL,
+                                .settings_json = k->settings_json, .seed = k->seed,
+                                .uuid = k->uuid, .created_utc = k->created_utc,
+                                .tool_version = k->tool_version};
+    return p->spool->ops->begin_session(p->spool, &nw, lsid, err);
+}
+
+/* One write that may be spooled: what it is and its arguments. */
+typedef enum { W_TRIAL, W_READING, W_FRAMES, W_STATE } write_kind;
+typedef struct {
+    write_kind kind;
+    int64_t sid;
+    const csf_trial *t;
+    const csf_reading *r;
+    const double *iv;
+    int n, seq;
+    const char *state;
+} write_op;
+
+static csf_status to_server(pg_store *p, const write_op *w, csf_error *err);
+
+static csf_status to_spool(pg_store *p, const write_op *w, csf_error *err)
+{
+    int64_t lsid = 0;
+    csf_status cs = spool_session(p, w->sid, &lsid, err);
+    if (cs != CSF_OK) return cs;
+    csf_store *sp = p->spool;
+    if (w->kind == W_TRIAL) {
+        csf_trial t = *w->t;
+        t.session_id = lsid;
+        cs = sp->ops->add_trial_frames(sp, &t, w->iv, w->n, err);
+    } else if (w->kind == W_READING) {
+        csf_reading r = *w->r;
+        r.session_id = lsid;
+        cs = sp->ops->add_reading(sp, &r, err);
+    } else if (w->kind == W_FRAMES) {
+        cs = sp->ops->add_frame_intervals(sp, lsid, w->seq, w->iv, w->n, err);
+    } else {
+        cs = sp->ops->set_session_state(sp, lsid, w->state, err);
+    }
+    if (cs != CSF_OK) return cs;
+    if (!p->spooling)
+        fprintf(stderr, "csfcal: store %s: server unreachable; keeping what is measured in the "
+                        "local spool %s and sending it when the server is back\n", p->base.path,
+                p->spool_path);
+    p->spooling = 1;
+    p->n_spooled++;
+    return CSF_OK;
+}
+
+static double mono_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Sends what the spool holds of this station's sessions; CSF_OK when the server has it all. */
+static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
+{
+    if (lost(p)) {
+        if (wait_s <= 0.0 && mono_s() < p->next_try_s)
+            return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable", p->base.path);
+        p->next_try_s = mono_s() + 5.0;
+        csf_status rs = reconnect(p, wait_s, err);
+        if (rs != CSF_OK) return rs;
+    }
+    p->spooling = 0; /* the pushes below write to the server, never back into the spool */
+    csf_status cs = CSF_OK;
+    int sent = 0;
+    for (size_t i = 0; i < p->n_known && cs == CSF_OK; i++) {
+        int64_t lsid = 0;
+        cs = p->spool->ops->find_session_uuid(p->spool, p->known[i].uuid, &lsid, err);
+        if (cs == CSF_E_NOT_FOUND) {
+            csf_error_clear(err);
+            cs = CSF_OK;
+            continue;
+        }
+        csf_push_counts c;
+        if (cs == CSF_OK) cs = csf_store_push_session(p->spool, &p->base, lsid, &c, err);
+        if (cs == CSF_OK) sent += c.trials_sent + c.readings_sent;
+    }
+    if (cs != CSF_OK) {
+        p->spooling = 1;
+        return cs;
+    }
+    fprintf(stderr, "csfcal: store %s: server back; %d spooled trials and readings sent\n",
+            p->base.path, sent);
+    p->n_spooled = 0;
+    return CSF_OK;
+}
+
+/* A write of a session this station runs: to the server; after a drop, a short wait for it;
+ * then to the spool. While rows are spooled, the server gets them first once it is back. */
+static csf_status write_or_spool(pg_store *p, const write_op *w, csf_error *err)
+{
+    if (p->flushing) return to_server(p, w, err);
+    if (p->spooling) {
+        csf_error e2;
+        p->flushing = 1;
+        csf_status fs = flush_spool(p, 0.0, &e2);
+        p->flushing = 0;
+        if (fs != CSF_OK) return lost(p) ? to_spool(p, w, err) : csf_error_set(err, fs, "%s", e2.msg);
+    }
+    p->retrying = 0;
+    for (;;) {
+        csf_status cs = to_server(p, w, err);
+        if (cs == CSF_OK || !lost(p)) return cs;
+        csf_error e2;
+        csf_status rs = reconnect(p, p->spool_after_s, &e2);
+        if (rs != CSF_OK) return lost(p) ? to_spool(p, w, err) : csf_error_set(err, rs, "%s", e2.msg);
+        p->retrying = 1;
+    }
+}
+
+static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *state, csf_error *err)
+{
+    pg_store *p = pg(b);
+    if (!known(p, id)) RETRY(p, err, set_state_once(p, id, state, err)); /* a claim to take */
+    write_op w = {.kind = W_STATE, .sid = id, .state = state};
+    return write_or_spool(p, &w, err);
+}
+
 /* ---- readings ------------------------------------------------------------------------------ */
 
 static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error *err)
@@ -845,8 +1066,8 @@ static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error
 
 static csf_status pg_add_reading(csf_store *b, const csf_reading *rd, csf_error *err)
 {
-    pg_store *p = pg(b);
-    RETRY(p, err, add_reading_once(p, rd, err));
+    write_op w = {.kind = W_READING, .sid = rd->session_id, .r = rd};
+    return write_or_spool(pg(b), &w, err);
 }
 
 static int reading_row(const PGresult *r, int i, void *elem, int64_t session_id)
@@ -975,8 +1196,8 @@ static csf_status add_trial_once(pg_store *p, const csf_trial *t, const double *
 static csf_status pg_add_trial_frames(csf_store *b, const csf_trial *t, const double *iv, int n,
                                       csf_error *err)
 {
-    pg_store *p = pg(b);
-    RETRY(p, err, add_trial_once(p, t, iv, n, err));
+    write_op w = {.kind = W_TRIAL, .sid = t->session_id, .t = t, .iv = iv, .n = n};
+    return write_or_spool(pg(b), &w, err);
 }
 
 static int trial_row(const PGresult *r, int i, void *elem, int64_t session_id)
@@ -1029,8 +1250,18 @@ static csf_status pg_get_trials(csf_store *b, int64_t session_id, csf_trial **ou
 static csf_status pg_add_frame_intervals(csf_store *b, int64_t session_id, int trial_seq,
                                          const double *interval_s, int n, csf_error *err)
 {
-    pg_store *p = pg(b);
-    RETRY(p, err, insert_frames(p, session_id, trial_seq, interval_s, n, err));
+    write_op w = {.kind = W_FRAMES, .sid = session_id, .seq = trial_seq, .iv = interval_s, .n = n};
+    return write_or_spool(pg(b), &w, err);
+}
+
+static csf_status to_server(pg_store *p, const write_op *w, csf_error *err)
+{
+    switch (w->kind) {
+    case W_TRIAL: return add_trial_once(p, w->t, w->iv, w->n, err);
+    case W_READING: return add_reading_once(p, w->r, err);
+    case W_FRAMES: return insert_frames(p, w->sid, w->seq, w->iv, w->n, err);
+    default: return set_state_once(p, w->sid, w->state, err);
+    }
 }
 
 static int interval_row(const PGresult *r, int i, void *elem, int64_t session_id)

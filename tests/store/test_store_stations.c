@@ -6,7 +6,9 @@
  * - a session is claimed: a second station cannot resume one that is running elsewhere, and can
  *   once that station is killed (the server drops a dead connection's claim);
  * - the server restarted mid-session: the station says so, waits, reconnects and goes on, and no
- *   trial is lost or doubled.
+ *   trial is lost or doubled;
+ * - the server away for longer: the station keeps its trials in the local spool and goes on;
+ *   they reach the server when it is back (during the session, or by a push after it), once.
  * Runs on PostgreSQL only (under tests/store/pg_run.sh); on SQLite it checks nothing and says so
  * (exit 77: skipped). */
 #include <signal.h>
@@ -16,6 +18,7 @@
 #include <unistd.h>
 
 #include "results/store.h"
+#include "results/store_push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 
@@ -230,6 +233,122 @@ static void test_server_restart(const char *loc)
     csf_store_close(s);
 }
 
+static void run_pg(const char *what)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "'%s' %s '%s'", getenv("CSF_TEST_PG_RUN"), what, getenv("CSF_TEST_PG_DIR"));
+    CHECK_INT_EQ(system(cmd), 0);
+}
+
+static long long spool_trials(const char *spool)
+{
+    csf_store *s = NULL;
+    csf_error err;
+    if (csf_store_open_readonly(spool, &s, &err) != CSF_OK) return -1;
+    long long n = test_query_int(s, spool, "SELECT COUNT(*) FROM trials");
+    csf_store_close(s);
+    return n;
+}
+
+/* The server stops for a few seconds mid-session: trials go to the spool, the station goes on,
+ * and when the server is back the spooled trials are sent before the next one. */
+static void test_server_away(const char *loc, const char *spool)
+{
+    int ready[2];
+    if (pipe(ready) != 0) return;
+    setenv("CSF_STORE_SPOOL", spool, 1);
+    setenv("CSF_STORE_SPOOL_AFTER_S", "1", 1);
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        csf_store *s = open_or_die(loc, "station");
+        csf_error err;
+        int64_t sid = 0;
+        if (csf_store_begin_session(s, "observer", "away", "lcd", NULL, 93, &sid, &err) != CSF_OK) _exit(4);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
+        if (write_trials(s, sid, 0, TRIALS, 93, 100000) < 0) _exit(5);
+        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        csf_store_close(s);
+        _exit(0);
+    }
+    close(ready[1]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    close(ready[0]);
+    usleep(500000);
+    run_pg("stop");
+    sleep(4); /* the station spools, without waiting for the server */
+    CHECK(spool_trials(spool) > 5);
+    run_pg("start");
+    int status = 0;
+    waitpid(a, &status, 0);
+    CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
+    csf_store *s = open_or_die(loc, "check");
+    check_session(s, sid, 93, TRIALS);
+    csf_session_info si;
+    csf_error err;
+    CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.state, "finished"));
+    csf_session_info_free(&si);
+    csf_store_close(s);
+}
+
+/* The server goes away and the session ends before it is back: the trials stay in the spool,
+ * and a push after it sends them, once. */
+static void test_spool_then_push(const char *loc, const char *spool)
+{
+    int ready[2], cont[2];
+    if (pipe(ready) != 0 || pipe(cont) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        close(cont[1]);
+        setenv("CSF_STORE_RETRY_S", "1", 1);
+        csf_store *s = open_or_die(loc, "station");
+        csf_error err;
+        int64_t sid = 0;
+        char c;
+        if (csf_store_begin_session(s, "observer", "pushed", "lcd", NULL, 94, &sid, &err) != CSF_OK) _exit(4);
+        if (write_trials(s, sid, 0, 10, 94, 0) < 0) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid || read(cont[0], &c, 1) != 1) _exit(6);
+        if (write_trials(s, sid, 10, 25, 94, 0) < 0) _exit(5);
+        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        csf_store_close(s);
+        _exit(0);
+    }
+    close(ready[1]);
+    close(cont[0]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    run_pg("stop");
+    CHECK(write(cont[1], "g", 1) == 1);
+    int status = 0;
+    waitpid(a, &status, 0);
+    CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
+    run_pg("start");
+    csf_store *s = open_or_die(loc, "check"), *sp = NULL;
+    csf_error err;
+    CHECK_INT_EQ(csf_store_open(spool, &sp, &err), CSF_OK);
+    csf_session_info si;
+    CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+    int64_t lsid = 0;
+    CHECK_INT_EQ(test_query_int(sp, spool, "SELECT COUNT(*) FROM sessions"), 2);
+    char q[160];
+    snprintf(q, sizeof q, "SELECT id FROM sessions WHERE uuid = '%s'", si.uuid);
+    lsid = test_query_int(sp, spool, q);
+    csf_session_info_free(&si);
+    csf_push_counts c;
+    CHECK_INT_EQ(csf_store_push_session(sp, s, lsid, &c, &err), CSF_OK);
+    CHECK_INT_EQ(c.trials_sent, 15);
+    CHECK_INT_EQ(c.dest_id, sid);
+    check_session(s, sid, 94, 25);
+    CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.state, "finished"));
+    csf_session_info_free(&si);
+    csf_store_close(sp);
+    csf_store_close(s);
+}
+
 int main(void)
 {
     if (!test_pg()) {
@@ -243,5 +362,11 @@ int main(void)
     test_many_stations(loc);
     test_claim_and_kill(loc);
     test_server_restart(loc);
+    char dir[512], spool[600];
+    if (tmp_dir(dir, sizeof dir, "spool") < 0) return 1;
+    snprintf(spool, sizeof spool, "%s/spool.sqlite", dir);
+    test_server_away(loc, spool);
+    test_spool_then_push(loc, spool);
+    rm_rf(dir);
     return CHECK_RESULT();
 }
