@@ -155,6 +155,9 @@ done
 # of the configuration and the fade session (fuzz_observer_spec reads what follows "sim:").
 sed -n 's/^# date_utc: //p' "$tmp/bayes.csv" 2>/dev/null | head -1 | tr -d '\n' >"$tmp/date.txt"
 put fuzz_lut_date date.txt "$tmp/date.txt"
+# The store location the seeds' configuration names (fuzz_store_location: what --store echoes).
+sed -n 's/^store = //p' "$conf" 2>/dev/null | head -1 | tr -d '\n' >"$tmp/store-loc.txt"
+[ -s "$tmp/store-loc.txt" ] && put fuzz_store_location config.txt "$tmp/store-loc.txt"
 sed -n 's/^observer = sim://p' "$conf" | tr -d '\n' >"$tmp/obs-conf.txt"
 put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
 printf 'smax=150' >"$tmp/obs-fade.txt"

@@ -9,7 +9,8 @@
 # initdb refuses to run as root: as root the server runs as the 'postgres' user of the package.
 set -euo pipefail
 
-PG_BIN=$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1 || true)
+# CSF_PG_BIN overrides the search (a server built elsewhere; a missing folder checks the skip).
+PG_BIN=${CSF_PG_BIN:-$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1 || true)}
 if [ -z "$PG_BIN" ] || [ ! -x "$PG_BIN/initdb" ] || [ ! -x "$PG_BIN/pg_ctl" ]; then
   echo "SKIP: no PostgreSQL server binaries (/usr/lib/postgresql/*/bin/initdb); install the" \
        "Debian package postgresql (scripts/setup.sh does) to run the PostgreSQL store tests" >&2
@@ -36,6 +37,12 @@ esac
 dir=$(mktemp -d "${TMPDIR:-/tmp}/csfpg-XXXXXX")
 chmod 755 "$dir"
 [ "$(id -u)" -ne 0 ] || chown postgres "$dir"
+if ! as_pg test -w "$dir"; then # TMPDIR inside a folder the server's user cannot enter
+  rmdir "$dir"
+  dir=$(mktemp -d /tmp/csfpg-XXXXXX)
+  chmod 755 "$dir"
+  [ "$(id -u)" -ne 0 ] || chown postgres "$dir"
+fi
 cleanup() {
   ctl "$dir" stop 2>/dev/null || true
   rm -rf "$dir"
