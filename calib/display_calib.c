@@ -18,6 +18,7 @@
  * warming up does not bend the curve (references interpolated in time when the curve does not
  * fit). */
 #include "calib/display_calib.h"
+#include "calib/meter_check.h"
 #include "results/json_read.h"
 
 #include <math.h>
@@ -26,9 +27,11 @@
 #include <string.h>
 #include <unistd.h>
 
-/* ROLE_DARK_REJECTED: a dark reading of a series found contradictory (see dark_series); kept in
- * the store and replayed, used for nothing */
-enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP, ROLE_DARK_REJECTED };
+/* ROLE_DARK_REJECTED: a dark reading of a series found contradictory (see dark_series), or taken
+ * while the sensor was off the patch (see set_aside); ROLE_REJECTED: a sweep reading taken
+ * between a good white reference and one that showed the sensor had moved or the display had
+ * changed. Both are kept in the store and replayed, used for nothing. */
+enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP, ROLE_DARK_REJECTED, ROLE_REJECTED };
 
 typedef struct {
     int role, ch;
@@ -59,6 +62,8 @@ typedef struct {
     double t_accepted;
     double pending_wait_s; /* wait before the next live reading (warm-up); nothing while replaying */
     int dark_unconfirmed;  /* the dark series answered only "too dark": confirm after white */
+    int suspect;           /* replay met a stored white reference that failed a check which puts
+                              the readings since the white before it in doubt (set_aside) */
     int dark_live_series;  /* dark series taken live in this run (the re-measure limit) */
     int n_sweep, n_warmup;
     double noise_rel, noise_abs;
@@ -141,6 +146,112 @@ static csf_status push(ctx *c, const rd *x, csf_error *err)
 
 static void fit_drift(ctx *c);
 
+static void patch_rgb(int ch, double drive, double rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = drive;
+    if (ch < 3) {
+        rgb[0] = rgb[1] = rgb[2] = 0;
+        rgb[ch] = drive;
+    }
+}
+
+/* The last white reading that counted (warm-up or reference): NAN when none. */
+static const rd *last_white(const ctx *c)
+{
+    for (size_t i = c->n; i-- > 0;)
+        if ((c->r[i].role == ROLE_WARMUP || c->r[i].role == ROLE_REF) && isfinite(c->r[i].lum)) return &c->r[i];
+    return NULL;
+}
+
+/* Mean of the dark readings that count; NAN when there are none or all said "too dark". */
+static double dark_mean(const ctx *c)
+{
+    double s = 0;
+    int k = 0;
+    for (size_t i = 0; i < c->n; i++)
+        if (c->r[i].role == ROLE_DARK && isfinite(c->r[i].lum)) {
+            s += c->r[i].lum;
+            k++;
+        }
+    return k ? s / k : NAN;
+}
+
+/* Plausibility of a live reading that the instrument reported as fine (calib/meter_check.h):
+ * the failures a real meter shows without saying so. A reading that fails is stored with status
+ * "error" and its values, ends the run, and is retried under its own number on --resume. */
+static csf_status sanity(const ctx *c, int role, const double rgb[3], const csf_photometer_reading *pr,
+                         csf_error *e, int *span)
+{
+    *span = 0;
+    csf_meter_limits l;
+    csf_meter_limits_default(&l);
+    if (c->o->max_lum_cdm2 > 0) l.max_lum_cdm2 = c->o->max_lum_cdm2;
+    char why[400];
+    if (csf_meter_absurd(pr, &l, why, sizeof why)) return csf_error_set(e, CSF_E_PROTOCOL, "%s", why);
+    if (c->n > 0) {
+        const rd *p = &c->r[c->n - 1];
+        csf_photometer_reading prev = {.lum_cdm2 = p->lum, .has_xyz = p->has_xyz};
+        memcpy(prev.xyz, p->xyz, sizeof prev.xyz);
+        double prgb[3];
+        patch_rgb(p->ch, p->drive, prgb);
+        if (csf_meter_frozen(&prev, prgb, pr, rgb, &l, why, sizeof why)) return csf_error_set(e, CSF_E_DEVICE, "%s", why);
+    }
+    const rd *w = last_white(c);
+    int is_white = rgb[0] == 1 && rgb[1] == 1 && rgb[2] == 1;
+    int is_black = rgb[0] == 0 && rgb[1] == 0 && rgb[2] == 0;
+    if (w && is_black && csf_meter_no_contrast(w->lum, pr->lum_cdm2, &l, why, sizeof why))
+        return csf_error_set(e, CSF_E_DEVICE, "%s", why);
+    if (is_white && role == ROLE_REF && csf_meter_no_contrast(pr->lum_cdm2, dark_mean(c), &l, why, sizeof why)) {
+        *span = 1;
+        return csf_error_set(e, CSF_E_DEVICE, "%s; the readings since the last white are measured again on --resume", why);
+    }
+    if (w && is_white && role == ROLE_REF) {
+        double ratio = 1;
+        if (c->drift_ok) {
+            double a = c->drift_A + c->drift_B * exp(-w->t_s / c->drift_tau);
+            double b = c->drift_A + c->drift_B * exp(-pr->t_s / c->drift_tau);
+            if (a > 0 && b > 0) ratio = b / a;
+        }
+        if (csf_meter_white_step(w->lum, pr->lum_cdm2, ratio, c->noise_rel, &l, why, sizeof why)) {
+            *span = 1;
+            return csf_error_set(e, CSF_E_DEVICE, "%s; the readings since the last white are measured again on --resume", why);
+        }
+    }
+    if (w && !is_white && csf_meter_above_white(pr->lum_cdm2, w->lum, c->noise_abs, why, sizeof why))
+        return csf_error_set(e, CSF_E_DEVICE, "%s", why);
+    return CSF_OK;
+}
+
+static const char *fault_hint(csf_status st, int is_white)
+{
+    switch (st) {
+    case CSF_E_TOO_DARK:
+        return is_white ? "white is below the instrument's floor: is the cap on, is the sensor on the patch?"
+                        : "below the instrument's floor where the display shows light: is the sensor still on the patch?";
+    case CSF_E_SATURATED:
+        return "over the instrument's range: choose its higher range, add a neutral density filter, or lower "
+               "the display's brightness";
+    case CSF_E_TIMEOUT: return "the instrument fell silent: check its cable and power";
+    case CSF_E_GONE: return "the instrument is gone: reconnect it";
+    case CSF_E_PROTOCOL: return "the instrument's answer cannot be a reading";
+    default: return "";
+    }
+}
+
+/* The message a fault ends the calibration with: which instrument, which reading, the problem. */
+static csf_status meter_fault(const ctx *c, csf_status st, int role, int ch, double drive, const csf_error *m,
+                              csf_error *err)
+{
+    static const char *what[] = {"warm-up white", "dark", "white reference", "sweep", "dark", "sweep"};
+    static const char *chn[4] = {"red", "green", "blue", "grey"};
+    double rgb[3];
+    patch_rgb(ch, drive, rgb);
+    const char *hint = fault_hint(st, rgb[0] == 1 && rgb[1] == 1 && rgb[2] == 1);
+    return csf_error_set(err, st, "photometer %.120s, reading %llu (%s, %s at drive %.4g): %.260s%s%s",
+                         csf_photometer_spec(c->ph), (unsigned long long)c->inst_index, what[role], chn[ch],
+                         drive, m->msg, *hint ? "; " : "", hint);
+}
+
 /* Takes one reading: from the stored session while replaying, else from the instrument (and
  * stores it at once). accept_dark: a too-dark answer is a valid result here (black of an OLED). */
 static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, rd *out, csf_error *err)
@@ -161,7 +272,24 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         c->t_last = s->t_s;
         int ok = strcmp(s->status, "ok") == 0;
         int dark = strcmp(s->status, "too_dark") == 0;
-        if (!ok && !(dark && accept_dark)) continue; /* a failed attempt: the live run retried it */
+        if (!ok && !(dark && accept_dark)) {
+            /* a failed attempt: the live run stopped there and a resume retries it. A white
+             * reference that failed because the sensor had moved or the display had changed
+             * also puts the readings before it in doubt: the caller sets them aside (the same
+             * check on the same state, so every resume decides alike) */
+            if (role == ROLE_REF && isfinite(s->lum_cdm2)) {
+                csf_photometer_reading sp = {.lum_cdm2 = s->lum_cdm2, .xyz = {s->X, s->Y, s->Z},
+                                             .has_xyz = s->has_xyz, .t_s = s->t_s};
+                double rgb[3] = {1, 1, 1};
+                int span = 0;
+                csf_error tmp;
+                if (sanity(c, role, rgb, &sp, &tmp, &span) && span) {
+                    c->suspect = 1;
+                    return csf_error_set(err, CSF_E_INSUFFICIENT, "stored reading %d: %s", s->seq, tmp.msg);
+                }
+            }
+            continue;
+        }
         c->inst_index++;
         c->t_accepted = s->t_s;
         c->pending_wait_s = 0; /* the stored reading already includes any wait before it */
@@ -183,11 +311,8 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     }
     if (c->pending_wait_s > 0) csf_photometer_wait(c->ph, c->pending_wait_s);
     c->pending_wait_s = 0;
-    double rgb[3] = {drive, drive, drive};
-    if (ch < 3) {
-        rgb[0] = rgb[1] = rgb[2] = 0;
-        rgb[ch] = drive;
-    }
+    double rgb[3];
+    patch_rgb(ch, drive, rgb);
     /* the instrument is told the patch first (the built-in uniform source), then the hook draws
      * it and may install a screen source of its own (the rendered frame, csfcal display --render) */
     csf_photometer_show_patch(c->ph, rgb[0], rgb[1], rgb[2]);
@@ -197,6 +322,9 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     csf_error merr;
     csf_error_clear(&merr);
     csf_status st = csf_photometer_measure(c->ph, &pr, &merr);
+    int implausible = 0, span = 0;
+    if (!st) implausible = (st = sanity(c, role, rgb, &pr, &merr, &span)) != CSF_OK;
+    int keep = !st || implausible; /* an implausible reading is stored with its values */
     if (c->store) {
         csf_reading sr;
         memset(&sr, 0, sizeof sr);
@@ -204,11 +332,11 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         sr.seq = c->seq;
         snprintf(sr.channel, sizeof sr.channel, "%s", want);
         sr.drive01 = drive;
-        sr.lum_cdm2 = st ? NAN : pr.lum_cdm2;
-        sr.X = st ? NAN : pr.xyz[0];
-        sr.Y = st ? NAN : pr.xyz[1];
-        sr.Z = st ? NAN : pr.xyz[2];
-        sr.has_xyz = !st && pr.has_xyz;
+        sr.lum_cdm2 = keep ? pr.lum_cdm2 : NAN;
+        sr.X = keep ? pr.xyz[0] : NAN;
+        sr.Y = keep ? pr.xyz[1] : NAN;
+        sr.Z = keep ? pr.xyz[2] : NAN;
+        sr.has_xyz = keep && pr.has_xyz;
         sr.t_s = pr.t_s;
         snprintf(sr.status, sizeof sr.status, "%s", status_name(st));
         csf_status sst = csf_store_add_reading(c->store, &sr, err);
@@ -216,10 +344,7 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     }
     c->seq++;
     c->t_last = pr.t_s;
-    if (st && !(st == CSF_E_TOO_DARK && accept_dark)) {
-        *err = merr;
-        return st;
-    }
+    if (st && !(st == CSF_E_TOO_DARK && accept_dark)) return meter_fault(c, st, role, ch, drive, &merr, err);
     c->inst_index++;
     c->t_accepted = pr.t_s;
     out->lum = st ? NAN : pr.lum_cdm2;
@@ -744,18 +869,73 @@ static csf_status measure_level(ctx *c, int ch, double v, double peak, int left,
     return CSF_OK;
 }
 
-/* White reference: read as often as the noise requires, like a sweep level. */
-static csf_status reference(ctx *c, csf_error *err)
+/* Sets aside every reading since the last white that counted (sweep readings, darks): they were
+ * taken while the sensor was off the patch or the display had changed. Returns how many. */
+static int set_aside(ctx *c)
+{
+    size_t i = c->n;
+    while (i > 0 && !((c->r[i - 1].role == ROLE_WARMUP || c->r[i - 1].role == ROLE_REF) && isfinite(c->r[i - 1].lum)))
+        i--;
+    int k = 0;
+    for (; i < c->n; i++) {
+        if (c->r[i].role == ROLE_SWEEP) {
+            c->r[i].role = ROLE_REJECTED;
+            c->n_sweep--;
+            k++;
+        } else if (c->r[i].role == ROLE_DARK) {
+            c->r[i].role = ROLE_DARK_REJECTED;
+            k++;
+        }
+    }
+    return k;
+}
+
+/* A reference reading that replay found suspect (c->suspect): clears the flag, sets the readings
+ * before it aside. *redo = 1 when there were any (the caller measures them again), 2 when there
+ * were none (only the reference is taken again); no reading was taken either way. */
+static csf_status suspect_white(ctx *c, csf_status st, int *redo)
+{
+    if (st != CSF_E_INSUFFICIENT || !c->suspect) return st;
+    c->suspect = 0;
+    *redo = set_aside(c) > 0 ? 1 : 2;
+    return CSF_OK;
+}
+
+static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
+                        csf_error *err);
+
+/* White reference: read as often as the noise requires, like a sweep level. *redo = 1: the
+ * readings since the white before were set aside (see set_aside) and must be measured again. */
+static csf_status reference(ctx *c, int *redo, csf_error *err)
 {
     rd x;
+    *redo = 0;
     double peak = predict(c, CSF_CH_GREY, 1.0);
     /* before the first reference the white level is unknown: relative noise alone decides */
     int reps = isnan(peak) ? repeats_for(c, 1e9, 1e9) : repeats_for(c, peak, peak);
     for (int k = 0; k < reps; k++) {
-        csf_status st = take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+        csf_status st = suspect_white(c, take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err), redo);
         if (st) return st;
+        if (*redo == 1) return CSF_OK;
+        if (*redo == 2) {
+            *redo = 0;
+            k--;
+        }
     }
     return CSF_OK;
+}
+
+/* A sweep followed by its white reference, swept again while the reference sets it aside. */
+static csf_status sweep_ref(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
+                            csf_error *err)
+{
+    for (;;) {
+        csf_status st = sweep(c, ch, budget, extra, n_extra, est_out, err);
+        if (st) return st;
+        int redo = 0;
+        if ((st = reference(c, &redo, err))) return st;
+        if (!redo) return CSF_OK;
+    }
 }
 
 static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
@@ -1067,12 +1247,19 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     if (st) return st;
     if ((st = dark_series(c, err))) return st;
     /* first white reference: 6 readings in a row (no drift to speak of over 3 s after the
-     * warm-up) give the noise estimate, 5 degrees of freedom */
+     * warm-up) give the noise estimate, 5 degrees of freedom. One that shows the darks were not
+     * the screen's (no contrast: the sensor was off the patch) sets them aside: measured again */
     double wv[6];
     for (int i = 0; i < 6; i++) {
         rd x;
-        st = take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err);
+        int redo = 0;
+        st = suspect_white(c, take(c, ROLE_REF, CSF_CH_GREY, 1.0, 0, &x, err), &redo);
         if (st) return st;
+        if (redo == 1 && (st = dark_series(c, err))) return st;
+        if (redo) {
+            i = -1; /* the six in a row again */
+            continue;
+        }
         wv[i] = x.lum;
     }
     c->noise_rel = sd3(wv, 6) / wv[5];
@@ -1080,9 +1267,8 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     int budget = c->o->budget;
     /* channels are fitted through the grey curve (few parameters), so grey gets half */
     int grey_budget = c->o->channels ? (int)(budget * 0.5 + 0.5) : budget;
-    st = sweep(c, CSF_CH_GREY, grey_budget, NULL, 0, &res->est_error_rel[CSF_CH_GREY], err);
+    st = sweep_ref(c, CSF_CH_GREY, grey_budget, NULL, 0, &res->est_error_rel[CSF_CH_GREY], err);
     if (st) return st;
-    if ((st = reference(c, err))) return st;
     if (c->o->channels) {
         /* a kink the grey sweep found is usually the panel's (a driver or LUT step common to
          * the channels): each channel measures at the grey curve's corners from the start */
@@ -1107,9 +1293,8 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
             int left = budget - c->n_sweep;
             int b = left / (3 - ch);
             if (b < 2) b = 2;
-            st = sweep(c, ch, b, corners, nc, &res->est_error_rel[ch], err);
+            st = sweep_ref(c, ch, b, corners, nc, &res->est_error_rel[ch], err);
             if (st) return st;
-            if ((st = reference(c, err))) return st;
         }
     }
     update_black(c);
@@ -1166,7 +1351,7 @@ static csf_status build_profile(ctx *c, const char *display_name, const char *in
     size_t k = 0;
     for (size_t i = 0; i < c->n; i++) {
         const rd *x = &c->r[i];
-        if (x->role == ROLE_WARMUP || x->role == ROLE_DARK_REJECTED) continue;
+        if (x->role == ROLE_WARMUP || x->role == ROLE_DARK_REJECTED || x->role == ROLE_REJECTED) continue;
         double f = drift_factor(c, x->t_s);
         pr[k].channel = x->role == ROLE_SWEEP ? x->ch : CSF_CH_GREY;
         pr[k].drive01 = x->drive;
@@ -1352,7 +1537,16 @@ static csf_status verify_read(vctx *v, const double rgb[3], csf_photometer_readi
     if (v->o->show_patch && v->o->show_patch(v->o->show_patch_user, rgb, v->index) != 0)
         return csf_error_set(err, CSF_E_ABORTED, "the verification patch could not be drawn");
     v->index++;
-    return csf_photometer_measure(v->ph, r, err);
+    csf_status st = csf_photometer_measure(v->ph, r, err);
+    if (st) return st;
+    /* an answer that cannot be light is not a deviation of the display */
+    csf_meter_limits l;
+    csf_meter_limits_default(&l);
+    char why[400];
+    if (csf_meter_absurd(r, &l, why, sizeof why))
+        return csf_error_set(err, CSF_E_PROTOCOL, "photometer %.120s, verification reading %llu: %s",
+                             csf_photometer_spec(v->ph), (unsigned long long)(v->index - 1), why);
+    return CSF_OK;
 }
 
 csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,

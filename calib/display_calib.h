@@ -37,6 +37,8 @@ typedef struct {
     int drive_levels;      /* highest framebuffer code: levels are multiples of 1/drive_levels
                               (255 for 8 bit, 1023 for 10 bit); 0 = continuous (default: csfcal
                               dithers patches, so fractional drive values are shown) */
+    double max_lum_cdm2;   /* a reading above it is refused as absurd (0 = 10000 cd/m2, the top of
+                              SMPTE ST 2084; see calib/meter_check.h) */
 } csf_display_calib_opts;
 
 void csf_display_calib_defaults(csf_display_calib_opts *o);

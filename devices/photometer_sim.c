@@ -11,11 +11,16 @@
  *   warmup_s=S (20)  drift=REL (0.01)            reading scale 1 - drift*exp(-t/warmup_s)
  *   integration_s=S (0.5)                        virtual time per reading
  *   floor_cdm2=L (0.01)  sat_cdm2=L (2000)       measuring range
- *   fault=KIND@N[+COUNT]                         KIND: unplug, timeout, garbage, dark, saturate;
- *                                                from reading number N (0-based). timeout and
+ *   fault=KIND@N[+COUNT]                         from reading number N (0-based). timeout and
  *                                                garbage hit reading N only; the others persist,
  *                                                or last COUNT readings (N to N+COUNT-1) when given
- *                                                (a sensor that slips off the screen and back). */
+ *                                                (a sensor that slips off the screen and back).
+ * Fault kinds: what the instrument says itself: unplug (gone), timeout (silent), garbage
+ * (unreadable answer), dark (too dark: fell off the screen facing the desk, or cap on), saturate
+ * (over range). What it does not say (calib/meter_check.h catches them): stuck (repeats its last
+ * answer), offscreen (reads the room's light, the same for every patch), dim (the display dims
+ * itself by 10 %), negative, nan, huge (x 1e5) luminance, badxyz (XYZ's Y 30 % off the
+ * luminance), glare (the sensor sees a lamp: white's light x 1.5 whatever the patch). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -26,8 +31,15 @@
 #include "devices/photometer.h"
 #include "results/rng.h"
 
-enum { FAULT_NONE, FAULT_UNPLUG, FAULT_TIMEOUT, FAULT_GARBAGE, FAULT_DARK, FAULT_SATURATE };
-static const char *fault_names[] = {"none", "unplug", "timeout", "garbage", "dark", "saturate"};
+enum {
+    FAULT_NONE, FAULT_UNPLUG, FAULT_TIMEOUT, FAULT_GARBAGE, FAULT_DARK, FAULT_SATURATE,
+    FAULT_STUCK, FAULT_OFFSCREEN, FAULT_DIM, FAULT_NEGATIVE, FAULT_NAN, FAULT_HUGE, FAULT_BADXYZ,
+    FAULT_GLARE, FAULT_COUNT
+};
+static const char *fault_names[] = {"none", "unplug", "timeout", "garbage", "dark", "saturate", "stuck",
+                                    "offscreen", "dim", "negative", "nan", "huge", "badxyz", "glare"};
+/* what the sensor sees off the screen (a lit room, a wall): the same for every patch */
+static const double AMBIENT_XYZ[3] = {0.48, 0.5, 0.52};
 
 /* rng streams: what is being drawn */
 enum { STREAM_REL = 0x5e01, STREAM_ABS, STREAM_X, STREAM_Z };
@@ -41,6 +53,8 @@ typedef struct {
     uint64_t fault_at;
     uint64_t fault_count; /* 0: the kind's default (one reading, or for good) */
     uint64_t n;   /* readings attempted so far: the rng index of the next one */
+    csf_photometer_reading last; /* the last answer given (what a stuck meter repeats) */
+    int have_last;
     double t_s;   /* virtual clock */
 } sim_state;
 
@@ -111,7 +125,7 @@ static csf_status sim_open(const char *options, uint64_t seed, void **state, csf
             const char *at = strchr(v, '@');
             size_t kl = at ? (size_t)(at - v) : strlen(v);
             s->fault = -1;
-            for (int f = 1; f <= FAULT_SATURATE; f++)
+            for (int f = 1; f < FAULT_COUNT; f++)
                 if (strlen(fault_names[f]) == kl && strncmp(v, fault_names[f], kl) == 0) s->fault = f;
             char nbuf[64] = "";
             const char *plus = at ? strchr(at + 1, '+') : NULL;
@@ -121,7 +135,8 @@ static csf_status sim_open(const char *options, uint64_t seed, void **state, csf
                 (plus && (num(plus + 1, 1, 1e9, &cnt) || cnt != floor(cnt)))) {
                 st = csf_error_set(err, CSF_E_INVALID_ARG,
                                    "sim photometer: fault=%s not understood (KIND@N or KIND@N+COUNT, KIND one of "
-                                   "unplug, timeout, garbage, dark, saturate; N a reading number >= 0, COUNT "
+                                   "unplug, timeout, garbage, dark, saturate, stuck, offscreen, dim, negative, "
+                                   "nan, huge, badxyz, glare; N a reading number >= 0, COUNT "
                                    "the readings it lasts, >= 1)", v);
             } else {
                 s->fault_at = (uint64_t)x;
@@ -253,6 +268,19 @@ static csf_status sim_measure(void *state, const csf_screen_source *src, csf_pho
         /* e.g. the sensor fell off the screen, facing the desk */
         for (int k = 0; k < 3; k++) xyz[k] = 0;
     }
+    if (faulty && s->fault == FAULT_STUCK && s->have_last) {
+        double t = out->t_s;
+        *out = s->last;
+        out->t_s = t;
+        return CSF_OK;
+    }
+    if (faulty && s->fault == FAULT_OFFSCREEN) memcpy(xyz, AMBIENT_XYZ, sizeof xyz);
+    if (faulty && s->fault == FAULT_GLARE) {
+        csf_display_model_xyz(s->display, 1, 1, 1, xyz);
+        for (int k = 0; k < 3; k++) xyz[k] *= 1.5;
+    }
+    if (faulty && s->fault == FAULT_DIM)
+        for (int k = 0; k < 3; k++) xyz[k] *= 0.9;
     if (xyz[1] > s->sat_cdm2)
         return csf_error_set(err, CSF_E_SATURATED, "photometer saturated at reading %llu (above its "
                              "%g cd/m2 range)", (unsigned long long)i, s->sat_cdm2);
@@ -269,6 +297,15 @@ static csf_status sim_measure(void *state, const csf_screen_source *src, csf_pho
     out->xyz[1] = Y;
     out->xyz[2] = xyz[2] * scale * (1.0 + 0.5 * s->noise_rel * csf_rng_normal(s->seed, STREAM_Z, i));
     out->has_xyz = 1;
+    if (faulty) {
+        /* answers that parse but cannot be light (a firmware or range-conversion fault) */
+        if (s->fault == FAULT_NEGATIVE) out->lum_cdm2 = out->xyz[1] = -Y;
+        if (s->fault == FAULT_NAN) out->lum_cdm2 = NAN;
+        if (s->fault == FAULT_HUGE) out->lum_cdm2 = out->xyz[1] = Y * 1e5;
+        if (s->fault == FAULT_BADXYZ) out->xyz[1] = Y * 1.3;
+    }
+    s->last = *out;
+    s->have_last = 1;
     return CSF_OK;
 }
 

@@ -1,7 +1,8 @@
 /* The photometer spec (--photometer, the station configuration's photometer key, the spec stored
  * with a session and replayed on --resume) is outside input: "sim:key=value,..." with the display
  * model's keys, the instrument's and a fault. Opening must refuse with a message or give a meter
- * whose readings are finite and non-negative (or refused with a message) at any drive value.
+ * whose readings are finite and non-negative (or refused with a message) at any drive value,
+ * except the absurd answers a fault= asks for, which the calibration's checks must catch.
  * Specs that name a file (display=file=PATH.csv, PATH.csv) are skipped: that parser has its
  * own target (fuzz_display_csv) and the fuzzer must not read files. */
 #include <math.h>
@@ -9,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "calib/meter_check.h"
 #include "devices/photometer.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -42,8 +44,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (err.msg[0] == '\0') abort();
             continue;
         }
-        if (!isfinite(r.lum_cdm2) || r.lum_cdm2 < 0 || !isfinite(r.t_s)) abort();
-        if (r.has_xyz && !(isfinite(r.xyz[0]) && isfinite(r.xyz[1]) && isfinite(r.xyz[2]))) abort();
+        if (!isfinite(r.t_s)) abort();
+        /* the simulator's absurd-answer faults (fault=negative|nan|huge|badxyz) give readings that
+         * cannot be light on purpose: the calibration's check (calib/meter_check.h) must refuse
+         * them, and nothing else may give one */
+        int unusable = !isfinite(r.lum_cdm2) || r.lum_cdm2 < 0 ||
+                       (r.has_xyz && !(isfinite(r.xyz[0]) && isfinite(r.xyz[1]) && isfinite(r.xyz[2])));
+        csf_meter_limits lim;
+        csf_meter_limits_default(&lim);
+        char why[400];
+        if (unusable && !csf_meter_absurd(&r, &lim, why, sizeof why)) abort();
     }
     csf_photometer_wait(p, 30);
     csf_photometer_resume_at(p, 3, 12.5);

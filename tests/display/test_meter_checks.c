@@ -1,0 +1,286 @@
+/* Sanity checks on a photometer's readings (calib/meter_check.h) and what the calibration does
+ * when one fails: a message naming the instrument and the problem, the failing reading stored with
+ * its values, the session paused, and --resume with a working instrument making the profile an
+ * unfaulted session makes. Each fault comes from the simulated photometer (fault=KIND@N); without
+ * the check, the calibration would finish on the bad readings (the first block shows which). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "calib/display_calib.h"
+#include "calib/meter_check.h"
+#include "devices/display_model.h"
+#include "tests/check.h"
+
+/* Largest relative error above 10 % of peak per curve (r, g, b, grey) against the simulated truth. */
+static void errors(const csf_display_profile *p, const char *display_spec, double out[4])
+{
+    csf_display_model *m = NULL;
+    csf_error err;
+    if (csf_display_model_create(display_spec, &m, &err)) {
+        CHECK_MSG(0, "%s", err.msg);
+        return;
+    }
+    double black = csf_display_model_lum(m, 0, 0, 0);
+    for (int ch = 0; ch < 4; ch++) {
+        double peak = ch == 3 ? csf_display_model_lum(m, 1, 1, 1)
+                              : csf_display_model_lum(m, ch == 0, ch == 1, ch == 2) - black;
+        double worst = 0;
+        for (int i = 0; i <= 1020; i++) {
+            double v = i / 1020.0;
+            double t, got;
+            if (ch == 3) {
+                t = csf_display_model_lum(m, v, v, v);
+                got = csf_profile_grey_lum(p, v);
+            } else {
+                t = csf_display_model_lum(m, ch == 0 ? v : 0, ch == 1 ? v : 0, ch == 2 ? v : 0) - black;
+                got = csf_profile_channel_lum(p, ch, v);
+            }
+            if (t < 0.1 * peak) continue;
+            double e = fabs(got / t - 1);
+            if (e > worst) worst = e;
+        }
+        out[ch] = worst;
+    }
+    csf_display_model_free(m);
+}
+
+static int same_model(const csf_display_profile *a, const csf_display_profile *b)
+{
+    if (csf_profile_lum_black(a) != csf_profile_lum_black(b)) return 0;
+    for (int c = 0; c < CSF_CH_COUNT; c++) {
+        const double *va, *la, *vb, *lb;
+        size_t na = csf_profile_knots(a, c, &va, &la), nb = csf_profile_knots(b, c, &vb, &lb);
+        if (na != nb) return 0;
+        for (size_t i = 0; i < na; i++)
+            if (va[i] != vb[i] || la[i] != lb[i]) return 0;
+    }
+    return 1;
+}
+
+static csf_display_profile *calibrate(const char *spec, csf_store *store, int64_t *sid,
+                                      csf_display_calib_result *res, csf_status *st_out, csf_error *err)
+{
+    csf_photometer *ph = NULL;
+    csf_status st = csf_photometer_open(spec, 21, &ph, err);
+    CHECK_MSG(st == CSF_OK, "%s", err->msg);
+    if (st) return NULL;
+    csf_display_calib_opts o;
+    csf_display_calib_defaults(&o);
+    csf_display_profile *p = NULL;
+    st = csf_display_calibrate(ph, &o, store, sid, 21, &p, res, err);
+    if (st_out) *st_out = st;
+    csf_photometer_close(ph);
+    return p;
+}
+
+static void unit_checks(void)
+{
+    csf_meter_limits l;
+    csf_meter_limits_default(&l);
+    char why[400];
+    csf_photometer_reading r = {.lum_cdm2 = 100, .xyz = {95, 100, 108}, .has_xyz = 1};
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 0);
+    r.lum_cdm2 = -0.5;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    CHECK_STR_CONTAINS(why, "negative");
+    r.lum_cdm2 = NAN;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    r.lum_cdm2 = 10001;
+    r.xyz[1] = 10001;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    CHECK_STR_CONTAINS(why, "beyond any display");
+    r.lum_cdm2 = 9999; /* just inside the display class */
+    r.xyz[1] = 9999;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 0);
+    r.lum_cdm2 = 100;
+    r.xyz[1] = 101.9; /* within 2 % */
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 0);
+    r.xyz[1] = 102.2;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    CHECK_STR_CONTAINS(why, "disagrees");
+    r.xyz[1] = 100;
+    r.xyz[2] = -5;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    r.xyz[2] = NAN;
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 1);
+    r.has_xyz = 0; /* a luminance-only meter: XYZ is not looked at */
+    CHECK_INT_EQ(csf_meter_absurd(&r, &l, why, sizeof why), 0);
+
+    /* frozen: identical answers for patches 0.1 apart or more, never for repeats of one patch */
+    csf_photometer_reading a = {.lum_cdm2 = 42.5}, b = a;
+    double white[3] = {1, 1, 1}, grey[3] = {0.95, 0.95, 0.95}, half[3] = {0.5, 0.5, 0.5};
+    CHECK_INT_EQ(csf_meter_frozen(&a, white, &b, white, &l, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_meter_frozen(&a, white, &b, grey, &l, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_meter_frozen(&a, white, &b, half, &l, why, sizeof why), 1);
+    b.lum_cdm2 = 42.50001;
+    CHECK_INT_EQ(csf_meter_frozen(&a, white, &b, half, &l, why, sizeof why), 0);
+
+    CHECK_INT_EQ(csf_meter_no_contrast(180, 0.35, &l, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_meter_no_contrast(0.6, 0.35, &l, why, sizeof why), 1);
+    CHECK_INT_EQ(csf_meter_no_contrast(0.6, NAN, &l, why, sizeof why), 0); /* "too dark" is a change */
+
+    CHECK_INT_EQ(csf_meter_white_step(180, 185, 1, 0.0005, &l, why, sizeof why), 0);   /* 2.8 % */
+    CHECK_INT_EQ(csf_meter_white_step(180, 162, 1, 0.0005, &l, why, sizeof why), 1);   /* -10 % */
+    CHECK_INT_EQ(csf_meter_white_step(180, 162, 0.9, 0.0005, &l, why, sizeof why), 0); /* model said so */
+    CHECK_INT_EQ(csf_meter_white_step(180, 170, 1, 0.01, &l, why, sizeof why), 0);     /* noisy meter: 6 sd */
+
+    CHECK_INT_EQ(csf_meter_above_white(100, 180, 0.001, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_meter_above_white(200, 180, 0.001, why, sizeof why), 1);
+}
+
+int main(void)
+{
+    unit_checks();
+    csf_error err;
+    csf_error_clear(&err);
+    csf_display_calib_result ref_res;
+    csf_display_profile *ref = calibrate("sim:display=lcd", NULL, NULL, &ref_res, NULL, &err);
+    CHECK(ref != NULL);
+    if (!ref) return CHECK_RESULT();
+    int nw = ref_res.n_warmup, first_ref = nw + 6; /* reading numbers: warm-up, six darks, white */
+    char dir[] = "/tmp/csfcal-test-meter-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char db[600];
+    snprintf(db, sizeof db, "%s/store.sqlite", dir);
+    csf_store *store = NULL;
+    CHECK_INT_EQ(csf_store_open(db, &store, &err), CSF_OK);
+
+    /* resume: 0 = the resumed session makes the unfaulted one's profile bit for bit; 1 = readings
+     * taken since the last good white were set aside and measured again (about `extra` more), the
+     * profile meets the target; -1 = not resumed */
+    struct { const char *kind; int at; csf_status code; const char *msg; int resume, extra; } faults[] = {
+        {"stuck", 0, CSF_E_DEVICE, "stale answer", 0, 0},          /* at the first dark: answers white */
+        {"stuck", 1, CSF_E_DEVICE, "stale answer", 0, 0},          /* at the first white ref: answers dark */
+        {"offscreen", 0, CSF_E_DEVICE, "hardly changes", 1, 6},    /* darks are room light: seen at white */
+        {"offscreen", -1, CSF_E_DEVICE, "hardly changes", -1, 0},  /* from the first reading on */
+        {"dim", 1, CSF_E_DEVICE, "white changed", 1, 0},           /* the display dims by 10 %: the darks
+                                                                      since the last white are set aside */
+        {"dim", 2, CSF_E_DEVICE, "white changed", 1, 0},           /* ... inside the grey sweep */
+        {"offscreen", 2, CSF_E_DEVICE, "hardly changes", 1, 0},     /* the sensor slips off in the sweep */
+        {"glare", 30, CSF_E_DEVICE, "above white", 0, 0},          /* a grey sweep level reads a lamp */
+        {"negative", 30, CSF_E_PROTOCOL, "negative", 0, 0},
+        {"nan", 31, CSF_E_PROTOCOL, "not a number", 0, 0},
+        {"huge", 40, CSF_E_PROTOCOL, "beyond any display", 0, 0},
+        {"badxyz", 25, CSF_E_PROTOCOL, "disagrees", 0, 0},
+    };
+    for (size_t k = 0; store && k < sizeof faults / sizeof faults[0]; k++) {
+        /* at: 0 = the first dark reading, 1 = the first white reference, 2 = 12 readings into the grey
+         * sweep, -1 = reading 0, else N */
+        int at = faults[k].at == 0 ? nw : faults[k].at == 1 ? first_ref : faults[k].at == 2 ? first_ref + 18
+               : faults[k].at == -1 ? 0 : faults[k].at;
+        char spec[128];
+        snprintf(spec, sizeof spec, "sim:display=lcd,fault=%s@%d", faults[k].kind, at);
+        int64_t sid = 0;
+        csf_display_calib_result res;
+        csf_status st;
+        csf_error_clear(&err);
+        csf_display_profile *p = calibrate(spec, store, &sid, &res, &st, &err);
+        CHECK_MSG(st == faults[k].code, "%s: status %d (%s)", spec, (int)st, err.msg);
+        CHECK_STR_CONTAINS(err.msg, faults[k].msg);
+        CHECK_STR_CONTAINS(err.msg, "photometer sim:display=lcd"); /* names the instrument */
+        CHECK(p == NULL);
+        csf_profile_free(p);
+        csf_reading *rd = NULL;
+        size_t n = 0;
+        CHECK_INT_EQ(csf_store_get_readings(store, sid, &rd, &n, &err), CSF_OK);
+        /* every reading up to the failing one is stored; the failing one with its values */
+        if (faults[k].at == -1) { /* the warm-up settles on room light; the first dark fails */
+            CHECK_MSG(n >= 7 && strcmp(rd[n - 1].channel, "dark") == 0, "%s: %zu readings", spec, n);
+        } else if (faults[k].at == 0 && faults[k].resume == 1) { /* caught at the first white */
+            CHECK_MSG(n == (size_t)first_ref + 1, "%s: %zu readings stored, expected %d", spec, n, first_ref + 1);
+        } else if (faults[k].at == 2) { /* caught at the white reference after the grey sweep */
+            CHECK_MSG(n > (size_t)at + 1 && strcmp(rd[n - 1].channel, "grey") == 0 && rd[n - 1].drive01 == 1,
+                      "%s: %zu readings, last %s at %g", spec, n, n ? rd[n - 1].channel : "-", n ? rd[n - 1].drive01 : 0);
+        } else {
+            CHECK_MSG(n == (size_t)at + 1, "%s: %zu readings stored, expected %d", spec, n, at + 1);
+        }
+        if (n) {
+            CHECK_MSG(strcmp(rd[n - 1].status, "error") == 0, "%s: last status %s", spec, rd[n - 1].status);
+            if (strcmp(faults[k].kind, "nan") != 0)
+                CHECK_MSG(isfinite(rd[n - 1].lum_cdm2), "%s: the failing reading's value is not kept", spec);
+        }
+        free(rd);
+        csf_session_info si;
+        memset(&si, 0, sizeof si);
+        CHECK_INT_EQ(csf_store_get_session(store, sid, &si, &err), CSF_OK);
+        CHECK(strcmp(si.state, "paused") == 0);
+        csf_session_info_free(&si);
+        if (faults[k].resume < 0) continue; /* its warm-up readings are room light: resumed, it would still be */
+        int64_t sid2 = sid;
+        p = calibrate("sim:display=lcd", store, &sid2, &res, &st, &err);
+        CHECK_MSG(st == CSF_OK && p, "resume after %s: %s", spec, err.msg);
+        if (p && faults[k].resume == 0) {
+            CHECK_MSG(same_model(p, ref), "resumed after %s: not the unfaulted session's profile", spec);
+            CHECK_INT_EQ(res.n_readings, ref_res.n_readings);
+        }
+        if (p && faults[k].resume == 1) {
+            double e[4];
+            errors(p, "lcd", e);
+            CHECK_MSG(e[3] <= 0.0025, "resumed after %s: grey error %g", spec, e[3]);
+            for (int c = 0; c < 3; c++) CHECK_MSG(e[c] <= 0.005, "resumed after %s: channel %d error %g", spec, c, e[c]);
+            CHECK_MSG(fabs(csf_profile_lum_black(p) / 0.35 - 1) < 0.02, "resumed after %s: black %g", spec,
+                      csf_profile_lum_black(p));
+            /* what was set aside is measured again (adaptive levels may differ by a reading or two) */
+            if (faults[k].extra)
+                CHECK_MSG(res.n_readings >= ref_res.n_readings + faults[k].extra - 2, "resumed after %s: %d readings, "
+                          "unfaulted %d", spec, res.n_readings, ref_res.n_readings);
+            CHECK_MSG(res.n_sweep <= 48, "resumed after %s: %d sweep readings", spec, res.n_sweep);
+        }
+        csf_profile_free(p);
+    }
+
+    /* the display class: a 100 cd/m2 limit refuses the 180 cd/m2 LCD's white */
+    {
+        csf_photometer *ph = NULL;
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd", 21, &ph, &err), CSF_OK);
+        csf_display_calib_opts o;
+        csf_display_calib_defaults(&o);
+        o.max_lum_cdm2 = 100;
+        csf_display_profile *p = NULL;
+        csf_display_calib_result res;
+        CHECK_INT_EQ(csf_display_calibrate(ph, &o, NULL, NULL, 21, &p, &res, &err), CSF_E_PROTOCOL);
+        CHECK_STR_CONTAINS(err.msg, "limit 100 cd/m2");
+        csf_profile_free(p);
+        csf_photometer_close(ph);
+    }
+    /* the instrument's own faults are named too, with what to do */
+    {
+        csf_display_calib_result res;
+        csf_status st;
+        csf_display_profile *p = calibrate("sim:display=lcd,fault=dark@0", NULL, NULL, &res, &st, &err);
+        CHECK_INT_EQ(st, CSF_E_TOO_DARK);
+        CHECK_STR_CONTAINS(err.msg, "photometer sim:display=lcd,fault=dark@0, reading 0 (warm-up white");
+        CHECK_STR_CONTAINS(err.msg, "cap on");
+        csf_profile_free(p);
+        p = calibrate("sim:display=lcd,fault=timeout@20", NULL, NULL, &res, &st, &err);
+        CHECK_INT_EQ(st, CSF_E_TIMEOUT);
+        CHECK_STR_CONTAINS(err.msg, "fell silent");
+        csf_profile_free(p);
+        p = calibrate("sim:display=lcd,fault=saturate@20", NULL, NULL, &res, &st, &err);
+        CHECK_INT_EQ(st, CSF_E_SATURATED);
+        CHECK_STR_CONTAINS(err.msg, "range");
+        csf_profile_free(p);
+    }
+    /* verify refuses an absurd answer instead of reporting it as the display's deviation */
+    {
+        csf_photometer *ph = NULL;
+        CHECK_INT_EQ(csf_photometer_open("sim:display=lcd,fault=negative@12", 21, &ph, &err), CSF_OK);
+        csf_display_verify_opts vo;
+        csf_display_verify_defaults(&vo);
+        csf_display_verify_result vr;
+        if (ph) {
+            CHECK_INT_EQ(csf_display_verify_run(ph, ref, &vo, &vr, &err), CSF_E_PROTOCOL);
+            CHECK_STR_CONTAINS(err.msg, "negative");
+            CHECK_STR_CONTAINS(err.msg, "photometer sim:display=lcd");
+        }
+        csf_photometer_close(ph);
+    }
+    csf_profile_free(ref);
+    csf_store_close(store);
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK_INT_EQ(system(cmd), 0);
+    return CHECK_RESULT();
+}
