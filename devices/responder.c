@@ -5,7 +5,8 @@
 #include <string.h>
 #include <time.h>
 
-extern const csf_responder_backend csf_responder_glfw_keyboard, csf_responder_glfw_mouse;
+extern const csf_responder_backend csf_responder_glfw_keyboard, csf_responder_glfw_mouse, csf_responder_gamepad,
+    csf_responder_hid;
 
 #define QUEUE_CAP 256
 
@@ -14,9 +15,10 @@ typedef struct {
     int head, count;
 } queue_state;
 
-static csf_status queue_open(void *window, void **state, csf_error *err)
+static csf_status queue_open(const char *options, void *window, void **state, csf_error *err)
 {
     (void)window;
+    if (*options) return csf_error_set(err, CSF_E_INVALID_ARG, "responder queue takes no options (got '%s')", options);
     queue_state *q = calloc(1, sizeof *q);
     if (!q) return csf_error_set(err, CSF_E_NOMEM, "responder: out of memory");
     *state = q;
@@ -46,29 +48,39 @@ struct csf_responder {
 };
 
 static const csf_responder_backend *const backends[] = {
-    &csf_responder_glfw_keyboard, &csf_responder_glfw_mouse, &queue_backend,
+    &csf_responder_glfw_keyboard, &csf_responder_glfw_mouse, &csf_responder_gamepad, &csf_responder_hid,
+    &queue_backend,
 };
+
+csf_status csf_responder_wrap(const csf_responder_backend *b, void *state, csf_responder **out, csf_error *err)
+{
+    csf_responder *r = calloc(1, sizeof *r);
+    if (!r) {
+        b->close(state);
+        return csf_error_set(err, CSF_E_NOMEM, "responder: out of memory");
+    }
+    r->b = b;
+    r->state = state;
+    *out = r;
+    return CSF_OK;
+}
 
 csf_status csf_responder_open(const char *spec, void *window, csf_responder **out, csf_error *err)
 {
     *out = NULL;
     const csf_responder_backend *b = NULL;
-    for (size_t i = 0; i < sizeof backends / sizeof backends[0]; i++)
-        if (spec && strcmp(spec, backends[i]->name) == 0) b = backends[i];
+    const char *colon = spec ? strchr(spec, ':') : NULL;
+    size_t nl = spec ? (colon ? (size_t)(colon - spec) : strlen(spec)) : 0;
+    for (size_t i = 0; spec && i < sizeof backends / sizeof backends[0]; i++)
+        if (strlen(backends[i]->name) == nl && strncmp(spec, backends[i]->name, nl) == 0) b = backends[i];
     if (!b)
         return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "responder '%s' is unknown (known: keyboard, mouse, queue)",
-                             spec ? spec : "(none)");
-    csf_responder *r = calloc(1, sizeof *r);
-    if (!r) return csf_error_set(err, CSF_E_NOMEM, "responder: out of memory");
-    r->b = b;
-    csf_status st = b->open(window, &r->state, err);
-    if (st != CSF_OK) {
-        free(r);
-        return st;
-    }
-    *out = r;
-    return CSF_OK;
+                             "responder '%.100s' is unknown (known: keyboard, mouse, gamepad[:N], "
+                             "hid:VID:PID[,map=...], queue)", spec ? spec : "(none)");
+    void *state = NULL;
+    csf_status st = b->open(colon ? colon + 1 : "", window, &state, err);
+    if (st != CSF_OK) return st;
+    return csf_responder_wrap(b, state, out, err);
 }
 
 int csf_responder_poll(csf_responder *r, csf_response *out)

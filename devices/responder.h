@@ -1,16 +1,24 @@
 /* Response devices for a real person: one backend per file behind one struct of function
- * pointers (the libusb backend shape), chosen by name. Events carry a timestamp in seconds on
- * raw CLOCK_MONOTONIC (csf_responder_now). The windowed presenter's frame times are the same
- * clock minus its first frame's time: to compare an event with a frame, subtract
+ * pointers (the libusb backend shape), chosen by spec "name[:options]". Events carry a timestamp
+ * in seconds on raw CLOCK_MONOTONIC (csf_responder_now). The windowed presenter's frame times are
+ * the same clock minus its first frame's time: to compare an event with a frame, subtract
  * csf_responder_now() - csf_presenter_time(p) from the event's t_s first.
  *
- * Backends: "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW
- * window; any mouse button or Space = press, Left/1 and Right/2 = two-interval choice, keypad
- * 9/7/1/3 and I/U/J/K = four-place choice (upper right/upper left/lower left/lower right), a click
- * carries its position in framebuffer pixels, Escape = pause; the "mouse" backend reports keys
- * only as CSF_RESP_KEY/ESCAPE). "queue" (devices/responder.c): events pushed by the
- * program itself with csf_responder_push, for scripted sessions and tests. HID button boxes and
- * gamepads are meant to be further files of the same shape. */
+ * Backends (docs/instruments.md, "Response devices", has each one's timestamp and latency):
+ *  - "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW window; any
+ *    mouse button or Space = press, Left/1 and Right/2 = two-interval choice, keypad 9/7/1/3 and
+ *    I/U/J/K = four-place choice (upper right/upper left/lower left/lower right), a click carries
+ *    its position in framebuffer pixels, Escape = pause; the "mouse" backend reports keys only as
+ *    CSF_RESP_KEY/ESCAPE);
+ *  - "gamepad[:N][,map=...]" (devices/responder_gamepad.c: GLFW's joystick/gamepad API, joystick
+ *    N or the first gamepad found; the window's keyboard keeps working beside it);
+ *  - "hid:VID:PID[,serial=S][,report=ID][,offset=BYTE][,bytes=N][,active=low][,map=...]"
+ *    (devices/responder_hid.c: a USB HID button box through hidapi, a reader thread stamping each
+ *    input report as it arrives);
+ *  - "queue" (devices/responder.c): events pushed by the program itself with
+ *    csf_responder_push, for scripted sessions and tests.
+ * A device that disappears during a session (unplugged) reports one CSF_RESP_ESCAPE with key
+ * CSF_RESP_KEY_GONE: the session pauses rather than waiting for answers that cannot come. */
 #ifndef CSF_RESPONDER_H
 #define CSF_RESPONDER_H
 
@@ -38,10 +46,14 @@ typedef struct {
     int places;           /* CSF_RESP_CHOICE: 4 = choice is a place (0-3), else an interval (0/1) */
 } csf_response;
 
+/* key of the CSF_RESP_ESCAPE a backend reports when its device has gone */
+enum { CSF_RESP_KEY_GONE = -1 };
+
 typedef struct {
     const char *name;
-    /* window: the GLFWwindow* of the presenter (NULL for backends that need none). */
-    csf_status (*open)(void *window, void **state, csf_error *err);
+    /* options: the text after "name:" ("" when none); window: the GLFWwindow* of the presenter
+     * (NULL for backends that need none). */
+    csf_status (*open)(const char *options, void *window, void **state, csf_error *err);
     /* Pumps the device and returns 1 with the oldest pending event, 0 when none is pending. */
     int (*poll)(void *state, csf_response *out);
     void (*close)(void *state);
@@ -49,8 +61,11 @@ typedef struct {
 
 typedef struct csf_responder csf_responder;
 
-/* spec: "keyboard", "mouse" or "queue". Unknown names are refused with the list of known ones. */
+/* spec: "name[:options]" (above). Unknown names are refused with the list of known ones. */
 csf_status csf_responder_open(const char *spec, void *window, csf_responder **out, csf_error *err);
+/* Wraps an opened backend state (for backends opened through a test seam, e.g. an emulated HID
+ * device: devices/responder_hid.h). Closes the state through b->close on failure. */
+csf_status csf_responder_wrap(const csf_responder_backend *b, void *state, csf_responder **out, csf_error *err);
 int csf_responder_poll(csf_responder *r, csf_response *out);
 /* Queue backend only: appends an event (returns -1 when full or not a queue responder). */
 int csf_responder_push(csf_responder *r, const csf_response *ev);

@@ -1,7 +1,9 @@
 /* Keyboard and mouse responses through the presenter's GLFW window. GLFW delivers input in
- * callbacks during glfwPollEvents; each callback stamps the event on CLOCK_MONOTONIC at once and
- * queues it, so the timestamp is taken when GLFW hands the event over, not when csfcal gets round
- * to reading it. The window's user pointer belongs to the presenter, so the queue is reached
+ * callbacks during glfwPollEvents and passes no time with them (X11 and Wayland events carry one;
+ * GLFW 3.3 drops it), so each callback stamps the event on CLOCK_MONOTONIC at once and queues it:
+ * the timestamp is when the poll that handed the event over ran, at most one poll interval (the
+ * session polls every frame) after the key went down, plus the window system's own delay. See
+ * docs/instruments.md, "Response devices". The window's user pointer belongs to the presenter, so the queue is reached
  * through a small table keyed by window. */
 #include <GLFW/glfw3.h>
 #include <stdlib.h>
@@ -103,13 +105,15 @@ static csf_status open_common(void *window, void **state, int mouse_only, csf_er
     return CSF_OK;
 }
 
-static csf_status open_keyboard(void *window, void **state, csf_error *err)
+static csf_status open_keyboard(const char *options, void *window, void **state, csf_error *err)
 {
+    if (*options) return csf_error_set(err, CSF_E_INVALID_ARG, "responder keyboard takes no options (got '%s')", options);
     return open_common(window, state, 0, err);
 }
 
-static csf_status open_mouse(void *window, void **state, csf_error *err)
+static csf_status open_mouse(const char *options, void *window, void **state, csf_error *err)
 {
+    if (*options) return csf_error_set(err, CSF_E_INVALID_ARG, "responder mouse takes no options (got '%s')", options);
     return open_common(window, state, 1, err);
 }
 

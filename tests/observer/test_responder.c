@@ -29,7 +29,7 @@ int main(void)
         csf_responder_close(r);
     }
     CHECK(csf_responder_open("joystick", NULL, &r, &err) == CSF_E_INVALID_ARG);
-    CHECK_STR_CONTAINS(err.msg, "keyboard, mouse, queue");
+    CHECK_STR_CONTAINS(err.msg, "keyboard, mouse, gamepad");
     CHECK(csf_responder_open("keyboard", NULL, &r, &err) == CSF_E_UNSUPPORTED);
     CHECK_STR_CONTAINS(err.msg, "need a window");
     /* The monotonic clock moves forward. */
