@@ -14,6 +14,7 @@
 
 #include "imgdiff.h"
 #include "mesh.h"
+#include "outfile.h"
 #include "pngout.h"
 #include "render.h"
 #include "vtree.h"
@@ -213,7 +214,7 @@ typedef struct {
     lod_renderer *r;
     uint32_t *tri;
     uint8_t *full, *img;
-    FILE *summary, *conditions;
+    FILE *summary, *conditions; /* the .f of the two outfiles */
     double dist_px, image_deg, model_radius;
 } run_ctx;
 
@@ -311,29 +312,39 @@ static int run_view(run_ctx *c, int vi)
  * mix: 25 % identical, 25 % imperceptible, 50 % perceptible. */
 static int write_study(const options *o)
 {
-    char path[4096];
+    char path[4096], err[512];
+    lod_outfile f;
     snprintf(path, sizeof path, "%s/study.conf", o->out_dir);
-    FILE *f = fopen(path, "w");
-    if (!f) { fprintf(stderr, "lod: cannot write %s: %s\n", path, strerror(errno)); return 1; }
+    if (lod_outfile_open(&f, path, err, sizeof err) != 0) { fprintf(stderr, "lod: %s\n", err); return 1; }
     int conditions = o->views * (o->n_levels + 1);
     int per = 2 * (int)lround(100.0 / conditions);
-    fprintf(f, "# written by examples/lod: same/different judgements of full vs simplified renders\n"
-               "# (Luebke & Hallen 2001, sec. 6.2); %d conditions x %d trials\n"
-               "name = lod_same_different\ndesign = same_different\nconditions = conditions.csv\n"
-               "trials_per_condition = %d\nblocks = 1\npractice_trials = 20\nfixation_s = 0.5\n"
-               "stimulus_s = 1.0\nisi_s = 0.5\niti_s = 0.5\nsame_fraction = 0.5\nsd_model = differencing\n"
-               "feedback = no\nseed = 2001\n", conditions, per < 2 ? 2 : per, per < 2 ? 2 : per);
-    if (fclose(f) != 0) { fprintf(stderr, "lod: cannot write %s: %s\n", path, strerror(errno)); return 1; }
+    per = per < 2 ? 2 : per;
+    fprintf(f.f, "# written by examples/lod: same/different judgements of full vs simplified renders\n"
+                 "# (Luebke & Hallen 2001, sec. 6.2); %d conditions x %d trials\n"
+                 "name = lod_same_different\ndesign = same_different\nconditions = conditions.csv\n"
+                 "trials_per_condition = %d\nblocks = 1\npractice_trials = 20\nfixation_s = 0.5\n"
+                 "stimulus_s = 1.0\nisi_s = 0.5\niti_s = 0.5\nsame_fraction = 0.5\nsd_model = differencing\n"
+                 "feedback = no\nseed = 2001\n", conditions, per, per);
+    if (lod_outfile_close(&f, 1, err, sizeof err) != 0) { fprintf(stderr, "lod: %s\n", err); return 1; }
     return 0;
 }
 
-static FILE *open_out(const options *o, const char *name)
+static int open_out(const options *o, const char *name, lod_outfile *f)
 {
-    char path[4096];
+    char path[4096], err[512];
     snprintf(path, sizeof path, "%s/%s", o->out_dir, name);
-    FILE *f = fopen(path, "w");
-    if (!f) fprintf(stderr, "lod: cannot write %s: %s\n", path, strerror(errno));
-    return f;
+    if (lod_outfile_open(f, path, err, sizeof err) == 0) return 0;
+    fprintf(stderr, "lod: %s\n", err);
+    return -1;
+}
+
+static int close_out(lod_outfile *f, int ok)
+{
+    char err[512];
+    if (!f->f) return ok ? 0 : 1;
+    if (lod_outfile_close(f, ok, err, sizeof err) == 0) return 0;
+    if (ok) fprintf(stderr, "lod: %s\n", err);
+    return 1;
 }
 
 static int run(const options *o, const csflut_table *tab)
@@ -361,6 +372,7 @@ static int run(const options *o, const csflut_table *tab)
     c.full = malloc(npx);
     c.img = malloc(npx);
     float *pos = malloc((size_t)tree.n_node * 3 * sizeof *pos), *nrm = malloc((size_t)tree.n_node * 3 * sizeof *nrm);
+    lod_outfile summary = {0}, conditions = {0};
     int rc = 1;
     if (!c.tri || !c.full || !c.img || !pos || !nrm) { fprintf(stderr, "lod: out of memory\n"); goto done; }
     for (int i = 0; i < tree.n_node; i++) {
@@ -372,7 +384,9 @@ static int run(const options *o, const csflut_table *tab)
         goto done;
     }
     if (lod_render_set_vertices(c.r, pos, nrm, tree.n_node) != 0) { fprintf(stderr, "lod: out of memory\n"); goto done; }
-    if (!(c.summary = open_out(o, "lod_summary.csv")) || !(c.conditions = open_out(o, "conditions.csv"))) goto done;
+    if (open_out(o, "lod_summary.csv", &summary) != 0 || open_out(o, "conditions.csv", &conditions) != 0) goto done;
+    c.summary = summary.f;
+    c.conditions = conditions.f;
     fprintf(c.summary, "view,image,reference,distance_factor,threshold_factor,triangles_full,triangles,triangles_cull_only,"
                        "changed_pixels,rms_contrast,max_contrast,peak_visibility,pooled_visibility,"
                        "peak_freq_cpd,peak_ecc_deg,simplify_ms\n");
@@ -381,8 +395,8 @@ static int run(const options *o, const csflut_table *tab)
     for (int vi = 0; vi < o->views && rc == 0; vi++) rc = run_view(&c, vi);
     if (rc == 0) rc = write_study(o);
 done:
-    if (c.summary && fclose(c.summary) != 0) { fprintf(stderr, "lod: cannot write lod_summary.csv: %s\n", strerror(errno)); rc = 1; }
-    if (c.conditions && fclose(c.conditions) != 0) { fprintf(stderr, "lod: cannot write conditions.csv: %s\n", strerror(errno)); rc = 1; }
+    if (close_out(&summary, rc == 0)) rc = 1;
+    if (close_out(&conditions, rc == 0)) rc = 1;
     lod_render_close(c.r);
     free(pos);
     free(nrm);

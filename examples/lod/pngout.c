@@ -1,13 +1,10 @@
-#define _POSIX_C_SOURCE 200809L
 #include "pngout.h"
 
-#include <errno.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
+
+#include "outfile.h"
 
 static int encode(FILE *f, const uint8_t *rgb, int width, int height)
 {
@@ -29,27 +26,12 @@ static int encode(FILE *f, const uint8_t *rgb, int width, int height)
 
 int lod_png_write(const char *path, const uint8_t *rgb, int width, int height, char *err, size_t err_len)
 {
-    size_t n = strlen(path) + 16;
-    char *tmp = malloc(n);
-    if (!tmp) { snprintf(err, err_len, "%s: out of memory", path); return -1; }
-    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        snprintf(err, err_len, "cannot write %s: %s", path, strerror(errno));
-        free(tmp);
+    lod_outfile o;
+    if (lod_outfile_open(&o, path, err, err_len) != 0) return -1;
+    int ok = encode(o.f, rgb, width, height) == 0;
+    if (lod_outfile_close(&o, ok, err, err_len) != 0) {
+        if (!ok) snprintf(err, err_len, "cannot write %s: the PNG encoder failed", path);
         return -1;
     }
-    FILE *f = fdopen(fd, "wb");
-    int rc = f ? encode(f, rgb, width, height) : -1;
-    int saved = errno;
-    if (f && fflush(f) != 0) { rc = -1; saved = errno; }
-    if (rc == 0 && fsync(fd) != 0) { rc = -1; saved = errno; }
-    if (f ? fclose(f) != 0 : close(fd) != 0) { if (rc == 0) saved = errno; rc = -1; }
-    if (rc == 0 && rename(tmp, path) != 0) { rc = -1; saved = errno; }
-    if (rc != 0) {
-        snprintf(err, err_len, "cannot write %s: %s", path, saved ? strerror(saved) : "PNG encoder failed");
-        unlink(tmp);
-    }
-    free(tmp);
-    return rc;
+    return 0;
 }
