@@ -14,6 +14,7 @@ BUILD=$1
 SRC=$2
 T=$(mktemp -d /tmp/lod-test-XXXXXX)
 trap 'rm -rf "$T"' EXIT
+trap 'exit 1' INT TERM   # so that EXIT runs on a timeout too
 meson install -C "$BUILD" --no-rebuild --destdir "$T/root" >"$T/install.log" 2>&1 || { cat "$T/install.log"; exit 1; }
 PC=$(find "$T/root" -name csflut.pc | head -1)
 [ -n "$PC" ] || { echo "FAIL: no csflut.pc installed"; exit 1; }
