@@ -35,6 +35,8 @@ static const char display_help[] =
     "  --budget N      most sweep readings for grey plus channels (default 48, 8 to 4096)\n"
     "  --no-channels   grey only (no r, g, b curves, no additivity check)\n"
     "  --name NAME     display name for the profile id (default: the photometer spec)\n"
+    "  --warmup-wait S seconds between the warm-up white readings (default 5; 0 to 600); a\n"
+    "                  monitor that is already warm settles after six readings whatever S is\n"
     "  --render        draw every patch through the stimulus presenter (drive values dithered\n"
     "                  to the framebuffer depth) and, for the simulated photometer, measure the\n"
     "                  rendered frame: the patch's framebuffer pixels over the frames one reading\n"
@@ -65,7 +67,7 @@ static const char display_help[] =
 
 enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
        OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER,
-       OPT_CHANNELS };
+       OPT_CHANNELS, OPT_WARMWAIT };
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -86,6 +88,7 @@ static const struct option display_options[] = {
     {"render-width", required_argument, 0, OPT_RWIDTH},
     {"icc-version", required_argument, 0, OPT_ICCVER},
     {"channels", no_argument, 0, OPT_CHANNELS},
+    {"warmup-wait", required_argument, 0, OPT_WARMWAIT},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -103,6 +106,7 @@ typedef struct {
     int patch_deg_set;
     long render_width;
     long icc_version; /* 0: the default */
+    double warmup_wait_s; /* --warmup-wait; < 0: the default */
 } dargs;
 
 static int parse(int argc, char **argv, dargs *a)
@@ -113,13 +117,14 @@ static int parse(int argc, char **argv, dargs *a)
     while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
         int bad = 0;
         if (c == 'o') a->given |= 1ul;
-        else if (c >= OPT_OUT && c <= OPT_CHANNELS && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
+        else if (c >= OPT_OUT && c <= OPT_WARMWAIT && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
         switch (c) {
         case 'o': a->out = optarg; break;
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
         case OPT_BUDGET: bad = csf_parse_int(optarg, "budget", 8, 4096, &a->budget); break;
         case OPT_NOCH: a->no_channels = 1; break;
         case OPT_CHANNELS: a->channels = 1; break;
+        case OPT_WARMWAIT: bad = csf_parse_double(optarg, "warmup-wait", 0, 600, &a->warmup_wait_s); break;
         case OPT_NAME: a->name = optarg; break;
         case OPT_QUIET: a->quiet = 1; break;
         case OPT_LEVELS: bad = csf_parse_int(optarg, "levels", 1, 64, &a->levels); break;
@@ -313,7 +318,15 @@ static void render_close(render_ctx *r)
 static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, const char *what)
 {
     memset(r, 0, sizeof *r);
-    if (a->render < 0) return 1;
+    int real = !(csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED);
+    if (a->render < 0) {
+        /* an emulator learns the patch from the screen mirror (CSFCAL_SCREEN_MIRROR); a real
+         * instrument would measure whatever the screen happens to show */
+        if (real && !getenv("CSFCAL_SCREEN_MIRROR"))
+            fprintf(stderr, "csfcal: %s: warning: --no-render with a real instrument: no patch is drawn, the "
+                            "instrument measures whatever the screen shows\n", what);
+        return 1;
+    }
     csf_error e;
     csf_error_clear(&e);
     csf_presenter_config pc;
@@ -334,8 +347,9 @@ static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render
         pc.render_height_px = h < 1 ? 1 : h;
     }
     if (csf_presenter_open(&pc, &r->pres, &e)) {
-        if (a->render > 0) {
-            fprintf(stderr, "csfcal: %s: --render: %s\n", what, e.msg);
+        if (a->render > 0 || real) {
+            fprintf(stderr, "csfcal: %s: %s: %s%s\n", what, a->render > 0 ? "--render" : "drawing the patches",
+                    e.msg, real ? " (a real instrument needs the patches drawn on this screen)" : "");
             return 2;
         }
         fprintf(stderr, "csfcal: note: no presenter (%s); patches are given to the simulator as drive "
@@ -398,6 +412,7 @@ static int cmd_calibrate(dargs *a)
     csf_display_calib_defaults(&o);
     if (a->target > 0) o.target_rel = a->target;
     if (a->budget > 0) o.budget = (int)a->budget;
+    if (a->warmup_wait_s >= 0) o.warmup_wait_s = a->warmup_wait_s;
     o.channels = !a->no_channels;
     o.display_name = a->name;
     o.progress = !a->quiet && isatty(2);
@@ -456,7 +471,8 @@ static int cmd_calibrate(dargs *a)
                  rctx.frames, rctx.bits, rctx.rw, rctx.rh, rctx.wall_s, t_cal);
         render_close(&rctx);
     } else {
-        snprintf(rinfo, sizeof rinfo, "  not rendered: the simulator was told the drive values (%.2f s)\n", t_cal);
+        snprintf(rinfo, sizeof rinfo, simulated ? "  not rendered: the simulator was told the drive values (%.2f s)\n"
+                                                : "  not rendered: nothing was drawn (%.2f s)\n", t_cal);
     }
     csf_photometer_close(ph);
     if (st) {
@@ -581,6 +597,7 @@ static int cmd_verify(dargs *a)
     csf_display_verify_opts vo;
     csf_display_verify_defaults(&vo);
     if (a->levels > 0) vo.n_levels = (int)a->levels;
+    if (a->warmup_wait_s >= 0) vo.warmup_wait_s = a->warmup_wait_s;
     vo.channels = a->channels;
     if (ro == 0) {
         vo.show_patch = render_show_patch;
@@ -752,9 +769,10 @@ static int refuse_foreign_options(const char *sub, const dargs *a)
     static const struct { const char *sub; unsigned long ok; } allowed[] = {
         {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) | OPTBIT(OPT_NAME) |
                       OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) |
-                      OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH)},
+                      OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT)},
         {"verify", OPTBIT(OPT_LEVELS) | OPTBIT(OPT_TOL) | OPTBIT(OPT_CHANNELS) | OPTBIT(OPT_RENDER) |
-                   OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH)},
+                   OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
+                   OPTBIT(OPT_WARMWAIT)},
         {"export", OPTBIT(OPT_OUT) | OPTBIT(OPT_FORMAT) | OPTBIT(OPT_ICCVER)},
         {"info", 0},
     };
@@ -786,6 +804,7 @@ int csf_cmd_display(int argc, char **argv)
     const char *sub = argv[1];
     dargs a;
     memset(&a, 0, sizeof a);
+    a.warmup_wait_s = -1;
     int rc = csf_cli_init(&a.cli, argc - 1, argv + 1);
     if (rc) return rc;
     rc = parse(argc - 1, argv + 1, &a);

@@ -7,6 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "devices/photometer_ls100.h"
+#include "devices/photometer_pr655.h"
 #include "devices/screen_mirror.h"
 
 struct csf_photometer {
@@ -24,6 +26,8 @@ static const csf_photometer_driver *const drivers[] = {
     &csf_photometer_sim_driver,
     &csf_photometer_colorcal2_driver,
     &csf_photometer_colorhug2_driver,
+    &csf_photometer_ls100_driver, &csf_photometer_ls110_driver, &csf_photometer_cs100a_driver,
+    &csf_photometer_pr655_driver, &csf_photometer_pr670_driver,
     NULL,
 };
 

@@ -172,6 +172,11 @@ python3 -c 'import struct,sys
 b = bytes([0, 0x22]) + b"".join(struct.pack("<i", round(v * 65536)) for v in (12.5, 80.25, 0.75))
 sys.stdout.buffer.write(b + bytes(64 - len(b)))' >"$tmp/ch2.bin"
 put fuzz_colorhug2_reply readings.bin "$tmp/ch2.bin"
+# Serial meter replies (same reasoning): a CS-100A MES answer and a PR-655 D2 answer.
+printf 'OK00,  180.7,0.3127,0.3290\r\n' >"$tmp/minolta.txt"
+put fuzz_minolta_reply mes.txt "$tmp/minolta.txt"
+printf '0000,111,1.7180e+02,1.8074e+02,1.9620e+02\r\n' >"$tmp/pr.txt"
+put fuzz_pr_reply d2.txt "$tmp/pr.txt"
 
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"
