@@ -9,6 +9,7 @@
 
 #include "devices/photometer_ls100.h"
 #include "devices/photometer_pr655.h"
+#include "devices/photometer_spotread.h"
 #include "devices/screen_mirror.h"
 
 struct csf_photometer {
@@ -27,7 +28,7 @@ static const csf_photometer_driver *const drivers[] = {
     &csf_photometer_colorcal2_driver,
     &csf_photometer_colorhug2_driver,
     &csf_photometer_ls100_driver, &csf_photometer_ls110_driver, &csf_photometer_cs100a_driver,
-    &csf_photometer_pr655_driver, &csf_photometer_pr670_driver,
+    &csf_photometer_pr655_driver, &csf_photometer_pr670_driver, &csf_photometer_spotread_driver,
     NULL,
 };
 

@@ -224,7 +224,6 @@ static csf_status ls_measure(void *state, const csf_screen_source *src, csf_phot
         return csf_error_set(err, CSF_E_PROTOCOL, "%s: answer to MES has %d values, expected %d (%s)", s->who,
                              r.n_values, need, need == 3 ? "luminance, x, y" : "luminance");
     double Y = r.v[0];
-    if (Y < 0) return csf_error_set(err, CSF_E_PROTOCOL, "%s: negative luminance %g in the answer to MES", s->who, Y);
     if (Y < s->floor_cdm2)
         return csf_error_set(err, CSF_E_TOO_DARK, "%s: too dark: %g cd/m2 is below its %g cd/m2 measuring range",
                              s->who, Y, s->floor_cdm2);

@@ -47,7 +47,7 @@ int main(int argc, char **argv)
                 emu_serial_send(&e, "-004\r\n");
                 continue;
             }
-            if (f == EMU_F_DARK) emu_serial_send(&e, "-008\r\n");
+            if (f == EMU_F_DARK || xyz[1] < 0.001) emu_serial_send(&e, "-008\r\n"); /* its floor */
             else if (f == EMU_F_OVER) emu_serial_send(&e, "-002\r\n");
             else if (f == EMU_F_ERROR || f == EMU_F_BATTERY) emu_serial_send(&e, "-001\r\n");
             else {

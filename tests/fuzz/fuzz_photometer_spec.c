@@ -4,7 +4,8 @@
  * whose readings are finite and non-negative (or refused with a message) at any drive value,
  * except the absurd answers a fault= asks for, which the calibration's checks must catch.
  * Specs that name a file (display=file=PATH.csv, PATH.csv) are skipped: that parser has its
- * own target (fuzz_display_csv) and the fuzzer must not read files. */
+ * own target (fuzz_display_csv) and the fuzzer must not read files. Real instruments' specs are
+ * skipped too (they open serial ports or run spotread; fuzz_*_reply cover their protocols). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -23,6 +24,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     spec[size] = '\0';
     if (strstr(spec, "file=") || strstr(spec, ".csv") || strstr(spec, ".CSV") || strchr(spec, '/'))
         return 0;
+    /* real instruments open ports and run programs (spotread): their replies have their own targets */
+    size_t nlen = strcspn(spec, ":");
+    for (const csf_photometer_driver *const *d = csf_photometer_drivers(); *d; d++)
+        if (strlen((*d)->name) == nlen && !strncmp((*d)->name, spec, nlen) && !((*d)->caps & CSF_PHOT_CAP_SIMULATED))
+            return 0;
     csf_photometer *p = NULL;
     csf_error err = {0};
     if (csf_photometer_open(spec, 7, &p, &err) != CSF_OK) {

@@ -177,6 +177,8 @@ printf 'OK00,  180.7,0.3127,0.3290\r\n' >"$tmp/minolta.txt"
 put fuzz_minolta_reply mes.txt "$tmp/minolta.txt"
 printf '0000,111,1.7180e+02,1.8074e+02,1.9620e+02\r\n' >"$tmp/pr.txt"
 put fuzz_pr_reply d2.txt "$tmp/pr.txt"
+printf 'Hit ESC or Q to exit, any other key to take a reading: \n Result is XYZ: 171.8 180.7 196.2, Yxy: 180.7 0.3127 0.329\n' >"$tmp/spot.txt"
+put fuzz_spotread result.txt "$tmp/spot.txt"
 
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"
