@@ -13,6 +13,7 @@
 
 #include "calib/afc_layout.h"
 #include "calib/procedure.h"
+#include "calib/observer_screen.h"
 #include "devices/observer_sim.h"
 #include "devices/responder.h"
 #include "results/file_read.h"
@@ -77,7 +78,7 @@ void csf_obs_options_defaults(csf_obs_options *o)
     o->practice = -1;
     o->break_every = 40;
     o->seed = 1;
-    o->render_every = 1;
+    o->render_every = 0; /* 1, or -1 with view=frame (the person rasterises its own regions) */
     o->render_w = 64;
     o->render_h = 36;
     o->afc = 4;
@@ -151,6 +152,9 @@ static int settings_from_json(const char *json, session_settings *s)
 
 typedef struct {
     csf_observer_sim *sim;
+    csf_obs_screen *eyes;       /* view=frame: contrasts are measured from the frames */
+    void (*seen_hook)(void *ctx, int n, const double *seen, const double *reported);
+    void *seen_hook_ctx;
     csf_responder *resp;
     csf_presenter *pres;
     const csf_geometry *geom;
@@ -179,8 +183,8 @@ static int person_fade_frame(person *p, double t_s, double contrast_shown)
     }
     double rel = rel_time(p, t_s);
     if (p->sim) {
-        double press;
-        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, round9(contrast_shown), &press)) {
+        double press, seen = p->eyes ? csf_obs_screen_latest(p->eyes) : contrast_shown;
+        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, round9(seen), &press)) {
             p->pressed = 1;
             p->press_rel_s = press;
             p->contrast_at_press = contrast_shown;
@@ -437,6 +441,10 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
     if (p->sim)
         csf_observer_sim_fade_begin(p->sim, trial_key, c->freq_cpd, c->ecc_deg, polar, 0.0,
                                     duration + RESPONSE_WINDOW_S, &p->tr);
+    if (p->eyes) {
+        st = csf_obs_screen_look(p->eyes, c->freq_cpd, c->ecc_deg, &polar, 1, 0, err);
+        if (st != CSF_OK) return st;
+    }
     if (plan->is_catch) {
         tr->frames_planned = (int)lround(duration / r->period_s);
         st = blank_frames(r, duration, 1, 1, err);
@@ -457,6 +465,10 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
         st = blank_frames(r, RESPONSE_WINDOW_S, 1, 1, err);
         if (st != CSF_OK || p->paused) return st;
         if (p->pressed) p->contrast_at_press = keep; /* pressed after the ramp: its last contrast */
+    }
+    if (p->eyes) {
+        st = csf_obs_screen_stop(p->eyes, NULL, err);
+        if (st != CSF_OK) return st;
     }
     tr->valid = 1;
     if (p->pressed) {
@@ -517,6 +529,15 @@ static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_d
     return CSF_OK;
 }
 
+/* view=frame: the person looks at the n places for the next forced-choice interval (it knows
+ * where the places are and how long an interval lasts, not where the grating will be). */
+static csf_status eyes_look(runner *r, const csf_cell *c, const double *polar, int n, csf_error *err)
+{
+    if (!r->who->eyes) return CSF_OK;
+    return csf_obs_screen_look(r->who->eyes, c->freq_cpd, c->ecc_deg, polar, n,
+                               (int)lround(AFC_INTERVAL_S / r->period_s), err);
+}
+
 /* One 2AFC trial: place cue, two intervals, the grating in one of them; the person picks one. */
 static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            double polar, trial_result *tr, csf_error *err)
@@ -527,25 +548,31 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
     /* one ring: the grating appears at the same place in both intervals */
     csf_status st = cued_fixation(r, 1, c->ecc_deg, &polar, err);
     if (st != CSF_OK || p->paused) return st;
-    double shown[2] = {0, 0};
+    double shown[2] = {0, 0}, seen[2] = {0, 0};
     for (int k = 0; k < 2; k++) {
         if (k == 1) {
             st = blank_frames(r, AFC_ISI_S, 1, 0, err);
             if (st != CSF_OK || p->paused) return st;
         }
+        st = eyes_look(r, c, &polar, 1, err);
+        if (st != CSF_OK) return st;
         if (k != plan->signal_interval) {
             st = blank_frames(r, AFC_INTERVAL_S, 1, 0, err);
+            if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, &seen[k], err);
             if (st != CSF_OK || p->paused) return st;
             continue;
         }
         st = show_afc_interval(r, c, polar, plan->contrast, tr, &shown[k], err);
+        if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, &seen[k], err);
         if (st != CSF_OK) return st;
     }
     tr->valid = 1;
     tr->contrast_at_response = shown[plan->signal_interval];
     if (p->sim) {
         double rt;
-        tr->response = csf_observer_sim_2afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg, shown, &rt);
+        tr->response = csf_observer_sim_2afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
+                                             p->eyes ? seen : shown, &rt);
+        if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 2, seen, shown);
         tr->rt_s = round9(rt);
         return CSF_OK;
     }
@@ -594,15 +621,20 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
                              lay->n_alternatives);
     csf_status st = cued_fixation(r, 4, c->ecc_deg, lay->polar_deg, err);
     if (st != CSF_OK || p->paused) return st;
-    double shown[4] = {0, 0, 0, 0};
+    double shown[4] = {0, 0, 0, 0}, seen[4] = {0, 0, 0, 0};
     int sig = plan->signal_interval;
+    st = eyes_look(r, c, lay->polar_deg, 4, err);
+    if (st != CSF_OK) return st;
     st = show_afc_interval(r, c, lay->polar_deg[sig], plan->contrast, tr, &shown[sig], err);
+    if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, seen, err);
     if (st != CSF_OK) return st;
     tr->valid = 1;
     tr->contrast_at_response = shown[sig];
     if (p->sim) {
         double rt;
-        tr->response = csf_observer_sim_afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg, shown, 4, &rt);
+        tr->response = csf_observer_sim_afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
+                                            p->eyes ? seen : shown, 4, &rt);
+        if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 4, seen, shown);
         tr->rt_s = round9(rt);
         return CSF_OK;
     }
@@ -701,6 +733,7 @@ typedef struct {
     csf_cell_estimate *est;
     csf_afc_layout *layouts;  /* per cell: four places or two intervals */
     int *n_alt;               /* per cell: 2 or 4 (the procedure setup's n_alternatives) */
+    csf_obs_screen *screen;   /* view=frame: the simulated person's eyes on the presenter */
 } session_res;
 
 static void session_free(session_res *s)
@@ -708,6 +741,7 @@ static void session_free(session_res *s)
     if (s->proc) s->ops->destroy(s->proc);
     csf_responder_close(s->resp);
     csf_observer_sim_free(s->sim);
+    csf_obs_screen_close(s->screen);
     csf_presenter_close(s->pres);
     csf_profile_free(s->profile);
     csf_store_close(s->store);
@@ -1245,9 +1279,23 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         pc.render_width_px = opt->render_w > 0 ? opt->render_w : 64;
         pc.render_height_px = opt->render_h > 0 ? opt->render_h : 36;
         pc.render_every = opt->render_every ? opt->render_every : 1;
+        /* view=frame: the person's regions are rasterised at full resolution on their own; the
+         * small session frame has no one to look at it unless --render-every asks for it */
+        if (!opt->render_every && csf_observer_sim_params_get(S.sim)->view_frame) pc.render_every = -1;
+        pc.fault_polar_offset_deg = opt->fault_polar_offset_deg;
+        pc.fault_blank = opt->fault_blank;
     }
     st = csf_presenter_open(&pc, &S.pres, err);
     if (st != CSF_OK) goto out;
+    if (S.sim && csf_observer_sim_params_get(S.sim)->view_frame) {
+        const csf_observer_sim_params *sp = csf_observer_sim_params_get(S.sim);
+        st = csf_obs_screen_open(S.pres, S.profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
+                                 (int)sp->frame_step, &S.screen, err);
+        if (st != CSF_OK) goto out;
+        if (!opt->quiet)
+            fprintf(stderr, "csfcal: observer: the simulated person looks at the rendered frames through "
+                            "the display %s\n", csf_obs_screen_display(S.screen));
+    }
     if (is_human) {
         st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S.pres),
                                 &S.resp, err);
@@ -1328,6 +1376,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     person who;
     memset(&who, 0, sizeof who);
     who.sim = S.sim;
+    who.eyes = S.screen;
+    who.seen_hook = opt->seen_hook;
+    who.seen_hook_ctx = opt->seen_hook_ctx;
     who.resp = S.resp;
     who.pres = S.pres;
     who.geom = csf_presenter_geometry(S.pres);

@@ -34,7 +34,8 @@ typedef struct {
     uint64_t seed;
     int headless;
     int64_t resume_id;          /* 0 = new session */
-    int render_every;           /* presenter render_every for simulated sessions (default 1) */
+    int render_every;           /* presenter render_every for simulated sessions (0 = default: 1,
+                                   -1 with --observer sim:view=frame) */
     int render_w, render_h;     /* headless render size for simulated sessions (default 64 x 36) */
     int quiet;                  /* no progress on stderr */
     int afc;                    /* forced-choice layout for 2AFC-task methods (bayes, 2afc): 4 =
@@ -43,6 +44,16 @@ typedef struct {
     int allow_profile_change;   /* --resume with a display profile other than the session's: refused
                                    unless set; then the change is recorded in the session (a
                                    "profile_change" artifact) and the table names every profile */
+    /* Tests only (no command-line option): faults injected into a simulated session's presenter
+     * (stimuli/presenter.h fault_polar_offset_deg / fault_blank): gratings drawn at the wrong
+     * place, or not drawn at all, while the plan and the reported contrast stay the same. */
+    double fault_polar_offset_deg;
+    int fault_blank;
+    /* Tests only: with --observer sim:view=frame, called after each forced-choice trial with the
+     * contrasts the person saw and those the presenter reported, per place or interval (n = 2 or
+     * 4; reported = 0 where nothing was planned), to compare what reaches the person with the plan. */
+    void (*seen_hook)(void *ctx, int n, const double *seen, const double *reported);
+    void *seen_hook_ctx;
 } csf_obs_options;
 
 typedef struct {

@@ -368,3 +368,24 @@ csf_status csf_display_model_create(const char *spec, csf_display_model **out, c
     *out = m;
     return CSF_OK;
 }
+
+int csf_display_model_spec_from_sim_photometer(const char *phot, char *out, size_t len)
+{
+    if (!phot || strncmp(phot, "sim", 3) != 0 || (phot[3] != '\0' && phot[3] != ':')) return -1;
+    char kind[300] = "lcd", extra[600] = "", buf[1024];
+    snprintf(buf, sizeof buf, "%.1000s", phot[3] ? phot + 4 : "");
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        if (!eq) continue;
+        *eq = '\0';
+        const char *k = tok, *v = eq + 1;
+        if (!strcmp(k, "display")) snprintf(kind, sizeof kind, "%.250s", v);
+        else if (!strcmp(k, "file")) snprintf(kind, sizeof kind, "file=%.250s", v);
+        else if (!strcmp(k, "lmax") || !strcmp(k, "black") || !strcmp(k, "gamma") || !strcmp(k, "interaction")) {
+            size_t l = strlen(extra);
+            snprintf(extra + l, sizeof extra - l, ",%s=%.40s", k, v);
+        }
+    }
+    snprintf(out, len, "%s%s", kind, extra);
+    return 0;
+}

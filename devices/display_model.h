@@ -29,6 +29,11 @@ double csf_display_model_lum(const csf_display_model *m, double r01, double g01,
 /* CIE XYZ (Y = luminance) for drive values in [0,1]. */
 void csf_display_model_xyz(const csf_display_model *m, double r01, double g01, double b01,
                            double xyz[3]);
+/* The display-model spec of a simulated photometer's spec ("sim[:display=...,lmax=...,...]", as a
+ * display profile's "display" line records it): display=/file= and the model keys; the
+ * instrument's own keys (noise, drift, ...) are left out. Returns -1 when phot is not a
+ * simulated photometer's spec (a real monitor's name, "default"), else 0. */
+int csf_display_model_spec_from_sim_photometer(const char *phot, char *out, size_t len);
 /* Short name of the kind ("crt", "lcd", "oled", "csv"). */
 const char *csf_display_model_kind(const csf_display_model *m);
 

@@ -29,7 +29,7 @@ struct csf_observer_sim {
     csf_observer_sim_params p;
     csf_obs_table *table;
     uint64_t seed;
-    char desc[512];
+    char desc[768];
 };
 
 /* ---- CSV table ------------------------------------------------------------------------------ */
@@ -313,6 +313,8 @@ static const param_key keys[] = {
     PK("run_max", 2, 20, lapse_run_max),
     PK("pieron_k", 0, 2, pieron_k_s),
     PK("pieron_beta", 0.1, 2, pieron_beta),
+    PK("display_gamma", 1, 4, display_gamma),
+    PK("frame_step", 1, 30, frame_step),
 };
 
 /* Per-observer draws (slope=draw, lapse=draw, k=draw), from the seed: slope log-uniform over
@@ -345,6 +347,7 @@ static void params_default(csf_observer_sim_params *p)
     p->look_s = 0.1;
     p->lapse_run_max = 4;
     p->pieron_beta = 0.67;
+    p->frame_step = 3;
 }
 
 static double draw_log_uniform(uint64_t seed, uint64_t which, double lo, double hi)
@@ -367,7 +370,7 @@ static void describe(csf_observer_sim *o, const char *table_path)
                      p->model.smax, p->model.fmax_cpd, p->model.beta_oct, p->model.delta_log10,
                      p->model.ecc_a, p->model.ecc_b, p->slope, p->lapse, p->fa);
     }
-    char extra[256] = "";
+    char extra[512] = "";
     size_t e = 0;
 #define ADD(...) e += (size_t)snprintf(extra + e, e < sizeof extra ? sizeof extra - e : 0, __VA_ARGS__)
     if (p->decision == CSF_SIM_SDT)
@@ -376,6 +379,10 @@ static void describe(csf_observer_sim *o, const char *table_path)
     if (p->drift_log10 > 0) ADD(",drift=%g", p->drift_log10);
     if (p->lapse_run_rate > 0) ADD(",lapse_runs=%g,run_max=%g", p->lapse_run_rate, p->lapse_run_max);
     if (p->pieron_k_s > 0) ADD(",pieron_k=%g,pieron_beta=%g", p->pieron_k_s, p->pieron_beta);
+    if (p->view_frame)
+        ADD(",view=frame,display=%.100s,frame_step=%g", p->display[0] ? p->display : "(profile's)",
+            p->frame_step);
+    if (p->display_gamma > 0) ADD(",display_gamma=%g", p->display_gamma);
     if (p->slope_drawn || p->lapse_drawn || p->k_drawn)
         ADD(",drawn:%s%s%s", p->slope_drawn ? "slope" : "", p->lapse_drawn ? " lapse" : "",
             p->k_drawn ? " k" : "");
@@ -398,6 +405,7 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
     params_default(&o->p);
     o->seed = seed;
     double rt_mean = NAN;
+    int view_keys = 0; /* display_gamma= or frame_step= given */
     char table_path[1024] = "";
     char buf[1400];
     if (strlen(spec) >= sizeof buf) {
@@ -422,6 +430,27 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         const char *val = eq + 1;
         if (strcmp(tok, "table") == 0) {
             snprintf(table_path, sizeof table_path, "%s", val);
+            continue;
+        }
+        if (strcmp(tok, "view") == 0) {
+            if (strcmp(val, "plan") == 0) o->p.view_frame = 0;
+            else if (strcmp(val, "frame") == 0) o->p.view_frame = 1;
+            else {
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: view=%s: must be plan or frame", val);
+                break;
+            }
+            continue;
+        }
+        if (strcmp(tok, "display") == 0) {
+            int known = !strcmp(val, "crt") || !strcmp(val, "lcd") || !strcmp(val, "oled") ||
+                        !strcmp(val, "profile") || (!strncmp(val, "file=", 5) && val[5]);
+            if (!known || strlen(val) >= sizeof o->p.display) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG,
+                                   "--observer: display=%.100s: must be crt, lcd, oled, profile or "
+                                   "file=PATH.csv (at most %zu characters)", val, sizeof o->p.display - 1);
+                break;
+            }
+            snprintf(o->p.display, sizeof o->p.display, "%s", val);
             continue;
         }
         if (strcmp(tok, "decision") == 0) {
@@ -474,7 +503,8 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
                                "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b "
                                "field table decision slope lapse k criterion look guess fa anticip "
                                "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
-                               "lapse_runs run_max click_sd click_sd_ecc click_range)", tok);
+                               "lapse_runs run_max click_sd click_sd_ecc click_range view display "
+                               "display_gamma frame_step)", tok);
             break;
         }
         if (bad_num || v < k->lo || v > k->hi) {
@@ -482,11 +512,19 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
                                k->lo, k->hi);
             break;
         }
+        if ((k->off == offsetof(csf_observer_sim_params, lapse_run_max) ||
+             k->off == offsetof(csf_observer_sim_params, frame_step)) && v != floor(v)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s must be a whole number", tok, val);
+            break;
+        }
         if (k->off == offsetof(csf_observer_sim_params, lapse_run_max) && v != floor(v)) {
             st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: run_max=%s must be a whole number of trials", val);
             break;
         }
         *(double *)((char *)&o->p + k->off) = v;
+        if (k->off == offsetof(csf_observer_sim_params, display_gamma) ||
+            k->off == offsetof(csf_observer_sim_params, frame_step))
+            view_keys = 1;
         if (k->off == offsetof(csf_observer_sim_params, slope)) o->p.slope_drawn = 0;
         if (k->off == offsetof(csf_observer_sim_params, lapse)) o->p.lapse_drawn = 0;
         if (k->off == offsetof(csf_observer_sim_params, k_transducer)) o->p.k_drawn = 0;
@@ -498,6 +536,14 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
                                "--observer: rt_mean=%g is below rt_tau + 0.05 s = %g s", rt_mean,
                                o->p.rt_tau_s + 0.05);
     }
+    if (st == CSF_OK && !o->p.view_frame && (o->p.display[0] || view_keys))
+        st = csf_error_set(err, CSF_E_INVALID_ARG,
+                           "--observer: display=, display_gamma= and frame_step= need view=frame "
+                           "(the person looks at the screen only then)");
+    if (st == CSF_OK && o->p.display_gamma > 0 && strcmp(o->p.display, "crt") && strcmp(o->p.display, "lcd") &&
+        strcmp(o->p.display, "oled"))
+        st = csf_error_set(err, CSF_E_INVALID_ARG,
+                           "--observer: display_gamma= applies to display=crt, lcd or oled only");
     if (st == CSF_OK && o->p.lapse + o->p.guess_2afc >= 1)
         st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: guess + lapse must be below 1");
     if (st == CSF_OK && table_path[0]) st = csf_obs_table_load(table_path, &o->table, err);

@@ -90,6 +90,20 @@ typedef struct {
     double pieron_k_s, pieron_beta;
     /* 1 where the value was drawn from the seed (slope=draw, lapse=draw, k=draw). */
     int slope_drawn, lapse_drawn, k_drawn;
+    /* What the answers are based on (docs/observer-calibration.md, "The person looks at the
+     * screen"): view=plan (0, the default) takes the contrast the presenter reports; view=frame
+     * (1) makes a session read the rendered frame back at the places the person could look at,
+     * turn it into light through the simulated display `display` and measure the Gabor's
+     * contrast there (devices/observer_view.h); the decision models then get those contrasts.
+     * display: "crt", "lcd", "oled", "profile" (the profile in use is the truth), "file=PATH.csv"
+     * (devices/display_model.h), or "" = the display the session's profile was measured on.
+     * display_gamma: replaces a crt/lcd/oled model's gamma (0 = its own). frame_step: the person
+     * samples every frame_step-th frame of an interval (1 = every frame). Only sessions (calib/)
+     * honour view=frame: the trial functions below always take the contrasts they are given. */
+    int view_frame;
+    char display[256];
+    double display_gamma;
+    double frame_step;
 } csf_observer_sim_params;
 
 /* Trial indices from this value up are practice trials (the session's keys): for fatigue,

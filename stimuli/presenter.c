@@ -72,19 +72,40 @@ struct csf_presenter {
     int n_marks;
     float mark_c[CSF_PRESENTER_MAX_MARKS][3];
     double mark_radius_deg;
+    /* the last frame of csf_presenter_draw / run_trial, as csf_presenter_readback_region
+     * rasterises it again: stimulus (if any), fixation, marks and the dither's frame number */
+    int last_kind; /* 0 none or a text/patch frame, 1 blank or stimulus frame */
+    int last_has_stim, last_fix, last_n_marks;
+    csf_stimulus last_stim;
+    long last_frame_number;
+    /* region target at full resolution (grown on demand) */
+    GLuint region_fbo, region_tex;
+    int region_w, region_h;
+    csf_frame_hook frame_hook;
+    void *frame_hook_ctx;
 };
+
+/* Where a frame is rasterised: the main render target, or a region of the full-resolution
+ * frame (origin_x/y: its lower-left pixel in GL's bottom-up frame coordinates). */
+typedef struct {
+    GLuint fbo;
+    int vw, vh;           /* viewport */
+    double frame_w, frame_h; /* pixels of the whole frame the viewport is part of */
+    double origin_x, origin_y;
+    long frame_number;    /* what the temporal dither keys on */
+} target;
 
 enum {
     U_RENDER, U_SCREEN, U_EYE, U_MODE, U_C, U_H, U_V, U_FIXC, U_FREQ, U_ORIENT, U_PHASE, U_SIGMA,
     U_RADIUS, U_EDGE, U_CONTRAST, U_MEAN, U_LUMRANGE, U_MAXLEVEL, U_FRAME, U_FIX, U_INV, U_FWD,
     U_IMG, U_TEXT, U_DITHER, U_IMGMEAN, U_CHAN, U_DRIVE, U_BGDRIVE, U_RECT, U_NMARKS, U_MARKC,
-    U_MARKR, U_MARKHW, U_MARKFRAC, U_COUNT
+    U_MARKR, U_MARKHW, U_MARKFRAC, U_ORIGIN, U_COUNT
 };
 static const char *const uniform_names[U_COUNT] = {
     "u_render", "u_screen", "u_eye", "u_mode", "u_c", "u_h", "u_v", "u_fixc", "u_freq", "u_orient",
     "u_phase", "u_sigma", "u_radius", "u_edge", "u_contrast", "u_mean", "u_lumrange", "u_maxlevel",
     "u_frame", "u_fix", "u_inv", "u_fwd", "u_img", "u_text", "u_dither", "u_imgmean", "u_chan",
-    "u_drive", "u_bgdrive", "u_rect", "u_nmarks", "u_markc", "u_markr", "u_markhw", "u_markfrac"};
+    "u_drive", "u_bgdrive", "u_rect", "u_nmarks", "u_markc", "u_markr", "u_markhw", "u_markfrac", "u_origin"};
 
 static const char *const vs_src =
     "#version 330 core\n"
@@ -110,6 +131,9 @@ static const char *const fs_src =
     "uniform int u_nmarks;\n"
     "uniform vec3 u_markc[8];\n"
     "uniform float u_markr, u_markhw, u_markfrac;\n"
+    /* pixel offset of the viewport in the frame: 0 for a whole frame, the region's corner for
+     * csf_presenter_readback_region, so a region's pixels are the frame's pixels there */
+    "uniform vec2 u_origin;\n"
     "const float RAD2DEG = 57.29577951308232;\n"
     "vec2 local_uv(vec3 d, vec3 c, vec3 h, vec3 v) {\n"
     "  float a = atan(length(cross(d, c)), dot(d, c));\n"
@@ -123,22 +147,23 @@ static const char *const fs_src =
     "  return 0.5 + 0.5 * cos(3.141592653589793 * (r - u_radius) / u_edge);\n"
     "}\n"
     "void main() {\n"
+    "  vec2 fc = gl_FragCoord.xy + u_origin;\n"
     /* measurement patch (csf_presenter_draw_patch): drive values in framebuffer levels per
      * channel, bypassing the luminance mapping; the same R2 mask and per-frame offset choose
      * between levels k and k+1 with probability frac(drive), channel by channel */
     "  if (u_mode == 6) {\n"
-    "    bool inside = all(greaterThanEqual(gl_FragCoord.xy, u_rect.xy)) && all(lessThan(gl_FragCoord.xy, u_rect.zw));\n"
+    "    bool inside = all(greaterThanEqual(fc, u_rect.xy)) && all(lessThan(fc, u_rect.zw));\n"
     "    vec3 dv = inside ? u_drive : u_bgdrive;\n"
     "    vec3 kk = clamp(floor(dv), vec3(0.0), vec3(float(u_maxlevel - 1)));\n"
     "    vec3 pp = clamp(dv - kk, vec3(0.0), vec3(1.0));\n"
-    "    uvec2 q0 = uvec2(gl_FragCoord.xy);\n"
+    "    uvec2 q0 = uvec2(fc);\n"
     "    uint h0 = q0.x * 3242174889u + q0.y * 2447445414u + u_frame * 2654435769u;\n"
     "    float t0 = (float(h0 >> 8) + 0.5) / 16777216.0;\n"
     "    vec3 lp = (u_dither == 1) ? kk + step(vec3(0.5), pp) : kk + vec3(lessThan(vec3(t0), pp));\n"
     "    o = vec4(lp / float(u_maxlevel), 1.0);\n"
     "    return;\n"
     "  }\n"
-    "  vec2 pmm = (gl_FragCoord.xy / u_render - 0.5) * u_screen;\n"
+    "  vec2 pmm = (fc / u_render - 0.5) * u_screen;\n"
     "  vec3 d = normalize(vec3(pmm - u_eye.xy, -u_eye.z));\n"
     "  float L = u_mean;\n"
     "  if (u_mode == 1 || u_mode == 2) {\n"
@@ -161,7 +186,7 @@ static const char *const fs_src =
     "      L = mix(u_mean, li, la.g);\n"
     "    }\n"
     "  } else if (u_mode == 5) {\n"
-    "    float cov = texture(u_text, vec2(gl_FragCoord.x / u_render.x, 1.0 - gl_FragCoord.y / u_render.y)).r;\n"
+    "    float cov = texture(u_text, vec2(fc.x / u_render.x, 1.0 - fc.y / u_render.y)).r;\n"
     "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
     "  }\n"
     /* place marks: thin dark rings of radius u_markr (angular distance from each place's centre
@@ -198,7 +223,7 @@ static const char *const fs_src =
     "  else if (ln > lk1 && k < u_maxlevel - 1) { k += 1; lk = lk1; lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; }\n"
     "  float p = clamp((ln - lk) / max(lk1 - lk, 1e-9), 0.0, 1.0);\n"
     /* R2 low-discrepancy mask in 32-bit integer arithmetic (exact fract), golden-ratio step per frame */
-    "  uvec2 q = uvec2(gl_FragCoord.xy);\n"
+    "  uvec2 q = uvec2(fc);\n"
     "  uint hsh = q.x * 3242174889u + q.y * 2447445414u + u_frame * 2654435769u;\n"
     "  float thr = (float(hsh >> 8) + 0.5) / 16777216.0;\n"
     "  vec3 lv;\n"
@@ -579,6 +604,8 @@ csf_status csf_presenter_open(const csf_presenter_config *cfg, csf_presenter **o
         cfg->render_height_px > 16384)
         return csf_error_set(err, CSF_E_INVALID_ARG, "render size %dx%d is outside 0 to 16384 px",
                              cfg->render_width_px, cfg->render_height_px);
+    if (!isfinite(cfg->fault_polar_offset_deg))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "injected polar offset is not finite");
     if (cfg->dither < 0 || cfg->dither > CSF_DITHER_BITSTEAL)
         return csf_error_set(err, CSF_E_INVALID_ARG, "dither mode %d is unknown", cfg->dither);
     if (cfg->dither == CSF_DITHER_BITSTEAL &&
@@ -620,6 +647,8 @@ void csf_presenter_close(csf_presenter *p)
         glDeleteFramebuffers(1, &p->fbo);
         GLuint t[6] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex, p->chan_tex};
         glDeleteTextures(6, t);
+        if (p->region_fbo) glDeleteFramebuffers(1, &p->region_fbo);
+        if (p->region_tex) glDeleteTextures(1, &p->region_tex);
     }
     if (p->ctx != EGL_NO_CONTEXT) {
         eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -771,12 +800,18 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
 
 /* ---------------- drawing ---------------- */
 
-static void set_common_uniforms(csf_presenter *p, int with_marks)
+static target main_target(const csf_presenter *p)
+{
+    return (target){p->fbo, p->rw, p->rh, p->rw, p->rh, 0, 0, p->frame_index};
+}
+
+static void set_common_uniforms(csf_presenter *p, int with_marks, const target *t)
 {
     p->prog = with_marks ? p->prog_marks : p->prog_plain;
     p->u = with_marks ? p->u_marks : p->u_plain;
     glUseProgram(p->prog);
-    glUniform2f(p->u[U_RENDER], (float)p->rw, (float)p->rh);
+    glUniform2f(p->u[U_RENDER], (float)t->frame_w, (float)t->frame_h);
+    glUniform2f(p->u[U_ORIGIN], (float)t->origin_x, (float)t->origin_y);
     glUniform2f(p->u[U_SCREEN], (float)p->geom.width_mm, (float)p->geom.height_mm);
     glUniform3f(p->u[U_EYE], (float)p->geom.eye_x_mm, (float)p->geom.eye_y_mm, (float)p->geom.distance_mm);
     glUniform2f(p->u[U_LUMRANGE], (float)p->lum_black, (float)p->lum_max);
@@ -785,7 +820,7 @@ static void set_common_uniforms(csf_presenter *p, int with_marks)
                                 : p->cfg.dither == CSF_DITHER_BITSTEAL ? 2 : 0);
     /* per-frame offset: frame index plus a seed-derived start, so runs with different seeds
      * use different (but reproducible) temporal dither phases */
-    glUniform1ui(p->u[U_FRAME], (GLuint)(p->frame_index + (long)(p->cfg.seed & 0xffff)));
+    glUniform1ui(p->u[U_FRAME], (GLuint)(t->frame_number + (long)(p->cfg.seed & 0xffff)));
     double c[3], h[3], v[3];
     csf_geometry_centre_basis(&p->geom, 0.0, 0.0, c, h, v);
     glUniform3f(p->u[U_FIXC], (float)c[0], (float)c[1], (float)c[2]);
@@ -824,11 +859,12 @@ static void upload_image(csf_presenter *p, const csf_image *img)
     p->img_uploaded = img;
 }
 
-static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int text_mode)
+static void render_to(csf_presenter *p, const csf_stimulus *s, int fixation, int text_mode,
+                      int n_marks, const target *t)
 {
-    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
-    glViewport(0, 0, p->rw, p->rh);
-    set_common_uniforms(p, !text_mode && p->n_marks > 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glViewport(0, 0, t->vw, t->vh);
+    set_common_uniforms(p, !text_mode && n_marks > 0, t);
     int mode = MODE_BLANK;
     double mean = mean_lum_of(p, s);
     if (text_mode) {
@@ -836,6 +872,7 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
     } else if (s) {
         double ecc, polar, c[3], h[3], v[3];
         stim_centre(p, s, &ecc, &polar);
+        polar += p->cfg.fault_polar_offset_deg;
         csf_geometry_centre_basis(&p->geom, ecc, polar, c, h, v);
         glUniform3f(p->u[U_C], (float)c[0], (float)c[1], (float)c[2]);
         glUniform3f(p->u[U_H], (float)h[0], (float)h[1], (float)h[2]);
@@ -848,7 +885,7 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
         glUniform1f(p->u[U_SIGMA], (float)s->sigma_deg);
         glUniform1f(p->u[U_RADIUS], (float)(s->radius_deg > 0 ? s->radius_deg : 2.0));
         glUniform1f(p->u[U_EDGE], (float)(s->edge_deg > 0 ? s->edge_deg : 0.25));
-        glUniform1f(p->u[U_CONTRAST], (float)s->contrast);
+        glUniform1f(p->u[U_CONTRAST], p->cfg.fault_blank ? 0.0f : (float)s->contrast);
         mode = s->kind == CSF_STIM_GABOR ? MODE_GABOR
              : s->kind == CSF_STIM_GRATING ? MODE_GRATING
              : s->kind == CSF_STIM_DISC ? MODE_DISC : MODE_IMAGE;
@@ -861,7 +898,7 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
     glUniform1i(p->u[U_MODE], mode);
     glUniform1i(p->u[U_FIX], fixation ? 1 : 0);
     /* place marks on every stimulus and blank frame while set, never on text screens */
-    int nm = text_mode ? 0 : p->n_marks;
+    int nm = text_mode ? 0 : n_marks;
     glUniform1i(p->u[U_NMARKS], nm);
     if (nm > 0) {
         glUniform3fv(p->u[U_MARKC], nm, &p->mark_c[0][0]);
@@ -871,6 +908,12 @@ static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int te
     }
     glBindVertexArray(p->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int text_mode)
+{
+    target t = main_target(p);
+    render_to(p, s, fixation, text_mode, p->n_marks, &t);
 }
 
 static int injected_periods(csf_presenter *p, long frame)
@@ -952,6 +995,12 @@ static csf_status draw_frame(csf_presenter *p, const csf_stimulus *s, int fixati
     if (!p->headless && glfwWindowShouldClose(p->win))
         return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     int r = should_render(p);
+    p->last_kind = 1;
+    p->last_has_stim = s != NULL;
+    if (s) p->last_stim = *s;
+    p->last_fix = fixation;
+    p->last_n_marks = p->n_marks;
+    p->last_frame_number = p->frame_index;
     if (r) render(p, s, fixation, 0);
     csf_frame_info fi;
     present(p, r, &fi);
@@ -960,6 +1009,7 @@ static csf_status draw_frame(csf_presenter *p, const csf_stimulus *s, int fixati
         return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error while drawing frame %ld",
                              fi.frame_index);
     if (out) *out = fi;
+    if (p->frame_hook) p->frame_hook(p->frame_hook_ctx, p, &fi);
     return CSF_OK;
 }
 
@@ -969,6 +1019,7 @@ csf_status csf_presenter_draw_clear(csf_presenter *p, csf_frame_info *out, csf_e
     glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
     glViewport(0, 0, p->rw, p->rh);
     glClearColor(0.5f, 0.5f, 0.5f, 1.0f); /* a cost baseline, not a calibrated grey */
+    p->last_kind = 0;
     glClear(GL_COLOR_BUFFER_BIT);
     csf_frame_info fi;
     present(p, 1, &fi);
@@ -1103,7 +1154,9 @@ csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_fr
         return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
     glViewport(0, 0, p->rw, p->rh);
-    set_common_uniforms(p, 0);
+    target t = main_target(p);
+    set_common_uniforms(p, 0, &t);
+    p->last_kind = 0;
     double ml = (double)p->maxlevel;
     glUniform3f(p->u[U_DRIVE], (float)(m->drive01[0] * ml), (float)(m->drive01[1] * ml),
                 (float)(m->drive01[2] * ml));
@@ -1339,6 +1392,70 @@ csf_status csf_presenter_readback_levels(csf_presenter *p, uint16_t *rgb, csf_er
     return CSF_OK;
 }
 
+void csf_presenter_set_frame_hook(csf_presenter *p, csf_frame_hook fn, void *ctx)
+{
+    if (!p) return;
+    p->frame_hook = fn;
+    p->frame_hook_ctx = fn ? ctx : NULL;
+}
+
+/* Grows the full-resolution region target to at least w x h. */
+static csf_status region_target(csf_presenter *p, int w, int h, csf_error *err)
+{
+    if (p->region_fbo && w <= p->region_w && h <= p->region_h) return CSF_OK;
+    int nw = w > p->region_w ? w : p->region_w, nh = h > p->region_h ? h : p->region_h;
+    if (!p->region_tex) glGenTextures(1, &p->region_tex);
+    glBindTexture(GL_TEXTURE_2D, p->region_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, p->bits == 10 ? GL_RGB10_A2 : GL_RGBA8, nw, nh, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    if (!p->region_fbo) glGenFramebuffers(1, &p->region_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, p->region_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->region_tex, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "readback region: a %dx%d framebuffer is not supported",
+                             nw, nh);
+    p->region_w = nw;
+    p->region_h = nh;
+    return CSF_OK;
+}
+
+csf_status csf_presenter_readback_region(csf_presenter *p, int x, int y, int w, int h, uint16_t *rgb,
+                                         csf_error *err)
+{
+    if (!p || !rgb) return csf_error_set(err, CSF_E_INVALID_ARG, "readback region: NULL argument");
+    int W = p->geom.width_px, H = p->geom.height_px;
+    if (w < 1 || h < 1 || w > CSF_REGION_MAX_PX || h > CSF_REGION_MAX_PX || x < 0 || y < 0 || x > W - w ||
+        y > H - h)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "readback region %dx%d at (%d, %d) is not inside the %dx%d px screen or is "
+                             "larger than %d px a side", w, h, x, y, W, H, CSF_REGION_MAX_PX);
+    if (p->last_kind != 1)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "readback region: the last frame was not a stimulus or blank frame");
+    csf_status st = region_target(p, w, h, err);
+    if (st) return st;
+    target t = {p->region_fbo, w, h, W, H, x, H - y - h, p->last_frame_number};
+    render_to(p, p->last_has_stim ? &p->last_stim : NULL, p->last_fix, 0, p->last_n_marks, &t);
+    glBindFramebuffer(GL_FRAMEBUFFER, p->region_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    size_t row = (size_t)w * 3;
+    uint16_t *tmp = malloc(sizeof(uint16_t) * row * (size_t)h);
+    if (!tmp) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_SHORT, tmp);
+    for (int j = 0; j < h; j++) {
+        const uint16_t *src = tmp + (size_t)(h - 1 - j) * row;
+        uint16_t *dst = rgb + (size_t)j * row;
+        for (size_t i = 0; i < row; i++)
+            dst[i] = (uint16_t)((src[i] * (uint32_t)p->maxlevel + 32767u) / 65535u);
+    }
+    free(tmp);
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error reading back a region");
+    return CSF_OK;
+}
+
 csf_status csf_presenter_readback_rgb8(csf_presenter *p, unsigned char *rgb, csf_error *err)
 {
     size_t n = (size_t)p->rw * p->rh * 3;
@@ -1432,6 +1549,7 @@ csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_err
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     cairo_surface_destroy(surf);
     render(p, NULL, 0, 1);
+    p->last_kind = 0;
     csf_frame_info fi;
     present(p, 1, &fi);
     if (glGetError() != GL_NO_ERROR)

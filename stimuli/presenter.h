@@ -105,6 +105,12 @@ typedef struct {
     int dither;                 /* CSF_DITHER_* */
     const char *monitor;        /* windowed: index ("0", "1") or name substring; NULL = primary */
     uint64_t seed;              /* per-run dither offset and miss-rate draws */
+    /* Injected faults for tests of what reads the screen (a simulated person, a self-check): every
+     * stimulus is drawn fault_polar_offset_deg of polar angle away from where it was asked for,
+     * or (fault_blank) not drawn at all (a flat field), while validation and the contrast the
+     * presenter reports stay the plan's. 0 = off. */
+    double fault_polar_offset_deg;
+    int fault_blank;
 } csf_presenter_config;
 
 typedef struct csf_presenter csf_presenter;
@@ -248,6 +254,24 @@ int csf_presenter_bits(const csf_presenter *p);
 csf_status csf_presenter_readback_rgb8(csf_presenter *p, unsigned char *rgb, csf_error *err);
 /* Last frame as framebuffer levels 0..2^bits-1, w*h*3 uint16, top row first. */
 csf_status csf_presenter_readback_levels(csf_presenter *p, uint16_t *rgb, csf_error *err);
+/* The last frame drawn by csf_presenter_draw or csf_presenter_run_trial (a stimulus or blank
+ * frame, with its fixation mark, place marks and dither), rasterised again at the CONFIGURED
+ * resolution (geometry width_px x height_px, not the reduced headless render size) but only the
+ * w x h pixels whose top-left pixel is (x, y) (top row first, as the readback), and read back as
+ * framebuffer levels (w*h*3 uint16, top row first). The same shader, uniforms and dither frame
+ * number as the frame: the pixels are those a full-resolution frame has there. Works whatever
+ * render_every says (the region is always rasterised), so a simulated person can look at the few
+ * places it needs at full resolution while the session's own frames stay small or are skipped.
+ * Refused: a region not inside the screen or over CSF_REGION_MAX_PX a side, or a last frame
+ * that was a text screen or a measurement patch. */
+#define CSF_REGION_MAX_PX 4096
+csf_status csf_presenter_readback_region(csf_presenter *p, int x, int y, int w, int h, uint16_t *rgb,
+                                         csf_error *err);
+/* Called after every frame of csf_presenter_draw and csf_presenter_run_trial (stimulus and blank
+ * frames alike, after it is presented, before run_trial's stop callback), e.g. to read back a
+ * region of it. NULL removes the hook. The hook must not draw. */
+typedef void (*csf_frame_hook)(void *ctx, csf_presenter *p, const csf_frame_info *frame);
+void csf_presenter_set_frame_hook(csf_presenter *p, csf_frame_hook fn, void *ctx);
 /* Luminance the presenter believes level k (R=G=B) produces. */
 double csf_presenter_level_lum(const csf_presenter *p, int level);
 void csf_presenter_lum_range(const csf_presenter *p, double *black_cdm2, double *max_cdm2);

@@ -13,6 +13,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static void exercise(const csf_observer_sim *o)
 {
+    /* view=frame keys: what a session hands to calib/observer_screen.c must be in range */
+    const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
+    if (p->view_frame != 0 && p->view_frame != 1) abort();
+    if (!(p->frame_step >= 1 && p->frame_step <= 30) || p->frame_step != floor(p->frame_step)) abort();
+    if (p->display_gamma != 0 && !(p->display_gamma >= 1 && p->display_gamma <= 4)) abort();
+    if (!p->view_frame && (p->display[0] || p->display_gamma != 0)) abort();
+    if (memchr(p->display, '\0', sizeof p->display) == NULL) abort();
+    if (strlen(csf_observer_sim_describe(o)) == 0) abort();
     double th = csf_observer_sim_threshold(o, 2, 5);
     if (!(th > 0)) abort();
     double c = isfinite(th) ? th : 0.5;

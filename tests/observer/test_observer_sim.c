@@ -259,8 +259,54 @@ static void test_afc(void)
     csf_observer_sim_free(o);
 }
 
+/* view=frame and its keys (issue 12 item 1): parsed, described, refused with the key named. */
+static void test_view_spec(void)
+{
+    csf_observer_sim *o = NULL;
+    csf_error e;
+    CHECK(csf_observer_sim_create("sim", 1, &o, &e) == CSF_OK);
+    CHECK(o && csf_observer_sim_params_get(o)->view_frame == 0);
+    CHECK(o && strstr(csf_observer_sim_describe(o), "view") == NULL); /* the default's text unchanged */
+    csf_observer_sim_free(o);
+    CHECK(csf_observer_sim_create("sim:view=frame,display=crt,display_gamma=2.6,frame_step=5", 1, &o, &e) == CSF_OK);
+    if (o) {
+        const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
+        CHECK(p->view_frame == 1 && strcmp(p->display, "crt") == 0 && p->display_gamma == 2.6 &&
+              p->frame_step == 5);
+        CHECK_STR_CONTAINS(csf_observer_sim_describe(o), "view=frame,display=crt,frame_step=5,display_gamma=2.6");
+    }
+    csf_observer_sim_free(o);
+    CHECK(csf_observer_sim_create("sim:view=frame", 1, &o, &e) == CSF_OK);
+    CHECK(o && csf_observer_sim_params_get(o)->display[0] == '\0' && csf_observer_sim_params_get(o)->frame_step == 3);
+    csf_observer_sim_free(o);
+    CHECK(csf_observer_sim_create("sim:view=frame,display=file=/x/y.csv", 1, &o, &e) == CSF_OK);
+    csf_observer_sim_free(o);
+    static const struct {
+        const char *spec, *msg;
+    } bad[] = {
+        {"sim:view=eyes", "view=eyes: must be plan or frame"},
+        {"sim:display=lcd", "need view=frame"},
+        {"sim:frame_step=2", "need view=frame"},
+        {"sim:view=frame,display=plasma", "display=plasma: must be crt, lcd, oled, profile or file=PATH.csv"},
+        {"sim:view=frame,display=file=", "display=file=: must be"},
+        {"sim:view=frame,display=profile,display_gamma=2", "display_gamma= applies to display=crt, lcd or oled"},
+        {"sim:view=frame,display_gamma=2", "display_gamma= applies"},
+        {"sim:view=frame,display=crt,display_gamma=5", "display_gamma=5 outside 1 to 4"},
+        {"sim:view=frame,frame_step=0", "frame_step=0 outside 1 to 30"},
+        {"sim:view=frame,frame_step=2.5", "frame_step=2.5 must be a whole number"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        o = NULL;
+        e.msg[0] = '\0';
+        CHECK_MSG(csf_observer_sim_create(bad[i].spec, 1, &o, &e) == CSF_E_INVALID_ARG, "%s", bad[i].spec);
+        CHECK(o == NULL);
+        CHECK_STR_CONTAINS(e.msg, bad[i].msg);
+    }
+}
+
 int main(void)
 {
+    test_view_spec();
     test_spec();
     test_table();
     test_fade_detection();
