@@ -897,17 +897,6 @@ static int sq_schema_version(csf_store *base)
 
 /* ---- sessions ---------------------------------------------------------------------------- */
 
-static int valid_kind(const char *k)
-{
-    return k && (!strcmp(k, "display") || !strcmp(k, "observer") || !strcmp(k, "study"));
-}
-
-static int valid_state(const char *k)
-{
-    return k && (!strcmp(k, "running") || !strcmp(k, "paused") || !strcmp(k, "finished") ||
-                 !strcmp(k, "aborted"));
-}
-
 static csf_status run_simple(sq_store *s, sqlite3_stmt *st, const char *what, csf_error *err)
 {
     int rc = step(s, st);
@@ -966,8 +955,6 @@ static csf_status sq_upsert_display(csf_store *base, const char *name, const cha
                                     int64_t *id, csf_error *err)
 {
     sq_store *s = sq(base);
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name must be 1 to 255 characters");
     csf_status cs = upsert_named(s, "displays", name, profile_id, id, err);
     if (cs != CSF_OK || !profile_id) return cs;
     /* Keep the history of profiles per display (one row per distinct profile id). */
@@ -994,10 +981,7 @@ static csf_status sq_upsert_display(csf_store *base, const char *name, const cha
 
 static csf_status sq_upsert_observer(csf_store *base, const char *name, int64_t *id, csf_error *err)
 {
-    sq_store *s = sq(base);
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 255 characters");
-    return upsert_named(s, "observers", name, NULL, id, err);
+    return upsert_named(sq(base), "observers", name, NULL, id, err);
 }
 
 /* The profile a session uses, in its display's history; the display's current profile only
@@ -1033,20 +1017,6 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
     const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
     const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
     uint64_t seed = nw->seed;
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!valid_kind(kind))
-        return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "store: session kind '%s' unknown (allowed display, observer, study)",
-                             kind ? kind : "(null)");
-    /* Stored in full; csf_session_info shows the first 63 characters. */
-    if (observer && strlen(observer) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name longer than 255 characters");
-    if (display && strlen(display) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 255 characters");
-    if (profile_id && strlen(profile_id) > 127)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
-    if (profile_id && !*profile_id) profile_id = NULL;
     /* Observer and display rows are written in the same transaction as the session. */
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "starting a session");
@@ -1123,8 +1093,6 @@ static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
 static csf_status sq_get_session(csf_store *base, int64_t id, csf_session_info *out, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     memset(out, 0, sizeof *out);
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, SESSION_COLS " WHERE s.id = ?", &st);
@@ -1146,11 +1114,6 @@ static csf_status sq_get_session(csf_store *base, int64_t id, csf_session_info *
 static csf_status sq_set_session_state(csf_store *base, int64_t id, const char *state, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!valid_state(state))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: session state '%s' unknown (allowed "
-                             "running, paused, finished, aborted)", state ? state : "(null)");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "UPDATE sessions SET state = ?, updated_utc = ? WHERE id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "changing a session's state");
@@ -1201,8 +1164,6 @@ static csf_status sq_session_times(csf_store *base, int64_t id, char created_utc
                                    char updated_utc[32], csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "SELECT created_utc, updated_utc,"
                         " (SELECT MAX(stored_s) FROM trials WHERE session_id = s.id),"
@@ -1236,39 +1197,9 @@ static csf_status sq_session_times(csf_store *base, int64_t id, char created_utc
 
 /* ---- readings ---------------------------------------------------------------------------- */
 
-static int valid_channel(const char *c)
-{
-    static const char *const ok[] = {"dark", "white", "grey", "r", "g", "b"};
-    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
-        if (!strcmp(c, ok[i])) return 1;
-    return 0;
-}
-
-static int valid_reading_status(const char *c)
-{
-    static const char *const ok[] = {"ok", "too_dark", "saturated", "timeout", "error"};
-    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
-        if (!strcmp(c, ok[i])) return 1;
-    return 0;
-}
-
-/* Fixed-size text fields in the structs must be NUL-terminated within their size. */
-static int terminated(const char *f, size_t cap) { return memchr(f, '\0', cap) != NULL; }
-
 static csf_status sq_add_reading(csf_store *base, const csf_reading *r, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !r) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!terminated(r->channel, sizeof r->channel) || !valid_channel(r->channel))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading channel must be dark, white, "
-                             "grey, r, g or b");
-    if (!terminated(r->status, sizeof r->status) || !valid_reading_status(r->status))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading status must be ok, too_dark, "
-                             "saturated, timeout or error");
-    if (r->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading seq %d < 0", r->seq);
-    if (!(r->drive01 >= 0.0 && r->drive01 <= 1.0))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading drive01 %g outside [0, 1]", r->drive01);
     if (!s->ins_reading)
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a reading", s->path);
     sqlite3_stmt *st = s->ins_reading;
@@ -1328,18 +1259,10 @@ static csf_status sq_get_readings(csf_store *base, int64_t session_id, csf_readi
 
 /* ---- trials ------------------------------------------------------------------------------ */
 
+/* Arguments are checked in results/store.c; a store opened read-only has no insert statement. */
 static csf_status check_trial(sq_store *s, const csf_trial *t, csf_error *err)
 {
-    if (!s || !t) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (t->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial seq %d < 0", t->seq);
-    if (!terminated(t->method, sizeof t->method) || !terminated(t->flags, sizeof t->flags))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial method or flags not terminated");
-    if (!isfinite(t->freq_cpd) || !isfinite(t->ecc_deg) || !isfinite(t->contrast_requested))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has a non-finite frequency, "
-                             "eccentricity or contrast", t->seq);
-    if (t->n_alternatives != 0 && (t->n_alternatives < 2 || t->n_alternatives > 16))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has %d alternatives (0 = not "
-                             "forced choice, else 2-16)", t->seq, t->n_alternatives);
+    (void)t;
     if (!s->ins_trial)
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store a trial", s->path);
     return CSF_OK;
@@ -1418,8 +1341,6 @@ static csf_status sq_add_trial_frames(csf_store *base, const csf_trial *t, const
     csf_error_clear(err);
     csf_status cs = check_trial(s, t, err);
     if (cs != CSF_OK) return cs;
-    if (n < 0 || (n > 0 && !interval_s))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
     if (n == 0) { /* one row: one autocommit statement */
         int rc1 = insert_trial(s, t);
         return rc1 == SQLITE_OK ? CSF_OK : trial_failed(s, t, rc1, err);
@@ -1494,11 +1415,6 @@ static csf_status sq_add_frame_intervals(csf_store *base, int64_t session_id, in
                                          const double *interval_s, int n, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (n < 0 || (n > 0 && !interval_s))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: frame interval count %d invalid", n);
-    if (n == 0) return CSF_OK;
     if (!s->ins_frame)
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot store frame intervals", s->path);
     int rc = exec_s(s, "BEGIN IMMEDIATE");
@@ -1541,8 +1457,6 @@ static csf_status sq_put_thresholds(csf_store *base, int64_t session_id, const c
                                     size_t n, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || (n > 0 && !rows)) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing thresholds");
     sqlite3_stmt *st = NULL;
@@ -1721,14 +1635,6 @@ static csf_status sq_add_artifact(csf_store *base, int64_t session_id, const cha
                                   const char *path, const void *blob, size_t len, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!kind || !*kind || strlen(kind) > 15)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact kind must be 1 to 15 characters");
-    if (len > 0 && !blob)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes without content", len);
-    if (len > 512u * 1024 * 1024)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes (limit 512 MiB)", len);
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, "storing an artifact");
     int merged = 0;
@@ -1766,8 +1672,6 @@ static csf_status sq_display_profile_id(csf_store *base, const char *display, ch
                                         csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !display || !out || cap == 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     out[0] = '\0';
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "SELECT profile_id FROM displays WHERE name = ? AND profile_id IS NOT NULL", &st);
@@ -1789,8 +1693,6 @@ static csf_status sq_get_artifact(csf_store *base, int64_t session_id, const cha
                                   csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !kind || !blob || !len) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     *blob = NULL;
     *len = 0;
     sqlite3_stmt *st = NULL;
@@ -1832,10 +1734,6 @@ static csf_status sq_create_study(csf_store *base, const char *name, const char 
                                   int64_t *id, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: study name must be 1 to 255 characters");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "INSERT INTO studies (name, design_json, created_utc) VALUES (?,?,?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "creating a study");
@@ -1857,8 +1755,6 @@ static csf_status sq_create_study(csf_store *base, const char *name, const char 
 static csf_status sq_find_study(csf_store *base, const char *name, int64_t *id, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !name) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "SELECT id FROM studies WHERE name = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "finding a study");
@@ -1880,10 +1776,6 @@ static csf_status sq_add_participant(csf_store *base, int64_t study_id, const ch
                                      int64_t *id, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
-    if (!code || !*code || strlen(code) > 63)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: participant code must be 1 to 63 characters");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "INSERT INTO participants (study_id, code, created_utc) VALUES (?,?,?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "adding a participant");
@@ -1905,8 +1797,6 @@ static csf_status sq_add_participant(csf_store *base, int64_t study_id, const ch
 static csf_status sq_count_participants(csf_store *base, int64_t study_id, int *n, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s || !n) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "SELECT COUNT(*) FROM participants WHERE study_id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "counting participants");
@@ -1921,8 +1811,6 @@ static csf_status sq_link_session_participant(csf_store *base, int64_t session_i
                                               int64_t participant_id, csf_error *err)
 {
     sq_store *s = sq(base);
-    csf_error_clear(err);
-    if (!s) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "INSERT INTO session_participants (session_id, participant_id) VALUES (?,?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "linking a session to a participant");

@@ -1,7 +1,7 @@
 /* Reports: the log-parabola fit recovers known parameters; PDF/PNG/SVG files are valid (magic
  * bytes, page count, cairo reads the PNG back at the expected size) and actually show the data
  * (curve colours present in the CSF panel, channel colours in the display panel); errors for an
- * unknown session, unknown extension and unwritable path. */
+ * unknown session, unknown extension and unwritable path. Run on both backends. */
 #include <cairo.h>
 #include <math.h>
 #include <stdlib.h>
@@ -173,10 +173,12 @@ static void test_files(const char *dir, const char *store_path, int64_t obs, int
 
 int main(int argc, char **argv)
 {
+    test_pg_require();
     test_fit();
-    char dir[512], store[600];
+    char dir[512], store[1024];
     if (tmp_dir(dir, sizeof dir, "report") < 0) return 1;
-    snprintf(store, sizeof store, "%s/sample.sqlite", dir);
+    /* CSF_TEST_BACKEND=postgresql: the same reports from a server store (test_report_pg). */
+    if (test_store_location(dir, "sample.sqlite", store, sizeof store) < 0) return 1;
     int64_t obs = 0, disp = 0;
     CHECK_INT_EQ(make_sample_store(store, 77, &obs, &disp), 0);
     test_files(dir, store, obs, disp);
