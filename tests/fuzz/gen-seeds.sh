@@ -162,6 +162,10 @@ sed -n 's/^observer = sim://p' "$conf" | tr -d '\n' >"$tmp/obs-conf.txt"
 put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
 printf 'smax=150' >"$tmp/obs-fade.txt"
 put fuzz_observer_spec fade.txt "$tmp/obs-fade.txt"
+# The responder spec of the configuration, after "hid:" or "gamepad:" (fuzz_responder_spec; the
+# generated configuration names the keyboard, so the checked-in corpus carries the HID cases).
+sed -n 's/^responder = \(hid\|gamepad\)://p' "$conf" | head -1 | tr -d '\n' >"$tmp/resp.txt"
+[ -s "$tmp/resp.txt" ] && put fuzz_responder_spec config.txt "$tmp/resp.txt"
 
 # USB meter replies: the instruments' formats, not csfcal's, so they do not go stale; the checked-in
 # corpus holds the error, truncated and garbage cases. A ColorCAL MES answer and a ColorHug2
