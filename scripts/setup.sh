@@ -27,6 +27,21 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# udev rules for photometers and response devices (data/udev/70-csfcal.rules), so no root is
+# needed to use them; only where udev runs (not in containers or CI without it).
+if [ -d /etc/udev/rules.d ] && command -v udevadm >/dev/null 2>&1; then
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  if ! cmp -s data/udev/70-csfcal.rules /etc/udev/rules.d/70-csfcal.rules; then
+    $SUDO install -m 0644 data/udev/70-csfcal.rules /etc/udev/rules.d/70-csfcal.rules
+    $SUDO udevadm control --reload >/dev/null 2>&1 || true
+    $SUDO udevadm trigger --action=change --subsystem-match=usb --subsystem-match=hidraw >/dev/null 2>&1 || true
+    echo "setup: installed /etc/udev/rules.d/70-csfcal.rules (re-plug photometers and button boxes)"
+  fi
+else
+  echo "setup: no udev here: data/udev/70-csfcal.rules not installed (see docs/instruments.md)"
+fi
+
 # Release build for users; the test build (sanitizers, warnings as errors) lives in build-test.
 [ -f build/build.ninja ] || meson setup build --buildtype=release >/dev/null
 if ! ninja -C build > build/setup-build.log 2>&1; then
