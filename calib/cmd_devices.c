@@ -138,13 +138,16 @@ static int may_open(const char *node, const char *hint, char *why, size_t len)
 static void iface_driver(const char *iface_dir, char *buf, size_t len)
 {
     char p[PATH_MAX], target[PATH_MAX];
-    snprintf(p, sizeof p, "%s/driver", iface_dir);
-    ssize_t n = readlink(p, target, sizeof target - 1);
     buf[0] = 0;
+    if (join(p, sizeof p, iface_dir, "driver", "")) return;
+    ssize_t n = readlink(p, target, sizeof target - 1);
     if (n <= 0) return;
     target[n] = 0;
     const char *base = strrchr(target, '/');
-    snprintf(buf, len, "%s", base ? base + 1 : target);
+    base = base ? base + 1 : target;
+    size_t bl = strlen(base);
+    if (bl >= len) return; /* no driver name is that long */
+    memcpy(buf, base, bl + 1);
 }
 
 typedef struct {
