@@ -13,9 +13,10 @@
  * cell shows up as posterior mass above the ceiling; when more than half the mass is there the
  * cell is reported as not visible (INFINITY).
  *
- * Cells the setup gives four places (setup.n_alternatives[c] == 4, spatial 4AFC) use guess rate
- * 1/4 in their posterior and plan the place 0-3; the others are two-interval as before (their
- * plans, draws and posteriors unchanged). */
+ * Cells the setup gives four places (setup.n_alternatives[c] == 4, spatial 4AFC) plan the place
+ * 0-3 and use the four-place function of the same d' (csf_psy_p_afc, guess 1/4), so their
+ * threshold is the table's task-independent one (results/psychometric.h); the others are
+ * two-interval as before (their plans, draws and posteriors unchanged). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,6 +114,8 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
             bad |= csf_psy_grid_init(&a->grid[(size_t)i * a->n_eta + e], AFC_GRID_N, a->x_lo - 0.5,
                                      a->x_hi + 1.0, m, AFC_PRIOR_SD, slope,
                                      a->n_alt[i] == 4 ? 0.25 : 0.5, lapse) != 0;
+            /* four places: the SDT 4AFC function of the same d' (one threshold, whatever the task) */
+            if (!bad && a->n_alt[i] == 4) a->grid[(size_t)i * a->n_eta + e].n_alt = 4;
         }
         if (bad) {
             double slope = a->s.slope_beta, lapse = a->s.lapse;
@@ -186,7 +189,7 @@ static double mix_best_x(afc_state *a, int i)
             const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta + e];
             grid_weights(g, wts);
             for (int k = 0; k < g->n; k++) {
-                double pc = csf_psy_p4(x, g->t_lo + k * g->t_step, g->beta, g->guess, g->lapse);
+                double pc = csf_psy_grid_p(g, x, g->t_lo + k * g->t_step);
                 qc[k] += a->eta_w[e] * wts[k] * pc;
                 qw[k] += a->eta_w[e] * wts[k] * (1.0 - pc);
             }
@@ -247,7 +250,7 @@ static void afc_update(void *state, int trial_index, const csf_trial_plan *plan,
             double pr = 0.0;
             grid_weights(g, w);
             for (int k = 0; k < g->n; k++) {
-                double pc = csf_psy_p4(log10(c), g->t_lo + k * g->t_step, g->beta, g->guess, g->lapse);
+                double pc = csf_psy_grid_p(g, log10(c), g->t_lo + k * g->t_step);
                 pr += w[k] * (correct ? pc : 1.0 - pc);
             }
             a->log_ev[e] += log(pr > 1e-300 ? pr : 1e-300);

@@ -46,6 +46,7 @@
 #include <string.h>
 
 #include "results/csf_model.h"
+#include "results/psychometric.h"
 #include "results/rng.h"
 
 enum { NPAR = 6 };
@@ -142,7 +143,6 @@ typedef struct {
     /* P(correct) and its binary entropy by grid-index difference (x node - t node) + n_grid - 1,
      * one table per layout: [0] two intervals, [1] four locations (offset by 2*n_grid - 1) */
     double *ptab, *htab;
-    double guess4;   /* guess rate of a four-location cell */
     int *n_alt;      /* [n_cells] 2 or 4 */
     double *tclip;   /* [n_grid] t_g clipped at log10 max contrast + 0.1 (variance criterion) */
 
@@ -210,7 +210,13 @@ static double p_correct(double slope, double lapse, double g, double x, double t
     return g + (1.0 - g - lapse) * (1.0 - e);
 }
 
-static double cell_guess(const bayes_state *s, int c) { return s->n_alt[c] == 4 ? s->guess4 : s->guess; }
+/* A four-place cell: the SDT 4AFC function of the same d' (results/psychometric.h), so its
+ * threshold is the table's task-independent one; a Weibull with guess 1/4 would read 0.094 / k
+ * log10 high for a signal-detection observer. */
+static double p_correct_layout(double slope, double lapse, double g, int four, double x, double t)
+{
+    return four ? csf_psy_p_afc(x, t, slope, lapse, 4) : p_correct(slope, lapse, g, x, t);
+}
 
 /* Where the cell's layout starts in ptab and htab (see bayes_state.ptab). */
 static size_t cell_tab_offset(const bayes_state *s, int c)
@@ -745,7 +751,6 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->seed = setup->seed;
     s->trial_budget = setup->trial_budget;
     s->guess = guess;
-    s->guess4 = 0.25;
     s->log_cmax = log10(setup->max_contrast);
     /* below 1e-4 Michelson nobody sees anything; it also bounds the grid */
     s->log_cmin = log10(setup->min_contrast > 1e-4 ? setup->min_contrast : 1e-4);
@@ -859,7 +864,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         for (int a = 0; a < 2; a++)
             for (int d = -(G - 1); d <= G - 1; d++)
                 s->ptab_eta[((size_t)e * 2 + a) * (2 * G - 1) + d + G - 1] =
-                    p_correct(s->eta_slope[e], s->eta_lapse[e], a ? s->guess4 : s->guess, d * s->step, 0.0);
+                    p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, a, d * s->step, 0.0);
     }
     mix_ptab(s);
     /* particles from the prior (rejection for the truncation), deterministic in the seed */
@@ -997,7 +1002,8 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
     for (int e = 0; e < s->n_eta; e++) {
         double *ll = &s->loglik_eta[((size_t)e * s->n_cells + c) * G];
         for (int g = 0; g < G; g++) {
-            double pr = p_correct(s->eta_slope[e], s->eta_lapse[e], cell_guess(s, c), x, s->lo + g * s->step);
+            double pr = p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, s->n_alt[c] == 4, x,
+                                         s->lo + g * s->step);
             ll[g] += log(correct ? pr : 1.0 - pr);
         }
     }

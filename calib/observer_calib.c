@@ -22,6 +22,7 @@
 #include "results/file_write.h"
 #include "results/json_read.h"
 #include "results/plot.h"
+#include "results/psychometric.h"
 #include "results/rng.h"
 #include "results/store.h"
 #include "stimuli/geometry.h"
@@ -1733,7 +1734,10 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     char profile_ids[1024];
     table_profile_id(S.store, sid, csf_profile_id(S.profile), profile_ids, sizeof profile_ids);
     b.display_profile_id = profile_ids;
-    b.method = set.method;
+    /* the method and the threshold's task-independent definition (issue 12 item 4) */
+    char method_desc[160];
+    snprintf(method_desc, sizeof method_desc, "%s; %s", set.method, CSF_PSY_THRESHOLD_DEFINITION);
+    b.method = method_desc;
     b.date_utc = date;
     b.tool_version = CSF_VERSION;
     b.viewing_distance_mm = cfg->viewing_distance_mm;

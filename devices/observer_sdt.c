@@ -1,6 +1,8 @@
 /* Signal-detection decision model (see observer_sdt.h). */
 #include "devices/observer_sdt.h"
 
+#include "results/psychometric.h"
+
 #include <math.h>
 
 double csf_sdt_phi(double x)
@@ -19,22 +21,11 @@ double csf_sdt_dprime(double contrast, double threshold, double k)
     return CSF_SDT_D_AT_T * pow(contrast / threshold, k);
 }
 
-/* Composite Simpson over [min(-9, d-9), max(9, d+9)]: the integrand is smooth and outside that
- * range below 1e-18, so 2000 panels are far inside 1e-9. */
+/* The integral lives with the methods' models (results/psychometric.c), so observer and methods
+ * share one definition of the task-independent threshold. */
 double csf_sdt_pc_mafc(double dprime, int m)
 {
-    if (m < 2 || m > 64 || isnan(dprime)) return NAN;
-    if (dprime > 40) return 1.0;
-    double lo = fmin(-9.0, dprime - 9.0), hi = fmax(9.0, dprime + 9.0);
-    const int n = 2000;
-    double h = (hi - lo) / n, s = 0;
-    for (int i = 0; i <= n; i++) {
-        double x = lo + i * h;
-        double w = (i == 0 || i == n) ? 1 : (i & 1) ? 4 : 2;
-        s += w * csf_sdt_phi(x - dprime) * pow(csf_sdt_Phi(x), m - 1);
-    }
-    double p = s * h / 3;
-    return p > 1 ? 1 : p;
+    return csf_psy_sdt_pc_mafc(dprime, m);
 }
 
 double csf_sdt_dprime_for_pc(double p, int m)

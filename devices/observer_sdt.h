@@ -12,7 +12,8 @@
 #ifndef CSF_OBSERVER_SDT_H
 #define CSF_OBSERVER_SDT_H
 
-/* d' at the threshold: sqrt(2) * Phi^-1(1 - e^-1 / 2). */
+/* d' at the threshold: sqrt(2) * Phi^-1(1 - e^-1 / 2); the table's task-independent criterion
+ * (CSF_PSY_DPRIME_CRITERION in results/psychometric.h, where the methods use it). */
 #define CSF_SDT_D_AT_T 1.2734322744392470
 
 /* d' of a Michelson contrast c at threshold t with transducer exponent k (0 for c <= 0; 0 for

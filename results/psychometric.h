@@ -44,6 +44,39 @@ double csf_psy_inverse(const csf_weibull *w, double p);
  * the simulated observer adds lapses (missed stimulus) and false alarms as separate events. */
 double csf_psy_fade_hazard(double x_prev_max, double x_now, double t_log10, double beta);
 
+/* ---- One threshold, whatever the task (issue 12 item 4; docs/observer-calibration.md) ----------
+ *
+ * The table's threshold t is the contrast at which the person's sensitivity index d' reaches
+ * CSF_PSY_DPRIME_CRITERION, d' = CSF_PSY_DPRIME_CRITERION * 10^(k (x - t)) (a power-law contrast
+ * transducer, Legge & Foley 1980), and d' is the task-independent quantity of signal-detection
+ * theory (Green & Swets 1966; Macmillan & Creelman 2005): the same person has the same d' in two
+ * intervals, in four places and in yes/no. The criterion is the d' at which two-interval
+ * P(correct) is 1 - e^-1/2 = 81.6 %, where the Weibull of DESIGN.md puts its t, so a two-interval
+ * table means what it meant before. Each task maps d' to its own probability:
+ *   two intervals: the Weibull of DESIGN.md (guess 1/2) with slope beta; a Weibull fitted to the
+ *     SDT 2AFC function has beta = CSF_PSY_WEIBULL_PER_K * k (Pelli 1987; May & Solomon 2013,
+ *     Theorem 2), and puts t within 0.01/k log10 of the d' criterion;
+ *   m places (m >= 3): P = lapse' / m + (1 - lapse') Pc_m(d'), Pc_m the max rule's proportion
+ *     correct (csf_psy_sdt_pc_mafc), k = beta / CSF_PSY_WEIBULL_PER_K, lapse' = lapse m / (m - 1)
+ *     so the upper asymptote is 1 - lapse as in the Weibull. (A Weibull with guess 1/4 would put
+ *     its t at d' = 1.58, 0.094 / k log10 above the two-interval one.) */
+
+/* d' at the table's threshold: sqrt(2) Phi^-1(1 - e^-1 / 2). */
+#define CSF_PSY_DPRIME_CRITERION 1.2734322744392470
+/* Weibull slope of the SDT two-interval function per unit of transducer exponent (Pelli 1987). */
+#define CSF_PSY_WEIBULL_PER_K 1.247
+
+/* How tables state the definition (csflut metadata: appended to the method string, which older
+ * readers show as text; docs/csflut.md). */
+#define CSF_PSY_THRESHOLD_DEFINITION "threshold d'=1.2734 (2AFC 81.6%, SDT)"
+
+/* P(correct) of the max rule in m-AFC (2 <= m <= 64) at d' (numeric integral, |error| < 1e-9). */
+double csf_psy_sdt_pc_mafc(double dprime, int m);
+/* P(correct) at log10 contrast x with m alternatives (m = 2: the Weibull with guess 1/2; m >= 3:
+ * the SDT m-AFC function above, from a table built on first use, |error| < 1e-6), for the table's
+ * threshold t, Weibull-equivalent slope beta and lapse. NAN for m outside 2-8. */
+double csf_psy_p_afc(double x_log10, double t_log10, double beta, double lapse, int m);
+
 /* ---- Threshold grid posterior (1-D, per cell): QUEST+/Psi style adaptive procedures ---------- */
 
 /* A posterior over t_log10 on a fixed regular grid, slope/guess/lapse fixed. Storage is caller
@@ -53,6 +86,7 @@ typedef struct {
     double t_lo, t_step;   /* grid: t_i = t_lo + i * t_step */
     double *log_post;
     double beta, guess, lapse;
+    int n_alt;             /* 0 (from init): the Weibull with guess; >= 3: csf_psy_p_afc with m = n_alt */
 } csf_psy_grid;
 
 /* Allocates an n-point grid over [t_lo, t_hi] with a Gaussian prior (mean, sd in log10; sd <= 0
@@ -60,6 +94,8 @@ typedef struct {
 int csf_psy_grid_init(csf_psy_grid *g, int n, double t_lo, double t_hi, double prior_mean,
                       double prior_sd, double beta, double guess, double lapse);
 void csf_psy_grid_free(csf_psy_grid *g);
+/* P(yes/correct) at x for threshold t under the grid's model (its Weibull, or n_alt places). */
+double csf_psy_grid_p(const csf_psy_grid *g, double x_log10, double t_log10);
 /* Bayes update with one trial. */
 void csf_psy_grid_update(csf_psy_grid *g, double x_log10, int response);
 /* Posterior mean and sd of t_log10. */

@@ -1,7 +1,9 @@
 /* A small simulated 2AFC observer for the bayes tests and bench/bench_observer.c.
  * Why not devices/observer_sim: this one is independent of the observer area so the method can be
  * checked against a truth it did not help write. It is a model with noise: Weibull in log10
- * contrast with slope, guess 0.5 and lapse (DESIGN.md's form); every draw comes from
+ * contrast with slope, guess 0.5 and lapse (DESIGN.md's form) with two intervals; with four places
+ * the signal-detection max rule of the same d' (the table's task-independent threshold, see
+ * sim2afc_respond); every draw comes from
  * results/rng.h keyed by (seed, trial index), so runs are reproducible.
  * Truth: the parametric surface (results/csf_model.h) or a table (CSV freq_cpd,ecc_deg,threshold,
  * bilinear in log10 frequency x eccentricity on log10 threshold; threshold >= 1 = never visible). */
@@ -129,8 +131,29 @@ static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_tria
     double seen = 0.0;
     if (plan->contrast > 0 && t < 0.0) /* threshold >= 1: never visible */
         seen = 1.0 - exp(-pow(10.0, o->slope * (log10(plan->contrast) - t)));
-    /* two intervals, or four locations (guess 1/4) when the plan says so */
+    /* two intervals, or four locations when the plan says so */
     int n_alt = plan->n_alternatives == 4 ? 4 : 2;
+    if (n_alt == 4) {
+        /* Four places: the person of the Weibull above is a signal-detection observer as far as
+         * the task is concerned (one d' whatever the task; docs/observer-calibration.md): the
+         * transducer d' = 1.2734 (c/t)^k with k = slope / 1.247 gives the two-interval Weibull,
+         * and in four places the largest of four noisy responses is chosen. A lapse (probability
+         * lapse * 4/3, upper asymptote 1 - lapse) is a uniform guess. Drawn, not looked up. */
+        uint64_t base = (uint64_t)trial_index * 4;
+        if (csf_rng_uniform(o->seed, 0x51a3, (uint64_t)trial_index) < o->lapse * 4.0 / 3.0) {
+            out.response = (int)(csf_rng_uniform(o->seed, 0x51a4, (uint64_t)trial_index) * 4) % 4;
+            return out;
+        }
+        double d = 0.0;
+        if (plan->contrast > 0 && t < 0.0)
+            d = 1.2734322744392470 * pow(10.0, fmin(o->slope / 1.247 * (log10(plan->contrast) - t), 3.0));
+        double best = -INFINITY;
+        for (int k = 0; k < 4; k++) {
+            double r = (k == plan->signal_interval ? d : 0.0) + csf_rng_normal(o->seed, 0x51a5, base + (uint64_t)k);
+            if (r > best) best = r, out.response = k;
+        }
+        return out;
+    }
     double guess = 1.0 / n_alt;
     double p_correct = guess + (1.0 - guess - o->lapse) * seen;
     int correct = csf_rng_uniform(o->seed, 0x51a1, (uint64_t)trial_index) < p_correct;

@@ -52,6 +52,41 @@ int main(void)
     CHECK_NEAR(t_hat, m, 0.05);
     csf_psy_grid_free(&g);
     CHECK(csf_psy_grid_init(&g, 1, -4, 0, 0, 1, 3.5, 0.5, 0.02) == -1);
+
+    /* One threshold, whatever the task (issue 12 item 4). */
+    double d_t = CSF_PSY_DPRIME_CRITERION;
+    CHECK_NEAR(csf_psy_sdt_pc_mafc(d_t, 2), 1 - exp(-1) / 2, 1e-9);   /* 81.6 % at t */
+    CHECK_NEAR(csf_psy_sdt_pc_mafc(0, 4), 0.25, 1e-9);
+    /* m = 2 is DESIGN.md's Weibull; m = 4 the max rule of the same d': 63.7 % at t (no lapse) */
+    CHECK(csf_psy_p_afc(-2.1, -2.3, 3.1, 0.02, 2) == csf_psy_p4(-2.1, -2.3, 3.1, 0.5, 0.02));
+    CHECK_NEAR(csf_psy_p_afc(-2.3, -2.3, 3.1, 0, 4), csf_psy_sdt_pc_mafc(d_t, 4), 1e-6);
+    CHECK_NEAR(csf_psy_sdt_pc_mafc(d_t, 4), 0.637, 0.001);
+    /* the table agrees with the integral everywhere (interpolation error < 1e-6) */
+    double worst = 0;
+    for (int i = 0; i < 400; i++) {
+        double x = -3.5 + i * 0.005, k = 3.1 / CSF_PSY_WEIBULL_PER_K;
+        double d = d_t * pow(10.0, k * (x + 2.3));
+        double direct = 0.04 * 4 / 3 / 4 + (1 - 0.04 * 4 / 3) * csf_psy_sdt_pc_mafc(d, 4);
+        worst = fmax(worst, fabs(csf_psy_p_afc(x, -2.3, 3.1, 0.04, 4) - direct));
+    }
+    CHECK(worst < 1e-6);
+    /* upper asymptote 1 - lapse, lower 1/4; monotone */
+    CHECK_NEAR(csf_psy_p_afc(0, -2.3, 3.1, 0.04, 4), 0.96, 1e-9);
+    CHECK_NEAR(csf_psy_p_afc(-INFINITY, -2.3, 3.1, 0.04, 4), 0.25, 1e-9);
+    CHECK(isnan(csf_psy_p_afc(-2, -2, 3, 0.02, 9)));
+    /* the four-place 72.4 % point (where a Weibull with guess 1/4 puts t) is 0.094/k above t */
+    double k = 3.1 / CSF_PSY_WEIBULL_PER_K, lo = -3, hi = -1;
+    for (int it = 0; it < 60; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (csf_psy_p_afc(mid, -2.3, 3.1, 0, 4) < 0.25 + 0.75 * (1 - exp(-1))) lo = mid;
+        else hi = mid;
+    }
+    CHECK_NEAR(lo - -2.3, 0.0943 / k, 0.001);
+    /* a grid set to four places uses it */
+    CHECK(csf_psy_grid_init(&g, 11, -3, -1, -2, 1, 3.1, 0.25, 0.02) == 0);
+    g.n_alt = 4;
+    CHECK(csf_psy_grid_p(&g, -2.2, -2.3) == csf_psy_p_afc(-2.2, -2.3, 3.1, 0.02, 4));
+    csf_psy_grid_free(&g);
     CHECK(csf_psy_fit_t(obs, 0, 3.5, 0.5, 0.02, -4, 0, &t_hat, &se) == -1);
     return CHECK_RESULT();
 }
