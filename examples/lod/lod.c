@@ -50,7 +50,7 @@ static void usage(FILE *f)
             "  --subdiv S              mesh detail: 20*4^S triangles (3..7; default 6)\n"
             "  --seed N                the mesh's ridges (default 1)\n"
             "  --distance-factors L    simplify as if the viewer were d times farther, for each d in\n"
-            "                          the comma-separated list (1..1000; default 1,4,16); d = 1 is\n"
+            "                          the comma-separated list (1..1000; default 1,8,32); d = 1 is\n"
             "                          the imperceptible simplification, d > 1 deliberately perceptible\n"
             "  --threshold-factors L   also simplify with every threshold k times higher, for each k\n"
             "                          in the list (1..1000; default none)\n"
@@ -412,7 +412,7 @@ int main(int argc, char **argv)
 {
     options o = {.width_px = 512, .height_px = 512, .views = 4, .subdiv = 6, .ppd = 32, .object_deg = 12, .seed = 1,
                  .n_levels = 3,
-                 .levels = {{1, 1, "d1"}, {4, 1, "d4"}, {16, 1, "d16"}},
+                 .levels = {{1, 1, "d1"}, {8, 1, "d8"}, {32, 1, "d32"}},
                  .shade = {.light_dir = {0.48f, 0.64f, 0.6f}, .albedo = 0.85f, .ambient = 0.2f, .background = 0.5f,
                            .lum_peak_cdm2 = 200, .lum_black_cdm2 = 0.5}};
     int rc = parse_args(argc, argv, &o);
