@@ -14,6 +14,7 @@
 #include "calib/afc_layout.h"
 #include "calib/procedure.h"
 #include "calib/observer_screen.h"
+#include "calib/trial_io.h"
 #include "devices/observer_sim.h"
 #include "devices/responder.h"
 #include "results/file_read.h"
@@ -83,17 +84,6 @@ void csf_obs_options_defaults(csf_obs_options *o)
     o->render_w = 64;
     o->render_h = 36;
     o->afc = 4;
-}
-
-/* Values that reach the store and the procedures are rounded to 9 significant digits: far below
- * what a float GPU pipeline can show, and it makes a resumed run (whose virtual clock restarted
- * at zero, so times differ in the last bits) reproduce an uninterrupted one exactly. */
-static double round9(double v)
-{
-    if (!isfinite(v) || v == 0) return v;
-    char buf[40];
-    snprintf(buf, sizeof buf, "%.9g", v);
-    return strtod(buf, NULL);
 }
 
 /* ---- settings (stored with the session, read back on resume) --------------------------------- */
@@ -185,7 +175,7 @@ static int person_fade_frame(person *p, double t_s, double contrast_shown)
     double rel = rel_time(p, t_s);
     if (p->sim) {
         double press, seen = p->eyes ? csf_obs_screen_latest(p->eyes) : contrast_shown;
-        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, round9(seen), &press)) {
+        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, csf_round9(seen), &press)) {
             p->pressed = 1;
             p->press_rel_s = press;
             p->contrast_at_press = contrast_shown;
@@ -273,21 +263,10 @@ static csf_status person_screen(person *p, const char *text, csf_error *err)
 {
     /* A simulated person reads nothing: skip the screen (and cairo's font machinery). */
     if (p->sim) return CSF_OK;
-    csf_status st = csf_presenter_text_screen(p->pres, text, err);
-    if (st != CSF_OK) return st;
-    csf_response ev;
-    for (;;) {
-        if (stop_requested) {
-            p->paused = 1;
-            return CSF_OK;
-        }
-        if (csf_responder_poll(p->resp, &ev)) {
-            if (ev.kind == CSF_RESP_ESCAPE) p->paused = 1;
-            if (ev.kind != CSF_RESP_NONE) return CSF_OK;
-        }
-        st = csf_presenter_text_screen(p->pres, text, err);
-        if (st != CSF_OK) return st;
-    }
+    csf_trial_io io = {p->pres, p->resp, &stop_requested, 0};
+    csf_status st = csf_trial_io_screen(&io, text, err);
+    if (io.paused) p->paused = 1;
+    return st;
 }
 
 /* Escape during a human session: offer to resume or stop (data kept either way). Returns 1 to
@@ -474,12 +453,12 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
     tr->valid = 1;
     if (p->pressed) {
         tr->response = 1;
-        tr->rt_s = round9(p->press_rel_s);
-        tr->contrast_at_response = round9(p->contrast_at_press);
+        tr->rt_s = csf_round9(p->press_rel_s);
+        tr->contrast_at_response = csf_round9(p->contrast_at_press);
         st = person_click(p, &tr->click_x, &tr->click_y, err);
         if (st != CSF_OK || p->paused) return st;
-        tr->click_x = round9(tr->click_x);
-        tr->click_y = round9(tr->click_y);
+        tr->click_x = csf_round9(tr->click_x);
+        tr->click_y = csf_round9(tr->click_y);
         if (tr->rt_s < ANTICIPATION_S) {
             tr->valid = 0;
             add_flag(tr->flags, "anticipation");
@@ -526,7 +505,7 @@ static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_d
     csf_status st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
     if (st != CSF_OK) return st;
     take_record(tr);
-    *shown = round9(tr->rec.contrast_shown_mean);
+    *shown = csf_round9(tr->rec.contrast_shown_mean);
     return CSF_OK;
 }
 
@@ -574,37 +553,18 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
         tr->response = csf_observer_sim_2afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
                                              p->eyes ? seen : shown, &rt);
         if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 2, seen, shown);
-        tr->rt_s = round9(rt);
+        tr->rt_s = csf_round9(rt);
         return CSF_OK;
     }
-    double t0 = csf_responder_now();
-    for (;;) {
-        csf_frame_info fi;
-        st = csf_presenter_draw(r->pres, NULL, 1, &fi, err);
-        if (st != CSF_OK) return st;
-        csf_response ev;
-        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
-        else if (!csf_responder_poll(p->resp, &ev)) continue;
-        if (ev.kind == CSF_RESP_ESCAPE) {
-            p->paused = 1;
-            return CSF_OK;
-        }
-        /* Left / right mouse button answer too (the only answers a "mouse" responder has). */
-        if (ev.kind == CSF_RESP_CLICK && (ev.choice == 0 || ev.choice == 1)) {
-            ev.kind = CSF_RESP_CHOICE;
-            ev.places = 2;
-        }
-        /* The four-place keys mean nothing here. */
-        if (ev.kind == CSF_RESP_CHOICE && ev.places == 4) continue;
-        /* A choice made while the intervals were still running is ignored, as it is in the
-         * blank intervals (which drain the queue): answers count from the end of the second
-         * interval, so reaction times are never negative. */
-        if (ev.kind == CSF_RESP_CHOICE && ev.t_s >= t0) {
-            tr->response = ev.choice;
-            tr->rt_s = ev.t_s - t0;
-            return CSF_OK;
-        }
-    }
+    csf_trial_io io = {r->pres, p->resp, &stop_requested, 0};
+    int choice;
+    double rt;
+    st = csf_trial_io_wait_choice(&io, csf_responder_now(), 0, &choice, &rt, err);
+    if (io.paused) p->paused = 1;
+    if (st != CSF_OK || p->paused) return st;
+    tr->response = choice;
+    tr->rt_s = rt;
+    return CSF_OK;
 }
 
 /* One four-place trial (spatial 4AFC): fixation with the four places cued, then one interval as
@@ -636,7 +596,7 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
         tr->response = csf_observer_sim_afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
                                             p->eyes ? seen : shown, 4, &rt);
         if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 4, seen, shown);
-        tr->rt_s = round9(rt);
+        tr->rt_s = csf_round9(rt);
         return CSF_OK;
     }
     double t0 = csf_responder_now();
@@ -657,8 +617,8 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
         if (ev.kind == CSF_RESP_CLICK) {
             double ecc, polar;
             click_direction(p, &ev, &ecc, &polar);
-            tr->click_x = round9(ecc * cos(polar * M_PI / 180));
-            tr->click_y = round9(ecc * sin(polar * M_PI / 180));
+            tr->click_x = csf_round9(ecc * cos(polar * M_PI / 180));
+            tr->click_y = csf_round9(ecc * sin(polar * M_PI / 180));
             tr->response = csf_afc_nearest_place(lay, ecc, polar, c->ecc_deg);
             tr->rt_s = ev.t_s - t0;
             break;
@@ -683,7 +643,7 @@ static void default_axes(const csf_geometry *g, session_settings *s, int quiet)
         double nyq = csf_geometry_nyquist_cpd_any(g, 0, 0);
         for (int i = 0; i < 6; i++) {
             double f = 0.5 * pow(32.0, i / 5.0);
-            f = round9(f);
+            f = csf_round9(f);
             if (f <= nyq) s->freqs[s->n_freqs++] = f;
             else if (!quiet)
                 fprintf(stderr, "csfcal: observer: %.3g cpd dropped: above the display's Nyquist "
@@ -758,10 +718,7 @@ static void session_free(session_res *s)
 static csf_status store_trial(session_res *S, size_t *n_stored, const csf_trial *t, trial_result *tr,
                               csf_error *err)
 {
-    int n_intervals = tr->have_rec && tr->rec.frames_drawn > 1 ? tr->rec.frames_drawn - 1 : 0;
-    csf_status st = csf_store_add_trial_frames(S->store, t, n_intervals ? tr->rec.interval_s : NULL,
-                                               n_intervals, err);
-    if (tr->have_rec) csf_trial_record_free(&tr->rec);
+    csf_status st = csf_trial_io_store(S->store, t, &tr->rec, tr->have_rec, err);
     tr->have_rec = 0;
     if (st != CSF_OK) return st;
     csf_trial *grown = realloc(S->stored, (*n_stored + 1) * sizeof *S->stored);
@@ -814,18 +771,18 @@ static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, c
     snprintf(t->method, sizeof t->method, "%s", method);
     t->freq_cpd = c->freq_cpd;
     t->ecc_deg = c->ecc_deg;
-    t->polar_deg = round9(polar);
+    t->polar_deg = csf_round9(polar);
     t->orientation_deg = 0;
     t->sigma_deg = GABOR_SIGMA_DEG;
     t->velocity_dps = 0;
-    t->mean_lum_cdm2 = round9(mean_lum);
+    t->mean_lum_cdm2 = csf_round9(mean_lum);
     t->is_catch = plan->is_catch;
     t->is_practice = practice;
-    t->contrast_requested = round9(plan->contrast);
-    t->contrast_shown_mean = round9(tr->shown_mean);
+    t->contrast_requested = csf_round9(plan->contrast);
+    t->contrast_shown_mean = csf_round9(tr->shown_mean);
     /* For fade trials contrast_shown_max holds the contrast on screen at the press: what the
      * procedure's update() needs back on resume (the highest contrast shown up to the press). */
-    t->contrast_shown_max = plan->task == CSF_TASK_FADE ? tr->contrast_at_response : round9(tr->shown_max);
+    t->contrast_shown_max = plan->task == CSF_TASK_FADE ? tr->contrast_at_response : csf_round9(tr->shown_max);
     if (plan->task == CSF_TASK_2AFC) t->contrast_shown_max = tr->contrast_at_response;
     t->frames_planned = tr->frames_planned;
     t->frames_shown = tr->frames_shown;
@@ -1697,7 +1654,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         goto restore;
     }
     for (int k = 0; k < n_cells; k++)
-        rows[k] = (csf_threshold_row){S.cells[k].freq_cpd, S.cells[k].ecc_deg, 0, round9(mean_lum),
+        rows[k] = (csf_threshold_row){S.cells[k].freq_cpd, S.cells[k].ecc_deg, 0, csf_round9(mean_lum),
                                       S.est[k].threshold, S.est[k].stderr_log10, S.est[k].n_trials};
     st = csf_store_put_thresholds(S.store, sid, rows, (size_t)n_cells, err);
     free(rows);
@@ -1741,7 +1698,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     b.date_utc = date;
     b.tool_version = CSF_VERSION;
     b.viewing_distance_mm = cfg->viewing_distance_mm;
-    b.mean_lum_cdm2 = round9(mean_lum);
+    b.mean_lum_cdm2 = csf_round9(mean_lum);
     b.trials = res->n_trials;
     csflut_diag diag;
     memset(&diag, 0, sizeof diag);

@@ -183,6 +183,18 @@ printf '0000,111,1.7180e+02,1.8074e+02,1.9620e+02\r\n' >"$tmp/pr.txt"
 put fuzz_pr_reply d2.txt "$tmp/pr.txt"
 printf 'Hit ESC or Q to exit, any other key to take a reading: \n Result is XYZ: 171.8 180.7 196.2, Yxy: 180.7 0.3127 0.329\n' >"$tmp/spot.txt"
 put fuzz_spotread result.txt "$tmp/spot.txt"
+# Study files: the example studies' settings as they are, their conditions tables behind the
+# design byte fuzz_study_conditions reads first (0 2afc, 1 2ifc, 2 same_different, 3 yes_no).
+for conf in "$src"/examples/studies/*.conf; do
+  [ -f "$conf" ] || continue
+  b=$(basename "$conf" .conf)
+  put fuzz_study_settings "$b.conf" "$conf"
+  case $(sed -n 's/^design = //p' "$conf") in
+    2ifc) d='\001' ;; same_different) d='\002' ;; yes_no) d='\003' ;; *) d='\000' ;;
+  esac
+  csv="$src/examples/studies/$b.csv"
+  [ -f "$csv" ] && { printf "$d"; cat "$csv"; } >"$tmp/$b.csv.bin" && put fuzz_study_conditions "$b.bin" "$tmp/$b.csv.bin"
+done
 
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"

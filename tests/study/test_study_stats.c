@@ -1,0 +1,121 @@
+/* Study statistics (results/study_stats.h) against values computed independently: exact
+ * binomial sums in Python's integer arithmetic (math.comb; the interval ends by bisection on the
+ * tail sums, as binom.test defines them), Macmillan & Creelman's d' definitions, and Weibull fits
+ * of data drawn from known psychometric functions. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "results/rng.h"
+#include "results/study_stats.h"
+#include "tests/check.h"
+
+static void test_normal(void)
+{
+    CHECK_NEAR(csf_stats_norm_cdf(1.959963984540054), 0.975, 1e-12);
+    CHECK_NEAR(csf_stats_norm_quantile(0.975), 1.959963984540054, 1e-9);
+    CHECK_NEAR(csf_stats_norm_quantile(1e-10), -6.361340902404056, 1e-7);
+    CHECK_NEAR(csf_stats_norm_quantile(0.5), 0, 1e-12);
+}
+
+static void test_clopper_pearson(void)
+{
+    double lo, hi;
+    /* 5 of 10: 0.1870860, 0.8129140 */
+    csf_stats_clopper_pearson(5, 10, 0.95, &lo, &hi);
+    CHECK_NEAR(lo, 0.1870860, 1e-6);
+    CHECK_NEAR(hi, 0.8129140, 1e-6);
+    /* 0 of 20: 0, 0.1684335 */
+    csf_stats_clopper_pearson(0, 20, 0.95, &lo, &hi);
+    CHECK(lo == 0);
+    CHECK_NEAR(hi, 0.1684335, 1e-6);
+    /* 38 of 40: 0.83080314, 0.99388635 */
+    csf_stats_clopper_pearson(38, 40, 0.95, &lo, &hi);
+    CHECK_NEAR(lo, 0.83080314, 1e-7);
+    CHECK_NEAR(hi, 0.99388635, 1e-7);
+    csf_stats_clopper_pearson(40, 40, 0.95, &lo, &hi);
+    CHECK(hi == 1);
+    /* exact coverage: for n = 30 and p = 0.3 the interval covers p with probability >= 0.95 */
+    double cover = 0;
+    for (int k = 0; k <= 30; k++) {
+        csf_stats_clopper_pearson(k, 30, 0.95, &lo, &hi);
+        double pk = exp(lgamma(31) - lgamma(k + 1) - lgamma(31 - k) + k * log(0.3) + (30 - k) * log(0.7));
+        if (lo <= 0.3 && 0.3 <= hi) cover += pk;
+    }
+    CHECK_MSG(cover >= 0.95, "coverage %g", cover);
+}
+
+static void test_binomial(void)
+{
+    /* P(X >= 8 | 10, 0.5) = 56/1024 */
+    CHECK_NEAR(csf_stats_binom_p_greater(8, 10, 0.5), 0.0546875, 1e-12);
+    /* two-sided: 112/1024 */
+    CHECK_NEAR(csf_stats_binom_p_two_sided(8, 10, 0.5), 0.109375, 1e-12);
+    /* 3 of 20 against 0.3: the outcomes no likelier than 3 sum to 0.22041827 */
+    CHECK_NEAR(csf_stats_binom_p_two_sided(3, 20, 0.3), 0.22041827, 1e-7);
+    CHECK_NEAR(csf_stats_binom_p_greater(0, 10, 0.5), 1, 0);
+}
+
+static void test_dprime(void)
+{
+    /* yes/no: H = 0.84134, F = 0.15866 -> d' = 2 */
+    CHECK_NEAR(csf_stats_dprime_yesno(csf_stats_norm_cdf(1), csf_stats_norm_cdf(-1)), 2, 1e-9);
+    /* differencing model: build H and F from d' = 2 and criterion k = 1.5, then invert */
+    double k = 1.5, d = 2;
+    double f = 2 * csf_stats_norm_cdf(-k / M_SQRT2);
+    double h = csf_stats_norm_cdf((d - k) / M_SQRT2) + csf_stats_norm_cdf((-d - k) / M_SQRT2);
+    CHECK_NEAR(csf_stats_dprime_sd_differencing(h, f), 2, 1e-6);
+    /* independent observations, unbiased: p(c) = Phi(d/2)^2 + Phi(-d/2)^2; with H = p(c) and
+     * F = 1 - p(c) the model gives d back */
+    double pc = pow(csf_stats_norm_cdf(1), 2) + pow(csf_stats_norm_cdf(-1), 2);
+    CHECK_NEAR(csf_stats_dprime_sd_independent(pc, 1 - pc), 2, 1e-6);
+    /* same/different needs more hits than false alarms */
+    CHECK(isnan(csf_stats_dprime_sd_differencing(0.3, 0.4)));
+    /* the same rates mean a larger d' under differencing than under IO (M&C ch. 9) */
+    CHECK(csf_stats_dprime_sd_differencing(0.7, 0.2) > csf_stats_dprime_sd_independent(0.7, 0.2));
+}
+
+/* Data drawn from a known Weibull; the ML fit must recover it, and the bootstrap interval must
+ * hold the truth in about 95 % of repeated experiments. */
+static void test_fit(void)
+{
+    const double t = -2.0, beta = 3.5, lapse = 0.02;
+    csf_psy_level lv[7];
+    int covered = 0, runs = 40;
+    double sum_t = 0;
+    for (int r = 0; r < runs; r++) {
+        csf_rng g;
+        csf_rng_init(&g, 100 + (uint64_t)r, 3);
+        for (int i = 0; i < 7; i++) {
+            lv[i].x_log10 = t - 0.45 + 0.15 * i;
+            lv[i].n = 60;
+            double p = 0.5 + (0.5 - lapse) * (1 - exp(-pow(10, beta * (lv[i].x_log10 - t))));
+            lv[i].k = 0;
+            for (int j = 0; j < lv[i].n; j++) lv[i].k += csf_rng_next_uniform(&g) < p;
+        }
+        csf_weibull_fit f;
+        CHECK(csf_weibull_fit_ml(lv, 7, 0.5, 0.06, &f) == 0);
+        sum_t += f.t_log10;
+        double tl, th, bl, bh;
+        int ok = csf_weibull_bootstrap(lv, 7, &f, 0.06, 100, 7 + (uint64_t)r, 0.95, &tl, &th, &bl, &bh);
+        CHECK(ok >= 95);
+        CHECK(tl <= f.t_log10 && f.t_log10 <= th);
+        covered += tl <= t && t <= th;
+    }
+    CHECK_NEAR(sum_t / runs, t, 0.02);
+    /* 40 runs at 95 %: fewer than 33 covered has probability < 0.2 % */
+    CHECK_MSG(covered >= 33, "bootstrap covered the truth in %d of %d runs", covered, runs);
+    /* nothing to fit */
+    csf_weibull_fit f;
+    lv[0].n = 10;
+    CHECK(csf_weibull_fit_ml(lv, 1, 0.5, 0.06, &f) == -1);
+}
+
+int main(void)
+{
+    test_normal();
+    test_clopper_pearson();
+    test_binomial();
+    test_dprime();
+    test_fit();
+    return CHECK_RESULT();
+}
