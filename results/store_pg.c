@@ -69,6 +69,8 @@ static const csf_store_ops pg_ops;
 static pg_store *pg(csf_store *b) { return (pg_store *)b; }
 static csf_status remember(pg_store *p, int64_t id, csf_error *err);
 static void spool_path(char *out, size_t cap);
+static void recover_spool(pg_store *p);
+static csf_status find_uuid(pg_store *p, const char *uuid, int64_t *id, csf_error *err);
 static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err);
 
 /* ---- parameters and results -------------------------------------------------------------- */
@@ -522,6 +524,7 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
     if (cs == CSF_OK) cs = setup_connection(p, err);
     if (cs == CSF_OK && !readonly) cs = check_durable(p, err);
     if (cs == CSF_OK) cs = ensure_schema(p, err);
+    if (cs == CSF_OK && !readonly) recover_spool(p);
     if (cs != CSF_OK) {
         pg_ops.close(&p->base);
         return cs;
@@ -708,7 +711,11 @@ static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw
 
 static csf_status pg_find_session_uuid(csf_store *b, const char *uuid, int64_t *id, csf_error *err)
 {
-    pg_store *p = pg(b);
+    return find_uuid(pg(b), uuid, id, err);
+}
+
+static csf_status find_uuid(pg_store *p, const char *uuid, int64_t *id, csf_error *err)
+{
     pgargs a = {0};
     a_txt(&a, uuid);
     return query_i64(p, "SELECT id FROM sessions WHERE uuid = $1", &a, id, "finding a session", err);
@@ -1001,6 +1008,43 @@ static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
             p->base.path, sent);
     p->n_spooled = 0;
     return CSF_OK;
+}
+
+/* A station that died while the server was away left rows in its spool that nobody sent. They
+ * go to the server when the next csfcal opens it, before a procedure reads the trials it
+ * resumes from (a resume without them would number new trials over them). Only sessions this
+ * server has (by uuid) are sent; the state of each stays as the server has it. A failure is
+ * said on stderr and does not stop the open: the rows stay in the spool. */
+static void recover_spool(pg_store *p)
+{
+    if (access(p->spool_path, F_OK) != 0) return;
+    csf_store *sp = NULL;
+    csf_error e;
+    if (csf_store_sqlite_open(p->spool_path, 0, &sp, &e) != CSF_OK) {
+        fprintf(stderr, "csfcal: store %s: the local spool cannot be read (%s)\n", p->base.path, e.msg);
+        return;
+    }
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    csf_status cs = sp->ops->list_sessions(sp, &list, &n, &e);
+    int sent = 0;
+    p->flushing = 1;
+    for (size_t i = 0; cs == CSF_OK && i < n; i++) {
+        int64_t sid = 0;
+        if (!list[i].uuid[0] || find_uuid(p, list[i].uuid, &sid, NULL) != CSF_OK) continue;
+        csf_push_counts c;
+        cs = csf_store_push_rows(sp, &p->base, list[i].id, &c, &e);
+        sent += c.trials_sent + c.readings_sent;
+    }
+    p->flushing = 0;
+    if (cs != CSF_OK)
+        fprintf(stderr, "csfcal: store %s: rows left in the local spool %s could not be sent (%s)\n",
+                p->base.path, p->spool_path, e.msg);
+    else if (sent > 0)
+        fprintf(stderr, "csfcal: store %s: %d trials and readings left in the local spool %s by an "
+                        "earlier run sent\n", p->base.path, sent, p->spool_path);
+    csf_session_list_free(list, n);
+    sp->ops->close(sp);
 }
 
 /* A write of a session this station runs: to the server; after a drop, a short wait for it;

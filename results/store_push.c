@@ -133,8 +133,8 @@ static csf_status push_results(csf_store *src, csf_store *dst, int64_t sid, int6
     return cs;
 }
 
-csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,
-                                  csf_push_counts *c, csf_error *err)
+static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int keep_state,
+                       csf_push_counts *c, csf_error *err)
 {
     csf_error_clear(err);
     if (!src || !dst || !c) return csf_error_set(err, CSF_E_INVALID_ARG, "store: not open");
@@ -154,8 +154,8 @@ csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t sessio
     /* The copy takes the source's state once it has everything (and lets go of the claim a
      * new server session was made with), unless the destination's copy is already over. */
     csf_session_info di;
-    if (cs == CSF_OK) cs = csf_store_get_session(dst, did, &di, err);
-    if (cs == CSF_OK) {
+    if (cs == CSF_OK && !keep_state) cs = csf_store_get_session(dst, did, &di, err);
+    if (cs == CSF_OK && !keep_state) {
         int over = !strcmp(di.state, "finished") || !strcmp(di.state, "aborted");
         csf_session_info_free(&di);
         if (!over) cs = csf_store_set_session_state(dst, did, si.state, err);
@@ -166,4 +166,16 @@ csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t sessio
     }
     csf_session_info_free(&si);
     return cs;
+}
+
+csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,
+                                  csf_push_counts *c, csf_error *err)
+{
+    return push(src, dst, session_id, 0, c, err);
+}
+
+csf_status csf_store_push_rows(csf_store *src, csf_store *dst, int64_t session_id,
+                               csf_push_counts *c, csf_error *err)
+{
+    return push(src, dst, session_id, 1, c, err);
 }

@@ -21,5 +21,9 @@ typedef struct {
 
 csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,
                                   csf_push_counts *counts, csf_error *err);
+/* The same without touching the destination session's state (and, on a server, without
+ * claiming it): what a station's spool left by a crash sends when the store is next opened. */
+csf_status csf_store_push_rows(csf_store *src, csf_store *dst, int64_t session_id,
+                               csf_push_counts *counts, csf_error *err);
 
 #endif

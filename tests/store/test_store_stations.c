@@ -8,7 +8,8 @@
  * - the server restarted mid-session: the station says so, waits, reconnects and goes on, and no
  *   trial is lost or doubled;
  * - the server away for longer: the station keeps its trials in the local spool and goes on;
- *   they reach the server when it is back (during the session, or by a push after it), once.
+ *   they reach the server when it is back (during the session, or by a push after it, or when
+ *   the next csfcal opens the store after the station was killed), once.
  * Runs on PostgreSQL only (under tests/store/pg_run.sh); on SQLite it checks nothing and says so
  * (exit 77: skipped). */
 #include <signal.h>
@@ -293,8 +294,9 @@ static void test_server_away(const char *loc, const char *spool)
     csf_store_close(s);
 }
 
-/* The server goes away and the session ends before it is back: the trials stay in the spool,
- * and a push after it sends them, once. */
+/* The server goes away and the session ends before it is back: the trials stay in the spool;
+ * the next csfcal to open the store sends them (not the state), and the push the station
+ * printed sends the state and nothing twice. */
 static void test_spool_then_push(const char *loc, const char *spool)
 {
     int ready[2], cont[2];
@@ -338,14 +340,69 @@ static void test_spool_then_push(const char *loc, const char *spool)
     lsid = test_query_int(sp, spool, q);
     csf_session_info_free(&si);
     csf_push_counts c;
+    check_session(s, sid, 94, 25); /* sent by the open */
     CHECK_INT_EQ(csf_store_push_session(sp, s, lsid, &c, &err), CSF_OK);
-    CHECK_INT_EQ(c.trials_sent, 15);
+    CHECK_INT_EQ(c.trials_sent, 0);
+    CHECK_INT_EQ(c.trials_present, 15); /* the spool holds trials 10-24 */
     CHECK_INT_EQ(c.dest_id, sid);
     check_session(s, sid, 94, 25);
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
     CHECK(!strcmp(si.state, "finished"));
     csf_session_info_free(&si);
     csf_store_close(sp);
+    csf_store_close(s);
+}
+
+/* A station killed while its trials were only in the spool: the next csfcal to open the store
+ * sends them before anything reads the session (a resume then continues after them), and does
+ * not claim the session or change its state on the way. */
+static void test_crash_while_away(const char *loc)
+{
+    int ready[2], cont[2], spooled[2];
+    if (pipe(ready) != 0 || pipe(cont) != 0 || pipe(spooled) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        close(cont[1]);
+        close(spooled[0]);
+        csf_store *s = open_or_die(loc, "station");
+        csf_error err;
+        int64_t sid = 0;
+        char c;
+        if (csf_store_begin_session(s, "observer", "crashed", "lcd", NULL, 95, &sid, &err) != CSF_OK) _exit(4);
+        if (write_trials(s, sid, 0, 10, 95, 0) < 0) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid || read(cont[0], &c, 1) != 1) _exit(6);
+        if (write_trials(s, sid, 10, 20, 95, 0) < 0) _exit(5);
+        if (write(spooled[1], "s", 1) != 1) _exit(6);
+        pause(); /* killed here, with ten trials only in the spool */
+        _exit(7);
+    }
+    close(ready[1]);
+    close(cont[0]);
+    close(spooled[1]);
+    int64_t sid = 0;
+    char c;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    run_pg("stop");
+    CHECK(write(cont[1], "g", 1) == 1);
+    CHECK(read(spooled[0], &c, 1) == 1);
+    kill(a, SIGKILL);
+    int status = 0;
+    waitpid(a, &status, 0);
+    run_pg("start");
+    csf_store *s = open_or_die(loc, "next run"); /* sends what the spool holds */
+    check_session(s, sid, 95, 20);
+    csf_session_info si;
+    csf_error err;
+    CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+    CHECK(!strcmp(si.state, "running"));
+    csf_session_info_free(&si);
+    csf_store *other = open_or_die(loc, "another station");
+    CHECK_INT_EQ(csf_store_set_session_state(other, sid, "running", &err), CSF_OK); /* unclaimed */
+    CHECK_INT_EQ(write_trials(other, sid, 20, 25, 95, 0), 0); /* the resume goes on after them */
+    CHECK_INT_EQ(csf_store_set_session_state(other, sid, "finished", &err), CSF_OK);
+    check_session(other, sid, 95, 25);
+    csf_store_close(other);
     csf_store_close(s);
 }
 
@@ -367,6 +424,7 @@ int main(void)
     snprintf(spool, sizeof spool, "%s/spool.sqlite", dir);
     test_server_away(loc, spool);
     test_spool_then_push(loc, spool);
+    test_crash_while_away(loc);
     rm_rf(dir);
     return CHECK_RESULT();
 }
