@@ -6,10 +6,11 @@
 #include "calib/cli.h"
 #include "calib/commands.h"
 #include "calib/observer_calib.h"
+#include "devices/responder.h"
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
-    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE
+    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE, OPT_RESPONDER
 };
 
 static void usage(FILE *f)
@@ -51,7 +52,8 @@ static void usage(FILE *f)
             "1/Left or 2/Right, or the left/right mouse button; four places: a click on the place,\n"
             "or keypad 9/7/1/3 or I/U/J/K for upper right/upper left/lower left/lower right;\n"
             "Escape pauses: R resumes, S stops\n"
-            "and keeps the session for --resume). Default: the station configuration's observer,\n"
+            "and keeps the session for --resume). --responder SPEC: keyboard, mouse, gamepad[:N][,map=...]\n"
+            "or hid:VID:PID[,map=...] (docs/instruments.md; default: the station's responder key). Default: the station configuration's observer,\n"
             "else human when a display is available and sim without one.\n\n%s",
             csf_cli_common_help);
 }
@@ -101,6 +103,7 @@ int csf_cmd_observer(int argc, char **argv)
         {"quiet", no_argument, 0, OPT_QUIET},
         {"afc", required_argument, 0, OPT_AFC},
         {"allow-profile-change", no_argument, 0, OPT_ALLOW_PROFILE},
+        {"responder", required_argument, 0, OPT_RESPONDER},
         {"help", no_argument, 0, 'h'},
         CSF_CLI_COMMON_OPTIONS,
         {0, 0, 0, 0},
@@ -160,6 +163,13 @@ int csf_cmd_observer(int argc, char **argv)
         }
         case OPT_QUIET: o.quiet = 1; break;
         case OPT_ALLOW_PROFILE: o.allow_profile_change = 1; break;
+        case OPT_RESPONDER:
+            if (strlen(optarg) >= sizeof cli.cfg.responder) {
+                fprintf(stderr, "csfcal: --responder: longer than %zu characters\n", sizeof cli.cfg.responder - 1);
+                return 2;
+            }
+            snprintf(cli.cfg.responder, sizeof cli.cfg.responder, "%s", optarg);
+            break;
         case OPT_AFC:
             if (strcmp(optarg, "2") == 0) o.afc = 2;
             else if (strcmp(optarg, "4") == 0) o.afc = 4;
@@ -182,6 +192,15 @@ int csf_cmd_observer(int argc, char **argv)
     if (!o.out_path) {
         fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
         return 2;
+    }
+    {
+        /* the responder spec (--responder or the station's responder key) before the first trial */
+        csf_error rerr;
+        const char *rs = cli.cfg.responder[0] ? cli.cfg.responder : "keyboard";
+        if (csf_responder_check_spec(rs, &rerr)) {
+            fprintf(stderr, "csfcal: observer calibrate: responder '%s': %s\n", rs, rerr.msg);
+            return 2;
+        }
     }
     o.seed = cli.seed;
     o.headless = csf_cli_want_headless(&cli);

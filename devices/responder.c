@@ -1,5 +1,7 @@
 /* Responder registry and the "queue" backend (events pushed by the program). */
 #include "devices/responder.h"
+#include "devices/responder_gamepad.h"
+#include "devices/responder_hid.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -63,6 +65,30 @@ csf_status csf_responder_wrap(const csf_responder_backend *b, void *state, csf_r
     r->state = state;
     *out = r;
     return CSF_OK;
+}
+
+csf_status csf_responder_check_spec(const char *spec, csf_error *err)
+{
+    const char *colon = spec ? strchr(spec, ':') : NULL;
+    size_t nl = spec ? (colon ? (size_t)(colon - spec) : strlen(spec)) : 0;
+    const char *opts = colon ? colon + 1 : "";
+    if (spec && nl == 3 && strncmp(spec, "hid", 3) == 0) {
+        csf_hid_spec h;
+        return csf_hid_spec_parse(opts, &h, err);
+    }
+    if (spec && nl == 7 && strncmp(spec, "gamepad", 7) == 0) {
+        csf_gamepad_spec g;
+        return csf_gamepad_spec_parse(opts, &g, err);
+    }
+    for (size_t i = 0; spec && i < sizeof backends / sizeof backends[0]; i++)
+        if (strlen(backends[i]->name) == nl && strncmp(spec, backends[i]->name, nl) == 0) {
+            if (*opts)
+                return csf_error_set(err, CSF_E_INVALID_ARG, "responder %s takes no options (got '%.60s')",
+                                     backends[i]->name, opts);
+            return CSF_OK;
+        }
+    return csf_error_set(err, CSF_E_INVALID_ARG, "responder '%.100s' is unknown (known: keyboard, mouse, "
+                         "gamepad[:N], hid:VID:PID[,map=...], queue)", spec ? spec : "(none)");
 }
 
 csf_status csf_responder_open(const char *spec, void *window, csf_responder **out, csf_error *err)

@@ -63,6 +63,9 @@ typedef struct csf_responder csf_responder;
 
 /* spec: "name[:options]" (above). Unknown names are refused with the list of known ones. */
 csf_status csf_responder_open(const char *spec, void *window, csf_responder **out, csf_error *err);
+/* Checks a spec without opening anything (name known, options well formed): for the command
+ * line, before the first trial. CSF_E_INVALID_ARG with the problem. */
+csf_status csf_responder_check_spec(const char *spec, csf_error *err);
 /* Wraps an opened backend state (for backends opened through a test seam, e.g. an emulated HID
  * device: devices/responder_hid.h). Closes the state through b->close on failure. */
 csf_status csf_responder_wrap(const csf_responder_backend *b, void *state, csf_responder **out, csf_error *err);

@@ -102,6 +102,17 @@ for id in 0861:1001 273f:1004 273f:1001; do
   grep -Eq "^SUBSYSTEM==\"usb\", ATTRS\{idVendor\}==\"$v\", ATTRS\{idProduct\}==\"$p\", TAG\+=\"uaccess\"" "$rules" \
     || { echo "FAIL: $rules has no uaccess rule for $id"; fail=1; }
 done
+# observer calibrate refuses a bad responder spec before the first trial (exit 2, names it)
+for spec in "hid:zz:1" "gamepad:99" "hid:1b4f:9206,map=jump:1" "joystick"; do
+  "$exe" observer calibrate --headless --observer sim --out "$t/x.csflut" --store "$t/s.sqlite" \
+    --responder "$spec" >/dev/null 2>"$t/err"
+  rc=$?
+  { [ $rc -eq 2 ] && grep -q "responder" "$t/err"; } || { echo "FAIL: --responder $spec: exit $rc: $(cat "$t/err")"; fail=1; }
+  [ -e "$t/x.csflut" ] && { echo "FAIL: --responder $spec: a table was written"; fail=1; }
+done
+"$exe" observer calibrate --headless --observer sim --out "$t/x.csflut" --store "$t/s.sqlite" \
+  --set responder=hid:1b4f >/dev/null 2>"$t/err"
+[ $? -eq 2 ] || { echo "FAIL: --set responder=hid:1b4f accepted"; fail=1; }
 # the table says why too
 CSFCAL_DEVICES_ROOT="$t" "$exe" devices --headless >"$t/out.txt"
 grep -q "why: another program holds it" "$t/out.txt" || { echo "FAIL: table without why"; cat "$t/out.txt"; fail=1; }

@@ -279,8 +279,24 @@ static void gamepad(void)
     CHECK_INT_EQ(csf_responder_open("hid:zz:1", NULL, &r, &err), CSF_E_INVALID_ARG);
 }
 
+static void check_spec(void)
+{
+    csf_error err;
+    const char *good[] = {"keyboard", "mouse", "queue", "gamepad", "gamepad:3", "gamepad:0,map=press:1",
+                          "hid:1b4f:9206", "hid:1b4f:9206,report=2,map=first:0"};
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++)
+        CHECK_MSG(csf_responder_check_spec(good[i], &err) == CSF_OK, "'%s': %s", good[i], err.msg);
+    const char *bad[] = {"", "joystick", "keyboard:x", "gamepad:16", "gamepad:1,map=fire:0", "hid", "hid:",
+                         "hid:1b4f", "hid:1b4f:9206,bytes=0", "mouse:x", "queue:1"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        err.msg[0] = 0;
+        CHECK_MSG(csf_responder_check_spec(bad[i], &err) == CSF_E_INVALID_ARG && err.msg[0], "'%s' accepted", bad[i]);
+    }
+}
+
 int main(void)
 {
+    check_spec();
     map_text();
     hid_spec();
     hid_box();
