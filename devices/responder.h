@@ -14,7 +14,8 @@
  *    N or the first gamepad found; the window's keyboard keeps working beside it);
  *  - "hid:VID:PID[,serial=S][,report=ID][,offset=BYTE][,bytes=N][,active=low][,map=...]"
  *    (devices/responder_hid.c: a USB HID button box through hidapi, a reader thread stamping each
- *    input report as it arrives);
+ *    input report as it arrives; the window's keyboard and mouse keep working beside it, as
+ *    beside a gamepad);
  *  - "queue" (devices/responder.c): events pushed by the program itself with
  *    csf_responder_push, for scripted sessions and tests.
  * A device that disappears during a session (unplugged) reports one CSF_RESP_ESCAPE with key

@@ -206,7 +206,8 @@ static csf_status pad_open(const char *options, void *window, void **state, csf_
     pad_state *p = NULL;
     csf_status st = open_on(options, &io, &p, err);
     if (st) return st;
-    /* the experimenter's keyboard (Escape pauses) keeps working beside the pad */
+    /* the experimenter's keyboard (Escape pauses) and the mouse (fade's "where was it" click)
+     * keep working beside the pad */
     if ((st = csf_responder_open("keyboard", window, &p->keys, err))) {
         free(p);
         return st;

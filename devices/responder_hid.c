@@ -135,6 +135,7 @@ typedef struct {
     int gone_reported;  /* under mu */
     csf_response q[HID_QUEUE_CAP];
     int head, count;    /* under mu */
+    csf_responder *keys; /* the window's keyboard and mouse beside the box (Escape, fade's click) */
 } hid_state;
 
 static void enqueue(hid_state *h, const csf_response *ev, int n)
@@ -185,6 +186,7 @@ static void *reader(void *arg)
 static int hid_poll(void *state, csf_response *out)
 {
     hid_state *h = state;
+    if (h->keys && csf_responder_poll(h->keys, out)) return 1; /* also runs glfwPollEvents */
     pthread_mutex_lock(&h->mu);
     int got = h->count > 0;
     if (got) {
@@ -207,6 +209,7 @@ static void hidr_close(void *state)
         pthread_join(h->thread, NULL);
     }
     if (h->io.close) h->io.close(&h->io);
+    csf_responder_close(h->keys);
     pthread_mutex_destroy(&h->mu);
     free(h);
 }
@@ -262,7 +265,6 @@ static void hidapi_close(csf_hid_io *io)
 
 static csf_status hid_open_backend(const char *options, void *window, void **state, csf_error *err)
 {
-    (void)window;
     csf_hid_spec spec;
     csf_status st = csf_hid_spec_parse(options, &spec, err);
     if (st) return st;
@@ -286,7 +288,14 @@ static csf_status hid_open_backend(const char *options, void *window, void **sta
                              e ? strerror(e) : "permission denied or held by another program");
     }
     csf_hid_io io = {hidapi_read, hidapi_close, dev};
-    return start(&spec, &io, state, err);
+    if ((st = start(&spec, &io, state, err))) return st;
+    /* the experimenter's Escape and the mouse (fade's "where was it" click) keep working */
+    if (window && (st = csf_responder_open("keyboard", window, &((hid_state *)*state)->keys, err))) {
+        hidr_close(*state);
+        *state = NULL;
+        return st;
+    }
+    return CSF_OK;
 }
 
 const csf_responder_backend csf_responder_hid = {"hid", hid_open_backend, hid_poll, hidr_close};
