@@ -171,7 +171,7 @@ static void finish_row(csf_study_row *w, const csf_study *s, int n_boot, uint64_
         }
     }
     w->t_lo = w->t_hi = w->beta_lo = w->beta_hi = NAN;
-    if (!w->is_curve) return;
+    if (w->is_curve != 1) return;
     double guess = 0.5;
     if (s->design == CSF_DESIGN_YES_NO) {
         guess = w->n_noise ? (double)w->false_alarms / w->n_noise : 0.02;
@@ -201,8 +201,9 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
         for (int c = 0; c < s->n_conds; c++)
             if (!row_for(r, cap, scope, 0, s->conds[c].label, &s->conds[c]))
                 return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+        /* gratings: psychometric curves (1); images: groups pooled by their curve name (2) */
         for (int c = 0; c < s->n_conds; c++)
-            if (s->conds[c].kind != CSF_COND_IMAGE && !row_for(r, cap, scope, 1, s->conds[c].curve, &s->conds[c]))
+            if (!row_for(r, cap, scope, s->conds[c].kind == CSF_COND_IMAGE ? 2 : 1, s->conds[c].curve, &s->conds[c]))
                 return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
     }
     for (int i = 0; i < nd; i++) {
@@ -225,7 +226,12 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
                 csf_study_row *w = row_for(r, cap, scopes[k], 0, c->label, c);
                 if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
                 score(w, s->design, t, 0);
-                if (c->kind == CSF_COND_IMAGE) continue;
+                if (c->kind == CSF_COND_IMAGE) {
+                    w = row_for(r, cap, scopes[k], 2, c->curve, c);
+                    if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+                    score(w, s->design, t, 0);
+                    continue;
+                }
                 w = row_for(r, cap, scopes[k], 1, c->curve, c);
                 if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
                 score(w, s->design, t, 1);
@@ -346,8 +352,10 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
     fputc('\n', fp);
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
-        if (w->is_curve) continue;
-        fprintf(fp, "%-10.10s %-16.16s %5d %5d %6.3f [%5.3f, %5.3f] %10.3g", w->scope, w->name, w->n, w->k, w->p,
+        if (w->is_curve == 1) continue;
+        char nm[80];
+        snprintf(nm, sizeof nm, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
+        fprintf(fp, "%-10.10s %-16.16s %5d %5d %6.3f [%5.3f, %5.3f] %10.3g", w->scope, nm, w->n, w->k, w->p,
                 w->ci_lo, w->ci_hi, w->p_greater);
         if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF)
             fprintf(fp, " %6.3f %6.3f %6.2f", w->hit_rate, w->fa_rate, w->dprime);
@@ -356,7 +364,7 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
     int any = 0;
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
-        if (!w->is_curve) continue;
+        if (w->is_curve != 1) continue;
         if (!any++)
             fprintf(fp, "\npsychometric fits (Weibull, ML; 95%% parametric bootstrap):\n%-10s %-16s %8s %19s %6s "
                         "%15s %6s\n", "scope", "curve", "t log10", "t 95% CI", "beta", "beta 95% CI", "lapse");
@@ -388,15 +396,16 @@ char *csf_study_report_json(const csf_study_report *r)
     json_object_set_new(root, "trials_scored", json_integer(r->n_trials));
     json_object_set_new(root, "trials_invalid", json_integer(r->n_excluded));
     json_object_set_new(root, "participants", json_string(r->participants));
-    json_t *conds = json_array(), *curves = json_array();
+    json_t *conds = json_array(), *curves = json_array(), *groups = json_array();
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
         json_t *o = json_object();
         json_object_set_new(o, "scope", json_string(w->scope));
-        json_object_set_new(o, w->is_curve ? "curve" : "condition", json_string(w->name));
+        json_object_set_new(o, w->is_curve == 1 ? "curve" : w->is_curve == 2 ? "group" : "condition",
+                            json_string(w->name));
         json_object_set_new(o, "freq_cpd", num(w->freq_cpd));
         json_object_set_new(o, "ecc_deg", num(w->ecc_deg));
-        if (!w->is_curve) {
+        if (w->is_curve != 1) {
             json_object_set_new(o, "n", json_integer(w->n));
             json_object_set_new(o, "correct", json_integer(w->k));
             json_object_set_new(o, "p_correct", num(w->p));
@@ -412,7 +421,7 @@ char *csf_study_report_json(const csf_study_report *r)
                 json_object_set_new(o, "fa_rate", num(w->fa_rate));
                 json_object_set_new(o, "dprime", num(w->dprime));
             }
-            json_array_append_new(conds, o);
+            json_array_append_new(w->is_curve == 2 ? groups : conds, o);
             continue;
         }
         json_t *lv = json_array();
@@ -435,6 +444,7 @@ char *csf_study_report_json(const csf_study_report *r)
     }
     json_object_set_new(root, "conditions", conds);
     json_object_set_new(root, "curves", curves);
+    json_object_set_new(root, "groups", groups);
     char *s = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER);
     json_decref(root);
     return s;
@@ -458,10 +468,10 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
         fprintf(fp, "%s,%s,%s,%s,%s", r->name, csf_study_design_name(r->design), w->scope,
-                w->is_curve ? "curve" : "condition", w->name);
+                w->is_curve == 1 ? "curve" : w->is_curve == 2 ? "group" : "condition", w->name);
         csv_num(fp, w->freq_cpd);
         csv_num(fp, w->ecc_deg);
-        if (w->is_curve) fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
+        if (w->is_curve == 1) fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
         else {
             fprintf(fp, ",%d,%d", w->n, w->k);
             csv_num(fp, w->p);
@@ -470,7 +480,7 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
             csv_num(fp, w->p_greater);
             csv_num(fp, w->p_two_sided);
         }
-        if (!w->is_curve && (w->n_signal || w->n_noise)) {
+        if (w->is_curve != 1 && (w->n_signal || w->n_noise)) {
             fprintf(fp, ",%d,%d,%d,%d", w->hits, w->n_signal, w->false_alarms, w->n_noise);
             csv_num(fp, w->hit_rate);
             csv_num(fp, w->fa_rate);
@@ -478,7 +488,7 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
         } else {
             fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
         }
-        if (w->is_curve && w->have_fit) {
+        if (w->is_curve == 1 && w->have_fit) {
             csv_num(fp, w->fit.t_log10);
             csv_num(fp, w->t_lo);
             csv_num(fp, w->t_hi);
@@ -507,7 +517,7 @@ csf_status csf_study_report_plot(const csf_study_report *r, const char *path, cs
     int nc = 0, nb = 0;
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
-        if (w->is_curve) {
+        if (w->is_curve == 1) {
             csf_study_plot_curve *c = &cv[nc++];
             snprintf(c->title, sizeof c->title, "%s: curve %s (%s)", r->name, w->name, w->scope);
             c->levels = w->levels;
@@ -518,7 +528,7 @@ csf_status csf_study_report_plot(const csf_study_report *r, const char *path, cs
             c->t_hi = w->t_hi;
         } else if (!strcmp(w->scope, "pooled")) {
             csf_study_plot_bar *b = &bars[nb++];
-            snprintf(b->label, sizeof b->label, "%s", w->name);
+            snprintf(b->label, sizeof b->label, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
             b->p = w->p;
             b->lo = w->ci_lo;
             b->hi = w->ci_hi;

@@ -12,7 +12,8 @@
  * Per psychometric curve (conditions sharing a `curve` name, or one adaptive condition): the
  * maximum-likelihood Weibull fit (threshold t in log10 contrast, slope beta, lapse <= max_lapse;
  * guess 0.5 in forced choice, the curve's false-alarm rate in yes/no) and parametric-bootstrap
- * percentile intervals (95 %) for t and beta. */
+ * percentile intervals (95 %) for t and beta. Image conditions sharing a `curve` name (say every
+ * view's "imperceptible" pair) are also pooled into a group row with the condition statistics. */
 #ifndef CSF_STUDY_REPORT_H
 #define CSF_STUDY_REPORT_H
 
@@ -26,7 +27,8 @@
 
 typedef struct {
     char scope[64];            /* "pooled" or the participant code */
-    int is_curve;
+    int is_curve;              /* 0 condition, 1 psychometric curve (gratings), 2 group: image
+                                  conditions pooled by their curve name */
     char name[CSF_STUDY_LABEL_MAX];
     double freq_cpd, ecc_deg;  /* the condition's (curves: the first condition's) */
     int n, k;                  /* scored trials and correct ones */

@@ -19,7 +19,7 @@ typedef struct {
 } csf_study_plot_curve;
 
 typedef struct {
-    char label[64];
+    char label[80];
     double p, lo, hi;              /* proportion and its exact interval */
     double chance;
 } csf_study_plot_bar;

@@ -118,8 +118,15 @@ int main(int argc, char **argv)
     r = NULL;
     CHECK(csf_study_report_build(store, "same_different", 0, &r, &e) == CSF_OK);
     if (r) {
+        int groups = 0;
         for (int i = 0; i < r->n_rows; i++) {
             const csf_study_row *w = &r->rows[i];
+            if (w->is_curve == 2 && !strcmp(w->scope, "pooled")) {
+                /* the groups the curve column makes: one condition each here, the same counts */
+                if (!strcmp(w->name, "perceptible")) CHECK(w->p_greater < 1e-6);
+                if (!strcmp(w->name, "baseline")) CHECK(w->p_greater > 0.01);
+                groups++;
+            }
             if (w->is_curve || strcmp(w->scope, "pooled")) continue;
             printf("%s: p %.3f [%.3f, %.3f] p(>chance) %.3g d' %.2f\n", w->name, w->p, w->ci_lo, w->ci_hi,
                    w->p_greater, w->dprime);
@@ -129,6 +136,7 @@ int main(int argc, char **argv)
                 CHECK(w->dprime > 2);
             }
         }
+        CHECK_INT_EQ(groups, 3);
         csf_study_report_free(r);
     }
     char cmd[600];
