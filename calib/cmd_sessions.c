@@ -22,7 +22,8 @@ static const char sessions_help[] =
     "                              [--table trials|readings|thresholds|frames]\n"
     "                              [-o FILE] [--store PATH]\n"
     "       csfcal sessions abort ID [--store PATH]\n"
-    "       csfcal sessions push [ID...] --to LOCATION [--store PATH]\n\n"
+    "       csfcal sessions push [ID...] --to LOCATION [--store PATH]\n"
+    "       csfcal sessions init [--store PATH]\n\n"
     "list    every session in the store: id, kind, state, observer, display, trials, readings;\n"
     "        --kind display|observer|study and --state running|paused|finished|aborted filter.\n"
     "        Sessions in state running or paused can be continued with the --resume ID option\n"
@@ -38,7 +39,10 @@ static const char sessions_help[] =
     "        server: postgresql://..., service=NAME; or another file) without doubling\n"
     "        anything: a session already there gets only the trials and readings it lacks.\n"
     "        A station that ran on its own file while the server was away sends its sessions\n"
-    "        this way. Prints what it sent per session.\n\n";
+    "        this way. Prints what it sent per session.\n"
+    "init    create the store (or migrate it to this csfcal's schema) and say so: what a lab's\n"
+    "        database owner runs once on a new server database, before the roles of\n"
+    "        docs/store_roles.sql are made.\n\n";
 
 enum { OPT_FORMAT = CSF_OPT_FIRST_FREE, OPT_TABLE, OPT_KIND, OPT_STATE, OPT_TO };
 
@@ -313,6 +317,17 @@ static int cmd_export(csf_cli *cli, int64_t id, const char *format, const char *
     return 0;
 }
 
+static int cmd_init(csf_cli *cli)
+{
+    csf_store *s = NULL;
+    int rc = open_store(cli, &s, 1);
+    if (rc) return rc;
+    printf("store %s: %s, schema version %d\n", csf_store_path(s), csf_store_backend(s),
+           csf_store_schema_version(s));
+    csf_store_close(s);
+    return 0;
+}
+
 /* One session's push, reported on one line; 0 or 1. */
 static int push_one(csf_store *src, csf_store *dst, int64_t id)
 {
@@ -435,7 +450,14 @@ int csf_cmd_sessions(int argc, char **argv)
         return cmd_export(&cli, id, format, table, out_path);
     }
     if (!strcmp(sub, "push")) return cmd_push(&cli, to, pos + 1, npos - 1);
+    if (!strcmp(sub, "init")) {
+        if (npos > 1) {
+            fprintf(stderr, "csfcal: sessions init: unexpected argument '%s'\n", pos[1]);
+            return 2;
+        }
+        return cmd_init(&cli);
+    }
     fprintf(stderr, "csfcal: sessions: unknown subcommand '%s' (allowed list, show, export, abort, "
-                    "push)\n", sub);
+                    "push, init)\n", sub);
     return 2;
 }

@@ -1,6 +1,6 @@
 -- Least-privilege roles for a csfcal store on a PostgreSQL server (docs/store.md, "A lab's server").
 -- Run once as the database owner, after the owner created the schema with one csfcal command
--- (for example `csfcal sessions list --store postgresql://owner@host/csfcal`):
+-- (`csfcal sessions init --store postgresql://owner@host/csfcal`):
 --     psql "postgresql://owner@host/csfcal" -f docs/store_roles.sql
 -- then give each station its own login in the group csf_station and each analyst one in
 -- csf_analyst, with passwords kept in the client's ~/.pgpass (never on a command line):

@@ -167,6 +167,10 @@ with tempfile.TemporaryDirectory() as tmp:
     check("s3cret" not in p.stderr and "service=lab" in p.stderr, f"--store password: {p.stderr}")
     p = run("sessions", "push", *S, expect=2)
     check("--to" in p.stderr, "push without --to")
+    fresh = os.path.join(tmp, "fresh.sqlite")
+    p = run("sessions", "init", "--store", fresh)
+    check(os.path.exists(fresh) and "sqlite, schema version 6" in p.stdout, f"init: {p.stdout}")
+    p = run("sessions", "init", "extra", "--store", fresh, expect=2)
 
 print(f"{checks} checks, {failures} failed", file=sys.stderr)
 sys.exit(1 if failures else 0)
