@@ -65,6 +65,26 @@ for m in "ls100 $emu_m LS-100" "ls110 $emu_m LS-110" "cs100a $emu_m CS-100A" "pr
   fi
   stop_emu
 done
+# verify through the real driver: the emulator's monitor has not drifted from the profile it made
+start_emu "$emu_m" --model LS-100 --display lcd --seed 7
+"$exe" display verify "$t/ls100.profile" --photometer "ls100:$PORT" --no-render --warmup-wait 0 --tolerance 0.02 \
+  >"$t/v" 2>"$t/e" || { echo "ls100 verify failed: $(cat "$t/e" "$t/v")"; fail=1; }
+# a real instrument measures the real screen: the patches are drawn in a window (an X server from
+# xvfb-run here); without any display the run is refused before the first reading
+if command -v xvfb-run >/dev/null 2>&1; then
+  rm -f "$t/x.sqlite"
+  env -u EGL_PLATFORM xvfb-run -a "$exe" display calibrate --photometer "ls100:$PORT" --seed 3 --warmup-wait 0 \
+    --store "$t/x.sqlite" --out "$t/x.profile" >"$t/o" 2>"$t/e" || { echo "rendered ls100: $(cat "$t/e")"; fail=1; }
+  grep -q "rendered: [1-9][0-9]* frames" "$t/o" || { echo "rendered ls100: nothing drawn: $(cat "$t/o")"; fail=1; }
+  within "$t/x.profile" "$t/ref.profile" >/dev/null || { echo "rendered ls100: profile outside the accuracy"; fail=1; }
+else
+  echo "note: no xvfb-run, the rendered run is skipped"
+fi
+env -u DISPLAY -u WAYLAND_DISPLAY "$exe" display calibrate --photometer "ls100:$PORT" $common --render \
+  --store "$t/y.sqlite" --out "$t/y.profile" 2>"$t/e" && { echo "no display: not refused"; fail=1; }
+grep -q "needs the patches drawn\|--render" "$t/e" || { echo "no display: $(cat "$t/e")"; fail=1; }
+stop_emu
+
 # the comparison can fail: a meter reading 5 % high is outside the stated accuracy
 start_emu "$emu_m" --model LS-100 --gain 1.05
 "$exe" display calibrate --photometer "ls100:$PORT" $common --store "$t/g.sqlite" --out "$t/g.profile" 2>"$t/e" \
