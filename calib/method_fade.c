@@ -12,12 +12,21 @@
  * method's grid (slope 1.5-6 x lapse 0.001-0.08); each cell keeps its posterior per pair, the
  * pair's posterior is the product of every trial's predictive density given the pair (cells are
  * independent a priori, so this is exact), and estimates use the threshold's marginal.
- * fixed_psychometric = 1 in the setup keeps one pair (slope_beta, lapse). The reaction time is
- * still a constant latency (not contrast-dependent): that part of item 3 is not done.
+ * fixed_psychometric = 1 in the setup keeps one pair (slope_beta, lapse).
  *
  * Reaction-time correction: a press comes a reaction time after detection, when the ramp has
  * already climbed further; the detection contrast is the contrast at the press moved back along
- * the ramp by setup->reaction_latency_s (measured by the session on practice trials).
+ * the ramp by the reaction latency. Reaction times slow down near threshold (Pieron's law,
+ * RT = RT0 + K (c/t)^-b), so the latency the session measures on practice trials at 30 % contrast
+ * (setup->reaction_latency_s) is too short for a detection at threshold. The method measures the
+ * latency where it is needed: once a cell has 2 detections, about 1 trial in 6 on it is a probe, a
+ * step to a fixed contrast FADE_PROBE_ABOVE log10 above the cell's estimate for FADE_PROBE_S; the
+ * press latency of a probe is the latency at c/t = 1.26 (no ramp moves under it). The latency used
+ * is the mean of the probes' latencies, shrunk towards the practice latency by FADE_PROBE_PRIOR
+ * pseudo-trials, and every stored detection is re-corrected (the posteriors rebuilt) when it
+ * changes by more than 5 ms. A probe is also a yes/no trial at its contrast:
+ * P(press) = (1 - lapse) F(x) (+ the guessed-press constant). Piéron's law would add
+ * K (1 - 1.26^-b) more at threshold, under 0.03 s for K <= 0.2 s, b <= 0.7: not modelled.
  *
  * Scheduling: catch trials (no grating) on about 1 in 10 trials; otherwise the least-measured cell
  * that is not yet stable, ties broken by a per-trial random rotation. The first ramp of a cell
@@ -41,7 +50,21 @@
 #define FADE_ABOVE 0.6
 #define FADE_INVISIBLE_AFTER 2
 
-enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE };
+enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE };
+
+#define FADE_PROBE_RATE 0.25   /* share of a measured cell's trials that are latency probes */
+#define FADE_PROBE_ABOVE 0.0   /* at the estimate, where ramp detections happen */
+#define FADE_PROBE_S 1.5       /* how long the probe's contrast stays on */
+#define FADE_PROBE_PRIOR 1.0   /* pseudo-probes at the practice latency */
+#define FADE_RT_MAX_S 2.0      /* a probe press later than this is not a reaction to the probe */
+
+/* One stored trial, for rebuilding the posteriors when the latency estimate moves. */
+typedef enum { TR_DETECT, TR_CENSORED, TR_PROBE_YES, TR_PROBE_NO } trial_kind;
+typedef struct {
+    int cell;
+    trial_kind kind;
+    double x_end, range, rate, ramp_s, start, rt_s, x_press;
+} fade_trial;
 
 #define FADE_GRID_N 141
 #define FADE_SPONT 0.01  /* assumed rate of valid guessed presses per trial */
@@ -69,6 +92,11 @@ typedef struct {
     double eta_slope[N_ETA], eta_lapse[N_ETA];
     double log_ev[N_ETA]; /* log evidence of all trials given the pair */
     double eta_w[N_ETA];  /* its normalised posterior (uniform prior) */
+    fade_trial *trials;   /* every trial that entered a posterior */
+    int n_tr, cap_tr;
+    double probe_rt_sum;  /* latencies of the probes that were seen */
+    int n_probe_rt;
+    double latency_s;     /* the latency the stored detections are corrected by */
 } fade_state;
 
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
@@ -85,6 +113,7 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     f->s = *setup;
     if (!(f->s.slope_beta > 0)) f->s.slope_beta = 3.5;
     if (!(f->s.reaction_latency_s > 0)) f->s.reaction_latency_s = 0.35;
+    f->latency_s = f->s.reaction_latency_s;
     double lo = log10(setup->min_contrast), hi = log10(setup->max_contrast);
     if (!(f->s.ramp_start_log10 >= lo && f->s.ramp_start_log10 < hi)) f->s.ramp_start_log10 = lo;
     if (!(f->s.ramp_end_log10 > f->s.ramp_start_log10 && f->s.ramp_end_log10 <= hi)) f->s.ramp_end_log10 = hi;
@@ -127,6 +156,7 @@ static void fade_destroy(void *state)
     if (!f) return;
     free(f->cells);
     free(f->st);
+    free(f->trials);
     free(f);
 }
 
@@ -201,13 +231,23 @@ static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
         plan->contrast = pow(10.0, b);
         plan->ramp_s = (b - a) / f->rate_log10_per_s;
     }
+    if (!f->s.fade_fixed_latency && c->n_det >= 2 && csf_rng_uniform(f->s.seed, ST_PROBE, (uint64_t)trial_index) < FADE_PROBE_RATE) {
+        /* a latency probe: a step to a contrast just above the estimate (see the top) */
+        double x = cell_estimate_log10(f, c) + FADE_PROBE_ABOVE;
+        double lo = log10(f->s.min_contrast), hi = log10(f->s.max_contrast);
+        if (x > hi) x = hi;
+        if (x < lo) x = lo;
+        plan->ramp_start_log10 = x;
+        plan->contrast = pow(10.0, x);
+        plan->ramp_s = FADE_PROBE_S;
+    }
     plan->is_catch = csf_rng_uniform(f->s.seed, ST_CATCH, (uint64_t)trial_index) < FADE_CATCH_RATE;
     return CSF_OK;
 }
 
-/* Adds one trial's log likelihood over the grid: detected at x (detected = 1) or a ramp that
- * ended at x unanswered (detected = 0). */
-static void cell_add(fade_state *f, fade_cell *c, double x, int detected, double range_log10)
+/* Adds one trial's log likelihood over the grid: detected at x (TR_DETECT), a ramp that ended at
+ * x unanswered (TR_CENSORED), a probe at x seen or not (TR_PROBE_YES / TR_PROBE_NO). */
+static void cell_add(fade_state *f, fade_cell *c, double x, trial_kind kind, double range_log10)
 {
     for (int e = 0; e < f->n_eta; e++) {
         double beta = f->eta_slope[e], lapse = f->eta_lapse[e];
@@ -219,8 +259,10 @@ static void cell_add(fade_state *f, fade_cell *c, double x, int detected, double
             double t = f->t_lo + i * f->t_step;
             double y = pow(10.0, fmin(beta * (x - t), 300.0));
             double l;
-            if (detected)
+            if (kind == TR_DETECT)
                 l = (1 - lapse) * beta * M_LN10 * y * exp(-y) + FADE_SPONT / range_log10;
+            else if (kind == TR_PROBE_YES)
+                l = (1 - lapse) * -expm1(-y) + FADE_SPONT;
             else
                 l = lapse + (1 - lapse) * exp(-y);
             double p = exp(lp[i] - mx0);
@@ -239,38 +281,88 @@ static void cell_add(fade_state *f, fade_cell *c, double x, int detected, double
     for (int e = 0; e < f->n_eta; e++) f->eta_w[e] /= tot;
 }
 
+/* The detection contrast of a ramp trial under the current latency estimate. */
+static double detection_x(const fade_state *f, const fade_trial *t)
+{
+    double t_det = t->rt_s - f->latency_s;
+    if (t_det >= t->ramp_s) return t->x_end; /* detected after the ramp reached its top */
+    double t_press = t->rt_s < t->ramp_s ? t->rt_s : t->ramp_s;
+    double x_det = t->x_press - t->rate * (t_press - (t_det > 0 ? t_det : 0));
+    return x_det < t->start ? t->start : x_det;
+}
+
+static void add_trial(fade_state *f, const fade_trial *t)
+{
+    fade_cell *c = &f->st[t->cell];
+    c->n_trials++;
+    switch (t->kind) {
+    case TR_CENSORED:
+        c->n_cens++;
+        if (t->x_end >= f->s.ramp_end_log10 - 1e-9) c->n_cens_full++;
+        cell_add(f, c, t->x_end, TR_CENSORED, t->range);
+        break;
+    case TR_DETECT:
+        c->n_det++;
+        cell_add(f, c, detection_x(f, t), TR_DETECT, t->range);
+        break;
+    default:
+        cell_add(f, c, t->x_end, t->kind, t->range);
+        break;
+    }
+}
+
+/* Every posterior again from the stored trials (in their order), under the current latency. */
+static void rebuild(fade_state *f)
+{
+    memset(f->st, 0, (size_t)f->s.n_cells * sizeof *f->st);
+    for (int e = 0; e < f->n_eta; e++) f->log_ev[e] = 0.0, f->eta_w[e] = 1.0 / f->n_eta;
+    for (int i = 0; i < f->n_tr; i++) add_trial(f, &f->trials[i]);
+}
+
 static void fade_update(void *state, int trial_index, const csf_trial_plan *plan,
                         const csf_trial_outcome *o)
 {
     fade_state *f = state;
     (void)trial_index;
     if (plan->is_catch || !o->valid || plan->cell < 0 || plan->cell >= f->s.n_cells) return;
-    fade_cell *c = &f->st[plan->cell];
-    double x_end = log10(plan->contrast);
-    double range = x_end - plan->ramp_start_log10;
-    if (!(range > 0.05)) range = 0.05;
-    c->n_trials++;
-    if (!o->response) {
-        c->n_cens++;
-        if (x_end >= f->s.ramp_end_log10 - 1e-9) c->n_cens_full++;
-        cell_add(f, c, x_end, 0, range);
-        return;
+    if (f->n_tr == f->cap_tr) {
+        int cap = f->cap_tr ? 2 * f->cap_tr : 64;
+        fade_trial *nt = realloc(f->trials, (size_t)cap * sizeof *nt);
+        if (!nt) return; /* out of memory: the trial is lost to the estimate, nothing else */
+        f->trials = nt;
+        f->cap_tr = cap;
     }
-    double rate = range / plan->ramp_s;
-    double t_det = o->rt_s - f->s.reaction_latency_s;
-    double x_det;
-    if (t_det >= plan->ramp_s) {
-        x_det = x_end;   /* detected after the ramp reached its top */
+    fade_trial t = {.cell = plan->cell, .x_end = log10(plan->contrast), .ramp_s = plan->ramp_s,
+                    .start = plan->ramp_start_log10, .rt_s = o->rt_s};
+    t.range = t.x_end - plan->ramp_start_log10;
+    int probe = !(t.range > 1e-9);
+    if (!(t.range > 0.05)) t.range = 0.05;
+    t.rate = probe ? 0.0 : t.range / plan->ramp_s;
+    if (probe) {
+        int seen = o->response && o->rt_s <= FADE_RT_MAX_S;
+        t.kind = seen ? TR_PROBE_YES : TR_PROBE_NO;
+        if (seen) {
+            f->probe_rt_sum += o->rt_s;
+            f->n_probe_rt++;
+        }
+    } else if (!o->response) {
+        t.kind = TR_CENSORED;
     } else {
+        t.kind = TR_DETECT;
         double t_press = o->rt_s < plan->ramp_s ? o->rt_s : plan->ramp_s;
-        double x_press = (o->contrast_at_response > 0) ? log10(o->contrast_at_response)
-                                                       : plan->ramp_start_log10 + rate * t_press;
-        if (x_press > x_end) x_press = x_end;
-        x_det = x_press - rate * (t_press - (t_det > 0 ? t_det : 0));
-        if (x_det < plan->ramp_start_log10) x_det = plan->ramp_start_log10;
+        t.x_press = (o->contrast_at_response > 0) ? log10(o->contrast_at_response)
+                                                  : plan->ramp_start_log10 + t.rate * t_press;
+        if (t.x_press > t.x_end) t.x_press = t.x_end;
     }
-    c->n_det++;
-    cell_add(f, c, x_det, 1, range);
+    f->trials[f->n_tr++] = t;
+    double lat = (f->probe_rt_sum + FADE_PROBE_PRIOR * f->s.reaction_latency_s) /
+                 (f->n_probe_rt + FADE_PROBE_PRIOR);
+    if (fabs(lat - f->latency_s) > 0.005) {
+        f->latency_s = lat;
+        rebuild(f);
+    } else {
+        add_trial(f, &f->trials[f->n_tr - 1]);
+    }
 }
 
 static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *err)

@@ -43,6 +43,10 @@ typedef struct {
      * press back along the ramp by this much to find the contrast at detection. 0 = unknown: the
      * fade method then assumes 0.35 s. Other methods may ignore it. */
     double reaction_latency_s;
+    /* fade only: 1 = correct every press by reaction_latency_s alone (the behaviour before issue
+     * 12 item 3; tests compare with it); 0 (default) = the method also measures the latency near
+     * threshold with probe trials (calib/method_fade.c), since reaction times slow down there. */
+    int fade_fixed_latency;
     /* Forced-choice layout per cell (CSF_TASK_2AFC methods): n_alternatives[c] = 2 for two
      * temporal intervals, 4 for four locations on the cell's eccentricity ring shown at once
      * (spatial 4AFC, guess rate 1/4). NULL = 2 everywhere. The session decides (a foveal cell or

@@ -1,13 +1,14 @@
 /* Issue 12 item 4: one threshold, whatever the task. A simulated signal-detection observer
- * (devices/observer_sim, decision=sdt) measured with two intervals everywhere and with four places
- * everywhere gives the same table: the table's threshold is the
+ * (devices/observer_sim, decision=sdt) measured with two intervals everywhere, with four places
+ * everywhere and with the fade method gives the same table: the table's threshold is the
  * contrast at which d' reaches CSF_PSY_DPRIME_CRITERION (results/psychometric.h), which is what
  * the observer's truth table holds. The error of each table is taken against that truth per
  * (seed, cell), so the comparison is not swamped by the per-cell noise of two independent runs:
  *   - two intervals vs four places: mean signed difference within 0.02 log10 for 2afc and bayes
  *     as sessions run them (slope and lapse marginalised), and mean absolute (over cells, of the
  *     per-cell mean over seeds) within 0.02 with the method told the observer's slope (enough
- *     seeds that the per-cell noise is below the tolerance in reasonable time).
+ *     seeds that the per-cell noise is below the tolerance in reasonable time);
+ *   - fade vs two intervals: mean signed difference within 0.1 log10.
  * A Weibull-decision observer is checked too: its two-interval table is still recovered.
  * Run with -v for the per-method figures (BENCHMARKS.md quotes them). */
 #include <math.h>
@@ -111,8 +112,17 @@ int main(void)
      * 2afc, 150 trials a cell, 24 seeds: the per-cell means' noise is about 0.01 log10. */
     compare_layouts("2afc", "sim:decision=sdt", 150 * N_CELLS, 24, 1.247 * 2.5, 1, NULL);
     /* as a session runs it: slope and lapse marginalised */
-    compare_layouts("2afc", "sim:decision=sdt", 100 * N_CELLS, 8, 0, 0, NULL);
+    errs fc;
+    compare_layouts("2afc", "sim:decision=sdt", 100 * N_CELLS, 8, 0, 0, &fc);
     compare_layouts("bayes", "sim:decision=sdt", 40 * N_CELLS, 6, 0, 0, NULL);
+
+    /* fade (yes/no on a rising ramp) against forced choice: within 0.1 log10 */
+    errs fade;
+    run("fade", "sim:decision=sdt", NULL, 12 * N_CELLS, 16, 0, &fade);
+    report("fade sim:decision=sdt", &fade);
+    fprintf(stderr, "  fade - two intervals: mean signed %+.3f\n", fade.mean - fc.mean);
+    CHECK_INT_EQ(fade.n_bad, 0);
+    CHECK_MSG(fabs(fade.mean - fc.mean) <= 0.1, "fade vs forced choice %+.3f > 0.1", fade.mean - fc.mean);
 
     /* the Weibull (high-threshold) observer's two-interval table is still its truth */
     errs w;
