@@ -227,8 +227,12 @@ static void test_wrong_profile(const outcome *right)
     CHECK_MSG(fabs(seen_log - log10(ratio)) <= 0.01, "seen/reported %+.4f log10, predicted %+.4f", seen_log,
               log10(ratio));
     /* 2. The table: the person behind the wrong profile answers like a person `ratio` times more
-     * sensitive behind the right one (smax x ratio scales every threshold by 1 / ratio), trial for
-     * trial with the same seed, so the two tables agree. */
+     * sensitive behind the right one (smax x ratio scales every threshold by 1 / ratio). Trial for
+     * trial with the same seed the two sessions agree until one answer flips on a contrast seen a
+     * little off ratio x reported; after that the adaptive paths differ and single cells move by
+     * the method's own noise. Seeds 1-4 (2026-11-23): mean |d| 0.044-0.085, mean signed -0.027 to
+     * +0.024 log10. So the cells' mean signed difference is what must vanish: a table that did not
+     * follow the physics would sit the whole predicted shift (|predicted| > 0.1) away. */
     char spec[128];
     snprintf(spec, sizeof spec, "sim:view=frame,smax=%.6g", 250.0 * ratio);
     CHECK(run(spec, 4, 1, 120, 0, 0, "equiv", &equiv) == 0);
@@ -236,9 +240,10 @@ static void test_wrong_profile(const outcome *right)
     int n;
     double mean = table_diff(&equiv, &wrong, &mx, &ms, &n);
     printf("(b) table behind the wrong profile vs a person %.4f x as sensitive behind the right one: mean "
-           "|d| %.4f, max %.4f log10 over %d cells\n", ratio, mean, mx, n);
+           "|d| %.4f, mean signed %+.4f, max %.4f log10 over %d cells\n", ratio, mean, ms, mx, n);
     CHECK(n >= 12);
-    CHECK_MSG(mean <= 0.02, "wrong-profile table vs the equivalent person: %.4f log10", mean);
+    CHECK_MSG(fabs(ms) <= 0.05, "wrong-profile table vs the equivalent person: mean signed %+.4f log10", ms);
+    CHECK_MSG(mean <= 0.12, "wrong-profile table vs the equivalent person: mean |d| %.4f log10", mean);
     /* 3. The shift itself against the right-profile table of (a): printed, not asserted -- the
      * mean over cells of one 120-trial session moves by ~0.07 log10 from seed to seed once the
      * two sessions' trials diverge (BENCHMARKS.md). */
