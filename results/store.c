@@ -3,6 +3,7 @@
  * results/store_sqlite.c, the PostgreSQL one in results/store_pg.c. */
 #include "results/store.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,27 +60,56 @@ static void redact_uri(const char *in, char *out, size_t cap)
     put(out, cap, &o, rest, strlen(rest));
 }
 
-/* service=lab password=x host=h -> service=lab host=h (a quoted value may hold spaces). */
+/* Where a key = value pair of a libpq connection string ends, read as libpq reads it: spaces
+ * may surround '='; a value is quoted only when it starts with a quote (a quote inside a bare
+ * value is an ordinary character); a backslash escapes the next character. Sets *is_password
+ * when the key is "password" (a "password" without '=' takes the next word as its value, so a
+ * malformed string still loses the secret). */
+static const char *conninfo_pair_end(const char *p, int *is_password)
+{
+    const char *key = p;
+    while (*p && *p != '=' && !isspace((unsigned char)*p)) p++;
+    *is_password = (size_t)(p - key) == 8 && !strncmp(key, "password", 8);
+    const char *after_key = p;
+    while (isspace((unsigned char)*p)) p++;
+    if (*p == '=') {
+        p++;
+        while (isspace((unsigned char)*p)) p++;
+    } else if (!*is_password) {
+        return after_key; /* a lone word: libpq refuses it; nothing of a value to take along */
+    }
+    if (*p == '\'') {
+        for (p++; *p && *p != '\''; p++)
+            if (*p == '\\' && p[1]) p++;
+        if (*p) p++;
+    } else {
+        for (; *p && !isspace((unsigned char)*p); p++)
+            if (*p == '\\' && p[1]) p++;
+    }
+    return p;
+}
+
+/* service=lab password=x host=h -> service=lab host=h. Everything but the password pairs (and
+ * the blanks before them) is copied unchanged, so a string without a password comes out equal. */
 static void redact_conninfo(const char *in, char *out, size_t cap)
 {
     size_t o = 0;
     out[0] = '\0';
     const char *p = in;
     while (*p) {
-        while (*p == ' ') p++;
-        if (!*p) break;
-        const char *start = p;
-        int quoted = 0;
-        while (*p && (quoted || *p != ' ')) {
-            if (*p == '\\' && p[1]) p++;
-            else if (*p == '\'') quoted = !quoted;
-            p++;
+        const char *blank = p;
+        while (isspace((unsigned char)*p)) p++;
+        if (!*p) {
+            put(out, cap, &o, blank, (size_t)(p - blank));
+            break;
         }
-        const char *k = start;
-        while (*k == ' ') k++;
-        if (!strncmp(k, "password", 8) && (k[8] == '=' || k[8] == ' ')) continue;
-        if (o > 0) put(out, cap, &o, " ", 1);
-        put(out, cap, &o, start, (size_t)(p - start));
+        int is_password = 0;
+        const char *end = conninfo_pair_end(p, &is_password);
+        if (end == p) end = p + 1; /* a stray '=': one character at a time */
+        if (!is_password) put(out, cap, &o, blank, (size_t)(end - blank));
+        /* libpq needs no blank after a quoted value: keep the next pair apart from the previous. */
+        else if (*end && !isspace((unsigned char)*end) && o > 0) put(out, cap, &o, " ", 1);
+        p = end;
     }
 }
 

@@ -39,6 +39,14 @@ static void test_redact(void)
     check_redact("service=lab password=s3cret sslmode=require", "service=lab sslmode=require");
     check_redact("service=lab password='s3 cret' user=bob", "service=lab user=bob");
     check_redact("service=lab", "service=lab");
+    /* libpq quotes a value only when it starts with a quote: a quote inside a bare value must not
+     * hide the password pair after it (the fuzzer found this one). */
+    check_redact("service=lab'x password=s3cret", "service=lab'x");
+    check_redact("service=lab password = 's3 \\' cret' host=h", "service=lab host=h");
+    check_redact("service=lab password s3cret host=h", "service=lab host=h");
+    check_redact("service=lab password='s3cret'host=h", "service=lab host=h"); /* no blank after it */
+    /* Blanks are kept as they are: a string without a password is not taken for one. */
+    check_redact("service=lab  host=h\tport=5", "service=lab  host=h\tport=5");
     check_redact("/data/lab/csfcal.sqlite", "/data/lab/csfcal.sqlite");
     check_redact("/data/p:w@x/csfcal.sqlite", "/data/p:w@x/csfcal.sqlite"); /* a file path */
 
