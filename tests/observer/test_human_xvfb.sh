@@ -40,19 +40,40 @@ check() { # check DESCRIPTION COMMAND...
     local what="$1"; shift
     if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi
 }
-die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 30 "$f"; }; done; exit 1; }
+die() {
+    echo "FAIL: $*"
+    for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 30 "$f"; }; done
+    if [ -n "$XPID" ] && ! kill -0 "$XPID" 2>/dev/null; then echo "--- our Xvfb (pid $XPID) has exited"; fi
+    [ -s "$T/xvfb.log" ] && { echo "--- $T/xvfb.log"; tail -n 20 "$T/xvfb.log"; }
+    exit 1
+}
 
 # A private X server; -displayfd picks a free display number (no race with other tests).
+# -noreset: without it Xvfb resets whenever its last client disconnects, and every xdotool poll
+# below is such a client; a csfcal connecting during a reset was refused ("Failed to open display"
+# in a CI run). The display is only trusted while our own server is alive and answering.
 W=640 H=360
-exec 3>"$T/display"
-Xvfb -displayfd 3 -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
-XPID=$!
-exec 3>&-
-for _ in $(seq 100); do [ -s "$T/display" ] && break; sleep 0.1; done
-[ -s "$T/display" ] || { cat "$T/xvfb.log"; echo "SKIP: Xvfb did not start"; exit 77; }
-export DISPLAY=":$(head -n1 "$T/display")"
-xdotool getmouselocation >/dev/null 2>&1 || die "xdotool cannot reach $DISPLAY"
-echo "Xvfb on $DISPLAY (${W}x${H})"
+start_xvfb() {
+    rm -f "$T/display"
+    exec 3>"$T/display"
+    Xvfb -displayfd 3 -noreset -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
+    XPID=$!
+    exec 3>&-
+    for _ in $(seq 150); do [ -s "$T/display" ] && break; kill -0 "$XPID" 2>/dev/null || break; sleep 0.1; done
+    [ -s "$T/display" ] || return 1
+    local n; n=$(head -n1 "$T/display")
+    DISPLAY=":$n"; export DISPLAY
+    xdotool getmouselocation >/dev/null 2>&1 && kill -0 "$XPID" 2>/dev/null
+}
+xvfb_ok=0
+for attempt in 1 2 3; do
+    if start_xvfb; then xvfb_ok=1; break; fi
+    echo "note: Xvfb attempt $attempt did not give a usable private display"
+    kill "$XPID" 2>/dev/null; wait "$XPID" 2>/dev/null; XPID=""
+    sleep 1
+done
+[ $xvfb_ok = 1 ] || { cat "$T/xvfb.log"; echo "SKIP: no private Xvfb display could be started"; exit 77; }
+echo "Xvfb on $DISPLAY (${W}x${H}, pid $XPID)"
 
 STORE="$T/s.sqlite"
 # 20 Hz: a frame counts as missed only after 75 ms, so a loaded 2-core machine under ASan does not
@@ -76,6 +97,7 @@ wait_until() {
 # Starts csfcal in the background (args...), output in $T/$TAG.out / .err.
 start() {
     TAG="$1"; shift
+    kill -0 "$XPID" 2>/dev/null || die "$TAG: our Xvfb is gone before the session started"
     "$CSFCAL" "${COMMON[@]}" "$@" >"$T/$TAG.out" 2>"$T/$TAG.err" &
     CPID=$!
 }
