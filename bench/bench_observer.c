@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...]
+ *                       [--sim SPEC ...] [--honest [--fresh] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -34,7 +34,16 @@
  * the methods were tuned on (the three truths above, default Weibull 3.5/0.02) and six held out
  * of all tuning (bench/data/observer_heldout.py's truths with other slopes, lapses and the sdt
  * decision model). All answer through devices/observer_sim. Default 10 seeds (--quick: 3;
- * --seeds N overrides). RMS per group is over observers x seeds.
+ * --seeds N overrides). RMS per group is over observers x seeds. The held-out group is also reported
+ * for the observers with slope 2-5 and lapse 0-0.05 alone (issue 12's <= 0.10 target; all held-out
+ * observers are inside 1.5-6 / 0-0.08, the <= 0.12 target). --fresh: a second held-out set
+ * (bench/data/observer_heldout2.py: three other CSF shapes from the literature, seeded slopes,
+ * lapses and decision models), made after the method was frozen, instead of the first.
+ * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
+ * the observer's own slope and lapse (the cost of marginalising them is the difference);
+ * CSF_BENCH_PSY=1 prints the slope and lapse bayes settled on per session (stderr);
+ * CSF_BENCH_CELLS=1 prints, under each --sim row, every visible cell's mean and RMS error and
+ * its mean number of trials.
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -43,6 +52,7 @@
 #include <time.h>
 
 #include "calib/afc_layout.h"
+#include "calib/method_bayes.h"
 #include "calib/procedure.h"
 #include "devices/observer_sim.h"
 #include "quest_cell.h"
@@ -83,6 +93,15 @@ static int run_sim_session(const csf_procedure_ops *ops, const csf_observer_sim 
                                  .seed = proc_seed, .max_contrast = max_contrast,
                                  .min_contrast = 0.0005, .slope_beta = SESSION_SLOPE,
                                  .lapse = SESSION_LAPSE, .guess = 0.5, .n_alternatives = n_alt};
+    /* diagnosis only (CSF_BENCH_ORACLE_PSY=1): the method is told the observer's own psychometric
+     * function, which separates the cost of marginalising slope and lapse from the rest */
+    const char *oracle = getenv("CSF_BENCH_ORACLE_PSY");
+    if (oracle && *oracle == '1') {
+        const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
+        setup.fixed_psychometric = 1;
+        setup.slope_beta = p->decision == CSF_SIM_SDT ? 1.21 * p->k_transducer : p->slope;
+        setup.lapse = p->lapse;
+    }
     csf_error err = {0};
     void *st = NULL;
     if (ops->create(&setup, &st, &err) != CSF_OK) {
@@ -109,6 +128,12 @@ static int run_sim_session(const csf_procedure_ops *ops, const csf_observer_sim 
         ops->update(st, k, &plan, &out);
     }
     csf_status rc = ops->estimate(st, est, &err);
+    const char *psy = getenv("CSF_BENCH_PSY"); /* diagnosis: the slope and lapse bayes settled on */
+    if (psy && *psy == '1' && ops == &csf_procedure_bayes) {
+        double sl, la;
+        csf_bayes_psychometric(st, &sl, &la);
+        fprintf(stderr, "psy: slope %.2f lapse %.3f\n", sl, la);
+    }
     ops->destroy(st);
     if (rc != CSF_OK) {
         fprintf(stderr, "%s: estimate: %s\n", ops->name, err.msg);
@@ -164,7 +189,8 @@ static int run_specs(const char *const *specs, int n_specs, const int *use_obs, 
                 for (int b = 0; b < n_budgets; b++) {
                     double sum_sq = 0, t0 = now_s();
                     int wrong_total = 0, bias_n[2] = {0, 0};
-                    double bias_sum[2] = {0, 0};
+                    double bias_sum[2] = {0, 0}, cell_e[24] = {0}, cell_e2[24] = {0}, cell_nt[24] = {0};
+                    int cell_n[24] = {0};
                     for (int s = first_seed; s < first_seed + n_seeds; s++) {
                         csf_observer_sim *o;
                         csf_error err;
@@ -181,6 +207,12 @@ static int run_specs(const char *const *specs, int n_specs, const int *use_obs, 
                         }
                         double r = sim_rms(o, cells, n, n_alt, est, cmax, &wrong, bias_sum, bias_n);
                         sum_sq += r * r;
+                        for (int c = 0; c < n; c++) { /* per-cell error, for CSF_BENCH_CELLS=1 */
+                            double th = csf_observer_sim_threshold(o, cells[c].freq_cpd, cells[c].ecc_deg);
+                            if (!(th < cmax)) continue;
+                            double e = (isfinite(est[c].threshold) ? log10(est[c].threshold) : log10(cmax)) - log10(th);
+                            cell_e[c] += e, cell_e2[c] += e * e, cell_n[c]++, cell_nt[c] += est[c].n_trials;
+                        }
                         wrong_total += wrong;
                         csf_observer_sim_free(o);
                     }
@@ -190,6 +222,12 @@ static int run_specs(const char *const *specs, int n_specs, const int *use_obs, 
                     printf("| %s | %s | %s | %d | %.3f | %d | %s | %s | %.1f |\n", specs[sp], truth_name[ob],
                            methods[m]->name, budgets[b], sqrt(sum_sq / n_seeds), wrong_total, b2, b4,
                            (now_s() - t0) * 1000.0 / n_seeds);
+                    const char *pc = getenv("CSF_BENCH_CELLS");
+                    for (int c = 0; c < n && pc && *pc == '1'; c++)
+                        if (cell_n[c])
+                            printf("    cell %4.1f cpd %4.1f deg: mean %+.3f rms %.3f trials %.1f\n", cells[c].freq_cpd,
+                                   cells[c].ecc_deg, cell_e[c] / cell_n[c], sqrt(cell_e2[c] / cell_n[c]),
+                                   cell_nt[c] / cell_n[c]);
                     fflush(stdout);
                 }
         }
@@ -201,20 +239,39 @@ static int run_specs(const char *const *specs, int n_specs, const int *use_obs, 
 typedef struct {
     const char *name, *spec;
     int held_out; /* 1: not used to tune any method (made for this benchmark, 2026-11-23) */
+    int narrow;   /* 1: slope 2-5 and lapse 0-0.05 (the <= 0.10 target); every held-out observer is
+                     inside 1.5-6 / 0-0.08 (the <= 0.12 target) */
 } honest_observer;
 
 static const honest_observer HONEST_OBS[] = {
-    {"parametric, Weibull 3.5/0.02", "sim", 0},
-    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0},
-    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0},
-    {"msdexp, Weibull 2.2/0.05", "sim:slope=2.2,lapse=0.05,table=bench/data/observer_msdexp.csv", 1},
-    {"msdexp, sdt k 2.5/0.02", "sim:decision=sdt,table=bench/data/observer_msdexp.csv", 1},
-    {"older, Weibull 5/0", "sim:slope=5,lapse=0,table=bench/data/observer_older.csv", 1},
-    {"older, sdt k 2/0.05", "sim:decision=sdt,k=2,lapse=0.05,table=bench/data/observer_older.csv", 1},
-    {"dexp, Weibull drawn", "sim:slope=draw,lapse=draw,table=bench/data/observer_dexp.csv", 1},
-    {"dexp, Weibull 1.5/0.08", "sim:slope=1.5,lapse=0.08,table=bench/data/observer_dexp.csv", 1},
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"msdexp, Weibull 2.2/0.05", "sim:slope=2.2,lapse=0.05,table=bench/data/observer_msdexp.csv", 1, 1},
+    {"msdexp, sdt k 2.5/0.02", "sim:decision=sdt,table=bench/data/observer_msdexp.csv", 1, 1},
+    {"older, Weibull 5/0", "sim:slope=5,lapse=0,table=bench/data/observer_older.csv", 1, 1},
+    {"older, sdt k 2/0.05", "sim:decision=sdt,k=2,lapse=0.05,table=bench/data/observer_older.csv", 1, 1},
+    {"dexp, Weibull drawn", "sim:slope=draw,lapse=draw,table=bench/data/observer_dexp.csv", 1, 0},
+    {"dexp, Weibull 1.5/0.08", "sim:slope=1.5,lapse=0.08,table=bench/data/observer_dexp.csv", 1, 0},
 };
-enum { N_HONEST_OBS = (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]) };
+/* --fresh: the same tuned-on observers and a second held-out set, made after the method was frozen
+ * for the final measurement of 2026-11-23 (bench/data/observer_heldout2.py prints these lines) */
+static const honest_observer HONEST_FRESH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"mkgp, Weibull 3.99/0.045", "sim:slope=3.994,lapse=0.045,table=bench/data/observer_mkgp.csv", 1, 1},
+    {"mkgp, sdt k 3.01/0.008", "sim:decision=sdt,k=3.012,lapse=0.008,table=bench/data/observer_mkgp.csv", 1, 1},
+    {"robson, Weibull 4.21/0.004", "sim:slope=4.212,lapse=0.004,table=bench/data/observer_robson.csv", 1, 1},
+    {"robson, sdt k 3.61/0.019", "sim:decision=sdt,k=3.612,lapse=0.019,table=bench/data/observer_robson.csv", 1, 1},
+    {"mesopic, Weibull 2.37/0.033", "sim:slope=2.371,lapse=0.033,table=bench/data/observer_mesopic.csv", 1, 1},
+    {"mesopic, sdt k 1.77/0.021", "sim:decision=sdt,k=1.769,lapse=0.021,table=bench/data/observer_mesopic.csv", 1, 1},
+    {"mkgp, Weibull 1.55/0.074", "sim:slope=1.549,lapse=0.074,table=bench/data/observer_mkgp.csv", 1, 0},
+    {"mkgp, sdt k 1.42/0.060", "sim:decision=sdt,k=1.418,lapse=0.060,table=bench/data/observer_mkgp.csv", 1, 0},
+    {"robson, Weibull 5.74/0.052", "sim:slope=5.741,lapse=0.052,table=bench/data/observer_robson.csv", 1, 0},
+    {"robson, sdt k 4.74/0.079", "sim:decision=sdt,k=4.744,lapse=0.079,table=bench/data/observer_robson.csv", 1, 0},
+};
+enum { MAX_HONEST_OBS = 16 };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
 enum { HM_PRIOR, HM_BAYES120, HM_BAYES240, HM_QUEST120, HM_QUEST240 = HM_QUEST120 + 3, HM_QPLUS120 = HM_QUEST240 + 3,
@@ -326,20 +383,26 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
     return r;
 }
 
-static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seeds, const csf_cell *cells, int n,
-                      const int *n_alt, double cmax, const char *layout_name)
+static int run_honest(const csf_procedure_ops *bayes, int fresh, int first_seed, int n_seeds, const csf_cell *cells,
+                      int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    static double sq[N_HONEST_OBS][N_HM], ms[N_HM];
-    double floor_rms[N_HONEST_OBS];
+    const honest_observer *HONEST = fresh ? HONEST_FRESH : HONEST_OBS;
+    const int N_HONEST = fresh ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
+                               : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
+    static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
+    static int bias_n[MAX_HONEST_OBS][2];
+    double floor_rms[MAX_HONEST_OBS];
     memset(sq, 0, sizeof sq);
     memset(ms, 0, sizeof ms);
-    for (int ob = 0; ob < N_HONEST_OBS; ob++) {
+    memset(bias, 0, sizeof bias);
+    memset(bias_n, 0, sizeof bias_n);
+    for (int ob = 0; ob < N_HONEST; ob++) {
         floor_rms[ob] = 0.0;
         for (int s = first_seed; s < first_seed + n_seeds; s++) {
             csf_observer_sim *o;
             csf_error err;
-            if (csf_observer_sim_create(HONEST_OBS[ob].spec, (uint64_t)s, &o, &err) != CSF_OK) {
-                fprintf(stderr, "bench_observer: %s: %s\n", HONEST_OBS[ob].spec, err.msg);
+            if (csf_observer_sim_create(HONEST[ob].spec, (uint64_t)s, &o, &err) != CSF_OK) {
+                fprintf(stderr, "bench_observer: %s: %s\n", HONEST[ob].spec, err.msg);
                 return 1;
             }
             if (s == first_seed) floor_rms[ob] = questplus_floor(o, cells, n, n_alt, cmax);
@@ -365,7 +428,7 @@ static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seed
                     rc = run_questplus(o, pseed, cells, n, n_alt, honest_trials(m), cmax, est);
                 }
                 if (rc) {
-                    fprintf(stderr, "bench_observer: method %d failed on %s\n", m, HONEST_OBS[ob].name);
+                    fprintf(stderr, "bench_observer: method %d failed on %s\n", m, HONEST[ob].name);
                     csf_observer_sim_free(o);
                     return 1;
                 }
@@ -374,31 +437,37 @@ static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seed
                 double bs[2] = {0, 0};
                 double r = sim_rms(o, cells, n, n_alt, est, cmax, &wrong, bs, bn);
                 sq[ob][m] += r * r;
+                if (m == HM_BAYES120)
+                    for (int k = 0; k < 2; k++) bias[ob][k] += bs[k], bias_n[ob][k] += bn[k];
             }
             csf_observer_sim_free(o);
         }
-        fprintf(stderr, "  %s done\n", HONEST_OBS[ob].name);
+        fprintf(stderr, "  %s done\n", HONEST[ob].name);
     }
     printf("\n== layout: %s ==\n", layout_name);
     printf("RMS error of log10 threshold over the truly visible cells (6 x 4 grid), RMS over observers x seeds; "
            "seeds %d-%d; bayes set up as a session (slope %.1f, lapse %.2f); QUEST and QUEST+ given the "
            "observer's own Weibull lapse (and QUEST its slope; sdt observers: slope 1.21 k)\n\n",
            first_seed, first_seed + n_seeds - 1, SESSION_SLOPE, SESSION_LAPSE);
-    printf("| method | trials | tuned-on observers (%d) | held-out observers (%d) | worst held-out observer | ms/session |\n"
-           "|---|---|---|---|---|---|\n", 3, N_HONEST_OBS - 3);
-    double group[N_HM][2];
+    int n_narrow = 0;
+    for (int ob = 0; ob < N_HONEST; ob++) n_narrow += HONEST[ob].held_out && HONEST[ob].narrow;
+    printf("| method | trials | tuned-on observers (%d) | held-out observers (%d) | held-out, slope 2-5 & lapse <= 0.05 (%d) "
+           "| worst held-out observer | ms/session |\n"
+           "|---|---|---|---|---|---|---|\n", 3, N_HONEST - 3, n_narrow);
+    double group[N_HM][3];
     for (int m = 0; m < N_HM; m++) {
-        double g[2] = {0, 0}, worst = 0;
-        int gn[2] = {0, 0};
-        for (int ob = 0; ob < N_HONEST_OBS; ob++) {
-            int h = HONEST_OBS[ob].held_out;
+        double g[3] = {0, 0, 0}, worst = 0;
+        int gn[3] = {0, 0, 0};
+        for (int ob = 0; ob < N_HONEST; ob++) {
+            int h = HONEST[ob].held_out;
             g[h] += sq[ob][m], gn[h] += n_seeds;
+            if (h && HONEST[ob].narrow) g[2] += sq[ob][m], gn[2] += n_seeds;
             if (h && sqrt(sq[ob][m] / n_seeds) > worst) worst = sqrt(sq[ob][m] / n_seeds);
         }
-        group[m][0] = sqrt(g[0] / gn[0]), group[m][1] = sqrt(g[1] / gn[1]);
+        for (int k = 0; k < 3; k++) group[m][k] = gn[k] ? sqrt(g[k] / gn[k]) : NAN;
         char nb[64];
-        printf("| %s | %d | %.3f | %.3f | %.3f | %.1f |\n", honest_method_name(m, nb, sizeof nb), honest_trials(m),
-               group[m][0], group[m][1], worst, ms[m] / (N_HONEST_OBS * n_seeds));
+        printf("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", honest_method_name(m, nb, sizeof nb), honest_trials(m),
+               group[m][0], group[m][1], group[m][2], worst, ms[m] / (N_HONEST * n_seeds));
     }
     for (int b = 0; b < 2; b++) {
         int first = HM_QUEST120 + 3 * b, best = first;
@@ -412,16 +481,25 @@ static int run_honest(const csf_procedure_ops *bayes, int first_seed, int n_seed
             printf("bayes at 120 vs best QUEST at 240 (held-out): %.3f vs %.3f (%s)\n", group[HM_BAYES120][1],
                    group[best][1], group[HM_BAYES120][1] < group[best][1] ? "bayes better" : "bayes NOT better");
     }
+    printf("target bayes 120 <= 0.10, held-out slope 2-5 & lapse <= 0.05, both decision models: %.3f (%s)\n",
+           group[HM_BAYES120][2], group[HM_BAYES120][2] <= 0.10 ? "met" : "NOT met");
+    printf("target bayes 120 <= 0.12, held-out slope 1.5-6 & lapse <= 0.08 (all held-out): %.3f (%s)\n",
+           group[HM_BAYES120][1], group[HM_BAYES120][1] <= 0.12 ? "met" : "NOT met");
     printf("QUEST+ at 120 (held-out): %.3f; bayes at 120: %.3f (%s)\n\n", group[HM_QPLUS120][1],
            group[HM_BAYES120][1], group[HM_BAYES120][1] < group[HM_QPLUS120][1] ? "bayes better" : "bayes NOT better");
     printf("per observer (RMS over seeds; * = held out of all tuning; floor = best fit of the QUEST+ surface grid)\n\n"
-           "| observer | floor | prior | bayes 120 | bayes 240 | QUEST 120 sd .3/.5/1 | QUEST 240 sd .3/.5/1 | QUEST+ 120 |\n"
-           "|---|---|---|---|---|---|---|---|\n");
-    for (int ob = 0; ob < N_HONEST_OBS; ob++) {
+           "| observer | floor | prior | bayes 120 | bayes 120 mean error 2 / 4 places | bayes 240 | QUEST 120 sd .3/.5/1 "
+           "| QUEST 240 sd .3/.5/1 | QUEST+ 120 |\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    for (int ob = 0; ob < N_HONEST; ob++) {
         double r[N_HM];
         for (int m = 0; m < N_HM; m++) r[m] = sqrt(sq[ob][m] / n_seeds);
-        printf("| %s%s | %.3f | %.3f | %.3f | %.3f | %.3f/%.3f/%.3f | %.3f/%.3f/%.3f | %.3f |\n", HONEST_OBS[ob].name,
-               HONEST_OBS[ob].held_out ? " *" : "", floor_rms[ob], r[HM_PRIOR], r[HM_BAYES120], r[HM_BAYES240],
+        char b2[16] = "-", b4[16] = "-";
+        if (bias_n[ob][0]) snprintf(b2, sizeof b2, "%+.3f", bias[ob][0] / bias_n[ob][0]);
+        if (bias_n[ob][1]) snprintf(b4, sizeof b4, "%+.3f", bias[ob][1] / bias_n[ob][1]);
+        printf("| %s%s | %.3f | %.3f | %.3f | %s / %s | %.3f | %.3f/%.3f/%.3f | %.3f/%.3f/%.3f | %.3f |\n",
+               HONEST[ob].name, HONEST[ob].held_out ? " *" : "", floor_rms[ob], r[HM_PRIOR], r[HM_BAYES120],
+               b2, b4, r[HM_BAYES240],
                r[HM_QUEST120], r[HM_QUEST120 + 1], r[HM_QUEST120 + 2], r[HM_QUEST240], r[HM_QUEST240 + 1],
                r[HM_QUEST240 + 2], r[HM_QPLUS120]);
     }
@@ -453,7 +531,7 @@ int main(int argc, char **argv)
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
     int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
-    int per_cell = 0, honest = 0, quick = 0, seeds_given = 0;
+    int per_cell = 0, honest = 0, fresh = 0, quick = 0, seeds_given = 0;
     const char *specs[MAX_SPECS];
     int n_specs = 0;
     for (int i = 1; i < argc; i++) {
@@ -513,13 +591,15 @@ int main(int argc, char **argv)
             honest = 1;
         } else if (!strcmp(argv[i], "--quick")) {
             quick = 1;
+        } else if (!strcmp(argv[i], "--fresh")) {
+            honest = fresh = 1;
         } else if (!strcmp(argv[i], "--cells")) {
             per_cell = 1;
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -567,7 +647,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_observer: --honest needs the bayes method\n");
                 return 1;
             }
-            if (run_honest(bayes, first_seed, seeds_given ? n_seeds : quick ? 3 : 10, cells, n, n_alt, cmax, layout_name[ly])) return 1;
+            if (run_honest(bayes, fresh, first_seed, seeds_given ? n_seeds : quick ? 3 : 10, cells, n, n_alt, cmax, layout_name[ly])) return 1;
             continue;
         }
         if (n_specs > 0) {

@@ -1024,15 +1024,27 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
     s->cache_valid = 0;
 }
 
-/* Posterior mean / sd / P(invisible) of a normalised grid density. */
+/* Posterior mean / sd / P(invisible) of a normalised grid density. The mean and sd are those of
+ * t given t <= log10 max contrast: a threshold the table reports only matters when the cell is
+ * visible, and the mass above the display's reach (any value there means "never visible") would
+ * otherwise pull a visible cell's estimate up by an arbitrary amount before the clip. */
 static void summarise(const bayes_state *s, const double *p, double *mean, double *sd, double *p_inv)
 {
-    double m = 0.0, m2 = 0.0, pi = 0.0;
+    double m0 = 0.0, m = 0.0, m2 = 0.0, pi = 0.0;
     for (int g = 0; g < s->n_grid; g++) {
         double t = s->lo + g * s->step;
+        if (g > s->g_cmax) {
+            pi += p[g];
+            continue;
+        }
+        m0 += p[g];
         m += p[g] * t;
         m2 += p[g] * t * t;
-        if (g > s->g_cmax) pi += p[g];
+    }
+    if (m0 > 1e-12) {
+        m /= m0, m2 /= m0;
+    } else { /* all mass above the reach: the mean of nothing visible is the reach itself */
+        m = s->log_cmax, m2 = m * m;
     }
     *mean = m;
     *sd = sqrt(fmax(m2 - m * m, 0.0));
