@@ -148,7 +148,7 @@ static double corrected_rate(int k, int n)
     return r;
 }
 
-static void finish_row(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed)
+void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed)
 {
     if (w->n > 0) {
         w->p = (double)w->k / w->n;
@@ -171,6 +171,7 @@ static void finish_row(csf_study_row *w, const csf_study *s, int n_boot, uint64_
         }
     }
     w->t_lo = w->t_hi = w->beta_lo = w->beta_hi = NAN;
+    w->tb_lo = w->tb_hi = w->bb_lo = w->bb_hi = NAN;
     if (w->is_curve != 1) return;
     double guess = 0.5;
     if (s->design == CSF_DESIGN_YES_NO) {
@@ -179,9 +180,11 @@ static void finish_row(csf_study_row *w, const csf_study *s, int n_boot, uint64_
     }
     if (csf_weibull_fit_ml(w->levels, (size_t)w->n_levels, guess, s->max_lapse, &w->fit) == 0) {
         w->have_fit = 1;
+        csf_weibull_marginal_ci(w->levels, (size_t)w->n_levels, &w->fit, s->max_lapse, 0.95, &w->t_lo, &w->t_hi,
+                                &w->beta_lo, &w->beta_hi);
         if (n_boot > 1)
             w->n_boot_ok = csf_weibull_bootstrap(w->levels, (size_t)w->n_levels, &w->fit, s->max_lapse, n_boot,
-                                                 seed, 0.95, &w->t_lo, &w->t_hi, &w->beta_lo, &w->beta_hi);
+                                                 seed, 0.95, &w->tb_lo, &w->tb_hi, &w->bb_lo, &w->bb_hi);
     }
 }
 
@@ -238,7 +241,7 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
             }
         }
     }
-    for (int i = 0; i < r->n_rows; i++) finish_row(&r->rows[i], s, n_boot, s->hash ^ (uint64_t)(i + 1));
+    for (int i = 0; i < r->n_rows; i++) csf_study_row_finish(&r->rows[i], s, n_boot, s->hash ^ (uint64_t)(i + 1));
     return CSF_OK;
 }
 
@@ -366,7 +369,7 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
         const csf_study_row *w = &r->rows[i];
         if (w->is_curve != 1) continue;
         if (!any++)
-            fprintf(fp, "\npsychometric fits (Weibull, ML; 95%% parametric bootstrap):\n%-10s %-16s %8s %19s %6s "
+            fprintf(fp, "\npsychometric fits (Weibull, ML; 95%% intervals from the marginal posterior, flat priors):\n%-10s %-16s %8s %19s %6s "
                         "%15s %6s\n", "scope", "curve", "t log10", "t 95% CI", "beta", "beta 95% CI", "lapse");
         if (!w->have_fit) {
             fprintf(fp, "%-10.10s %-16.16s  (no fit: fewer than two levels)\n", w->scope, w->name);
@@ -438,6 +441,9 @@ char *csf_study_report_json(const csf_study_report *r)
             json_object_set_new(o, "beta_ci95", json_pack("[o,o]", num(w->beta_lo), num(w->beta_hi)));
             json_object_set_new(o, "lapse", num(w->fit.lapse));
             json_object_set_new(o, "guess", num(w->fit.guess));
+            json_object_set_new(o, "ci95_method", json_string("marginal posterior, flat priors on t, log beta, lapse"));
+            json_object_set_new(o, "t_log10_ci95_bootstrap", json_pack("[o,o]", num(w->tb_lo), num(w->tb_hi)));
+            json_object_set_new(o, "beta_ci95_bootstrap", json_pack("[o,o]", num(w->bb_lo), num(w->bb_hi)));
             json_object_set_new(o, "bootstrap_ok", json_integer(w->n_boot_ok));
         }
         json_array_append_new(curves, o);

@@ -11,8 +11,10 @@
  *     study says sd_model = independent); rates of 0 or 1 are moved by 1/(2N) first.
  * Per psychometric curve (conditions sharing a `curve` name, or one adaptive condition): the
  * maximum-likelihood Weibull fit (threshold t in log10 contrast, slope beta, lapse <= max_lapse;
- * guess 0.5 in forced choice, the curve's false-alarm rate in yes/no) and parametric-bootstrap
- * percentile intervals (95 %) for t and beta. Image conditions sharing a `curve` name (say every
+ * guess 0.5 in forced choice, the curve's false-alarm rate in yes/no) with 95 % intervals for t
+ * and beta from the marginal posterior under flat priors on t, log beta and lapse (the interval
+ * whose coverage is nearest nominal, bench/bench_study_coverage; psignifit 4's kind), and the
+ * parametric-bootstrap percentile intervals as well (they under-cover: BENCHMARKS.md). Image conditions sharing a `curve` name (say every
  * view's "imperceptible" pair) are also pooled into a group row with the condition statistics. */
 #ifndef CSF_STUDY_REPORT_H
 #define CSF_STUDY_REPORT_H
@@ -40,7 +42,8 @@ typedef struct {
     int n_levels;
     int have_fit;
     csf_weibull_fit fit;
-    double t_lo, t_hi, beta_lo, beta_hi;
+    double t_lo, t_hi, beta_lo, beta_hi;      /* 95 % marginal-posterior intervals (the report's) */
+    double tb_lo, tb_hi, bb_lo, bb_hi;        /* 95 % parametric-bootstrap percentile intervals */
     int n_boot_ok;
 } csf_study_row;
 
@@ -60,6 +63,11 @@ typedef struct {
 csf_status csf_study_report_build(const char *store_path, const char *study, int n_boot,
                                   csf_study_report **out, csf_error *err);
 void csf_study_report_free(csf_study_report *r);
+
+/* The statistics of one row from its counts (n, k; hits and false alarms; a curve's levels), as
+ * the report computes them: what csf_study_report_build does for every row (exposed for the
+ * coverage test, tests/study/test_study_coverage.c). seed: the row's bootstrap seed. */
+void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed);
 
 void csf_study_report_print(const csf_study_report *r, FILE *fp);
 /* One JSON document (jansson), malloc'd. */

@@ -72,4 +72,27 @@ int csf_weibull_bootstrap(const csf_psy_level *lv, size_t n_levels, const csf_we
                           double max_lapse, int n_boot, uint64_t seed, double conf,
                           double *t_lo, double *t_hi, double *beta_lo, double *beta_hi);
 
+/* Profile-likelihood intervals for t and beta: the values whose likelihood, maximised over the two
+ * other parameters, is within z^2/2 of the maximum (z the normal quantile at (1 + conf)/2; 1.92
+ * log-likelihood units at 95 %), i.e. a likelihood-ratio test inverted (Cox & Hinkley 1974,
+ * ch. 9; Venzon & Moolgavkar 1988). An end that does not reach the cutoff inside the fit's
+ * limits (t within the data's range +- 1 log10, beta in [0.5, 20]) is that limit. Returns 0 (or
+ * 1-2: a profile point beat the fit and the intervals are around the better maximum), or -1. */
+int csf_weibull_profile_ci(const csf_psy_level *lv, size_t n_levels, const csf_weibull_fit *fit, double max_lapse,
+                           double conf, double *t_lo, double *t_hi, double *beta_lo, double *beta_hi);
+
+/* Marginal-posterior (credible) intervals for t and beta, the report's intervals: the posterior
+ * under flat priors on t (within the data's range +- 1 log10), on the width 1/beta (beta in
+ * [0.5, 20]; psignifit 4's default width prior is flat too) and on the lapse (over [0,
+ * max_lapse]), summed on a grid over the other parameters, and its (1 - conf)/2 and
+ * (1 + conf)/2 quantiles: the interval psignifit 4 gives (Schuett, Harmeling, Macke & Wichmann
+ * 2016, Vision Res. 122:105-123); with the same priors and limits it matches psignifit's to a few
+ * thousandths of a log unit (bench/anchors/). Integrating over the slope, instead of maximising
+ * (profile likelihood) or plugging in the fit (parametric bootstrap), keeps the threshold interval
+ * near its nominal coverage although the ML slope of a small study is biased steep (Wichmann &
+ * Hill 2001a); a prior flat in log beta gave 92 % at 6 levels x 40 trials, flat in width 94 %
+ * (BENCHMARKS.md, bench/bench_study_coverage). Returns 0, or -1 on bad arguments or no memory. */
+int csf_weibull_marginal_ci(const csf_psy_level *lv, size_t n_levels, const csf_weibull_fit *fit, double max_lapse,
+                            double conf, double *t_lo, double *t_hi, double *beta_lo, double *beta_hi);
+
 #endif

@@ -110,6 +110,96 @@ static void test_fit(void)
     CHECK(csf_weibull_fit_ml(lv, 1, 0.5, 0.06, &f) == -1);
 }
 
+/* 2AFC log likelihood and its brute-force reference computations (plain loops over fine grids,
+ * independent of the library's simplex and grids). */
+static double ll2afc(const csf_psy_level *lv, int n, double t, double beta, double lapse)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) {
+        double p = 0.5 + (0.5 - lapse) * (1 - exp(-pow(10, beta * (lv[i].x_log10 - t))));
+        if (p > 1 - 1e-12) p = 1 - 1e-12;
+        s += lv[i].k * log(p) + (lv[i].n - lv[i].k) * log1p(-p);
+    }
+    return s;
+}
+
+static double brute_profile_t(const csf_psy_level *lv, int n, double t)
+{
+    double best = -INFINITY;
+    for (int i = 0; i <= 400; i++)
+        for (int j = 0; j <= 60; j++) {
+            double v = ll2afc(lv, n, t, 0.5 * pow(40.0, i / 400.0), 0.001 * j);
+            if (v > best) best = v;
+        }
+    return best;
+}
+
+/* The report's interval (marginal posterior, flat in t, width 1/beta and lapse) against a brute
+ * force posterior on a finer, differently laid out grid (t by 0.002, beta uniform in 1/beta, lapse
+ * by 0.0025); the profile interval's ends against the brute-force profile deviance (3.84 there);
+ * coverage of both over repeated experiments. */
+static void test_intervals(void)
+{
+    const double t = -2.0, beta = 3.5, lapse = 0.02;
+    csf_psy_level lv[6];
+    int cov_m = 0, cov_p = 0, runs = 40;
+    for (int r = 0; r < runs; r++) {
+        csf_rng g;
+        csf_rng_init(&g, 500 + (uint64_t)r, 3);
+        for (int i = 0; i < 6; i++) {
+            lv[i].x_log10 = t - 0.45 + 0.15 * i;
+            lv[i].n = 40;
+            double p = 0.5 + (0.5 - lapse) * (1 - exp(-pow(10, beta * (lv[i].x_log10 - t))));
+            lv[i].k = 0;
+            for (int j = 0; j < lv[i].n; j++) lv[i].k += csf_rng_next_uniform(&g) < p;
+        }
+        csf_weibull_fit f;
+        CHECK(csf_weibull_fit_ml(lv, 6, 0.5, 0.06, &f) == 0);
+        double tl, th, bl, bh, pl, ph, x0, x1;
+        CHECK(csf_weibull_marginal_ci(lv, 6, &f, 0.06, 0.95, &tl, &th, &bl, &bh) == 0);
+        CHECK(tl < th && bl < bh && bl >= 0.5 && bh <= 20);
+        CHECK(csf_weibull_profile_ci(lv, 6, &f, 0.06, 0.95, &pl, &ph, &x0, &x1) >= 0);
+        CHECK(pl <= f.t_log10 && f.t_log10 <= ph);
+        cov_m += tl <= t && t <= th;
+        cov_p += pl <= t && t <= ph;
+        if (r < 2) {
+            /* brute-force posterior of t: t over the estimate +- 0.4 by 0.002 (the mass beyond is
+             * below 1e-6 here), w = 1/beta uniform over [1/20, 2] (flat in the width) in 300
+             * cells, lapse over [0, 0.06] by 0.005 */
+            enum { NT = 401 };
+            double mt[NT], t0 = f.t_log10 - 0.4, tot = 0;
+            for (int i = 0; i < NT; i++) {
+                double tt = t0 + 0.002 * i, m = 0;
+                for (int j = 0; j < 300; j++) {
+                    double b = 1 / (0.05 + (2 - 0.05) * (j + 0.5) / 300);
+                    for (int l = 0; l <= 12; l++) m += exp(ll2afc(lv, 6, tt, b, 0.005 * l) - f.loglik);
+                }
+                mt[i] = m;
+                tot += m;
+            }
+            double c = 0, q_lo = NAN, q_hi = NAN;
+            for (int i = 0; i < NT; i++) {
+                c += mt[i] / tot;
+                if (isnan(q_lo) && c >= 0.025) q_lo = t0 + 0.002 * i;
+                if (isnan(q_hi) && c >= 0.975) q_hi = t0 + 0.002 * i;
+            }
+            CHECK_MSG(fabs(tl - q_lo) < 0.006 && fabs(th - q_hi) < 0.006, "run %d: marginal [%.4f, %.4f], brute "
+                      "force [%.4f, %.4f]", r, tl, th, q_lo, q_hi);
+            printf("run %d: marginal [%.4f, %.4f], brute force [%.4f, %.4f]\n", r, tl, th, q_lo, q_hi);
+            double top = brute_profile_t(lv, 6, f.t_log10);
+            CHECK_NEAR(2 * (top - brute_profile_t(lv, 6, pl)), 3.8415, 0.05);
+            CHECK_NEAR(2 * (top - brute_profile_t(lv, 6, ph)), 3.8415, 0.05);
+        }
+    }
+    /* 40 runs at 95 %: fewer than 33 covered has probability < 0.2 % */
+    CHECK_MSG(cov_m >= 33, "marginal interval covered the truth in %d of %d runs", cov_m, runs);
+    CHECK_MSG(cov_p >= 33, "profile interval covered the truth in %d of %d runs", cov_p, runs);
+    double a, b, c, d;
+    csf_weibull_fit f = {.t_log10 = -2, .beta = 3, .lapse = 0, .guess = 0.5};
+    CHECK(csf_weibull_marginal_ci(lv, 1, &f, 0.06, 0.95, &a, &b, &c, &d) == -1 && isnan(a));
+    CHECK(csf_weibull_marginal_ci(lv, 6, &f, 0.06, 1.5, &a, &b, &c, &d) == -1);
+}
+
 int main(void)
 {
     test_normal();
@@ -117,5 +207,6 @@ int main(void)
     test_binomial();
     test_dprime();
     test_fit();
+    test_intervals();
     return CHECK_RESULT();
 }
