@@ -14,6 +14,9 @@ PACKAGES=(
   python3 poppler-utils argyll glslang-tools libjansson-dev
   libpq-dev postgresql
 )
+# Optional, for the benchmarks' cross-checks only (bench/anchors, bench/quest): `setup.sh --bench`.
+BENCH_PACKAGES=(octave)
+[ "${1:-}" = "--bench" ] && PACKAGES+=("${BENCH_PACKAGES[@]}")
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -52,3 +52,12 @@ printf('summary over %d data sets: max |dt_ML| %.4f log10, median |dbeta|/beta %
        rows(res), max(abs(res(:, 5))), median(abs(res(:, 6))), max(abs(res(:, 7))), max(res(:, 8)));
 printf('interval ends: max |difference| %.4f log10 (lower) %.4f (upper); width ratio median %+.1f %%, range [%+.1f, %+.1f] %%\n', ...
        max(abs(res(:, 9) - res(:, 10))), max(abs(res(:, 11) - res(:, 12))), median(res(:, 13)), min(res(:, 13)), max(res(:, 13)));
+% Limits (fail = exit 1): csfcal's ML never worse than psignifit's MAP-with-flat-priors by more than
+% 0.01 log-likelihood units (where the likelihood is flat the parameters may differ, as in a slope
+% traded against the lapse); interval ends within 0.03 log10 (psignifit's grid is coarser in t).
+bad = find(res(:, 8) > 0.01 | abs(res(:, 9) - res(:, 10)) > 0.03 | abs(res(:, 11) - res(:, 12)) > 0.03);
+if ~isempty(bad)
+  printf('DISAGREE: data sets %s\n', mat2str(res(bad, 1)'));
+  exit(1);
+end
+printf('ok\n');
