@@ -10,6 +10,12 @@
 
 sqlite3 *csf_store_db(csf_store *s);
 
+/* Fault injection for the tests (NULL in normal runs): the server backend calls it with the name
+ * of a point where a dropped connection matters ("session_committed": a session's row was
+ * committed, the station has not yet used it), so a test can stop or restart the server there
+ * instead of racing it with sleeps. */
+extern void (*csf_store_fault_hook)(const char *point);
+
 /* SQL of each schema migration step: index v gives the script that takes version v to v + 1
  * (index 0 creates version 1). Exposed so the migration test can build an old store. */
 extern const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION];

@@ -60,6 +60,7 @@ typedef struct pg_store {
     int flushing;          /* sending the spool: writes go to the server only */
     double next_try_s;     /* monotonic time of the next try to reach the server */
     int n_spooled;
+    int begin_unsure;      /* begin_session sent its COMMIT: the server may have the row */
     csf_session_info *known; /* sessions this station ran: what their spool copy is made from */
     size_t n_known;
 } pg_store;
@@ -72,6 +73,9 @@ static void spool_path(char *out, size_t cap);
 static void recover_spool(pg_store *p);
 static csf_status find_uuid(pg_store *p, const char *uuid, int64_t *id, csf_error *err);
 static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err);
+static void mkdir_parents(const char *path);
+
+void (*csf_store_fault_hook)(const char *point);
 
 /* ---- parameters and results -------------------------------------------------------------- */
 
@@ -650,6 +654,10 @@ static csf_status pg_display_profile_id(csf_store *b, const char *display, char 
 
 /* ---- sessions ------------------------------------------------------------------------------ */
 
+/* The session's row, with its claim taken inside the same transaction (an advisory lock taken
+ * in a transaction is held by the connection after COMMIT): a drop before COMMIT leaves nothing
+ * on the server. A repeat after a drop looks for the uuid first: a COMMIT that got through
+ * before the drop already made the session, and a second row would be a phantom. */
 static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64_t *id,
                              csf_error *err)
 {
@@ -657,6 +665,19 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
     const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
     const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
     uint64_t seed = nw->seed;
+    int64_t new_id = 0;
+    int held = 0;
+    if (p->retrying) {
+        csf_status fs = find_uuid(p, nw->uuid, &new_id, err);
+        if (fs == CSF_OK) {
+            csf_status cs = try_claim(p, new_id, &held, err);
+            if (cs == CSF_OK) cs = remember(p, new_id, err);
+            if (cs == CSF_OK && id) *id = new_id;
+            return cs;
+        }
+        if (fs != CSF_E_NOT_FOUND) return fs;
+        csf_error_clear(err);
+    }
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
     if (cs == CSF_OK && observer && *observer) cs = upsert_name(p, "observers", observer, NULL, err);
     if (cs == CSF_OK && display && *display) cs = upsert_name(p, "displays", display, NULL, err);
@@ -683,30 +704,65 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
     a_txt(&a, nw->state ? nw->state : "running");
     a_txt(&a, nw->uuid);
     a_txt(&a, now);
-    int64_t new_id = 0;
     /* station: the login, which the row-level policies of docs/store_roles.sql compare with. */
     if (cs == CSF_OK)
         cs = query_i64(p, "INSERT INTO sessions (kind, state, observer, display, settings_json, seed,"
                           " tool_version, created_utc, updated_utc, profile_id, uuid, station)"
                           " VALUES ($1, $9, $2, $3, $4, $5, $6, $7, $11, $8, $10, current_user)"
                           " RETURNING id", &a, &new_id, what, err);
-    if (cs == CSF_OK) cs = commit(p, what, err);
+    if (cs == CSF_OK) cs = try_claim(p, new_id, &held, err);
+    if (cs == CSF_OK) {
+        p->begin_unsure = 1; /* from here the row may be on the server whatever we hear back */
+        cs = commit(p, what, err);
+    }
     if (cs != CSF_OK) {
         rollback(p);
         return cs;
     }
-    int held = 0;
-    cs = try_claim(p, new_id, &held, err);
-    if (cs == CSF_OK) cs = remember(p, new_id, err);
+    if (csf_store_fault_hook) csf_store_fault_hook("session_committed");
+    cs = remember(p, new_id, err);
     if (cs == CSF_OK && id) *id = new_id;
     return cs;
+}
+
+/* A session whose start the server may have committed although the station never heard back
+ * (the server went away for longer than the retry limit): the spool keeps its uuid as an
+ * aborted session with no rows, and the next csfcal that reaches the server marks the server's
+ * copy aborted (recover_spool), so the lab never sees a phantom running session. */
+static void spool_unsure_begin(pg_store *p, const csf_store_session_new *nw)
+{
+    csf_error e;
+    csf_store_session_new ab = *nw;
+    ab.state = "aborted";
+    int64_t lsid = 0;
+    if (!p->spool) mkdir_parents(p->spool_path);
+    csf_status cs = p->spool ? CSF_OK : csf_store_sqlite_open(p->spool_path, 0, &p->spool, &e);
+    if (cs == CSF_OK) cs = p->spool->ops->begin_session(p->spool, &ab, &lsid, &e);
+    if (cs != CSF_OK)
+        fprintf(stderr, "csfcal: store %s: the local spool %s cannot record the unfinished start "
+                        "of session %s (%s)\n", p->base.path, p->spool_path, nw->uuid, e.msg);
+    else
+        fprintf(stderr, "csfcal: store %s: the server went away while session %s was starting; "
+                        "if the server recorded it, it is marked aborted when csfcal next reaches "
+                        "the server\n", p->base.path, nw->uuid);
 }
 
 static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw, int64_t *id,
                                    csf_error *err)
 {
     pg_store *p = pg(b);
-    RETRY(p, err, begin_once(p, nw, id, err));
+    p->retrying = 0;
+    p->begin_unsure = 0;
+    for (;;) {
+        csf_status cs = begin_once(p, nw, id, err);
+        if (cs == CSF_OK || !lost(p)) return cs;
+        csf_status rs = reconnect(p, p->retry_limit_s, err);
+        if (rs != CSF_OK) {
+            if (p->begin_unsure) spool_unsure_begin(p, nw);
+            return rs;
+        }
+        p->retrying = 1;
+    }
 }
 
 static csf_status pg_find_session_uuid(csf_store *b, const char *uuid, int64_t *id, csf_error *err)
@@ -1010,6 +1066,20 @@ static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
     return CSF_OK;
 }
 
+/* A start the server got but its station never heard of (spool_unsure_begin): the spool has it
+ * aborted and empty; the server's copy, still running with no rows, becomes aborted too. A
+ * session someone resumed and wrote to is left alone. 1 when it was marked. */
+static int abort_phantom(pg_store *p, const csf_session_info *local, int64_t sid)
+{
+    if (strcmp(local->state, "aborted") != 0 || local->n_trials || local->n_readings) return 0;
+    csf_session_info si;
+    csf_error e;
+    if (pg_get_session(&p->base, sid, &si, &e) != CSF_OK) return 0;
+    int phantom = !strcmp(si.state, "running") && !si.n_trials && !si.n_readings;
+    csf_session_info_free(&si);
+    return phantom && set_state_once(p, sid, "aborted", &e) == CSF_OK;
+}
+
 /* A station that died while the server was away left rows in its spool that nobody sent. They
  * go to the server when the next csfcal opens it, before a procedure reads the trials it
  * resumes from (a resume without them would number new trials over them). Only sessions this
@@ -1027,7 +1097,7 @@ static void recover_spool(pg_store *p)
     csf_session_info *list = NULL;
     size_t n = 0;
     csf_status cs = sp->ops->list_sessions(sp, &list, &n, &e);
-    int sent = 0;
+    int sent = 0, aborted = 0;
     p->flushing = 1;
     for (size_t i = 0; cs == CSF_OK && i < n; i++) {
         int64_t sid = 0;
@@ -1035,6 +1105,7 @@ static void recover_spool(pg_store *p)
         csf_push_counts c;
         cs = csf_store_push_rows(sp, &p->base, list[i].id, &c, &e);
         sent += c.trials_sent + c.readings_sent;
+        if (cs == CSF_OK) aborted += abort_phantom(p, &list[i], sid);
     }
     p->flushing = 0;
     if (cs != CSF_OK)
@@ -1043,6 +1114,9 @@ static void recover_spool(pg_store *p)
     else if (sent > 0)
         fprintf(stderr, "csfcal: store %s: %d trials and readings left in the local spool %s by an "
                         "earlier run sent\n", p->base.path, sent, p->spool_path);
+    if (aborted > 0)
+        fprintf(stderr, "csfcal: store %s: %d session(s) whose start was cut off by a lost "
+                        "connection marked aborted\n", p->base.path, aborted);
     csf_session_list_free(list, n);
     sp->ops->close(sp);
 }

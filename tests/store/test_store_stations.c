@@ -406,6 +406,62 @@ static void test_crash_while_away(const char *loc)
     csf_store_close(s);
 }
 
+/* The fault hook of results/store_internal.h: at the named point, once, run pg_run.sh with
+ * the action (restart: the server comes back; stop: it stays away). */
+static const char *hook_action;
+static int hook_fired;
+
+static void drop_at_commit(const char *point)
+{
+    if (hook_fired || !hook_action || strcmp(point, "session_committed") != 0) return;
+    hook_fired = 1;
+    run_pg(hook_action);
+}
+
+static long long count_sessions(csf_store *s, const char *loc, const char *observer,
+                                const char *state)
+{
+    char q[256];
+    snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE observer = '%s'%s%s%s", observer,
+             state ? " AND state = '" : "", state ? state : "", state ? "'" : "");
+    return test_query_int(s, loc, q);
+}
+
+/* The connection drops right after the server committed a new session, before the station has
+ * used it. Back within the retry limit: the station finds its session by uuid and goes on with
+ * it (no second, empty row). Away for longer: begin fails, and the next csfcal to reach the
+ * server marks the row it may have left aborted, so no phantom running session is listed. */
+static void test_begin_drop(const char *loc)
+{
+    csf_store_fault_hook = drop_at_commit;
+    hook_action = "restart";
+    hook_fired = 0;
+    csf_store *s = open_or_die(loc, "station");
+    csf_error err;
+    int64_t sid = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "dropped-begin", "lcd", NULL, 96, &sid, &err), CSF_OK);
+    CHECK(hook_fired);
+    CHECK_INT_EQ(write_trials(s, sid, 0, 5, 96, 0), 0);
+    CHECK_INT_EQ(count_sessions(s, loc, "dropped-begin", NULL), 1);
+    check_session(s, sid, 96, 5);
+    csf_store_close(s);
+
+    setenv("CSF_STORE_RETRY_S", "1", 1);
+    hook_action = "stop";
+    hook_fired = 0;
+    s = open_or_die(loc, "station");
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "phantom", "lcd", NULL, 97, &sid, &err), CSF_E_STORE);
+    CHECK(hook_fired);
+    csf_store_close(s);
+    csf_store_fault_hook = NULL;
+    setenv("CSF_STORE_RETRY_S", "60", 1);
+    run_pg("start");
+    s = open_or_die(loc, "next run");
+    CHECK_INT_EQ(count_sessions(s, loc, "phantom", NULL), 1);
+    CHECK_INT_EQ(count_sessions(s, loc, "phantom", "aborted"), 1);
+    csf_store_close(s);
+}
+
 int main(void)
 {
     if (!test_pg()) {
@@ -425,6 +481,7 @@ int main(void)
     test_server_away(loc, spool);
     test_spool_then_push(loc, spool);
     test_crash_while_away(loc);
+    test_begin_drop(loc);
     rm_rf(dir);
     return CHECK_RESULT();
 }
