@@ -19,6 +19,17 @@ typedef struct {
     const char *tool_version; /* NULL: this build's */
 } csf_store_session_new;
 
+/* One stored artifact as a copy between stores needs it: blob NULL for a path-only record. */
+typedef struct {
+    char kind[16];
+    char path[1024];
+    unsigned char *blob; /* malloc'd, len bytes */
+    size_t len;
+} csf_store_artifact;
+
+/* Frees a list from list_artifacts. */
+void csf_store_artifacts_free(csf_store_artifact *list, size_t n);
+
 typedef struct csf_store_ops {
     const char *name; /* "sqlite", "postgresql" */
     void (*close)(csf_store *s);
@@ -69,6 +80,18 @@ typedef struct csf_store_ops {
     csf_status (*count_participants)(csf_store *s, int64_t study_id, int *n, csf_error *err);
     csf_status (*link_session_participant)(csf_store *s, int64_t session_id,
                                            int64_t participant_id, csf_error *err);
+    /* Every artifact of a session, oldest first; *out malloc'd (NULL when none). */
+    csf_status (*list_artifacts)(csf_store *s, int64_t session_id, csf_store_artifact **out,
+                                 size_t *n, csf_error *err);
+    /* The study (name, design) and participant code a session is linked to; *design_json
+     * malloc'd. CSF_E_NOT_FOUND when the session has no participant. */
+    csf_status (*session_participant)(csf_store *s, int64_t session_id, char study[256],
+                                      char **design_json, char code[64], csf_error *err);
+    /* Links a session to participant code of the study named, making the study (with
+     * design_json) and the participant when missing; a link already there is kept: a repeat
+     * changes nothing. */
+    csf_status (*link_named)(csf_store *s, int64_t session_id, const char *study,
+                             const char *design_json, const char *code, csf_error *err);
 } csf_store_ops;
 
 struct csf_store {

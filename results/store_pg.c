@@ -63,6 +63,10 @@ typedef struct pg_store {
     int begin_unsure;      /* begin_session sent its COMMIT: the server may have the row */
     csf_session_info *known; /* sessions this station ran: what their spool copy is made from */
     size_t n_known;
+    /* Studies and participants this station recorded or found: what a spooled participant link
+     * names (the server's ids mean nothing in the spool). */
+    struct pg_name { int64_t id, study_id; char name[256]; } *names;
+    size_t n_names;
 } pg_store;
 
 static const csf_store_ops pg_ops;
@@ -552,6 +556,7 @@ static void pg_close(csf_store *b)
     if (p->spool) p->spool->ops->close(p->spool);
     for (size_t i = 0; i < p->n_known; i++) csf_session_info_free(&p->known[i]);
     free(p->known);
+    free(p->names);
     if (p->conn) PQfinish(p->conn); /* ends the connection: the server drops its claims */
     free(p->claims);
     free(p);
@@ -824,6 +829,35 @@ static csf_status pg_get_session(csf_store *b, int64_t id, csf_session_info *out
     return CSF_OK;
 }
 
+/* The refusal a second station gets: who holds the claim (the server shows every role the
+ * login and server process of a connection, nothing more) and how to take it over when that
+ * station is gone but its connection lingers (a station cut off from the network: the server
+ * notices only when TCP keepalive gives up). */
+static csf_status claimed_elsewhere(pg_store *p, int64_t id, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, CLAIM_CLASS);
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT a.usename, l.pid FROM pg_locks l LEFT JOIN pg_stat_activity a"
+                         " ON a.pid = l.pid WHERE l.locktype = 'advisory' AND l.granted AND"
+                         " l.classid = $1::bigint::oid AND l.objid = ($2::bigint % 2147483647)::oid"
+                         " AND l.objsubid = 2 LIMIT 1", &a);
+    char who[80] = "?";
+    long pid = 0;
+    if (PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1) {
+        g_txt(r, 0, 0, who, sizeof who);
+        pid = (long)g_i64(r, 0, 1);
+    }
+    PQclear(r);
+    return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another station: "
+                         "login %s, server process %ld, holds its claim. Two stations must not "
+                         "write one session. The claim ends with that station's connection (a "
+                         "crashed csfcal's goes when the server notices); if the station is gone "
+                         "and its connection lingers, the database owner can end it with SELECT "
+                         "pg_terminate_backend(%ld); then resume again", p->base.path,
+                         (long long)id, who[0] ? who : "?", pid, pid);
+}
+
 /* A state change needs the session's claim: a station resuming a session takes it, and one
  * that another station holds is refused (two stations never run one session). A state other
  * than running gives the claim back. */
@@ -832,10 +866,7 @@ static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf
     int held = has_claim(p, id);
     csf_status cs = held ? CSF_OK : try_claim(p, id, &held, err);
     if (cs != CSF_OK) return cs;
-    if (!held)
-        return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
-                             "station (it holds the session's claim); wait until it ends, or "
-                             "resume another session", p->base.path, (long long)id);
+    if (!held) return claimed_elsewhere(p, id, err);
     char now[32];
     utc_now(now);
     pgargs a = {0};
@@ -982,7 +1013,7 @@ static csf_status spool_session(pg_store *p, int64_t sid, int64_t *lsid, csf_err
 }
 
 /* One write that may be spooled: what it is and its arguments. */
-typedef enum { W_TRIAL, W_READING, W_FRAMES, W_STATE } write_kind;
+typedef enum { W_TRIAL, W_READING, W_FRAMES, W_STATE, W_THRESHOLDS, W_ARTIFACT, W_LINK } write_kind;
 typedef struct {
     write_kind kind;
     int64_t sid;
@@ -991,9 +1022,42 @@ typedef struct {
     const double *iv;
     int n, seq;
     const char *state;
+    const csf_threshold_row *rows; /* W_THRESHOLDS: n_rows of them */
+    size_t n_rows;
+    const char *art_kind, *path;   /* W_ARTIFACT */
+    const void *blob;
+    size_t len;
+    int64_t participant_id;        /* W_LINK */
 } write_op;
 
 static csf_status to_server(pg_store *p, const write_op *w, csf_error *err);
+static csf_status put_thresholds_once(pg_store *p, int64_t session_id,
+                                      const csf_threshold_row *rows, size_t n, csf_error *err);
+static csf_status add_artifact_once(pg_store *p, int64_t session_id, const char *kind,
+                                    const char *path, const void *blob, size_t len, csf_error *err);
+static csf_status link_once(pg_store *p, int64_t session_id, int64_t participant_id,
+                            csf_error *err);
+
+/* Studies (is_participant 0) and participants (1) by id, as this station recorded them. */
+static const struct pg_name *find_name(const pg_store *p, int64_t id, int is_participant)
+{
+    for (size_t i = 0; i < p->n_names; i++)
+        if (p->names[i].id == id && (p->names[i].study_id != 0) == is_participant)
+            return &p->names[i];
+    return NULL;
+}
+
+static void note_name(pg_store *p, int64_t id, int64_t study_id, const char *name)
+{
+    if (find_name(p, id, study_id != 0)) return;
+    struct pg_name *nn = realloc(p->names, (p->n_names + 1) * sizeof *nn);
+    if (!nn) return; /* only a spooled link would miss it, and it says so */
+    p->names = nn;
+    nn[p->n_names].id = id;
+    nn[p->n_names].study_id = study_id;
+    snprintf(nn[p->n_names].name, sizeof nn[p->n_names].name, "%s", name);
+    p->n_names++;
+}
 
 static csf_status to_spool(pg_store *p, const write_op *w, csf_error *err)
 {
@@ -1011,6 +1075,17 @@ static csf_status to_spool(pg_store *p, const write_op *w, csf_error *err)
         cs = sp->ops->add_reading(sp, &r, err);
     } else if (w->kind == W_FRAMES) {
         cs = sp->ops->add_frame_intervals(sp, lsid, w->seq, w->iv, w->n, err);
+    } else if (w->kind == W_THRESHOLDS) {
+        cs = sp->ops->put_thresholds(sp, lsid, w->rows, w->n_rows, err);
+    } else if (w->kind == W_ARTIFACT) {
+        cs = sp->ops->add_artifact(sp, lsid, w->art_kind, w->path, w->blob, w->len, err);
+    } else if (w->kind == W_LINK) {
+        const struct pg_name *pt = find_name(p, w->participant_id, 1);
+        const struct pg_name *st = pt ? find_name(p, pt->study_id, 0) : NULL;
+        cs = st ? sp->ops->link_named(sp, lsid, st->name, NULL, pt->name, err)
+                : csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and participant "
+                                "%lld was not recorded by this station, so the link cannot be "
+                                "spooled", p->base.path, (long long)w->participant_id);
     } else {
         cs = sp->ops->set_session_state(sp, lsid, w->state, err);
     }
@@ -1378,6 +1453,10 @@ static csf_status to_server(pg_store *p, const write_op *w, csf_error *err)
     case W_TRIAL: return add_trial_once(p, w->t, w->iv, w->n, err);
     case W_READING: return add_reading_once(p, w->r, err);
     case W_FRAMES: return insert_frames(p, w->sid, w->seq, w->iv, w->n, err);
+    case W_THRESHOLDS: return put_thresholds_once(p, w->sid, w->rows, w->n_rows, err);
+    case W_ARTIFACT:
+        return add_artifact_once(p, w->sid, w->art_kind, w->path, w->blob, w->len, err);
+    case W_LINK: return link_once(p, w->sid, w->participant_id, err);
     default: return set_state_once(p, w->sid, w->state, err);
     }
 }
@@ -1438,7 +1517,9 @@ static csf_status pg_put_thresholds(csf_store *b, int64_t session_id, const csf_
                                     size_t n, csf_error *err)
 {
     pg_store *p = pg(b);
-    RETRY(p, err, put_thresholds_once(p, session_id, rows, n, err));
+    if (!known(p, session_id)) RETRY(p, err, put_thresholds_once(p, session_id, rows, n, err));
+    write_op w = {.kind = W_THRESHOLDS, .sid = session_id, .rows = rows, .n_rows = n};
+    return write_or_spool(p, &w, err);
 }
 
 static int threshold_row(const PGresult *r, int i, void *elem, int64_t session_id)
@@ -1547,6 +1628,19 @@ static csf_status add_artifact_once(pg_store *p, int64_t session_id, const char 
                                     const char *path, const void *blob, size_t len, csf_error *err)
 {
     const char *what = "storing an artifact";
+    if (p->retrying) { /* a repeat whose first COMMIT got through must not add a second row */
+        pgargs q = {0};
+        a_i64(&q, session_id);
+        a_txt(&q, kind);
+        a_txt(&q, path ? path : "");
+        if (blob) a_bin(&q, blob, len);
+        else a_txt(&q, NULL);
+        int64_t have = 0;
+        csf_status qs = query_i64(p, "SELECT COUNT(*) FROM artifacts WHERE session_id = $1 AND"
+                                     " kind = $2 AND ($3 = '' OR path = $3) AND ($4::bytea IS NULL"
+                                     " OR content = $4::bytea)", &q, &have, what, err);
+        if (qs != CSF_OK || have > 0) return qs;
+    }
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
     int merged = 0;
     if (cs == CSF_OK) cs = complete_half_record(p, session_id, kind, path, blob, len, &merged, err);
@@ -1579,7 +1673,11 @@ static csf_status pg_add_artifact(csf_store *b, int64_t session_id, const char *
                                   const char *path, const void *blob, size_t len, csf_error *err)
 {
     pg_store *p = pg(b);
-    RETRY(p, err, add_artifact_once(p, session_id, kind, path, blob, len, err));
+    if (!known(p, session_id))
+        RETRY(p, err, add_artifact_once(p, session_id, kind, path, blob, len, err));
+    write_op w = {.kind = W_ARTIFACT, .sid = session_id, .art_kind = kind, .path = path,
+                  .blob = blob, .len = len};
+    return write_or_spool(p, &w, err);
 }
 
 static csf_status pg_get_artifact(csf_store *b, int64_t session_id, const char *kind, void **blob,
@@ -1639,7 +1737,10 @@ static csf_status pg_create_study(csf_store *b, const char *name, const char *de
         cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: a study named '%s' already exists",
                            p->base.path, name);
     else if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "creating a study", err);
-    else if (id) *id = g_i64(r, 0, 0);
+    else {
+        note_name(p, g_i64(r, 0, 0), 0, name);
+        if (id) *id = g_i64(r, 0, 0);
+    }
     PQclear(r);
     return cs;
 }
@@ -1653,6 +1754,7 @@ static csf_status pg_find_study(csf_store *b, const char *name, int64_t *id, csf
     csf_status cs = query_i64(p, "SELECT id FROM studies WHERE name = $1", &a, &v, "finding a study", err);
     if (cs == CSF_E_NOT_FOUND)
         return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no study named '%s'", p->base.path, name);
+    if (cs == CSF_OK) note_name(p, v, 0, name);
     if (cs == CSF_OK && id) *id = v;
     return cs;
 }
@@ -1675,7 +1777,10 @@ static csf_status pg_add_participant(csf_store *b, int64_t study_id, const char 
                            "unknown or code already used in it)", p->base.path, code,
                            (long long)study_id);
     else if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "adding a participant", err);
-    else if (id) *id = g_i64(r, 0, 0);
+    else {
+        note_name(p, g_i64(r, 0, 0), study_id, code);
+        if (id) *id = g_i64(r, 0, 0);
+    }
     PQclear(r);
     return cs;
 }
@@ -1692,22 +1797,137 @@ static csf_status pg_count_participants(csf_store *b, int64_t study_id, int *n, 
     return cs;
 }
 
-static csf_status pg_link_session_participant(csf_store *b, int64_t session_id,
-                                              int64_t participant_id, csf_error *err)
+static csf_status link_once(pg_store *p, int64_t session_id, int64_t participant_id,
+                            csf_error *err)
 {
-    pg_store *p = pg(b);
     pgargs a = {0};
     a_i64(&a, session_id);
     a_i64(&a, participant_id);
     PGresult *r = run(p, "INSERT INTO session_participants (session_id, participant_id) VALUES ($1,$2)", &a);
     csf_status cs = CSF_OK;
-    if (constraint(r))
+    if (ok(r) || (p->retrying && duplicate(r))) cs = CSF_OK;
+    else if (constraint(r))
         cs = csf_error_set(err, CSF_E_INVALID_ARG, "store %s: session %lld cannot be linked to "
                            "participant %lld (unknown, or already linked)", p->base.path,
                            (long long)session_id, (long long)participant_id);
-    else if (!ok(r)) cs = fail(p, r, "linking a session to a participant", err);
+    else cs = fail(p, r, "linking a session to a participant", err);
     PQclear(r);
     return cs;
+}
+
+static csf_status pg_link_session_participant(csf_store *b, int64_t session_id,
+                                              int64_t participant_id, csf_error *err)
+{
+    pg_store *p = pg(b);
+    if (!known(p, session_id)) RETRY(p, err, link_once(p, session_id, participant_id, err));
+    write_op w = {.kind = W_LINK, .sid = session_id, .participant_id = participant_id};
+    return write_or_spool(p, &w, err);
+}
+
+static csf_status pg_list_artifacts(csf_store *b, int64_t session_id, csf_store_artifact **out,
+                                    size_t *n, csf_error *err)
+{
+    pg_store *p = pg(b);
+    *out = NULL;
+    *n = 0;
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    /* Binary results: the bytes as stored. */
+    PGresult *r = PQexecParams(p->conn, "SELECT kind, path, content FROM artifacts WHERE"
+                               " session_id = $1::bigint ORDER BY id", a.n, NULL, a.v, a.len,
+                               a.fmt, 1);
+    csf_status cs = CSF_OK;
+    int rows = PQntuples(r);
+    csf_store_artifact *list = NULL;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "listing artifacts", err);
+    else if (rows > 0 && !(list = calloc((size_t)rows, sizeof *list)))
+        cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory listing artifacts");
+    int i = 0;
+    for (; cs == CSF_OK && i < rows; i++) {
+        csf_store_artifact *o = &list[i];
+        g_txt(r, i, 0, o->kind, sizeof o->kind);
+        size_t pl = (size_t)PQgetlength(r, i, 1);
+        if (pl >= sizeof o->path) pl = sizeof o->path - 1;
+        memcpy(o->path, PQgetvalue(r, i, 1), pl);
+        o->path[pl] = '\0';
+        if (is_null(r, i, 2)) continue;
+        o->len = (size_t)PQgetlength(r, i, 2);
+        if (!(o->blob = malloc(o->len + 1)))
+            cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory listing artifacts");
+        else if (o->len) memcpy(o->blob, PQgetvalue(r, i, 2), o->len);
+    }
+    PQclear(r);
+    if (cs != CSF_OK) {
+        csf_store_artifacts_free(list, list ? (size_t)rows : 0);
+        return cs;
+    }
+    *out = list;
+    *n = (size_t)rows;
+    return CSF_OK;
+}
+
+static csf_status pg_session_participant(csf_store *b, int64_t session_id, char study[256],
+                                         char **design_json, char code[64], csf_error *err)
+{
+    pg_store *p = pg(b);
+    *design_json = NULL;
+    pgargs a = {0};
+    a_i64(&a, session_id);
+    PGresult *r = run(p, "SELECT st.name, st.design_json, p.code FROM session_participants sp"
+                         " JOIN participants p ON p.id = sp.participant_id"
+                         " JOIN studies st ON st.id = p.study_id WHERE sp.session_id = $1", &a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading a session's participant", err);
+    else if (PQntuples(r) == 0) cs = CSF_E_NOT_FOUND;
+    else {
+        g_txt(r, 0, 0, study, 256);
+        *design_json = strdup(is_null(r, 0, 1) ? "{}" : PQgetvalue(r, 0, 1));
+        g_txt(r, 0, 2, code, 64);
+        if (!*design_json) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
+    }
+    PQclear(r);
+    return cs;
+}
+
+static csf_status link_named_once(pg_store *p, int64_t session_id, const char *study,
+                                  const char *design_json, const char *code, csf_error *err)
+{
+    static const char *const sql[] = {
+        "INSERT INTO studies (name, design_json, created_utc) VALUES ($1, $2, $3)"
+        " ON CONFLICT DO NOTHING",
+        "INSERT INTO participants (study_id, code, created_utc) SELECT id, $4, $3 FROM studies"
+        " WHERE name = $1 ON CONFLICT DO NOTHING",
+        "INSERT INTO session_participants (session_id, participant_id) SELECT $5, p.id FROM"
+        " participants p JOIN studies st ON st.id = p.study_id WHERE st.name = $1 AND"
+        " p.code = $4 ON CONFLICT DO NOTHING",
+    };
+    const char *what = "linking a session to a participant";
+    char now[32];
+    utc_now(now);
+    csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
+    for (size_t i = 0; cs == CSF_OK && i < sizeof sql / sizeof sql[0]; i++) {
+        pgargs a = {0};
+        a_txt(&a, study);
+        a_txt(&a, design_json ? design_json : "{}");
+        a_txt(&a, now);
+        a_txt(&a, code);
+        a_i64(&a, session_id);
+        /* Types given: a statement need not use every parameter. text x4, int8. */
+        static const Oid types[] = {25, 25, 25, 25, 20};
+        PGresult *r = PQexecParams(p->conn, sql[i], a.n, types, a.v, a.len, a.fmt, 0);
+        cs = ok(r) ? CSF_OK : fail(p, r, what, err);
+        PQclear(r);
+    }
+    if (cs == CSF_OK) return commit(p, what, err);
+    rollback(p);
+    return cs;
+}
+
+static csf_status pg_link_named(csf_store *b, int64_t session_id, const char *study,
+                                const char *design_json, const char *code, csf_error *err)
+{
+    pg_store *p = pg(b);
+    RETRY(p, err, link_named_once(p, session_id, study, design_json, code, err));
 }
 
 static csf_status pg_set_session_uuid(csf_store *b, int64_t id, const char *uuid, csf_error *err)
@@ -1772,4 +1992,7 @@ static const csf_store_ops pg_ops = {
     .add_participant = pg_add_participant,
     .count_participants = pg_count_participants,
     .link_session_participant = pg_link_session_participant,
+    .list_artifacts = pg_list_artifacts,
+    .session_participant = pg_session_participant,
+    .link_named = pg_link_named,
 };

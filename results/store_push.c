@@ -101,35 +101,67 @@ static csf_status push_readings(csf_store *src, csf_store *dst, int64_t sid, int
     return cs;
 }
 
-/* Thresholds are replaced whole (the source's are the session's result); artifacts of the
- * usual kinds are copied when the destination has none of that kind. */
+void csf_store_artifacts_free(csf_store_artifact *list, size_t n)
+{
+    for (size_t i = 0; list && i < n; i++) free(list[i].blob);
+    free(list);
+}
+
+/* The destination has this artifact: same kind, and the same path and bytes as far as the
+ * source row has them (a path-only or bytes-only source row matches the row it completed). */
+static int has_artifact(const csf_store_artifact *have, size_t n, const csf_store_artifact *a)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(have[i].kind, a->kind) != 0) continue;
+        if (a->path[0] && strcmp(have[i].path, a->path) != 0) continue;
+        if (a->blob && (!have[i].blob || have[i].len != a->len ||
+                        (a->len && memcmp(have[i].blob, a->blob, a->len) != 0)))
+            continue;
+        return 1;
+    }
+    return 0;
+}
+
+/* Thresholds are replaced whole (the source's are the session's result); every artifact the
+ * destination lacks is copied, in the order it was stored. */
 static csf_status push_results(csf_store *src, csf_store *dst, int64_t sid, int64_t did,
-                               csf_error *err)
+                               csf_push_counts *c, csf_error *err)
 {
     csf_threshold_row *th = NULL;
     size_t nth = 0;
     csf_status cs = csf_store_get_thresholds(src, sid, &th, &nth, err);
     if (cs == CSF_OK && nth > 0) cs = csf_store_put_thresholds(dst, did, th, nth, err);
     free(th);
-    static const char *const kinds[] = {"csflut", "profile", "plot"};
-    for (size_t k = 0; cs == CSF_OK && k < sizeof kinds / sizeof kinds[0]; k++) {
-        void *b = NULL;
-        size_t len = 0;
-        char path[1024] = "";
-        if (csf_store_get_artifact(dst, did, kinds[k], &b, &len, NULL, 0, err) == CSF_OK) {
-            free(b);
-            continue;
-        }
-        csf_error_clear(err);
-        cs = csf_store_get_artifact(src, sid, kinds[k], &b, &len, path, sizeof path, err);
-        if (cs == CSF_E_NOT_FOUND) {
-            csf_error_clear(err);
-            cs = CSF_OK;
-            continue;
-        }
-        if (cs == CSF_OK) cs = csf_store_add_artifact(dst, did, kinds[k], path, b, len, err);
-        free(b);
+    csf_store_artifact *sa = NULL, *da = NULL;
+    size_t ns = 0, nd = 0;
+    if (cs == CSF_OK) cs = src->ops->list_artifacts(src, sid, &sa, &ns, err);
+    if (cs == CSF_OK) cs = dst->ops->list_artifacts(dst, did, &da, &nd, err);
+    for (size_t i = 0; cs == CSF_OK && i < ns; i++) {
+        if (has_artifact(da, nd, &sa[i])) continue;
+        cs = csf_store_add_artifact(dst, did, sa[i].kind, sa[i].path[0] ? sa[i].path : NULL,
+                                    sa[i].blob, sa[i].len, err);
+        if (cs == CSF_OK) c->artifacts_sent++;
     }
+    csf_store_artifacts_free(sa, ns);
+    csf_store_artifacts_free(da, nd);
+    return cs;
+}
+
+/* The study participant the session belongs to, made on the destination when missing (by
+ * study name and participant code: ids differ between stores). */
+static csf_status push_participant(csf_store *src, csf_store *dst, int64_t sid, int64_t did,
+                                   csf_push_counts *c, csf_error *err)
+{
+    char study[256], code[64];
+    char *design = NULL;
+    csf_status cs = src->ops->session_participant(src, sid, study, &design, code, err);
+    if (cs == CSF_E_NOT_FOUND) {
+        csf_error_clear(err);
+        return CSF_OK;
+    }
+    if (cs == CSF_OK) cs = dst->ops->link_named(dst, did, study, design, code, err);
+    if (cs == CSF_OK) c->participant_linked = 1;
+    free(design);
     return cs;
 }
 
@@ -150,7 +182,8 @@ static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int k
     if (cs == CSF_OK) cs = dest_session(dst, &si, &did, &created, err);
     if (cs == CSF_OK) cs = push_trials(src, dst, session_id, did, c, err);
     if (cs == CSF_OK) cs = push_readings(src, dst, session_id, did, c, err);
-    if (cs == CSF_OK) cs = push_results(src, dst, session_id, did, err);
+    if (cs == CSF_OK) cs = push_participant(src, dst, session_id, did, c, err);
+    if (cs == CSF_OK) cs = push_results(src, dst, session_id, did, c, err);
     /* The copy takes the source's state once it has everything (and lets go of the claim a
      * new server session was made with), unless the destination's copy is already over. */
     csf_session_info di;

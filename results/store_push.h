@@ -3,9 +3,10 @@
  * The session is matched by uuid (one is given to an older source session that has none),
  * trials and readings by seq: pushing twice, or pushing what the destination already partly
  * has, adds only what is missing. Trials go with their frame intervals; the thresholds are
- * replaced by the source's; csflut, profile and plot artifacts are copied when the destination
- * has none of that kind; the destination session takes the source's state. Study participant
- * links are not copied. */
+ * replaced by the source's; every artifact the destination lacks (same kind, path and bytes) is
+ * copied; the study participant the session is linked to is linked on the destination too (study
+ * and participant made there by name and code when missing); the destination session takes the
+ * source's state. */
 #ifndef CSF_STORE_PUSH_H
 #define CSF_STORE_PUSH_H
 
@@ -17,6 +18,8 @@ typedef struct {
     int64_t dest_id;  /* the session's id in the destination */
     int created;      /* 1: the destination had no such session */
     int trials_sent, trials_present, readings_sent, readings_present;
+    int artifacts_sent;      /* artifacts the destination lacked */
+    int participant_linked;  /* 1: the session's study participant is linked there */
 } csf_push_counts;
 
 csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,

@@ -37,12 +37,16 @@ typedef struct sq_store {
     char path[1024];
     sqlite3_stmt *ins_trial, *ins_reading, *ins_frame;
     int sys_errno; /* errno of the last failed step, caught before finalize/reset can clear it */
+    int claims_fd;   /* PATH-claims, opened at the first claim; -1 before */
+    int64_t *claims; /* sessions this handle holds */
+    size_t n_claims, cap_claims;
 } sq_store;
 
 static const csf_store_ops sqlite_ops;
 
 static sq_store *sq(csf_store *b) { return (sq_store *)b; }
 static void sq_close(csf_store *base);
+static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err);
 
 sqlite3 *csf_store_db(csf_store *s) { return s && s->ops == &sqlite_ops ? sq(s)->db : NULL; }
 
@@ -884,6 +888,8 @@ static void sq_close(csf_store *base)
     sqlite3_finalize(s->ins_reading);
     sqlite3_finalize(s->ins_frame);
     sqlite3_close(s->db);
+    if (s->claims_fd > 0) close(s->claims_fd); /* gives back every claim of this handle */
+    free(s->claims);
     free(s);
 }
 
@@ -1056,7 +1062,9 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
             cs = fail(s, err, rc, "starting a session");
         } else {
             if (id) *id = new_id;
-            return CSF_OK;
+            /* A new id has no other holder; a session copied in a state other than running
+             * (csf_store_push) is nobody's to hold. */
+            return nw->state && strcmp(nw->state, "running") != 0 ? CSF_OK : sq_claim(s, new_id, err);
         }
     }
     exec_s(s, "ROLLBACK");
@@ -1111,9 +1119,114 @@ static csf_status sq_get_session(csf_store *base, int64_t id, csf_session_info *
     return cs;
 }
 
+/* ---- session claims ---------------------------------------------------------------------
+ * Two stations (or two csfcal processes) resuming one session at once would interleave their
+ * trials: a session is claimed by the handle that starts or resumes it, as the PostgreSQL
+ * backend does with advisory locks. The claim is an open-file-description lock on one byte of
+ * PATH-claims (byte CLAIM_REC * id), so the kernel gives it back when the holder's process ends,
+ * however it ends; the same lock works between machines where SQLite's own locking does (a
+ * network share with working POSIX locks). The holder writes who it is (host, pid, time) into
+ * the CLAIM_REC bytes it locked, for the message another station gets. */
+#define CLAIM_REC 128
+
+static int claims_fd(sq_store *s)
+{
+    if (s->claims_fd > 0) return s->claims_fd;
+    char p[1100];
+    snprintf(p, sizeof p, "%s-claims", s->path);
+    int fd = open(p, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd == 0) { /* never keep fd 0: 0 means "not open" here */
+        int fd2 = fcntl(fd, F_DUPFD_CLOEXEC, 3);
+        close(fd);
+        fd = fd2;
+    }
+    if (fd > 0) s->claims_fd = fd;
+    return fd;
+}
+
+static int sq_has_claim(const sq_store *s, int64_t id)
+{
+    for (size_t i = 0; i < s->n_claims; i++)
+        if (s->claims[i] == id) return 1;
+    return 0;
+}
+
+static int claim_lock(int fd, int64_t id, short type)
+{
+    struct flock fl = {.l_type = type, .l_whence = SEEK_SET, .l_start = (off_t)(id * CLAIM_REC),
+                       .l_len = 1};
+    return fcntl(fd, F_OFD_SETLK, &fl);
+}
+
+/* Takes session id's claim, or says who holds it and what to do. */
+static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err)
+{
+    if (sq_has_claim(s, id) || id <= 0 || id > INT64_MAX / (2 * CLAIM_REC)) return CSF_OK;
+    int fd = claims_fd(s);
+    if (fd < 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: cannot open %s-claims to claim session "
+                             "%lld (%s)", s->path, s->path, (long long)id, strerror(errno));
+    if (claim_lock(fd, id, F_WRLCK) != 0) {
+        if (errno != EAGAIN && errno != EACCES)
+            return csf_error_set(err, CSF_E_STORE, "store %s: cannot claim session %lld (%s)",
+                                 s->path, (long long)id, strerror(errno));
+        char rec[CLAIM_REC + 1] = "", host[64] = "?", since[32] = "?";
+        long pid = 0;
+        ssize_t got = pread(fd, rec, CLAIM_REC, (off_t)(id * CLAIM_REC));
+        rec[got > 0 ? got : 0] = '\0';
+        sscanf(rec, "station=%63s pid=%ld since=%31s", host, &pid, since);
+        return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
+                             "station: %s, csfcal process %ld, since %s, holds its claim. Two "
+                             "stations must not write one session. The claim ends with that "
+                             "process (a crashed or killed csfcal has none); if it hangs, end it "
+                             "(kill %ld on %s) and resume again", s->path, (long long)id, host,
+                             pid, since, pid, host);
+    }
+    char host[64] = "", now[32], rec[CLAIM_REC];
+    if (gethostname(host, sizeof host) != 0 || !host[0]) snprintf(host, sizeof host, "unknown");
+    host[sizeof host - 1] = '\0';
+    for (char *c = host; *c; c++)
+        if (*c == ' ') *c = '_';
+    utc_now(now);
+    memset(rec, ' ', sizeof rec);
+    int n = snprintf(rec, sizeof rec, "station=%s pid=%ld since=%s\n", host, (long)getpid(), now);
+    if (n > 0 && n < (int)sizeof rec) rec[n] = ' ';
+    rec[sizeof rec - 1] = '\n';
+    if (pwrite(fd, rec, sizeof rec, (off_t)(id * CLAIM_REC)) != (ssize_t)sizeof rec) {
+        /* Only the message for another station is lost: the lock holds. */
+    }
+    if (s->n_claims == s->cap_claims) {
+        size_t nc = s->cap_claims ? 2 * s->cap_claims : 8;
+        int64_t *c = realloc(s->claims, nc * sizeof *c);
+        if (!c) {
+            claim_lock(fd, id, F_UNLCK);
+            return csf_error_set(err, CSF_E_NOMEM, "store: out of memory claiming a session");
+        }
+        s->claims = c;
+        s->cap_claims = nc;
+    }
+    s->claims[s->n_claims++] = id;
+    return CSF_OK;
+}
+
+static void sq_release(sq_store *s, int64_t id)
+{
+    for (size_t i = 0; i < s->n_claims; i++)
+        if (s->claims[i] == id) {
+            claim_lock(s->claims_fd, id, F_UNLCK);
+            s->claims[i] = s->claims[--s->n_claims];
+            return;
+        }
+}
+
+/* A state change needs the session's claim (as on a server): resuming takes it, one held by
+ * another station is refused; a state other than running gives it back. */
 static csf_status sq_set_session_state(csf_store *base, int64_t id, const char *state, csf_error *err)
 {
     sq_store *s = sq(base);
+    csf_status cls = sq_claim(s, id, err);
+    if (cls != CSF_OK) return cls;
+    if (strcmp(state, "running") != 0) sq_release(s, id); /* also when the change fails */
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "UPDATE sessions SET state = ?, updated_utc = ? WHERE id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "changing a session's state");
@@ -1825,6 +1938,115 @@ static csf_status sq_link_session_participant(csf_store *base, int64_t session_i
     return rc == SQLITE_DONE ? CSF_OK : fail(s, err, rc, "linking a session to a participant");
 }
 
+static csf_status sq_list_artifacts(csf_store *base, int64_t session_id, csf_store_artifact **out,
+                                    size_t *n, csf_error *err)
+{
+    sq_store *s = sq(base);
+    *out = NULL;
+    *n = 0;
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT kind, path, content FROM artifacts WHERE session_id = ? ORDER BY id", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "listing artifacts");
+    sqlite3_bind_int64(st, 1, session_id);
+    csf_store_artifact *list = NULL;
+    size_t cnt = 0, cap = 0;
+    csf_status cs = CSF_OK;
+    while (cs == CSF_OK && (rc = step(s, st)) == SQLITE_ROW) {
+        if (grow((void **)&list, &cap, cnt, sizeof *list) < 0) {
+            cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory listing artifacts");
+            break;
+        }
+        csf_store_artifact *a = &list[cnt];
+        memset(a, 0, sizeof *a);
+        col_text(st, 0, a->kind, sizeof a->kind);
+        col_text(st, 1, a->path, sizeof a->path);
+        if (sqlite3_column_type(st, 2) != SQLITE_NULL) {
+            size_t nb = (size_t)sqlite3_column_bytes(st, 2);
+            const void *b = sqlite3_column_blob(st, 2);
+            a->blob = malloc(nb + 1);
+            if (!a->blob) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory listing artifacts");
+            else if (nb) memcpy(a->blob, b, nb);
+            a->len = nb;
+        }
+        cnt++;
+    }
+    if (cs == CSF_OK && rc != SQLITE_DONE) cs = fail(s, err, rc, "listing artifacts");
+    sqlite3_finalize(st);
+    if (cs != CSF_OK) {
+        csf_store_artifacts_free(list, cnt);
+        return cs;
+    }
+    *out = list;
+    *n = cnt;
+    return CSF_OK;
+}
+
+static csf_status sq_session_participant(csf_store *base, int64_t session_id, char study[256],
+                                         char **design_json, char code[64], csf_error *err)
+{
+    sq_store *s = sq(base);
+    *design_json = NULL;
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT st.name, st.design_json, p.code FROM session_participants sp"
+                        " JOIN participants p ON p.id = sp.participant_id"
+                        " JOIN studies st ON st.id = p.study_id WHERE sp.session_id = ?", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "reading a session's participant");
+    sqlite3_bind_int64(st, 1, session_id);
+    rc = step(s, st);
+    csf_status cs = CSF_OK;
+    if (rc == SQLITE_ROW) {
+        col_text(st, 0, study, 256);
+        const unsigned char *d = sqlite3_column_text(st, 1);
+        *design_json = strdup(d ? (const char *)d : "{}");
+        col_text(st, 2, code, 64);
+        if (!*design_json) cs = csf_error_set(err, CSF_E_NOMEM, "store: out of memory");
+    } else if (rc == SQLITE_DONE) {
+        cs = CSF_E_NOT_FOUND;
+    } else {
+        cs = fail(s, err, rc, "reading a session's participant");
+    }
+    sqlite3_finalize(st);
+    return cs;
+}
+
+static csf_status sq_link_named(csf_store *base, int64_t session_id, const char *study,
+                                const char *design_json, const char *code, csf_error *err)
+{
+    sq_store *s = sq(base);
+    static const char *const sql[] = {
+        "INSERT INTO studies (name, design_json, created_utc) VALUES (?1, ?2, ?3)"
+        " ON CONFLICT DO NOTHING",
+        "INSERT INTO participants (study_id, code, created_utc) SELECT id, ?4, ?3 FROM studies"
+        " WHERE name = ?1 ON CONFLICT DO NOTHING",
+        "INSERT INTO session_participants (session_id, participant_id) SELECT ?5, p.id FROM"
+        " participants p JOIN studies st ON st.id = p.study_id WHERE st.name = ?1 AND"
+        " p.code = ?4 ON CONFLICT DO NOTHING",
+    };
+    const char *what = "linking a session to a participant";
+    int rc = exec_s(s, "BEGIN IMMEDIATE");
+    if (rc != SQLITE_OK) return fail(s, err, rc, what);
+    char now[32];
+    utc_now(now);
+    for (size_t i = 0; rc == SQLITE_OK && i < sizeof sql / sizeof sql[0]; i++) {
+        sqlite3_stmt *st = NULL;
+        rc = prepare(s, sql[i], &st);
+        if (rc != SQLITE_OK) break;
+        sqlite3_bind_text(st, 1, study, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 2, design_json ? design_json : "{}", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 4, code, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int64(st, 5, session_id);
+        rc = step(s, st);
+        sqlite3_finalize(st);
+        rc = rc == SQLITE_DONE ? SQLITE_OK : rc;
+    }
+    if (rc == SQLITE_OK) rc = exec_s(s, "COMMIT");
+    if (rc == SQLITE_OK) return CSF_OK;
+    csf_status cs = fail(s, err, rc, what);
+    exec_s(s, "ROLLBACK");
+    return cs;
+}
+
 static csf_status sq_find_session_uuid(csf_store *base, const char *uuid, int64_t *id,
                                        csf_error *err)
 {
@@ -1912,6 +2134,9 @@ static const csf_store_ops sqlite_ops = {
     .add_participant = sq_add_participant,
     .count_participants = sq_count_participants,
     .link_session_participant = sq_link_session_participant,
+    .list_artifacts = sq_list_artifacts,
+    .session_participant = sq_session_participant,
+    .link_named = sq_link_named,
 };
 
 csf_status csf_store_sqlite_open(const char *path, int readonly, csf_store **out, csf_error *err)

@@ -90,6 +90,19 @@ int main(void)
         CHECK_INT_EQ(csf_store_add_reading(src, &r, &err), CSF_OK);
     }
 
+    /* Two artifacts of one kind and one of another kind: every one arrives, once. */
+    CHECK_INT_EQ(csf_store_add_artifact(src, sid, "plot", "/tmp/p7-a.png", "PNGA", 4, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(src, sid, "plot", "/tmp/p7-b.png", "PNGBB", 5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(src, sid, "notes", "/tmp/p7.txt", NULL, 0, &err), CSF_OK);
+    /* The session belongs to a study participant; the lab store already knows the study (made
+     * by another station) but not the participant. */
+    int64_t study = 0, part = 0, lab_study = 0;
+    CHECK_INT_EQ(csf_store_create_study(src, "pushed-study", "{\"design\":2}", &study, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_participant(src, study, "P7", &part, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_link_session_participant(src, sid, part, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_create_study(dst, "pushed-study", "{\"design\":2}", &lab_study, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_participant(dst, lab_study, "P1", NULL, &err), CSF_OK);
+
     int64_t did = push(src, dst, sid, 30, 0);
     CHECK(did != 0 && did != other);
     check_copy(dst, did, 30, 42);
@@ -114,8 +127,25 @@ int main(void)
     CHECK(len == 8 && blob && !memcmp(blob, "LUTBYTES", 8) && !strcmp(path, "/tmp/p7.csflut"));
     free(blob);
 
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM artifacts"), 4);
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM artifacts WHERE kind = 'plot'"), 2);
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM artifacts WHERE kind = 'notes'"
+                                          " AND path = '/tmp/p7.txt' AND content IS NULL"), 1);
+    char lq[256];
+    snprintf(lq, sizeof lq, "SELECT p.study_id FROM session_participants sp JOIN participants p ON"
+             " p.id = sp.participant_id WHERE sp.session_id = %lld AND p.code = 'P7'", (long long)did);
+    CHECK_INT_EQ(test_query_int(dst, lab, lq), lab_study);
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM studies"), 1);
+    int np = 0;
+    CHECK_INT_EQ(csf_store_count_participants(dst, lab_study, &np, &err), CSF_OK);
+    CHECK_INT_EQ(np, 2);
+
     /* Again: nothing new. Grown: only the new trials. */
     CHECK_INT_EQ(push(src, dst, sid, 0, 30), did);
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM artifacts"), 4);
+    CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM session_participants"), 1);
+    CHECK_INT_EQ(csf_store_count_participants(dst, lab_study, &np, &err), CSF_OK);
+    CHECK_INT_EQ(np, 2);
     CHECK_INT_EQ(csf_store_set_session_state(src, sid, "running", &err), CSF_OK);
     add_trials(src, sid, 30, 45, 42);
     CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);

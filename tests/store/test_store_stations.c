@@ -406,6 +406,57 @@ static void test_crash_while_away(const char *loc)
     csf_store_close(s);
 }
 
+/* Everything a session writes while the server is away goes to the spool, not only trials:
+ * thresholds, artifacts (two of one kind, and a path-only record completed by its bytes) and
+ * the study participant link. Once the server is back (here: at close) all of it arrives, once;
+ * the next open, which sends the spool again, adds nothing. */
+static void test_away_results(const char *loc)
+{
+    setenv("CSF_STORE_RETRY_S", "2", 1);
+    csf_store *s = open_or_die(loc, "station");
+    csf_error err;
+    int64_t study = 0, part = 0, sid = 0;
+    CHECK_INT_EQ(csf_store_create_study(s, "away-study", "{\"d\":1}", &study, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_participant(s, study, "A1", &part, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, "study", "A1", "lcd", NULL, 98, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(write_trials(s, sid, 0, 3, 98, 0), 0);
+    run_pg("stop");
+    CHECK_INT_EQ(csf_store_link_session_participant(s, sid, part, &err), CSF_OK);
+    CHECK_INT_EQ(write_trials(s, sid, 3, 6, 98, 0), 0);
+    csf_threshold_row rows[2] = {{4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
+                                 {8.0, 0.0, 0.0, 50.0, 0.009, 0.07, 30}};
+    CHECK_INT_EQ(csf_store_put_thresholds(s, sid, rows, 2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, sid, "plot", "/tmp/a.png", "PNG1", 4, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, sid, "plot", "/tmp/b.png", "PNG22", 5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, sid, "csflut", "/tmp/a.csflut", NULL, 0, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(s, sid, "csflut", NULL, "LUT", 3, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, sid, "finished", &err), CSF_OK);
+    run_pg("start");
+    csf_store_close(s); /* sends the spool */
+    setenv("CSF_STORE_RETRY_S", "60", 1);
+    for (int round = 0; round < 2; round++) { /* round 1: the open sends the spool again */
+        s = open_or_die(loc, "check");
+        check_session(s, sid, 98, 6);
+        char q[200];
+        snprintf(q, sizeof q, "SELECT COUNT(*) FROM thresholds WHERE session_id = %lld", (long long)sid);
+        CHECK_INT_EQ(test_query_int(s, loc, q), 2);
+        snprintf(q, sizeof q, "SELECT COUNT(*) FROM artifacts WHERE session_id = %lld", (long long)sid);
+        CHECK_INT_EQ(test_query_int(s, loc, q), 3);
+        snprintf(q, sizeof q, "SELECT COUNT(*) FROM artifacts WHERE session_id = %lld AND kind ="
+                 " 'csflut' AND path = '/tmp/a.csflut' AND content = 'LUT'", (long long)sid);
+        CHECK_INT_EQ(test_query_int(s, loc, q), 1);
+        snprintf(q, sizeof q, "SELECT participant_id FROM session_participants WHERE session_id = %lld",
+                 (long long)sid);
+        CHECK_INT_EQ(test_query_int(s, loc, q), part);
+        CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM participants WHERE code = 'A1'"), 1);
+        csf_session_info si;
+        CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
+        CHECK(!strcmp(si.state, "finished"));
+        csf_session_info_free(&si);
+        csf_store_close(s);
+    }
+}
+
 /* The fault hook of results/store_internal.h: at the named point, once, run pg_run.sh with
  * the action (restart: the server comes back; stop: it stays away). */
 static const char *hook_action;
@@ -482,6 +533,7 @@ int main(void)
     test_spool_then_push(loc, spool);
     test_crash_while_away(loc);
     test_begin_drop(loc);
+    test_away_results(loc);
     rm_rf(dir);
     return CHECK_RESULT();
 }

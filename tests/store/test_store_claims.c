@@ -1,0 +1,170 @@
+/* Session claims (issue 15 item 2), on SQLite and (under tests/store/pg_run.sh) PostgreSQL:
+ * two stations, each a process of its own, must never write one session at once.
+ * - a second station resuming a session another holds is refused, with a message that names
+ *   the holder (station and process) and says how to take over when it is stale;
+ * - two stations resuming one paused session at the same moment: exactly one gets it;
+ * - the holder killed: its claim goes with it, and the session can be resumed.
+ * No sleeps as synchronisation: pipes order the processes; the one wait that cannot be a pipe
+ * (the server noticing a dead connection) polls up to a deadline. */
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "results/store.h"
+#include "store_test_util.h"
+#include "tests/check.h"
+
+static char loc[1024];
+
+static csf_store *open_or_die(const char *who)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    if (csf_store_open(loc, &s, &err) != CSF_OK) {
+        fprintf(stderr, "%s: %s\n", who, err.msg);
+        _exit(3);
+    }
+    return s;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* A holds a session it started; B is refused with the holder named; A killed, B resumes. */
+static void test_holder_named(void)
+{
+    int ready[2], hold[2];
+    if (pipe(ready) != 0 || pipe(hold) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        close(hold[1]);
+        csf_store *s = open_or_die("station A");
+        csf_error err;
+        int64_t sid = 0;
+        if (csf_store_begin_session(s, "observer", "held", "lcd", NULL, 5, &sid, &err) != CSF_OK) _exit(4);
+        csf_trial t = make_trial(sid, 0, 5);
+        if (csf_store_add_trial(s, &t, &err) != CSF_OK) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
+        char c;
+        if (read(hold[0], &c, 1) < 0) _exit(7); /* holds the claim until killed */
+        _exit(8);
+    }
+    close(ready[1]);
+    close(hold[0]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    close(ready[0]);
+
+    csf_store *b = open_or_die("station B");
+    csf_error err;
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "in use by another station");
+    if (test_pg()) {
+        CHECK_STR_CONTAINS(err.msg, "login csfcal_admin");
+        CHECK_STR_CONTAINS(err.msg, "pg_terminate_backend(");
+    } else {
+        char host[64] = "", want[96];
+        gethostname(host, sizeof host);
+        host[sizeof host - 1] = '\0';
+        snprintf(want, sizeof want, "%s, csfcal process %ld", host, (long)a);
+        CHECK_STR_CONTAINS(err.msg, want);
+        snprintf(want, sizeof want, "kill %ld on %s", (long)a, host);
+        CHECK_STR_CONTAINS(err.msg, want);
+    }
+    /* Another station may not end it either. */
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "aborted", &err), CSF_E_STORE);
+
+    kill(a, SIGKILL);
+    int status = 0;
+    waitpid(a, &status, 0);
+    CHECK(WIFSIGNALED(status));
+    close(hold[1]);
+    /* SQLite: the kernel dropped the lock with the process. A server notices the closed socket
+     * a little later: poll up to a deadline. */
+    csf_status cs = CSF_E_STORE;
+    double deadline = now_s() + 60.0;
+    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && test_pg() &&
+           now_s() < deadline)
+        usleep(50000);
+    CHECK_INT_EQ(cs, CSF_OK);
+    csf_trial t = make_trial(sid, 1, 5);
+    CHECK_INT_EQ(csf_store_add_trial(b, &t, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    csf_store_close(b);
+}
+
+/* Two stations resume one paused session at the same moment: one gets it, the other is
+ * refused; each keeps what it got until told to close. */
+static void test_resume_race(void)
+{
+    csf_store *s = open_or_die("setup");
+    csf_error err;
+    int64_t sid = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "raced", "lcd", NULL, 6, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, sid, "paused", &err), CSF_OK);
+    csf_store_close(s);
+
+    enum { N = 4 };
+    int go[2], done[2], results[2];
+    if (pipe(go) != 0 || pipe(done) != 0 || pipe(results) != 0) return;
+    pid_t pids[N];
+    for (int w = 0; w < N; w++) {
+        pids[w] = fork();
+        if (pids[w] == 0) {
+            close(go[1]);
+            close(done[1]);
+            close(results[0]);
+            csf_store *st = open_or_die("racer");
+            char c;
+            if (read(go[0], &c, 1) < 0) _exit(9);
+            csf_error e;
+            char r = csf_store_set_session_state(st, sid, "running", &e) == CSF_OK ? 'y'
+                     : strstr(e.msg, "in use by another station") ? 'n' : '?';
+            if (r == '?') fprintf(stderr, "racer: %s\n", e.msg);
+            if (write(results[1], &r, 1) != 1) _exit(9);
+            if (read(done[0], &c, 1) < 0) _exit(9); /* hold until all have answered */
+            csf_store_close(st);
+            _exit(0);
+        }
+    }
+    close(go[0]);
+    close(done[0]);
+    close(results[1]);
+    close(go[1]); /* all at once */
+    int yes = 0, no = 0;
+    for (int w = 0; w < N; w++) {
+        char r = 0;
+        CHECK(read(results[0], &r, 1) == 1);
+        yes += r == 'y';
+        no += r == 'n';
+    }
+    close(done[1]);
+    for (int w = 0; w < N; w++) {
+        int status = 0;
+        waitpid(pids[w], &status, 0);
+        CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    }
+    close(results[0]);
+    CHECK_INT_EQ(yes, 1);
+    CHECK_INT_EQ(no, N - 1);
+}
+
+int main(void)
+{
+    test_pg_require();
+    char dir[512];
+    if (tmp_dir(dir, sizeof dir, "claims") < 0) return 1;
+    if (test_store_location(dir, "lab.sqlite", loc, sizeof loc) < 0) return 1;
+    test_holder_named();
+    test_resume_race();
+    rm_rf(dir);
+    return CHECK_RESULT();
+}
