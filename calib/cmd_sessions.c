@@ -37,7 +37,8 @@ static const char sessions_help[] =
     "abort   mark an unfinished session as aborted (it is then not offered for resuming).\n"
     "push    copy sessions (all, or the IDs given) of --store to the store at LOCATION (a\n"
     "        server: postgresql://..., service=NAME; or another file) without doubling\n"
-    "        anything: a session already there gets only the trials and readings it lacks.\n"
+    "        anything: a session already there gets only the trials, readings and artifacts\n"
+    "        it lacks; thresholds, state and the study participant link go with it.\n"
     "        A station that ran on its own file while the server was away sends its sessions\n"
     "        this way. Prints what it sent per session.\n"
     "init    create the store (or migrate it to this csfcal's schema) and say so: what a lab's\n"
@@ -338,8 +339,10 @@ static int push_one(csf_store *src, csf_store *dst, int64_t id)
         return 1;
     }
     printf("session %lld -> %lld%s: %d trials sent, %d already there; %d readings sent, %d "
-           "already there\n", (long long)id, (long long)c.dest_id, c.created ? " (new)" : "",
-           c.trials_sent, c.trials_present, c.readings_sent, c.readings_present);
+           "already there; %d artifacts sent%s\n", (long long)id, (long long)c.dest_id,
+           c.created ? " (new)" : "", c.trials_sent, c.trials_present, c.readings_sent,
+           c.readings_present, c.artifacts_sent,
+           c.participant_linked ? "; study participant linked" : "");
     return 0;
 }
 

@@ -32,6 +32,7 @@
 #include "results/store_backend.h"
 #include "results/store_internal.h"
 #include "results/store_pg_schema.h"
+#include "results/store_rows.h"
 #include "results/store_push.h"
 
 #ifndef CSF_VERSION
@@ -134,27 +135,12 @@ static int64_t g_i64(const PGresult *r, int row, int col)
     return is_null(r, row, col) ? 0 : strtoll(PQgetvalue(r, row, col), NULL, 10);
 }
 
-static int g_int(const PGresult *r, int row, int col) { return (int)g_i64(r, row, col); }
 
 static void g_txt(const PGresult *r, int row, int col, char *dst, size_t cap)
 {
     snprintf(dst, cap, "%s", is_null(r, row, col) ? "" : PQgetvalue(r, row, col));
 }
 
-static void utc_now(char out[32])
-{
-    time_t t = time(NULL);
-    struct tm tm;
-    gmtime_r(&t, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
-}
-
-static double unix_now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* ---- errors ------------------------------------------------------------------------------ */
 
@@ -578,7 +564,7 @@ static csf_status upsert_name(pg_store *p, const char *table, const char *name, 
                               csf_error *err)
 {
     char sql[160], now[32], what[48];
-    utc_now(now);
+    csf_store_utc_now(now);
     snprintf(what, sizeof what, "recording a %s", table);
     snprintf(sql, sizeof sql, "INSERT INTO %s (name, created_utc) VALUES ($1, $2)"
              " ON CONFLICT (name) DO NOTHING", table);
@@ -598,7 +584,7 @@ static csf_status add_profile_history(pg_store *p, const char *display, const ch
                                       csf_error *err)
 {
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     pgargs a = {0};
     a_txt(&a, display);
     a_txt(&a, profile_id);
@@ -696,7 +682,7 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
                             " IS NULL", &a, what, err);
     }
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     pgargs a = {0};
     a_txt(&a, kind);
     a_txt(&a, observer ? observer : "");
@@ -782,31 +768,28 @@ static csf_status find_uuid(pg_store *p, const char *uuid, int64_t *id, csf_erro
     return query_i64(p, "SELECT id FROM sessions WHERE uuid = $1", &a, id, "finding a session", err);
 }
 
-#define SESSION_COLS                                                                         \
-    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
-    " s.tool_version, s.created_utc,"                                                        \
-    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid"        \
-    " FROM sessions s"
+#define SESSION_COLS CSF_STORE_SESSION_SELECT
+
+/* The shared row mapping (results/store_rows.h) reads row c->row of a result through these. */
+static int cols_is_null(const csf_store_cols *c, int col) { return is_null(c->res, c->row, col); }
+static double cols_dbl(const csf_store_cols *c, int col) { return g_dbl(c->res, c->row, col); }
+static int64_t cols_i64(const csf_store_cols *c, int col) { return g_i64(c->res, c->row, col); }
+static const char *cols_txt(const csf_store_cols *c, int col)
+{
+    return is_null(c->res, c->row, col) ? NULL : PQgetvalue(c->res, c->row, col);
+}
+
+static csf_store_cols cols(const PGresult *r, int i)
+{
+    return (csf_store_cols){.res = (PGresult *)r, .row = i, .is_null = cols_is_null,
+                            .dbl = cols_dbl, .i64 = cols_i64, .txt = cols_txt};
+}
 
 static int session_row(const PGresult *r, int i, void *elem, int64_t session_id)
 {
     (void)session_id;
-    csf_session_info *o = elem;
-    o->id = g_i64(r, i, 0);
-    g_txt(r, i, 1, o->kind, sizeof o->kind);
-    g_txt(r, i, 2, o->state, sizeof o->state);
-    g_txt(r, i, 3, o->observer, sizeof o->observer);
-    g_txt(r, i, 4, o->display, sizeof o->display);
-    o->settings_json = strdup(is_null(r, i, 5) ? "{}" : PQgetvalue(r, i, 5));
-    o->seed = (uint64_t)g_i64(r, i, 6);
-    g_txt(r, i, 7, o->tool_version, sizeof o->tool_version);
-    g_txt(r, i, 8, o->created_utc, sizeof o->created_utc);
-    o->n_trials = g_int(r, i, 9);
-    o->n_readings = g_int(r, i, 10);
-    g_txt(r, i, 11, o->profile_id, sizeof o->profile_id);
-    g_txt(r, i, 12, o->uuid, sizeof o->uuid);
-    return o->settings_json ? 0 : -1;
+    csf_store_cols c = cols(r, i);
+    return csf_store_row_session(&c, elem);
 }
 
 static void session_free(void *elem) { csf_session_info_free(elem); }
@@ -868,7 +851,7 @@ static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf
     if (cs != CSF_OK) return cs;
     if (!held) return claimed_elsewhere(p, id, err);
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     pgargs a = {0};
     a_txt(&a, state);
     a_txt(&a, now);
@@ -892,18 +875,6 @@ static csf_status pg_list_sessions(csf_store *b, csf_session_info **out, size_t 
     return query_rows(pg(b), &q, 0, (void **)out, n, err);
 }
 
-/* Unix seconds to ISO 8601; 0 with "" for a value that is no time of this era. */
-static int format_unix(double t, char out[32])
-{
-    out[0] = '\0';
-    if (!(t >= 0.0 && t < 253402300800.0)) return 0;
-    time_t tt = (time_t)floor(t);
-    struct tm tm;
-    gmtime_r(&tt, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    return 1;
-}
-
 static csf_status pg_session_times(csf_store *b, int64_t id, char created_utc[32],
                                    char updated_utc[32], csf_error *err)
 {
@@ -924,7 +895,7 @@ static csf_status pg_session_times(csf_store *b, int64_t id, char created_utc[32
         g_txt(r, 0, 0, created, sizeof created);
         g_txt(r, 0, 1, updated, sizeof updated);
         for (int c = 2; c <= 3; c++)
-            if (format_unix(g_dbl(r, 0, c), u) && strcmp(u, updated) > 0)
+            if (csf_store_format_unix(g_dbl(r, 0, c), u) && strcmp(u, updated) > 0)
                 snprintf(updated, sizeof updated, "%s", u);
         if (created_utc) snprintf(created_utc, 32, "%s", created);
         if (updated_utc) snprintf(updated_utc, 32, "%s", updated);
@@ -1242,7 +1213,7 @@ static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error
     a_dbl(&a, rd->has_xyz ? rd->Z : NAN);
     a_dbl(&a, isnan(rd->t_s) ? 0.0 : rd->t_s);
     a_txt(&a, rd->status);
-    a_dbl(&a, unix_now_s());
+    a_dbl(&a, csf_store_unix_now_s());
     PGresult *r = run(p, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
                          " Y_cdm2, Z_cdm2, t_s, status, stored_s)"
                          " VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11)", &a);
@@ -1265,18 +1236,8 @@ static csf_status pg_add_reading(csf_store *b, const csf_reading *rd, csf_error 
 
 static int reading_row(const PGresult *r, int i, void *elem, int64_t session_id)
 {
-    csf_reading *o = elem;
-    o->session_id = session_id;
-    o->seq = g_int(r, i, 0);
-    g_txt(r, i, 1, o->channel, sizeof o->channel);
-    o->drive01 = g_dbl(r, i, 2);
-    o->lum_cdm2 = g_dbl(r, i, 3);
-    o->has_xyz = !is_null(r, i, 4);
-    o->X = g_dbl(r, i, 4);
-    o->Y = g_dbl(r, i, 5);
-    o->Z = g_dbl(r, i, 6);
-    o->t_s = g_dbl(r, i, 7);
-    g_txt(r, i, 8, o->status, sizeof o->status);
+    csf_store_cols c = cols(r, i);
+    csf_store_row_reading(&c, session_id, elem);
     return 0;
 }
 
@@ -1284,8 +1245,7 @@ static csf_status pg_get_readings(csf_store *b, int64_t session_id, csf_reading 
                                   csf_error *err)
 {
     static const row_query q = {
-        .sql = "SELECT seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status"
-               " FROM readings WHERE session_id = $1 ORDER BY seq",
+        .sql = "SELECT " CSF_STORE_READING_COLS " FROM readings WHERE session_id = $1 ORDER BY seq",
         .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
         .what = "reading photometer readings"};
     return query_rows(pg(b), &q, session_id, (void **)out, n, err);
@@ -1320,7 +1280,7 @@ static void trial_args(pgargs *a, const csf_trial *t)
     a_dbl(a, t->click_y_deg);
     a_i64(a, t->valid != 0);
     a_txt(a, t->flags);
-    a_dbl(a, unix_now_s());
+    a_dbl(a, csf_store_unix_now_s());
     a_i64(a, t->n_alternatives);
 }
 
@@ -1395,34 +1355,8 @@ static csf_status pg_add_trial_frames(csf_store *b, const csf_trial *t, const do
 
 static int trial_row(const PGresult *r, int i, void *elem, int64_t session_id)
 {
-    csf_trial *t = elem;
-    int c = 0;
-    t->session_id = session_id;
-    t->seq = g_int(r, i, c++);
-    g_txt(r, i, c++, t->method, sizeof t->method);
-    t->freq_cpd = g_dbl(r, i, c++);
-    t->ecc_deg = g_dbl(r, i, c++);
-    t->polar_deg = g_dbl(r, i, c++);
-    t->orientation_deg = g_dbl(r, i, c++);
-    t->sigma_deg = g_dbl(r, i, c++);
-    t->velocity_dps = g_dbl(r, i, c++);
-    t->mean_lum_cdm2 = g_dbl(r, i, c++);
-    t->is_catch = g_int(r, i, c++);
-    t->is_practice = g_int(r, i, c++);
-    t->contrast_requested = g_dbl(r, i, c++);
-    t->contrast_shown_mean = g_dbl(r, i, c++);
-    t->contrast_shown_max = g_dbl(r, i, c++);
-    t->frames_planned = g_int(r, i, c++);
-    t->frames_shown = g_int(r, i, c++);
-    t->frames_missed = g_int(r, i, c++);
-    t->signal_interval = g_int(r, i, c++);
-    t->response = g_int(r, i, c++);
-    t->rt_s = g_dbl(r, i, c++);
-    t->click_x_deg = g_dbl(r, i, c++);
-    t->click_y_deg = g_dbl(r, i, c++);
-    t->valid = g_int(r, i, c++);
-    g_txt(r, i, c++, t->flags, sizeof t->flags);
-    t->n_alternatives = g_int(r, i, c++);
+    csf_store_cols c = cols(r, i);
+    csf_store_row_trial(&c, session_id, elem);
     return 0;
 }
 
@@ -1430,11 +1364,7 @@ static csf_status pg_get_trials(csf_store *b, int64_t session_id, csf_trial **ou
                                 csf_error *err)
 {
     static const row_query q = {
-        .sql = "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
-               " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
-               " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
-               " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-               " valid, flags, n_alternatives FROM trials WHERE session_id = $1 ORDER BY seq",
+        .sql = "SELECT " CSF_STORE_TRIAL_COLS " FROM trials WHERE session_id = $1 ORDER BY seq",
         .binds_session = 1, .elem_size = sizeof(csf_trial), .row = trial_row,
         .what = "reading trials"};
     return query_rows(pg(b), &q, session_id, (void **)out, n, err);
@@ -1525,14 +1455,8 @@ static csf_status pg_put_thresholds(csf_store *b, int64_t session_id, const csf_
 static int threshold_row(const PGresult *r, int i, void *elem, int64_t session_id)
 {
     (void)session_id;
-    csf_threshold_row *t = elem;
-    t->freq_cpd = g_dbl(r, i, 0);
-    t->ecc_deg = g_dbl(r, i, 1);
-    t->velocity_dps = g_dbl(r, i, 2);
-    t->lum_cdm2 = g_dbl(r, i, 3);
-    t->threshold = g_dbl(r, i, 4);
-    t->stderr_log10 = g_dbl(r, i, 5);
-    t->n_trials = g_int(r, i, 6);
+    csf_store_cols c = cols(r, i);
+    csf_store_row_threshold(&c, elem);
     return 0;
 }
 
@@ -1540,8 +1464,7 @@ static csf_status pg_get_thresholds(csf_store *b, int64_t session_id, csf_thresh
                                     size_t *n, csf_error *err)
 {
     static const row_query q = {
-        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold_michelson, stderr_log10,"
-               " n_trials FROM thresholds WHERE session_id = $1"
+        .sql = "SELECT " CSF_STORE_THRESHOLD_COLS " FROM thresholds WHERE session_id = $1"
                " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
         .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
         .what = "reading thresholds"};
@@ -1577,7 +1500,7 @@ static csf_status record_profile(pg_store *p, int64_t session_id, const void *bl
     profile_key(blob, len, "id", id, sizeof id);
     profile_key(blob, len, "display", display, sizeof display);
     if (!id[0] || !display[0]) return CSF_OK;
-    utc_now(now);
+    csf_store_utc_now(now);
     const char *what = "recording a display profile";
     pgargs a = {0};
     a_txt(&a, display);
@@ -1646,7 +1569,7 @@ static csf_status add_artifact_once(pg_store *p, int64_t session_id, const char 
     if (cs == CSF_OK) cs = complete_half_record(p, session_id, kind, path, blob, len, &merged, err);
     if (cs == CSF_OK && !merged) {
         char now[32];
-        utc_now(now);
+        csf_store_utc_now(now);
         pgargs a = {0};
         a_i64(&a, session_id);
         a_txt(&a, kind);
@@ -1725,7 +1648,7 @@ static csf_status pg_create_study(csf_store *b, const char *name, const char *de
 {
     pg_store *p = pg(b);
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     pgargs a = {0};
     a_txt(&a, name);
     a_txt(&a, design_json ? design_json : "{}");
@@ -1764,7 +1687,7 @@ static csf_status pg_add_participant(csf_store *b, int64_t study_id, const char 
 {
     pg_store *p = pg(b);
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     pgargs a = {0};
     a_i64(&a, study_id);
     a_txt(&a, code);
@@ -1903,7 +1826,7 @@ static csf_status link_named_once(pg_store *p, int64_t session_id, const char *s
     };
     const char *what = "linking a session to a participant";
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
     for (size_t i = 0; cs == CSF_OK && i < sizeof sql / sizeof sql[0]; i++) {
         pgargs a = {0};

@@ -20,6 +20,7 @@
 
 #include "results/store_backend.h"
 #include "results/store_internal.h"
+#include "results/store_rows.h"
 
 #ifndef CSF_VERSION
 #define CSF_VERSION "unknown"
@@ -235,21 +236,6 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
 };
 
 /* ---- helpers ----------------------------------------------------------------------------- */
-
-static void utc_now(char out[32])
-{
-    time_t t = time(NULL);
-    struct tm tm;
-    gmtime_r(&t, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
-}
-
-static double unix_now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void copy_str(char *dst, size_t cap, const char *src)
 {
@@ -938,7 +924,7 @@ static csf_status upsert_named(sq_store *s, const char *table, const char *name,
     sqlite3_finalize(st);
     if (rc != SQLITE_DONE) return fail(s, err, rc, what);
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     if (!strcmp(table, "displays")) {
         rc = prepare(s, "INSERT INTO displays (name, profile_id, created_utc) VALUES (?,?,?)", &st);
         if (rc != SQLITE_OK) return fail(s, err, rc, what);
@@ -976,7 +962,7 @@ static csf_status sq_upsert_display(csf_store *base, const char *name, const cha
                     " WHERE display_id = ? AND profile_id = ?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "recording a display profile");
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     sqlite3_bind_int64(st, 1, did);
     sqlite3_bind_text(st, 2, profile_id, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
@@ -1002,7 +988,7 @@ static csf_status link_profile(sq_store *s, const char *display, const char *pro
         "UPDATE displays SET profile_id = ?2 WHERE name = ?1 AND profile_id IS NULL",
     };
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     for (size_t i = 0; i < sizeof sql / sizeof sql[0]; i++) {
         sqlite3_stmt *st = NULL;
         int rc = prepare(s, sql[i], &st);
@@ -1039,7 +1025,7 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
     }
     if (cs == CSF_OK) {
         char now[32];
-        utc_now(now);
+        csf_store_utc_now(now);
         sqlite3_bind_text(st, 1, kind, -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 2, observer ? observer : "", -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 3, display ? display : "", -1, SQLITE_TRANSIENT);
@@ -1071,31 +1057,30 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
     return cs;
 }
 
-#define SESSION_COLS                                                                         \
-    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
-    " s.tool_version, s.created_utc,"                                                        \
-    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid"        \
-    " FROM sessions s"
+#define SESSION_COLS CSF_STORE_SESSION_SELECT
+
+/* The shared row mapping (results/store_rows.h) reads a statement's current row through these. */
+static int cols_is_null(const csf_store_cols *c, int col)
+{
+    return sqlite3_column_type(c->res, col) == SQLITE_NULL;
+}
+static double cols_dbl(const csf_store_cols *c, int col) { return col_real(c->res, col); }
+static int64_t cols_i64(const csf_store_cols *c, int col) { return sqlite3_column_int64(c->res, col); }
+static const char *cols_txt(const csf_store_cols *c, int col)
+{
+    return (const char *)sqlite3_column_text(c->res, col);
+}
+
+static csf_store_cols cols(sqlite3_stmt *st)
+{
+    return (csf_store_cols){.res = st, .is_null = cols_is_null, .dbl = cols_dbl, .i64 = cols_i64,
+                            .txt = cols_txt};
+}
 
 static int read_session_row(sqlite3_stmt *st, csf_session_info *o)
 {
-    memset(o, 0, sizeof *o);
-    o->id = sqlite3_column_int64(st, 0);
-    col_text(st, 1, o->kind, sizeof o->kind);
-    col_text(st, 2, o->state, sizeof o->state);
-    col_text(st, 3, o->observer, sizeof o->observer);
-    col_text(st, 4, o->display, sizeof o->display);
-    const unsigned char *js = sqlite3_column_text(st, 5);
-    o->settings_json = strdup(js ? (const char *)js : "{}");
-    o->seed = (uint64_t)sqlite3_column_int64(st, 6);
-    col_text(st, 7, o->tool_version, sizeof o->tool_version);
-    col_text(st, 8, o->created_utc, sizeof o->created_utc);
-    o->n_trials = sqlite3_column_int(st, 9);
-    o->n_readings = sqlite3_column_int(st, 10);
-    col_text(st, 11, o->profile_id, sizeof o->profile_id);
-    col_text(st, 12, o->uuid, sizeof o->uuid);
-    return o->settings_json ? 0 : -1;
+    csf_store_cols c = cols(st);
+    return csf_store_row_session(&c, o);
 }
 
 static csf_status sq_get_session(csf_store *base, int64_t id, csf_session_info *out, csf_error *err)
@@ -1187,7 +1172,7 @@ static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err)
     host[sizeof host - 1] = '\0';
     for (char *c = host; *c; c++)
         if (*c == ' ') *c = '_';
-    utc_now(now);
+    csf_store_utc_now(now);
     memset(rec, ' ', sizeof rec);
     int n = snprintf(rec, sizeof rec, "station=%s pid=%ld since=%s\n", host, (long)getpid(), now);
     if (n > 0 && n < (int)sizeof rec) rec[n] = ' ';
@@ -1231,7 +1216,7 @@ static csf_status sq_set_session_state(csf_store *base, int64_t id, const char *
     int rc = prepare(s, "UPDATE sessions SET state = ?, updated_utc = ? WHERE id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "changing a session's state");
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     sqlite3_bind_text(st, 1, state, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 2, now, -1, SQLITE_TRANSIENT);
     sqlite3_bind_int64(st, 3, id);
@@ -1259,20 +1244,6 @@ static csf_status sq_list_sessions(csf_store *base, csf_session_info **out, size
     return query_rows(s, &q, 0, (void **)out, n, err);
 }
 
-/* Unix seconds to ISO 8601; 0 with "" for a value that is no time of this era (a damaged row:
- * converting an out-of-range double to time_t is undefined). */
-static int format_unix(double t, char out[32])
-{
-    out[0] = '\0';
-    /* 1970 to the end of year 9999, the range ISO 8601's four-digit year can write. */
-    if (!(t >= 0.0 && t < 253402300800.0)) return 0;
-    time_t tt = (time_t)floor(t);
-    struct tm tm;
-    gmtime_r(&tt, &tm);
-    strftime(out, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    return 1;
-}
-
 static csf_status sq_session_times(csf_store *base, int64_t id, char created_utc[32],
                                    char updated_utc[32], csf_error *err)
 {
@@ -1298,7 +1269,7 @@ static csf_status sq_session_times(csf_store *base, int64_t id, char created_utc
     for (int c = 2; c <= 3; c++) {
         double t = col_real(st, c);
         char u[32];
-        if (format_unix(t, u)) {
+        if (csf_store_format_unix(t, u)) {
             if (strcmp(u, updated) > 0) copy_str(updated, sizeof updated, u);
         }
     }
@@ -1330,7 +1301,7 @@ static csf_status sq_add_reading(csf_store *base, const csf_reading *r, csf_erro
     }
     bind_real(st, 9, isnan(r->t_s) ? 0.0 : r->t_s);
     sqlite3_bind_text(st, 10, r->status, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_double(st, 11, unix_now_s());
+    sqlite3_bind_double(st, 11, csf_store_unix_now_s());
     int rc = step(s, st);
     sqlite3_reset(st);
     if (rc == SQLITE_DONE) return CSF_OK;
@@ -1343,18 +1314,8 @@ static csf_status sq_add_reading(csf_store *base, const csf_reading *r, csf_erro
 
 static int reading_row(sqlite3_stmt *st, void *elem, int64_t session_id)
 {
-    csf_reading *r = elem;
-    r->session_id = session_id;
-    r->seq = sqlite3_column_int(st, 0);
-    col_text(st, 1, r->channel, sizeof r->channel);
-    r->drive01 = col_real(st, 2);
-    r->lum_cdm2 = col_real(st, 3);
-    r->has_xyz = sqlite3_column_type(st, 4) != SQLITE_NULL;
-    r->X = col_real(st, 4);
-    r->Y = col_real(st, 5);
-    r->Z = col_real(st, 6);
-    r->t_s = col_real(st, 7);
-    col_text(st, 8, r->status, sizeof r->status);
+    csf_store_cols c = cols(st);
+    csf_store_row_reading(&c, session_id, elem);
     return 0;
 }
 
@@ -1363,8 +1324,7 @@ static csf_status sq_get_readings(csf_store *base, int64_t session_id, csf_readi
 {
     sq_store *s = sq(base);
     static const row_query q = {
-        .sql = "SELECT seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status FROM readings"
-        " WHERE session_id = ? ORDER BY seq",
+        .sql = "SELECT " CSF_STORE_READING_COLS " FROM readings WHERE session_id = ? ORDER BY seq",
         .binds_session = 1, .elem_size = sizeof(csf_reading), .row = reading_row,
         .what = "reading photometer readings", .oom_what = "reading readings"};
     return query_rows(s, &q, session_id, (void **)out, n, err);
@@ -1413,7 +1373,7 @@ static int insert_trial(sq_store *s, const csf_trial *t)
     bind_real(st, i++, t->click_y_deg);
     sqlite3_bind_int(st, i++, t->valid != 0);
     sqlite3_bind_text(st, i++, t->flags, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_double(st, i++, unix_now_s());
+    sqlite3_bind_double(st, i++, csf_store_unix_now_s());
     sqlite3_bind_int(st, i++, t->n_alternatives);
     int rc = step(s, st);
     sqlite3_reset(st);
@@ -1478,34 +1438,8 @@ static csf_status sq_add_trial_frames(csf_store *base, const csf_trial *t, const
 
 static int trial_row(sqlite3_stmt *st, void *elem, int64_t session_id)
 {
-    csf_trial *t = elem;
-    int c = 0;
-    t->session_id = session_id;
-    t->seq = sqlite3_column_int(st, c++);
-    col_text(st, c++, t->method, sizeof t->method);
-    t->freq_cpd = col_real(st, c++);
-    t->ecc_deg = col_real(st, c++);
-    t->polar_deg = col_real(st, c++);
-    t->orientation_deg = col_real(st, c++);
-    t->sigma_deg = col_real(st, c++);
-    t->velocity_dps = col_real(st, c++);
-    t->mean_lum_cdm2 = col_real(st, c++);
-    t->is_catch = sqlite3_column_int(st, c++);
-    t->is_practice = sqlite3_column_int(st, c++);
-    t->contrast_requested = col_real(st, c++);
-    t->contrast_shown_mean = col_real(st, c++);
-    t->contrast_shown_max = col_real(st, c++);
-    t->frames_planned = sqlite3_column_int(st, c++);
-    t->frames_shown = sqlite3_column_int(st, c++);
-    t->frames_missed = sqlite3_column_int(st, c++);
-    t->signal_interval = sqlite3_column_int(st, c++);
-    t->response = sqlite3_column_int(st, c++);
-    t->rt_s = col_real(st, c++);
-    t->click_x_deg = col_real(st, c++);
-    t->click_y_deg = col_real(st, c++);
-    t->valid = sqlite3_column_int(st, c++);
-    col_text(st, c++, t->flags, sizeof t->flags);
-    t->n_alternatives = sqlite3_column_int(st, c++);
+    csf_store_cols c = cols(st);
+    csf_store_row_trial(&c, session_id, elem);
     return 0;
 }
 
@@ -1514,11 +1448,7 @@ static csf_status sq_get_trials(csf_store *base, int64_t session_id, csf_trial *
 {
     sq_store *s = sq(base);
     static const row_query q = {
-        .sql = "SELECT seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg,"
-        " velocity_dps, mean_lum_cdm2, is_catch, is_practice, contrast_requested,"
-        " contrast_shown_mean, contrast_shown_max, frames_planned, frames_shown,"
-        " frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-        " valid, flags, n_alternatives FROM trials WHERE session_id = ? ORDER BY seq",
+        .sql = "SELECT " CSF_STORE_TRIAL_COLS " FROM trials WHERE session_id = ? ORDER BY seq",
         .binds_session = 1, .elem_size = sizeof(csf_trial), .row = trial_row,
         .what = "reading trials", .oom_what = "reading trials"};
     return query_rows(s, &q, session_id, (void **)out, n, err);
@@ -1625,14 +1555,8 @@ static csf_status sq_put_thresholds(csf_store *base, int64_t session_id, const c
 static int threshold_row(sqlite3_stmt *st, void *elem, int64_t session_id)
 {
     (void)session_id;
-    csf_threshold_row *r = elem;
-    r->freq_cpd = col_real(st, 0);
-    r->ecc_deg = col_real(st, 1);
-    r->velocity_dps = col_real(st, 2);
-    r->lum_cdm2 = col_real(st, 3);
-    r->threshold = col_real(st, 4);
-    r->stderr_log10 = col_real(st, 5);
-    r->n_trials = sqlite3_column_int(st, 6);
+    csf_store_cols c = cols(st);
+    csf_store_row_threshold(&c, elem);
     return 0;
 }
 
@@ -1641,8 +1565,7 @@ static csf_status sq_get_thresholds(csf_store *base, int64_t session_id, csf_thr
 {
     sq_store *s = sq(base);
     static const row_query q = {
-        .sql = "SELECT freq_cpd, ecc_deg, velocity_dps, lum_cdm2, threshold_michelson, stderr_log10,"
-        " n_trials FROM thresholds WHERE session_id = ?"
+        .sql = "SELECT " CSF_STORE_THRESHOLD_COLS " FROM thresholds WHERE session_id = ?"
         " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
         .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
         .what = "reading thresholds", .oom_what = "reading thresholds"};
@@ -1680,7 +1603,7 @@ static int record_profile(sq_store *s, int64_t session_id, const void *blob, siz
     profile_key(text, len, "display", display, sizeof display);
     if (!id[0] || !display[0]) return SQLITE_OK;
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "INSERT INTO displays (name, profile_id, created_utc) SELECT ?, ?, ?"
                         " WHERE NOT EXISTS (SELECT 1 FROM displays WHERE name = ?)", &st);
@@ -1758,7 +1681,7 @@ static csf_status sq_add_artifact(csf_store *base, int64_t session_id, const cha
                         " VALUES (?,?,?,?,?,?)", &st);
     if (rc == SQLITE_OK && !merged) {
         char now[32];
-        utc_now(now);
+        csf_store_utc_now(now);
         sqlite3_bind_int64(st, 1, session_id);
         sqlite3_bind_text(st, 2, kind, -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 3, path ? path : "", -1, SQLITE_TRANSIENT);
@@ -1851,7 +1774,7 @@ static csf_status sq_create_study(csf_store *base, const char *name, const char 
     int rc = prepare(s, "INSERT INTO studies (name, design_json, created_utc) VALUES (?,?,?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "creating a study");
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     sqlite3_bind_text(st, 1, name, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 2, design_json ? design_json : "{}", -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
@@ -1893,7 +1816,7 @@ static csf_status sq_add_participant(csf_store *base, int64_t study_id, const ch
     int rc = prepare(s, "INSERT INTO participants (study_id, code, created_utc) VALUES (?,?,?)", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "adding a participant");
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     sqlite3_bind_int64(st, 1, study_id);
     sqlite3_bind_text(st, 2, code, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 3, now, -1, SQLITE_TRANSIENT);
@@ -2026,7 +1949,7 @@ static csf_status sq_link_named(csf_store *base, int64_t session_id, const char 
     int rc = exec_s(s, "BEGIN IMMEDIATE");
     if (rc != SQLITE_OK) return fail(s, err, rc, what);
     char now[32];
-    utc_now(now);
+    csf_store_utc_now(now);
     for (size_t i = 0; rc == SQLITE_OK && i < sizeof sql / sizeof sql[0]; i++) {
         sqlite3_stmt *st = NULL;
         rc = prepare(s, sql[i], &st);

@@ -104,6 +104,19 @@ static inline long long test_query_int(csf_store *s, const char *location, const
     return v;
 }
 
+/* Opens the store at loc or ends this (forked) process with status 3, saying why: a station's
+ * open in the multi-process tests. */
+static inline csf_store *test_open_or_exit(const char *loc, const char *who)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    if (csf_store_open(loc, &s, &err) != CSF_OK) {
+        fprintf(stderr, "%s: %s\n", who, err.msg);
+        _exit(3);
+    }
+    return s;
+}
+
 /* A trial whose every field depends on (seed, seq), so a wrong column shows up as a mismatch. */
 static inline csf_trial make_trial(int64_t session_id, int seq, uint64_t seed)
 {

@@ -19,17 +19,6 @@
 
 static char loc[1024];
 
-static csf_store *open_or_die(const char *who)
-{
-    csf_error err;
-    csf_store *s = NULL;
-    if (csf_store_open(loc, &s, &err) != CSF_OK) {
-        fprintf(stderr, "%s: %s\n", who, err.msg);
-        _exit(3);
-    }
-    return s;
-}
-
 static double now_s(void)
 {
     struct timespec ts;
@@ -46,7 +35,7 @@ static void test_holder_named(void)
     if (a == 0) {
         close(ready[0]);
         close(hold[1]);
-        csf_store *s = open_or_die("station A");
+        csf_store *s = test_open_or_exit(loc, "station A");
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "held", "lcd", NULL, 5, &sid, &err) != CSF_OK) _exit(4);
@@ -63,7 +52,7 @@ static void test_holder_named(void)
     CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
     close(ready[0]);
 
-    csf_store *b = open_or_die("station B");
+    csf_store *b = test_open_or_exit(loc, "station B");
     csf_error err;
     CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station");
@@ -105,7 +94,7 @@ static void test_holder_named(void)
  * refused; each keeps what it got until told to close. */
 static void test_resume_race(void)
 {
-    csf_store *s = open_or_die("setup");
+    csf_store *s = test_open_or_exit(loc, "setup");
     csf_error err;
     int64_t sid = 0;
     CHECK_INT_EQ(csf_store_begin_session(s, "observer", "raced", "lcd", NULL, 6, &sid, &err), CSF_OK);
@@ -122,7 +111,7 @@ static void test_resume_race(void)
             close(go[1]);
             close(done[1]);
             close(results[0]);
-            csf_store *st = open_or_die("racer");
+            csf_store *st = test_open_or_exit(loc, "racer");
             char c;
             if (read(go[0], &c, 1) < 0) _exit(9);
             csf_error e;

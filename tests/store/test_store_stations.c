@@ -26,17 +26,6 @@
 #define STATIONS 6
 #define TRIALS 60
 
-static csf_store *open_or_die(const char *loc, const char *who)
-{
-    csf_error err;
-    csf_store *s = NULL;
-    if (csf_store_open(loc, &s, &err) != CSF_OK) {
-        fprintf(stderr, "%s: %s\n", who, err.msg);
-        _exit(3);
-    }
-    return s;
-}
-
 /* Trials from..to-1 of session sid, each with its frame intervals, seed-determined. */
 static int write_trials(csf_store *s, int64_t sid, int from, int to, uint64_t seed, int pause_us)
 {
@@ -58,7 +47,7 @@ static int station(const char *loc, int w, int go_fd)
 {
     char c;
     if (read(go_fd, &c, 1) < 0) return 9;
-    csf_store *s = open_or_die(loc, "station");
+    csf_store *s = test_open_or_exit(loc, "station");
     csf_error err;
     int64_t study = 0, part = 0, sid = 0;
     if (csf_store_find_study(s, "pooled", &study, &err) != CSF_OK &&
@@ -123,7 +112,7 @@ static void test_many_stations(const char *loc)
         waitpid(pids[w], &status, 0);
         CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station %d status %d", w, status);
     }
-    csf_store *s = open_or_die(loc, "check");
+    csf_store *s = test_open_or_exit(loc, "check");
     csf_error err;
     csf_session_info *list = NULL;
     size_t n = 0;
@@ -152,7 +141,7 @@ static void test_claim_and_kill(const char *loc)
     pid_t a = fork();
     if (a == 0) {
         close(ready[0]);
-        csf_store *s = open_or_die(loc, "station A");
+        csf_store *s = test_open_or_exit(loc, "station A");
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "claimed", "lcd", NULL, 77, &sid, &err) != CSF_OK) _exit(4);
@@ -166,7 +155,7 @@ static void test_claim_and_kill(const char *loc)
     CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
     close(ready[0]);
 
-    csf_store *b = open_or_die(loc, "station B");
+    csf_store *b = test_open_or_exit(loc, "station B");
     csf_error err;
     CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station");
@@ -203,7 +192,7 @@ static void test_server_restart(const char *loc)
     pid_t a = fork();
     if (a == 0) {
         close(ready[0]);
-        csf_store *s = open_or_die(loc, "station");
+        csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "restart", "lcd", NULL, 91, &sid, &err) != CSF_OK) _exit(4);
@@ -224,7 +213,7 @@ static void test_server_restart(const char *loc)
     int status = 0;
     waitpid(a, &status, 0);
     CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
-    csf_store *s = open_or_die(loc, "check");
+    csf_store *s = test_open_or_exit(loc, "check");
     check_session(s, sid, 91, TRIALS);
     csf_session_info si;
     csf_error err;
@@ -262,7 +251,7 @@ static void test_server_away(const char *loc, const char *spool)
     pid_t a = fork();
     if (a == 0) {
         close(ready[0]);
-        csf_store *s = open_or_die(loc, "station");
+        csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "away", "lcd", NULL, 93, &sid, &err) != CSF_OK) _exit(4);
@@ -284,7 +273,7 @@ static void test_server_away(const char *loc, const char *spool)
     int status = 0;
     waitpid(a, &status, 0);
     CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
-    csf_store *s = open_or_die(loc, "check");
+    csf_store *s = test_open_or_exit(loc, "check");
     check_session(s, sid, 93, TRIALS);
     csf_session_info si;
     csf_error err;
@@ -306,7 +295,7 @@ static void test_spool_then_push(const char *loc, const char *spool)
         close(ready[0]);
         close(cont[1]);
         setenv("CSF_STORE_RETRY_S", "1", 1);
-        csf_store *s = open_or_die(loc, "station");
+        csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
         char c;
@@ -328,7 +317,7 @@ static void test_spool_then_push(const char *loc, const char *spool)
     waitpid(a, &status, 0);
     CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
     run_pg("start");
-    csf_store *s = open_or_die(loc, "check"), *sp = NULL;
+    csf_store *s = test_open_or_exit(loc, "check"), *sp = NULL;
     csf_error err;
     CHECK_INT_EQ(csf_store_open(spool, &sp, &err), CSF_OK);
     csf_session_info si;
@@ -365,7 +354,7 @@ static void test_crash_while_away(const char *loc)
         close(ready[0]);
         close(cont[1]);
         close(spooled[0]);
-        csf_store *s = open_or_die(loc, "station");
+        csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
         char c;
@@ -390,14 +379,14 @@ static void test_crash_while_away(const char *loc)
     int status = 0;
     waitpid(a, &status, 0);
     run_pg("start");
-    csf_store *s = open_or_die(loc, "next run"); /* sends what the spool holds */
+    csf_store *s = test_open_or_exit(loc, "next run"); /* sends what the spool holds */
     check_session(s, sid, 95, 20);
     csf_session_info si;
     csf_error err;
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
     CHECK(!strcmp(si.state, "running"));
     csf_session_info_free(&si);
-    csf_store *other = open_or_die(loc, "another station");
+    csf_store *other = test_open_or_exit(loc, "another station");
     CHECK_INT_EQ(csf_store_set_session_state(other, sid, "running", &err), CSF_OK); /* unclaimed */
     CHECK_INT_EQ(write_trials(other, sid, 20, 25, 95, 0), 0); /* the resume goes on after them */
     CHECK_INT_EQ(csf_store_set_session_state(other, sid, "finished", &err), CSF_OK);
@@ -413,7 +402,7 @@ static void test_crash_while_away(const char *loc)
 static void test_away_results(const char *loc)
 {
     setenv("CSF_STORE_RETRY_S", "2", 1);
-    csf_store *s = open_or_die(loc, "station");
+    csf_store *s = test_open_or_exit(loc, "station");
     csf_error err;
     int64_t study = 0, part = 0, sid = 0;
     CHECK_INT_EQ(csf_store_create_study(s, "away-study", "{\"d\":1}", &study, &err), CSF_OK);
@@ -435,7 +424,7 @@ static void test_away_results(const char *loc)
     csf_store_close(s); /* sends the spool */
     setenv("CSF_STORE_RETRY_S", "60", 1);
     for (int round = 0; round < 2; round++) { /* round 1: the open sends the spool again */
-        s = open_or_die(loc, "check");
+        s = test_open_or_exit(loc, "check");
         check_session(s, sid, 98, 6);
         char q[200];
         snprintf(q, sizeof q, "SELECT COUNT(*) FROM thresholds WHERE session_id = %lld", (long long)sid);
@@ -487,7 +476,7 @@ static void test_begin_drop(const char *loc)
     csf_store_fault_hook = drop_at_commit;
     hook_action = "restart";
     hook_fired = 0;
-    csf_store *s = open_or_die(loc, "station");
+    csf_store *s = test_open_or_exit(loc, "station");
     csf_error err;
     int64_t sid = 0;
     CHECK_INT_EQ(csf_store_begin_session(s, "observer", "dropped-begin", "lcd", NULL, 96, &sid, &err), CSF_OK);
@@ -500,14 +489,14 @@ static void test_begin_drop(const char *loc)
     setenv("CSF_STORE_RETRY_S", "1", 1);
     hook_action = "stop";
     hook_fired = 0;
-    s = open_or_die(loc, "station");
+    s = test_open_or_exit(loc, "station");
     CHECK_INT_EQ(csf_store_begin_session(s, "observer", "phantom", "lcd", NULL, 97, &sid, &err), CSF_E_STORE);
     CHECK(hook_fired);
     csf_store_close(s);
     csf_store_fault_hook = NULL;
     setenv("CSF_STORE_RETRY_S", "60", 1);
     run_pg("start");
-    s = open_or_die(loc, "next run");
+    s = test_open_or_exit(loc, "next run");
     CHECK_INT_EQ(count_sessions(s, loc, "phantom", NULL), 1);
     CHECK_INT_EQ(count_sessions(s, loc, "phantom", "aborted"), 1);
     csf_store_close(s);
