@@ -158,6 +158,9 @@ put fuzz_lut_date date.txt "$tmp/date.txt"
 # The store location the seeds' configuration names (fuzz_store_location: what --store echoes).
 sed -n 's/^store = //p' "$conf" 2>/dev/null | head -1 | tr -d '\n' >"$tmp/store-loc.txt"
 [ -s "$tmp/store-loc.txt" ] && put fuzz_store_location config.txt "$tmp/store-loc.txt"
+# A session claim's record as an SQLite store's STORE-claims holds it (fuzz_store_claims).
+printf 'station=%s pid=%d since=2026-11-23T10:00:00Z\n' "$(hostname)" $$ >"$tmp/claim.txt"
+put fuzz_store_claims record.txt "$tmp/claim.txt"
 sed -n 's/^observer = sim://p' "$conf" | tr -d '\n' >"$tmp/obs-conf.txt"
 put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
 printf 'smax=150' >"$tmp/obs-fade.txt"
