@@ -5,6 +5,7 @@
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -301,7 +302,20 @@ static double median_of(const double *v, size_t n)
     return m;
 }
 
-/* Draws text from (x, y) in lines no wider than width_pt, breaking after spaces and commas
+/* Whether a line may end after text[i - 1]: after a space, comma or semicolon; after a hyphen,
+ * underscore or slash joining two letters or digits (so "lcd-20261123-e0315651", a profile id,
+ * breaks at its parts, while "-0.5" keeps its sign); before an opening parenthesis. */
+static int break_after(const char *text, size_t i, size_t len)
+{
+    char c = text[i - 1];
+    if (c == ' ' || c == ',' || c == ';') return 1;
+    if (i < len && text[i] == '(' && i >= 1 && c != '(') return 1;
+    if ((c == '-' || c == '_' || c == '/') && i >= 2 && i < len)
+        return isalnum((unsigned char)text[i - 2]) && isalnum((unsigned char)text[i]);
+    return 0;
+}
+
+/* Draws text from (x, y) in lines no wider than width_pt, breaking where break_after allows
  * (inside a word only when the word alone is wider than a line); draw = 0 only measures.
  * Returns the baseline of the line after the last one. */
 static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, double size, int bold,
@@ -316,7 +330,8 @@ static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, dou
     size_t start = 0;
     while (start < len) {
         /* Longest run from start that fits, ending at a break point if there is one. */
-        size_t end = start, last_break = 0, last_fit = start;
+        size_t end = start, last_break = 0, last_space = 0, last_fit = start;
+        double space_w = 0;
         while (end < len) {
             size_t next = end + 1;
             while (next < len && ((unsigned char)text[next] & 0xC0) == 0x80) next++;
@@ -327,8 +342,13 @@ static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, dou
             if (e.x_advance > width_pt && end > start) break;
             end = next;
             last_fit = end;
-            if (text[end - 1] == ' ' || text[end - 1] == ',') last_break = end;
+            if (break_after(text, end, len)) {
+                last_break = end;
+                if (text[end - 1] == ' ') last_space = end, space_w = e.x_advance;
+            }
         }
+        /* between words rather than inside a hyphenated one, unless that leaves the line short */
+        if (last_space > start && space_w >= 0.6 * width_pt) last_break = last_space;
         size_t stop = end >= len ? len : last_break > start ? last_break : last_fit;
         memcpy(buf, text + start, stop - start);
         buf[stop - start] = '\0';
@@ -606,11 +626,34 @@ static double summary_height(const report_data *d)
  * with half a page blank helps nobody); else it gets its own page. */
 #define FRAMES_INLINE_MIN_PT 150.0
 
+/* The channels of a display session, in one order with one colour each, for both the readings
+ * table and the plot's legend, so that the two name and count the same readings. */
+static const struct {
+    const char *name;
+    double rgb[3];
+    int curve; /* profile curve drawn for it: -1 none, -2 grey, else CSF_CH_R/G/B */
+} disp_chan[] = {{"dark", {0, 0, 0}, -1},           {"white", {0.55, 0.55, 0.55}, -2},
+                 {"grey", {0.25, 0.25, 0.25}, -2},   {"r", {0.85, 0.1, 0.1}, CSF_CH_R},
+                 {"g", {0.1, 0.6, 0.1}, CSF_CH_G},   {"b", {0.1, 0.2, 0.85}, CSF_CH_B}};
+#define N_DISP_CHAN (sizeof disp_chan / sizeof disp_chan[0])
+
+/* How many readings a channel has, and how many of them are not "ok". */
+static int channel_count(const report_data *d, const char *chan, int *not_ok)
+{
+    int n = 0, bad = 0;
+    for (size_t i = 0; i < d->n_readings; i++) {
+        if (strcmp(d->readings[i].channel, chan)) continue;
+        n++;
+        bad += strcmp(d->readings[i].status, "ok") != 0;
+    }
+    *not_ok = bad;
+    return n;
+}
+
 /* Display sessions: per channel, how many readings, how many failed, and the luminance at the
  * lowest and highest drive measured; what a printed summary of a calibration should show. */
 static void draw_readings_table(cairo_t *cr, const report_data *d, double y)
 {
-    static const char *const chans[] = {"dark", "white", "grey", "r", "g", "b"};
     static const char *const head[] = {"channel", "readings", "not ok", "lowest drive",
                                        "cd/m\xc2\xb2 there", "highest drive", "cd/m\xc2\xb2 there"};
     static const double col_x[] = {40, 130, 210, 290, 390, 500, 600};
@@ -624,24 +667,19 @@ static void draw_readings_table(cairo_t *cr, const report_data *d, double y)
     y += 20;
     cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
     for (int c = 0; c < 7; c++) text_at(cr, col_x[c], y, 9, 1, 0, head[c]);
-    for (size_t k = 0; k < sizeof chans / sizeof chans[0]; k++) {
-        int n = 0, bad = 0;
+    for (size_t k = 0; k < N_DISP_CHAN; k++) {
+        int bad, n = channel_count(d, disp_chan[k].name, &bad);
         double lo_v = INFINITY, hi_v = -INFINITY, lo_l = NAN, hi_l = NAN;
         for (size_t i = 0; i < d->n_readings; i++) {
             const csf_reading *r = &d->readings[i];
-            if (strcmp(r->channel, chans[k])) continue;
-            n++;
-            if (strcmp(r->status, "ok")) {
-                bad++;
-                continue;
-            }
+            if (strcmp(r->channel, disp_chan[k].name) || strcmp(r->status, "ok")) continue;
             if (r->drive01 < lo_v) lo_v = r->drive01, lo_l = r->lum_cdm2;
             if (r->drive01 > hi_v) hi_v = r->drive01, hi_l = r->lum_cdm2;
         }
         if (!n) continue;
         y += 14;
         char cell[7][32];
-        snprintf(cell[0], 32, "%s", chans[k]);
+        snprintf(cell[0], 32, "%s", disp_chan[k].name);
         snprintf(cell[1], 32, "%d", n);
         snprintf(cell[2], 32, "%d", bad);
         snprintf(cell[3], 32, isfinite(lo_v) ? "%.3f" : "-", lo_v);
@@ -854,10 +892,6 @@ static void draw_csf(cairo_t *cr, const report_data *d)
 
 /* ---- display plot -------------------------------------------------------------------------- */
 
-static const char *const channels[] = {"grey", "white", "r", "g", "b"};
-static const double channel_col[][3] = {
-    {0.25, 0.25, 0.25}, {0.55, 0.55, 0.55}, {0.85, 0.1, 0.1}, {0.1, 0.6, 0.1}, {0.1, 0.2, 0.85}};
-
 /* Model luminance for a reading: the stored profile when there is one, else leave-one-out
  * linear interpolation between the neighbouring readings of the same channel (so each residual
  * says how far a reading is from what its neighbours predict). */
@@ -915,7 +949,7 @@ static void draw_display(cairo_t *cr, const report_data *d)
     title(cr, "Display luminance vs drive level, per channel");
     axes a = {80, 55, 520, 280, 0, 1, floor(log10(lmin)), ceil(log10(lmax * 1.05)), 0, 1};
     if (a.y1 <= a.y0) a.y1 = a.y0 + 1;
-    draw_axes(cr, &a, "drive level (0..1)", "luminance (cd/m2)");
+    draw_axes(cr, &a, "drive level (0..1)", "luminance (cd/m\xc2\xb2)");
     double *res = calloc(d->n_readings, sizeof *res);
     if (!res) return;
     double rmax = 0.5;
@@ -929,19 +963,19 @@ static void draw_display(cairo_t *cr, const report_data *d)
     axes b = {80, 400, 520, 130, 0, 1, -rmax * 1.15, rmax * 1.15, 0, 0};
     draw_axes(cr, &b, "drive level (0..1)", "residual (%)");
     double ly = a.y + 10;
-    for (size_t c = 0; c < sizeof channels / sizeof channels[0]; c++) {
-        int cnt = 0;
+    for (size_t c = 0; c < N_DISP_CHAN; c++) {
+        int bad, cnt = channel_count(d, disp_chan[c].name, &bad);
         /* Profile model curve for this channel. */
-        if (d->profile) {
-            int ch = c < 2 ? -1 : (int)c - 2;
-            if (ch < 0 || csf_profile_has_channels(d->profile)) {
+        int ch = disp_chan[c].curve;
+        if (d->profile && cnt && ch != -1) {
+            if (ch == -2 || csf_profile_has_channels(d->profile)) {
                 clip_to(cr, &a);
-                set_rgb(cr, channel_col[c]);
+                set_rgb(cr, disp_chan[c].rgb);
                 cairo_set_line_width(cr, 1.2);
                 int started = 0;
                 for (int k = 0; k <= 200; k++) {
                     double v = k / 200.0;
-                    double L = ch < 0 ? csf_profile_grey_lum(d->profile, v)
+                    double L = ch == -2 ? csf_profile_grey_lum(d->profile, v)
                                       : csf_profile_lum_black(d->profile) + csf_profile_channel_lum(d->profile, ch, v);
                     if (!(L > 0)) continue;
                     if (!started) cairo_move_to(cr, ax_px(&a, v), ax_py(&a, L));
@@ -954,10 +988,8 @@ static void draw_display(cairo_t *cr, const report_data *d)
         }
         for (size_t i = 0; i < d->n_readings; i++) {
             const csf_reading *r = &d->readings[i];
-            int match = !strcmp(r->channel, channels[c]) || (c == 0 && !strcmp(r->channel, "dark"));
-            if (!match) continue;
-            cnt++;
-            set_rgb(cr, channel_col[c]);
+            if (strcmp(r->channel, disp_chan[c].name)) continue;
+            set_rgb(cr, disp_chan[c].rgb);
             if (r->lum_cdm2 > 0 && isfinite(r->lum_cdm2)) {
                 clip_to(cr, &a);
                 marker(cr, ax_px(&a, r->drive01), ax_py(&a, r->lum_cdm2), (int)c, 3);
@@ -969,10 +1001,12 @@ static void draw_display(cairo_t *cr, const report_data *d)
                 cairo_restore(cr);
             }
         }
-        if (cnt) {
+        if (cnt) { /* the same name and counts as the readings table */
             char lab[64];
-            snprintf(lab, sizeof lab, "%s (%d readings)", channels[c], cnt);
-            set_rgb(cr, channel_col[c]);
+            const char *noun = cnt == 1 ? "reading" : "readings";
+            if (bad) snprintf(lab, sizeof lab, "%s (%d %s, %d not ok)", disp_chan[c].name, cnt, noun, bad);
+            else snprintf(lab, sizeof lab, "%s (%d %s)", disp_chan[c].name, cnt, noun);
+            set_rgb(cr, disp_chan[c].rgb);
             marker(cr, a.x + a.w + 20, ly - 4, (int)c, 3.5);
             cairo_set_source_rgb(cr, 0, 0, 0);
             text_at(cr, a.x + a.w + 30, ly, 10, 0, 0, lab);

@@ -700,6 +700,25 @@ static void stim_centre(const csf_presenter *p, const csf_stimulus *s, double *e
                           s->velocity_dps * s->time_s, ecc, polar);
 }
 
+/* The luminances an image stimulus really spans, as the shader draws it: each pixel at
+ * mean (1 + contrast (v - m) / max(m, 1e-3)), m the image's mean, composited over the mean by its
+ * alpha (so the mean itself is always shown around and under the image). A contrast-1 image whose
+ * pixels stay near m therefore spans far less than 0 to 2x the mean; one with a few bright pixels on
+ * a dark mean spans more. */
+static void image_lum_range(const csf_stimulus *s, double mean, double *lo, double *hi)
+{
+    const csf_image *im = s->image;
+    double m = im->mean_lum, m_div = fmax(m, 1e-3), dmin = 0, dmax = 0;
+    size_t n = (size_t)im->width * (size_t)im->height;
+    for (size_t i = 0; i < n; i++) {
+        double a = im->alpha ? im->alpha[i] : 1.0, d = a * (im->lum[i] - m) / m_div;
+        dmin = fmin(dmin, d);
+        dmax = fmax(dmax, d);
+    }
+    *lo = mean * (1 + s->contrast * dmin);
+    *hi = mean * (1 + s->contrast * dmax);
+}
+
 csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_error *err)
 {
     if (!p || !s) return csf_error_set(err, CSF_E_INVALID_ARG, "validate: NULL argument");
@@ -739,13 +758,16 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
         return csf_error_set(err, CSF_E_INVALID_ARG, "velocity %g deg/s is outside +-1000 deg/s",
                              s->velocity_dps);
     double mean = mean_lum_of(p, s);
-    double lo = s->kind == CSF_STIM_DISC ? mean * (1 + fmin(0.0, s->contrast)) : mean * (1 - s->contrast);
-    double hi = s->kind == CSF_STIM_DISC ? mean * (1 + s->contrast) : mean * (1 + s->contrast);
+    double lo = mean * (1 - s->contrast), hi = mean * (1 + s->contrast);
+    if (s->kind == CSF_STIM_DISC) lo = mean;
+    if (s->kind == CSF_STIM_IMAGE) image_lum_range(s, mean, &lo, &hi);
     if (lo < p->lum_black - 1e-9 || hi > p->lum_max + 1e-9)
         return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "luminance %.4g to %.4g cd/m2 (mean %.4g, contrast %.4g) is outside the "
+                             "luminance %.4g to %.4g cd/m2 (mean %.4g, contrast %.4g%s) is outside the "
                              "display's range %.4g to %.4g cd/m2",
-                             lo, hi, mean, s->contrast, p->lum_black, p->lum_max);
+                             lo, hi, mean, s->contrast,
+                             s->kind == CSF_STIM_IMAGE ? ", the image's own pixel range" : "",
+                             p->lum_black, p->lum_max);
 
     double ecc, polar;
     stim_centre(p, s, &ecc, &polar);

@@ -129,6 +129,39 @@ int main(void)
     s.image = NULL;
     CHECK_INT_EQ(csf_presenter_validate(p, &s, &e), CSF_E_INVALID_ARG);
 
+    /* the range check uses the image's real pixel range, not mean (1 +- contrast): a low-key image
+     * (sRGB 160..210, within about +-30 % of its mean) fits at contrast 1 ... */
+    unsigned char narrow[16 * 16];
+    for (int i = 0; i < 16 * 16; i++) narrow[i] = i % 2 ? 160 : 210;
+    png = encode(narrow, 16, 16, PNG_FORMAT_GRAY, &len);
+    csf_image *img_narrow = NULL;
+    CHECK_INT_EQ(csf_image_load_png_memory(png, len, &img_narrow, &e), CSF_OK);
+    free(png);
+    s.image = img_narrow;
+    s.contrast = 1;
+    CHECK_MSG(csf_presenter_validate(p, &s, &e) == CSF_OK, "contrast-1 low-key image refused: %s", e.msg);
+    /* ... while one white pixel in 16 on black spans mean (1 + 15 contrast): at contrast 0.2 that
+     * is 4x the mean, beyond the display's white, and the message names the limit */
+    unsigned char sparse[16 * 16];
+    for (int i = 0; i < 16 * 16; i++) sparse[i] = i % 16 ? 0 : 255;
+    png = encode(sparse, 16, 16, PNG_FORMAT_GRAY, &len);
+    csf_image *img_sparse = NULL;
+    CHECK_INT_EQ(csf_image_load_png_memory(png, len, &img_sparse, &e), CSF_OK);
+    free(png);
+    s.image = img_sparse;
+    s.contrast = 0.2;
+    CHECK_INT_EQ(csf_presenter_validate(p, &s, &e), CSF_E_INVALID_ARG);
+    char lim[32];
+    snprintf(lim, sizeof lim, "%.4g cd/m2", max);
+    CHECK_STR_CONTAINS(e.msg, lim);
+    CHECK_STR_CONTAINS(e.msg, "pixel range");
+    /* at a contrast its brightest pixel can reach it is drawn */
+    s.contrast = 0.05;
+    CHECK_MSG(csf_presenter_validate(p, &s, &e) == CSF_OK, "%s", e.msg);
+    s.image = NULL;
+    csf_image_free(img_narrow);
+    csf_image_free(img_sparse);
+
     /* text screen: dark glyphs in the middle band of the field */
     CHECK_MSG(csf_presenter_text_screen(p, "Press SPACE\nto start", &e) == CSF_OK, "%s", e.msg);
     CHECK_INT_EQ(csf_presenter_readback_levels(p, lv, &e), CSF_OK);

@@ -5,6 +5,11 @@
   fields, and each setting value is whole (not wrapped inside a word or a number list).
 - SVG: no filled dot path starts with a line from elsewhere (the stray hairline from the end of the
   previous text to each "At a glance" dot: a path with both a line-to and the arc's curve-tos).
+- Display report: the plot legend names and counts the same readings, failed ones included, as
+  the readings table and the stored readings (sessions export), in the table's unit.
+- A long display profile id (one that names two profiles after --allow-profile-change) wraps
+  inside its cells, in the summary and the settings table, between its parts (word boxes as
+  placed in the PDF, from pdftotext -bbox-layout).
 - Full disk (RLIMIT_FSIZE with SIGXFSZ ignored, which fails writes like a full disk): report -o
   (pdf, png, svg) and sessions export -o fail with the OS error, leave the previous file as it
   was and no temporary beside it.
@@ -75,6 +80,88 @@ with tempfile.TemporaryDirectory() as tmp:
     check("display calibration report" in dtext and "Photometer readings" in dtext and "grey" in dtext,
           "display report text")
     check("No frame intervals" not in dtext, "display report has no empty frame-timing page")
+
+    # --- display plot legend against the readings table and the stored readings ---
+    # One r reading failed (in a copy): the table and the legend must both count it, and name the
+    # same channels (the legend once folded the dark reading into "grey").
+    lstore = os.path.join(tmp, "legend.sqlite")
+    db = sqlite3.connect(store)
+    db.execute("VACUUM INTO ?", (lstore,))
+    db.close()
+    db = sqlite3.connect(lstore)
+    db.execute("UPDATE readings SET status = 'timeout', lum_cdm2 = NULL WHERE session_id = ? AND seq = "
+               "(SELECT MIN(seq) FROM readings WHERE session_id = ? AND channel = 'r')", (disp, disp))
+    db.commit()
+    db.close()
+    import json
+    rows = json.loads(run("sessions", "export", disp, "--format", "json", "--table", "readings",
+                          "--store", lstore).stdout)
+    rows = rows["readings"] if isinstance(rows, dict) else rows
+    stored = {}
+    for r in rows:
+        n, bad = stored.get(r["channel"], (0, 0))
+        stored[r["channel"]] = (n + 1, bad + (r["status"] != "ok"))
+    lpdf = os.path.join(tmp, "legend.pdf")
+    run("report", disp, "-o", lpdf, "--store", lstore)
+    ltext = tool("pdftotext", "-layout", lpdf, "-").stdout
+    table = {m.group(1): (int(m.group(2)), int(m.group(3))) for m in
+             re.finditer(r"^\s*(dark|white|grey|r|g|b)\s+(\d+)\s+(\d+)\s+\S+\s+\S+", ltext, re.M)}
+    legend = {m.group(1): (int(m.group(2)), int(m.group(3) or 0)) for m in
+              re.finditer(r"\b(dark|white|grey|r|g|b) \((\d+) readings?(?:, (\d+) not ok)?\)", ltext)}
+    check(stored.get("r", (0, 0))[1] == 1 and "dark" in stored, f"sample readings: {stored}")
+    check(table == stored, f"readings table {table} != stored readings {stored}")
+    check(legend == stored, f"plot legend {legend} != stored readings {stored}")
+    check("luminance (cd/m\u00b2)" in ltext, "plot axis in the table's unit (cd/m\u00b2)")
+
+    # --- a long display profile id wraps inside its cells, between its parts, never mid-part ---
+    # (the settings table broke "...-e0315651" as "...-e03156" / "51"). Each word's box as placed
+    # in the PDF (pdftotext -bbox-layout) must lie inside the cell: settings value column
+    # 40 + 92 .. 40 + (842 - 2*40 - 2*18) / 3 pt (results/plot.c draw_settings, first column),
+    # summary value 160 .. 160 + 300 pt; the lines joined back must give the id.
+    long_id = ("sim-display-lcd-20261123-e0315651 from trial 0, sim-display-oled-20261123-ab12cd34 "
+               "from trial 31 (--allow-profile-change)")
+    pstore = os.path.join(tmp, "longid.sqlite")
+    db = sqlite3.connect(store)
+    db.execute("VACUUM INTO ?", (pstore,))
+    db.close()
+    db = sqlite3.connect(pstore)
+    db.execute("UPDATE sessions SET settings_json = json_set(settings_json, '$.profile_id', ?), profile_id = ? "
+               "WHERE id = ?", (long_id, long_id[:127], obs))
+    db.commit()
+    db.close()
+    ppdf = os.path.join(tmp, "longid.pdf")
+    run("report", obs, "-o", ppdf, "--store", pstore)
+    import html
+    words = [(float(a), float(b), float(c), html.unescape(t)) for a, b, c, t in re.findall(
+        r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="[\d.]+">([^<]*)</word>',
+        tool("pdftotext", "-f", "1", "-l", "1", "-bbox-layout", ppdf, "-").stdout)]
+
+    def cell_lines(label, x_lo, x_hi, want):
+        """The lines of the value right of the word `label`, and whether every word fits."""
+        key = [w for w in words if w[3] == label and w[0] < x_lo]
+        if not key:
+            return None, False
+        y0 = key[-1][1]
+        mine = [w for w in words if x_lo - 1 <= w[0] < x_hi and y0 - 2 <= w[1] < y0 + 80]
+        lines = {}
+        for w in sorted(mine, key=lambda w: (round(w[1]), w[0])):
+            lines.setdefault(round(w[1]), []).append(w)
+        text, fits = "", True
+        for y in sorted(lines):
+            line = " ".join(w[3] for w in lines[y])
+            fits &= all(w[2] <= x_hi + 0.5 for w in lines[y])
+            text = line if not text else text + ("" if text[-1] in "-_/" else " ") + line
+            if len(text) >= len(want):
+                break
+        return text, fits
+
+    sx = 40 + 92
+    got, fits = cell_lines("profile_id", sx, 40 + (842 - 80 - 36) / 3, long_id)
+    check(fits, "settings: profile id wider than its cell")
+    check(got == long_id, f"settings: profile id broken inside a part: {got!r}")
+    got, fits = cell_lines("profile", 160, 460, long_id)
+    check(fits, "summary: display profile wider than its cell")
+    check(got == long_id, f"summary: display profile broken inside a part: {got!r}")
 
     # --- hairlines: in the SVG, every filled path that draws an arc starts at the arc ---
     svg = os.path.join(tmp, "r.svg")
