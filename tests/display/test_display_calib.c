@@ -5,8 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/display_calib.h"
-#include "devices/display_model.h"
+#include "calib_truth.h"
 #include "tests/check.h"
 
 typedef struct {
@@ -22,70 +21,12 @@ static int log_patch(void *user, const double rgb01[3], uint64_t reading_index)
     return ++l->calls == l->abort_at;
 }
 
-/* max relative error above 10 % of peak: grey, and each channel against its own peak */
-static void errors(const csf_display_profile *p, const char *display_spec, double out[4])
-{
-    csf_display_model *m = NULL;
-    csf_error err;
-    if (csf_display_model_create(display_spec, &m, &err)) {
-        CHECK_MSG(0, "%s", err.msg);
-        return;
-    }
-    double black = csf_display_model_lum(m, 0, 0, 0);
-    for (int ch = 0; ch < 4; ch++) {
-        double peak = ch == 3 ? csf_display_model_lum(m, 1, 1, 1)
-                              : csf_display_model_lum(m, ch == 0, ch == 1, ch == 2) - black;
-        double worst = 0;
-        for (int i = 0; i <= 1020; i++) {
-            double v = i / 1020.0;
-            double t, got;
-            if (ch == 3) {
-                t = csf_display_model_lum(m, v, v, v);
-                got = csf_profile_grey_lum(p, v);
-            } else {
-                t = csf_display_model_lum(m, ch == 0 ? v : 0, ch == 1 ? v : 0, ch == 2 ? v : 0) - black;
-                got = csf_profile_channel_lum(p, ch, v);
-            }
-            if (t < 0.1 * peak) continue;
-            double e = fabs(got / t - 1);
-            if (e > worst) worst = e;
-        }
-        out[ch] = worst;
-    }
-    csf_display_model_free(m);
-}
-
 static int budget_override = 0;
-
-/* Two profiles with the same model: every knot of every curve and the black level, bit for bit. */
-static int same_model(const csf_display_profile *a, const csf_display_profile *b)
-{
-    if (csf_profile_lum_black(a) != csf_profile_lum_black(b)) return 0;
-    for (int c = 0; c < CSF_CH_COUNT; c++) {
-        const double *va, *la, *vb, *lb;
-        size_t na = csf_profile_knots(a, c, &va, &la), nb = csf_profile_knots(b, c, &vb, &lb);
-        if (na != nb) return 0;
-        for (size_t i = 0; i < na; i++)
-            if (va[i] != vb[i] || la[i] != lb[i]) return 0;
-    }
-    return 1;
-}
 
 static csf_display_profile *calibrate(const char *spec, uint64_t seed, csf_store *store, int64_t *sid,
                                       csf_display_calib_result *res, csf_status *st_out, csf_error *err)
 {
-    csf_photometer *ph = NULL;
-    csf_status st = csf_photometer_open(spec, seed, &ph, err);
-    CHECK_MSG(st == CSF_OK, "%s", err->msg);
-    if (st) return NULL;
-    csf_display_calib_opts o;
-    csf_display_calib_defaults(&o);
-    if (budget_override) o.budget = budget_override;
-    csf_display_profile *p = NULL;
-    st = csf_display_calibrate(ph, &o, store, sid, seed, &p, res, err);
-    if (st_out) *st_out = st;
-    csf_photometer_close(ph);
-    return p;
+    return calib_sim_run(spec, seed, budget_override, store, sid, res, st_out, err);
 }
 
 int main(void)
@@ -103,7 +44,7 @@ int main(void)
         CHECK_MSG(p != NULL, "%s: %s", kinds[k][0], err.msg);
         if (!p) continue;
         double e[4];
-        errors(p, kinds[k][1], e);
+        profile_errors(p, kinds[k][1], e);
         fprintf(stderr, "%s: sweep %d, all %d, grey %.4f %% r %.4f %% g %.4f %% b %.4f %%, add %.2f %%\n",
                 kinds[k][1], res.n_sweep, res.n_readings, 100 * e[3], 100 * e[0], 100 * e[1], 100 * e[2],
                 100 * res.additivity_error);
@@ -132,7 +73,7 @@ int main(void)
             CHECK_MSG(p != NULL, "%s: %s", nf[k][0], err.msg);
             if (!p) continue;
             double e[4];
-            errors(p, nf[k][1], e);
+            profile_errors(p, nf[k][1], e);
             CHECK_MSG(e[3] <= 0.0006, "noise-free %s grey error %g", nf[k][1], e[3]);
             for (int c = 0; c < 3; c++) CHECK_MSG(e[c] <= 0.0015, "noise-free %s channel %d error %g", nf[k][1], c, e[c]);
             CHECK_INT_EQ(res.n_profile, res.n_readings - res.n_warmup);
@@ -158,7 +99,7 @@ int main(void)
         csf_display_profile *p = calibrate("sim:display=crt", 7, NULL, NULL, &res, NULL, &err);
         if (p) {
             double e[4];
-            errors(p, "crt", e);
+            profile_errors(p, "crt", e);
             for (int c = 0; c < 3; c++) {
                 CHECK_INT_EQ(res.channel_via_grey[c], 1);
                 CHECK_MSG(e[c] <= 0.0025, "crt channel %d error %g", c, e[c]);
@@ -366,7 +307,7 @@ int main(void)
                 if (fabs(r[i].drive01 * 255 - floor(r[i].drive01 * 255 + 0.5)) > 1e-9) off++;
             CHECK_INT_EQ(off, 0);
             double e[4];
-            errors(p, "lcd", e);
+            profile_errors(p, "lcd", e);
             CHECK_MSG(e[3] <= 0.0025, "8-bit lcd grey error %g", e[3]);
             csf_profile_free(p);
         } else {
@@ -383,7 +324,7 @@ int main(void)
         csf_display_profile *p = calibrate("sim:display=crt,noise=0.002", 5, NULL, NULL, &res, NULL, &err);
         if (p) {
             double e[4];
-            errors(p, "crt", e);
+            profile_errors(p, "crt", e);
             /* 0.2 % per reading: levels are read up to 4 times and averaged, so the curve is
              * better than two single readings' noise; the noise estimate sees the instrument */
             CHECK_MSG(e[3] <= 0.0035, "noisy crt grey error %g", e[3]);
@@ -452,10 +393,10 @@ int main(void)
         CHECK(sid2 == sid);
         if (p) {
             double e[4];
-            errors(p, "lcd", e);
+            profile_errors(p, "lcd", e);
             CHECK_MSG(e[3] <= 0.0025, "resumed grey error %g", e[3]);
             CHECK(res.n_sweep <= 48);
-            CHECK_MSG(ref && same_model(p, ref), "resumed after %s: not the unfaulted session's profile",
+            CHECK_MSG(ref && profile_same_model(p, ref), "resumed after %s: not the unfaulted session's profile",
                       faults[k].fault);
             CHECK_INT_EQ(res.n_readings, ref_res.n_readings);
             csf_profile_free(p);

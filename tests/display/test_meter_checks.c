@@ -8,71 +8,15 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/display_calib.h"
 #include "calib/meter_check.h"
-#include "devices/display_model.h"
+#include "calib_truth.h"
 #include "tests/check.h"
 
-/* Largest relative error above 10 % of peak per curve (r, g, b, grey) against the simulated truth. */
-static void errors(const csf_display_profile *p, const char *display_spec, double out[4])
-{
-    csf_display_model *m = NULL;
-    csf_error err;
-    if (csf_display_model_create(display_spec, &m, &err)) {
-        CHECK_MSG(0, "%s", err.msg);
-        return;
-    }
-    double black = csf_display_model_lum(m, 0, 0, 0);
-    for (int ch = 0; ch < 4; ch++) {
-        double peak = ch == 3 ? csf_display_model_lum(m, 1, 1, 1)
-                              : csf_display_model_lum(m, ch == 0, ch == 1, ch == 2) - black;
-        double worst = 0;
-        for (int i = 0; i <= 1020; i++) {
-            double v = i / 1020.0;
-            double t, got;
-            if (ch == 3) {
-                t = csf_display_model_lum(m, v, v, v);
-                got = csf_profile_grey_lum(p, v);
-            } else {
-                t = csf_display_model_lum(m, ch == 0 ? v : 0, ch == 1 ? v : 0, ch == 2 ? v : 0) - black;
-                got = csf_profile_channel_lum(p, ch, v);
-            }
-            if (t < 0.1 * peak) continue;
-            double e = fabs(got / t - 1);
-            if (e > worst) worst = e;
-        }
-        out[ch] = worst;
-    }
-    csf_display_model_free(m);
-}
-
-static int same_model(const csf_display_profile *a, const csf_display_profile *b)
-{
-    if (csf_profile_lum_black(a) != csf_profile_lum_black(b)) return 0;
-    for (int c = 0; c < CSF_CH_COUNT; c++) {
-        const double *va, *la, *vb, *lb;
-        size_t na = csf_profile_knots(a, c, &va, &la), nb = csf_profile_knots(b, c, &vb, &lb);
-        if (na != nb) return 0;
-        for (size_t i = 0; i < na; i++)
-            if (va[i] != vb[i] || la[i] != lb[i]) return 0;
-    }
-    return 1;
-}
-
+/* Every calibration here runs on seed 21 with the default budget. */
 static csf_display_profile *calibrate(const char *spec, csf_store *store, int64_t *sid,
                                       csf_display_calib_result *res, csf_status *st_out, csf_error *err)
 {
-    csf_photometer *ph = NULL;
-    csf_status st = csf_photometer_open(spec, 21, &ph, err);
-    CHECK_MSG(st == CSF_OK, "%s", err->msg);
-    if (st) return NULL;
-    csf_display_calib_opts o;
-    csf_display_calib_defaults(&o);
-    csf_display_profile *p = NULL;
-    st = csf_display_calibrate(ph, &o, store, sid, 21, &p, res, err);
-    if (st_out) *st_out = st;
-    csf_photometer_close(ph);
-    return p;
+    return calib_sim_run(spec, 21, 0, store, sid, res, st_out, err);
 }
 
 static void unit_checks(void)
@@ -212,12 +156,12 @@ int main(void)
         p = calibrate("sim:display=lcd", store, &sid2, &res, &st, &err);
         CHECK_MSG(st == CSF_OK && p, "resume after %s: %s", spec, err.msg);
         if (p && faults[k].resume == 0) {
-            CHECK_MSG(same_model(p, ref), "resumed after %s: not the unfaulted session's profile", spec);
+            CHECK_MSG(profile_same_model(p, ref), "resumed after %s: not the unfaulted session's profile", spec);
             CHECK_INT_EQ(res.n_readings, ref_res.n_readings);
         }
         if (p && faults[k].resume == 1) {
             double e[4];
-            errors(p, "lcd", e);
+            profile_errors(p, "lcd", e);
             CHECK_MSG(e[3] <= 0.0025, "resumed after %s: grey error %g", spec, e[3]);
             for (int c = 0; c < 3; c++) CHECK_MSG(e[c] <= 0.005, "resumed after %s: channel %d error %g", spec, c, e[c]);
             CHECK_MSG(fabs(csf_profile_lum_black(p) / 0.35 - 1) < 0.02, "resumed after %s: black %g", spec,

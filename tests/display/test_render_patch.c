@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "calib/commands.h"
+#include "calib_truth.h"
 #include "devices/display_model.h"
 #include "results/display_profile.h"
 #include "results/store.h"
@@ -155,35 +156,6 @@ static void part_a(void)
     csf_display_model_free(m);
 }
 
-/* max relative error above 10 % of peak for grey and each channel (as test_display_calib) */
-static void errors(const csf_display_profile *p, const char *display_spec, double out[4])
-{
-    csf_display_model *m = NULL;
-    csf_error err;
-    CHECK_INT_EQ(csf_display_model_create(display_spec, &m, &err), CSF_OK);
-    double black = csf_display_model_lum(m, 0, 0, 0);
-    for (int ch = 0; ch < 4; ch++) {
-        double peak = ch == 3 ? csf_display_model_lum(m, 1, 1, 1)
-                              : csf_display_model_lum(m, ch == 0, ch == 1, ch == 2) - black;
-        double worst = 0;
-        for (int i = 0; i <= 1020; i++) {
-            double v = i / 1020.0, t, got;
-            if (ch == 3) {
-                t = csf_display_model_lum(m, v, v, v);
-                got = csf_profile_grey_lum(p, v);
-            } else {
-                t = csf_display_model_lum(m, ch == 0 ? v : 0, ch == 1 ? v : 0, ch == 2 ? v : 0) - black;
-                got = csf_profile_channel_lum(p, ch, v);
-            }
-            if (t < 0.1 * peak) continue;
-            double e = fabs(got / t - 1);
-            if (e > worst) worst = e;
-        }
-        out[ch] = worst;
-    }
-    csf_display_model_free(m);
-}
-
 static int run_cli(const char *mode, const char *db, const char *out)
 {
     char *argv[] = {"display", "calibrate", "--photometer", "sim:display=lcd", "--seed", "7", "--store",
@@ -208,7 +180,7 @@ static void part_bc(void)
         csf_display_profile *p = NULL;
         CHECK_MSG(csf_profile_load(out[k], &p, &err) == CSF_OK, "%s", err.msg);
         if (!p) return;
-        errors(p, "lcd", e[k]);
+        profile_errors(p, "lcd", e[k]);
         csf_profile_free(p);
         printf("%-12s max error above 10 %% of peak: grey %.3f %%, r %.3f %%, g %.3f %%, b %.3f %%\n", modes[k],
                100 * e[k][3], 100 * e[k][0], 100 * e[k][1], 100 * e[k][2]);

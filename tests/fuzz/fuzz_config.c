@@ -5,24 +5,18 @@
 #include <unistd.h>
 
 #include "calib/config.h"
+#include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char path[] = "/tmp/csfcal-fuzz-config-XXXXXX";
-    int fd = mkstemp(path);
-    if (fd < 0) return 0;
-    if (write(fd, data, size) != (ssize_t)size) {
-        close(fd);
-        unlink(path);
-        return 0;
-    }
-    close(fd);
+    char path[64];
+    if (fuzz_file_write("config", data, size, path)) return 0;
     csf_config c;
     csf_error err;
     csf_config_defaults(&c);
     csf_config_load(&c, path, &err);
-    unlink(path);
+    fuzz_file_remove(path);
     return 0;
 }

@@ -14,18 +14,9 @@
 #include "calib/display_calib.h"
 #include "devices/photometer.h"
 #include "results/store.h"
+#include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-static void remove_all(const char *path)
-{
-    char side[64];
-    unlink(path);
-    snprintf(side, sizeof side, "%s-wal", path);
-    unlink(side);
-    snprintf(side, sizeof side, "%s-shm", path);
-    unlink(side);
-}
 
 static void resume(csf_store *s, int64_t id)
 {
@@ -58,15 +49,8 @@ static void resume(csf_store *s, int64_t id)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char path[] = "/tmp/csfcal-fuzz-resume-XXXXXX";
-    int fd = mkstemp(path);
-    if (fd < 0) return 0;
-    if (write(fd, data, size) != (ssize_t)size) {
-        close(fd);
-        remove_all(path);
-        return 0;
-    }
-    close(fd);
+    char path[64];
+    if (fuzz_file_write("resume", data, size, path)) return 0;
     csf_error err;
     csf_store *s = NULL;
     if (csf_store_open(path, &s, &err) == CSF_OK) {
@@ -87,6 +71,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         csf_store_close(s);
     }
-    remove_all(path);
+    fuzz_file_remove(path);
     return 0;
 }

@@ -9,30 +9,14 @@
 #include "results/plot.h"
 #include "results/store.h"
 #include "results/store_export.h"
+#include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static void remove_all(const char *path)
-{
-    char side[64];
-    unlink(path);
-    snprintf(side, sizeof side, "%s-wal", path);
-    unlink(side);
-    snprintf(side, sizeof side, "%s-shm", path);
-    unlink(side);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char path[] = "/tmp/csfcal-fuzz-store-XXXXXX";
-    int fd = mkstemp(path);
-    if (fd < 0) return 0;
-    if (write(fd, data, size) != (ssize_t)size) {
-        close(fd);
-        remove_all(path);
-        return 0;
-    }
-    close(fd);
+    char path[64];
+    if (fuzz_file_write("store", data, size, path)) return 0;
     csf_error err;
     csf_store *s = NULL;
     if (csf_store_open(path, &s, &err) == CSF_OK) {
@@ -59,7 +43,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     csf_store_export(s, id, CSF_TABLE_THRESHOLDS, CSF_EXPORT_JSON, null_out, &err);
                 }
                 if (i == 0) {
-                    char out[64];
+                    char out[80];
                     snprintf(out, sizeof out, "%s-report.svg", path);
                     csf_report_write(s, id, out, &err);
                     unlink(out);
@@ -70,6 +54,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         csf_store_close(s);
     }
-    remove_all(path);
+    fuzz_file_remove(path);
     return 0;
 }

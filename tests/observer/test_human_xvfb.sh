@@ -17,9 +17,14 @@
 #      place 1), keypad 1 (lower left -> 3), then a click on the upper left place (-> 2, the click
 #      stored in degrees up and to the left); every trial stored with n_alternatives 4, the
 #      session ends (answers blind to the grating may leave no table).
-# $1 = csfcal executable. Skips (77) when Xvfb or xdotool is missing. Every wait has a timeout.
+#   7. the window closed as a window manager's close button does (WM_DELETE_WINDOW, sent by
+#      x_close_window) while the session waits for an answer: exit 1, the resume command, paused,
+#      the answered trial kept, no table; --resume then finishes it.
+# $1 = csfcal executable, $2 = x_close_window (optional: case 7 is skipped without it). Skips (77)
+# when Xvfb or xdotool is missing. Every wait has a timeout.
 set -u
 CSFCAL="$1"
+CLOSE_WINDOW="${2:-}"
 command -v Xvfb >/dev/null 2>&1 || { echo "SKIP: Xvfb not installed"; exit 77; }
 command -v xdotool >/dev/null 2>&1 || { echo "SKIP: xdotool not installed"; exit 77; }
 unset EGL_PLATFORM WAYLAND_DISPLAY
@@ -271,6 +276,32 @@ check "four places: the clicks stored up and to the left of fixation, about 10 d
     r = sqrt(a[2] * a[2] + b[2] * b[2]); if (!(a[2] < 0 && b[2] > 0 && r > 8 && r < 12)) exit 1; n++ } END { exit !n }' <<<"$J"
 check "four places: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
     split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
+
+# ---- 7. The window closed (WM_DELETE_WINDOW) while waiting for an answer: paused, resumable ----
+if [ -n "$CLOSE_WINDOW" ]; then
+    start close --method 2afc --trials 3 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/c.csflut" --seed 17
+    wait_window
+    wait_until 15 has_state 7 . || die "close: no session in the store"
+    xdotool key space
+    answer_2afc 7 1 key Right
+    sleep 2.5                           # fixation and both intervals: now waiting for the answer
+    "$CLOSE_WINDOW" csfcal || die "close: x_close_window could not send WM_DELETE_WINDOW"
+    finish
+    check "window closed: exit 1 (paused), rc $RC" test "$RC" -eq 1
+    check "window closed: the resume command, the trial kept" grep -q '1 trials kept in session 7 of' "$T/close.err"
+    check "window closed: the resume command" grep -q "csfcal observer calibrate --resume 7 --store $STORE --out $T/c.csflut" "$T/close.err"
+    check "window closed: says why" grep -q 'window was closed' "$T/close.err"
+    check "window closed: session paused, 1 trial kept" test "$(ntrials 7)" -eq 1 -a -n "$(state 7 | grep paused)"
+    check "window closed: no table" test ! -e "$T/c.csflut"
+    start reopen --resume 7 --screen-px ${W}x${H} --out "$T/c.csflut"
+    wait_window
+    answer_2afc 7 3 key Right
+    finish
+    check "window closed, resumed: exit 0, finished, 3 trials (rc $RC)" \
+        test "$RC" -eq 0 -a "$(ntrials 7)" -eq 3 -a -n "$(state 7 | grep finished)"
+else
+    echo "skip: window-close case (x_close_window not built: no X11 development files)"
+fi
 
 [ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
 exit $fail

@@ -30,6 +30,36 @@ static inline void rm_rf(const char *dir)
     if (system(cmd) != 0) fprintf(stderr, "warning: could not remove %s\n", dir);
 }
 
+/* A whole file, NUL-terminated, malloc'd (NULL when it cannot be read); its length in *len. */
+static inline char *test_read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    size_t got = buf ? fread(buf, 1, (size_t)n, f) : 0;
+    if (buf) buf[got] = '\0';
+    fclose(f);
+    if (len) *len = got;
+    return buf;
+}
+
+/* SQL run on an SQLite file directly, past the store (fixtures of old schemas, foreign files,
+ * damage); SQLite's result code (SQLITE_OK = 0), the message on stderr when it failed. */
+static inline int test_sqlite_exec(const char *path, const char *sql)
+{
+    sqlite3 *db = NULL;
+    int rc = sqlite3_open(path, &db);
+    char *msg = NULL;
+    if (rc == SQLITE_OK) rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
+    if (rc != SQLITE_OK) fprintf(stderr, "sql failed: %s\n", msg ? msg : sqlite3_errmsg(db));
+    sqlite3_free(msg);
+    sqlite3_close(db);
+    return rc;
+}
+
 /* The backend under test: CSF_TEST_BACKEND=postgresql (set by meson for the *_pg tests, which
  * run inside tests/store/pg_run.sh) runs the test against a real server; SQLite otherwise. */
 static inline int test_pg(void)

@@ -9,32 +9,6 @@
 #include "store_test_util.h"
 #include "tests/check.h"
 
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    buf[got] = '\0';
-    fclose(f);
-    return buf;
-}
-
-static int make_db(const char *path, const char *sql)
-{
-    sqlite3 *db = NULL;
-    int rc = sqlite3_open(path, &db);
-    char *msg = NULL;
-    if (rc == SQLITE_OK) rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
-    if (rc != SQLITE_OK) fprintf(stderr, "fixture load failed: %s\n", msg ? msg : sqlite3_errmsg(db));
-    sqlite3_free(msg);
-    sqlite3_close(db);
-    return rc == SQLITE_OK ? 0 : -1;
-}
-
 static int raw_version(const char *path)
 {
     sqlite3 *db = NULL;
@@ -55,14 +29,14 @@ int main(void)
     const char *fx = getenv("CSF_STORE_FIXTURES");
     char fixture[600];
     snprintf(fixture, sizeof fixture, "%s/schema_v1.sql", fx ? fx : "tests/store/fixtures");
-    char *sql = read_all(fixture);
+    char *sql = test_read_file(fixture, NULL);
     CHECK_MSG(sql != NULL, "cannot read %s", fixture);
     if (!sql) return CHECK_RESULT();
 
     char dir[512], path[600];
     if (tmp_dir(dir, sizeof dir, "migrate") < 0) return 1;
     snprintf(path, sizeof path, "%s/v1.sqlite", dir);
-    CHECK_INT_EQ(make_db(path, sql), 0);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), 0);
     CHECK_INT_EQ(raw_version(path), 1);
 
     csf_error err;
@@ -149,7 +123,7 @@ int main(void)
 
     /* A newer schema than this build knows is refused, not misread. */
     snprintf(path, sizeof path, "%s/future.sqlite", dir);
-    CHECK_INT_EQ(make_db(path, sql), 0);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), 0);
     sqlite3 *db = NULL;
     sqlite3_open(path, &db);
     sqlite3_exec(db, "UPDATE schema_version SET version = 99", NULL, NULL, NULL);
@@ -163,14 +137,14 @@ int main(void)
 
     /* Someone else's SQLite database is left alone. */
     snprintf(path, sizeof path, "%s/foreign.sqlite", dir);
-    CHECK_INT_EQ(make_db(path, "CREATE TABLE photos (id INTEGER, name TEXT);"), 0);
+    CHECK_INT_EQ(test_sqlite_exec(path, "CREATE TABLE photos (id INTEGER, name TEXT);"), 0);
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "not a csfcal store");
 
     /* A migration step that fails (here: v1 store already has a column v2 adds) rolls back whole:
      * the store stays at version 1 with its data, and the error names the step. */
     snprintf(path, sizeof path, "%s/broken-v1.sqlite", dir);
-    CHECK_INT_EQ(make_db(path, sql), 0);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), 0);
     sqlite3_open(path, &db);
     sqlite3_exec(db, "ALTER TABLE trials ADD COLUMN flags TEXT", NULL, NULL, NULL);
     sqlite3_close(db);
@@ -190,7 +164,7 @@ int main(void)
     /* Forced-choice trials stored before v4 were all two-interval: they migrate to
      * n_alternatives 2, fade trials (signal_interval 0) to 0, and new four-place rows keep 4. */
     snprintf(path, sizeof path, "%s/v1-2afc.sqlite", dir);
-    CHECK_INT_EQ(make_db(path, sql), 0);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), 0);
     sqlite3_open(path, &db);
     CHECK_INT_EQ(sqlite3_exec(db,
                               "INSERT INTO sessions VALUES (3, 'observer', 'paused', 'bob', 'lab-crt',"

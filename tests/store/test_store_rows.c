@@ -12,33 +12,6 @@
 #include "store_test_util.h"
 #include "tests/check.h"
 
-static char *read_all(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    buf[got] = '\0';
-    fclose(f);
-    if (len) *len = got;
-    return buf;
-}
-
-static int exec_db(const char *path, const char *sql)
-{
-    sqlite3 *db = NULL;
-    int rc = sqlite3_open(path, &db);
-    char *msg = NULL;
-    if (rc == SQLITE_OK) rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
-    if (rc != SQLITE_OK) fprintf(stderr, "sql failed: %s\n", msg ? msg : sqlite3_errmsg(db));
-    sqlite3_free(msg);
-    sqlite3_close(db);
-    return rc;
-}
-
 /* First column of the first row as text ("" when none), through the open store's connection. */
 static void sql_text(csf_store *s, const char *sql, char *out, size_t cap)
 {
@@ -72,11 +45,11 @@ static void test_v4_repair(const char *dir)
     const char *fx = getenv("CSF_STORE_FIXTURES");
     char fixture[600], path[700];
     snprintf(fixture, sizeof fixture, "%s/schema_v4.sql", fx ? fx : "tests/store/fixtures");
-    char *sql = read_all(fixture, NULL);
+    char *sql = test_read_file(fixture, NULL);
     CHECK_MSG(sql != NULL, "cannot read %s", fixture);
     if (!sql) return;
     snprintf(path, sizeof path, "%s/v4.sqlite", dir);
-    CHECK_INT_EQ(exec_db(path, sql), SQLITE_OK);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), SQLITE_OK);
     free(sql);
 
     csf_error err;
@@ -164,8 +137,8 @@ static void test_v4_repair(const char *dir)
 
     /* Reading commands migrate an old store on a writable file instead of refusing it. */
     snprintf(path, sizeof path, "%s/v4-ro.sqlite", dir);
-    sql = read_all(fixture, NULL);
-    CHECK_INT_EQ(exec_db(path, sql), SQLITE_OK);
+    sql = test_read_file(fixture, NULL);
+    CHECK_INT_EQ(test_sqlite_exec(path, sql), SQLITE_OK);
     free(sql);
     CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
     if (s) {
@@ -263,15 +236,15 @@ static void test_refusals(const char *dir)
      * journal mode; before, the WAL switch rewrote its header). */
     char path[700];
     snprintf(path, sizeof path, "%s/photos.sqlite", dir);
-    CHECK_INT_EQ(exec_db(path, "CREATE TABLE photos (id INTEGER, name TEXT); INSERT INTO photos VALUES (1, 'a');"),
+    CHECK_INT_EQ(test_sqlite_exec(path, "CREATE TABLE photos (id INTEGER, name TEXT); INSERT INTO photos VALUES (1, 'a');"),
                  SQLITE_OK);
     size_t n0 = 0, n1 = 0;
-    char *before = read_all(path, &n0);
+    char *before = test_read_file(path, &n0);
     csf_error err;
     csf_store *s = NULL;
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "not a csfcal store");
-    char *after = read_all(path, &n1);
+    char *after = test_read_file(path, &n1);
     CHECK(before && after && n0 == n1 && memcmp(before, after, n0) == 0);
     free(before);
     free(after);
