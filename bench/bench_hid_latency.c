@@ -11,52 +11,7 @@
 #include <time.h>
 
 #include "devices/responder_hid.h"
-
-typedef struct {
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    uint8_t rep[4];
-    int len;
-    double read_s; /* when the last report was handed over (end of read) */
-} emu;
-
-static int emu_read(csf_hid_io *io, uint8_t *buf, size_t cap, int timeout_ms)
-{
-    emu *e = io->user;
-    pthread_mutex_lock(&e->mu);
-    if (e->len == 0) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        ts.tv_nsec += (long)timeout_ms * 1000000L;
-        ts.tv_sec += ts.tv_nsec / 1000000000L;
-        ts.tv_nsec %= 1000000000L;
-        pthread_cond_timedwait(&e->cv, &e->mu, &ts);
-    }
-    int n = e->len;
-    if (n > 0) {
-        memcpy(buf, e->rep, (size_t)n < cap ? (size_t)n : cap);
-        e->len = 0;
-        e->read_s = csf_responder_now();
-        pthread_cond_broadcast(&e->cv);
-    }
-    pthread_mutex_unlock(&e->mu);
-    return n;
-}
-
-static void emu_close(csf_hid_io *io)
-{
-    (void)io;
-}
-
-static void send(emu *e, uint8_t bits)
-{
-    pthread_mutex_lock(&e->mu);
-    e->rep[0] = bits;
-    e->len = 1;
-    pthread_cond_broadcast(&e->cv);
-    while (e->len > 0) pthread_cond_wait(&e->cv, &e->mu);
-    pthread_mutex_unlock(&e->mu);
-}
+#include "tests/devices/emu_hid.h"
 
 static int cmp(const void *a, const void *b)
 {
@@ -71,11 +26,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_hid_latency: N from 10 to 100000\n");
         return 2;
     }
-    emu e;
-    memset(&e, 0, sizeof e);
-    pthread_mutex_init(&e.mu, NULL);
-    pthread_cond_init(&e.cv, NULL);
-    csf_hid_io io = {emu_read, emu_close, &e};
+    emu_hid e;
+    csf_hid_io io = emu_hid_init(&e);
     csf_responder *r = NULL;
     csf_error err;
     if (csf_responder_open_hid_io("1b4f:9206", &io, &r, &err)) {
@@ -85,8 +37,8 @@ int main(int argc, char **argv)
     double *stamp = calloc((size_t)n, sizeof *stamp), *poll_late = calloc((size_t)n, sizeof *poll_late);
     if (!stamp || !poll_late) return 1;
     for (int i = 0; i < n; i++) {
-        send(&e, 0x01);
-        double read_s = e.read_s;
+        emu_hid_send(&e, (const uint8_t[]){0x01}, 1);
+        double read_s = e.delivered_s;
         /* the session draws a frame before it polls */
         struct timespec frame = {0, 16700000L};
         nanosleep(&frame, NULL);
@@ -94,7 +46,7 @@ int main(int argc, char **argv)
         while (!csf_responder_poll(r, &ev)) nanosleep(&(struct timespec){0, 100000L}, NULL);
         stamp[i] = (ev.t_s - read_s) * 1e6;
         poll_late[i] = (csf_responder_now() - read_s) * 1e6;
-        send(&e, 0x00);
+        emu_hid_send(&e, (const uint8_t[]){0x00}, 1);
     }
     csf_responder_close(r);
     qsort(stamp, (size_t)n, sizeof *stamp, cmp);

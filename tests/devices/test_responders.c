@@ -11,6 +11,7 @@
 #include "devices/responder_gamepad.h"
 #include "devices/responder_hid.h"
 #include "devices/responder_map.h"
+#include "emu_hid.h"
 #include "tests/check.h"
 
 static void sleep_s(double s)
@@ -86,58 +87,6 @@ static void hid_spec(void)
     CHECK_INT_EQ(csf_hid_report_buttons(&s, r1, 0, &bits), -1);
 }
 
-/* An emulated HID box: reports handed over by the test through a one-slot mailbox; the reader
- * thread blocks on it as on hid_read_timeout. */
-typedef struct {
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    uint8_t rep[16];
-    int len;     /* > 0: a report waits; -1: unplugged */
-    int closed;
-    double delivered_s;
-} emu_hid;
-
-static int emu_read(csf_hid_io *io, uint8_t *buf, size_t cap, int timeout_ms)
-{
-    emu_hid *e = io->user;
-    pthread_mutex_lock(&e->mu);
-    if (e->len == 0) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        ts.tv_nsec += (long)timeout_ms * 1000000L;
-        ts.tv_sec += ts.tv_nsec / 1000000000L;
-        ts.tv_nsec %= 1000000000L;
-        pthread_cond_timedwait(&e->cv, &e->mu, &ts);
-    }
-    int n = e->len;
-    if (n > 0) {
-        if ((size_t)n > cap) n = (int)cap;
-        memcpy(buf, e->rep, (size_t)n);
-        e->len = 0;
-        e->delivered_s = csf_responder_now();
-        pthread_cond_broadcast(&e->cv);
-    }
-    pthread_mutex_unlock(&e->mu);
-    return n;
-}
-
-static void emu_close(csf_hid_io *io)
-{
-    emu_hid *e = io->user;
-    e->closed = 1;
-}
-
-/* Hands one report to the reader and waits until it took it. */
-static void emu_send(emu_hid *e, const uint8_t *rep, int len)
-{
-    pthread_mutex_lock(&e->mu);
-    memcpy(e->rep, rep, (size_t)len);
-    e->len = len;
-    pthread_cond_broadcast(&e->cv);
-    while (e->len > 0) pthread_cond_wait(&e->cv, &e->mu);
-    pthread_mutex_unlock(&e->mu);
-}
-
 static int poll_wait(csf_responder *r, csf_response *ev, double timeout_s)
 {
     double t0 = csf_responder_now();
@@ -151,10 +100,7 @@ static int poll_wait(csf_responder *r, csf_response *ev, double timeout_s)
 static void hid_box(void)
 {
     emu_hid e;
-    memset(&e, 0, sizeof e);
-    pthread_mutex_init(&e.mu, NULL);
-    pthread_cond_init(&e.cv, NULL);
-    csf_hid_io io = {emu_read, emu_close, &e};
+    csf_hid_io io = emu_hid_init(&e);
     csf_responder *r = NULL;
     csf_error err;
     CHECK_INT_EQ(csf_responder_open_hid_io("1b4f:9206,report=1,map=ur:2", &io, &r, &err), CSF_OK);
@@ -163,7 +109,7 @@ static void hid_box(void)
     csf_response ev;
     CHECK_INT_EQ(csf_responder_poll(r, &ev), 0);
     uint8_t down1[] = {1, 0x02}, held[] = {1, 0x02}, both[] = {1, 0x06}, none[] = {1, 0x00}, other[] = {2, 0xff};
-    emu_send(&e, down1, 2);
+    emu_hid_send(&e, down1, 2);
     double t_sent = e.delivered_s;
     /* the session polls late (a frame or more): the time is still the report's */
     sleep_s(0.05);
@@ -171,14 +117,14 @@ static void hid_box(void)
     CHECK(ev.kind == CSF_RESP_CHOICE && ev.choice == 0 && ev.places == 2); /* bit 1: first */
     CHECK_MSG(ev.t_s >= t_sent - 1e-6 && ev.t_s - t_sent < 0.02, "event at %.6f, report read at %.6f", ev.t_s, t_sent);
     CHECK_MSG(csf_responder_now() - ev.t_s >= 0.045, "stamped at the poll, not at the report");
-    emu_send(&e, held, 2);       /* still held: no new answer */
-    emu_send(&e, other, 2);      /* another report id: ignored */
-    emu_send(&e, both, 2);       /* bit 2 goes down: ur (mapped) */
+    emu_hid_send(&e, held, 2);       /* still held: no new answer */
+    emu_hid_send(&e, other, 2);      /* another report id: ignored */
+    emu_hid_send(&e, both, 2);       /* bit 2 goes down: ur (mapped) */
     CHECK_INT_EQ(poll_wait(r, &ev, 1), 1);
     CHECK(ev.kind == CSF_RESP_CHOICE && ev.choice == 0 && ev.places == 4);
     CHECK_INT_EQ(csf_responder_poll(r, &ev), 0);
-    emu_send(&e, none, 2);
-    emu_send(&e, down1, 2);      /* released and pressed again: a new answer */
+    emu_hid_send(&e, none, 2);
+    emu_hid_send(&e, down1, 2);      /* released and pressed again: a new answer */
     CHECK_INT_EQ(poll_wait(r, &ev, 1), 1);
     CHECK(ev.kind == CSF_RESP_CHOICE && ev.places == 2);
     /* unplugged: one pause event that says so, then nothing */
