@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "results/store.h"
@@ -25,6 +26,21 @@
 
 #define STATIONS 6
 #define TRIALS 60
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Waits for one byte on fd (a child saying it reached a point): pipes order the processes
+ * instead of sleeps, which a loaded machine outruns. */
+static int wait_byte(int fd)
+{
+    char c;
+    return read(fd, &c, 1) == 1 ? 0 : -1;
+}
 
 /* Trials from..to-1 of session sid, each with its frame intervals, seed-determined. */
 static int write_trials(csf_store *s, int64_t sid, int from, int to, uint64_t seed, int pause_us)
@@ -160,17 +176,16 @@ static void test_claim_and_kill(const char *loc)
     CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station");
     CHECK_INT_EQ(csf_store_set_session_state(b, sid, "aborted", &err), CSF_E_STORE);
-    usleep(200000);
-    kill(a, SIGKILL);
+    kill(a, SIGKILL); /* mid-session: it writes a trial every 20 ms */
     int status = 0;
     waitpid(a, &status, 0);
     CHECK(WIFSIGNALED(status));
-    /* The server notices the dead connection at once on a unix socket; allow it a moment. */
+    /* The server notices the dead connection soon after on a unix socket, later on a loaded
+     * machine: poll up to a deadline. */
     csf_status cs = CSF_E_STORE;
-    for (int i = 0; i < 50 && cs != CSF_OK; i++) {
-        cs = csf_store_set_session_state(b, sid, "running", &err);
-        if (cs != CSF_OK) usleep(100000);
-    }
+    double deadline = now_s() + 60.0;
+    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && now_s() < deadline)
+        usleep(50000);
     CHECK_INT_EQ(cs, CSF_OK);
     csf_trial *t = NULL;
     size_t nt = 0;
@@ -196,8 +211,9 @@ static void test_server_restart(const char *loc)
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "restart", "lcd", NULL, 91, &sid, &err) != CSF_OK) _exit(4);
-        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
-        if (write_trials(s, sid, 0, TRIALS, 91, 30000) < 0) _exit(5);
+        if (write_trials(s, sid, 0, 5, 91, 0) < 0) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6); /* some trials in */
+        if (write_trials(s, sid, 5, TRIALS, 91, 30000) < 0) _exit(5);
         if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
@@ -206,7 +222,6 @@ static void test_server_restart(const char *loc)
     int64_t sid = 0;
     CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
     close(ready[0]);
-    usleep(400000); /* some trials in */
     char cmd[1200];
     snprintf(cmd, sizeof cmd, "'%s' restart '%s'", getenv("CSF_TEST_PG_RUN"), getenv("CSF_TEST_PG_DIR"));
     CHECK_INT_EQ(system(cmd), 0);
@@ -240,36 +255,46 @@ static long long spool_trials(const char *spool)
     return n;
 }
 
-/* The server stops for a few seconds mid-session: trials go to the spool, the station goes on,
- * and when the server is back the spooled trials are sent before the next one. */
+/* The server stops mid-session: trials go to the spool and the station goes on without waiting
+ * for the server; when it is back the spooled trials are sent, every one once. Pipes mark the
+ * points: trials 0-4 stored, server stopped, trials 5-19 written (spooled), server started. */
 static void test_server_away(const char *loc, const char *spool)
 {
-    int ready[2];
-    if (pipe(ready) != 0) return;
+    int ready[2], stopped[2], spooled[2], started[2];
+    if (pipe(ready) != 0 || pipe(stopped) != 0 || pipe(spooled) != 0 || pipe(started) != 0) return;
     setenv("CSF_STORE_SPOOL", spool, 1);
     setenv("CSF_STORE_SPOOL_AFTER_S", "1", 1);
     pid_t a = fork();
     if (a == 0) {
         close(ready[0]);
+        close(stopped[1]);
+        close(spooled[0]);
+        close(started[1]);
         csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
         if (csf_store_begin_session(s, "observer", "away", "lcd", NULL, 93, &sid, &err) != CSF_OK) _exit(4);
-        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
-        if (write_trials(s, sid, 0, TRIALS, 93, 100000) < 0) _exit(5);
+        if (write_trials(s, sid, 0, 5, 93, 0) < 0) _exit(5);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid || wait_byte(stopped[0]) < 0) _exit(6);
+        if (write_trials(s, sid, 5, 20, 93, 0) < 0) _exit(5);
+        if (write(spooled[1], "s", 1) != 1 || wait_byte(started[0]) < 0) _exit(6);
+        if (write_trials(s, sid, 20, TRIALS, 93, 10000) < 0) _exit(5);
         if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
     }
     close(ready[1]);
+    close(stopped[0]);
+    close(spooled[1]);
+    close(started[0]);
     int64_t sid = 0;
     CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
-    close(ready[0]);
-    usleep(500000);
     run_pg("stop");
-    sleep(4); /* the station spools, without waiting for the server */
-    CHECK(spool_trials(spool) > 5);
+    CHECK(write(stopped[1], "g", 1) == 1);
+    CHECK(wait_byte(spooled[0]) == 0); /* 15 trials written with the server away */
+    CHECK(spool_trials(spool) >= 15);
     run_pg("start");
+    CHECK(write(started[1], "g", 1) == 1);
     int status = 0;
     waitpid(a, &status, 0);
     CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "station status %d", status);
@@ -281,6 +306,10 @@ static void test_server_away(const char *loc, const char *spool)
     CHECK(!strcmp(si.state, "finished"));
     csf_session_info_free(&si);
     csf_store_close(s);
+    close(ready[0]);
+    close(stopped[1]);
+    close(spooled[0]);
+    close(started[1]);
 }
 
 /* The server goes away and the session ends before it is back: the trials stay in the spool;
