@@ -10,15 +10,20 @@
  * catch trials, practice left out) and the observer's own trial functions on the contrast the
  * plan asks for (devices/observer_sim.h; yes/no through its fade-in model, 60 Hz frames, as
  * `csfcal study run` feeds it); the presenter and the store are left out so that 20 participants
- * x 3 curves fit in a CI budget (tests/study/test_study_sim runs the examples end to end).
+ * x 3 curves fit in a CI budget. That this shortcut is the real pipeline is checked on one
+ * participant per study: run end to end (presenter, store) and reported, it gives the same
+ * counts (to the answers the display's contrast quantisation can flip) and the same fit.
  * argv[1]: the examples/studies folder. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "calib/config.h"
 #include "calib/study_plan.h"
 #include "calib/study_report.h"
+#include "calib/study_run.h"
 #include "devices/observer_sim.h"
 #include "results/study_stats.h"
 #include "tests/check.h"
@@ -55,8 +60,9 @@ static void add_level(csf_study_row *w, double x, int ok)
     w->levels[i].k += ok;
 }
 
-/* One participant of one study: fits its curves, counts intervals holding the truth. */
-static void participant(const csf_study *s, int p, int *covered, int *total)
+/* One participant of one study: fits its curves, counts intervals holding the truth. keep: the
+ * curve rows are handed back (malloc'd, *n_kept of them) instead of freed. */
+static void participant(const csf_study *s, int p, int *covered, int *total, csf_study_row **keep, int *n_kept)
 {
     char code[32];
     snprintf(code, sizeof code, "C%02d", p);
@@ -119,9 +125,75 @@ static void participant(const csf_study *s, int p, int *covered, int *total)
             printf("%s %s %s: true t %.3f outside [%.3f, %.3f] (fit %.3f)\n", s->name, code, w->name, truth, w->t_lo,
                    w->t_hi, w->fit.t_log10);
     }
-    free(rows);
+    if (keep) {
+        *keep = rows;
+        *n_kept = n_rows;
+    } else {
+        free(rows);
+    }
     free(plan);
     csf_observer_sim_free(o);
+}
+
+/* The shortcut above is the real thing: participant C00 of each study run end to end
+ * (csf_study_run headless: presenter, the contrast it recorded as shown, the store) and reported
+ * (csf_study_report_build) gives the same counts per level, to one answer where the shown
+ * contrast differs from the plan's by the display's quantisation, and the same fit. */
+static void same_as_runner(const char *examples, const char *file, const csf_study *s)
+{
+    char dir[] = "/tmp/csf_study_cov_XXXXXX";
+    if (!mkdtemp(dir)) return;
+    char store[256], path[1024];
+    snprintf(store, sizeof store, "%s/s.sqlite", dir);
+    snprintf(path, sizeof path, "%s/%s", examples, file);
+    csf_config cfg;
+    csf_config_defaults(&cfg);
+    csf_study_run_options o;
+    memset(&o, 0, sizeof o);
+    o.cfg = &cfg;
+    o.study_path = path;
+    o.participant = "C00";
+    o.observer_spec = "sim";
+    o.store_path = store;
+    o.headless = 1;
+    o.quiet = 1;
+    csf_study_run_result res;
+    csf_error e;
+    CHECK_MSG(csf_study_run(&o, &res, &e) == CSF_OK, "%s: %s", file, e.msg);
+    csf_study_report *r = NULL;
+    CHECK_MSG(csf_study_report_build(store, path, 0, &r, &e) == CSF_OK, "%s: %s", file, e.msg);
+    csf_study_row *mine = NULL;
+    int n_mine = 0, cov = 0, tot = 0, matched = 0;
+    participant(s, 0, &cov, &tot, &mine, &n_mine);
+    for (int i = 0; r && i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        if (w->is_curve != 1 || strcmp(w->scope, "C00")) continue;
+        for (int j = 0; j < n_mine; j++) {
+            const csf_study_row *m = &mine[j];
+            if (strcmp(m->name, w->name)) continue;
+            matched++;
+            CHECK_INT_EQ(m->n_levels, w->n_levels);
+            int off = 0;
+            for (int a = 0; a < m->n_levels && a < w->n_levels; a++)
+                for (int b = 0; b < w->n_levels; b++)
+                    if (fabs(m->levels[a].x_log10 - w->levels[b].x_log10) < 1e-6) {
+                        CHECK_INT_EQ(m->levels[a].n, w->levels[b].n);
+                        off += abs(m->levels[a].k - w->levels[b].k);
+                    }
+            CHECK_INT_EQ(m->false_alarms, w->false_alarms);
+            CHECK_MSG(off <= 2, "%s %s: %d answers differ between the runner and the shortcut", file, w->name, off);
+            CHECK_MSG(fabs(m->fit.t_log10 - w->fit.t_log10) < 0.02, "%s %s: t %.3f (shortcut) vs %.3f (report)", file,
+                      w->name, m->fit.t_log10, w->fit.t_log10);
+            printf("%s %s: runner and shortcut differ by %d answers; t %.4f vs %.4f\n", file, w->name, off,
+                   w->fit.t_log10, m->fit.t_log10);
+        }
+    }
+    CHECK_INT_EQ(matched, n_mine);
+    free(mine);
+    csf_study_report_free(r);
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
 }
 
 /* P(X <= k) for X ~ Binomial(n, p). */
@@ -143,7 +215,8 @@ int main(int argc, char **argv)
         CHECK_MSG(csf_study_load(path, &s, &e) == CSF_OK, "%s: %s", path, e.msg);
         if (!s) continue;
         int c0 = covered, t0 = total;
-        for (int p = 0; p < PARTICIPANTS; p++) participant(s, p, &covered, &total);
+        for (int p = 0; p < PARTICIPANTS; p++) participant(s, p, &covered, &total, NULL, NULL);
+        same_as_runner(argv[1], studies[i], s);
         printf("%s: %d of %d thresholds inside their 95 %% intervals\n", s->name, covered - c0, total - t0);
         csf_study_free(s);
     }
