@@ -3,7 +3,9 @@
  * - a second station resuming a session another holds is refused, with a message that names
  *   the holder (station and process) and says how to take over when it is stale;
  * - two stations resuming one paused session at the same moment: exactly one gets it;
- * - the holder killed: its claim goes with it, and the session can be resumed.
+ * - the holder killed: its claim goes with it, and the session can be resumed;
+ * - on a server, a hung holder's claim is taken over as the refusal says (the database owner
+ *   ends its connection).
  * No sleeps as synchronisation: pipes order the processes; the one wait that cannot be a pipe
  * (the server noticing a dead connection) polls up to a deadline. */
 #include <signal.h>
@@ -90,6 +92,51 @@ static void test_holder_named(void)
     csf_store_close(b);
 }
 
+/* PostgreSQL: a station that hangs (stopped, its connection open) keeps its claim; the refusal
+ * says how the database owner takes it over, and doing just that lets another station resume. */
+static void test_take_over_hung(void)
+{
+    int ready[2];
+    if (pipe(ready) != 0) return;
+    pid_t a = fork();
+    if (a == 0) {
+        close(ready[0]);
+        csf_store *s = test_open_or_exit(loc, "station A");
+        csf_error err;
+        int64_t sid = 0;
+        if (csf_store_begin_session(s, "observer", "hung", "lcd", NULL, 7, &sid, &err) != CSF_OK) _exit(4);
+        if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
+        pause();
+        _exit(8);
+    }
+    close(ready[1]);
+    int64_t sid = 0;
+    CHECK(read(ready[0], &sid, sizeof sid) == sizeof sid);
+    close(ready[0]);
+    kill(a, SIGSTOP); /* hung: the process is there, its connection open */
+    csf_store *b = test_open_or_exit(loc, "station B");
+    csf_error err;
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    const char *say = strstr(err.msg, "SELECT pg_terminate_backend(");
+    CHECK_MSG(say != NULL, "no way to take over in: %s", err.msg);
+    long backend = 0;
+    if (say) sscanf(say, "SELECT pg_terminate_backend(%ld)", &backend);
+    CHECK(backend > 0);
+    char sql[96];
+    snprintf(sql, sizeof sql, "SELECT pg_terminate_backend(%ld)", backend);
+    CHECK_INT_EQ(test_pg_admin("csfcal", sql), 0);
+    csf_status cs = CSF_E_STORE;
+    double deadline = now_s() + 60.0;
+    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && now_s() < deadline)
+        usleep(50000);
+    CHECK_INT_EQ(cs, CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    csf_store_close(b);
+    kill(a, SIGKILL);
+    int status = 0;
+    waitpid(a, &status, 0);
+}
+
 /* Two stations resume one paused session at the same moment: one gets it, the other is
  * refused; each keeps what it got until told to close. */
 static void test_resume_race(void)
@@ -154,6 +201,7 @@ int main(void)
     if (test_store_location(dir, "lab.sqlite", loc, sizeof loc) < 0) return 1;
     test_holder_named();
     test_resume_race();
+    if (test_pg()) test_take_over_hung();
     rm_rf(dir);
     return CHECK_RESULT();
 }
