@@ -338,6 +338,10 @@ static int push_one(csf_store *src, csf_store *dst, int64_t id)
         fprintf(stderr, "csfcal: sessions push: session %lld: %s\n", (long long)id, err.msg);
         return 1;
     }
+    if (c.skipped_empty) {
+        printf("session %lld: aborted before anything was measured; not copied\n", (long long)id);
+        return 0;
+    }
     printf("session %lld -> %lld%s: %d trials sent, %d already there; %d readings sent, %d "
            "already there; %d artifacts sent%s\n", (long long)id, (long long)c.dest_id,
            c.created ? " (new)" : "", c.trials_sent, c.trials_present, c.readings_sent,

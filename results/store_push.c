@@ -179,6 +179,18 @@ static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int k
     int64_t did = 0;
     int created = 0;
     cs = source_uuid(src, &si, err);
+    /* A session aborted before anything was measured (among them the start a spool records
+     * when the server may or may not have got it) is not made on a destination that lacks it:
+     * it would be a phantom there. One the destination has still takes the state. */
+    if (cs == CSF_OK && !strcmp(si.state, "aborted") && !si.n_trials && !si.n_readings) {
+        cs = dst->ops->find_session_uuid(dst, si.uuid, &did, err);
+        if (cs == CSF_E_NOT_FOUND) {
+            csf_error_clear(err);
+            c->skipped_empty = 1;
+            csf_session_info_free(&si);
+            return CSF_OK;
+        }
+    }
     if (cs == CSF_OK) cs = dest_session(dst, &si, &did, &created, err);
     if (cs == CSF_OK) cs = push_trials(src, dst, session_id, did, c, err);
     if (cs == CSF_OK) cs = push_readings(src, dst, session_id, did, c, err);

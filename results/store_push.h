@@ -6,7 +6,8 @@
  * replaced by the source's; every artifact the destination lacks (same kind, path and bytes) is
  * copied; the study participant the session is linked to is linked on the destination too (study
  * and participant made there by name and code when missing); the destination session takes the
- * source's state. */
+ * source's state. A session aborted before any trial or reading is not made on a destination
+ * that lacks it (skipped_empty). */
 #ifndef CSF_STORE_PUSH_H
 #define CSF_STORE_PUSH_H
 
@@ -20,6 +21,8 @@ typedef struct {
     int trials_sent, trials_present, readings_sent, readings_present;
     int artifacts_sent;      /* artifacts the destination lacked */
     int participant_linked;  /* 1: the session's study participant is linked there */
+    int skipped_empty;       /* 1: aborted with no trial or reading, and the destination
+                                lacks it: not copied (dest_id 0) */
 } csf_push_counts;
 
 csf_status csf_store_push_session(csf_store *src, csf_store *dst, int64_t session_id,

@@ -168,10 +168,27 @@ int main(void)
     int64_t dold = push(src, dst, old, 5, 0);
     CHECK_INT_EQ(push(src, dst, old, 0, 5), dold);
 
+    /* Aborted before anything was measured: not made on the destination (it would list a
+     * phantom); once the destination has it (pushed while running), the abort reaches it. */
+    int64_t empty = 0, empty2 = 0;
+    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "gone", "lcd", NULL, 3, &empty, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, empty, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_push_session(src, dst, empty, &c, &err), CSF_OK);
+    CHECK(c.skipped_empty && c.dest_id == 0);
+    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "left", "lcd", NULL, 4, &empty2, &err), CSF_OK);
+    CHECK_INT_EQ(push(src, dst, empty2, 0, 0) > 0, 1);
+    CHECK_INT_EQ(csf_store_set_session_state(src, empty2, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_push_session(src, dst, empty2, &c, &err), CSF_OK);
+    CHECK(!c.skipped_empty && c.dest_id > 0);
+    csf_session_info es;
+    CHECK_INT_EQ(csf_store_get_session(dst, c.dest_id, &es, &err), CSF_OK);
+    CHECK(!strcmp(es.state, "aborted"));
+    csf_session_info_free(&es);
+
     csf_session_info *list = NULL;
     size_t n = 0;
     CHECK_INT_EQ(csf_store_list_sessions(dst, &list, &n, &err), CSF_OK);
-    CHECK_INT_EQ(n, 4); /* its own, and three pushed once each */
+    CHECK_INT_EQ(n, 5); /* its own, and four pushed once each (not the empty aborted one) */
     csf_session_list_free(list, n);
     csf_store_close(src);
     csf_store_close(dst);
