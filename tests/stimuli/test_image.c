@@ -29,6 +29,19 @@ static unsigned char *encode(const void *px, int w, int h, png_uint_32 format, s
     return buf;
 }
 
+/* An 8-bit sRGB grey image of w x h pixels, through PNG and the loader (NULL, and a failed
+ * check, when it does not load). */
+static csf_image *grey_image(const unsigned char *px, int w, int h)
+{
+    size_t len = 0;
+    unsigned char *png = encode(px, w, h, PNG_FORMAT_GRAY, &len);
+    csf_image *img = NULL;
+    csf_error e;
+    CHECK_MSG(png && csf_image_load_png_memory(png, len, &img, &e) == CSF_OK, "grey image: %s", png ? e.msg : "encode");
+    free(png);
+    return img;
+}
+
 int main(void)
 {
     csf_error e;
@@ -133,10 +146,7 @@ int main(void)
      * (sRGB 160..210, within about +-30 % of its mean) fits at contrast 1 ... */
     unsigned char narrow[16 * 16];
     for (int i = 0; i < 16 * 16; i++) narrow[i] = i % 2 ? 160 : 210;
-    png = encode(narrow, 16, 16, PNG_FORMAT_GRAY, &len);
-    csf_image *img_narrow = NULL;
-    CHECK_INT_EQ(csf_image_load_png_memory(png, len, &img_narrow, &e), CSF_OK);
-    free(png);
+    csf_image *img_narrow = grey_image(narrow, 16, 16);
     s.image = img_narrow;
     s.contrast = 1;
     CHECK_MSG(csf_presenter_validate(p, &s, &e) == CSF_OK, "contrast-1 low-key image refused: %s", e.msg);
@@ -144,10 +154,7 @@ int main(void)
      * is 4x the mean, beyond the display's white, and the message names the limit */
     unsigned char sparse[16 * 16];
     for (int i = 0; i < 16 * 16; i++) sparse[i] = i % 16 ? 0 : 255;
-    png = encode(sparse, 16, 16, PNG_FORMAT_GRAY, &len);
-    csf_image *img_sparse = NULL;
-    CHECK_INT_EQ(csf_image_load_png_memory(png, len, &img_sparse, &e), CSF_OK);
-    free(png);
+    csf_image *img_sparse = grey_image(sparse, 16, 16);
     s.image = img_sparse;
     s.contrast = 0.2;
     CHECK_INT_EQ(csf_presenter_validate(p, &s, &e), CSF_E_INVALID_ARG);

@@ -47,20 +47,6 @@ static void test_fit(void)
     CHECK_INT_EQ(csf_fit_log_parabola(fz, yc, NULL, 3, &ls, &fm, &b), CSF_E_INVALID_ARG);
 }
 
-static unsigned char *slurp(const char *path, size_t *n)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long len = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *b = malloc((size_t)len + 1);
-    *n = fread(b, 1, (size_t)len, fp);
-    b[*n] = 0;
-    fclose(fp);
-    return b;
-}
-
 static int count_pages(const unsigned char *b, size_t n)
 {
     int pages = 0;
@@ -98,20 +84,20 @@ static void test_files(const char *dir, const char *store_path, int64_t obs, int
 
     snprintf(path, sizeof path, "%s/obs.pdf", dir);
     CHECK_INT_EQ(csf_report_write(s, obs, path, &err), CSF_OK);
-    b = slurp(path, &n);
+    b = (unsigned char *)test_read_file(path, &n);
     CHECK(b && n > 1000 && memcmp(b, "%PDF-", 5) == 0);
     if (b) CHECK_INT_EQ(count_pages(b, n), 2); /* summary with frame timing, CSF */
     free(b);
 
     snprintf(path, sizeof path, "%s/obs.svg", dir);
     CHECK_INT_EQ(csf_report_write(s, obs, path, &err), CSF_OK);
-    b = slurp(path, &n);
+    b = (unsigned char *)test_read_file(path, &n);
     CHECK(b && strstr((char *)b, "<svg") != NULL && strstr((char *)b, "</svg>") != NULL);
     free(b);
 
     snprintf(path, sizeof path, "%s/obs.png", dir);
     CHECK_INT_EQ(csf_report_write(s, obs, path, &err), CSF_OK);
-    b = slurp(path, &n);
+    b = (unsigned char *)test_read_file(path, &n);
     CHECK(b && n > 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0);
     free(b);
     cairo_surface_t *img = cairo_image_surface_create_from_png(path);
@@ -157,7 +143,7 @@ static void test_files(const char *dir, const char *store_path, int64_t obs, int
     CHECK_INT_EQ(csf_store_begin_session(s, "observer", "newbie", "lcd", NULL, 1, &fresh, &err), CSF_OK);
     snprintf(path, sizeof path, "%s/fresh.pdf", dir);
     CHECK_INT_EQ(csf_report_write(s, fresh, path, &err), CSF_OK);
-    b = slurp(path, &n);
+    b = (unsigned char *)test_read_file(path, &n);
     CHECK(b && memcmp(b, "%PDF-", 5) == 0);
     free(b);
 

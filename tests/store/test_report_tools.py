@@ -47,6 +47,14 @@ def run(*args, expect=0, fsize=None):
     return p
 
 
+def copy_store(src, dst):
+    """A consistent copy of a store to change without touching the original; returns dst."""
+    db = sqlite3.connect(src)
+    db.execute("VACUUM INTO ?", (dst,))
+    db.close()
+    return dst
+
+
 def tool(*args):
     return subprocess.run(list(args), capture_output=True, text=True)
 
@@ -84,10 +92,7 @@ with tempfile.TemporaryDirectory() as tmp:
     # --- display plot legend against the readings table and the stored readings ---
     # One r reading failed (in a copy): the table and the legend must both count it, and name the
     # same channels (the legend once folded the dark reading into "grey").
-    lstore = os.path.join(tmp, "legend.sqlite")
-    db = sqlite3.connect(store)
-    db.execute("VACUUM INTO ?", (lstore,))
-    db.close()
+    lstore = copy_store(store, os.path.join(tmp, "legend.sqlite"))
     db = sqlite3.connect(lstore)
     db.execute("UPDATE readings SET status = 'timeout', lum_cdm2 = NULL WHERE session_id = ? AND seq = "
                "(SELECT MIN(seq) FROM readings WHERE session_id = ? AND channel = 'r')", (disp, disp))
@@ -120,10 +125,7 @@ with tempfile.TemporaryDirectory() as tmp:
     # summary value 160 .. 160 + 300 pt; the lines joined back must give the id.
     long_id = ("sim-display-lcd-20261123-e0315651 from trial 0, sim-display-oled-20261123-ab12cd34 "
                "from trial 31 (--allow-profile-change)")
-    pstore = os.path.join(tmp, "longid.sqlite")
-    db = sqlite3.connect(store)
-    db.execute("VACUUM INTO ?", (pstore,))
-    db.close()
+    pstore = copy_store(store, os.path.join(tmp, "longid.sqlite"))
     db = sqlite3.connect(pstore)
     db.execute("UPDATE sessions SET settings_json = json_set(settings_json, '$.profile_id', ?), profile_id = ? "
                "WHERE id = ?", (long_id, long_id[:127], obs))
