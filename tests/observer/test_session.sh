@@ -15,6 +15,7 @@ check() { # check DESCRIPTION COMMAND...
 }
 run() { "$CSFCAL" observer calibrate --headless --store "$T/s.sqlite" --quiet "$@"; }
 json_sid() { sed -n 's/.*"session":\([0-9]*\).*/\1/p' <<<"$1"; }
+. "$(dirname "$0")/term_after.sh"
 
 # 1. fade on a small grid: a table comes out and the reader accepts it.
 out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 60 --seed 3 --out "$T/fade.csflut" --json)
@@ -83,9 +84,9 @@ a=$("$CSFCAL" lut export "$T/tab.csflut" --format csv --raw | grep -v date_utc);
 check "same seed, same thresholds" test "$a" = "$b"
 
 # 8. SIGTERM pauses a running session (every stored trial kept); --resume finishes it.
-timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/p.sqlite" --quiet --method fade \
-    --trials 3000 --seed 9 --out "$T/p.csflut" 2>"$T/p.err"
-rc=$?
+term_after_trials "$T/p.sqlite" 1 3 "$T/p.err" "$CSFCAL" observer calibrate --headless --store "$T/p.sqlite" \
+    --quiet --method fade --trials 3000 --seed 9 --out "$T/p.csflut"
+rc=$RC
 check "SIGTERM: exit status 1 (paused), got $rc" test $rc -eq 1
 check "SIGTERM: message names --resume" grep -q 'paused after .* trials; continue with --resume 1' "$T/p.err"
 check "SIGTERM: no table yet" test ! -e "$T/p.csflut"
@@ -130,14 +131,14 @@ check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2
 
 # 10. --afc is kept with the session: paused with four places, resumed with --afc 2 on the
 # command line, the resumed trials still show four places.
-timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/r.sqlite" --quiet --method bayes \
-    --afc 4 --freqs 1,4 --eccs 0,10 --trials 3000 --seed 24 --out "$T/r.csflut" 2>"$T/r.err"
-rc=$?
+term_after_trials "$T/r.sqlite" 1 3 "$T/r.err" "$CSFCAL" observer calibrate --headless --store "$T/r.sqlite" \
+    --quiet --method bayes --afc 4 --freqs 1,4 --eccs 0,10 --trials 3000 --seed 24 --out "$T/r.csflut"
+rc=$RC
 check "four-place session paused by SIGTERM (rc $rc)" test $rc -eq 1
 n1=$("$CSFCAL" sessions export 1 --format csv --store "$T/r.sqlite" | tail -n +2 | wc -l)
 check "settings keep afc 4" grep -qF 'afc\":4' <<<"$("$CSFCAL" sessions show 1 --json --store "$T/r.sqlite")"
-timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --store "$T/r.sqlite" --quiet --render-every -1 \
-    --afc 2 --resume 1 --out "$T/r.csflut" 2>>"$T/r.err"
+term_after_trials "$T/r.sqlite" 1 $((n1 + 3)) "$T/r2.err" "$CSFCAL" observer calibrate --headless \
+    --store "$T/r.sqlite" --quiet --render-every -1 --afc 2 --resume 1 --out "$T/r.csflut"
 "$CSFCAL" sessions export 1 --format csv --store "$T/r.sqlite" -o "$T/r.csv"
 n2=$(tail -n +2 "$T/r.csv" | wc -l)
 check "resumed session stored more trials ($n1 -> $n2)" test "$n2" -gt "$n1"

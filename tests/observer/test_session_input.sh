@@ -18,6 +18,7 @@ check() { # check DESCRIPTION COMMAND...
 run() { "$CSFCAL" observer calibrate --headless --quiet "$@"; }
 state() { sqlite3 "$1" "SELECT state FROM sessions WHERE id = $2"; }
 ntrials() { sqlite3 "$1" "SELECT count(*) FROM trials WHERE session_id = $2"; }
+. "$(dirname "$0")/term_after.sh"
 
 # 1. Refused before the first trial: exit 2, the message names the value and the limit, no store
 # is created and no table written. (--trials 10: before the checks existed, these ran a session.)
@@ -143,10 +144,10 @@ fi
 "$CSFCAL" display calibrate --photometer sim:display=oled --out "$T/b.profile" --store "$T/d.sqlite" --no-render --quiet >/dev/null 2>&1
 ida=$(sed -n 's/^id = //p' "$T/a.profile"); idb=$(sed -n 's/^id = //p' "$T/b.profile")
 check "two profiles with different ids ($ida, $idb)" test -n "$ida" -a -n "$idb" -a "$ida" != "$idb"
-timeout --preserve-status -s TERM 2 "$CSFCAL" observer calibrate --headless --quiet --store "$T/p.sqlite" \
+term_after_trials "$T/p.sqlite" 1 3 /dev/null "$CSFCAL" observer calibrate --headless --quiet --store "$T/p.sqlite" \
     --profile "$T/a.profile" --method 2afc --freqs 1,4 --eccs 0 --trials 200 --practice 0 --seed 7 \
-    --out "$T/p.csflut" 2>/dev/null
-rc=$?
+    --out "$T/p.csflut"
+rc=$RC
 n1=$(ntrials "$T/p.sqlite" 1)
 check "profile session paused by SIGTERM (rc $rc, $n1 trials)" test $rc -eq 1 -a "$n1" -gt 0
 err=$(run --store "$T/p.sqlite" --resume 1 --profile "$T/b.profile" --render-every -1 --out "$T/p.csflut" 2>&1 >/dev/null); rc=$?
