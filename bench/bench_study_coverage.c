@@ -28,6 +28,7 @@
 
 #include "devices/observer_sim.h"
 #include "results/study_stats.h"
+#include "sim_study.h"
 
 #define MAX_LEVELS 32
 
@@ -51,21 +52,6 @@ static void row(const char *name, const tally *t, const char *unit)
     csf_stats_clopper_pearson(t->hit, t->n, 0.95, &lo, &hi);
     printf("| %s | 95 %% | %.1f %% ± %.1f | [%.1f, %.1f] %% | %d | %.3f %s |\n", name, 100 * p,
            100 * sqrt(p * (1 - p) / t->n), 100 * lo, 100 * hi, t->n, t->width / t->n, unit);
-}
-
-/* One yes/no trial through the fade-in observer: contrast c (0 = catch) for 18 frames, then 90
- * blank frames; a press is "yes". */
-static int yes_no_trial(const csf_observer_sim *o, uint64_t trial, double f, double ecc, double c)
-{
-    const double period = 1.0 / 60;
-    const int n_stim = 18, n_total = 18 + 90;
-    csf_sim_fade_trial tr;
-    csf_observer_sim_fade_begin(o, trial, f, ecc, 0, 0, n_total * period, &tr);
-    for (int i = 0; i < n_total; i++) {
-        double press;
-        if (csf_observer_sim_fade_frame(o, &tr, i * period, i < n_stim ? c : 0, &press)) return 1;
-    }
-    return 0;
 }
 
 int main(int argc, char **argv)
@@ -112,22 +98,8 @@ int main(int argc, char **argv)
         csf_psy_level lv[MAX_LEVELS];
         uint64_t trial = 0;
         int fa = 0, n_catch = 0;
+        sim_study_levels(o, &trial, f, ecc, t_true, levels, per_level, yesno, catch_per_level, lv, &fa, &n_catch);
         for (int i = 0; i < levels; i++) {
-            lv[i].x_log10 = t_true - 0.45 + 0.15 * i;
-            lv[i].n = per_level;
-            lv[i].k = 0;
-            double c = pow(10.0, lv[i].x_log10);
-            for (int j = 0; j < per_level; j++, trial++) {
-                if (yesno) {
-                    lv[i].k += yes_no_trial(o, trial, f, ecc, c);
-                    continue;
-                }
-                int target = (int)(trial & 1);
-                double shown[2] = {0, 0}, rt;
-                shown[target] = c;
-                lv[i].k += csf_observer_sim_2afc(o, trial, f, ecc, shown, &rt) == target;
-            }
-            for (int j = 0; j < catch_per_level; j++, trial++, n_catch++) fa += yes_no_trial(o, trial, f, ecc, 0);
             double lo, hi;
             csf_stats_clopper_pearson(lv[i].k, lv[i].n, 0.95, &lo, &hi);
             double p = guess_true + (1 - guess_true - lapse_eff) *

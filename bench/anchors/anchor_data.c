@@ -14,18 +14,7 @@
 
 #include "devices/observer_sim.h"
 #include "results/study_stats.h"
-
-static int yes_no_trial(const csf_observer_sim *o, uint64_t trial, double f, double ecc, double c)
-{
-    const double period = 1.0 / 60;
-    csf_sim_fade_trial tr;
-    csf_observer_sim_fade_begin(o, trial, f, ecc, 0, 0, 108 * period, &tr);
-    for (int i = 0; i < 108; i++) {
-        double press;
-        if (csf_observer_sim_fade_frame(o, &tr, i * period, i < 18 ? c : 0, &press)) return 1;
-    }
-    return 0;
-}
+#include "../sim_study.h"
 
 int main(int argc, char **argv)
 {
@@ -54,24 +43,8 @@ int main(int argc, char **argv)
             csf_psy_level lv[8];
             uint64_t trial = 0;
             int fa = 0, n_catch = 0;
-            for (int i = 0; i < nl; i++) {
-                lv[i].x_log10 = t_true - 0.45 + 0.15 * i;
-                lv[i].n = nt;
-                lv[i].k = 0;
-                double c = pow(10.0, lv[i].x_log10);
-                for (int j = 0; j < nt; j++, trial++) {
-                    if (yesno) {
-                        lv[i].k += yes_no_trial(o, trial, f, ecc, c);
-                        continue;
-                    }
-                    int target = (int)(trial & 1);
-                    double shown[2] = {0, 0}, rt;
-                    shown[target] = c;
-                    lv[i].k += csf_observer_sim_2afc(o, trial, f, ecc, shown, &rt) == target;
-                }
-                for (int j = 0; yesno && j < nt / 3; j++, trial++, n_catch++) fa += yes_no_trial(o, trial, f, ecc, 0);
-                fprintf(fl, "%d,%.6f,%d,%d\n", id, lv[i].x_log10, lv[i].n, lv[i].k);
-            }
+            sim_study_levels(o, &trial, f, ecc, t_true, nl, nt, yesno, nt / 3, lv, &fa, &n_catch);
+            for (int i = 0; i < nl; i++) fprintf(fl, "%d,%.6f,%d,%d\n", id, lv[i].x_log10, lv[i].n, lv[i].k);
             csf_observer_sim_free(o);
             double guess = yesno ? fmin(0.5, fmax(0.001, (double)fa / n_catch)) : 0.5;
             csf_weibull_fit fit;
