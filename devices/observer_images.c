@@ -12,6 +12,15 @@ enum { ST_IMG_LAPSE = 0x1a6e, ST_IMG_SEEN, ST_IMG_GUESS, ST_IMG_RT };
 #define DOG_PEAK_CPP 0.153     /* sqrt(ln 4 / 3 / (2 pi^2)): peak of G(s) - G(2s), cycles/px * s */
 #define DOG_PEAK_GAIN 0.4725   /* exp(-ln4/3) - exp(-4 ln4/3) */
 
+/* The CSF thresholds are for Gabors of sigma 1 deg (DESIGN.md; calib/observer_calib.c). */
+#define REF_SIGMA_DEG 1.0
+
+/* mean over a period of |sin x|^p = Gamma((p + 1) / 2) / (sqrt(pi) Gamma(p / 2 + 1)) */
+static double mean_abs_sin_pow(double p)
+{
+    return exp(lgamma((p + 1) / 2) - lgamma(p / 2 + 1)) / sqrt(M_PI);
+}
+
 /* Separable Gaussian blur with replicated edges; tmp and out are w*h. */
 static void blur(const float *in, float *tmp, float *out, int w, int h, double sigma_px)
 {
@@ -53,16 +62,20 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
     for (size_t i = 0; i < n; i++) mean += 0.5 * ((double)lum_a[i] + lum_b[i]);
     mean /= n;
     float *d = malloc(n * sizeof *d), *g1 = malloc(n * sizeof *g1), *g2 = malloc(n * sizeof *g2),
-          *tmp = malloc(n * sizeof *tmp);
-    if (!d || !g1 || !g2 || !tmp) {
-        free(d), free(g1), free(g2), free(tmp);
+          *tmp = malloc(n * sizeof *tmp), *avg = malloc(n * sizeof *avg), *local = malloc(n * sizeof *local);
+    if (!d || !g1 || !g2 || !tmp || !avg || !local) {
+        free(d), free(g1), free(g2), free(tmp), free(avg), free(local);
         return -1;
     }
     int any = 0;
     for (size_t i = 0; i < n; i++) {
-        d[i] = mean > 0 ? (float)((lum_b[i] - lum_a[i]) / mean) : 0.0f;
+        d[i] = (float)(lum_b[i] - lum_a[i]);
+        avg[i] = 0.5f * (lum_a[i] + lum_b[i]);
         any |= d[i] != 0;
     }
+    /* Adaptation does not follow a dark region all the way down: the eye stays adapted to at
+     * least a tenth of the scene's mean (also keeps black backgrounds from dividing by zero). */
+    const double floor_lum = 0.1 * mean;
     double px_deg = size_deg / w;
     double cx = ecc_deg * cos(polar_deg * M_PI / 180), cy = ecc_deg * sin(polar_deg * M_PI / 180);
     double slope = csf_observer_sim_params_get(o)->slope;
@@ -73,27 +86,37 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
         if (2 * s > minside / 2.0) break; /* coarser than the image */
         blur(d, tmp, g1, w, h, s);
         blur(d, tmp, g2, w, h, 2 * s);
+        blur(avg, tmp, local, w, h, 2 * s); /* Peli's local mean: what lies below the band */
         double f_cpd = DOG_PEAK_CPP / s / px_deg;
-        double cmax = 0, rmax = 0;
+        double cmax = 0, rmax = 0, sum_px = 0;
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
                 size_t i = (size_t)y * w + x;
-                double c = fabs(g1[i] - g2[i]) / DOG_PEAK_GAIN;
+                double lum_local = local[i] > floor_lum ? local[i] : floor_lum;
+                double c = lum_local > 0 ? fabs(g1[i] - g2[i]) / DOG_PEAK_GAIN / lum_local : 0;
                 if (c <= 0) continue;
                 double ex = cx + (x + 0.5 - 0.5 * w) * px_deg, ey = cy - (y + 0.5 - 0.5 * h) * px_deg;
                 double t = csf_observer_sim_threshold(o, f_cpd, hypot(ex, ey));
                 double r = isfinite(t) && t > 0 ? c / t : 0;
                 if (c > cmax) cmax = c;
                 if (r > rmax) rmax = r;
+                sum_px += pow(r, slope);
             }
+        /* Probability summation over space (Robson & Graham 1981): the thresholds are those of a
+         * Gabor of sigma REF_SIGMA_DEG, whose band contrast at threshold pools to
+         * (2 pi sigma^2 / slope) * mean|sin|^slope deg^2; a difference confined to a few pixels
+         * pools over far less area than that, so it needs more contrast than the grating. */
+        double ref_area_deg2 = 2 * M_PI * REF_SIGMA_DEG * REF_SIGMA_DEG / slope * mean_abs_sin_pow(slope);
+        double r_band = pow(sum_px * px_deg * px_deg / ref_area_deg2, 1 / slope);
         int b = out->n_bands++;
         out->freq_cpd[b] = f_cpd;
         out->contrast[b] = cmax;
-        out->ratio[b] = rmax;
-        pooled += pow(rmax, slope);
+        out->ratio[b] = r_band;
+        out->peak_ratio[b] = rmax;
+        pooled += pow(r_band, slope);
     }
     out->r = pow(pooled, 1 / slope);
-    free(d), free(g1), free(g2), free(tmp);
+    free(d), free(g1), free(g2), free(tmp), free(avg), free(local);
     return 0;
 }
 

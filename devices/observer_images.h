@@ -2,14 +2,15 @@
  * the difference between two images to an observer with a given CSF (devices/observer_sim.h)?
  *
  * Model (docs/studies.md, "image pairs"): the images are relative luminance; their difference is
- * expressed as contrast against the pair's mean luminance, d = (b - a) / mean. d is split into
- * octave bands by differences of Gaussians, B_k = G(s_k) * d - G(2 s_k) * d with s_k = 2^(k-1) px;
- * band k peaks at f_k = 0.153 / s_k cycles per pixel (converted to cpd with the image's pixel
- * size, width = size_deg) with gain 0.4725, which is divided out so that a grating of amplitude c
- * at f_k gives |B_k| = c. Each pixel's eccentricity follows from the image's place on screen
- * (small-angle offsets from its centre). A band's detectability is the largest ratio of its local
- * contrast to the observer's threshold at (f_k, pixel eccentricity); bands are combined by
- * probability summation (Quick pooling with the observer's Weibull slope):
+ * split into octave bands by differences of Gaussians, B_k = G(s_k) * d - G(2 s_k) * d with
+ * s_k = 2^(k-1) px; band k peaks at f_k = 0.153 / s_k cycles per pixel (converted to cpd with the
+ * image's pixel size, width = size_deg) with gain 0.4725, divided out so that a grating of
+ * amplitude c at f_k gives |B_k| = c. Contrast is local (Peli 1990): |B_k| over the pair's mean
+ * luminance blurred at 2 s_k (floored at a tenth of the image mean). Each pixel's eccentricity
+ * follows from the image's place on screen. A band's detectability pools contrast/threshold over
+ * space (Robson & Graham 1981) against the area a 1-deg Gabor pools at threshold:
+ *     r_k = (sum_px (c/t)^slope * A_px / A_ref)^(1/slope),  A_ref = 2 pi sigma^2 / slope * mean|sin|^slope
+ * and bands by probability summation (Quick pooling with the observer's Weibull slope):
  *     r = (sum_k r_k^slope)^(1/slope),   P(seen) = 1 - exp(-r^slope)
  * so r = 1 is a difference at threshold (P(seen) = 1 - 1/e, as a grating at t in the Weibull).
  * Bands finer than 0.5 cycle/px do not exist; bands coarser than the image are not used.
@@ -30,7 +31,8 @@ typedef struct {
     int n_bands;
     double freq_cpd[CSF_IMG_MAX_BANDS];
     double contrast[CSF_IMG_MAX_BANDS];  /* largest band contrast anywhere in the image */
-    double ratio[CSF_IMG_MAX_BANDS];     /* largest contrast / threshold */
+    double ratio[CSF_IMG_MAX_BANDS];     /* band detectability pooled over space (1 = a 1-deg Gabor at threshold) */
+    double peak_ratio[CSF_IMG_MAX_BANDS]; /* largest local contrast / threshold */
     double r;                            /* pooled detectability */
 } csf_image_pair_eval;
 
