@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...] [--honest [--fresh] [--quick]]
+ *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1|2|3] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -39,11 +39,16 @@
  * observers are inside 1.5-6 / 0-0.08, the <= 0.12 target). --fresh: a second held-out set
  * (bench/data/observer_heldout2.py: three other CSF shapes from the literature, seeded slopes,
  * lapses and decision models), made after the method was frozen, instead of the first.
+ * --heldout 3: a third (bench/data/observer_heldout3.py), made on 2026-11-27 before that day's
+ * changes to the method; --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
  * CSF_BENCH_PSY=1 prints the slope and lapse bayes settled on per session (stderr);
  * CSF_BENCH_CELLS=1 prints, under each --sim row, every visible cell's mean and RMS error and
- * its mean number of trials.
+ * its mean number of trials; CSF_BENCH_PLACE=1 prints, per --sim trial, the layout, where the
+ * contrast landed against the truth (log10) and whether the answer was right (stderr);
+ * CSF_BENCH_FIX=SLOPE,LAPSE gives the method a fixed psychometric function (what a wrong guess
+ * of the person's slope or lapse costs).
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -102,12 +107,18 @@ static int run_sim_session(const csf_procedure_ops *ops, const csf_observer_sim 
         setup.slope_beta = p->decision == CSF_SIM_SDT ? 1.21 * p->k_transducer : p->slope;
         setup.lapse = p->lapse;
     }
+    const char *fix = getenv("CSF_BENCH_FIX");
+    if (fix && *fix) {
+        setup.fixed_psychometric = 1;
+        sscanf(fix, "%lf,%lf", &setup.slope_beta, &setup.lapse);
+    }
     csf_error err = {0};
     void *st = NULL;
     if (ops->create(&setup, &st, &err) != CSF_OK) {
         fprintf(stderr, "%s: create: %s\n", ops->name, err.msg);
         return -1;
     }
+    const char *place = getenv("CSF_BENCH_PLACE");
     for (int k = 0; k < budget; k++) {
         csf_trial_plan plan;
         csf_status rc = ops->next(st, k, &plan);
@@ -126,6 +137,10 @@ static int run_sim_session(const csf_procedure_ops *ops, const csf_observer_sim 
         out.response = m == 4 ? csf_observer_sim_afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, 4, &rt)
                               : csf_observer_sim_2afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, &rt);
         ops->update(st, k, &plan, &out);
+        if (place && *place == '1') /* diagnosis: where trials land against the truth */
+            fprintf(stderr, "place: %d %.4f %d\n", m,
+                    log10(plan.contrast) - log10(csf_observer_sim_threshold(o, c->freq_cpd, c->ecc_deg)),
+                    out.response == plan.signal_interval);
     }
     csf_status rc = ops->estimate(st, est, &err);
     const char *psy = getenv("CSF_BENCH_PSY"); /* diagnosis: the slope and lapse bayes settled on */
@@ -271,6 +286,23 @@ static const honest_observer HONEST_FRESH[] = {
     {"robson, Weibull 5.74/0.052", "sim:slope=5.741,lapse=0.052,table=bench/data/observer_robson.csv", 1, 0},
     {"robson, sdt k 4.74/0.079", "sim:decision=sdt,k=4.744,lapse=0.079,table=bench/data/observer_robson.csv", 1, 0},
 };
+/* --heldout 3: a third held-out set, made on 2026-11-27 before that day's work on the method and run
+ * once after it was frozen (bench/data/observer_heldout3.py prints these lines) */
+static const honest_observer HONEST_THIRD[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"mansak, Weibull 2.07/0.013", "sim:slope=2.069,lapse=0.013,table=bench/data/observer_mansak.csv", 1, 1},
+    {"mansak, sdt k 2.18/0.042", "sim:decision=sdt,k=2.180,lapse=0.042,table=bench/data/observer_mansak.csv", 1, 1},
+    {"bartlow, Weibull 2.33/0.020", "sim:slope=2.331,lapse=0.020,table=bench/data/observer_bartlow.csv", 1, 1},
+    {"bartlow, sdt k 3.96/0.013", "sim:decision=sdt,k=3.957,lapse=0.013,table=bench/data/observer_bartlow.csv", 1, 1},
+    {"ridge, Weibull 2.17/0.008", "sim:slope=2.165,lapse=0.008,table=bench/data/observer_ridge.csv", 1, 1},
+    {"ridge, sdt k 1.71/0.046", "sim:decision=sdt,k=1.705,lapse=0.046,table=bench/data/observer_ridge.csv", 1, 1},
+    {"mansak, Weibull 5.04/0.080", "sim:slope=5.037,lapse=0.080,table=bench/data/observer_mansak.csv", 1, 0},
+    {"mansak, sdt k 4.25/0.071", "sim:decision=sdt,k=4.247,lapse=0.071,table=bench/data/observer_mansak.csv", 1, 0},
+    {"bartlow, Weibull 5.05/0.076", "sim:slope=5.050,lapse=0.076,table=bench/data/observer_bartlow.csv", 1, 0},
+    {"bartlow, sdt k 4.59/0.069", "sim:decision=sdt,k=4.591,lapse=0.069,table=bench/data/observer_bartlow.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
@@ -383,12 +415,13 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
     return r;
 }
 
-static int run_honest(const csf_procedure_ops *bayes, int fresh, int first_seed, int n_seeds, const csf_cell *cells,
+static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first_seed, int n_seeds, const csf_cell *cells,
                       int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    const honest_observer *HONEST = fresh ? HONEST_FRESH : HONEST_OBS;
-    const int N_HONEST = fresh ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
-                               : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
+    const honest_observer *HONEST = heldout_set == 3 ? HONEST_THIRD : heldout_set == 2 ? HONEST_FRESH : HONEST_OBS;
+    const int N_HONEST = heldout_set == 3   ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
+                         : heldout_set == 2 ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
+                                            : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
     static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
     static int bias_n[MAX_HONEST_OBS][2];
     double floor_rms[MAX_HONEST_OBS];
@@ -531,7 +564,7 @@ int main(int argc, char **argv)
     double quest_sd = 1.0; /* QUEST's prior sd (log10) around the guess */
     int first_seed = 1;    /* tuning runs use other seeds than the published table */
     int use_layout[N_LAYOUTS] = {1, 1}; /* [0]: four places off the fovea, [1]: two intervals */
-    int per_cell = 0, honest = 0, fresh = 0, quick = 0, seeds_given = 0;
+    int per_cell = 0, honest = 0, heldout_set = 1, quick = 0, seeds_given = 0;
     const char *specs[MAX_SPECS];
     int n_specs = 0;
     for (int i = 1; i < argc; i++) {
@@ -592,14 +625,21 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--quick")) {
             quick = 1;
         } else if (!strcmp(argv[i], "--fresh")) {
-            honest = fresh = 1;
+            honest = 1, heldout_set = 2;
+        } else if (!strcmp(argv[i], "--heldout") && i + 1 < argc) {
+            heldout_set = atoi(argv[++i]);
+            if (heldout_set < 1 || heldout_set > 3) {
+                fprintf(stderr, "bench_observer: --heldout takes 1, 2 or 3\n");
+                return 1;
+            }
+            honest = 1;
         } else if (!strcmp(argv[i], "--cells")) {
             per_cell = 1;
         } else if (!strcmp(argv[i], "--quest")) {
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1|2|3] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
@@ -647,7 +687,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "bench_observer: --honest needs the bayes method\n");
                 return 1;
             }
-            if (run_honest(bayes, fresh, first_seed, seeds_given ? n_seeds : quick ? 3 : 10, cells, n, n_alt, cmax, layout_name[ly])) return 1;
+            if (run_honest(bayes, heldout_set, first_seed, seeds_given ? n_seeds : quick ? 3 : 10, cells, n, n_alt, cmax, layout_name[ly])) return 1;
             continue;
         }
         if (n_specs > 0) {
