@@ -76,8 +76,12 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define NEAR_BEST_FRACTION 0.85
 #endif
 #define INVISIBLE_PROB 0.5     /* P(t > log10 max contrast) above which a cell is reported invisible */
+#ifndef MISFIT_LOG10_BF
 #define MISFIT_LOG10_BF 0.5    /* about 3:1 for the per-cell model over the surface */
+#endif
+#ifndef MISFIT_MIN_TRIALS
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
+#endif
 #ifndef BAYES_CRITERION_ENTROPY
 #define BAYES_CRITERION_ENTROPY 0 /* 1: Psi-style entropy; 0: expected variance reduction */
 #endif
@@ -104,6 +108,16 @@ static const double eta_slopes[] = {1.5, 1.89, 2.38, 3.0, 3.78, 4.76, 6.0};
 static const double eta_lapses[] = {MIN_LAPSE, 0.02, 0.04, 0.06, 0.08};
 enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
        N_ETA_LAPSE = sizeof eta_lapses / sizeof eta_lapses[0] };
+/* Population prior over the grid (0: flat). Slope: log-normal around a median; lapse: Beta(1, B). */
+#ifndef ETA_SLOPE_MEDIAN
+#define ETA_SLOPE_MEDIAN 0.0
+#endif
+#ifndef ETA_SLOPE_LOGSD
+#define ETA_SLOPE_LOGSD 0.35
+#endif
+#ifndef ETA_LAPSE_B
+#define ETA_LAPSE_B 0.0
+#endif
 #define ETA_REBUILD_CHANGE 2e-3 /* rebuild every cell's mixed likelihood when a weight moves this much */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
@@ -635,11 +649,23 @@ static void mix_ptab(bayes_state *s)
  * surf_c the cell's surface prior from the other cells (refresh_cache). The particles cannot give
  * the joint evidence cheaply (it would need every cell's convolution per node); the predictive
  * product is the usual cross-validated stand-in for it. */
+static double eta_log_prior(const bayes_state *s, int e)
+{
+    double lp = 0.0;
+    if (s->n_eta == 1) return 0.0;
+    if (ETA_SLOPE_MEDIAN > 0) {
+        double z = log(s->eta_slope[e] / ETA_SLOPE_MEDIAN) / ETA_SLOPE_LOGSD;
+        lp -= 0.5 * z * z;
+    }
+    if (ETA_LAPSE_B > 0) lp += (ETA_LAPSE_B - 1.0) * log1p(-s->eta_lapse[e]);
+    return lp;
+}
+
 static void eta_posterior(bayes_state *s)
 {
     int G = s->n_grid, nc = s->n_cells;
     double *lp = s->eta_w;
-    for (int e = 0; e < s->n_eta; e++) lp[e] = 0.0;
+    for (int e = 0; e < s->n_eta; e++) lp[e] = eta_log_prior(s, e);
     for (int c = 0; c < nc; c++) {
         if (!s->n_trials[c]) continue;
         const double *sp = &s->surf[(size_t)c * G];
@@ -859,8 +885,10 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
             s->eta_lapse[e] = eta_lapses[e % N_ETA_LAPSE];
         }
     }
+    double eta_tot = 0.0;
+    for (int e = 0; e < s->n_eta; e++) eta_tot += exp(eta_log_prior(s, e));
     for (int e = 0; e < s->n_eta; e++) {
-        s->eta_w[e] = s->eta_w_used[e] = 1.0 / s->n_eta;
+        s->eta_w[e] = s->eta_w_used[e] = exp(eta_log_prior(s, e)) / eta_tot;
         for (int a = 0; a < 2; a++)
             for (int d = -(G - 1); d <= G - 1; d++)
                 s->ptab_eta[((size_t)e * 2 + a) * (2 * G - 1) + d + G - 1] =

@@ -19,14 +19,16 @@
  * the ramp by the reaction latency. Reaction times slow down near threshold (Pieron's law,
  * RT = RT0 + K (c/t)^-b), so the latency the session measures on practice trials at 30 % contrast
  * (setup->reaction_latency_s) is too short for a detection at threshold. The method measures the
- * latency where it is needed: once a cell has 2 detections, about 1 trial in 6 on it is a probe, a
- * step to a fixed contrast FADE_PROBE_ABOVE log10 above the cell's estimate for FADE_PROBE_S; the
- * press latency of a probe is the latency at c/t = 1.26 (no ramp moves under it). The latency used
- * is the mean of the probes' latencies, shrunk towards the practice latency by FADE_PROBE_PRIOR
- * pseudo-trials, and every stored detection is re-corrected (the posteriors rebuilt) when it
- * changes by more than 5 ms. A probe is also a yes/no trial at its contrast:
- * P(press) = (1 - lapse) F(x) (+ the guessed-press constant). Piéron's law would add
- * K (1 - 1.26^-b) more at threshold, under 0.03 s for K <= 0.2 s, b <= 0.7: not modelled.
+ * latency where it is needed: once a cell has 2 detections, about 1 trial in 3 on it is a probe, a
+ * step to the cell's estimate (FADE_PROBE_ABOVE) for FADE_PROBE_S; the press latency of a probe is
+ * the latency at threshold (no ramp moves under it). The latency used is the mean of the probes'
+ * latencies, shrunk towards the practice latency by FADE_PROBE_PRIOR pseudo-trials, and every
+ * stored detection is re-corrected (the posteriors rebuilt) when it changes by more than 5 ms.
+ * The practice latency is a floor, not a guess (it is measured where Pieron's term is smallest),
+ * so the shrinkage is light: with one full pseudo-probe and the few probes a short session holds
+ * (3-14 in 96 trials), a person 0.15 s slower at threshold read +0.13 log10 above forced choice;
+ * with a quarter and 1 trial in 3 as probes, +0.06 (bench/bench_task_agree). A probe is also a
+ * yes/no trial at its contrast: P(press) = (1 - lapse) F(x) (+ the guessed-press constant).
  *
  * Scheduling: catch trials (no grating) on about 1 in 10 trials; otherwise the least-measured cell
  * that is not yet stable, ties broken by a per-trial random rotation. The first ramp of a cell
@@ -52,11 +54,17 @@
 
 enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE };
 
-#define FADE_PROBE_RATE 0.25   /* share of a measured cell's trials that are latency probes */
+#ifndef FADE_PROBE_RATE
+#define FADE_PROBE_RATE 0.35   /* share of a measured cell's trials that are latency probes */
+#endif
 #define FADE_PROBE_ABOVE 0.0   /* at the estimate, where ramp detections happen */
 #define FADE_PROBE_S 1.5       /* how long the probe's contrast stays on */
-#define FADE_PROBE_PRIOR 1.0   /* pseudo-probes at the practice latency */
+#ifndef FADE_PROBE_PRIOR
+#define FADE_PROBE_PRIOR 0.25  /* pseudo-probes at the practice latency */
+#endif
+#ifndef FADE_RT_MAX_S
 #define FADE_RT_MAX_S 2.0      /* a probe press later than this is not a reaction to the probe */
+#endif
 
 /* One stored trial, for rebuilding the posteriors when the latency estimate moves. */
 typedef enum { TR_DETECT, TR_CENSORED, TR_PROBE_YES, TR_PROBE_NO } trial_kind;
