@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1|2|3] [--quick]]
+ *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-4] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -40,7 +40,9 @@
  * (bench/data/observer_heldout2.py: three other CSF shapes from the literature, seeded slopes,
  * lapses and decision models), made after the method was frozen, instead of the first.
  * --heldout 3: a third (bench/data/observer_heldout3.py), made on 2026-11-27 before that day's
- * changes to the method; --heldout 1 and 2 are the first set and --fresh.
+ * changes to the method; --heldout 4: a fourth (bench/data/observer_heldout4.py), made after the
+ * third had measured the method and before any change made in its light; --heldout 1 and 2 are
+ * the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
  * CSF_BENCH_PSY=1 prints the slope and lapse bayes settled on per session (stderr);
@@ -303,6 +305,23 @@ static const honest_observer HONEST_THIRD[] = {
     {"bartlow, Weibull 5.05/0.076", "sim:slope=5.050,lapse=0.076,table=bench/data/observer_bartlow.csv", 1, 0},
     {"bartlow, sdt k 4.59/0.069", "sim:decision=sdt,k=4.591,lapse=0.069,table=bench/data/observer_bartlow.csv", 1, 0},
 };
+/* --heldout 4: a fourth held-out set, made on 2026-11-27 after the third had measured the method
+ * and before any change made in its light (bench/data/observer_heldout4.py prints these lines) */
+static const honest_observer HONEST_FOURTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"virsu, Weibull 2.96/0.039", "sim:slope=2.962,lapse=0.039,table=bench/data/observer_virsu.csv", 1, 1},
+    {"virsu, sdt k 3.93/0.021", "sim:decision=sdt,k=3.934,lapse=0.021,table=bench/data/observer_virsu.csv", 1, 1},
+    {"scaled, Weibull 4.66/0.040", "sim:slope=4.659,lapse=0.040,table=bench/data/observer_scaled.csv", 1, 1},
+    {"scaled, sdt k 4.04/0.043", "sim:decision=sdt,k=4.039,lapse=0.043,table=bench/data/observer_scaled.csv", 1, 1},
+    {"lowpeak, Weibull 2.46/0.017", "sim:slope=2.459,lapse=0.017,table=bench/data/observer_lowpeak.csv", 1, 1},
+    {"lowpeak, sdt k 1.78/0.049", "sim:decision=sdt,k=1.781,lapse=0.049,table=bench/data/observer_lowpeak.csv", 1, 1},
+    {"virsu, Weibull 5.86/0.057", "sim:slope=5.859,lapse=0.057,table=bench/data/observer_virsu.csv", 1, 0},
+    {"virsu, sdt k 1.39/0.070", "sim:decision=sdt,k=1.388,lapse=0.070,table=bench/data/observer_virsu.csv", 1, 0},
+    {"scaled, Weibull 5.71/0.068", "sim:slope=5.707,lapse=0.068,table=bench/data/observer_scaled.csv", 1, 0},
+    {"scaled, sdt k 4.14/0.075", "sim:decision=sdt,k=4.145,lapse=0.075,table=bench/data/observer_scaled.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
@@ -418,8 +437,12 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
 static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first_seed, int n_seeds, const csf_cell *cells,
                       int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    const honest_observer *HONEST = heldout_set == 3 ? HONEST_THIRD : heldout_set == 2 ? HONEST_FRESH : HONEST_OBS;
-    const int N_HONEST = heldout_set == 3   ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
+    const honest_observer *HONEST = heldout_set == 4   ? HONEST_FOURTH
+                                    : heldout_set == 3 ? HONEST_THIRD
+                                    : heldout_set == 2 ? HONEST_FRESH
+                                                       : HONEST_OBS;
+    const int N_HONEST = heldout_set == 4   ? (int)(sizeof HONEST_FOURTH / sizeof HONEST_FOURTH[0])
+                         : heldout_set == 3 ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
                          : heldout_set == 2 ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
                                             : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
     static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
@@ -628,8 +651,8 @@ int main(int argc, char **argv)
             honest = 1, heldout_set = 2;
         } else if (!strcmp(argv[i], "--heldout") && i + 1 < argc) {
             heldout_set = atoi(argv[++i]);
-            if (heldout_set < 1 || heldout_set > 3) {
-                fprintf(stderr, "bench_observer: --heldout takes 1, 2 or 3\n");
+            if (heldout_set < 1 || heldout_set > 4) {
+                fprintf(stderr, "bench_observer: --heldout takes 1, 2, 3 or 4\n");
                 return 1;
             }
             honest = 1;
@@ -639,7 +662,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1|2|3] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-4] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
