@@ -103,7 +103,7 @@ static int join(char *buf, size_t len, const char *a, const char *b, const char 
 static int read_attr(const char *dir, const char *name, char *buf, size_t len)
 {
     char p[PATH_MAX];
-    snprintf(p, sizeof p, "%s/%s", dir, name);
+    if (join(p, sizeof p, dir, name, "")) return -1;
     FILE *f = fopen(p, "r");
     if (!f) return -1;
     if (!fgets(buf, (int)len, f)) buf[0] = 0;
@@ -127,10 +127,11 @@ static int may_open(const char *node, const char *hint, char *why, size_t len)
 {
     if (access(node, R_OK | W_OK) == 0) return 0;
     int e = errno;
-    if (e == EACCES || e == EPERM)
-        snprintf(why, len, "found but not accessible: permission denied on %s; %s", node, hint);
-    else
-        snprintf(why, len, "found but %s cannot be opened: %s", node, strerror(e));
+    /* a reason cut short at len is still a reason: the return values are not needed */
+    int n = e == EACCES || e == EPERM
+                ? snprintf(why, len, "found but not accessible: permission denied on %.300s; %s", node, hint)
+                : snprintf(why, len, "found but %.300s cannot be opened: %s", node, strerror(e));
+    (void)n;
     return -1;
 }
 

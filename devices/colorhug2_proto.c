@@ -74,7 +74,7 @@ void csf_ch2_double_to_packed(double x, uint8_t p[4])
 
 csf_status csf_ch2_parse_firmware(const uint8_t *buf, size_t len, unsigned ver[3], csf_error *err)
 {
-    const uint8_t *d;
+    const uint8_t *d = NULL;
     csf_status st = csf_ch2_check_reply(CSF_CH2_CMD_GET_FIRMWARE_VERSION, buf, len, 6, &d, err);
     if (st) return st;
     for (int k = 0; k < 3; k++) ver[k] = (unsigned)d[2 * k] | (unsigned)d[2 * k + 1] << 8;
@@ -83,7 +83,7 @@ csf_status csf_ch2_parse_firmware(const uint8_t *buf, size_t len, unsigned ver[3
 
 csf_status csf_ch2_parse_serial(const uint8_t *buf, size_t len, uint32_t *serial, csf_error *err)
 {
-    const uint8_t *d;
+    const uint8_t *d = NULL;
     csf_status st = csf_ch2_check_reply(CSF_CH2_CMD_GET_SERIAL_NUMBER, buf, len, 4, &d, err);
     if (st) return st;
     *serial = (uint32_t)d[0] | (uint32_t)d[1] << 8 | (uint32_t)d[2] << 16 | (uint32_t)d[3] << 24;
@@ -93,7 +93,7 @@ csf_status csf_ch2_parse_serial(const uint8_t *buf, size_t len, uint32_t *serial
 csf_status csf_ch2_parse_calibration(const uint8_t *buf, size_t len, double m[3][3], char desc[24],
                                      csf_error *err)
 {
-    const uint8_t *d;
+    const uint8_t *d = NULL;
     csf_status st = csf_ch2_check_reply(CSF_CH2_CMD_GET_CALIBRATION, buf, len, 36 + 1 + 23, &d, err);
     if (st) return st;
     for (int i = 0; i < 9; i++) m[i / 3][i % 3] = csf_ch2_packed_to_double(d + 4 * i);
@@ -105,7 +105,7 @@ csf_status csf_ch2_parse_calibration(const uint8_t *buf, size_t len, double m[3]
 
 csf_status csf_ch2_parse_readings(const uint8_t *buf, size_t len, double rgb[3], csf_error *err)
 {
-    const uint8_t *d;
+    const uint8_t *d = NULL;
     csf_status st = csf_ch2_check_reply(CSF_CH2_CMD_TAKE_READINGS, buf, len, 12, &d, err);
     if (st) return st;
     for (int k = 0; k < 3; k++) rgb[k] = csf_ch2_packed_to_double(d + 4 * k);

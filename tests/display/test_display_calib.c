@@ -200,7 +200,7 @@ int main(void)
              * second one too dark */
             snprintf(spec, sizeof spec, "sim:display=lcd,fault=dark@%d", nw + (k ? 3 : 0));
             int64_t sid = 0;
-            csf_status st;
+            csf_status st = CSF_OK;
             p = calibrate(spec, 5, ds, &sid, &res, &st, &err);
             CHECK_MSG(st == CSF_E_TOO_DARK, "%s: status %d (%s)", spec, (int)st, err.msg);
             csf_profile_free(p);
@@ -214,7 +214,7 @@ int main(void)
          * three, with the reason, and resumable */
         {
             int64_t sid = 0;
-            csf_status st;
+            csf_status st = CSF_OK;
             p = calibrate("sim:display=lcd,black=0.01,abs_noise=0.002", 5, ds, &sid, &res, &st, &err);
             CHECK_MSG(st == CSF_E_INSUFFICIENT, "black at the floor: status %d (%s)", (int)st, err.msg);
             CHECK_STR_CONTAINS(err.msg, "mix 'too dark' answers");
@@ -366,7 +366,7 @@ int main(void)
         snprintf(spec, sizeof spec, "sim:display=lcd,fault=%s", faults[k].fault);
         int64_t sid = 0;
         csf_display_calib_result res;
-        csf_status st;
+        csf_status st = CSF_OK;
         csf_error_clear(&err);
         csf_display_profile *p = calibrate(spec, 21, store, &sid, &res, &st, &err);
         CHECK_MSG(st == faults[k].code, "%s: status %d (%s)", spec, (int)st, err.msg);
@@ -415,7 +415,7 @@ int main(void)
     if (store) {
         int64_t sid = 0;
         csf_display_calib_result res;
-        csf_status st;
+        csf_status st = CSF_OK;
         csf_display_profile *p = calibrate("sim:display=oled,fault=garbage@33", 9, store, &sid, &res, &st, &err);
         CHECK_INT_EQ(st, CSF_E_PROTOCOL);
         csf_profile_free(p);

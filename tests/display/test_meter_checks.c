@@ -118,7 +118,7 @@ int main(void)
         snprintf(spec, sizeof spec, "sim:display=lcd,fault=%s@%d", faults[k].kind, at);
         int64_t sid = 0;
         csf_display_calib_result res;
-        csf_status st;
+        csf_status st = CSF_OK;
         csf_error_clear(&err);
         csf_display_profile *p = calibrate(spec, store, &sid, &res, &st, &err);
         CHECK_MSG(st == faults[k].code, "%s: status %d (%s)", spec, (int)st, err.msg);
@@ -192,7 +192,7 @@ int main(void)
     /* the instrument's own faults are named too, with what to do */
     {
         csf_display_calib_result res;
-        csf_status st;
+        csf_status st = CSF_OK;
         csf_display_profile *p = calibrate("sim:display=lcd,fault=dark@0", NULL, NULL, &res, &st, &err);
         CHECK_INT_EQ(st, CSF_E_TOO_DARK);
         CHECK_STR_CONTAINS(err.msg, "photometer sim:display=lcd,fault=dark@0, reading 0 (warm-up white");
