@@ -306,7 +306,8 @@ static const honest_observer HONEST_THIRD[] = {
     {"bartlow, sdt k 4.59/0.069", "sim:decision=sdt,k=4.591,lapse=0.069,table=bench/data/observer_bartlow.csv", 1, 0},
 };
 /* --heldout 4: a fourth held-out set, made on 2026-11-27 after the third had measured the method
- * and before any change made in its light (bench/data/observer_heldout4.py prints these lines) */
+ * and before any change made in its light; none was adopted, so it measures the same method
+ * (bench/data/observer_heldout4.py prints these lines) */
 static const honest_observer HONEST_FOURTH[] = {
     {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
     {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},

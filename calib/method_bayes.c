@@ -129,7 +129,10 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #endif
 static const double prior_mean[NPAR] = PRIOR_MEAN;
 static const double prior_sd[NPAR] = PRIOR_SD;
-static const double prior_lo[NPAR] = {0.5, -0.7, 0.0, 0.0, 0.0, 0.0};
+#ifndef PRIOR_LO
+#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0}
+#endif
+static const double prior_lo[NPAR] = PRIOR_LO;
 static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1};
 
 typedef struct {
