@@ -8,7 +8,8 @@
  *     as sessions run them (slope and lapse marginalised), and mean absolute (over cells, of the
  *     per-cell mean over seeds) within 0.02 with the method told the observer's slope (enough
  *     seeds that the per-cell noise is below the tolerance in reasonable time);
- *   - fade vs two intervals: mean signed difference within 0.1 log10.
+ *   - fade vs two intervals: mean signed difference within 0.1 log10, also for a person whose
+ *     responses slow down near threshold (Pieron).
  * A Weibull-decision observer is checked too: its two-interval table is still recovered.
  * Run with -v for the per-method figures (BENCHMARKS.md quotes them). */
 #include <math.h>
@@ -123,6 +124,16 @@ int main(void)
     fprintf(stderr, "  fade - two intervals: mean signed %+.3f\n", fade.mean - fc.mean);
     CHECK_INT_EQ(fade.n_bad, 0);
     CHECK_MSG(fabs(fade.mean - fc.mean) <= 0.1, "fade vs forced choice %+.3f > 0.1", fade.mean - fc.mean);
+    /* the same person 0.15 s slower at threshold (Pieron): the forced-choice answers do not
+     * change, the fade's latency correction must follow (+0.128 when the few latency probes were
+     * shrunk towards the practice latency by a whole pseudo-probe; bench/bench_task_agree) */
+    errs slow;
+    run("fade", "sim:decision=sdt,pieron_k=0.15", NULL, 12 * N_CELLS, 16, 0, &slow);
+    report("fade sim:decision=sdt,pieron_k=0.15", &slow);
+    fprintf(stderr, "  fade (Pieron 0.15 s) - two intervals: mean signed %+.3f\n", slow.mean - fc.mean);
+    CHECK_INT_EQ(slow.n_bad, 0);
+    CHECK_MSG(fabs(slow.mean - fc.mean) <= 0.1, "fade (Pieron 0.15 s) vs forced choice %+.3f > 0.1",
+              slow.mean - fc.mean);
 
     /* the Weibull (high-threshold) observer's two-interval table is still its truth */
     errs w;
