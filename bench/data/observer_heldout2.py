@@ -65,8 +65,8 @@ def mesopic(f, e):
 TRUTHS = (("mkgp", mkgp), ("robson", robson), ("mesopic", mesopic))
 
 
-def write_tables():
-    for name, fn in TRUTHS:
+def write_tables(truths=TRUTHS):
+    for name, fn in truths:
         with open("observer_%s.csv" % name, "w") as out:
             out.write("freq_cpd,ecc_deg,threshold\n")
             for e in ECCS:
@@ -96,13 +96,15 @@ def spec(rng, truth, decision, wide):
             % (truth, s, lapse, s, lapse, path, narrow))
 
 
-def specs():
-    rng = random.Random(SEED)
+def specs(seed=SEED, truths=TRUTHS):
+    """Two narrow observers per truth, then the wide-range corners on the first two (the draw
+    order is part of each set's definition: the later sets reuse it with their own seed)."""
+    rng = random.Random(seed)
     out = []
-    for truth, _ in TRUTHS:
+    for truth, _ in truths:
         for decision in ("weibull", "sdt"):
             out.append(spec(rng, truth, decision, False))
-    for truth, _ in TRUTHS[:2]:
+    for truth, _ in truths[:2]:
         for decision in ("weibull", "sdt"):
             out.append(spec(rng, truth, decision, True))
     return out

@@ -28,9 +28,8 @@ one sdt observer in the corners of the wide range (slope / 1.21 k log-uniform in
 lapse uniform 0.05-0.08) on the first two truths.
 Run from bench/data: python3 observer_heldout3.py"""
 import math
-import random
 
-from observer_heldout2 import ECCS, FREQS, barten, log_uniform
+from observer_heldout2 import barten, specs, write_tables
 
 SEED = 20261127
 
@@ -60,46 +59,7 @@ def ridge(f, e):
 TRUTHS = (("mansak", mansak), ("bartlow", bartlow), ("ridge", ridge))
 
 
-def write_tables():
-    for name, fn in TRUTHS:
-        with open("observer_%s.csv" % name, "w") as out:
-            out.write("freq_cpd,ecc_deg,threshold\n")
-            for e in ECCS:
-                for f in FREQS:
-                    s = fn(f, e)
-                    out.write("%.6g,%g,%.6g\n" % (f, e, min(1e6, 1.0 / s) if s > 0 else 1e6))
-
-
-def spec(rng, truth, decision, wide):
-    if wide:
-        s = log_uniform(rng, 1.5, 2.0) if rng.random() < 0.5 else log_uniform(rng, 5.0, 6.0)
-        lapse = rng.uniform(0.05, 0.08)
-    else:
-        s = log_uniform(rng, 2.0, 5.0)
-        lapse = rng.uniform(0.0, 0.05)
-    narrow = int(2.0 <= s <= 5.0 and lapse <= 0.05)
-    path = "bench/data/observer_%s.csv" % truth
-    if decision == "sdt":
-        k = s / 1.21
-        return ('{"%s, sdt k %.2f/%.3f", "sim:decision=sdt,k=%.3f,lapse=%.3f,table=%s", 1, %d},'
-                % (truth, k, lapse, k, lapse, path, narrow))
-    return ('{"%s, Weibull %.2f/%.3f", "sim:slope=%.3f,lapse=%.3f,table=%s", 1, %d},'
-            % (truth, s, lapse, s, lapse, path, narrow))
-
-
-def specs():
-    rng = random.Random(SEED)
-    out = []
-    for truth, _ in TRUTHS:
-        for decision in ("weibull", "sdt"):
-            out.append(spec(rng, truth, decision, False))
-    for truth, _ in TRUTHS[:2]:
-        for decision in ("weibull", "sdt"):
-            out.append(spec(rng, truth, decision, True))
-    return out
-
-
 if __name__ == "__main__":
-    write_tables()
-    for line in specs():
+    write_tables(TRUTHS)
+    for line in specs(SEED, TRUTHS):
         print("    " + line)

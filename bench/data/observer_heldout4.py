@@ -25,10 +25,8 @@ Psychometric functions: random.Random(SEED), SEED = 202611271, the scheme of obs
 (two narrow observers per truth, Weibull and sdt, then the wide-range corners on the first two).
 Run from bench/data: python3 observer_heldout4.py"""
 import math
-import random
 
-from observer_heldout2 import ECCS, FREQS, barten
-from observer_heldout3 import spec
+from observer_heldout2 import barten, specs, write_tables
 
 SEED = 202611271
 
@@ -59,29 +57,7 @@ def lowpeak(f, e):
 TRUTHS = (("virsu", virsu), ("scaled", scaled), ("lowpeak", lowpeak))
 
 
-def write_tables():
-    for name, fn in TRUTHS:
-        with open("observer_%s.csv" % name, "w") as out:
-            out.write("freq_cpd,ecc_deg,threshold\n")
-            for e in ECCS:
-                for f in FREQS:
-                    s = fn(f, e)
-                    out.write("%.6g,%g,%.6g\n" % (f, e, min(1e6, 1.0 / s) if s > 0 else 1e6))
-
-
-def specs():
-    rng = random.Random(SEED)
-    out = []
-    for truth, _ in TRUTHS:
-        for decision in ("weibull", "sdt"):
-            out.append(spec(rng, truth, decision, False))
-    for truth, _ in TRUTHS[:2]:
-        for decision in ("weibull", "sdt"):
-            out.append(spec(rng, truth, decision, True))
-    return out
-
-
 if __name__ == "__main__":
-    write_tables()
-    for line in specs():
+    write_tables(TRUTHS)
+    for line in specs(SEED, TRUTHS):
         print("    " + line)
