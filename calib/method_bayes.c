@@ -647,11 +647,7 @@ static void mix_ptab(bayes_state *s)
     for (size_t k = 0; k < n; k++) s->htab[k] = h2(s->ptab[k]);
 }
 
-/* p(slope, lapse | trials), uniform prior over the grid. The evidence is the leave-one-cell-out
- * predictive of each cell's trials: prod_c integral L_c(t | slope, lapse) surf_c(t) dt, with
- * surf_c the cell's surface prior from the other cells (refresh_cache). The particles cannot give
- * the joint evidence cheaply (it would need every cell's convolution per node); the predictive
- * product is the usual cross-validated stand-in for it. */
+/* log p(slope, lapse) before any trial: flat unless ETA_SLOPE_MEDIAN / ETA_LAPSE_B are set. */
 static double eta_log_prior(const bayes_state *s, int e)
 {
     double lp = 0.0;
@@ -664,6 +660,11 @@ static double eta_log_prior(const bayes_state *s, int e)
     return lp;
 }
 
+/* p(slope, lapse | trials), prior eta_log_prior over the grid. The evidence is the leave-one-cell-out
+ * predictive of each cell's trials: prod_c integral L_c(t | slope, lapse) surf_c(t) dt, with
+ * surf_c the cell's surface prior from the other cells (refresh_cache). The particles cannot give
+ * the joint evidence cheaply (it would need every cell's convolution per node); the predictive
+ * product is the usual cross-validated stand-in for it. */
 static void eta_posterior(bayes_state *s)
 {
     int G = s->n_grid, nc = s->n_cells;
