@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-4] [--quick]]
+ *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-5] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -41,8 +41,9 @@
  * lapses and decision models), made after the method was frozen, instead of the first.
  * --heldout 3: a third (bench/data/observer_heldout3.py), made on 2026-11-27 before that day's
  * changes to the method; --heldout 4: a fourth (bench/data/observer_heldout4.py), made after the
- * third had measured the method and before any change made in its light; --heldout 1 and 2 are
- * the first set and --fresh.
+ * third had measured the method and before any change made in its light; --heldout 5: a fifth
+ * (bench/data/observer_heldout5.py), made and committed before a session's work on the foveal row;
+ * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
  * CSF_BENCH_PSY=1 prints the slope and lapse bayes settled on per session (stderr);
@@ -323,6 +324,24 @@ static const honest_observer HONEST_FOURTH[] = {
     {"scaled, Weibull 5.71/0.068", "sim:slope=5.707,lapse=0.068,table=bench/data/observer_scaled.csv", 1, 0},
     {"scaled, sdt k 4.14/0.075", "sim:decision=sdt,k=4.145,lapse=0.075,table=bench/data/observer_scaled.csv", 1, 0},
 };
+/* --heldout 5: a fifth held-out set, made on 2026-11-27 at the start of a session that set out to
+ * change the foveal row's treatment, committed before any such change was tried, and run once on
+ * the method as finally left (bench/data/observer_heldout5.py prints these lines) */
+static const honest_observer HONEST_FIFTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"defocus, Weibull 2.17/0.032", "sim:slope=2.173,lapse=0.032,table=bench/data/observer_defocus.csv", 1, 1},
+    {"defocus, sdt k 2.26/0.001", "sim:decision=sdt,k=2.264,lapse=0.001,table=bench/data/observer_defocus.csv", 1, 1},
+    {"ngan, Weibull 2.15/0.035", "sim:slope=2.148,lapse=0.035,table=bench/data/observer_ngan.csv", 1, 1},
+    {"ngan, sdt k 3.47/0.012", "sim:decision=sdt,k=3.472,lapse=0.012,table=bench/data/observer_ngan.csv", 1, 1},
+    {"mkpower, Weibull 3.60/0.005", "sim:slope=3.600,lapse=0.005,table=bench/data/observer_mkpower.csv", 1, 1},
+    {"mkpower, sdt k 2.94/0.001", "sim:decision=sdt,k=2.939,lapse=0.001,table=bench/data/observer_mkpower.csv", 1, 1},
+    {"defocus, Weibull 5.70/0.057", "sim:slope=5.702,lapse=0.057,table=bench/data/observer_defocus.csv", 1, 0},
+    {"defocus, sdt k 4.49/0.055", "sim:decision=sdt,k=4.489,lapse=0.055,table=bench/data/observer_defocus.csv", 1, 0},
+    {"ngan, Weibull 1.74/0.058", "sim:slope=1.742,lapse=0.058,table=bench/data/observer_ngan.csv", 1, 0},
+    {"ngan, sdt k 1.62/0.079", "sim:decision=sdt,k=1.620,lapse=0.079,table=bench/data/observer_ngan.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
@@ -438,11 +457,13 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
 static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first_seed, int n_seeds, const csf_cell *cells,
                       int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    const honest_observer *HONEST = heldout_set == 4   ? HONEST_FOURTH
+    const honest_observer *HONEST = heldout_set == 5   ? HONEST_FIFTH
+                                    : heldout_set == 4 ? HONEST_FOURTH
                                     : heldout_set == 3 ? HONEST_THIRD
                                     : heldout_set == 2 ? HONEST_FRESH
                                                        : HONEST_OBS;
-    const int N_HONEST = heldout_set == 4   ? (int)(sizeof HONEST_FOURTH / sizeof HONEST_FOURTH[0])
+    const int N_HONEST = heldout_set == 5   ? (int)(sizeof HONEST_FIFTH / sizeof HONEST_FIFTH[0])
+                         : heldout_set == 4 ? (int)(sizeof HONEST_FOURTH / sizeof HONEST_FOURTH[0])
                          : heldout_set == 3 ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
                          : heldout_set == 2 ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
                                             : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
@@ -652,8 +673,8 @@ int main(int argc, char **argv)
             honest = 1, heldout_set = 2;
         } else if (!strcmp(argv[i], "--heldout") && i + 1 < argc) {
             heldout_set = atoi(argv[++i]);
-            if (heldout_set < 1 || heldout_set > 4) {
-                fprintf(stderr, "bench_observer: --heldout takes 1, 2, 3 or 4\n");
+            if (heldout_set < 1 || heldout_set > 5) {
+                fprintf(stderr, "bench_observer: --heldout takes 1 to 5\n");
                 return 1;
             }
             honest = 1;
@@ -663,7 +684,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-4] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-5] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
