@@ -49,7 +49,7 @@
 #include "results/psychometric.h"
 #include "results/rng.h"
 
-enum { NPAR = 6 };
+enum { NPAR = 7 };
 enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_RESAMPLE = 0x42a4 };
 
 /* Tunables (documented in docs/bayes-method.md). */
@@ -121,19 +121,32 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #define ETA_REBUILD_CHANGE 2e-3 /* rebuild every cell's mixed likelihood when a weight moves this much */
 
 /* Prior on theta: independent normals (truncated where physics demands). */
+/* Frequency scaling over eccentricity (csf_model_params.ecc_scale_per_deg): a half-normal from 0,
+ * so an observer whose loss is linear in f * e (stelaCSF's form) keeps it; cortical-magnification
+ * accounts put it near 0.3-0.4 per degree (Rovamo & Virsu 1979), the prior's tail reaches there
+ * and the data decide. Prior mean 0.1 with sd 0.15 was tried and was worse (BENCHMARKS.md). */
+#ifndef ECC_SCALE_MEAN
+#define ECC_SCALE_MEAN 0.0
+#endif
+#ifndef ECC_SCALE_SD
+#define ECC_SCALE_SD 0.1
+#endif
+#ifndef ECC_SCALE_HI
+#define ECC_SCALE_HI 0.6
+#endif
 #ifndef PRIOR_MEAN
-#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02}
+#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN}
 #endif
 #ifndef PRIOR_SD
-#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01}
+#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD}
 #endif
 static const double prior_mean[NPAR] = PRIOR_MEAN;
 static const double prior_sd[NPAR] = PRIOR_SD;
 #ifndef PRIOR_LO
-#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0}
+#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0}
 #endif
 static const double prior_lo[NPAR] = PRIOR_LO;
-static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1};
+static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI};
 
 typedef struct {
     int n_cells;
@@ -206,6 +219,7 @@ static void theta_to_params(const double *th, csf_model_params *p)
     p->delta_log10 = th[3];
     p->ecc_a = th[4];
     p->ecc_b = th[5];
+    p->ecc_scale_per_deg = th[6];
 }
 
 static double log_prior(const double *th)
@@ -213,6 +227,7 @@ static double log_prior(const double *th)
     double lp = 0.0;
     for (int k = 0; k < NPAR; k++) {
         if (th[k] < prior_lo[k] || th[k] > prior_hi[k]) return -INFINITY;
+        if (prior_sd[k] <= 0.0) continue; /* a parameter pinned at compile time */
         double z = (th[k] - prior_mean[k]) / prior_sd[k];
         lp -= 0.5 * z * z;
     }
@@ -1165,7 +1180,7 @@ double csf_bayes_effective_particles(void *state)
     return state ? ess(state) : 0.0;
 }
 
-void csf_bayes_surface_mean(void *state, double out[6])
+void csf_bayes_surface_mean(void *state, double out[7])
 {
     bayes_state *s = state;
     double mx = -INFINITY, sw = 0.0;

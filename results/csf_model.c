@@ -20,9 +20,12 @@ double csf_model_log10_sensitivity(const csf_model_params *p, double freq_cpd, d
     const double log2v = log10(2.0);
     double lsmax = log10(p->smax);
     double half_width = p->beta_oct * log2v / 2.0;
-    double u = (log10(freq_cpd) - log10(p->fmax_cpd)) / half_width;
+    /* Below the peak a magnified periphery gains at low frequencies what it loses at high ones,
+     * which no loss linear in f * e can express (Rovamo & Virsu 1979) */
+    double band_cpd = freq_cpd * (1.0 + p->ecc_scale_per_deg * ecc_deg);
+    double u = (log10(band_cpd) - log10(p->fmax_cpd)) / half_width;
     double ls = lsmax - log2v * u * u;
-    if (freq_cpd < p->fmax_cpd && ls < lsmax - p->delta_log10) ls = lsmax - p->delta_log10;
+    if (band_cpd < p->fmax_cpd && ls < lsmax - p->delta_log10) ls = lsmax - p->delta_log10;
     return ls - (p->ecc_a + p->ecc_b * freq_cpd) * ecc_deg;
 }
 

@@ -11,10 +11,12 @@ typedef struct {
     double delta_log10;/* low-frequency truncation depth below log10 smax */
     double ecc_a;      /* stelaCSF eccentricity slope, constant term (per degree) */
     double ecc_b;      /* stelaCSF eccentricity slope, per cpd per degree */
+    double ecc_scale_per_deg; /* frequency scaling (cortical magnification): at eccentricity e the
+                                 band is the foveal one at f * (1 + ecc_scale_per_deg * e); 0 = none */
 } csf_model_params;
 
 /* Typical young adult, fovea, temporal field: Smax 250, fmax 3 cpd, 3 octaves, delta 0.5,
- * a = 0.0297, b = 0.0190. */
+ * a = 0.0297, b = 0.0190, no frequency scaling. */
 csf_model_params csf_model_default(void);
 
 /* Nasal-field eccentricity constants (a = 0.0114, b = 0.0194). */

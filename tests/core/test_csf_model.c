@@ -15,6 +15,16 @@ int main(void)
     /* Eccentricity factor 10^-(a + b f) e. */
     CHECK_NEAR(csf_model_log10_sensitivity(&p, 4.0, 10) - csf_model_log10_sensitivity(&p, 4.0, 0),
                -(0.0297 + 0.0190 * 4.0) * 10, 1e-12);
+    /* Frequency scaling: at e the band is the foveal one at f (1 + s e), on top of the loss. */
+    csf_model_params m = csf_model_default();
+    m.ecc_scale_per_deg = 0.3;
+    double plain_10 = csf_model_log10_sensitivity(&p, 1.0, 10) - csf_model_log10_sensitivity(&p, 1.0, 0);
+    CHECK_NEAR(csf_model_log10_sensitivity(&m, 1.0, 10),
+               csf_model_log10_sensitivity(&p, 4.0, 0) - (0.0297 + 0.0190 * 1.0) * 10, 1e-12);
+    /* below the peak the magnified periphery gains, above it loses more than the plain model */
+    CHECK(csf_model_log10_sensitivity(&m, 1.0, 10) - csf_model_log10_sensitivity(&m, 1.0, 0) > plain_10 + 0.1);
+    CHECK(csf_model_log10_sensitivity(&m, 8.0, 10) < csf_model_log10_sensitivity(&p, 8.0, 10) - 0.3);
+    CHECK_NEAR(csf_model_log10_sensitivity(&m, 8.0, 0), csf_model_log10_sensitivity(&p, 8.0, 0), 0);
     csf_model_use_nasal_field(&p);
     CHECK_NEAR(p.ecc_a, 0.0114, 0);
     CHECK_NEAR(csf_model_threshold(&p, 3.0, 0) * csf_model_sensitivity(&p, 3.0, 0), 1.0, 1e-12);
