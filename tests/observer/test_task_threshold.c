@@ -115,8 +115,8 @@ int main(void)
     /* as a session runs it: slope and lapse marginalised */
     errs fc;
     compare_layouts("2afc", "sim:decision=sdt", 100 * N_CELLS, 8, 0, 0, &fc);
-    /* 24 seeds: at 6 the mean signed difference moves by about +-0.015 with the seeds (+0.026 at
-     * 6 seeds, +0.013 at 24 when the surface gained its frequency scaling), too close to 0.02 */
+    /* 24 seeds: at 6 the mean signed difference moves by about +-0.015 with the seeds (with the
+     * surface's optional frequency scaling on: +0.026 at 6 seeds, +0.013 at 24), too close to 0.02 */
     compare_layouts("bayes", "sim:decision=sdt", 40 * N_CELLS, 24, 0, 0, NULL);
 
     /* fade (yes/no on a rising ramp) against forced choice: within 0.1 log10 */
