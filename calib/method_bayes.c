@@ -72,6 +72,9 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef MH_STEPS
 #define MH_STEPS 4
 #endif
+#ifndef CELL_TRIAL_CAP
+#define CELL_TRIAL_CAP 0 /* off; see the stimulus choice in next() */
+#endif
 #ifndef NEAR_BEST_FRACTION
 #define NEAR_BEST_FRACTION 0.85
 #endif
@@ -1008,6 +1011,10 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
 #endif
             if (info > ci) ci = info, cx = gx;
         }
+#if CELL_TRIAL_CAP > 0
+        /* experiment: a cell that already holds CAP x its share of the budget is demoted */
+        if (s->trial_budget > 0 && s->n_trials[c] * s->n_cells >= CELL_TRIAL_CAP * s->trial_budget) ci *= 0.01;
+#endif
         cell_info[c] = ci;
         cell_x[c] = cx;
         if (ci > best_info) best_info = ci;

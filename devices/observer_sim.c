@@ -293,6 +293,7 @@ static const param_key keys[] = {
     PK("delta", 0, 4, model.delta_log10),
     PK("ecc_a", 0, 0.5, model.ecc_a),
     PK("ecc_b", 0, 0.5, model.ecc_b),
+    PK("ecc_scale", 0, 2, model.ecc_scale_per_deg),
     PK("slope", 0.5, 20, slope),
     PK("lapse", 0, 0.5, lapse),
     PK("guess", 0, 0.9, guess_2afc),
@@ -373,6 +374,7 @@ static void describe(csf_observer_sim *o, const char *table_path)
     char extra[512] = "";
     size_t e = 0;
 #define ADD(...) e += (size_t)snprintf(extra + e, e < sizeof extra ? sizeof extra - e : 0, __VA_ARGS__)
+    if (!o->table && p->model.ecc_scale_per_deg > 0) ADD(",ecc_scale=%g", p->model.ecc_scale_per_deg);
     if (p->decision == CSF_SIM_SDT)
         ADD(",decision=sdt,k=%g,criterion=%g,look=%g", p->k_transducer, p->criterion_dprime, p->look_s);
     if (p->fatigue_log10_per_100 > 0) ADD(",fatigue=%g", p->fatigue_log10_per_100);
@@ -500,7 +502,7 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         }
         if (!k) {
             st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b "
+                               "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b ecc_scale "
                                "field table decision slope lapse k criterion look guess fa anticip "
                                "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
                                "lapse_runs run_max click_sd click_sd_ecc click_range view display "

@@ -17,6 +17,7 @@
 
 #include "devices/observer_sdt.h"
 #include "devices/observer_sim.h"
+#include "results/csf_model.h"
 #include "results/psychometric.h"
 #include "tests/check.h"
 
@@ -406,6 +407,18 @@ static void test_spec_keys(void)
     CHECK_STR_CONTAINS(csf_observer_sim_describe(o), "decision=sdt,k=3,criterion=3,look=0.1");
     CHECK_STR_CONTAINS(csf_observer_sim_describe(o), "fatigue=0.01,drift=0.01,lapse_runs=0.01,run_max=4,pieron_k=0.2");
     csf_observer_sim_free(o);
+    /* cortical magnification: the truth is the model's, read at f (1 + ecc_scale e) */
+    o = make("sim:ecc_scale=0.3", 1);
+    csf_model_params mp = csf_model_default();
+    mp.ecc_scale_per_deg = 0.3;
+    CHECK_NEAR(csf_observer_sim_threshold(o, 1.0, 10.0), csf_model_threshold(&mp, 1.0, 10.0), 1e-12);
+    csf_model_params plain = csf_model_default();
+    CHECK(csf_observer_sim_threshold(o, 1.0, 10.0) < csf_model_threshold(&plain, 1.0, 10.0)); /* below the peak */
+    CHECK(csf_observer_sim_threshold(o, 8.0, 10.0) > csf_model_threshold(&plain, 8.0, 10.0)); /* above it */
+    CHECK_STR_CONTAINS(csf_observer_sim_describe(o), "ecc_scale=0.3");
+    csf_observer_sim_free(o);
+    CHECK(csf_observer_sim_create("sim:ecc_scale=3", 1, &o, &err) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "ecc_scale=3 outside 0 to 2");
     /* the default description is unchanged (it is in every table's metadata) */
     o = make("sim", 1);
     CHECK(strcmp(csf_observer_sim_describe(o), "sim(smax=250,fmax=3,beta=3,delta=0.5,ecc_a=0.0297,"
