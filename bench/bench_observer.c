@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-5] [--quick]]
+ *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-6] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -43,6 +43,7 @@
  * changes to the method; --heldout 4: a fourth (bench/data/observer_heldout4.py), made after the
  * third had measured the method and before any change made in its light; --heldout 5: a fifth
  * (bench/data/observer_heldout5.py), made and committed before a session's work on the foveal row;
+ * --heldout 6: a sixth (observer_heldout6.py), made after the fifth had measured the method;
  * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
@@ -342,6 +343,24 @@ static const honest_observer HONEST_FIFTH[] = {
     {"ngan, Weibull 1.74/0.058", "sim:slope=1.742,lapse=0.058,table=bench/data/observer_ngan.csv", 1, 0},
     {"ngan, sdt k 1.62/0.079", "sim:decision=sdt,k=1.620,lapse=0.079,table=bench/data/observer_ngan.csv", 1, 0},
 };
+/* --heldout 6: a sixth held-out set, made on 2026-11-27 after the fifth had measured the method,
+ * committed before the next change was tried, and run once on the method as then left
+ * (bench/data/observer_heldout6.py prints these lines) */
+static const honest_observer HONEST_SIXTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"dog, Weibull 3.41/0.010", "sim:slope=3.414,lapse=0.010,table=bench/data/observer_dog.csv", 1, 1},
+    {"dog, sdt k 1.71/0.049", "sim:decision=sdt,k=1.711,lapse=0.049,table=bench/data/observer_dog.csv", 1, 1},
+    {"sampling, Weibull 4.00/0.009", "sim:slope=3.995,lapse=0.009,table=bench/data/observer_sampling.csv", 1, 1},
+    {"sampling, sdt k 3.02/0.043", "sim:decision=sdt,k=3.022,lapse=0.043,table=bench/data/observer_sampling.csv", 1, 1},
+    {"fsq, Weibull 3.97/0.017", "sim:slope=3.972,lapse=0.017,table=bench/data/observer_fsq.csv", 1, 1},
+    {"fsq, sdt k 2.40/0.004", "sim:decision=sdt,k=2.398,lapse=0.004,table=bench/data/observer_fsq.csv", 1, 1},
+    {"dog, Weibull 5.16/0.068", "sim:slope=5.157,lapse=0.068,table=bench/data/observer_dog.csv", 1, 0},
+    {"dog, sdt k 1.51/0.063", "sim:decision=sdt,k=1.510,lapse=0.063,table=bench/data/observer_dog.csv", 1, 0},
+    {"sampling, Weibull 5.13/0.065", "sim:slope=5.133,lapse=0.065,table=bench/data/observer_sampling.csv", 1, 0},
+    {"sampling, sdt k 1.48/0.064", "sim:decision=sdt,k=1.479,lapse=0.064,table=bench/data/observer_sampling.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
@@ -457,12 +476,14 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
 static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first_seed, int n_seeds, const csf_cell *cells,
                       int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    const honest_observer *HONEST = heldout_set == 5   ? HONEST_FIFTH
+    const honest_observer *HONEST = heldout_set == 6   ? HONEST_SIXTH
+                                    : heldout_set == 5 ? HONEST_FIFTH
                                     : heldout_set == 4 ? HONEST_FOURTH
                                     : heldout_set == 3 ? HONEST_THIRD
                                     : heldout_set == 2 ? HONEST_FRESH
                                                        : HONEST_OBS;
-    const int N_HONEST = heldout_set == 5   ? (int)(sizeof HONEST_FIFTH / sizeof HONEST_FIFTH[0])
+    const int N_HONEST = heldout_set == 6   ? (int)(sizeof HONEST_SIXTH / sizeof HONEST_SIXTH[0])
+                         : heldout_set == 5 ? (int)(sizeof HONEST_FIFTH / sizeof HONEST_FIFTH[0])
                          : heldout_set == 4 ? (int)(sizeof HONEST_FOURTH / sizeof HONEST_FOURTH[0])
                          : heldout_set == 3 ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
                          : heldout_set == 2 ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
@@ -673,8 +694,8 @@ int main(int argc, char **argv)
             honest = 1, heldout_set = 2;
         } else if (!strcmp(argv[i], "--heldout") && i + 1 < argc) {
             heldout_set = atoi(argv[++i]);
-            if (heldout_set < 1 || heldout_set > 5) {
-                fprintf(stderr, "bench_observer: --heldout takes 1 to 5\n");
+            if (heldout_set < 1 || heldout_set > 6) {
+                fprintf(stderr, "bench_observer: --heldout takes 1 to 6\n");
                 return 1;
             }
             honest = 1;
@@ -684,7 +705,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-5] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-6] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
