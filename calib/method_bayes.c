@@ -72,6 +72,12 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef MH_STEPS
 #define MH_STEPS 4
 #endif
+/* Decision model as a nuisance too (1) or signal detection only (0): a high-threshold person's
+ * four-place function at the same threshold is a Weibull with guess 1/4, 0.03-0.05 log10 more
+ * sensitive-looking than the signal-detection one; both enter the grid with equal prior weight. */
+#ifndef DECISION_MIX
+#define DECISION_MIX 0
+#endif
 #ifndef CELL_TRIAL_CAP
 #define CELL_TRIAL_CAP 0 /* off; see the stimulus choice in next() */
 #endif
@@ -121,7 +127,9 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #ifndef ETA_LAPSE_B
 #define ETA_LAPSE_B 0.0
 #endif
+#ifndef ETA_REBUILD_CHANGE
 #define ETA_REBUILD_CHANGE 2e-3 /* rebuild every cell's mixed likelihood when a weight moves this much */
+#endif
 
 /* Prior on theta: independent normals (truncated where physics demands). */
 /* Frequency scaling over eccentricity (csf_model_params.ecc_scale_per_deg), a compile-time option:
@@ -161,6 +169,7 @@ typedef struct {
     /* psychometric nuisance (slope, lapse): n_eta grid nodes (1 when fixed by the setup) */
     int n_eta;
     double *eta_slope, *eta_lapse; /* [n_eta] */
+    int *eta_ht;        /* [n_eta] 1: the node's person is high-threshold in four-place cells */
     double *eta_w;      /* [n_eta] posterior p(slope, lapse | trials), see eta_posterior */
     double *eta_w_used; /* [n_eta] the weights every cell's mixed likelihood was built with */
     double *loglik_eta; /* [n_eta*n_cells*n_grid] log L_c(t_g | slope, lapse) */
@@ -249,8 +258,9 @@ static double p_correct(double slope, double lapse, double g, double x, double t
 /* A four-place cell: the SDT 4AFC function of the same d' (results/psychometric.h), so its
  * threshold is the table's task-independent one; a Weibull with guess 1/4 would read 0.094 / k
  * log10 high for a signal-detection observer. */
-static double p_correct_layout(double slope, double lapse, double g, int four, double x, double t)
+static double p_correct_layout(double slope, double lapse, double g, int four, int ht, double x, double t)
 {
+    if (four && ht) return p_correct(slope, lapse, 0.25, x, t);
     return four ? csf_psy_p_afc(x, t, slope, lapse, 4) : p_correct(slope, lapse, g, x, t);
 }
 
@@ -757,7 +767,7 @@ static void bayes_destroy(void *state)
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
     free(s->corr), free(s->gp_a), free(s->gp_inv), free(s->gp_y), free(s->gp_nv);
     free(s->gp_obs), free(s->gp_mu), free(s->gp_var), free(s->kern);
-    free(s->eta_slope), free(s->eta_lapse), free(s->eta_w), free(s->eta_w_used), free(s->loglik_eta);
+    free(s->eta_slope), free(s->eta_lapse), free(s->eta_ht), free(s->eta_w), free(s->eta_w_used), free(s->loglik_eta);
     free(s->ptab_eta);
     free(s);
 }
@@ -856,14 +866,15 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
-    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE;
+    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE * (DECISION_MIX ? 2 : 1);
+    s->eta_ht = calloc((size_t)s->n_eta, sizeof(int));
     s->eta_slope = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_lapse = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_w = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_w_used = malloc(sizeof(double) * (size_t)s->n_eta);
     s->loglik_eta = calloc((size_t)s->n_eta * nc * G, sizeof(double));
     s->ptab_eta = malloc(sizeof(double) * (size_t)s->n_eta * 2 * (size_t)(2 * G - 1));
-    if (!s->gp_mu || !s->gp_var || !s->kern || !s->eta_slope || !s->eta_lapse || !s->eta_w ||
+    if (!s->gp_mu || !s->gp_var || !s->kern || !s->eta_slope || !s->eta_lapse || !s->eta_ht || !s->eta_w ||
         !s->eta_w_used || !s->loglik_eta || !s->ptab_eta) {
         bayes_destroy(s);
         return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
@@ -907,8 +918,10 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         s->eta_lapse[0] = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
     } else {
         for (int e = 0; e < s->n_eta; e++) {
-            s->eta_slope[e] = eta_slopes[e / N_ETA_LAPSE];
-            s->eta_lapse[e] = eta_lapses[e % N_ETA_LAPSE];
+            int sl = e % (N_ETA_SLOPE * N_ETA_LAPSE);
+            s->eta_slope[e] = eta_slopes[sl / N_ETA_LAPSE];
+            s->eta_lapse[e] = eta_lapses[sl % N_ETA_LAPSE];
+            s->eta_ht[e] = e >= N_ETA_SLOPE * N_ETA_LAPSE;
         }
     }
     double eta_tot = 0.0;
@@ -918,7 +931,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         for (int a = 0; a < 2; a++)
             for (int d = -(G - 1); d <= G - 1; d++)
                 s->ptab_eta[((size_t)e * 2 + a) * (2 * G - 1) + d + G - 1] =
-                    p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, a, d * s->step, 0.0);
+                    p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, a, s->eta_ht[e], d * s->step, 0.0);
     }
     mix_ptab(s);
     /* particles from the prior (rejection for the truncation), deterministic in the seed */
@@ -1064,7 +1077,7 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
     for (int e = 0; e < s->n_eta; e++) {
         double *ll = &s->loglik_eta[((size_t)e * s->n_cells + c) * G];
         for (int g = 0; g < G; g++) {
-            double pr = p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, s->n_alt[c] == 4, x,
+            double pr = p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, s->n_alt[c] == 4, s->eta_ht[e], x,
                                          s->lo + g * s->step);
             ll[g] += log(correct ? pr : 1.0 - pr);
         }
