@@ -362,6 +362,14 @@ static const honest_observer HONEST_SIXTH[] = {
     {"sampling, sdt k 1.48/0.064", "sim:decision=sdt,k=1.479,lapse=0.064,table=bench/data/observer_sampling.csv", 1, 0},
 };
 enum { MAX_HONEST_OBS = 16 };
+#define HONEST_SET(a) {a, (int)(sizeof a / sizeof a[0])}
+/* --heldout N reads entry N - 1 */
+static const struct {
+    const honest_observer *obs;
+    int n;
+} HONEST_SETS[] = {HONEST_SET(HONEST_OBS),    HONEST_SET(HONEST_FRESH), HONEST_SET(HONEST_THIRD),
+                   HONEST_SET(HONEST_FOURTH), HONEST_SET(HONEST_FIFTH), HONEST_SET(HONEST_SIXTH)};
+enum { N_HONEST_SETS = sizeof HONEST_SETS / sizeof HONEST_SETS[0] };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
 enum { HM_PRIOR, HM_BAYES120, HM_BAYES240, HM_QUEST120, HM_QUEST240 = HM_QUEST120 + 3, HM_QPLUS120 = HM_QUEST240 + 3,
@@ -476,18 +484,8 @@ static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, 
 static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first_seed, int n_seeds, const csf_cell *cells,
                       int n, const int *n_alt, double cmax, const char *layout_name)
 {
-    const honest_observer *HONEST = heldout_set == 6   ? HONEST_SIXTH
-                                    : heldout_set == 5 ? HONEST_FIFTH
-                                    : heldout_set == 4 ? HONEST_FOURTH
-                                    : heldout_set == 3 ? HONEST_THIRD
-                                    : heldout_set == 2 ? HONEST_FRESH
-                                                       : HONEST_OBS;
-    const int N_HONEST = heldout_set == 6   ? (int)(sizeof HONEST_SIXTH / sizeof HONEST_SIXTH[0])
-                         : heldout_set == 5 ? (int)(sizeof HONEST_FIFTH / sizeof HONEST_FIFTH[0])
-                         : heldout_set == 4 ? (int)(sizeof HONEST_FOURTH / sizeof HONEST_FOURTH[0])
-                         : heldout_set == 3 ? (int)(sizeof HONEST_THIRD / sizeof HONEST_THIRD[0])
-                         : heldout_set == 2 ? (int)(sizeof HONEST_FRESH / sizeof HONEST_FRESH[0])
-                                            : (int)(sizeof HONEST_OBS / sizeof HONEST_OBS[0]);
+    const honest_observer *HONEST = HONEST_SETS[heldout_set - 1].obs;
+    const int N_HONEST = HONEST_SETS[heldout_set - 1].n;
     static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
     static int bias_n[MAX_HONEST_OBS][2];
     double floor_rms[MAX_HONEST_OBS];
@@ -694,8 +692,8 @@ int main(int argc, char **argv)
             honest = 1, heldout_set = 2;
         } else if (!strcmp(argv[i], "--heldout") && i + 1 < argc) {
             heldout_set = atoi(argv[++i]);
-            if (heldout_set < 1 || heldout_set > 6) {
-                fprintf(stderr, "bench_observer: --heldout takes 1 to 6\n");
+            if (heldout_set < 1 || heldout_set > N_HONEST_SETS) {
+                fprintf(stderr, "bench_observer: --heldout takes 1 to %d\n", (int)N_HONEST_SETS);
                 return 1;
             }
             honest = 1;
