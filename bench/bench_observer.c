@@ -44,6 +44,8 @@
  * third had measured the method and before any change made in its light; --heldout 5: a fifth
  * (bench/data/observer_heldout5.py), made and committed before a session's work on the foveal row;
  * --heldout 6: a sixth (observer_heldout6.py), made after the fifth had measured the method;
+ * --heldout 7: a seventh (observer_heldout7.py), made at the start of a later session, before any
+ * method change of that session;
  * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
@@ -361,6 +363,24 @@ static const honest_observer HONEST_SIXTH[] = {
     {"sampling, Weibull 5.13/0.065", "sim:slope=5.133,lapse=0.065,table=bench/data/observer_sampling.csv", 1, 0},
     {"sampling, sdt k 1.48/0.064", "sim:decision=sdt,k=1.479,lapse=0.064,table=bench/data/observer_sampling.csv", 1, 0},
 };
+/* --heldout 7: a seventh held-out set, made on 2026-11-27 at the start of the evening session and
+ * committed before any change to the method was tried (bench/data/observer_heldout7.py prints
+ * these lines) */
+static const honest_observer HONEST_SEVENTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"kelly, Weibull 3.30/0.017", "sim:slope=3.299,lapse=0.017,table=bench/data/observer_kelly.csv", 1, 1},
+    {"kelly, sdt k 2.52/0.011", "sim:decision=sdt,k=2.524,lapse=0.011,table=bench/data/observer_kelly.csv", 1, 1},
+    {"amblyopic, Weibull 3.99/0.001", "sim:slope=3.987,lapse=0.001,table=bench/data/observer_amblyopic.csv", 1, 1},
+    {"amblyopic, sdt k 2.88/0.018", "sim:decision=sdt,k=2.878,lapse=0.018,table=bench/data/observer_amblyopic.csv", 1, 1},
+    {"rodlow, Weibull 3.69/0.017", "sim:slope=3.693,lapse=0.017,table=bench/data/observer_rodlow.csv", 1, 1},
+    {"rodlow, sdt k 1.76/0.002", "sim:decision=sdt,k=1.762,lapse=0.002,table=bench/data/observer_rodlow.csv", 1, 1},
+    {"kelly, Weibull 5.72/0.066", "sim:slope=5.717,lapse=0.066,table=bench/data/observer_kelly.csv", 1, 0},
+    {"kelly, sdt k 1.62/0.056", "sim:decision=sdt,k=1.616,lapse=0.056,table=bench/data/observer_kelly.csv", 1, 0},
+    {"amblyopic, Weibull 1.70/0.067", "sim:slope=1.698,lapse=0.067,table=bench/data/observer_amblyopic.csv", 1, 0},
+    {"amblyopic, sdt k 1.56/0.071", "sim:decision=sdt,k=1.564,lapse=0.071,table=bench/data/observer_amblyopic.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 #define HONEST_SET(a) {a, (int)(sizeof a / sizeof a[0])}
 /* --heldout N reads entry N - 1 */
@@ -368,7 +388,8 @@ static const struct {
     const honest_observer *obs;
     int n;
 } HONEST_SETS[] = {HONEST_SET(HONEST_OBS),    HONEST_SET(HONEST_FRESH), HONEST_SET(HONEST_THIRD),
-                   HONEST_SET(HONEST_FOURTH), HONEST_SET(HONEST_FIFTH), HONEST_SET(HONEST_SIXTH)};
+                   HONEST_SET(HONEST_FOURTH), HONEST_SET(HONEST_FIFTH), HONEST_SET(HONEST_SIXTH),
+                   HONEST_SET(HONEST_SEVENTH)};
 enum { N_HONEST_SETS = sizeof HONEST_SETS / sizeof HONEST_SETS[0] };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
