@@ -15,8 +15,10 @@
  * criterion drift (yes/no) and runs of inattention (fatigue is left out: it moves the truth with
  * the trial count, which differs between the methods), on the default parametric truth and on the
  * tuned-on mscaled table.
- * Usage: bench_task_agree [--seeds N] [--quick] [--only SUBSTRING]   (run from the source root;
- * --only keeps the people whose spec contains SUBSTRING) */
+ * Usage: bench_task_agree [--seeds N] [--first-seed S] [--quick] [--only SUBSTRING] [--person SPEC]...
+ * (run from the source root). --only keeps the people whose spec contains SUBSTRING; --person
+ * (repeatable, up to 32) replaces the list with the given observer specs, and --first-seed moves
+ * the seeds: together they check the method on people and seeds its constants were not chosen on. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,14 +65,14 @@ static double now_s(void)
 }
 
 /* Mean signed log10 error over seeds and cells of one method and layout; -1 on a failure. */
-static int mean_error(const char *spec, const char *method, const int *layout, int per_cell, int n_seeds,
-                      double *mean_out, int *n_unfinite)
+static int mean_error(const char *spec, const char *method, const int *layout, int per_cell, int first_seed,
+                      int n_seeds, double *mean_out, int *n_unfinite)
 {
     const csf_procedure_ops *ops = csf_procedure_find(method);
     double sum = 0;
     int n = 0;
     *n_unfinite = 0;
-    for (int seed = 1; seed <= n_seeds; seed++) {
+    for (int seed = first_seed; seed < first_seed + n_seeds; seed++) {
         csf_observer_sim *obs;
         csf_error err;
         if (csf_observer_sim_create(spec, 1000 + (uint64_t)seed, &obs, &err) != CSF_OK) {
@@ -102,14 +104,24 @@ static int mean_error(const char *spec, const char *method, const int *layout, i
 
 int main(int argc, char **argv)
 {
-    int n_seeds = 12, quick = 0;
+    int n_seeds = 12, first_seed = 1, quick = 0, n_people = N_PEOPLE;
     const char *only = NULL;
+    const char *people[32];
+    int n_given = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) n_seeds = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) first_seed = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--quick")) quick = 1;
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-        else {
-            fprintf(stderr, "usage: bench_task_agree [--seeds N] [--quick] [--only SUBSTRING]\n");
+        else if (!strcmp(argv[i], "--person") && i + 1 < argc) {
+            if (n_given == 32) {
+                fprintf(stderr, "bench_task_agree: at most 32 --person specs\n");
+                return 1;
+            }
+            people[n_given++] = argv[++i];
+        } else {
+            fprintf(stderr, "usage: bench_task_agree [--seeds N] [--first-seed S] [--quick] [--only SUBSTRING] "
+                            "[--person SPEC]...\n");
             return 1;
         }
     }
@@ -118,24 +130,31 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_task_agree: --seeds takes 1-1000\n");
         return 1;
     }
-    printf("8 cells (1-8 cpd at 5 and 10 deg), seeds 1-%d; mean signed log10 error against the truth; "
-           "fade 12 trials a cell, forced choice (2afc) 60 a cell\n\n", n_seeds);
+    if (first_seed < 1 || first_seed > 1000000) {
+        fprintf(stderr, "bench_task_agree: --first-seed takes 1-1000000\n");
+        return 1;
+    }
+    if (n_given) n_people = n_given;
+    else
+        for (int p = 0; p < N_PEOPLE; p++) people[p] = PEOPLE[p];
+    printf("8 cells (1-8 cpd at 5 and 10 deg), seeds %d-%d; mean signed log10 error against the truth; "
+           "fade 12 trials a cell, forced choice (2afc) 60 a cell\n\n", first_seed, first_seed + n_seeds - 1);
     printf("| person | fade | two intervals | four places | fade - two intervals | four - two | not finite |\n");
     printf("|---|---|---|---|---|---|---|\n");
     double t0 = now_s(), worst_fade = 0, worst_sdt_layout = 0;
     int fade_within = 0, sdt_n = 0, sdt_within = 0, n_run = 0;
-    for (int p = 0; p < N_PEOPLE; p++) {
-        if (only && !strstr(PEOPLE[p], only)) continue;
+    for (int p = 0; p < n_people; p++) {
+        if (only && !strstr(people[p], only)) continue;
         n_run++;
         double fade, two, four;
         int u1, u2, u3;
-        if (mean_error(PEOPLE[p], "fade", NULL, 12, n_seeds, &fade, &u1) ||
-            mean_error(PEOPLE[p], "2afc", NULL, 60, n_seeds, &two, &u2) ||
-            mean_error(PEOPLE[p], "2afc", FOUR, 60, n_seeds, &four, &u3))
+        if (mean_error(people[p], "fade", NULL, 12, first_seed, n_seeds, &fade, &u1) ||
+            mean_error(people[p], "2afc", NULL, 60, first_seed, n_seeds, &two, &u2) ||
+            mean_error(people[p], "2afc", FOUR, 60, first_seed, n_seeds, &four, &u3))
             return 1;
         double d_fade = fade - two, d_layout = four - two;
-        int sdt = strstr(PEOPLE[p], "decision=sdt") != NULL;
-        printf("| %s | %+.3f | %+.3f | %+.3f | %+.3f | %+.3f%s | %d |\n", PEOPLE[p], fade, two, four, d_fade, d_layout,
+        int sdt = strstr(people[p], "decision=sdt") != NULL;
+        printf("| %s | %+.3f | %+.3f | %+.3f | %+.3f | %+.3f%s | %d |\n", people[p], fade, two, four, d_fade, d_layout,
                sdt ? "" : " (Weibull)", u1 + u2 + u3);
         fflush(stdout);
         if (fabs(d_fade) <= 0.1) fade_within++;
