@@ -4,7 +4,9 @@
  * means "never visible" whatever its value (the grid runs 1 log10 above it), so letting it into
  * the mean pulled edge cells up to exactly the max contrast (issue 12: the error over the visible
  * cells of observers who are less sensitive than the prior).
- * One cell (16 cpd at 10 deg: the prior puts it near the reach), slope and lapse fixed, k of 8
+ * One cell (12 cpd at 10 deg: the prior puts it near the reach; 16 cpd at 10 deg was the cell before
+ * the surface's frequency scaling, whose prior puts that cell deeper, so that 7 of 8 at the reach
+ * and 4 of 4 below it no longer outweigh it), slope and lapse fixed, k of 8
  * two-interval trials correct at the max contrast and all 4 correct at 0.3 log10 below it: for
  * every k whose table calls the cell visible, the estimate lies below the reach by at least half
  * the posterior sd it reports, and with 7 of 8 correct at the reach (and 4 of 4 below) it is at
@@ -17,7 +19,7 @@
 
 static int run(int k_correct, double cmax, csf_cell_estimate *est)
 {
-    csf_cell cell = {.freq_cpd = 16.0, .ecc_deg = 10.0};
+    csf_cell cell = {.freq_cpd = 12.0, .ecc_deg = 10.0};
     csf_procedure_setup setup = {.cells = &cell, .n_cells = 1, .trial_budget = 0, .seed = 7,
                                  .max_contrast = cmax, .min_contrast = 0.0005, .slope_beta = 3.5,
                                  .lapse = 0.02, .guess = 0.5, .fixed_psychometric = 1};

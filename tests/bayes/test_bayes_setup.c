@@ -68,9 +68,12 @@ int main(void)
         o.lt[c] = -csf_model_log10_sensitivity(&p, cells[c].freq_cpd, cells[c].ecc_deg) + (c == odd ? 0.7 : 0.0);
     }
     /* A 240-trial session per seed; the odd cell must be flagged and recovered (within 0.25 log10)
-     * in at least 4 of 5 seeds: with few trials there, chance can hide a local loss. */
+     * in at least 12 of 20 seeds: with few trials there (3-8 in the seeds that miss it), chance can
+     * hide a local loss. Measured: 14 of 20 (16 of 20 with the frequency scaling pinned at 0; with
+     * 5 seeds the count moved between 3 and 5 of 5 on such changes, too coarse to check). A method
+     * that stops flagging misfits finds it in none. */
     int n_found = 0;
-    for (uint64_t seed = 77; seed < 82; seed++) {
+    for (uint64_t seed = 77; seed < 97; seed++) {
         /* told the observer's slope and lapse: with them marginalised (the default since issue 12
          * item 3) the odd cell is found in only 3 of these 5 seeds (in two it gets 4-7 trials:
          * its wrong answers pass for lapses); docs/bayes-method.md, Limits */
@@ -110,6 +113,6 @@ int main(void)
         CHECK(csf_bayes_effective_particles(st) > 10.0);
         csf_procedure_bayes.destroy(st);
     }
-    CHECK_MSG(n_found >= 4, "odd cell found in %d of 5 seeds", n_found);
+    CHECK_MSG(n_found >= 12, "odd cell found in %d of 20 seeds", n_found);
     return CHECK_RESULT();
 }
