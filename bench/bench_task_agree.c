@@ -73,22 +73,11 @@ static int mean_error(const char *spec, const char *method, const int *layout, i
     int n = 0;
     *n_unfinite = 0;
     for (int seed = first_seed; seed < first_seed + n_seeds; seed++) {
-        csf_observer_sim *obs;
-        csf_error err;
-        if (csf_observer_sim_create(spec, 1000 + (uint64_t)seed, &obs, &err) != CSF_OK) {
-            fprintf(stderr, "bench_task_agree: %s: %s\n", spec, err.msg);
+        double err_log10[N_CELLS];
+        if (sim_loop_errors(ops, spec, CELLS, N_CELLS, per_cell * N_CELLS, (uint64_t)seed, layout, 0, err_log10))
             return -1;
-        }
-        csf_procedure_setup s = sim_loop_setup(CELLS, N_CELLS, per_cell * N_CELLS, (uint64_t)seed, ops->task);
-        s.n_alternatives = layout;
-        csf_cell_estimate est[N_CELLS];
-        if (sim_loop_run(ops, &s, obs, est) < 0) {
-            csf_observer_sim_free(obs);
-            fprintf(stderr, "bench_task_agree: %s could not start\n", method);
-            return -1;
-        }
         for (int i = 0; i < N_CELLS; i++) {
-            double e = log10(est[i].threshold) - log10(csf_observer_sim_threshold(obs, CELLS[i].freq_cpd, CELLS[i].ecc_deg));
+            double e = err_log10[i];
             if (!isfinite(e)) {
                 (*n_unfinite)++;
                 continue;
@@ -96,7 +85,6 @@ static int mean_error(const char *spec, const char *method, const int *layout, i
             sum += e;
             n++;
         }
-        csf_observer_sim_free(obs);
     }
     *mean_out = n ? sum / n : NAN;
     return 0;

@@ -5,6 +5,7 @@
 #define CSF_TESTS_OBSERVER_SIM_LOOP_H
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "calib/procedure.h"
@@ -91,6 +92,33 @@ static csf_procedure_setup sim_loop_setup(const csf_cell *cells, int n, int budg
     s.ramp_s = 6.0;
     s.reaction_latency_s = 0.37;
     return s;
+}
+
+/* One seeded session of ops on the simulated person spec (person seed 1000 + seed, method seed
+ * seed) over cells: err_log10[i] is log10 of the estimate over the person's true threshold (not
+ * finite where either is). layout: alternatives per cell (NULL: the method's own); fixed_slope > 0
+ * gives the method that slope and lapse 0.02 instead of leaving them unknown. Returns 0, or -1
+ * (said on stderr) when the person or the method cannot start. */
+static inline int sim_loop_errors(const csf_procedure_ops *ops, const char *spec, const csf_cell *cells, int n,
+                                  int budget, uint64_t seed, const int *layout, double fixed_slope, double *err_log10)
+{
+    csf_observer_sim *obs;
+    csf_error err;
+    if (csf_observer_sim_create(spec, 1000 + seed, &obs, &err) != CSF_OK) {
+        fprintf(stderr, "observer %s: %s\n", spec, err.msg);
+        return -1;
+    }
+    csf_procedure_setup s = sim_loop_setup(cells, n, budget, seed, ops->task);
+    s.n_alternatives = layout;
+    if (fixed_slope > 0) s.fixed_psychometric = 1, s.slope_beta = fixed_slope, s.lapse = 0.02;
+    csf_cell_estimate *est = calloc((size_t)n, sizeof *est);
+    int rc = est && sim_loop_run(ops, &s, obs, est) >= 0 ? 0 : -1;
+    for (int i = 0; rc == 0 && i < n; i++)
+        err_log10[i] = log10(est[i].threshold) - log10(csf_observer_sim_threshold(obs, cells[i].freq_cpd, cells[i].ecc_deg));
+    if (rc) fprintf(stderr, "%s could not start on %s\n", ops->name, spec);
+    free(est);
+    csf_observer_sim_free(obs);
+    return rc;
 }
 
 #endif

@@ -44,21 +44,13 @@ static void run(const char *method, const char *spec, const int *layout, int bud
     double s2 = 0;
     int n = 0;
     for (int seed = 1; seed <= n_seeds; seed++) {
-        csf_observer_sim *obs;
-        csf_error err;
-        if (csf_observer_sim_create(spec, 1000 + (uint64_t)seed, &obs, &err) != CSF_OK) {
-            fprintf(stderr, "observer %s: %s\n", spec, err.msg);
+        double err_log10[N_CELLS];
+        if (sim_loop_errors(ops, spec, cells, N_CELLS, budget, (uint64_t)seed, layout, fixed_slope, err_log10)) {
             out->n_bad++;
             return;
         }
-        csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, budget, (uint64_t)seed, ops->task);
-        s.n_alternatives = layout;
-        if (fixed_slope > 0) s.fixed_psychometric = 1, s.slope_beta = fixed_slope, s.lapse = 0.02;
-        csf_cell_estimate est[N_CELLS];
-        sim_loop_run(ops, &s, obs, est);
         for (int i = 0; i < N_CELLS; i++) {
-            double e = log10(est[i].threshold) -
-                       log10(csf_observer_sim_threshold(obs, cells[i].freq_cpd, cells[i].ecc_deg));
+            double e = err_log10[i];
             if (!isfinite(e)) {
                 out->n_bad++;
                 continue;
@@ -68,7 +60,6 @@ static void run(const char *method, const char *spec, const int *layout, int bud
             s2 += e * e;
             n++;
         }
-        csf_observer_sim_free(obs);
     }
     out->mean /= n > 0 ? n : 1;
     out->rms = sqrt(s2 / (n > 0 ? n : 1));
