@@ -46,6 +46,8 @@
  * --heldout 6: a sixth (observer_heldout6.py), made after the fifth had measured the method;
  * --heldout 7: a seventh (observer_heldout7.py), made at the start of a later session, before any
  * method change of that session;
+ * --heldout 8: an eighth (observer_heldout8.py), made after the seventh had measured the method
+ * and kept for the next change to it;
  * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
@@ -381,6 +383,24 @@ static const honest_observer HONEST_SEVENTH[] = {
     {"amblyopic, Weibull 1.70/0.067", "sim:slope=1.698,lapse=0.067,table=bench/data/observer_amblyopic.csv", 1, 0},
     {"amblyopic, sdt k 1.56/0.071", "sim:decision=sdt,k=1.564,lapse=0.071,table=bench/data/observer_amblyopic.csv", 1, 0},
 };
+/* --heldout 8: an eighth held-out set, made on 2026-11-27 after the seventh had measured the method
+ * with the frequency scaling on, and committed for the next change to the method: run it once, after
+ * that change (bench/data/observer_heldout8.py prints these lines) */
+static const honest_observer HONEST_EIGHTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"modelfest, Weibull 2.70/0.006", "sim:slope=2.698,lapse=0.006,table=bench/data/observer_modelfest.csv", 1, 1},
+    {"modelfest, sdt k 2.47/0.006", "sim:decision=sdt,k=2.474,lapse=0.006,table=bench/data/observer_modelfest.csv", 1, 1},
+    {"periphdefocus, Weibull 3.04/0.034", "sim:slope=3.037,lapse=0.034,table=bench/data/observer_periphdefocus.csv", 1, 1},
+    {"periphdefocus, sdt k 3.14/0.022", "sim:decision=sdt,k=3.141,lapse=0.022,table=bench/data/observer_periphdefocus.csv", 1, 1},
+    {"lowpass, Weibull 2.19/0.045", "sim:slope=2.190,lapse=0.045,table=bench/data/observer_lowpass.csv", 1, 1},
+    {"lowpass, sdt k 2.04/0.002", "sim:decision=sdt,k=2.043,lapse=0.002,table=bench/data/observer_lowpass.csv", 1, 1},
+    {"modelfest, Weibull 5.46/0.070", "sim:slope=5.464,lapse=0.070,table=bench/data/observer_modelfest.csv", 1, 0},
+    {"modelfest, sdt k 1.37/0.072", "sim:decision=sdt,k=1.369,lapse=0.072,table=bench/data/observer_modelfest.csv", 1, 0},
+    {"periphdefocus, Weibull 1.81/0.073", "sim:slope=1.814,lapse=0.073,table=bench/data/observer_periphdefocus.csv", 1, 0},
+    {"periphdefocus, sdt k 1.64/0.073", "sim:decision=sdt,k=1.636,lapse=0.073,table=bench/data/observer_periphdefocus.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 #define HONEST_SET(a) {a, (int)(sizeof a / sizeof a[0])}
 /* --heldout N reads entry N - 1 */
@@ -389,7 +409,7 @@ static const struct {
     int n;
 } HONEST_SETS[] = {HONEST_SET(HONEST_OBS),    HONEST_SET(HONEST_FRESH), HONEST_SET(HONEST_THIRD),
                    HONEST_SET(HONEST_FOURTH), HONEST_SET(HONEST_FIFTH), HONEST_SET(HONEST_SIXTH),
-                   HONEST_SET(HONEST_SEVENTH)};
+                   HONEST_SET(HONEST_SEVENTH), HONEST_SET(HONEST_EIGHTH)};
 enum { N_HONEST_SETS = sizeof HONEST_SETS / sizeof HONEST_SETS[0] };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
