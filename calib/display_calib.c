@@ -630,10 +630,11 @@ static int repeats_for(const ctx *c, double lum, double peak)
     if (!(lum >= 0.1 * peak) || !(lum > 0)) return 1;
     double s = sqrt(c->noise_rel * c->noise_rel + (c->noise_abs / lum) * (c->noise_abs / lum));
     double q = s / (c->o->target_rel / 2.5);
-    int n = (int)(q * q + 0.5); /* rounded: a noise estimate just above the limit is no reason to double */
-    if (n < 1) n = 1;
-    if (n > 4) n = 4;
-    return n;
+    double reads = q * q + 0.5; /* rounded: a noise estimate just above the limit is no reason to double */
+    /* capped before the cast: replayed readings from a damaged store can make the noise estimate
+     * huge or NaN (fuzz_resume found it), and the most averaging is the safe answer then */
+    if (!(reads < 4.0)) return 4;
+    return reads < 1.0 ? 1 : (int)reads;
 }
 
 /* Predicted luminance of a curve at drive v from the current points. */
