@@ -56,7 +56,8 @@
  * its mean number of trials; CSF_BENCH_PLACE=1 prints, per --sim trial, the layout, where the
  * contrast landed against the truth (log10) and whether the answer was right (stderr);
  * CSF_BENCH_FIX=SLOPE,LAPSE gives the method a fixed psychometric function (what a wrong guess
- * of the person's slope or lapse costs).
+ * of the person's slope or lapse costs). CSF_BENCH_SCREEN=1 (--honest) runs the prior-only table
+ * and bayes at 120 trials alone, for screening a method change; the other columns then read 0.
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -67,9 +68,11 @@
 #include "calib/afc_layout.h"
 #include "calib/method_bayes.h"
 #include "calib/procedure.h"
+#include "devices/observer_sdt.h"
 #include "devices/observer_sim.h"
 #include "quest_cell.h"
 #include "questplus.h"
+#include "results/psychometric.h"
 #include "results/rng.h"
 #include "tests/bayes/sim_2afc.h"
 
@@ -507,6 +510,47 @@ static int run_questplus(const csf_observer_sim *o, uint64_t seed, const csf_cel
     return 0;
 }
 
+/* The person's P(correct) with m alternatives at d = x - t (log10), as devices/observer_sim
+ * answers (lapse runs, fatigue and drift left out). */
+static double person_pc(const csf_observer_sim_params *p, int m, double d)
+{
+    if (p->decision == CSF_SIM_SDT) {
+        double guess_share = p->lapse * m / (m - 1);
+        return guess_share / m + (1.0 - guess_share) *
+                                     csf_psy_sdt_pc_mafc(CSF_SDT_D_AT_T * pow(10.0, p->k_transducer * d), m);
+    }
+    return csf_psy_p4(d, 0.0, p->slope, 1.0 / m, p->lapse);
+}
+
+/* What no per-cell method can beat on average without prior knowledge of the surface: the
+ * Cramer-Rao bound for cells measured independently, each trial at its cell's most informative
+ * contrast (the display's reach allowing), the person's slope and lapse known, and the budget split
+ * over the truly visible cells in the proportions that minimise the mean variance (n_c ~ I_c^-1/2,
+ * invisible cells getting none). Mean variance (sum_c I_c^-1/2)^2 / (N n_vis); returns its root.
+ * Asymptotic (a handful of trials per cell is not), so a method whose prior knows the surface can
+ * go below it, and that is the only way below it. */
+static double independent_floor(const csf_observer_sim *o, const csf_cell *cells, int n, const int *n_alt,
+                                double cmax, int budget)
+{
+    const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
+    double sum_a = 0.0;
+    int n_vis = 0;
+    for (int c = 0; c < n; c++) {
+        double th = csf_observer_sim_threshold(o, cells[c].freq_cpd, cells[c].ecc_deg);
+        if (!(th < cmax)) continue;
+        double d_max = log10(cmax) - log10(th), best = 0.0, h = 1e-4;
+        for (double d = -1.5; d <= fmin(d_max, 1.5); d += 0.005) {
+            double pc = person_pc(p, n_alt[c], d);
+            double dp = (person_pc(p, n_alt[c], d + h) - person_pc(p, n_alt[c], d - h)) / (2.0 * h);
+            if (pc > 0.0 && pc < 1.0) best = fmax(best, dp * dp / (pc * (1.0 - pc)));
+        }
+        if (!(best > 0.0)) continue;
+        sum_a += 1.0 / sqrt(best);
+        n_vis++;
+    }
+    return n_vis ? sum_a / sqrt((double)budget * n_vis) : NAN;
+}
+
 /* The best the QUEST+ surface family can fit this truth (RMS over visible cells). */
 static double questplus_floor(const csf_observer_sim *o, const csf_cell *cells, int n, const int *n_alt, double cmax)
 {
@@ -528,8 +572,10 @@ static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first
     const honest_observer *HONEST = HONEST_SETS[heldout_set - 1].obs;
     const int N_HONEST = HONEST_SETS[heldout_set - 1].n;
     static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
+    const char *screen_env = getenv("CSF_BENCH_SCREEN");
+    int screen = screen_env && screen_env[0] == '1';
     static int bias_n[MAX_HONEST_OBS][2];
-    double floor_rms[MAX_HONEST_OBS];
+    double floor_rms[MAX_HONEST_OBS], cr_floor[MAX_HONEST_OBS];
     memset(sq, 0, sizeof sq);
     memset(ms, 0, sizeof ms);
     memset(bias, 0, sizeof bias);
@@ -543,8 +589,12 @@ static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first
                 fprintf(stderr, "bench_observer: %s: %s\n", HONEST[ob].spec, err.msg);
                 return 1;
             }
-            if (s == first_seed) floor_rms[ob] = questplus_floor(o, cells, n, n_alt, cmax);
+            if (s == first_seed) {
+                floor_rms[ob] = questplus_floor(o, cells, n, n_alt, cmax);
+                cr_floor[ob] = independent_floor(o, cells, n, n_alt, cmax, 120);
+            }
             for (int m = 0; m < N_HM; m++) {
+                if (screen && m != HM_PRIOR && m != HM_BAYES120) continue;
                 csf_cell_estimate est[24];
                 memset(est, 0, sizeof est);
                 double t0 = now_s();
@@ -623,20 +673,32 @@ static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first
            group[HM_BAYES120][2], group[HM_BAYES120][2] <= 0.10 ? "met" : "NOT met");
     printf("target bayes 120 <= 0.12, held-out slope 1.5-6 & lapse <= 0.08 (all held-out): %.3f (%s)\n",
            group[HM_BAYES120][1], group[HM_BAYES120][1] <= 0.12 ? "met" : "NOT met");
-    printf("QUEST+ at 120 (held-out): %.3f; bayes at 120: %.3f (%s)\n\n", group[HM_QPLUS120][1],
+    printf("QUEST+ at 120 (held-out): %.3f; bayes at 120: %.3f (%s)\n", group[HM_QPLUS120][1],
            group[HM_BAYES120][1], group[HM_BAYES120][1] < group[HM_QPLUS120][1] ? "bayes better" : "bayes NOT better");
-    printf("per observer (RMS over seeds; * = held out of all tuning; floor = best fit of the QUEST+ surface grid)\n\n"
-           "| observer | floor | prior | bayes 120 | bayes 120 mean error 2 / 4 places | bayes 240 | QUEST 120 sd .3/.5/1 "
+    double cr[3] = {0, 0, 0};
+    int crn[3] = {0, 0, 0};
+    for (int ob = 0; ob < N_HONEST; ob++) {
+        int h = HONEST[ob].held_out;
+        cr[h] += cr_floor[ob] * cr_floor[ob], crn[h]++;
+        if (h && HONEST[ob].narrow) cr[2] += cr_floor[ob] * cr_floor[ob], crn[2]++;
+    }
+    printf("independent-cell floor at 120 trials (Cramer-Rao: every cell on its own, slope and lapse known, every "
+           "trial at the best contrast; only a prior that knows the surface goes below it): tuned-on %.3f, "
+           "held-out %.3f, narrow %.3f\n\n",
+           sqrt(cr[0] / crn[0]), sqrt(cr[1] / crn[1]), crn[2] ? sqrt(cr[2] / crn[2]) : NAN);
+    printf("per observer (RMS over seeds; * = held out of all tuning; floor = best fit of the QUEST+ surface grid; "
+           "CR 120 = the independent-cell floor above)\n\n"
+           "| observer | floor | CR 120 | prior | bayes 120 | bayes 120 mean error 2 / 4 places | bayes 240 | QUEST 120 sd .3/.5/1 "
            "| QUEST 240 sd .3/.5/1 | QUEST+ 120 |\n"
-           "|---|---|---|---|---|---|---|---|---|\n");
+           "|---|---|---|---|---|---|---|---|---|---|\n");
     for (int ob = 0; ob < N_HONEST; ob++) {
         double r[N_HM];
         for (int m = 0; m < N_HM; m++) r[m] = sqrt(sq[ob][m] / n_seeds);
         char b2[16] = "-", b4[16] = "-";
         if (bias_n[ob][0]) snprintf(b2, sizeof b2, "%+.3f", bias[ob][0] / bias_n[ob][0]);
         if (bias_n[ob][1]) snprintf(b4, sizeof b4, "%+.3f", bias[ob][1] / bias_n[ob][1]);
-        printf("| %s%s | %.3f | %.3f | %.3f | %s / %s | %.3f | %.3f/%.3f/%.3f | %.3f/%.3f/%.3f | %.3f |\n",
-               HONEST[ob].name, HONEST[ob].held_out ? " *" : "", floor_rms[ob], r[HM_PRIOR], r[HM_BAYES120],
+        printf("| %s%s | %.3f | %.3f | %.3f | %.3f | %s / %s | %.3f | %.3f/%.3f/%.3f | %.3f/%.3f/%.3f | %.3f |\n",
+               HONEST[ob].name, HONEST[ob].held_out ? " *" : "", floor_rms[ob], cr_floor[ob], r[HM_PRIOR], r[HM_BAYES120],
                b2, b4, r[HM_BAYES240],
                r[HM_QUEST120], r[HM_QUEST120 + 1], r[HM_QUEST120 + 2], r[HM_QUEST240], r[HM_QUEST240 + 1],
                r[HM_QUEST240 + 2], r[HM_QPLUS120]);
