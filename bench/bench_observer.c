@@ -60,6 +60,8 @@
  * CSF_BENCH_FIX=SLOPE,LAPSE gives the method a fixed psychometric function (what a wrong guess
  * of the person's slope or lapse costs). CSF_BENCH_SCREEN=1 (--honest) runs the prior-only table
  * and bayes at 120 trials alone, for screening a method change; the other columns then read 0.
+ * CSF_BENCH_SCREEN=N (N >= 2) does the same with N trials in bayes's 120-trial row (its trials
+ * column says N; the target lines still name 120): how many trials a target needs.
  * Run from the source root (default tables bench/data/observer_bumpy.csv and
  * bench/data/observer_mscaled.csv, script bench/quest/). */
 #include <stdio.h>
@@ -449,9 +451,12 @@ static const char *honest_method_name(int m, char *buf, size_t len)
     return buf;
 }
 
+static int screen_trials; /* CSF_BENCH_SCREEN=N, N >= 2: bayes's 120-trial row runs N trials */
+
 static int honest_trials(int m)
 {
     if (m == HM_PRIOR) return 0;
+    if (m == HM_BAYES120 && screen_trials) return screen_trials;
     if (m == HM_BAYES120 || m == HM_QPLUS120 || (m >= HM_QUEST120 && m < HM_QUEST240)) return 120;
     return 240;
 }
@@ -593,7 +598,8 @@ static int run_honest(const csf_procedure_ops *bayes, int heldout_set, int first
     const int N_HONEST = HONEST_SETS[heldout_set - 1].n;
     static double sq[MAX_HONEST_OBS][N_HM], ms[N_HM], bias[MAX_HONEST_OBS][2];
     const char *screen_env = getenv("CSF_BENCH_SCREEN");
-    int screen = screen_env && screen_env[0] == '1';
+    int screen = screen_env && atoi(screen_env) >= 1;
+    if (screen && atoi(screen_env) >= 2) screen_trials = atoi(screen_env) > 5000 ? 5000 : atoi(screen_env);
     static int bias_n[MAX_HONEST_OBS][2];
     double floor_rms[MAX_HONEST_OBS], cr_floor[MAX_HONEST_OBS];
     memset(sq, 0, sizeof sq);
