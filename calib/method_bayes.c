@@ -89,6 +89,14 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define CROSS_CELL_INFO 0
 #endif
 #define CROSS_MAX_CELLS 128    /* larger grids value a trial by its own cell alone (cost ~ n^2) */
+/* Experiment, off (0): stimulus choice values trials under a posterior whose surface prior is
+ * widened by N(0, TEMPER_SD^2), TEMPER_SD = TEMPER_SD_CENTI / 100 log10, so that a cell the
+ * surface makes look certain, with few trials of its own, is not passed by when the surface is
+ * wrong there (tempered_posterior). */
+#ifndef TEMPER_SD_CENTI
+#define TEMPER_SD_CENTI 0
+#endif
+#define TEMPER_SD (TEMPER_SD_CENTI / 100.0)
 #ifndef NEAR_BEST_FRACTION
 #define NEAR_BEST_FRACTION 0.85
 #endif
@@ -232,6 +240,10 @@ typedef struct {
     double *xc_lin, *xc_wide, *xc_num; /* [n_grid], [n_grid], [N_LEVELS*n_grid] scratch */
     double *xc_muci; /* [n_part*n_cells] E[clipped t_c | theta_i, the cell's trials] */
     double *xc_w, *xc_p, *xc_sum; /* [n_part], [n_part], [n_cells] */
+
+    /* TEMPER_SD: the widening kernel (half-width temper_half nodes) and one cell's result */
+    double *temper, *temper_post;
+    int temper_half;
 
     /* scratch */
     double *scratch_a, *scratch_b; /* [max(n_grid, n_part)] */
@@ -800,6 +812,7 @@ static void bayes_destroy(void *state)
     free(s->ptab_eta);
     free(s->xc_mu), free(s->xc_den), free(s->xc_dirty), free(s->xc_lin), free(s->xc_wide), free(s->xc_num);
     free(s->xc_muci), free(s->xc_w), free(s->xc_p), free(s->xc_sum);
+    free(s->temper), free(s->temper_post);
     free(s);
 }
 
@@ -927,6 +940,19 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
             return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
         }
         for (int c = 0; c < nc; c++) s->xc_dirty[c] = 1;
+    }
+    if (TEMPER_SD > 0) {
+        s->temper_half = (int)ceil(4.0 * TEMPER_SD / s->step);
+        s->temper = malloc(sizeof(double) * (size_t)(2 * s->temper_half + 1));
+        s->temper_post = malloc(sizeof(double) * (size_t)G);
+        if (!s->temper || !s->temper_post) {
+            bayes_destroy(s);
+            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+        }
+        for (int k = -s->temper_half; k <= s->temper_half; k++) {
+            double z = k * s->step / (TEMPER_SD > 0 ? TEMPER_SD : 1.0);
+            s->temper[k + s->temper_half] = exp(-0.5 * z * z);
+        }
     }
     if (nc <= GP_MAX_CELLS && GP_SMOOTH_SHARE > 0.0) {
         s->corr = malloc(sizeof(double) * (size_t)nc * nc);
@@ -1091,6 +1117,25 @@ static void cross_cell_info(bayes_state *s, double *info, const int *cell_x)
     }
 }
 
+#if TEMPER_SD_CENTI > 0
+/* Cell c's threshold posterior for stimulus choice when TEMPER_SD is set: its own likelihood
+ * times its surface prior convolved with N(0, TEMPER_SD^2), normalised. */
+static const double *tempered_posterior(bayes_state *s, int c)
+{
+    int G = s->n_grid;
+    double *out = s->temper_post, *wide = s->scratch_b;
+    const double *sp = &s->surf[(size_t)c * G], *ll = &s->loglik[(size_t)c * G];
+    for (int g = 0; g < G; g++) wide[g] = 0.0;
+    convolve_add(s, sp, s->temper, s->temper_half, wide);
+    double lmx = -INFINITY, tot = 0.0;
+    for (int g = 0; g < G; g++)
+        if (ll[g] > lmx) lmx = ll[g];
+    for (int g = 0; g < G; g++) tot += (out[g] = wide[g] * exp(ll[g] - lmx));
+    for (int g = 0; g < G; g++) out[g] = tot > 0.0 ? out[g] / tot : s->post[(size_t)c * G + g];
+    return out;
+}
+#endif
+
 static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     bayes_state *s = state;
@@ -1115,6 +1160,9 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     }
     for (int c = 0; c < s->n_cells; c++) {
         const double *po = &s->post[(size_t)c * G];
+#if TEMPER_SD_CENTI > 0
+        if (s->temper) po = tempered_posterior(s, c);
+#endif
         /* only nodes with non-negligible posterior mass matter */
         int g0 = 0, g1 = G - 1;
         double pmax = 0.0;
