@@ -239,7 +239,7 @@ typedef struct {
     int *xc_dirty;   /* [n_cells] 1: the two tables above are out of date */
     double *xc_lin, *xc_wide, *xc_num; /* [n_grid], [n_grid], [N_LEVELS*n_grid] scratch */
     double *xc_muci; /* [n_part*n_cells] E[clipped t_c | theta_i, the cell's trials] */
-    double *xc_w, *xc_p, *xc_sum; /* [n_part], [n_part], [n_cells] */
+    double *xc_w, *xc_sum; /* [n_part], [2*n_cells] */
 
     /* TEMPER_SD: the widening kernel (half-width temper_half nodes) and one cell's result */
     double *temper, *temper_post;
@@ -811,7 +811,7 @@ static void bayes_destroy(void *state)
     free(s->eta_slope), free(s->eta_lapse), free(s->eta_ht), free(s->eta_w), free(s->eta_w_used), free(s->loglik_eta);
     free(s->ptab_eta);
     free(s->xc_mu), free(s->xc_den), free(s->xc_dirty), free(s->xc_lin), free(s->xc_wide), free(s->xc_num);
-    free(s->xc_muci), free(s->xc_w), free(s->xc_p), free(s->xc_sum);
+    free(s->xc_muci), free(s->xc_w), free(s->xc_sum);
     free(s->temper), free(s->temper_post);
     free(s);
 }
@@ -932,10 +932,9 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         s->xc_num = malloc(sizeof(double) * (size_t)N_LEVELS * G);
         s->xc_muci = malloc(sizeof(double) * (size_t)n * nc);
         s->xc_w = malloc(sizeof(double) * (size_t)n);
-        s->xc_p = malloc(sizeof(double) * (size_t)(n > nc ? n : nc));
         s->xc_sum = malloc(sizeof(double) * 2 * (size_t)nc);
         if (!s->xc_mu || !s->xc_den || !s->xc_dirty || !s->xc_lin || !s->xc_wide || !s->xc_num || !s->xc_muci ||
-            !s->xc_w || !s->xc_p || !s->xc_sum) {
+            !s->xc_w || !s->xc_sum) {
             bayes_destroy(s);
             return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
         }
@@ -950,7 +949,7 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
             return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
         }
         for (int k = -s->temper_half; k <= s->temper_half; k++) {
-            double z = k * s->step / (TEMPER_SD > 0 ? TEMPER_SD : 1.0);
+            double z = k * s->step / TEMPER_SD;
             s->temper[k + s->temper_half] = exp(-0.5 * z * z);
         }
     }
@@ -1069,7 +1068,7 @@ static void cross_cell_info(bayes_state *s, double *info, const int *cell_x)
     int G = s->n_grid, nc = s->n_cells, n = s->n_part;
     for (int c = 0; c < nc; c++)
         if (s->xc_dirty[c]) xc_refresh_cell(s, c);
-    double *w = s->xc_w, *pi = s->xc_p, *mean = s->xc_sum, *acc = s->xc_sum + nc, *muci = s->xc_muci;
+    double *w = s->xc_w, *mean = s->xc_sum, *acc = s->xc_sum + nc, *muci = s->xc_muci;
     double mx = -INFINITY, tot = 0.0;
     for (int i = 0; i < n; i++)
         if (s->logw[i] > mx) mx = s->logw[i];
@@ -1112,7 +1111,6 @@ static void cross_cell_info(bayes_state *s, double *info, const int *cell_x)
             double d = acc[c] - A * mean[c];
             add += d * d / (A * (1.0 - A));
         }
-        pi[j] = add; /* kept for diagnosis */
         info[j] += add;
     }
 }
