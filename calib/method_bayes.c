@@ -97,6 +97,13 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define TEMPER_SD_CENTI 0
 #endif
 #define TEMPER_SD (TEMPER_SD_CENTI / 100.0)
+/* Experiment, off (0): the same widening per cell, by how much more the cell's neighbours depart
+ * from the surface than the offset prior expects (local_temper); 1: on. Needs the correlated
+ * offsets (GP). Screened on held-out sets 6-8: neutral with four places (-0.002 to +0.003), worse
+ * with two intervals (+0.005), tuned-on +0.003 / +0.008, local loss found 12 of 20 (BENCHMARKS.md). */
+#ifndef LOCAL_TEMPER
+#define LOCAL_TEMPER 0
+#endif
 #ifndef NEAR_BEST_FRACTION
 #define NEAR_BEST_FRACTION 0.85
 #endif
@@ -230,6 +237,7 @@ typedef struct {
     double *gp_a, *gp_inv; /* [n_cells*n_cells] covariance of the observed residuals, its inverse */
     double *gp_y, *gp_nv; /* [n_cells] residual of each observed cell, its noise variance */
     int *gp_obs;     /* [n_cells] cells with a residual */
+    int gp_no;       /* how many (set by gp_predict) */
     double *gp_mu, *gp_var; /* [N_LEVELS*n_cells] predicted offset mean / variance from the other cells */
     double *kern;    /* [2*n_grid+1] scratch kernel */
 
@@ -241,9 +249,9 @@ typedef struct {
     double *xc_muci; /* [n_part*n_cells] E[clipped t_c | theta_i, the cell's trials] */
     double *xc_w, *xc_sum; /* [n_part], [2*n_cells] */
 
-    /* TEMPER_SD: the widening kernel (half-width temper_half nodes) and one cell's result */
-    double *temper, *temper_post;
-    int temper_half;
+    /* TEMPER_SD / LOCAL_TEMPER: one cell's widened posterior for stimulus choice */
+    double *temper_post;
+    double *local_var; /* LOCAL_TEMPER: [n_cells] widening variance per cell (log10^2) */
 
     /* scratch */
     double *scratch_a, *scratch_b; /* [max(n_grid, n_part)] */
@@ -538,6 +546,7 @@ static void gp_predict(bayes_state *s)
             s->gp_mu[(size_t)l * nc + c] = 0.0;
             s->gp_var[(size_t)l * nc + c] = offset_sd_levels[l] * offset_sd_levels[l];
         }
+    s->gp_no = 0;
     if (!s->corr) return;
     int no = 0;
     for (int c = 0; c < nc; c++) {
@@ -576,6 +585,7 @@ static void gp_predict(bayes_state *s)
         s->gp_nv[no] = 1.0 / prec + vs;
         no++;
     }
+    s->gp_no = no;
     if (!no) return;
     double *a = s->gp_a, *ainv = s->gp_inv, *alpha = s->scratch_b;
     for (int l = 0; l < N_LEVELS; l++) {
@@ -644,12 +654,42 @@ static void convolve_shifted(bayes_state *s, const double *hist, double mu, doub
     }
 }
 
+/* LOCAL_TEMPER: per cell, the mean excess of its neighbours' squared residuals over what the
+ * model expects of them (offset variance at the current level posterior plus the residual's own
+ * noise), weighted by the shared correlation; 0 where the neighbours are as the model expects. A
+ * surface that misses a region shows there first, in the residuals of the cells measured so far. */
+static void local_temper(bayes_state *s)
+{
+    int nc = s->n_cells, n = s->n_part, no = 0;
+    double lw[N_LEVELS] = {0}, mx = -INFINITY, tot = 0.0, sig2 = 0.0;
+    for (int i = 0; i < n; i++)
+        if (s->logw[i] > mx) mx = s->logw[i];
+    for (int i = 0; i < n; i++) lw[s->level[i]] += exp(s->logw[i] - mx);
+    for (int l = 0; l < N_LEVELS; l++) tot += lw[l];
+    for (int l = 0; l < N_LEVELS; l++) sig2 += lw[l] / tot * offset_sd_levels[l] * offset_sd_levels[l];
+    for (int c = 0; c < nc; c++) s->local_var[c] = 0.0;
+    if (!s->corr) return;
+    no = s->gp_no;
+    for (int c = 0; c < nc; c++) {
+        double num = 0.0, den = 0.0;
+        for (int k = 0; k < no; k++) {
+            int o = s->gp_obs[k];
+            if (o == c) continue;
+            double cw = s->corr[(size_t)c * nc + o];
+            num += cw * (s->gp_y[k] * s->gp_y[k] - s->gp_nv[k] - sig2);
+            den += cw;
+        }
+        s->local_var[c] = den > 0.0 ? fmax(num / den, 0.0) : 0.0;
+    }
+}
+
 /* Per-cell surface prior (leave-cell-out) and posterior on the grid, for all cells. */
 static void refresh_cache(bayes_state *s)
 {
     if (s->cache_valid) return;
     int n = s->n_part, nc = s->n_cells, G = s->n_grid;
     gp_predict(s);
+    if (s->local_var) local_temper(s);
     double *hist = s->hist; /* [N_LEVELS][G] */
     double *all = s->scratch_b;
     for (int c = 0; c < nc; c++) {
@@ -812,7 +852,7 @@ static void bayes_destroy(void *state)
     free(s->ptab_eta);
     free(s->xc_mu), free(s->xc_den), free(s->xc_dirty), free(s->xc_lin), free(s->xc_wide), free(s->xc_num);
     free(s->xc_muci), free(s->xc_w), free(s->xc_sum);
-    free(s->temper), free(s->temper_post);
+    free(s->temper_post), free(s->local_var);
     free(s);
 }
 
@@ -940,17 +980,12 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         }
         for (int c = 0; c < nc; c++) s->xc_dirty[c] = 1;
     }
-    if (TEMPER_SD > 0) {
-        s->temper_half = (int)ceil(4.0 * TEMPER_SD / s->step);
-        s->temper = malloc(sizeof(double) * (size_t)(2 * s->temper_half + 1));
+    if (TEMPER_SD > 0 || LOCAL_TEMPER) {
         s->temper_post = malloc(sizeof(double) * (size_t)G);
-        if (!s->temper || !s->temper_post) {
+        s->local_var = LOCAL_TEMPER ? calloc((size_t)nc, sizeof(double)) : NULL;
+        if (!s->temper_post || (LOCAL_TEMPER && !s->local_var)) {
             bayes_destroy(s);
             return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-        }
-        for (int k = -s->temper_half; k <= s->temper_half; k++) {
-            double z = k * s->step / TEMPER_SD;
-            s->temper[k + s->temper_half] = exp(-0.5 * z * z);
         }
     }
     if (nc <= GP_MAX_CELLS && GP_SMOOTH_SHARE > 0.0) {
@@ -1115,16 +1150,18 @@ static void cross_cell_info(bayes_state *s, double *info, const int *cell_x)
     }
 }
 
-#if TEMPER_SD_CENTI > 0
-/* Cell c's threshold posterior for stimulus choice when TEMPER_SD is set: its own likelihood
- * times its surface prior convolved with N(0, TEMPER_SD^2), normalised. */
+#if TEMPER_SD_CENTI > 0 || LOCAL_TEMPER
+/* Cell c's threshold posterior for stimulus choice when TEMPER_SD or LOCAL_TEMPER is set: its own
+ * likelihood times its surface prior convolved with N(0, TEMPER_SD^2 + local_var[c]), normalised. */
 static const double *tempered_posterior(bayes_state *s, int c)
 {
     int G = s->n_grid;
     double *out = s->temper_post, *wide = s->scratch_b;
     const double *sp = &s->surf[(size_t)c * G], *ll = &s->loglik[(size_t)c * G];
+    double var = TEMPER_SD * TEMPER_SD + (s->local_var ? s->local_var[c] : 0.0);
+    if (var < 1e-4) return &s->post[(size_t)c * G]; /* sd below 0.01: nothing to widen */
     for (int g = 0; g < G; g++) wide[g] = 0.0;
-    convolve_add(s, sp, s->temper, s->temper_half, wide);
+    convolve_shifted(s, sp, 0.0, var, wide);
     double lmx = -INFINITY, tot = 0.0;
     for (int g = 0; g < G; g++)
         if (ll[g] > lmx) lmx = ll[g];
@@ -1158,8 +1195,8 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     }
     for (int c = 0; c < s->n_cells; c++) {
         const double *po = &s->post[(size_t)c * G];
-#if TEMPER_SD_CENTI > 0
-        if (s->temper) po = tempered_posterior(s, c);
+#if TEMPER_SD_CENTI > 0 || LOCAL_TEMPER
+        if (s->temper_post) po = tempered_posterior(s, c);
 #endif
         /* only nodes with non-negligible posterior mass matter */
         int g0 = 0, g1 = G - 1;
