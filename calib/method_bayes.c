@@ -129,6 +129,16 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define GP_COL_LEN_OCT 0.3     /* C_column: a single frequency column ... */
 #define GP_COL_LEN_DEG 30.0    /* ... over the whole eccentricity range */
 #define GP_COL_WEIGHT 0.5      /* w */
+/* Experiment, off by default: a third part, C_row, for a deviation that a whole eccentricity row
+ * shares (the surface's eccentricity loss is linear in e; a person's fall-off between rings may
+ * not be, and the two-interval fovea and the four-place periphery may sit apart as a whole). With
+ * GP_ROW_WEIGHT_CENTI = r > 0, C = (1 - r/100) ((1 - w) C_smooth + w C_column) + (r/100) C_row:
+ * C_smooth and C_column keep their ratio. */
+#ifndef GP_ROW_WEIGHT_CENTI
+#define GP_ROW_WEIGHT_CENTI 0
+#endif
+#define GP_ROW_LEN_OCT 3.0     /* C_row: the whole frequency range of a row ... */
+#define GP_ROW_LEN_DEG 2.0     /* ... at one eccentricity */
 #define GP_MAX_CELLS 128       /* larger grids keep independent offsets (cost grows as n^3) */
 #define GP_BROAD_SD 0.25       /* log10: broad prior used to summarise a cell's trials as a Gaussian */
 #define GP_MAX_SHIFT 0.6       /* log10: cap on a predicted offset */
@@ -950,7 +960,11 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
-    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE * (DECISION_MIX ? 2 : 1);
+    /* The decision model only shows in four-place cells; without them the doubled grid would be
+     * the same nodes twice. */
+    int any_four = 0;
+    for (int c = 0; c < nc; c++) any_four |= s->n_alt[c] == 4;
+    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE * (DECISION_MIX && any_four ? 2 : 1);
     s->eta_ht = calloc((size_t)s->n_eta, sizeof(int));
     s->eta_slope = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_lapse = malloc(sizeof(double) * (size_t)s->n_eta);
@@ -1005,8 +1019,17 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
                 double de = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_LEN_DEG;
                 double df2 = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_COL_LEN_OCT;
                 double de2 = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_COL_LEN_DEG;
+#if GP_ROW_WEIGHT_CENTI > 0
+                const double row_w = GP_ROW_WEIGHT_CENTI / 100.0;
+                double df3 = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_ROW_LEN_OCT;
+                double de3 = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_ROW_LEN_DEG;
+                s->corr[(size_t)i * nc + j] = (1.0 - row_w) * ((1.0 - GP_COL_WEIGHT) * exp(-0.5 * (df * df + de * de)) +
+                                                               GP_COL_WEIGHT * exp(-0.5 * (df2 * df2 + de2 * de2))) +
+                                              row_w * exp(-0.5 * (df3 * df3 + de3 * de3));
+#else
                 s->corr[(size_t)i * nc + j] = (1.0 - GP_COL_WEIGHT) * exp(-0.5 * (df * df + de * de)) +
                                               GP_COL_WEIGHT * exp(-0.5 * (df2 * df2 + de2 * de2));
+#endif
             }
     }
     /* offset-prior weights on the grid (density x step) */
