@@ -866,6 +866,14 @@ static void bayes_destroy(void *state)
     free(s);
 }
 
+/* Squared-exponential correlation of two cells over (log2 f, eccentricity). */
+static double sq_exp_corr(const csf_cell *a, const csf_cell *b, double len_oct, double len_deg)
+{
+    double df = log2(a->freq_cpd / b->freq_cpd) / len_oct;
+    double de = (a->ecc_deg - b->ecc_deg) / len_deg;
+    return exp(-0.5 * (df * df + de * de));
+}
+
 static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf_error *err)
 {
     if (!setup || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: no setup given");
@@ -1015,21 +1023,13 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         }
         for (int i = 0; i < nc; i++)
             for (int j = 0; j < nc; j++) {
-                double df = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_LEN_OCT;
-                double de = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_LEN_DEG;
-                double df2 = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_COL_LEN_OCT;
-                double de2 = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_COL_LEN_DEG;
-#if GP_ROW_WEIGHT_CENTI > 0
                 const double row_w = GP_ROW_WEIGHT_CENTI / 100.0;
-                double df3 = log2(s->cells[i].freq_cpd / s->cells[j].freq_cpd) / GP_ROW_LEN_OCT;
-                double de3 = (s->cells[i].ecc_deg - s->cells[j].ecc_deg) / GP_ROW_LEN_DEG;
-                s->corr[(size_t)i * nc + j] = (1.0 - row_w) * ((1.0 - GP_COL_WEIGHT) * exp(-0.5 * (df * df + de * de)) +
-                                                               GP_COL_WEIGHT * exp(-0.5 * (df2 * df2 + de2 * de2))) +
-                                              row_w * exp(-0.5 * (df3 * df3 + de3 * de3));
-#else
-                s->corr[(size_t)i * nc + j] = (1.0 - GP_COL_WEIGHT) * exp(-0.5 * (df * df + de * de)) +
-                                              GP_COL_WEIGHT * exp(-0.5 * (df2 * df2 + de2 * de2));
-#endif
+                const csf_cell *a = &s->cells[i], *b = &s->cells[j];
+                double corr_ij = (1.0 - GP_COL_WEIGHT) * sq_exp_corr(a, b, GP_LEN_OCT, GP_LEN_DEG) +
+                                 GP_COL_WEIGHT * sq_exp_corr(a, b, GP_COL_LEN_OCT, GP_COL_LEN_DEG);
+                if (row_w > 0.0)
+                    corr_ij = (1.0 - row_w) * corr_ij + row_w * sq_exp_corr(a, b, GP_ROW_LEN_OCT, GP_ROW_LEN_DEG);
+                s->corr[(size_t)i * nc + j] = corr_ij;
             }
     }
     /* offset-prior weights on the grid (density x step) */
