@@ -66,10 +66,10 @@ static double now_s(void)
 
 /* Mean signed log10 error over seeds and cells of one method and layout; -1 on a failure. */
 static int mean_error(const char *spec, const char *method, const int *layout, int per_cell, int first_seed,
-                      int n_seeds, double *mean_out, int *n_unfinite)
+                      int n_seeds, double *mean_out, double *rms_out, int *n_unfinite)
 {
     const csf_procedure_ops *ops = csf_procedure_find(method);
-    double sum = 0;
+    double sum = 0, sum2 = 0;
     int n = 0;
     *n_unfinite = 0;
     for (int seed = first_seed; seed < first_seed + n_seeds; seed++) {
@@ -83,10 +83,12 @@ static int mean_error(const char *spec, const char *method, const int *layout, i
                 continue;
             }
             sum += e;
+            sum2 += e * e;
             n++;
         }
     }
     *mean_out = n ? sum / n : NAN;
+    *rms_out = n ? sqrt(sum2 / n) : NAN;
     return 0;
 }
 
@@ -127,23 +129,24 @@ int main(int argc, char **argv)
         for (int p = 0; p < N_PEOPLE; p++) people[p] = PEOPLE[p];
     printf("8 cells (1-8 cpd at 5 and 10 deg), seeds %d-%d; mean signed log10 error against the truth; "
            "fade 12 trials a cell, forced choice (2afc) 60 a cell\n\n", first_seed, first_seed + n_seeds - 1);
-    printf("| person | fade | two intervals | four places | fade - two intervals | four - two | not finite |\n");
-    printf("|---|---|---|---|---|---|---|\n");
-    double t0 = now_s(), worst_fade = 0, worst_sdt_layout = 0;
+    printf("| person | fade | two intervals | four places | fade - two intervals | four - two | fade RMS | not finite |\n");
+    printf("|---|---|---|---|---|---|---|---|\n");
+    double t0 = now_s(), worst_fade = 0, worst_sdt_layout = 0, fade_rms_sum = 0;
     int fade_within = 0, sdt_n = 0, sdt_within = 0, n_run = 0;
     for (int p = 0; p < n_people; p++) {
         if (only && !strstr(people[p], only)) continue;
         n_run++;
-        double fade, two, four;
+        double fade, two, four, fade_rms, two_rms, four_rms;
         int u1, u2, u3;
-        if (mean_error(people[p], "fade", NULL, 12, first_seed, n_seeds, &fade, &u1) ||
-            mean_error(people[p], "2afc", NULL, 60, first_seed, n_seeds, &two, &u2) ||
-            mean_error(people[p], "2afc", FOUR, 60, first_seed, n_seeds, &four, &u3))
+        if (mean_error(people[p], "fade", NULL, 12, first_seed, n_seeds, &fade, &fade_rms, &u1) ||
+            mean_error(people[p], "2afc", NULL, 60, first_seed, n_seeds, &two, &two_rms, &u2) ||
+            mean_error(people[p], "2afc", FOUR, 60, first_seed, n_seeds, &four, &four_rms, &u3))
             return 1;
         double d_fade = fade - two, d_layout = four - two;
         int sdt = strstr(people[p], "decision=sdt") != NULL;
-        printf("| %s | %+.3f | %+.3f | %+.3f | %+.3f | %+.3f%s | %d |\n", people[p], fade, two, four, d_fade, d_layout,
-               sdt ? "" : " (Weibull)", u1 + u2 + u3);
+        printf("| %s | %+.3f | %+.3f | %+.3f | %+.3f | %+.3f%s | %.3f | %d |\n", people[p], fade, two, four, d_fade,
+               d_layout, sdt ? "" : " (Weibull)", fade_rms, u1 + u2 + u3);
+        fade_rms_sum += fade_rms;
         fflush(stdout);
         if (fabs(d_fade) <= 0.1) fade_within++;
         if (fabs(d_fade) > fabs(worst_fade)) worst_fade = d_fade;
@@ -154,7 +157,9 @@ int main(int argc, char **argv)
         }
     }
     printf("\nfade vs two intervals within 0.1: %d of %d people (largest %+.3f); four places vs two intervals "
-           "within 0.02 for signal-detection people: %d of %d (largest %+.3f); %.1f s\n",
-           fade_within, n_run, worst_fade, sdt_within, sdt_n, worst_sdt_layout, now_s() - t0);
+           "within 0.02 for signal-detection people: %d of %d (largest %+.3f); fade RMS against the truth, mean "
+           "over people: %.3f; %.1f s\n",
+           fade_within, n_run, worst_fade, sdt_within, sdt_n, worst_sdt_layout, n_run ? fade_rms_sum / n_run : NAN,
+           now_s() - t0);
     return 0;
 }

@@ -44,6 +44,7 @@
 #include <string.h>
 
 #include "calib/procedure.h"
+#include "results/psychometric.h"
 #include "results/rng.h"
 
 #define FADE_CATCH_RATE 0.10
@@ -52,7 +53,7 @@
 #define FADE_ABOVE 0.6
 #define FADE_INVISIBLE_AFTER 2
 
-enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE };
+enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
 
 #ifndef FADE_PROBE_RATE
 #define FADE_PROBE_RATE 0.35   /* share of a measured cell's trials that are latency probes */
@@ -66,8 +67,21 @@ enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE };
 #define FADE_RT_MAX_S 2.0      /* a probe press later than this is not a reaction to the probe */
 #endif
 
+#ifndef FADE_ANCHOR_SHARE
+#define FADE_ANCHOR_SHARE 0.25 /* default share of the budget spent on forced-choice anchors */
+#endif
+#define FADE_ANCHOR_SHARE_MAX 0.5
+#ifndef FADE_OFFSET_PRIOR_SD
+#define FADE_OFFSET_PRIOR_SD 0.1 /* log10: spread of people's yes/no - forced-choice offsets */
+#endif
+#define FADE_OFFSET_RANGE 0.4    /* the offset grid spans +-this (log10) */
+#define FADE_OFFSET_SD_DONE 0.02 /* anchors stop once the offset is known this well */
+#ifndef FADE_ANCHOR_ABOVE
+#define FADE_ANCHOR_ABOVE 0.05   /* anchor contrast above the cell's forced-choice estimate */
+#endif
+
 /* One stored trial, for rebuilding the posteriors when the latency estimate moves. */
-typedef enum { TR_DETECT, TR_CENSORED, TR_PROBE_YES, TR_PROBE_NO } trial_kind;
+typedef enum { TR_DETECT, TR_CENSORED, TR_PROBE_YES, TR_PROBE_NO, TR_ANCHOR_RIGHT, TR_ANCHOR_WRONG } trial_kind;
 typedef struct {
     int cell;
     trial_kind kind;
@@ -83,6 +97,15 @@ static const double eta_slopes[] = {1.5, 1.89, 2.38, 3.0, 3.78, 4.76, 6.0};
 static const double eta_lapses[] = {0.001, 0.02, 0.04, 0.06, 0.08};
 enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
        N_ETA_LAPSE = sizeof eta_lapses / sizeof eta_lapses[0], N_ETA = N_ETA_SLOPE * N_ETA_LAPSE };
+
+/* The anchors' own two-interval slope and lapse: a yes/no function is steeper than the same
+ * person's forced-choice one (for a signal-detection person about 2.5 times), so the fade's
+ * pair does not carry over. */
+static const double anchor_slopes[] = {1.5, 2.12, 3.0, 4.24, 6.0};
+static const double anchor_lapses[] = {0.001, 0.04, 0.08};
+enum { N_A_SLOPE = sizeof anchor_slopes / sizeof anchor_slopes[0],
+       N_APAIR = N_A_SLOPE * (sizeof anchor_lapses / sizeof anchor_lapses[0]) };
+#define FADE_OFF_MAX 121 /* offset grid points at most */
 
 typedef struct {
     double log_post[N_ETA][FADE_GRID_N]; /* per (slope, lapse) pair; only [0] when fixed */
@@ -105,6 +128,17 @@ typedef struct {
     double probe_rt_sum;  /* latencies of the probes that were seen */
     int n_probe_rt;
     double latency_s;     /* the latency the stored detections are corrected by */
+    /* Forced-choice anchors (see the top). The offset delta = yes/no threshold - forced-choice
+     * threshold is on a grid of n_off points, offset index d = delta / t_step + off_half. */
+    int n_anchor_plan;    /* anchors planned (0: none) */
+    int anchor_from;      /* the trial index where the anchor block starts at the latest */
+    int off_half, n_off;
+    double *anchor_ll;    /* per cell, per anchor pair, over the forced-choice threshold u on the t
+                             grid widened by off_half points each side: log likelihood of its anchors */
+    int *n_anchor_cell;
+    int n_anchor;
+    double *joint;        /* [anchor pair][offset]: normalised posterior */
+    int joint_dirty;
 } fade_state;
 
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
@@ -140,15 +174,36 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     f->t_step = (hi + 1.0 - f->t_lo) / (FADE_GRID_N - 1);
     /* 0.06 log10 takes about 6 trials a cell; a larger budget buys a tighter target (sd falls
      * as 1/sqrt(trials)), down to 0.025, so the budget is used rather than left over. */
+    double share = setup->fade_anchor_share == 0 ? FADE_ANCHOR_SHARE : setup->fade_anchor_share;
+    if (!(share <= FADE_ANCHOR_SHARE_MAX)) {
+        free(f);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "fade: anchor share %g is above the limit %g",
+                             setup->fade_anchor_share, FADE_ANCHOR_SHARE_MAX);
+    }
+    if (share > 0) f->n_anchor_plan = (int)lround(share * setup->trial_budget);
+    f->anchor_from = setup->trial_budget - f->n_anchor_plan;
+    int fade_budget = f->anchor_from;
     f->sd_stable = FADE_SE_STABLE;
-    if (setup->trial_budget > 6 * setup->n_cells)
-        f->sd_stable = FADE_SE_STABLE * sqrt(6.0 * setup->n_cells / setup->trial_budget);
+    if (fade_budget > 6 * setup->n_cells)
+        f->sd_stable = FADE_SE_STABLE * sqrt(6.0 * setup->n_cells / fade_budget);
     if (f->sd_stable < 0.025) f->sd_stable = 0.025;
+    f->off_half = (int)ceil(FADE_OFFSET_RANGE / f->t_step);
+    if (f->off_half > FADE_OFF_MAX / 2) f->off_half = FADE_OFF_MAX / 2;
+    f->n_off = 2 * f->off_half + 1;
     f->cells = malloc((size_t)setup->n_cells * sizeof *f->cells);
     f->st = calloc((size_t)setup->n_cells, sizeof *f->st);
-    if (!f->cells || !f->st) {
+    if (f->n_anchor_plan > 0) {
+        f->anchor_ll = calloc((size_t)setup->n_cells * N_APAIR * (FADE_GRID_N + 2 * f->off_half), sizeof *f->anchor_ll);
+        f->n_anchor_cell = calloc((size_t)setup->n_cells, sizeof *f->n_anchor_cell);
+        f->joint = calloc((size_t)N_APAIR * f->n_off, sizeof *f->joint);
+        f->joint_dirty = 1;
+    }
+    if (!f->cells || !f->st || (f->n_anchor_plan > 0 && (!f->anchor_ll || !f->n_anchor_cell || !f->joint))) {
         free(f->cells);
         free(f->st);
+        free(f->anchor_ll);
+        free(f->n_anchor_cell);
+        free(f->joint);
         free(f);
         return csf_error_set(err, CSF_E_NOMEM, "fade: out of memory");
     }
@@ -165,6 +220,9 @@ static void fade_destroy(void *state)
     free(f->cells);
     free(f->st);
     free(f->trials);
+    free(f->anchor_ll);
+    free(f->n_anchor_cell);
+    free(f->joint);
     free(f);
 }
 
@@ -208,6 +266,173 @@ static int cell_stable(const fade_state *f, const fade_cell *c)
     return c->n_det >= 4 && sd <= f->sd_stable;
 }
 
+/* ---- forced-choice anchors ------------------------------------------------------------------ */
+
+static int anchor_width(const fade_state *f) { return FADE_GRID_N + 2 * f->off_half; }
+
+static double *anchor_row(const fade_state *f, int cell, int a)
+{
+    return f->anchor_ll + ((size_t)cell * N_APAIR + (size_t)a) * (size_t)anchor_width(f);
+}
+
+static double offset_log10(const fade_state *f, int d) { return (d - f->off_half) * f->t_step; }
+
+/* The cell's fade posterior of its yes/no threshold, marginal over the fade's pairs, normalised. */
+static void fade_marginal(const fade_state *f, const fade_cell *c, double *p)
+{
+    double tot = 0;
+    for (int i = 0; i < FADE_GRID_N; i++) p[i] = 0;
+    for (int e = 0; e < f->n_eta; e++) {
+        if (f->eta_w[e] < 1e-9) continue;
+        const double *lp = c->log_post[e];
+        double mx = -INFINITY, z = 0;
+        for (int i = 0; i < FADE_GRID_N; i++)
+            if (lp[i] > mx) mx = lp[i];
+        for (int i = 0; i < FADE_GRID_N; i++) z += exp(lp[i] - mx);
+        for (int i = 0; i < FADE_GRID_N; i++) p[i] += f->eta_w[e] * exp(lp[i] - mx) / z;
+    }
+    for (int i = 0; i < FADE_GRID_N; i++) tot += p[i];
+    for (int i = 0; i < FADE_GRID_N; i++) p[i] /= tot;
+}
+
+/* The posterior of (anchor pair, offset) from every anchored cell: the cell's yes/no threshold t
+ * has the fade posterior p, its forced-choice threshold is u = t - offset, and the cell's anchors
+ * are two-interval trials at u. Cells are taken as independent given their fade posteriors. */
+static void joint_refresh(fade_state *f)
+{
+    if (!f->joint_dirty) return;
+    double p[FADE_GRID_N];
+    int two_h = 2 * f->off_half;
+    for (int a = 0; a < N_APAIR; a++)
+        for (int d = 0; d < f->n_off; d++) {
+            double z = offset_log10(f, d) / FADE_OFFSET_PRIOR_SD;
+            f->joint[a * f->n_off + d] = -0.5 * z * z;
+        }
+    for (int c = 0; c < f->s.n_cells; c++) {
+        if (!f->n_anchor_cell[c]) continue;
+        fade_marginal(f, &f->st[c], p);
+        for (int a = 0; a < N_APAIR; a++) {
+            const double *A = anchor_row(f, c, a);
+            double amax = -INFINITY;
+            for (int k = 0; k < anchor_width(f); k++)
+                if (A[k] > amax) amax = A[k];
+            for (int d = 0; d < f->n_off; d++) {
+                double sum = 0;
+                for (int i = 0; i < FADE_GRID_N; i++)
+                    if (p[i] > 1e-12) sum += p[i] * exp(A[i - d + two_h] - amax);
+                f->joint[a * f->n_off + d] += amax + log(sum > 1e-300 ? sum : 1e-300);
+            }
+        }
+    }
+    int n = N_APAIR * f->n_off;
+    double mx = -INFINITY, tot = 0;
+    for (int k = 0; k < n; k++)
+        if (f->joint[k] > mx) mx = f->joint[k];
+    for (int k = 0; k < n; k++) tot += (f->joint[k] = exp(f->joint[k] - mx));
+    for (int k = 0; k < n; k++) f->joint[k] /= tot;
+    f->joint_dirty = 0;
+}
+
+static void offset_moments(fade_state *f, double *mean, double *sd)
+{
+    joint_refresh(f);
+    double s1 = 0, s2 = 0;
+    for (int a = 0; a < N_APAIR; a++)
+        for (int d = 0; d < f->n_off; d++) {
+            double w = f->joint[a * f->n_off + d], o = offset_log10(f, d);
+            s1 += w * o;
+            s2 += w * o * o;
+        }
+    if (mean) *mean = s1;
+    if (sd) *sd = sqrt(s2 - s1 * s1 > 0 ? s2 - s1 * s1 : 0);
+}
+
+/* The cell's forced-choice threshold u = t - offset: mean and sd over the joint posterior. */
+static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd)
+{
+    joint_refresh(f);
+    double p[FADE_GRID_N], m1 = 0, m2 = 0;
+    fade_marginal(f, &f->st[cell], p);
+    int two_h = 2 * f->off_half, anchored = f->n_anchor_cell[cell] > 0;
+    for (int a = 0; a < N_APAIR; a++) {
+        const double *A = anchor_row(f, cell, a);
+        double amax = 0;
+        if (anchored) {
+            amax = -INFINITY;
+            for (int k = 0; k < anchor_width(f); k++)
+                if (A[k] > amax) amax = A[k];
+        }
+        for (int d = 0; d < f->n_off; d++) {
+            double w = f->joint[a * f->n_off + d], off = offset_log10(f, d);
+            if (w < 1e-12) continue;
+            double s0 = 0, s1 = 0, s2 = 0;
+            for (int i = 0; i < FADE_GRID_N; i++) {
+                if (p[i] <= 1e-12) continue;
+                double q = anchored ? p[i] * exp(A[i - d + two_h] - amax) : p[i];
+                double u = f->t_lo + i * f->t_step - off;
+                s0 += q, s1 += q * u, s2 += q * u * u;
+            }
+            if (!(s0 > 0)) continue;
+            m1 += w * s1 / s0;
+            m2 += w * s2 / s0;
+        }
+    }
+    if (mean) *mean = m1;
+    if (sd) *sd = sqrt(m2 - m1 * m1 > 0 ? m2 - m1 * m1 : 0);
+}
+
+/* Plans an anchor: a two-interval trial on the visible cell with the fewest anchors, just above
+ * its forced-choice estimate. Returns 0 when there is nothing to anchor or the offset is known. */
+static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
+{
+    double off_sd;
+    offset_moments(f, NULL, &off_sd);
+    if (f->n_anchor > 0 && off_sd <= FADE_OFFSET_SD_DONE) return 0;
+    int n = f->s.n_cells, best = -1;
+    int rot = (int)(csf_rng_u64(f->s.seed, ST_ANCHOR, 2 * (uint64_t)trial_index) % (uint64_t)n);
+    for (int k = 0; k < n; k++) {
+        int i = (k + rot) % n;
+        double above;
+        if (f->st[i].n_det < 1) continue;
+        cell_moments(f, &f->st[i], NULL, NULL, &above);
+        if (above > 0.5) continue;
+        if (best < 0 || f->n_anchor_cell[i] < f->n_anchor_cell[best]) best = i;
+    }
+    if (best < 0) return 0;
+    double u;
+    cell_moments_fc(f, best, &u, NULL);
+    double x = u + FADE_ANCHOR_ABOVE, lo = log10(f->s.min_contrast), hi = log10(f->s.max_contrast);
+    if (x > hi) x = hi;
+    if (x < lo) x = lo;
+    plan->task = CSF_TASK_2AFC;
+    plan->cell = best;
+    plan->contrast = pow(10.0, x);
+    plan->ramp_start_log10 = x;
+    plan->ramp_s = 0;
+    plan->n_alternatives = 2;
+    plan->is_catch = 0;
+    plan->signal_interval = (int)(csf_rng_u64(f->s.seed, ST_ANCHOR, 2 * (uint64_t)trial_index + 1) & 1);
+    return 1;
+}
+
+static void anchor_add(fade_state *f, const fade_trial *t)
+{
+    int right = t->kind == TR_ANCHOR_RIGHT;
+    for (int a = 0; a < N_APAIR; a++) {
+        double beta = anchor_slopes[a % N_A_SLOPE], lapse = anchor_lapses[a / N_A_SLOPE];
+        double *A = anchor_row(f, t->cell, a);
+        for (int k = 0; k < anchor_width(f); k++) {
+            double u = f->t_lo + (k - f->off_half) * f->t_step;
+            double pr = csf_psy_p_afc(t->x_end, u, beta, lapse, 2);
+            double l = right ? pr : 1 - pr;
+            A[k] += log(l > 1e-12 ? l : 1e-12);
+        }
+    }
+    f->n_anchor_cell[t->cell]++;
+    f->n_anchor++;
+    f->joint_dirty = 1;
+}
+
 static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     fade_state *f = state;
@@ -222,6 +447,10 @@ static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
         if (cell_stable(f, &f->st[i])) continue;
         if (best < 0 || f->st[i].n_trials < f->st[best].n_trials) best = i;
     }
+    /* The anchor block: the end of the budget, or earlier when every cell is measured. Once the
+     * offset is known (or nothing is visible to anchor on) the rest goes back to fade trials. */
+    if (f->n_anchor_plan > 0 && (trial_index >= f->anchor_from || best < 0) && plan_anchor(f, trial_index, plan))
+        return CSF_OK;
     if (best < 0) return CSF_E_ABORTED; /* every cell stable: finished early */
     plan->cell = best;
     plan->ramp_s = f->s.ramp_s;
@@ -287,6 +516,7 @@ static void cell_add(fade_state *f, fade_cell *c, double x, trial_kind kind, dou
         if (f->log_ev[e] > mx) mx = f->log_ev[e];
     for (int e = 0; e < f->n_eta; e++) tot += (f->eta_w[e] = exp(f->log_ev[e] - mx));
     for (int e = 0; e < f->n_eta; e++) f->eta_w[e] /= tot;
+    f->joint_dirty = 1;
 }
 
 /* The detection contrast of a ramp trial under the current latency estimate. */
@@ -302,6 +532,10 @@ static double detection_x(const fade_state *f, const fade_trial *t)
 static void add_trial(fade_state *f, const fade_trial *t)
 {
     fade_cell *c = &f->st[t->cell];
+    if (t->kind == TR_ANCHOR_RIGHT || t->kind == TR_ANCHOR_WRONG) {
+        anchor_add(f, t); /* not a fade trial: the fade schedule counts only those */
+        return;
+    }
     c->n_trials++;
     switch (t->kind) {
     case TR_CENSORED:
@@ -323,6 +557,12 @@ static void add_trial(fade_state *f, const fade_trial *t)
 static void rebuild(fade_state *f)
 {
     memset(f->st, 0, (size_t)f->s.n_cells * sizeof *f->st);
+    if (f->n_anchor_plan > 0) {
+        memset(f->anchor_ll, 0, (size_t)f->s.n_cells * N_APAIR * (size_t)anchor_width(f) * sizeof *f->anchor_ll);
+        memset(f->n_anchor_cell, 0, (size_t)f->s.n_cells * sizeof *f->n_anchor_cell);
+        f->n_anchor = 0;
+        f->joint_dirty = 1;
+    }
     for (int e = 0; e < f->n_eta; e++) f->log_ev[e] = 0.0, f->eta_w[e] = 1.0 / f->n_eta;
     for (int i = 0; i < f->n_tr; i++) add_trial(f, &f->trials[i]);
 }
@@ -342,6 +582,14 @@ static void fade_update(void *state, int trial_index, const csf_trial_plan *plan
     }
     fade_trial t = {.cell = plan->cell, .x_end = log10(plan->contrast), .ramp_s = plan->ramp_s,
                     .start = plan->ramp_start_log10, .rt_s = o->rt_s};
+    if (plan->task == CSF_TASK_2AFC) {
+        if (f->n_anchor_plan <= 0) return; /* not planned by this session: nothing to learn from */
+        if (isfinite(o->contrast_at_response) && o->contrast_at_response > 0) t.x_end = log10(o->contrast_at_response);
+        t.kind = o->response == plan->signal_interval ? TR_ANCHOR_RIGHT : TR_ANCHOR_WRONG;
+        f->trials[f->n_tr++] = t;
+        add_trial(f, &f->trials[f->n_tr - 1]);
+        return;
+    }
     t.range = t.x_end - plan->ramp_start_log10;
     int probe = !(t.range > 1e-9);
     if (!(t.range > 0.05)) t.range = 0.05;
@@ -379,14 +627,15 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
     (void)err;
     for (int i = 0; i < f->s.n_cells; i++) {
         const fade_cell *c = &f->st[i];
-        out[i].n_trials = c->n_trials;
-        if (c->n_trials == 0) {
+        out[i].n_trials = c->n_trials + (f->n_anchor_cell ? f->n_anchor_cell[i] : 0);
+        if (out[i].n_trials == 0) {
             out[i].threshold = NAN;   /* no data: unknown, not invisible */
             out[i].stderr_log10 = NAN;
             continue;
         }
         double m, sd, above;
         cell_moments(f, c, &m, &sd, &above);
+        if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd);
         if (above > 0.5) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;

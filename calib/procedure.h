@@ -47,6 +47,12 @@ typedef struct {
      * 12 item 3; tests compare with it); 0 (default) = the method also measures the latency near
      * threshold with probe trials (calib/method_fade.c), since reaction times slow down there. */
     int fade_fixed_latency;
+    /* fade only: the share of the budget spent on two-interval forced-choice anchor trials at the
+     * end of the session, which measure the person's offset between their yes/no (fade) threshold
+     * and the forced-choice one (it depends on their criterion; calib/method_fade.c). 0 = the
+     * default share, negative = none (a pure yes/no session, the behaviour before the anchors),
+     * at most 0.5. */
+    double fade_anchor_share;
     /* Forced-choice layout per cell (CSF_TASK_2AFC methods): n_alternatives[c] = 2 for two
      * temporal intervals, 4 for four locations on the cell's eccentricity ring shown at once
      * (spatial 4AFC, guess rate 1/4). NULL = 2 everywhere. The session decides (a foveal cell or
