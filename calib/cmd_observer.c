@@ -10,7 +10,8 @@
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
-    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE, OPT_RESPONDER
+    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE, OPT_RESPONDER,
+    OPT_FADE_ANCHORS
 };
 
 static void usage(FILE *f)
@@ -29,6 +30,10 @@ static void usage(FILE *f)
             "                       grating at one of four places at once wherever they fit on the\n"
             "                       screen (guess rate 1/4), two intervals at the fovea; 2 uses two\n"
             "                       intervals everywhere. Kept with the session for --resume\n"
+            "  --fade-anchors S     fade: the share of the trials (0 to 0.5, default 0.25) spent at\n"
+            "                       the end on two-interval forced-choice trials that measure how\n"
+            "                       far the person's yes/no threshold sits from the forced-choice\n"
+            "                       one (it depends on their criterion); 0 = a yes/no session only\n"
             "  --freqs F1,F2,...    spatial frequencies in cpd (default 6 log-spaced 0.5-16,\n"
             "                       capped by the display's Nyquist limit)\n"
             "  --eccs E1,E2,...     eccentricities in deg (default 0,5,10,20, capped by the screen)\n"
@@ -102,6 +107,7 @@ int csf_cmd_observer(int argc, char **argv)
         {"render-size", required_argument, 0, OPT_RENDER_SIZE},
         {"quiet", no_argument, 0, OPT_QUIET},
         {"afc", required_argument, 0, OPT_AFC},
+        {"fade-anchors", required_argument, 0, OPT_FADE_ANCHORS},
         {"allow-profile-change", no_argument, 0, OPT_ALLOW_PROFILE},
         {"responder", required_argument, 0, OPT_RESPONDER},
         {"help", no_argument, 0, 'h'},
@@ -170,6 +176,12 @@ int csf_cmd_observer(int argc, char **argv)
             }
             snprintf(cli.cfg.responder, sizeof cli.cfg.responder, "%s", optarg);
             break;
+        case OPT_FADE_ANCHORS: {
+            double share;
+            if (csf_parse_double(optarg, "fade-anchors", 0, 0.5, &share) < 0) return 2;
+            o.fade_anchor_share = share > 0 ? share : -1;
+            break;
+        }
         case OPT_AFC:
             if (strcmp(optarg, "2") == 0) o.afc = 2;
             else if (strcmp(optarg, "4") == 0) o.afc = 4;

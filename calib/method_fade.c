@@ -71,6 +71,7 @@ enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
 #define FADE_ANCHOR_SHARE 0.25 /* default share of the budget spent on forced-choice anchors */
 #endif
 #define FADE_ANCHOR_SHARE_MAX 0.5
+#define FADE_MIN_RAMPS 3         /* fade trials a cell before any budget goes to anchors */
 #ifndef FADE_OFFSET_PRIOR_SD
 #define FADE_OFFSET_PRIOR_SD 0.1 /* log10: spread of people's yes/no - forced-choice offsets */
 #endif
@@ -181,6 +182,11 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
                              setup->fade_anchor_share, FADE_ANCHOR_SHARE_MAX);
     }
     if (share > 0) f->n_anchor_plan = (int)lround(share * setup->trial_budget);
+    /* Anchors need a fade estimate to sit on: a budget too small to give every cell a few
+     * ramps first keeps them for the ramps (a cell not found is worse than an offset). */
+    if (f->n_anchor_plan > setup->trial_budget - FADE_MIN_RAMPS * setup->n_cells)
+        f->n_anchor_plan = setup->trial_budget - FADE_MIN_RAMPS * setup->n_cells;
+    if (f->n_anchor_plan < 0) f->n_anchor_plan = 0;
     f->anchor_from = setup->trial_budget - f->n_anchor_plan;
     int fade_budget = f->anchor_from;
     f->sd_stable = FADE_SE_STABLE;

@@ -96,6 +96,8 @@ typedef struct {
     int n_freqs, n_eccs;
     int break_every;
     int afc;        /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
+    double fade_anchors; /* share of a fade session's trials that are forced-choice anchors; 0 =
+                            none (sessions stored without it had none) */
     char profile_id[256]; /* display profile the session began with ("" in sessions stored
                              before it was kept here: the session row's display then says) */
 } session_settings;
@@ -104,9 +106,10 @@ static void settings_to_json(const session_settings *s, char *buf, size_t len)
 {
     size_t n = 0;
     n += (size_t)snprintf(buf + n, len - n, "{\"method\":\"%s\",\"observer\":\"%s\",\"trials\":%d,"
-                          "\"practice\":%d,\"break_every\":%d,\"afc\":%d,\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
+                          "\"practice\":%d,\"break_every\":%d,\"afc\":%d,\"fade_anchors\":%.17g,"
+                          "\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
                           s->method, s->observer, s->trials, s->practice, s->break_every, s->afc,
-                          GABOR_SIGMA_DEG);
+                          s->fade_anchors, GABOR_SIGMA_DEG);
     for (int i = 0; i < s->n_freqs && n < len; i++)
         n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->freqs[i]);
     if (n < len) n += (size_t)snprintf(buf + n, len - n, "],\"eccs_deg\":[");
@@ -135,6 +138,9 @@ static int settings_from_json(const char *json, session_settings *s)
     s->afc = 2;
     if (ok) ok = csf_json_get_int(d, "afc", 2, 4, &s->afc, &err) >= 0 && (s->afc == 2 || s->afc == 4);
     if (ok) ok = csf_json_get_string(d, "profile_id", s->profile_id, sizeof s->profile_id, &err) >= 0;
+    /* Fade sessions stored before the anchors were pure yes/no sessions. */
+    s->fade_anchors = 0;
+    if (ok) ok = csf_json_get_number(d, "fade_anchors", 0, 0.5, &s->fade_anchors, &err) >= 0;
     csf_json_free(d);
     return ok ? 0 : -1;
 }
@@ -802,6 +808,8 @@ static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, c
 static csf_trial_outcome outcome_of(const csf_trial *t, csf_task task)
 {
     csf_trial_outcome o;
+    /* A fade session's forced-choice anchors are stored with their alternatives (2). */
+    if (t->n_alternatives > 0) task = CSF_TASK_2AFC;
     o.response = task == CSF_TASK_2AFC ? t->response - 1 : t->response;
     o.rt_s = t->rt_s;
     o.contrast_at_response = t->contrast_shown_max;
@@ -1157,6 +1165,12 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         set.practice = opt->practice >= 0 ? opt->practice : 3;
         set.break_every = opt->break_every > 0 ? opt->break_every : 40;
         set.afc = opt->afc ? opt->afc : 4;
+        set.fade_anchors = opt->fade_anchor_share == 0 ? 0.25 : opt->fade_anchor_share;
+        if (!(set.fade_anchors <= 0.5)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--fade-anchors %g: above the limit 0.5", opt->fade_anchor_share);
+            goto out;
+        }
+        if (set.fade_anchors < 0) set.fade_anchors = 0;
         if (set.afc != 2 && set.afc != 4) {
             st = csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "
                                "(four places where they fit)", opt->afc);
@@ -1438,6 +1452,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     setup.ramp_s = (setup.ramp_end_log10 - setup.ramp_start_log10) / 0.5; /* 0.5 log10 per second */
     setup.reaction_latency_s = isfinite(res->latency_s) ? res->latency_s : 0;
     setup.n_alternatives = res->n_cells_four_place > 0 ? S.n_alt : NULL;
+    setup.fade_anchor_share = set.fade_anchors > 0 ? set.fade_anchors : -1;
     st = S.ops->create(&setup, &S.proc, err);
     if (st != CSF_OK) goto restore;
     int trial_index = 0;
@@ -1460,6 +1475,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
 
     /* Main trials. */
+    int told_anchors = 0;
     for (; trial_index < set.trials && !who.paused && !stop_requested; trial_index++) {
         csf_trial_plan plan;
         csf_status nst = S.ops->next(S.proc, trial_index, &plan);
@@ -1499,6 +1515,16 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             char msg[160];
             snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", trial_index, set.trials);
             st = person_screen(&who, msg, err);
+            if (st != CSF_OK) goto restore;
+            if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
+        }
+        if (S.ops->task == CSF_TASK_FADE && plan.task == CSF_TASK_2AFC && !told_anchors) {
+            /* The fade method's forced-choice anchors: a new task, so the person is told. */
+            told_anchors = 1;
+            st = person_screen(&who, "Last part: the pattern now appears in one of two intervals,\n"
+                                     "at the place a ring marks just before.\n"
+                                     "Press 1 or Left for the first interval, 2 or Right for the second.\n"
+                                     "When unsure, guess. Escape pauses. Press a key to go on.", err);
             if (st != CSF_OK) goto restore;
             if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
         }
@@ -1569,7 +1595,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             if (S.cells[k].freq_cpd == t->freq_cpd && S.cells[k].ecc_deg == t->ecc_deg) cell = k;
         if (cell < 0 || !isfinite(S.est[cell].threshold)) continue;
         double th = S.est[cell].threshold;
-        if (S.ops->task == CSF_TASK_FADE) {
+        if (S.ops->task == CSF_TASK_FADE && t->n_alternatives == 0) {
             /* A lapse: a ramp that climbed well past the person's threshold without a press. */
             if (t->response == 0 && t->valid && t->contrast_requested > th * pow(10.0, 0.5)) res->n_lapses++;
         } else if (t->valid && t->contrast_shown_max >= 4 * th) {
@@ -1581,7 +1607,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             }
         }
     }
-    if (S.ops->task == CSF_TASK_2AFC) res->n_lapses = n_afc_hi_wrong;
+    res->n_lapses += n_afc_hi_wrong;
     res->fa_rate = res->n_catch ? (double)res->n_false_alarms / res->n_catch : NAN;
     /* Presses the stimulus did not cause: catch-trial presses, clicks far from the grating,
      * anticipations (an anticipation that also clicked far is counted once). */

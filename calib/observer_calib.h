@@ -41,6 +41,9 @@ typedef struct {
     int afc;                    /* forced-choice layout for 2AFC-task methods (bayes, 2afc): 4 =
                                    four places shown at once where they fit (default), 2 = two
                                    intervals everywhere; 0 = default. Stored with the session. */
+    double fade_anchor_share;   /* --fade-anchors: share of a fade session's trials that are
+                                   forced-choice anchors; 0 = default (0.25), negative = none.
+                                   Stored with the session. */
     int allow_profile_change;   /* --resume with a display profile other than the session's: refused
                                    unless set; then the change is recorded in the session (a
                                    "profile_change" artifact) and the table names every profile */

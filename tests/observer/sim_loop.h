@@ -74,6 +74,9 @@ static int sim_loop_run(const csf_procedure_ops *ops, const csf_procedure_setup 
     return done;
 }
 
+/* The fade method's anchor share for the sessions below (0: the method's default; negative: none). */
+static double sim_loop_fade_anchor_share = 0;
+
 static csf_procedure_setup sim_loop_setup(const csf_cell *cells, int n, int budget, uint64_t seed,
                                           csf_task task)
 {
@@ -91,6 +94,7 @@ static csf_procedure_setup sim_loop_setup(const csf_cell *cells, int n, int budg
     s.ramp_end_log10 = 0.0;
     s.ramp_s = 6.0;
     s.reaction_latency_s = 0.37;
+    s.fade_anchor_share = sim_loop_fade_anchor_share;
     return s;
 }
 

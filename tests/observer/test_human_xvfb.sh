@@ -156,7 +156,7 @@ check "2afc: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)
 
 # ---- 2. fade: Space, then a click on the grating -------------------------------------------------
 # --screen-px is twice the window: the click (window pixels) must be scaled to the geometry.
-start fade --method fade --trials 3 --freqs 1 --eccs 0 --screen-px $((2 * W))x$((2 * H)) \
+start fade --method fade --fade-anchors 0 --trials 3 --freqs 1 --eccs 0 --screen-px $((2 * W))x$((2 * H)) \
     --out "$T/fade.csflut" --seed 12 --json --practice 1
 wait_window
 wait_until 15 has_state 2 . || die "fade: no session in the store"
@@ -277,28 +277,56 @@ check "four places: the clicks stored up and to the left of fixation, about 10 d
 check "four places: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
     split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
 
-# ---- 7. The window closed (WM_DELETE_WINDOW) while waiting for an answer: paused, resumable ----
+# ---- 7. fade with its forced-choice anchors: three fade trials, the "last part" screen, one
+# two-interval trial answered with Right (a budget of 4, a quarter of it anchors).
+start fanchor --method fade --fade-anchors 0.25 --trials 4 --freqs 1 --eccs 0 --screen-px ${W}x${H} \
+    --out "$T/fa.csflut" --seed 12 --json
+wait_window
+wait_until 15 has_state 7 . || die "fade anchors: no session in the store"
+xdotool key space
+end=$((SECONDS + 45))
+while have=$(ntrials 7); [ "$have" -lt 3 ] && alive; do
+    [ $SECONDS -ge $end ] && die "fade anchors: only $have of 3 fade trials in 45 s"
+    sleep 1.0
+    xdotool key space
+    sleep 0.4
+    xdotool mousemove $((W / 2)) $((H / 2)) click 1
+    wait_until 3 test "$(ntrials 7)" -gt "$have"
+done
+sleep 0.5
+xdotool key space                       # the "last part" screen
+answer_2afc 7 4 key Right
+finish
+check "fade anchors: exit 0 (rc $RC)" test "$RC" -eq 0
+check "fade anchors: table written" test -s "$T/fa.csflut"
+J=$("$CSFCAL" sessions export 7 --format csv --store "$STORE")
+check "fade anchors: three fade trials, then a two-interval trial answered 2 (Right)" awk -F, '
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { n++; a[n] = $NF; r[n] = $c["response"] }   # n_alternatives is last; flags may hold commas
+    END { exit !(n == 4 && a[1] == 0 && a[2] == 0 && a[3] == 0 && a[4] == 2 && r[4] == 2) }' <<<"$J"
+
+# ---- 8. The window closed (WM_DELETE_WINDOW) while waiting for an answer: paused, resumable ----
 if [ -n "$CLOSE_WINDOW" ]; then
     start close --method 2afc --trials 3 --freqs 1 --eccs 0 --screen-px ${W}x${H} --out "$T/c.csflut" --seed 17
     wait_window
-    wait_until 15 has_state 7 . || die "close: no session in the store"
+    wait_until 15 has_state 8 . || die "close: no session in the store"
     xdotool key space
-    answer_2afc 7 1 key Right
+    answer_2afc 8 1 key Right
     sleep 2.5                           # fixation and both intervals: now waiting for the answer
     "$CLOSE_WINDOW" csfcal || die "close: x_close_window could not send WM_DELETE_WINDOW"
     finish
     check "window closed: exit 1 (paused), rc $RC" test "$RC" -eq 1
-    check "window closed: the resume command, the trial kept" grep -q '1 trials kept in session 7 of' "$T/close.err"
-    check "window closed: the resume command" grep -q "csfcal observer calibrate --resume 7 --store $STORE --out $T/c.csflut" "$T/close.err"
+    check "window closed: the resume command, the trial kept" grep -q '1 trials kept in session 8 of' "$T/close.err"
+    check "window closed: the resume command" grep -q "csfcal observer calibrate --resume 8 --store $STORE --out $T/c.csflut" "$T/close.err"
     check "window closed: says why" grep -q 'window was closed' "$T/close.err"
-    check "window closed: session paused, 1 trial kept" test "$(ntrials 7)" -eq 1 -a -n "$(state 7 | grep paused)"
+    check "window closed: session paused, 1 trial kept" test "$(ntrials 8)" -eq 1 -a -n "$(state 8 | grep paused)"
     check "window closed: no table" test ! -e "$T/c.csflut"
-    start reopen --resume 7 --screen-px ${W}x${H} --out "$T/c.csflut"
+    start reopen --resume 8 --screen-px ${W}x${H} --out "$T/c.csflut"
     wait_window
-    answer_2afc 7 3 key Right
+    answer_2afc 8 3 key Right
     finish
     check "window closed, resumed: exit 0, finished, 3 trials (rc $RC)" \
-        test "$RC" -eq 0 -a "$(ntrials 7)" -eq 3 -a -n "$(state 7 | grep finished)"
+        test "$RC" -eq 0 -a "$(ntrials 8)" -eq 3 -a -n "$(state 8 | grep finished)"
 else
     echo "skip: window-close case (x_close_window not built: no X11 development files)"
 fi

@@ -288,12 +288,12 @@ static void run_case(const char *method, const char *afc, uint64_t seed, int n_k
     CHECK(stored_trials(store, &tb, &nb) > 0);
     CHECK_INT_EQ(na, nb);
     if (na == nb) compare_trials(ta, tb, na);
-    /* The layout: fade trials are not forced choice; forced-choice trials are two-interval at
+    /* The layout: fade trials are yes/no or two-interval anchors; forced-choice trials are two-interval at
      * the fovea and (want_four) four-place at 5 and 10 deg, in both runs alike. */
     int n_four = 0, bad_layout = 0;
     for (size_t i = 0; i < nb; i++) {
         int m = tb[i].n_alternatives;
-        if (strcmp(method, "fade") == 0) bad_layout += m != 0;
+        if (strcmp(method, "fade") == 0) bad_layout += m != 0 && m != 2; /* yes/no, or its two-interval anchors */
         else if (tb[i].ecc_deg == 0 || !want_four) bad_layout += m != 2;
         else bad_layout += m != 4;
         if (m == 4) {

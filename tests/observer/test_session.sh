@@ -123,8 +123,13 @@ check "--afc 2: session ok, no four-place cells" grep -q '"afc":2,"four_place_ce
 "$CSFCAL" sessions export "$(json_sid "$out")" --format csv --store "$T/s.sqlite" -o "$T/two.csv"
 check "--afc 2: every trial two-interval" awk '!($2 == 2 && $4 >= 1 && $4 <= 2) { exit 1 }' <<<"$(fields "$T/two.csv")"
 out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 40 --seed 23 --out "$T/fade4.csflut" --json)
-check "fade: no forced choice (n_alternatives 0) whatever --afc" awk '$2 != 0 { exit 1 }' <<<"$(
-    "$CSFCAL" sessions export "$(json_sid "$out")" --format csv --store "$T/s.sqlite" -o "$T/fade4.csv"; fields "$T/fade4.csv")"
+"$CSFCAL" sessions export "$(json_sid "$out")" --format csv --store "$T/s.sqlite" -o "$T/fade4.csv"
+# fade: yes/no trials (n_alternatives 0), then its forced-choice anchors, always two-interval
+# (never four places, whatever --afc), in one block at the end: at least 10 of the 40 by default
+# (more when every cell is measured before the block is due).
+check "fade: yes/no trials, then a block of >= 10 two-interval anchors to the end, whatever --afc" awk '
+    $6 == 1 { next } { n++; if ($2 == 2) { k++; if (!first) first = n } else if ($2 != 0 || k) bad = 1 }
+    END { exit !(!bad && k >= 10 && first == n - k + 1 && n == 40) }' <<<"$(fields "$T/fade4.csv")"
 err=$(run --afc 3 --out "$T/x.csflut" 2>&1); rc=$?
 check "--afc 3 refused with exit 2" test $rc -eq 2
 check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2: two intervals, 4: four places" <<<"$err"

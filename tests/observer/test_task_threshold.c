@@ -9,7 +9,8 @@
  *     per-cell mean over seeds) within 0.02 with the method told the observer's slope (enough
  *     seeds that the per-cell noise is below the tolerance in reasonable time);
  *   - fade vs two intervals: mean signed difference within 0.1 log10, also for a person whose
- *     responses slow down near threshold (Pieron).
+ *     responses slow down near threshold (Pieron), and for one with a conservative yes/no
+ *     criterion, which needs the fade method's forced-choice anchors (without them: > 0.1).
  * A Weibull-decision observer is checked too: its two-interval table is still recovered.
  * Run with -v for the per-method figures (BENCHMARKS.md quotes them). */
 #include <math.h>
@@ -127,6 +128,24 @@ int main(void)
     CHECK_INT_EQ(slow.n_bad, 0);
     CHECK_MSG(fabs(slow.mean - fc.mean) <= 0.1, "fade (Pieron 0.15 s) vs forced choice %+.3f > 0.1",
               slow.mean - fc.mean);
+
+    /* A conservative yes/no criterion (3.4) and slow looks: the press comes late on the ramp,
+     * which neither latency probes nor catch trials can tell from a high threshold. The fade
+     * method's forced-choice anchors measure the offset; without them it reads well above. */
+    const char *cons = "sim:decision=sdt,k=1.9,criterion=3.4,look=0.15";
+    errs anch, bare;
+    run("fade", cons, NULL, 12 * N_CELLS, 16, 0, &anch);
+    sim_loop_fade_anchor_share = -1;
+    run("fade", cons, NULL, 12 * N_CELLS, 16, 0, &bare);
+    sim_loop_fade_anchor_share = 0;
+    report("fade (anchors) criterion 3.4", &anch);
+    report("fade (no anchors) criterion 3.4", &bare);
+    double d_anch = anch.mean - fc.mean, d_bare = bare.mean - fc.mean;
+    fprintf(stderr, "  fade - two intervals, criterion 3.4: %+.3f with anchors, %+.3f without\n", d_anch, d_bare);
+    CHECK_INT_EQ(anch.n_bad + bare.n_bad, 0);
+    CHECK_MSG(fabs(d_anch) <= 0.1, "fade with anchors, criterion 3.4: %+.3f > 0.1 from forced choice", d_anch);
+    CHECK_MSG(d_bare > 0.1, "fade without anchors, criterion 3.4: %+.3f; this person no longer tests the anchors",
+              d_bare);
 
     /* the Weibull (high-threshold) observer's two-interval table is still its truth */
     errs w;
