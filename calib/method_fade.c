@@ -30,6 +30,18 @@
  * with a quarter and 1 trial in 3 as probes, +0.06 (bench/bench_task_agree). A probe is also a
  * yes/no trial at its contrast: P(press) = (1 - lapse) F(x) (+ the guessed-press constant).
  *
+ * Forced-choice anchors (setup->fade_anchor_share, default FADE_ANCHOR_SHARE of the budget): a
+ * yes/no threshold depends on the person's criterion (for a signal-detection person the ramp is
+ * answered near d' = criterion, not at the table's d' = 1.27), and a fade session cannot measure
+ * the criterion: a person with a conservative one read up to +0.19 log10 above forced choice
+ * (bench/bench_task_agree). So the session ends with a block of two-interval trials, and the
+ * method estimates one offset delta = yes/no threshold - forced-choice threshold per person (the
+ * same in every cell: it depends on the criterion and the transducer exponent, not on the cell),
+ * prior N(0, FADE_OFFSET_PRIOR_SD^2). Each cell's table value is the posterior mean of t - delta,
+ * where t has the cell's fade posterior and the cell's anchors see u = t - delta through a
+ * two-interval Weibull with its own slope and lapse grid. The fade posteriors enter as fixed
+ * marginals (cells independent given them), which keeps the joint at (anchor pair x offset).
+ *
  * Scheduling: catch trials (no grating) on about 1 in 10 trials; otherwise the least-measured cell
  * that is not yet stable, ties broken by a per-trial random rotation. The first ramp of a cell
  * spans the whole setup range; later ramps span [estimate - 0.8, estimate + 0.6] log10 at the

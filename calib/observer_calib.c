@@ -1,5 +1,6 @@
 /* Per-user CSF calibration session (see observer_calib.h). */
 #include "calib/observer_calib.h"
+#include "calib/observer_settings.h"
 
 #include <errno.h>
 #include <math.h>
@@ -88,62 +89,7 @@ void csf_obs_options_defaults(csf_obs_options *o)
 
 /* ---- settings (stored with the session, read back on resume) --------------------------------- */
 
-typedef struct {
-    char method[16];
-    char observer[256];
-    int trials, practice;
-    double freqs[CSF_OBS_MAX_AXIS], eccs[CSF_OBS_MAX_AXIS];
-    int n_freqs, n_eccs;
-    int break_every;
-    int afc;        /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
-    double fade_anchors; /* share of a fade session's trials that are forced-choice anchors; 0 =
-                            none (sessions stored without it had none) */
-    char profile_id[256]; /* display profile the session began with ("" in sessions stored
-                             before it was kept here: the session row's display then says) */
-} session_settings;
-
-static void settings_to_json(const session_settings *s, char *buf, size_t len)
-{
-    size_t n = 0;
-    n += (size_t)snprintf(buf + n, len - n, "{\"method\":\"%s\",\"observer\":\"%s\",\"trials\":%d,"
-                          "\"practice\":%d,\"break_every\":%d,\"afc\":%d,\"fade_anchors\":%.17g,"
-                          "\"gabor_sigma_deg\":%g,\"freqs_cpd\":[",
-                          s->method, s->observer, s->trials, s->practice, s->break_every, s->afc,
-                          s->fade_anchors, GABOR_SIGMA_DEG);
-    for (int i = 0; i < s->n_freqs && n < len; i++)
-        n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->freqs[i]);
-    if (n < len) n += (size_t)snprintf(buf + n, len - n, "],\"eccs_deg\":[");
-    for (int i = 0; i < s->n_eccs && n < len; i++)
-        n += (size_t)snprintf(buf + n, len - n, "%s%.17g", i ? "," : "", s->eccs[i]);
-    if (n < len) snprintf(buf + n, len - n, "],\"profile_id\":\"%s\"}", s->profile_id);
-}
-
-/* The stored settings are outside input once they have been on disk: read through jansson with
- * every value in range (a damaged store is refused at resume, never cast). Keys that older sessions
- * did not store have their documented fallbacks. */
-static int settings_from_json(const char *json, session_settings *s)
-{
-    memset(s, 0, sizeof *s);
-    csf_json_doc *d;
-    csf_error err;
-    if (csf_json_parse_object(json, "stored observer settings", &d, &err) != CSF_OK) return -1;
-    int ok = csf_json_get_string(d, "method", s->method, sizeof s->method, &err) == 1 &&
-             csf_json_get_string(d, "observer", s->observer, sizeof s->observer, &err) == 1 &&
-             csf_json_get_int(d, "trials", -1, 1000000, &s->trials, &err) == 1 &&
-             csf_json_get_int(d, "practice", -1, 1000000, &s->practice, &err) == 1 &&
-             csf_json_get_int(d, "break_every", -1, 1000000, &s->break_every, &err) == 1 &&
-             csf_json_get_numbers(d, "freqs_cpd", s->freqs, CSF_OBS_MAX_AXIS, &s->n_freqs, &err) == 1 &&
-             csf_json_get_numbers(d, "eccs_deg", s->eccs, CSF_OBS_MAX_AXIS, &s->n_eccs, &err) == 1;
-    /* Sessions stored before four-place trials existed were two-interval throughout. */
-    s->afc = 2;
-    if (ok) ok = csf_json_get_int(d, "afc", 2, 4, &s->afc, &err) >= 0 && (s->afc == 2 || s->afc == 4);
-    if (ok) ok = csf_json_get_string(d, "profile_id", s->profile_id, sizeof s->profile_id, &err) >= 0;
-    /* Fade sessions stored before the anchors were pure yes/no sessions. */
-    s->fade_anchors = 0;
-    if (ok) ok = csf_json_get_number(d, "fade_anchors", 0, 0.5, &s->fade_anchors, &err) >= 0;
-    csf_json_free(d);
-    return ok ? 0 : -1;
-}
+typedef csf_obs_settings session_settings;
 
 /* ---- the person: simulated or human behind the same few calls --------------------------------- */
 
@@ -1126,7 +1072,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         snprintf(state, sizeof state, "%s", info.state);
         seed = info.seed;
         resume_n_stored = info.n_trials;
-        int unreadable = !wrong && settings_from_json(info.settings_json, &set) != 0;
+        int unreadable = !wrong && csf_obs_settings_from_json(info.settings_json, &set) != 0;
         csf_error why;
         csf_error_clear(&why);
         int invalid = !wrong && !unreadable && check_settings(&set, 0, &why) != CSF_OK;
@@ -1298,8 +1244,11 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         snprintf(set.profile_id, sizeof set.profile_id, "%s", csf_profile_id(S.profile));
         st = csf_store_open(opt->store_path, &S.store, err);
         if (st != CSF_OK) goto out;
-        char json[2048];
-        settings_to_json(&set, json, sizeof json);
+        char json[4096];
+        if (csf_obs_settings_to_json(&set, GABOR_SIGMA_DEG, json, sizeof json) != 0) {
+            st = csf_error_set(err, CSF_E_NOMEM, "observer: the session's settings do not fit in %zu bytes", sizeof json);
+            goto out;
+        }
         char obs_name[64];
         snprintf(obs_name, sizeof obs_name, "%.60s", is_sim ? "sim" : (set.observer[5] == ':' ? set.observer + 6 : "human"));
         st = csf_store_begin_session_profile(S.store, "observer", obs_name, csf_profile_display(S.profile),

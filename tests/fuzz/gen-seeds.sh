@@ -158,6 +158,14 @@ put fuzz_lut_date date.txt "$tmp/date.txt"
 # The store location the seeds' configuration names (fuzz_store_location: what --store echoes).
 sed -n 's/^store = //p' "$conf" 2>/dev/null | head -1 | tr -d '\n' >"$tmp/store-loc.txt"
 [ -s "$tmp/store-loc.txt" ] && put fuzz_store_location config.txt "$tmp/store-loc.txt"
+# The observer sessions' stored settings, as --resume reads them back (fuzz_observer_settings).
+for st in store other; do
+  python3 -c 'import sqlite3, sys
+for (j,) in sqlite3.connect(sys.argv[1]).execute("select settings_json from sessions where kind = ?", ("observer",)):
+    sys.stdout.write(j)
+    break' "$tmp/$st.sqlite" >"$tmp/obs-settings-$st.json" 2>/dev/null
+  put fuzz_observer_settings "$st.json" "$tmp/obs-settings-$st.json"
+done
 # A session claim's record as an SQLite store's STORE-claims holds it (fuzz_store_claims).
 printf 'station=%s pid=%d since=2026-11-23T10:00:00Z\n' "$(hostname)" $$ >"$tmp/claim.txt"
 put fuzz_store_claims record.txt "$tmp/claim.txt"
