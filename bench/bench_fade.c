@@ -4,7 +4,9 @@
  * visibility came out wrong. The procedures run against the simulated observer frame by frame at
  * 60 Hz on the planned ramp (tests/observer/sim_loop.h), without the presenter: the session's
  * wall time is measured separately with csfcal itself (see BENCHMARKS.md).
- * Usage: bench_fade [--seeds N] [--budgets A,B,...] [--table FILE.csv] */
+ * Usage: bench_fade [--seeds N] [--budgets A,B,...] [--table FILE.csv | --observer SPEC] [--fade-anchors S]
+ * --observer: any simulated person (devices/observer_sim spec); --fade-anchors: the fade method's
+ * anchor share (0 = none; default: the method's). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,22 +28,29 @@ int main(int argc, char **argv)
 {
     int n_seeds = 20;
     int budgets[16] = {60, 120, 240, 480}, n_budgets = 4;
-    const char *table = NULL;
+    const char *table = NULL, *observer = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) n_seeds = atoi(argv[++i]);
         else if (strcmp(argv[i], "--table") == 0 && i + 1 < argc) table = argv[++i];
+        else if (strcmp(argv[i], "--observer") == 0 && i + 1 < argc) observer = argv[++i];
+        else if (strcmp(argv[i], "--fade-anchors") == 0 && i + 1 < argc) {
+            double a = atof(argv[++i]);
+            sim_loop_fade_anchor_share = a > 0 ? a : -1;
+        }
         else if (strcmp(argv[i], "--budgets") == 0 && i + 1 < argc) {
             n_budgets = 0;
             for (char *s = strtok(argv[++i], ","); s && n_budgets < 16; s = strtok(NULL, ","))
                 budgets[n_budgets++] = atoi(s);
         } else {
-            fprintf(stderr, "usage: bench_fade [--seeds N] [--budgets A,B,...] [--table FILE.csv]\n");
+            fprintf(stderr, "usage: bench_fade [--seeds N] [--budgets A,B,...] [--table FILE.csv | --observer SPEC] "
+                            "[--fade-anchors S]\n");
             return 2;
         }
     }
     if (n_seeds < 1 || n_seeds > 1000) return 2;
     char spec[1200];
-    snprintf(spec, sizeof spec, table ? "sim:table=%s" : "sim", table ? table : "");
+    if (observer) snprintf(spec, sizeof spec, "%s", observer);
+    else snprintf(spec, sizeof spec, table ? "sim:table=%s" : "sim", table ? table : "");
     csf_cell cells[24];
     int n = 0;
     const double eccs[4] = {0, 5, 10, 20};

@@ -665,6 +665,15 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
     return CSF_OK;
 }
 
+static int fade_task_offset(void *state, int *n_anchors, double *offset_log10, double *sd_log10)
+{
+    fade_state *f = state;
+    if (f->n_anchor_plan <= 0) return 0;
+    *n_anchors = f->n_anchor;
+    offset_moments(f, offset_log10, sd_log10);
+    return 1;
+}
+
 const csf_procedure_ops csf_procedure_fade = {
     .name = "fade",
     .task = CSF_TASK_FADE,
@@ -673,4 +682,5 @@ const csf_procedure_ops csf_procedure_fade = {
     .update = fade_update,
     .estimate = fade_estimate,
     .destroy = fade_destroy,
+    .task_offset = fade_task_offset,
 };

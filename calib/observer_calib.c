@@ -1035,6 +1035,7 @@ static void table_profile_id(csf_store *store, int64_t sid, const char *id, char
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
 {
     memset(res, 0, sizeof *res);
+    res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
     res->fa_rate = res->latency_s = res->median_se_log10 = NAN;
     struct timespec w0;
     clock_gettime(CLOCK_MONOTONIC, &w0);
@@ -1523,6 +1524,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     double afc_guesses = 0;
     st = S.ops->estimate(S.proc, S.est, err);
     if (st != CSF_OK) goto restore;
+    if (!S.ops->task_offset || !S.ops->task_offset(S.proc, &res->n_fade_anchors, &res->fade_offset_log10,
+                                                   &res->fade_offset_sd_log10))
+        res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
     for (size_t i = 0; i < n_stored; i++) {
         const csf_trial *t = &S.stored[i];
         if (t->is_practice) {
@@ -1721,16 +1725,19 @@ out:
     struct timespec w1;
     clock_gettime(CLOCK_MONOTONIC, &w1);
     res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
-    char four_note[48] = "";
+    char four_note[48] = "", offset_note[120] = "";
     if (res->n_cells_four_place > 0)
         snprintf(four_note, sizeof four_note, " (%d with four places)", res->n_cells_four_place);
+    if (isfinite(res->fade_offset_log10))
+        snprintf(offset_note, sizeof offset_note, ", yes/no - forced choice %+.3f +- %.3f log10 (%d anchors)",
+                 res->fade_offset_log10, res->fade_offset_sd_log10, res->n_fade_anchors);
     if (st == CSF_OK)
         snprintf(res->summary, sizeof res->summary,
                  "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
-                 "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10 -> %s%s%s",
+                 "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10%s -> %s%s%s",
                  (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
                  res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note, res->n_visible,
-                 res->n_invisible, res->median_se_log10, opt->out_path,
+                 res->n_invisible, res->median_se_log10, offset_note, opt->out_path,
                  opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
     session_free(&S);
     return st;
@@ -1739,22 +1746,25 @@ out:
 void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const char *plot_path,
                          char *buf, unsigned long len)
 {
-    char fa[32], lat[32], se[32];
+    char fa[32], lat[32], se[32], off[32], off_sd[32];
 #define JNUM(dst, v) (isfinite(v) ? snprintf(dst, sizeof dst, "%.4g", (v)) : snprintf(dst, sizeof dst, "null"))
     JNUM(fa, r->fa_rate);
     JNUM(lat, r->latency_s);
     JNUM(se, r->median_se_log10);
+    JNUM(off, r->fade_offset_log10);
+    JNUM(off_sd, r->fade_offset_sd_log10);
 #undef JNUM
     snprintf(buf, len,
              "{\"session\":%lld,\"method\":\"%s\",\"trials\":%d,\"valid\":%d,\"practice\":%d,\"catch\":%d,"
              "\"false_alarms\":%d,\"fa_rate\":%s,\"invalid_clicks\":%d,\"anticipations\":%d,\"lapses\":%d,"
              "\"missed_frame_trials\":%d,\"reaction_latency_s\":%s,\"cells\":%d,\"visible\":%d,"
              "\"not_visible\":%d,\"median_se_log10\":%s,\"finished_early\":%s,\"table\":\"%s\",\"plot\":%s%s%s,"
-             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"resumable\":%s,\"wall_s\":%.3f}",
+             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"fade_anchor_trials\":%d,"
+             "\"fade_offset_log10\":%s,\"fade_offset_sd_log10\":%s,\"resumable\":%s,\"wall_s\":%.3f}",
              (long long)r->session_id, r->method, r->n_trials, r->n_valid, r->n_practice, r->n_catch,
              r->n_false_alarms, fa, r->n_invalid_click, r->n_anticipations, r->n_lapses,
              r->n_missed_frame_trials, lat, r->n_cells, r->n_visible, r->n_invisible, se,
              r->finished_early ? "true" : "false", out_path ? out_path : "", plot_path ? "\"" : "null",
              plot_path ? plot_path : "", plot_path ? "\"" : "", r->afc, r->n_cells_four_place,
-             r->n_four_place, r->resumable ? "true" : "false", r->wall_s);
+             r->n_four_place, r->n_fade_anchors, off, off_sd, r->resumable ? "true" : "false", r->wall_s);
 }

@@ -71,6 +71,9 @@ typedef struct {
     int n_cells_four_place;     /* cells measured with four places (the rest: two intervals) */
     int n_four_place;           /* main trials shown with four places */
     double median_se_log10;
+    int n_fade_anchors;         /* fade: forced-choice anchor trials run */
+    double fade_offset_log10, fade_offset_sd_log10; /* fade: the person's yes/no - forced-choice
+                                   threshold offset the anchors measured (NaN: no anchors planned) */
     int finished_early;         /* the procedure ran out of unstable cells before the budget */
     int table_written;
     int n_stored;               /* trials in the store for this session, practice included */

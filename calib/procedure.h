@@ -102,6 +102,10 @@ typedef struct {
     /* Fills out[n_cells] from the current state. */
     csf_status (*estimate)(void *state, csf_cell_estimate *out, csf_error *err);
     void (*destroy)(void *state);
+    /* Optional (NULL: none). The fade method's forced-choice anchors: how many were run and the
+     * person's measured offset yes/no threshold - forced-choice threshold (log10, posterior mean
+     * and sd). Returns 1 when there is an offset to report, 0 otherwise. */
+    int (*task_offset)(void *state, int *n_anchors, double *offset_log10, double *sd_log10);
 } csf_procedure_ops;
 
 /* Registry (calib/procedure.c): returns NULL for an unknown name, and for "bayes" while that

@@ -130,6 +130,14 @@ out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 40 --seed 23 --out "$T/
 check "fade: yes/no trials, then a block of >= 10 two-interval anchors to the end, whatever --afc" awk '
     $6 == 1 { next } { n++; if ($2 == 2) { k++; if (!first) first = n } else if ($2 != 0 || k) bad = 1 }
     END { exit !(!bad && k >= 10 && first == n - k + 1 && n == 40) }' <<<"$(fields "$T/fade4.csv")"
+check "fade: the JSON reports the anchors and the measured yes/no - forced choice offset" python3 -c '
+import json, math, sys
+d = json.loads(sys.argv[1])
+sys.exit(not (d["fade_anchor_trials"] >= 10 and abs(d["fade_offset_log10"]) <= 0.4 and 0 < d["fade_offset_sd_log10"] <= 0.1))' "$out"
+check "bayes: no fade offset in its JSON (null)" python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+sys.exit(not (d["fade_anchor_trials"] == 0 and d["fade_offset_log10"] is None))' "$(sed -n 1p <<<"$(run --method bayes --afc 2 --freqs 1 --eccs 0 --trials 6 --seed 25 --out "$T/b6.csflut" --json)")"
 err=$(run --afc 3 --out "$T/x.csflut" 2>&1); rc=$?
 check "--afc 3 refused with exit 2" test $rc -eq 2
 check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2: two intervals, 4: four places" <<<"$err"
