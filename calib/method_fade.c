@@ -365,11 +365,12 @@ static void offset_moments(fade_state *f, double *mean, double *sd)
     if (sd) *sd = sqrt(s2 - s1 * s1 > 0 ? s2 - s1 * s1 : 0);
 }
 
-/* The cell's forced-choice threshold u = t - offset: mean and sd over the joint posterior. */
-static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd)
+/* The cell's forced-choice threshold u = t - offset: mean, sd and the mass above the display's
+ * highest contrast, over the joint posterior. */
+static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd, double *p_above)
 {
     joint_refresh(f);
-    double p[FADE_GRID_N], m1 = 0, m2 = 0;
+    double p[FADE_GRID_N], m1 = 0, m2 = 0, above = 0;
     fade_marginal(f, &f->st[cell], p);
     int two_h = 2 * f->off_half, anchored = f->n_anchor_cell[cell] > 0;
     for (int a = 0; a < N_APAIR; a++) {
@@ -383,20 +384,23 @@ static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd)
         for (int d = 0; d < f->n_off; d++) {
             double w = f->joint[a * f->n_off + d], off = offset_log10(f, d);
             if (w < 1e-12) continue;
-            double s0 = 0, s1 = 0, s2 = 0;
+            double s0 = 0, s1 = 0, s2 = 0, sa = 0;
             for (int i = 0; i < FADE_GRID_N; i++) {
                 if (p[i] <= 1e-12) continue;
                 double q = anchored ? p[i] * exp(A[i - d + two_h] - amax) : p[i];
                 double u = f->t_lo + i * f->t_step - off;
                 s0 += q, s1 += q * u, s2 += q * u * u;
+                if (u > f->x_hi) sa += q;
             }
             if (!(s0 > 0)) continue;
             m1 += w * s1 / s0;
             m2 += w * s2 / s0;
+            above += w * sa / s0;
         }
     }
     if (mean) *mean = m1;
     if (sd) *sd = sqrt(m2 - m1 * m1 > 0 ? m2 - m1 * m1 : 0);
+    if (p_above) *p_above = above;
 }
 
 /* Plans an anchor: a two-interval trial on the visible cell with the fewest anchors, just above
@@ -418,7 +422,7 @@ static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
     }
     if (best < 0) return 0;
     double u;
-    cell_moments_fc(f, best, &u, NULL);
+    cell_moments_fc(f, best, &u, NULL, NULL);
     double x = u + FADE_ANCHOR_ABOVE, lo = log10(f->s.min_contrast), hi = log10(f->s.max_contrast);
     if (x > hi) x = hi;
     if (x < lo) x = lo;
@@ -653,7 +657,8 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
         }
         double m, sd, above;
         cell_moments(f, c, &m, &sd, &above);
-        if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd);
+        /* the table's threshold is the forced-choice one, visibility included */
+        if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd, &above);
         if (above > 0.5) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;
