@@ -233,7 +233,7 @@ int csf_cmd_observer(int argc, char **argv)
     csf_error_clear(&err);
     csf_status st = csf_observer_calibrate(&o, &res, &err);
     if (cli.json && res.session_id) {
-        char buf[2048];
+        char buf[8192];
         csf_obs_result_json(&res, st == CSF_OK ? o.out_path : NULL, st == CSF_OK ? o.plot_path : NULL, buf,
                             sizeof buf);
         /* The status goes in too, so a script sees why there is no table. */

@@ -3,6 +3,7 @@
 #include "calib/observer_settings.h"
 
 #include <errno.h>
+#include <jansson.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -1743,28 +1744,45 @@ out:
     return st;
 }
 
+/* A number, or null where it is not finite (NaN: not measured). */
+static json_t *num_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
+
 void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const char *plot_path,
                          char *buf, unsigned long len)
 {
-    char fa[32], lat[32], se[32], off[32], off_sd[32];
-#define JNUM(dst, v) (isfinite(v) ? snprintf(dst, sizeof dst, "%.4g", (v)) : snprintf(dst, sizeof dst, "null"))
-    JNUM(fa, r->fa_rate);
-    JNUM(lat, r->latency_s);
-    JNUM(se, r->median_se_log10);
-    JNUM(off, r->fade_offset_log10);
-    JNUM(off_sd, r->fade_offset_sd_log10);
-#undef JNUM
-    snprintf(buf, len,
-             "{\"session\":%lld,\"method\":\"%s\",\"trials\":%d,\"valid\":%d,\"practice\":%d,\"catch\":%d,"
-             "\"false_alarms\":%d,\"fa_rate\":%s,\"invalid_clicks\":%d,\"anticipations\":%d,\"lapses\":%d,"
-             "\"missed_frame_trials\":%d,\"reaction_latency_s\":%s,\"cells\":%d,\"visible\":%d,"
-             "\"not_visible\":%d,\"median_se_log10\":%s,\"finished_early\":%s,\"table\":\"%s\",\"plot\":%s%s%s,"
-             "\"afc\":%d,\"four_place_cells\":%d,\"four_place_trials\":%d,\"fade_anchor_trials\":%d,"
-             "\"fade_offset_log10\":%s,\"fade_offset_sd_log10\":%s,\"resumable\":%s,\"wall_s\":%.3f}",
-             (long long)r->session_id, r->method, r->n_trials, r->n_valid, r->n_practice, r->n_catch,
-             r->n_false_alarms, fa, r->n_invalid_click, r->n_anticipations, r->n_lapses,
-             r->n_missed_frame_trials, lat, r->n_cells, r->n_visible, r->n_invisible, se,
-             r->finished_early ? "true" : "false", out_path ? out_path : "", plot_path ? "\"" : "null",
-             plot_path ? plot_path : "", plot_path ? "\"" : "", r->afc, r->n_cells_four_place,
-             r->n_four_place, r->n_fade_anchors, off, off_sd, r->resumable ? "true" : "false", r->wall_s);
+    /* jansson writes it, so paths and names with quotes stay valid JSON */
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_integer((json_int_t)r->session_id));
+    json_object_set_new(o, "method", json_string(r->method));
+    json_object_set_new(o, "trials", json_integer(r->n_trials));
+    json_object_set_new(o, "valid", json_integer(r->n_valid));
+    json_object_set_new(o, "practice", json_integer(r->n_practice));
+    json_object_set_new(o, "catch", json_integer(r->n_catch));
+    json_object_set_new(o, "false_alarms", json_integer(r->n_false_alarms));
+    json_object_set_new(o, "fa_rate", num_or_null(r->fa_rate));
+    json_object_set_new(o, "invalid_clicks", json_integer(r->n_invalid_click));
+    json_object_set_new(o, "anticipations", json_integer(r->n_anticipations));
+    json_object_set_new(o, "lapses", json_integer(r->n_lapses));
+    json_object_set_new(o, "missed_frame_trials", json_integer(r->n_missed_frame_trials));
+    json_object_set_new(o, "reaction_latency_s", num_or_null(r->latency_s));
+    json_object_set_new(o, "cells", json_integer(r->n_cells));
+    json_object_set_new(o, "visible", json_integer(r->n_visible));
+    json_object_set_new(o, "not_visible", json_integer(r->n_invisible));
+    json_object_set_new(o, "median_se_log10", num_or_null(r->median_se_log10));
+    json_object_set_new(o, "finished_early", json_boolean(r->finished_early));
+    json_object_set_new(o, "table", json_string(out_path ? out_path : ""));
+    json_object_set_new(o, "plot", plot_path ? json_string(plot_path) : json_null());
+    json_object_set_new(o, "afc", json_integer(r->afc));
+    json_object_set_new(o, "four_place_cells", json_integer(r->n_cells_four_place));
+    json_object_set_new(o, "four_place_trials", json_integer(r->n_four_place));
+    json_object_set_new(o, "fade_anchor_trials", json_integer(r->n_fade_anchors));
+    json_object_set_new(o, "fade_offset_log10", num_or_null(r->fade_offset_log10));
+    json_object_set_new(o, "fade_offset_sd_log10", num_or_null(r->fade_offset_sd_log10));
+    json_object_set_new(o, "resumable", json_boolean(r->resumable));
+    json_object_set_new(o, "wall_s", json_real(r->wall_s));
+    char *text = json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(6));
+    json_decref(o);
+    if (text && strlen(text) < len) memcpy(buf, text, strlen(text) + 1);
+    else if (len) snprintf(buf, len, "{\"session\":%lld}", (long long)r->session_id);
+    free(text);
 }

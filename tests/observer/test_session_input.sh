@@ -56,7 +56,7 @@ check "axes sorted: ecc 0 10" grep -q 'axis ecc .*deg: 0 10$' <<<"$info"
 # reason, marked aborted, its trials kept; it used to fail the same way at every --resume.
 run --store "$T/b.sqlite" --method 2afc --freqs 1,4 --eccs 0 --trials 6 --practice 0 --render-every -1 \
     --out "$T/b.csflut" >/dev/null
-sqlite3 "$T/b.sqlite" "UPDATE sessions SET state = 'paused', settings_json = replace(settings_json, '[1,4]', '[4,4]') WHERE id = 1"
+sqlite3 "$T/b.sqlite" "UPDATE sessions SET state = 'paused', settings_json = replace(replace(settings_json, '[1,4]', '[4,4]'), '[1.0,4.0]', '[4.0,4.0]') WHERE id = 1"
 err=$(run --store "$T/b.sqlite" --resume 1 --out "$T/b2.csflut" 2>&1 >/dev/null); rc=$?
 check "bad stored settings: exit 2 (got $rc)" test $rc -eq 2
 check "bad stored settings: says why" grep -qF "stored settings are not valid: --freqs: 4 cpd is given twice" <<<"$err"
