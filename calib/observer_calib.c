@@ -64,7 +64,7 @@
 #define CUE_GAP_S (FIXATION_S - CUE_S)
 #define CUE_RADIUS_DEG (CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG)
 
-enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX };
+enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE };
 
 static volatile sig_atomic_t stop_requested;
 
@@ -1033,6 +1033,42 @@ static void table_profile_id(csf_store *store, int64_t sid, const char *id, char
     free(hist);
 }
 
+/* Two suprathreshold two-interval practice trials before a fade session's forced-choice anchors:
+ * the person has not done that task yet. Stored as practice (the procedure never sees them); a
+ * resumed session runs only the ones it does not have yet. Returns CSF_OK (also when the person
+ * paused: the caller looks at who->paused). */
+#define ANCHOR_PRACTICE 2
+static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, const char *method, uint64_t seed,
+                                  double mean_lum, int *seq, size_t *n_stored, csf_error *err)
+{
+    int have = 0;
+    for (size_t i = 0; i < *n_stored; i++)
+        have += S->stored[i].is_practice && S->stored[i].n_alternatives == 2;
+    for (int k = have; k < ANCHOR_PRACTICE && !run->who->paused && !stop_requested; k++) {
+        csf_cell pc_cell = {PRACTICE_FREQ, 0};
+        csf_trial_plan plan;
+        memset(&plan, 0, sizeof plan);
+        plan.task = CSF_TASK_2AFC;
+        plan.n_alternatives = 2;
+        plan.contrast = PRACTICE_CONTRAST;
+        plan.signal_interval = (int)(csf_rng_u64(seed, ST_ANCHOR_PRACTICE, (uint64_t)k) & 1);
+        trial_result tr;
+        uint64_t key = 2000000u + (uint64_t)k; /* never collides with main or session practice draws */
+        csf_status st = run_2afc(run, key, &pc_cell, &plan, 0, &tr, err);
+        if (st != CSF_OK) return st;
+        if (run->who->paused) {
+            if (tr.have_rec) csf_trial_record_free(&tr.rec);
+            return CSF_OK;
+        }
+        csf_trial t;
+        fill_trial(&t, sid, *seq, method, &pc_cell, 0, mean_lum, &plan, 1, &tr);
+        st = store_trial(S, n_stored, &t, &tr, err);
+        if (st != CSF_OK) return st;
+        (*seq)++;
+    }
+    return CSF_OK;
+}
+
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
 {
     memset(res, 0, sizeof *res);
@@ -1475,9 +1511,21 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             st = person_screen(&who, "Last part: the pattern now appears in one of two intervals,\n"
                                      "at the place a ring marks just before.\n"
                                      "Press 1 or Left for the first interval, 2 or Right for the second.\n"
-                                     "When unsure, guess. Escape pauses. Press a key to go on.", err);
+                                     "Two easy practice trials first. When unsure, guess.\n"
+                                     "Escape pauses. Press a key to go on.", err);
             if (st != CSF_OK) goto restore;
             if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
+            st = anchor_practice(&S, &run, sid, set.method, seed, mean_lum, &seq, &n_stored, err);
+            if (st != CSF_OK) goto restore;
+            res->n_stored = (int)n_stored;
+            if (who.paused) {
+                if (ask_resume(&who, trial_index, set.trials)) {
+                    told_anchors = 0; /* the screen and the rest of the practice again */
+                    trial_index--;
+                    continue;
+                }
+                break;
+            }
         }
         trial_result tr;
         st = plan.task == CSF_TASK_FADE ? run_fade(&run, (uint64_t)trial_index, c, &plan, polar, 0, &tr, err)

@@ -277,8 +277,9 @@ check "four places: the clicks stored up and to the left of fixation, about 10 d
 check "four places: every rt_s > 0" awk '/"seq"/ { if (!match($0, /"rt_s": [0-9.e+-]+/)) exit 1;
     split(substr($0, RSTART, RLENGTH), a, ": "); if (!(a[2] > 0 && a[2] < 30)) exit 1 }' <<<"$J"
 
-# ---- 7. fade with its forced-choice anchors: three fade trials, the "last part" screen, one
-# two-interval trial answered with Right (a budget of 4, a quarter of it anchors).
+# ---- 7. fade with its forced-choice anchors: three fade trials, the "last part" screen, two
+# two-interval practice trials and one two-interval anchor, each answered with Right (a budget of
+# 4, a quarter of it anchors).
 start fanchor --method fade --fade-anchors 0.25 --trials 4 --freqs 1 --eccs 0 --screen-px ${W}x${H} \
     --out "$T/fa.csflut" --seed 12 --json
 wait_window
@@ -295,15 +296,16 @@ while have=$(ntrials 7); [ "$have" -lt 3 ] && alive; do
 done
 sleep 0.5
 xdotool key space                       # the "last part" screen
-answer_2afc 7 4 key Right
+answer_2afc 7 6 key Right
 finish
 check "fade anchors: exit 0 (rc $RC)" test "$RC" -eq 0
 check "fade anchors: table written" test -s "$T/fa.csflut"
 J=$("$CSFCAL" sessions export 7 --format csv --store "$STORE")
-check "fade anchors: three fade trials, then a two-interval trial answered 2 (Right)" awk -F, '
+check "fade anchors: three fade trials, two two-interval practice trials, an anchor answered 2" awk -F, '
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { n++; a[n] = $NF; r[n] = $c["response"] }   # n_alternatives is last; flags may hold commas
-    END { exit !(n == 4 && a[1] == 0 && a[2] == 0 && a[3] == 0 && a[4] == 2 && r[4] == 2) }' <<<"$J"
+    { n++; a[n] = $NF; r[n] = $c["response"]; p[n] = $c["is_practice"] }   # n_alternatives is last
+    END { exit !(n == 6 && a[1] == 0 && a[2] == 0 && a[3] == 0 && p[3] == 0 && a[4] == 2 && p[4] == 1 &&
+                 a[5] == 2 && p[5] == 1 && a[6] == 2 && p[6] == 0 && r[6] == 2) }' <<<"$J"
 
 # ---- 8. The window closed (WM_DELETE_WINDOW) while waiting for an answer: paused, resumable ----
 if [ -n "$CLOSE_WINDOW" ]; then

@@ -130,6 +130,8 @@ out=$(run --method fade --freqs 1,4 --eccs 0,10 --trials 40 --seed 23 --out "$T/
 check "fade: yes/no trials, then a block of >= 10 two-interval anchors to the end, whatever --afc" awk '
     $6 == 1 { next } { n++; if ($2 == 2) { k++; if (!first) first = n } else if ($2 != 0 || k) bad = 1 }
     END { exit !(!bad && k >= 10 && first == n - k + 1 && n == 40) }' <<<"$(fields "$T/fade4.csv")"
+check "fade: two two-interval practice trials before the anchors" awk '$6 == 1 && $2 == 2 { k++ } END { exit !(k == 2) }' \
+    <<<"$(fields "$T/fade4.csv")"
 check "fade: the JSON reports the anchors and the measured yes/no - forced choice offset" python3 -c '
 import json, math, sys
 d = json.loads(sys.argv[1])
