@@ -1720,8 +1720,16 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     table_profile_id(S.store, sid, csf_profile_id(S.profile), profile_ids, sizeof profile_ids);
     b.display_profile_id = profile_ids;
     /* the method and the threshold's task-independent definition (issue 12 item 4) */
-    char method_desc[160];
-    snprintf(method_desc, sizeof method_desc, "%s; %s", set.method, CSF_PSY_THRESHOLD_DEFINITION);
+    char method_desc[256];
+    if (S.ops->task == CSF_TASK_FADE && isfinite(res->fade_offset_log10))
+        /* says how the yes/no thresholds were tied to the definition, and by how much */
+        snprintf(method_desc, sizeof method_desc, "%s; anchored by %d two-interval trials, yes/no offset %+.3f log10; %s",
+                 set.method, res->n_fade_anchors, res->fade_offset_log10, CSF_PSY_THRESHOLD_DEFINITION);
+    else if (S.ops->task == CSF_TASK_FADE)
+        snprintf(method_desc, sizeof method_desc, "%s; yes/no only, the criterion not measured; %s", set.method,
+                 CSF_PSY_THRESHOLD_DEFINITION);
+    else
+        snprintf(method_desc, sizeof method_desc, "%s; %s", set.method, CSF_PSY_THRESHOLD_DEFINITION);
     b.method = method_desc;
     b.date_utc = date;
     b.tool_version = CSF_VERSION;
