@@ -154,6 +154,28 @@ typedef struct {
     int joint_dirty;
 } fade_state;
 
+/* How many anchors the budget holds, where their block starts, and their arrays. Anchors need a
+ * fade estimate to sit on: a budget too small to give every cell FADE_MIN_RAMPS ramps first keeps
+ * them for the ramps (a cell not found is worse than an offset). Returns 0 when out of memory. */
+static int anchors_setup(fade_state *f, const csf_procedure_setup *setup, double share)
+{
+    int n = setup->n_cells;
+    if (share > 0) f->n_anchor_plan = (int)lround(share * setup->trial_budget);
+    if (f->n_anchor_plan > setup->trial_budget - FADE_MIN_RAMPS * n)
+        f->n_anchor_plan = setup->trial_budget - FADE_MIN_RAMPS * n;
+    if (f->n_anchor_plan < 0) f->n_anchor_plan = 0;
+    f->anchor_from = setup->trial_budget - f->n_anchor_plan;
+    f->off_half = (int)ceil(FADE_OFFSET_RANGE / f->t_step);
+    if (f->off_half > FADE_OFF_MAX / 2) f->off_half = FADE_OFF_MAX / 2;
+    f->n_off = 2 * f->off_half + 1;
+    if (f->n_anchor_plan == 0) return 1;
+    f->anchor_ll = calloc((size_t)n * N_APAIR * (FADE_GRID_N + 2 * (size_t)f->off_half), sizeof *f->anchor_ll);
+    f->n_anchor_cell = calloc((size_t)n, sizeof *f->n_anchor_cell);
+    f->joint = calloc((size_t)N_APAIR * f->n_off, sizeof *f->joint);
+    f->joint_dirty = 1;
+    return f->anchor_ll && f->n_anchor_cell && f->joint;
+}
+
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
 {
     if (!setup || setup->n_cells < 1 || !setup->cells)
@@ -185,38 +207,23 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     f->x_hi = hi;
     f->t_lo = lo - 0.5;
     f->t_step = (hi + 1.0 - f->t_lo) / (FADE_GRID_N - 1);
-    /* 0.06 log10 takes about 6 trials a cell; a larger budget buys a tighter target (sd falls
-     * as 1/sqrt(trials)), down to 0.025, so the budget is used rather than left over. */
     double share = setup->fade_anchor_share == 0 ? FADE_ANCHOR_SHARE : setup->fade_anchor_share;
     if (!(share <= FADE_ANCHOR_SHARE_MAX)) {
         free(f);
         return csf_error_set(err, CSF_E_INVALID_ARG, "fade: anchor share %g is above the limit %g",
                              setup->fade_anchor_share, FADE_ANCHOR_SHARE_MAX);
     }
-    if (share > 0) f->n_anchor_plan = (int)lround(share * setup->trial_budget);
-    /* Anchors need a fade estimate to sit on: a budget too small to give every cell a few
-     * ramps first keeps them for the ramps (a cell not found is worse than an offset). */
-    if (f->n_anchor_plan > setup->trial_budget - FADE_MIN_RAMPS * setup->n_cells)
-        f->n_anchor_plan = setup->trial_budget - FADE_MIN_RAMPS * setup->n_cells;
-    if (f->n_anchor_plan < 0) f->n_anchor_plan = 0;
-    f->anchor_from = setup->trial_budget - f->n_anchor_plan;
+    int anchors_ok = anchors_setup(f, setup, share);
     int fade_budget = f->anchor_from;
+    /* 0.06 log10 takes about 6 trials a cell; a larger budget buys a tighter target (sd falls
+     * as 1/sqrt(trials)), down to 0.025, so the budget is used rather than left over. */
     f->sd_stable = FADE_SE_STABLE;
     if (fade_budget > 6 * setup->n_cells)
         f->sd_stable = FADE_SE_STABLE * sqrt(6.0 * setup->n_cells / fade_budget);
     if (f->sd_stable < 0.025) f->sd_stable = 0.025;
-    f->off_half = (int)ceil(FADE_OFFSET_RANGE / f->t_step);
-    if (f->off_half > FADE_OFF_MAX / 2) f->off_half = FADE_OFF_MAX / 2;
-    f->n_off = 2 * f->off_half + 1;
     f->cells = malloc((size_t)setup->n_cells * sizeof *f->cells);
     f->st = calloc((size_t)setup->n_cells, sizeof *f->st);
-    if (f->n_anchor_plan > 0) {
-        f->anchor_ll = calloc((size_t)setup->n_cells * N_APAIR * (FADE_GRID_N + 2 * f->off_half), sizeof *f->anchor_ll);
-        f->n_anchor_cell = calloc((size_t)setup->n_cells, sizeof *f->n_anchor_cell);
-        f->joint = calloc((size_t)N_APAIR * f->n_off, sizeof *f->joint);
-        f->joint_dirty = 1;
-    }
-    if (!f->cells || !f->st || (f->n_anchor_plan > 0 && (!f->anchor_ll || !f->n_anchor_cell || !f->joint))) {
+    if (!f->cells || !f->st || !anchors_ok) {
         free(f->cells);
         free(f->st);
         free(f->anchor_ll);
