@@ -251,29 +251,39 @@ static void fade_destroy(void *state)
     free(f);
 }
 
+/* The cell's fade posterior of its yes/no threshold, marginal over the fade's pairs, normalised. */
+static void fade_marginal(const fade_state *f, const fade_cell *c, double *p)
+{
+    double tot = 0;
+    for (int i = 0; i < FADE_GRID_N; i++) p[i] = 0;
+    for (int e = 0; e < f->n_eta; e++) {
+        if (f->eta_w[e] < 1e-9) continue;
+        const double *lp = c->log_post[e];
+        double mx = -INFINITY, z = 0;
+        for (int i = 0; i < FADE_GRID_N; i++)
+            if (lp[i] > mx) mx = lp[i];
+        for (int i = 0; i < FADE_GRID_N; i++) z += exp(lp[i] - mx);
+        for (int i = 0; i < FADE_GRID_N; i++) p[i] += f->eta_w[e] * exp(lp[i] - mx) / z;
+    }
+    for (int i = 0; i < FADE_GRID_N; i++) tot += p[i];
+    for (int i = 0; i < FADE_GRID_N; i++) p[i] /= tot;
+}
+
 static void cell_moments(const fade_state *f, const fade_cell *c, double *mean, double *sd,
                          double *p_above)
 {
-    double w = 0, s1 = 0, s2 = 0, above = 0;
-    for (int e = 0; e < f->n_eta; e++) { /* the threshold's marginal over the (slope, lapse) pairs */
-        if (f->eta_w[e] < 1e-9) continue;
-        const double *lp = c->log_post[e];
-        double mx = -INFINITY, tot = 0.0;
-        for (int i = 0; i < FADE_GRID_N; i++)
-            if (lp[i] > mx) mx = lp[i];
-        for (int i = 0; i < FADE_GRID_N; i++) tot += exp(lp[i] - mx);
-        for (int i = 0; i < FADE_GRID_N; i++) {
-            double p = f->eta_w[e] * exp(lp[i] - mx) / tot, t = f->t_lo + i * f->t_step;
-            w += p;
-            s1 += p * t;
-            s2 += p * t * t;
-            if (t > f->x_hi) above += p;
-        }
+    double p[FADE_GRID_N], s1 = 0, s2 = 0, above = 0;
+    fade_marginal(f, c, p);
+    for (int i = 0; i < FADE_GRID_N; i++) {
+        double t = f->t_lo + i * f->t_step;
+        s1 += p[i] * t;
+        s2 += p[i] * t * t;
+        if (t > f->x_hi) above += p[i];
     }
-    double m = s1 / w, v = s2 / w - m * m;
-    if (mean) *mean = m;
+    double v = s2 - s1 * s1;
+    if (mean) *mean = s1;
     if (sd) *sd = sqrt(v > 0 ? v : 0);
-    if (p_above) *p_above = above / w;
+    if (p_above) *p_above = above;
 }
 
 static double cell_estimate_log10(const fade_state *f, const fade_cell *c)
@@ -301,24 +311,6 @@ static double *anchor_row(const fade_state *f, int cell, int a)
 }
 
 static double offset_log10(const fade_state *f, int d) { return (d - f->off_half) * f->t_step; }
-
-/* The cell's fade posterior of its yes/no threshold, marginal over the fade's pairs, normalised. */
-static void fade_marginal(const fade_state *f, const fade_cell *c, double *p)
-{
-    double tot = 0;
-    for (int i = 0; i < FADE_GRID_N; i++) p[i] = 0;
-    for (int e = 0; e < f->n_eta; e++) {
-        if (f->eta_w[e] < 1e-9) continue;
-        const double *lp = c->log_post[e];
-        double mx = -INFINITY, z = 0;
-        for (int i = 0; i < FADE_GRID_N; i++)
-            if (lp[i] > mx) mx = lp[i];
-        for (int i = 0; i < FADE_GRID_N; i++) z += exp(lp[i] - mx);
-        for (int i = 0; i < FADE_GRID_N; i++) p[i] += f->eta_w[e] * exp(lp[i] - mx) / z;
-    }
-    for (int i = 0; i < FADE_GRID_N; i++) tot += p[i];
-    for (int i = 0; i < FADE_GRID_N; i++) p[i] /= tot;
-}
 
 /* The posterior of (anchor pair, offset) from every anchored cell: the cell's yes/no threshold t
  * has the fade posterior p, its forced-choice threshold is u = t - offset, and the cell's anchors

@@ -133,6 +133,18 @@ answer_2afc() {
         sleep 0.5
     done
 }
+# Fade trials of session SID until N are stored: "I see it" on each ramp, then a click where it was.
+see_fade_trials() {
+    local sid="$1" n="$2" have end=$((SECONDS + 45))
+    while have=$(ntrials "$sid"); [ "$have" -lt "$n" ] && alive; do
+        [ $SECONDS -ge $end ] && die "$TAG: only $have of $n fade trials in 45 s"
+        sleep 1.0                       # fixation (0.3 s) and into the ramp
+        xdotool key space               # "I see it"
+        sleep 0.4
+        xdotool mousemove $((W / 2)) $((H / 2)) click 1   # where: the centre (eccentricity 0)
+        wait_until 3 test "$(ntrials "$sid")" -gt "$have"
+    done
+}
 json_field() { sed -n "s/.*\"$1\":\([^,}]*\).*/\1/p" <<<"$2"; }
 
 # ---- 1. 2afc, answered with Right ---------------------------------------------------------------
@@ -161,15 +173,7 @@ start fade --method fade --fade-anchors 0 --trials 3 --freqs 1 --eccs 0 --screen
 wait_window
 wait_until 15 has_state 2 . || die "fade: no session in the store"
 xdotool key space
-end=$((SECONDS + 45))
-while have=$(ntrials 2); [ "$have" -lt 4 ] && alive; do
-    [ $SECONDS -ge $end ] && die "fade: only $have of 4 trials in 45 s"
-    sleep 1.0                           # fixation (0.3 s) and into the ramp
-    xdotool key space                   # "I see it"
-    sleep 0.4
-    xdotool mousemove $((W / 2)) $((H / 2)) click 1   # where: the centre (eccentricity 0)
-    wait_until 3 test "$(ntrials 2)" -gt "$have"
-done
+see_fade_trials 2 4
 finish
 check "fade: exit 0 (rc $RC)" test "$RC" -eq 0
 check "fade: JSON says ok" grep -q '"status":"ok"' "$T/fade.out"
@@ -285,15 +289,7 @@ start fanchor --method fade --fade-anchors 0.25 --trials 4 --freqs 1 --eccs 0 --
 wait_window
 wait_until 15 has_state 7 . || die "fade anchors: no session in the store"
 xdotool key space
-end=$((SECONDS + 45))
-while have=$(ntrials 7); [ "$have" -lt 3 ] && alive; do
-    [ $SECONDS -ge $end ] && die "fade anchors: only $have of 3 fade trials in 45 s"
-    sleep 1.0
-    xdotool key space
-    sleep 0.4
-    xdotool mousemove $((W / 2)) $((H / 2)) click 1
-    wait_until 3 test "$(ntrials 7)" -gt "$have"
-done
+see_fade_trials 7 3
 sleep 0.5
 xdotool key space                       # the "last part" screen
 answer_2afc 7 6 key Right
