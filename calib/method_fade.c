@@ -80,9 +80,8 @@ enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
 #endif
 
 #ifndef FADE_ANCHOR_SHARE
-#define FADE_ANCHOR_SHARE 0.25 /* default share of the budget spent on forced-choice anchors */
+#define FADE_ANCHOR_SHARE CSF_FADE_ANCHOR_SHARE_DEFAULT /* -D for experiments (-1: none) */
 #endif
-#define FADE_ANCHOR_SHARE_MAX 0.5
 #define FADE_MIN_RAMPS 3         /* fade trials a cell before any budget goes to anchors */
 #ifndef FADE_OFFSET_PRIOR_SD
 #define FADE_OFFSET_PRIOR_SD 0.1 /* log10: spread of people's yes/no - forced-choice offsets */
@@ -208,10 +207,10 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
     f->t_lo = lo - 0.5;
     f->t_step = (hi + 1.0 - f->t_lo) / (FADE_GRID_N - 1);
     double share = setup->fade_anchor_share == 0 ? FADE_ANCHOR_SHARE : setup->fade_anchor_share;
-    if (!(share <= FADE_ANCHOR_SHARE_MAX)) {
+    if (!(share <= CSF_FADE_ANCHOR_SHARE_MAX)) {
         free(f);
         return csf_error_set(err, CSF_E_INVALID_ARG, "fade: anchor share %g is above the limit %g",
-                             setup->fade_anchor_share, FADE_ANCHOR_SHARE_MAX);
+                             setup->fade_anchor_share, CSF_FADE_ANCHOR_SHARE_MAX);
     }
     int anchors_ok = anchors_setup(f, setup, share);
     int fade_budget = f->anchor_from;
@@ -655,9 +654,9 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
             continue;
         }
         double m, sd, above;
-        cell_moments(f, c, &m, &sd, &above);
         /* the table's threshold is the forced-choice one, visibility included */
         if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd, &above);
+        else cell_moments(f, c, &m, &sd, &above);
         if (above > 0.5) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;

@@ -1149,9 +1149,10 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         set.practice = opt->practice >= 0 ? opt->practice : 3;
         set.break_every = opt->break_every > 0 ? opt->break_every : 40;
         set.afc = opt->afc ? opt->afc : 4;
-        set.fade_anchors = opt->fade_anchor_share == 0 ? 0.25 : opt->fade_anchor_share;
-        if (!(set.fade_anchors <= 0.5)) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--fade-anchors %g: above the limit 0.5", opt->fade_anchor_share);
+        set.fade_anchors = opt->fade_anchor_share == 0 ? CSF_FADE_ANCHOR_SHARE_DEFAULT : opt->fade_anchor_share;
+        if (!(set.fade_anchors <= CSF_FADE_ANCHOR_SHARE_MAX)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "--fade-anchors %g: above the limit %g", opt->fade_anchor_share,
+                               CSF_FADE_ANCHOR_SHARE_MAX);
             goto out;
         }
         if (set.fade_anchors < 0) set.fade_anchors = 0;

@@ -51,8 +51,10 @@ typedef struct {
      * end of the session, which measure the person's offset between their yes/no (fade) threshold
      * and the forced-choice one (it depends on their criterion; calib/method_fade.c). 0 = the
      * default share, negative = none (a pure yes/no session, the behaviour before the anchors),
-     * at most 0.5. */
+     * at most CSF_FADE_ANCHOR_SHARE_MAX. */
     double fade_anchor_share;
+#define CSF_FADE_ANCHOR_SHARE_DEFAULT 0.25
+#define CSF_FADE_ANCHOR_SHARE_MAX 0.5
     /* Forced-choice layout per cell (CSF_TASK_2AFC methods): n_alternatives[c] = 2 for two
      * temporal intervals, 4 for four locations on the cell's eccentricity ring shown at once
      * (spatial 4AFC, guess rate 1/4). NULL = 2 everywhere. The session decides (a foveal cell or
