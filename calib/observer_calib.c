@@ -1033,10 +1033,33 @@ static void table_profile_id(csf_store *store, int64_t sid, const char *id, char
     free(hist);
 }
 
+/* One practice trial, shown and stored as practice (the procedure never sees it). When the person
+ * pauses nothing is stored and the caller looks at who->paused. */
+static csf_status practice_trial(session_res *S, runner *run, int64_t sid, const char *method, uint64_t key,
+                                 const csf_cell *cell, const csf_trial_plan *plan, const csf_afc_layout *layout,
+                                 double mean_lum, int *seq, size_t *n_stored, csf_error *err)
+{
+    int four = plan->n_alternatives == 4;
+    trial_result tr;
+    csf_status st = plan->task == CSF_TASK_FADE ? run_fade(run, key, cell, plan, 0, 1, &tr, err)
+                    : four                     ? run_4afc(run, key, cell, plan, layout, &tr, err)
+                                               : run_2afc(run, key, cell, plan, 0, &tr, err);
+    if (st != CSF_OK) return st;
+    if (run->who->paused) {
+        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        return CSF_OK;
+    }
+    csf_trial t;
+    fill_trial(&t, sid, *seq, method, cell, four ? layout->polar_deg[plan->signal_interval] : 0, mean_lum, plan, 1,
+               &tr);
+    st = store_trial(S, n_stored, &t, &tr, err);
+    if (st == CSF_OK) (*seq)++;
+    return st;
+}
+
 /* Two suprathreshold two-interval practice trials before a fade session's forced-choice anchors:
- * the person has not done that task yet. Stored as practice (the procedure never sees them); a
- * resumed session runs only the ones it does not have yet. Returns CSF_OK (also when the person
- * paused: the caller looks at who->paused). */
+ * the person has not done that task yet. A resumed session runs only the ones it does not have
+ * yet. Returns CSF_OK also when the person paused: the caller looks at who->paused. */
 #define ANCHOR_PRACTICE 2
 static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, const char *method, uint64_t seed,
                                   double mean_lum, int *seq, size_t *n_stored, csf_error *err)
@@ -1052,19 +1075,9 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
         plan.n_alternatives = 2;
         plan.contrast = PRACTICE_CONTRAST;
         plan.signal_interval = (int)(csf_rng_u64(seed, ST_ANCHOR_PRACTICE, (uint64_t)k) & 1);
-        trial_result tr;
         uint64_t key = 2000000u + (uint64_t)k; /* never collides with main or session practice draws */
-        csf_status st = run_2afc(run, key, &pc_cell, &plan, 0, &tr, err);
+        csf_status st = practice_trial(S, run, sid, method, key, &pc_cell, &plan, NULL, mean_lum, seq, n_stored, err);
         if (st != CSF_OK) return st;
-        if (run->who->paused) {
-            if (tr.have_rec) csf_trial_record_free(&tr.rec);
-            return CSF_OK;
-        }
-        csf_trial t;
-        fill_trial(&t, sid, *seq, method, &pc_cell, 0, mean_lum, &plan, 1, &tr);
-        st = store_trial(S, n_stored, &t, &tr, err);
-        if (st != CSF_OK) return st;
-        (*seq)++;
     }
     return CSF_OK;
 }
@@ -1399,27 +1412,18 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             plan.n_alternatives = 4;
             plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 3);
         }
-        trial_result tr;
         uint64_t key = 1000000u + (uint64_t)k; /* practice draws never collide with main trials */
-        st = plan.task == CSF_TASK_FADE ? run_fade(&run, key, &pc_cell, &plan, 0, 1, &tr, err)
-             : four                     ? run_4afc(&run, key, &pc_cell, &plan, &prac_layout, &tr, err)
-                                        : run_2afc(&run, key, &pc_cell, &plan, 0, &tr, err);
+        st = practice_trial(&S, &run, sid, set.method, key, &pc_cell, &plan, &prac_layout, mean_lum, &seq, &n_stored,
+                            err);
         if (st != CSF_OK) goto restore;
         if (who.paused) {
-            if (tr.have_rec) csf_trial_record_free(&tr.rec);
             if (ask_resume(&who, 0, set.trials)) {
                 k--; /* the practice trial again */
                 continue;
             }
             break;
         }
-        csf_trial t;
-        fill_trial(&t, sid, seq, set.method, &pc_cell, four ? prac_layout.polar_deg[plan.signal_interval] : 0,
-                   mean_lum, &plan, 1, &tr);
-        st = store_trial(&S, &n_stored, &t, &tr, err);
-        if (st != CSF_OK) goto restore;
         res->n_stored = (int)n_stored;
-        seq++;
     }
     if (S.ops->task == CSF_TASK_FADE) res->latency_s = practice_latency(S.stored, n_stored);
 
