@@ -65,7 +65,9 @@ enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_
 #endif
 static const double offset_sd_levels[] = OFFSET_LEVELS;
 enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
+#ifndef OFFSET_SD_WIDE
 #define OFFSET_SD_WIDE 0.40    /* log10: the tail for cells the surface cannot describe */
+#endif
 #ifndef OFFSET_WIDE_WEIGHT
 #define OFFSET_WIDE_WEIGHT 0.03
 #endif
