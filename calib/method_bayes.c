@@ -49,7 +49,7 @@
 #include "results/psychometric.h"
 #include "results/rng.h"
 
-enum { NPAR = 7 };
+enum { NPAR = 8 };
 enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_RESAMPLE = 0x42a4 };
 
 /* Tunables (documented in docs/bayes-method.md). */
@@ -180,20 +180,25 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #ifndef ECC_SCALE_HI
 #define ECC_SCALE_HI 0.6
 #endif
+/* Foveal depression (csf_model_params.fovea_dip_log10), half-normal from 0 with sd FOVEA_DIP_SD
+ * log10, at most 1. Experiment: 0 pins it at 0, the method without it, bit for bit. */
+#ifndef FOVEA_DIP_SD
+#define FOVEA_DIP_SD 0.0
+#endif
 /* Prior on theta: independent normals (truncated where physics demands). */
 #ifndef PRIOR_MEAN
-#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN}
+#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN, 0.0}
 #endif
 #ifndef PRIOR_SD
-#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD}
+#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD, FOVEA_DIP_SD}
 #endif
 static const double prior_mean[NPAR] = PRIOR_MEAN;
 static const double prior_sd[NPAR] = PRIOR_SD;
 #ifndef PRIOR_LO
-#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0}
+#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}
 #endif
 static const double prior_lo[NPAR] = PRIOR_LO;
-static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI};
+static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI, 1.0};
 
 typedef struct {
     int n_cells;
@@ -281,6 +286,7 @@ static void theta_to_params(const double *th, csf_model_params *p)
     p->ecc_a = th[4];
     p->ecc_b = th[5];
     p->ecc_scale_per_deg = th[6];
+    p->fovea_dip_log10 = th[7];
 }
 
 static double log_prior(const double *th)
@@ -1452,7 +1458,7 @@ double csf_bayes_effective_particles(void *state)
     return state ? ess(state) : 0.0;
 }
 
-void csf_bayes_surface_mean(void *state, double out[7])
+void csf_bayes_surface_mean(void *state, double out[8])
 {
     bayes_state *s = state;
     double mx = -INFINITY, sw = 0.0;

@@ -26,7 +26,10 @@ double csf_model_log10_sensitivity(const csf_model_params *p, double freq_cpd, d
     double u = (log10(band_cpd) - log10(p->fmax_cpd)) / half_width;
     double ls = lsmax - log2v * u * u;
     if (band_cpd < p->fmax_cpd && ls < lsmax - p->delta_log10) ls = lsmax - p->delta_log10;
-    return ls - (p->ecc_a + p->ecc_b * freq_cpd) * ecc_deg;
+    ls -= (p->ecc_a + p->ecc_b * freq_cpd) * ecc_deg;
+    /* The loss above only grows outwards, so a poor fovea would drag every ring down with it. */
+    if (p->fovea_dip_log10 != 0.0) ls -= p->fovea_dip_log10 * exp(-(ecc_deg * ecc_deg) / (2.0 * 2.0));
+    return ls;
 }
 
 double csf_model_sensitivity(const csf_model_params *p, double freq_cpd, double ecc_deg)

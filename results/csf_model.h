@@ -13,6 +13,8 @@ typedef struct {
     double ecc_b;      /* stelaCSF eccentricity slope, per cpd per degree */
     double ecc_scale_per_deg; /* frequency scaling (cortical magnification): at eccentricity e the
                                  band is the foveal one at f * (1 + ecc_scale_per_deg * e); 0 = none */
+    double fovea_dip_log10; /* sensitivity lost at the fovea alone (a central depression, as in early
+                               macular degeneration), fading as exp(-(e / 2 deg)^2); 0 = none */
 } csf_model_params;
 
 /* Typical young adult, fovea, temporal field: Smax 250, fmax 3 cpd, 3 octaves, delta 0.5,

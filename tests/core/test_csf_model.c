@@ -25,6 +25,14 @@ int main(void)
     CHECK(csf_model_log10_sensitivity(&m, 1.0, 10) - csf_model_log10_sensitivity(&m, 1.0, 0) > plain_10 + 0.1);
     CHECK(csf_model_log10_sensitivity(&m, 8.0, 10) < csf_model_log10_sensitivity(&p, 8.0, 10) - 0.3);
     CHECK_NEAR(csf_model_log10_sensitivity(&m, 8.0, 0), csf_model_log10_sensitivity(&p, 8.0, 0), 0);
+    /* A foveal depression: all of it at the fovea, next to nothing by 5 deg, so the 5 deg ring can
+     * be more sensitive than the fovea (which the outward-growing loss alone never allows). */
+    csf_model_params d = csf_model_default();
+    d.fovea_dip_log10 = 0.4;
+    CHECK_NEAR(csf_model_log10_sensitivity(&d, 8.0, 0), csf_model_log10_sensitivity(&p, 8.0, 0) - 0.4, 1e-12);
+    CHECK_NEAR(csf_model_log10_sensitivity(&d, 8.0, 5), csf_model_log10_sensitivity(&p, 8.0, 5), 0.001);
+    CHECK(csf_model_log10_sensitivity(&d, 2.0, 5) > csf_model_log10_sensitivity(&d, 2.0, 0));
+    CHECK(csf_model_log10_sensitivity(&p, 2.0, 5) < csf_model_log10_sensitivity(&p, 2.0, 0));
     csf_model_use_nasal_field(&p);
     CHECK_NEAR(p.ecc_a, 0.0114, 0);
     CHECK_NEAR(csf_model_threshold(&p, 3.0, 0) * csf_model_sensitivity(&p, 3.0, 0), 1.0, 1e-12);
