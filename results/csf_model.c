@@ -2,6 +2,9 @@
 
 #include <math.h>
 
+/* The foveal depression's radius: gone by the 5 deg ring (0.2 % left there). */
+static const double FOVEA_DIP_RADIUS_DEG = 2.0;
+
 csf_model_params csf_model_default(void)
 {
     csf_model_params p = {.smax = 250.0, .fmax_cpd = 3.0, .beta_oct = 3.0, .delta_log10 = 0.5,
@@ -28,7 +31,10 @@ double csf_model_log10_sensitivity(const csf_model_params *p, double freq_cpd, d
     if (band_cpd < p->fmax_cpd && ls < lsmax - p->delta_log10) ls = lsmax - p->delta_log10;
     ls -= (p->ecc_a + p->ecc_b * freq_cpd) * ecc_deg;
     /* The loss above only grows outwards, so a poor fovea would drag every ring down with it. */
-    if (p->fovea_dip_log10 != 0.0) ls -= p->fovea_dip_log10 * exp(-(ecc_deg * ecc_deg) / (2.0 * 2.0));
+    if (p->fovea_dip_log10 != 0.0) {
+        double r = ecc_deg / FOVEA_DIP_RADIUS_DEG;
+        ls -= p->fovea_dip_log10 * exp(-r * r);
+    }
     return ls;
 }
 
