@@ -1168,6 +1168,12 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
                                CSF_FADE_ANCHOR_SHARE_MAX);
             goto out;
         }
+        if (strcmp(set.method, "fade") != 0) {
+            if (opt->fade_anchor_share != 0 && !opt->quiet)
+                fprintf(stderr, "csfcal: observer: --fade-anchors applies to --method fade only; "
+                                "ignored for --method %s\n", set.method);
+            set.fade_anchors = 0;
+        }
         if (set.fade_anchors < 0) set.fade_anchors = 0;
         if (set.afc != 2 && set.afc != 4) {
             st = csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "

@@ -11,11 +11,13 @@ int csf_obs_settings_to_json(const csf_obs_settings *s, double sigma_deg, char *
     json_t *freqs = json_array(), *eccs = json_array();
     for (int i = 0; i < s->n_freqs; i++) json_array_append_new(freqs, json_real(s->freqs[i]));
     for (int i = 0; i < s->n_eccs; i++) json_array_append_new(eccs, json_real(s->eccs[i]));
-    json_t *o = json_pack("{s:s,s:s,s:i,s:i,s:i,s:i,s:f,s:f,s:o,s:o,s:s}", "method", s->method, "observer",
+    /* The anchor share means something to fade sessions only; a report of another session would
+     * show it as if it had been used. */
+    json_t *share = strcmp(s->method, "fade") == 0 ? json_real(s->fade_anchors) : NULL;
+    json_t *o = json_pack("{s:s,s:s,s:i,s:i,s:i,s:i,s:o*,s:f,s:o,s:o,s:s}", "method", s->method, "observer",
                           s->observer, "trials", s->trials, "practice", s->practice, "break_every",
-                          s->break_every, "afc", s->afc, "fade_anchors", s->fade_anchors,
-                          "gabor_sigma_deg", sigma_deg, "freqs_cpd", freqs, "eccs_deg", eccs,
-                          "profile_id", s->profile_id);
+                          s->break_every, "afc", s->afc, "fade_anchors", share, "gabor_sigma_deg", sigma_deg,
+                          "freqs_cpd", freqs, "eccs_deg", eccs, "profile_id", s->profile_id);
     char *text = o ? json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(o);
     int rc = text && strlen(text) < len ? 0 : -1;
@@ -46,6 +48,7 @@ int csf_obs_settings_from_json(const char *json, csf_obs_settings *s)
     /* Fade sessions stored before the anchors were pure yes/no sessions. */
     s->fade_anchors = 0;
     if (ok) ok = csf_json_get_number(d, "fade_anchors", 0, 0.5, &s->fade_anchors, &err) >= 0;
+    if (strcmp(s->method, "fade") != 0) s->fade_anchors = 0; /* no anchors outside fade sessions */
     csf_json_free(d);
     return ok ? 0 : -1;
 }

@@ -17,7 +17,8 @@ typedef struct {
     int break_every;
     int afc;             /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
     double fade_anchors; /* share of a fade session's trials that are forced-choice anchors, 0-0.5;
-                            0 = none (sessions stored without it had none) */
+                            0 = none (sessions stored without it had none); stored for fade
+                            sessions only, 0 for the others */
     char profile_id[256]; /* display profile the session began with ("" in sessions stored
                              before it was kept here: the session row's display then says) */
 } csf_obs_settings;

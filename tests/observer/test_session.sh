@@ -142,6 +142,13 @@ d = json.loads(sys.argv[1])
 sys.exit(not (d["fade_anchor_trials"] == 0 and d["fade_offset_log10"] is None))' "$(sed -n 1p <<<"$(run --method bayes --afc 2 --freqs 1 --eccs 0 --trials 6 --seed 25 --out "$T/b6.csflut" --json)")"
 err=$(run --method fade --fade-anchors 0.7 --out "$T/x.csflut" 2>&1); rc=$?
 check "--fade-anchors 0.7 refused with exit 2, naming the limit" test $rc -eq 2 -a -n "$(grep -F 'out of range (allowed 0 to 0.5)' <<<"$err")"
+err=$("$CSFCAL" observer calibrate --headless --store "$T/fa.sqlite" --method bayes --fade-anchors 0.3 --freqs 1 \
+    --eccs 0 --trials 6 --seed 26 --out "$T/fa.csflut" 2>&1 >/dev/null)
+check "--fade-anchors with bayes: a note says it is ignored" grep -qF -- "--fade-anchors applies to --method fade only; ignored for --method bayes" <<<"$err"
+check "--fade-anchors with bayes: no anchor share among the stored settings" python3 -c '
+import json, sqlite3, sys
+s = json.loads(sqlite3.connect(sys.argv[1]).execute("SELECT settings_json FROM sessions").fetchone()[0])
+sys.exit(not (s["method"] == "bayes" and "fade_anchors" not in s))' "$T/fa.sqlite"
 err=$(run --afc 3 --out "$T/x.csflut" 2>&1); rc=$?
 check "--afc 3 refused with exit 2" test $rc -eq 2
 check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2: two intervals, 4: four places" <<<"$err"
