@@ -55,7 +55,8 @@
  * method and before any later change, kept for the next change to it (run once on the shipped
  * method when the decision-model option judged on it was not adopted);
  * --heldout 11: an eleventh (observer_heldout11.py), made after the tenth had measured the shipped
- * method and before any later change; it judged the decision-model mixture (adopted);
+ * method and before any later change; it judged the decision-model mixture (which passed there
+ * and was then kept off for a failing test);
  * --heldout 12: a twelfth (observer_heldout12.py), made after that, kept for the next change;
  * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method

@@ -3,7 +3,8 @@
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_TWELFTH).
 
 Made on 2026-11-28 at 02:15 UTC, after the eleventh set had judged the decision-model mixture
-with a 0.2 prior on high threshold (adopted), and before any later change to the method: nothing
+with a 0.2 prior on high threshold (it passed there; a failing test then kept it off), and
+before any later change to the method: nothing
 is tuned on them; they are to be run once, on the method as the next change leaves it. None is of
 the parametric form the bayes method and the QUEST+ anchor fit, and the shapes differ from every
 earlier set.
