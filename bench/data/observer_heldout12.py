@@ -28,18 +28,9 @@ Run from bench/data: python3 observer_heldout12.py"""
 import math
 
 from observer_heldout2 import barten, specs, write_tables
+from observer_heldout5 import bessel_j1
 
 SEED = 2026112812
-
-
-def bessel_j1(x):
-    # power series; x stays below about 12 on the 0.25-16 cpd axis
-    term, total, k = x / 2.0, 0.0, 0
-    while abs(term) > 1e-15 or k < 5:
-        total += term
-        k += 1
-        term *= -(x * x / 4.0) / (k * (k + 1))
-    return total
 
 
 def defocus1d(f, e):
