@@ -1,7 +1,8 @@
 /* Whole sessions with the simulated person who looks at the rendered frames (`--observer
  * sim:view=frame`, issue 12 item 1):
  *  (a) with the right profile its table equals the table of the same person told the planned
- *      contrast (mean |log10 difference| over the cells visible in both <= 0.02);
+ *      contrast: over seeds, mean signed log10 difference and the difference in RMS error
+ *      against the truth both within 0.02, and most seeds' tables identical;
  *  (b) a profile of one display used on another shifts the table by the contrast ratio the two
  *      displays predict at the background: ratio = (d ln L_true / d v) / (d ln L_profile / d v) at
  *      the drive v of the mean luminance (small-signal: the presenter draws L0 (1 + C) through the
@@ -19,6 +20,7 @@
 #include "calib/config.h"
 #include "calib/observer_calib.h"
 #include "devices/display_model.h"
+#include "devices/observer_sim.h"
 #include "results/csflut.h"
 #include "results/display_profile.h"
 #include "results/store.h"
@@ -150,45 +152,99 @@ static double table_diff(const outcome *a, const outcome *b, double *max_abs, do
     return k ? sum / k : NAN;
 }
 
-/* (a) the right profile: rendered-frame person == planned-contrast person. */
-static void test_right_profile(outcome *frame_afc4)
+/* Seeds per comparison (CSF_VIEW_SEEDS overrides, for the benchmark's longer runs). */
+static int n_seeds(void)
+{
+    const char *v = getenv("CSF_VIEW_SEEDS");
+    int n = v ? atoi(v) : 6;
+    return n < 2 ? 2 : n > 64 ? 64 : n;
+}
+
+/* RMS over cells of log10(table / truth), cells finite in both; truth from the same spec. */
+static double rms_vs_truth(const outcome *o, const char *spec, uint64_t seed)
+{
+    csf_observer_sim *sim = NULL;
+    csf_error e;
+    if (csf_observer_sim_create(spec, seed, &sim, &e) != CSF_OK) return NAN;
+    double ss = 0;
+    int k = 0;
+    for (int ei = 0; ei < NE; ei++)
+        for (int f = 0; f < NF; f++) {
+            double t = csf_observer_sim_threshold(sim, freqs[f], eccs[ei]);
+            if (!isfinite(t) || t >= 1 || !isfinite(o->log10_th[ei][f])) continue;
+            ss += pow(o->log10_th[ei][f] - log10(t), 2);
+            k++;
+        }
+    csf_observer_sim_free(sim);
+    return k ? sqrt(ss / k) : NAN;
+}
+
+/* (a) the right profile: rendered-frame person == planned-contrast person, over seeds. With the
+ * same seed both people draw the same numbers, so their answers agree trial for trial unless a
+ * draw falls between the probability of the contrast seen (a fraction of a percent off, from
+ * quantisation and dithering) and that of the contrast planned. After such a flip the adaptive
+ * method takes another path and that session's table differs by the method's own noise (mean
+ * |d| ~0.1 log10), which says nothing about what reached the eye. So "equal within 0.02" is
+ * checked as a statement about the expected table: over seeds, no bias (mean signed difference
+ * over every cell of every session) and no loss of accuracy against the truth; and most sessions'
+ * tables are identical, which a frame that showed anything but the planned contrast would not
+ * give. */
+static void test_right_profile(outcome *frame_afc4 /* [seeds] */)
 {
     static const struct {
         const char *plan, *frame;
         int afc;
-        uint64_t seed;
-    } runs[] = {
-        {"sim", "sim:view=frame", 4, 1},
-        {"sim:decision=sdt,slope=2.2,lapse=0.05", "sim:decision=sdt,slope=2.2,lapse=0.05,view=frame", 2, 2},
+    } people[] = {
+        {"sim", "sim:view=frame", 4},
+        {"sim:decision=sdt,slope=2.2,lapse=0.05", "sim:decision=sdt,slope=2.2,lapse=0.05,view=frame", 2},
     };
-    for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
-        outcome plan, frame;
-        char n1[32], n2[32];
-        snprintf(n1, sizeof n1, "plan%zu", i);
-        snprintf(n2, sizeof n2, "frame%zu", i);
-        CHECK(run(runs[i].plan, runs[i].afc, runs[i].seed, 120, 0, 0, n1, &plan) == 0);
-        CHECK(run(runs[i].frame, runs[i].afc, runs[i].seed, 120, 0, 0, n2, &frame) == 0);
-        CHECK(plan.have_table && frame.have_table);
-        double mx, ms;
-        int n;
-        double mean = table_diff(&plan, &frame, &mx, &ms, &n);
-        printf("(a) %s, --afc %d, seed %llu: rendered vs planned over %d cells: mean |d| %.4f, max %.4f "
-               "log10 (session %.2f s vs %.2f s)\n", runs[i].frame, runs[i].afc,
-               (unsigned long long)runs[i].seed, n, mean, mx, frame.wall_s, plan.wall_s);
-        const seen_stats *ss = &frame.seen;
-        printf("(a)   per trial, seen vs reported at the grating: mean %+.4f, mean |d| %.4f, max |d| %.4f "
-               "log10 over %d trials; empty places at most %.3f of the grating's contrast\n",
-               ss->sum / ss->n, ss->sum_abs / ss->n, ss->max_abs, ss->n, ss->empty_max_rel);
-        CHECK(ss->n >= 100);
-        CHECK_MSG(ss->sum_abs / ss->n <= 0.01, "seen differs from reported by %.4f log10 per trial", ss->sum_abs / ss->n);
-        CHECK_MSG(ss->empty_max_rel < 0.1, "an empty place showed %.3f of the grating's contrast", ss->empty_max_rel);
-        /* The table: the same seed gives the same trials as long as no answer differs; one answer
-         * flipped by a contrast seen 0.3 % off the reported one sends the adaptive method down
-         * another path (mean |d| ~0.1 log10, the method's own noise; BENCHMARKS.md has the
-         * distribution over seeds). These two seeds show the tables themselves. */
-        CHECK(n >= 12);
-        CHECK_MSG(mean <= 0.02, "rendered-frame table differs from the planned one by %.4f log10 on average", mean);
-        if (i == 0) *frame_afc4 = frame;
+    const int seeds = n_seeds();
+    for (size_t i = 0; i < sizeof people / sizeof people[0]; i++) {
+        int identical = 0, cells = 0;
+        double signed_sum = 0, abs_mean_sum = 0, rms_plan = 0, rms_frame = 0, frame_s = 0, plan_s = 0;
+        for (int s = 1; s <= seeds; s++) {
+            outcome plan, frame;
+            char n1[32], n2[32];
+            snprintf(n1, sizeof n1, "plan%zu_%d", i, s);
+            snprintf(n2, sizeof n2, "frame%zu_%d", i, s);
+            CHECK(run(people[i].plan, people[i].afc, (uint64_t)s, 120, 0, 0, n1, &plan) == 0);
+            CHECK(run(people[i].frame, people[i].afc, (uint64_t)s, 120, 0, 0, n2, &frame) == 0);
+            CHECK(plan.have_table && frame.have_table);
+            double mx, ms;
+            int n;
+            double mean = table_diff(&plan, &frame, &mx, &ms, &n);
+            CHECK(n >= 12);
+            identical += mx < 1e-9;
+            cells += n;
+            signed_sum += ms * n;
+            abs_mean_sum += mean;
+            double rp = rms_vs_truth(&plan, people[i].plan, (uint64_t)s);
+            double rf = rms_vs_truth(&frame, people[i].plan, (uint64_t)s);
+            rms_plan += rp;
+            rms_frame += rf;
+            frame_s += frame.wall_s;
+            plan_s += plan.wall_s;
+            const seen_stats *ss = &frame.seen;
+            CHECK(ss->n >= 100);
+            CHECK_MSG(ss->sum_abs / ss->n <= 0.01, "seed %d: seen differs from reported by %.4f log10 per trial", s,
+                      ss->sum_abs / ss->n);
+            CHECK_MSG(ss->empty_max_rel < 0.1, "seed %d: an empty place showed %.3f of the grating's contrast", s,
+                      ss->empty_max_rel);
+            printf("(a) %s, --afc %d, seed %d: %d cells, mean |d| %.4f, signed %+.4f, max %.4f log10; RMS vs "
+                   "truth %.4f (frame) / %.4f (plan); seen vs reported %.4f log10 per trial over %d trials\n",
+                   people[i].frame, people[i].afc, s, n, mean, ms, mx, rf, rp, ss->sum_abs / ss->n, ss->n);
+            if (i == 0) frame_afc4[s - 1] = frame;
+        }
+        double bias = signed_sum / cells, d_rms = (rms_frame - rms_plan) / seeds;
+        printf("(a) %s, --afc %d, %d seeds: identical tables %d; mean over seeds of mean |d| %.4f; mean signed d "
+               "%+.4f over %d cells; RMS vs truth %.4f (frame) vs %.4f (plan); sessions %.2f s vs %.2f s\n",
+               people[i].frame, people[i].afc, seeds, identical, abs_mean_sum / seeds, bias, cells,
+               rms_frame / seeds, rms_plan / seeds, frame_s / seeds, plan_s / seeds);
+        /* A diverged seed moves the mean signed d by ~±0.05 / seeds, the RMS by ~±0.02 / seeds. */
+        CHECK_MSG(fabs(bias) <= 0.02, "rendered-frame tables sit %+.4f log10 from the planned ones", bias);
+        CHECK_MSG(fabs(d_rms) <= 0.02, "rendered-frame tables' RMS error differs by %+.4f log10", d_rms);
+        /* 15 % of two-interval seeds diverged over 20 (BENCHMARKS.md); half is far out. */
+        CHECK_MSG(2 * identical >= seeds, "only %d of %d seeds gave identical tables", identical, seeds);
     }
 }
 
@@ -202,7 +258,7 @@ static double prof_grey(const void *ctx, double v) { return csf_profile_grey_lum
 static double model_grey(const void *ctx, double v) { return csf_display_model_lum(ctx, v, v, v); }
 
 /* (b) the default profile (a gamma-2.2 display) used on a CRT of gamma 2.8. */
-static void test_wrong_profile(const outcome *right)
+static void test_wrong_profile(const outcome *right /* [seeds] */)
 {
     csf_display_profile *prof = csf_profile_default();
     csf_display_model *crt = NULL;
@@ -215,41 +271,58 @@ static void test_wrong_profile(const outcome *right)
     /* the person sees ratio x the planned contrast, so the table holds threshold / ratio */
     double predicted = -log10(ratio);
     CHECK(fabs(predicted) > 0.1); /* a shift the test can see */
-    outcome wrong, equiv;
-    CHECK(run("sim:view=frame,display=crt,display_gamma=2.8", 4, 1, 120, 0, 0, "wrong", &wrong) == 0);
-    /* 1. What reaches the person: every grating seen at ratio x the reported contrast (to the
-     * small-signal approximation; the sessions' contrasts are mostly below 10 %). */
-    const seen_stats *ss = &wrong.seen;
-    double seen_log = ss->n ? ss->sum / ss->n : NAN;
-    printf("(b) default profile on a gamma-2.8 CRT: predicted contrast ratio %.4f (%+.4f log10); seen/"
-           "reported per trial %+.4f log10 on average over %d trials\n", ratio, log10(ratio), seen_log, ss->n);
-    CHECK(ss->n >= 100);
+    /* The person behind the wrong profile answers like a person `ratio` times more sensitive
+     * behind the right one (smax x ratio scales every threshold by 1 / ratio). Trial for trial
+     * with the same seed the two sessions agree until one answer flips on a contrast seen a little
+     * off ratio x reported; after that the paths differ by the method's own noise. So, over seeds:
+     * what reaches the person is ratio x the reported contrast (to the small-signal approximation;
+     * the sessions' contrasts are mostly below 10 %), the mean signed difference from the
+     * equivalent person vanishes (a table that did not follow the physics would sit the whole
+     * predicted shift, > 0.1, away), and the mean shift against the right-profile tables of (a)
+     * is the predicted one to within the seed-to-seed noise of one session's mean (~0.07 log10
+     * per diverged seed). */
+    const int seeds = n_seeds();
+    int cells = 0, shift_cells = 0;
+    double seen_sum = 0, signed_sum = 0, shift_sum = 0;
+    int seen_n = 0;
+    for (int s = 1; s <= seeds; s++) {
+        outcome wrong, equiv;
+        char n1[32], n2[32], spec[128];
+        snprintf(n1, sizeof n1, "wrong_%d", s);
+        snprintf(n2, sizeof n2, "equiv_%d", s);
+        CHECK(run("sim:view=frame,display=crt,display_gamma=2.8", 4, (uint64_t)s, 120, 0, 0, n1, &wrong) == 0);
+        snprintf(spec, sizeof spec, "sim:view=frame,smax=%.6g", 250.0 * ratio);
+        CHECK(run(spec, 4, (uint64_t)s, 120, 0, 0, n2, &equiv) == 0);
+        seen_sum += wrong.seen.sum;
+        seen_n += wrong.seen.n;
+        CHECK(wrong.seen.n >= 100);
+        double mx, ms;
+        int n;
+        double mean = table_diff(&equiv, &wrong, &mx, &ms, &n);
+        CHECK(n >= 12);
+        cells += n;
+        signed_sum += ms * n;
+        double smx, sms;
+        int sn;
+        table_diff(&right[s - 1], &wrong, &smx, &sms, &sn);
+        shift_cells += sn;
+        shift_sum += sms * sn;
+        printf("(b) seed %d: seen/reported %+.4f log10 over %d trials; vs the equivalent person mean |d| %.4f, "
+               "signed %+.4f, max %.4f over %d cells; shift against the right profile %+.4f\n", s,
+               wrong.seen.sum / wrong.seen.n, wrong.seen.n, mean, ms, mx, n, sms);
+    }
+    double seen_log = seen_sum / seen_n, bias = signed_sum / cells, shift = shift_sum / shift_cells;
+    printf("(b) default profile on a gamma-2.8 CRT, %d seeds: predicted contrast ratio %.4f (%+.4f log10), seen/"
+           "reported %+.4f; vs the equivalent person mean signed %+.4f over %d cells; shift against the right "
+           "profile %+.4f (predicted %+.4f)\n", seeds, ratio, log10(ratio), seen_log, bias, cells, shift, predicted);
     CHECK_MSG(fabs(seen_log - log10(ratio)) <= 0.01, "seen/reported %+.4f log10, predicted %+.4f", seen_log,
               log10(ratio));
-    /* 2. The table: the person behind the wrong profile answers like a person `ratio` times more
-     * sensitive behind the right one (smax x ratio scales every threshold by 1 / ratio). Trial for
-     * trial with the same seed the two sessions agree until one answer flips on a contrast seen a
-     * little off ratio x reported; after that the adaptive paths differ and single cells move by
-     * the method's own noise. Seeds 1-4 (2026-11-23): mean |d| 0.044-0.085, mean signed -0.027 to
-     * +0.024 log10. So the cells' mean signed difference is what must vanish: a table that did not
-     * follow the physics would sit the whole predicted shift (|predicted| > 0.1) away. */
-    char spec[128];
-    snprintf(spec, sizeof spec, "sim:view=frame,smax=%.6g", 250.0 * ratio);
-    CHECK(run(spec, 4, 1, 120, 0, 0, "equiv", &equiv) == 0);
-    double mx, ms;
-    int n;
-    double mean = table_diff(&equiv, &wrong, &mx, &ms, &n);
-    printf("(b) table behind the wrong profile vs a person %.4f x as sensitive behind the right one: mean "
-           "|d| %.4f, mean signed %+.4f, max %.4f log10 over %d cells\n", ratio, mean, ms, mx, n);
-    CHECK(n >= 12);
-    CHECK_MSG(fabs(ms) <= 0.05, "wrong-profile table vs the equivalent person: mean signed %+.4f log10", ms);
-    CHECK_MSG(mean <= 0.12, "wrong-profile table vs the equivalent person: mean |d| %.4f log10", mean);
-    /* 3. The shift itself against the right-profile table of (a): printed, not asserted -- the
-     * mean over cells of one 120-trial session moves by ~0.07 log10 from seed to seed once the
-     * two sessions' trials diverge (BENCHMARKS.md). */
-    table_diff(right, &wrong, &mx, &ms, &n);
-    printf("(b) table shift against the right profile: %+.4f log10 (predicted %+.4f) over %d cells\n", ms,
-           predicted, n);
+    /* Per diverged seed the mean signed difference spreads with sd ~0.03 (12 seeds, -0.083 to
+     * +0.030; BENCHMARKS.md), ~0.013 over six: 0.04 is three of those, a third of the shift a
+     * table that ignored the display would show. */
+    CHECK_MSG(fabs(bias) <= 0.04, "wrong-profile tables vs the equivalent person: mean signed %+.4f log10", bias);
+    CHECK_MSG(fabs(shift - predicted) <= 0.5 * fabs(predicted), "shift %+.4f log10, predicted %+.4f", shift,
+              predicted);
     csf_display_model_free(crt);
     csf_profile_free(prof);
 }
@@ -304,13 +377,16 @@ static void test_flat_frame(void)
 int main(void)
 {
     if (!mkdtemp(dir)) return 2;
-    outcome right;
-    memset(&right, 0, sizeof right);
-    test_right_profile(&right);
-    if (right.have_table) {
-        test_wrong_profile(&right);
-        test_wrong_place(&right);
+    outcome *right = calloc((size_t)n_seeds(), sizeof *right);
+    if (!right) return 2;
+    test_right_profile(right);
+    int all = 1;
+    for (int s = 0; s < n_seeds(); s++) all &= right[s].have_table;
+    if (all) {
+        test_wrong_profile(right);
+        test_wrong_place(&right[0]);
     }
+    free(right);
     test_flat_frame();
     char cmd[600];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
