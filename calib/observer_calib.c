@@ -85,7 +85,7 @@ void csf_obs_options_defaults(csf_obs_options *o)
     o->render_every = 0; /* 1, or -1 with view=frame (the person rasterises its own regions) */
     o->render_w = 64;
     o->render_h = 36;
-    o->afc = 4;
+    o->afc = 0; /* four places; 0 tells a fade session that --afc was not given */
 }
 
 /* ---- settings (stored with the session, read back on resume) --------------------------------- */
@@ -1179,6 +1179,14 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
             st = csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "
                                "(four places where they fit)", opt->afc);
             goto out;
+        }
+        /* A fade session's only forced-choice trials are its anchors, two-interval at every cell;
+         * storing the layout it did not use would mislead a report or a resume. */
+        if (strcmp(set.method, "fade") == 0) {
+            if (opt->afc && !opt->quiet)
+                fprintf(stderr, "csfcal: observer: --afc applies to --method bayes and 2afc; a fade "
+                                "session's anchor trials are two-interval\n");
+            set.afc = 2;
         }
         if (opt->n_freqs < 0 || opt->n_freqs > CSF_OBS_MAX_AXIS || opt->n_eccs < 0 || opt->n_eccs > CSF_OBS_MAX_AXIS) {
             st = csf_error_set(err, CSF_E_INVALID_ARG, "--freqs/--eccs: at most %d values each", CSF_OBS_MAX_AXIS);

@@ -39,8 +39,9 @@ typedef struct {
     int render_w, render_h;     /* headless render size for simulated sessions (default 64 x 36) */
     int quiet;                  /* no progress on stderr */
     int afc;                    /* forced-choice layout for 2AFC-task methods (bayes, 2afc): 4 =
-                                   four places shown at once where they fit (default), 2 = two
-                                   intervals everywhere; 0 = default. Stored with the session. */
+                                   four places shown at once where they fit, 2 = two intervals
+                                   everywhere; 0 = not given (4). Stored with the session; fade
+                                   sessions store 2, their anchors' layout. */
     double fade_anchor_share;   /* --fade-anchors: share of a fade session's trials that are
                                    forced-choice anchors; 0 = default (0.25), negative = none.
                                    Stored with the session. */

@@ -49,6 +49,9 @@ int csf_obs_settings_from_json(const char *json, csf_obs_settings *s)
     s->fade_anchors = 0;
     if (ok) ok = csf_json_get_number(d, "fade_anchors", 0, 0.5, &s->fade_anchors, &err) >= 0;
     if (strcmp(s->method, "fade") != 0) s->fade_anchors = 0; /* no anchors outside fade sessions */
+    /* Fade sessions stored before that rule kept the --afc they were given; their anchors were
+     * two-interval all the same. */
+    if (strcmp(s->method, "fade") == 0) s->afc = 2;
     csf_json_free(d);
     return ok ? 0 : -1;
 }

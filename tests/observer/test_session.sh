@@ -149,6 +149,13 @@ check "--fade-anchors with bayes: no anchor share among the stored settings" pyt
 import json, sqlite3, sys
 s = json.loads(sqlite3.connect(sys.argv[1]).execute("SELECT settings_json FROM sessions").fetchone()[0])
 sys.exit(not (s["method"] == "bayes" and "fade_anchors" not in s))' "$T/fa.sqlite"
+err=$("$CSFCAL" observer calibrate --headless --store "$T/fafc.sqlite" --method fade --afc 4 --freqs 1 --eccs 0 \
+    --trials 12 --seed 27 --out "$T/fafc.csflut" 2>&1 >/dev/null)
+check "--afc with fade: a note says its anchors are two-interval" grep -qF -- "--afc applies to --method bayes and 2afc; a fade session's anchor trials are two-interval" <<<"$err"
+check "--afc 4 with fade: the stored layout is the anchors' two intervals" python3 -c '
+import json, sqlite3, sys
+s = json.loads(sqlite3.connect(sys.argv[1]).execute("SELECT settings_json FROM sessions").fetchone()[0])
+sys.exit(not (s["method"] == "fade" and s["afc"] == 2))' "$T/fafc.sqlite"
 err=$(run --afc 3 --out "$T/x.csflut" 2>&1); rc=$?
 check "--afc 3 refused with exit 2" test $rc -eq 2
 check "--afc 3: message names the allowed values" grep -q "'3' is not allowed (2: two intervals, 4: four places" <<<"$err"
