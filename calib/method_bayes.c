@@ -81,8 +81,9 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
  * detection. With 0.5 a signal-detection person's four-place table read +0.030 above the
  * two-interval one (the limit is 0.02); with 0.2, +0.012. With 0.2 it passed its screen on
  * held-out sets 1-10, its judgement on set 11, then (after test_view_session's checks became
- * many-seed statements) a second judgement on the unseen set 12 (BENCHMARKS.md, "The decision
- * model as a nuisance, judged on set 12"). 0 gives signal detection only, the earlier method.
+ * many-seed statements) a second judgement on the unseen set 12 (BENCHMARKS.md, "the
+ * decision-model mixture judged on set 12 and adopted"). 0 gives signal detection only, the
+ * earlier method.
  * Without four-place cells it changes nothing. */
 #ifndef DECISION_MIX
 #define DECISION_MIX 1

@@ -48,10 +48,10 @@ int csf_obs_settings_from_json(const char *json, csf_obs_settings *s)
     /* Fade sessions stored before the anchors were pure yes/no sessions. */
     s->fade_anchors = 0;
     if (ok) ok = csf_json_get_number(d, "fade_anchors", 0, 0.5, &s->fade_anchors, &err) >= 0;
-    if (strcmp(s->method, "fade") != 0) s->fade_anchors = 0; /* no anchors outside fade sessions */
-    /* Fade sessions stored before that rule kept the --afc they were given; their anchors were
-     * two-interval all the same. */
-    if (strcmp(s->method, "fade") == 0) s->afc = 2;
+    /* No anchors outside fade sessions; a fade session's anchors are two-interval (those stored
+     * before that was written down kept the --afc they were given and ignored). */
+    if (strcmp(s->method, "fade") != 0) s->fade_anchors = 0;
+    else s->afc = 2;
     csf_json_free(d);
     return ok ? 0 : -1;
 }
