@@ -16,7 +16,7 @@
  * usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] [--table CSV] [--table2 CSV]
  *                       [--quest] [--quest-sd 1.0] [--methods bayes,2afc] [--octave PATH]
  *                       [--first-seed 1] [--observers 0,1,2] [--layouts 4,2] [--cells]
- *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-13] [--quick]]
+ *                       [--sim SPEC ...] [--honest [--fresh | --heldout 1-14] [--quick]]
  * --cells also prints, per observer, method and budget, each cell's truth, mean error (bias), RMS
  * error and mean number of trials over the seeds: where the error is.
  * --sim SPEC (repeatable, up to 8; issue 12 item 2): instead of the bench's own observer, answer
@@ -59,7 +59,9 @@
  * and was then kept off for a failing test);
  * --heldout 12: a twelfth (observer_heldout12.py), made after that; it judged the decision-model
  * mixture a second time, after test_view_session's checks had become many-seed statements;
- * --heldout 13: a thirteenth (observer_heldout13.py), made after that, kept for the next change;
+ * --heldout 13: a thirteenth (observer_heldout13.py), made after that; it judged the two-sided
+ * foveal term; --heldout 14: a fourteenth (observer_heldout14.py), made after that, kept for the
+ * next change;
  * --heldout 1 and 2 are the first set and --fresh.
  * Diagnosis (environment, --sim and --honest sessions): CSF_BENCH_ORACLE_PSY=1 tells the method
  * the observer's own slope and lapse (the cost of marginalising them is the difference);
@@ -487,7 +489,7 @@ static const honest_observer HONEST_TWELFTH[] = {
     {"scotopic, sdt k 4.77/0.068", "sim:decision=sdt,k=4.767,lapse=0.068,table=bench/data/observer_scotopic.csv", 1, 0},
 };
 /* The thirteenth held-out set (bench/data/observer_heldout13.py, made after the twelfth had judged
- * the decision-model mixture; kept for the next change and run once on it) */
+ * the decision-model mixture; it judged the two-sided foveal term) */
 static const honest_observer HONEST_THIRTEENTH[] = {
     {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
     {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
@@ -503,6 +505,23 @@ static const honest_observer HONEST_THIRTEENTH[] = {
     {"rpring, Weibull 5.13/0.064", "sim:slope=5.129,lapse=0.064,table=bench/data/observer_rpring.csv", 1, 0},
     {"rpring, sdt k 4.47/0.053", "sim:decision=sdt,k=4.475,lapse=0.053,table=bench/data/observer_rpring.csv", 1, 0},
 };
+/* The fourteenth held-out set (bench/data/observer_heldout14.py, made after the thirteenth had
+ * judged the two-sided foveal term; kept for the next change and run once on it) */
+static const honest_observer HONEST_FOURTEENTH[] = {
+    {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
+    {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
+    {"mscaled, Weibull 3.5/0.02", "sim:table=bench/data/observer_mscaled.csv", 0, 1},
+    {"optneur, Weibull 3.53/0.045", "sim:slope=3.527,lapse=0.045,table=bench/data/observer_optneur.csv", 1, 1},
+    {"optneur, sdt k 3.63/0.034", "sim:decision=sdt,k=3.631,lapse=0.034,table=bench/data/observer_optneur.csv", 1, 1},
+    {"myope6, Weibull 2.86/0.013", "sim:slope=2.864,lapse=0.013,table=bench/data/observer_myope6.csv", 1, 1},
+    {"myope6, sdt k 2.45/0.007", "sim:decision=sdt,k=2.455,lapse=0.007,table=bench/data/observer_myope6.csv", 1, 1},
+    {"albino, Weibull 3.05/0.013", "sim:slope=3.049,lapse=0.013,table=bench/data/observer_albino.csv", 1, 1},
+    {"albino, sdt k 3.03/0.017", "sim:decision=sdt,k=3.029,lapse=0.017,table=bench/data/observer_albino.csv", 1, 1},
+    {"optneur, Weibull 1.71/0.059", "sim:slope=1.713,lapse=0.059,table=bench/data/observer_optneur.csv", 1, 0},
+    {"optneur, sdt k 1.29/0.077", "sim:decision=sdt,k=1.291,lapse=0.077,table=bench/data/observer_optneur.csv", 1, 0},
+    {"myope6, Weibull 5.07/0.064", "sim:slope=5.069,lapse=0.064,table=bench/data/observer_myope6.csv", 1, 0},
+    {"myope6, sdt k 4.49/0.071", "sim:decision=sdt,k=4.486,lapse=0.071,table=bench/data/observer_myope6.csv", 1, 0},
+};
 enum { MAX_HONEST_OBS = 16 };
 #define HONEST_SET(a) {a, (int)(sizeof a / sizeof a[0])}
 /* --heldout N reads entry N - 1 */
@@ -513,7 +532,8 @@ static const struct {
                    HONEST_SET(HONEST_FOURTH), HONEST_SET(HONEST_FIFTH), HONEST_SET(HONEST_SIXTH),
                    HONEST_SET(HONEST_SEVENTH), HONEST_SET(HONEST_EIGHTH),
                    HONEST_SET(HONEST_NINTH), HONEST_SET(HONEST_TENTH), HONEST_SET(HONEST_ELEVENTH),
-                   HONEST_SET(HONEST_TWELFTH), HONEST_SET(HONEST_THIRTEENTH)};
+                   HONEST_SET(HONEST_TWELFTH), HONEST_SET(HONEST_THIRTEENTH),
+                   HONEST_SET(HONEST_FOURTEENTH)};
 enum { N_HONEST_SETS = sizeof HONEST_SETS / sizeof HONEST_SETS[0] };
 
 static const double QUEST_SDS[3] = {0.3, 0.5, 1.0};
@@ -911,7 +931,7 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-13] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-14] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
