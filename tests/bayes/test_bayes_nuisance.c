@@ -7,7 +7,11 @@
  * toward the truth, both for this shallow observer and for a steep one (slope 5.5, lapse 0.01;
  * at 120 trials placed near threshold the slope is only weakly identified, so the bounds are
  * modest: below 2.8 and above 3.0).
- * 120 trials, the default 6 x 4 grid, two intervals everywhere; argv[1] = observer_bumpy.csv. */
+ * 120 trials, the default 6 x 4 grid, two intervals everywhere; argv[1] = observer_bumpy.csv.
+ * CSF_NUISANCE_SEEDS=N (default 3) runs seeds 21 .. 20 + N: a diagnosis of how far the slope read
+ * moves over many sessions, not the test CI runs. */
+#include <stdlib.h>
+
 #include "calib/method_bayes.h"
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
@@ -51,10 +55,14 @@ int main(int argc, char **argv)
     }
     csf_cell cells[24];
     int n = sim2afc_default_grid(cells);
+    const char *env_seeds = getenv("CSF_NUISANCE_SEEDS");
+    int n_seeds = env_seeds ? atoi(env_seeds) : 3;
+    if (n_seeds < 1 || n_seeds > 100) n_seeds = 3;
+    const uint64_t last_seed = 20 + (uint64_t)n_seeds;
     double sq_fixed = 0.0, sq_marg = 0.0, log_slope_shallow = 0.0;
     int runs = 0;
     for (int kind = 0; kind < 2; kind++)
-        for (uint64_t seed = 21; seed <= 23; seed++) {
+        for (uint64_t seed = 21; seed <= last_seed; seed++) {
             sim2afc o;
             if (make_observer(&o, kind, argv[1], seed, 2.2, 0.05) != 0) {
                 CHECK_MSG(0, "cannot load %s", argv[1]);
@@ -82,7 +90,7 @@ int main(int argc, char **argv)
     CHECK_MSG(slope_shallow < 2.8, "slope estimate %.2f for a slope-2.2 observer did not move below 2.8", slope_shallow);
 
     double log_slope_steep = 0.0;
-    for (uint64_t seed = 21; seed <= 23; seed++) {
+    for (uint64_t seed = 21; seed <= last_seed; seed++) {
         sim2afc o;
         make_observer(&o, 0, argv[1], seed, 5.5, 0.01);
         o.method_psychometric = 1;
@@ -93,7 +101,7 @@ int main(int argc, char **argv)
                sim2afc_rms(&o, cells, n, est, 1.0, NULL), sl, la);
         log_slope_steep += log(sl);
     }
-    double slope_steep = exp(log_slope_steep / 3);
+    double slope_steep = exp(log_slope_steep / n_seeds);
     printf("slope 5.5 / lapse 0.01: slope estimate %.2f\n", slope_steep);
     CHECK_MSG(slope_steep > 3.0, "slope estimate %.2f for a slope-5.5 observer did not move above 3.0", slope_steep);
     return CHECK_RESULT();
