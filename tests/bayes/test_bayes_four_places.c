@@ -1,9 +1,12 @@
 /* bayes with the session's default layout: four places (guess 1/4) off the fovea, two intervals at
  * the fovea (calib/afc_layout on the default station). Checks that plans carry the cell's layout
- * and a signal place in range and spread over all four places, that the method recovers the two
- * table-defined observers (not of the model's form; paths in argv[1], argv[2]) at 120 trials, and
- * that on the same seeds it is more accurate than with two intervals everywhere (BENCHMARKS.md:
- * about 0.09 against 0.11 log10 over 20 seeds). */
+ * and a signal place in range and spread over all four places, that the method recovers the
+ * model's own parametric observer and the two table-defined observers (not of the model's form;
+ * paths in argv[1], argv[2]) at 120 trials, with at most one cell's visibility wrong per session,
+ * and that on the same seeds it is more accurate than with two intervals everywhere
+ * (BENCHMARKS.md: about 0.08-0.09 against 0.09-0.11 log10 over 20 seeds). The parametric observer
+ * is here because a change to the surface that the mixed layout tolerates may cost the model's
+ * own form, which test_bayes_recovery checks with two intervals only. */
 #include "calib/afc_layout.h"
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
@@ -51,31 +54,39 @@ int main(int argc, char **argv)
     for (int p = 0; p < 4; p++)
         CHECK_MSG(place_count[p] > n_four / 8, "place %d chosen %d of %d times", p, place_count[p], n_four);
 
-    /* accuracy on both table observers, against two intervals everywhere on the same seeds */
+    /* accuracy on the parametric observer (0) and both table observers, against two intervals
+     * everywhere on the same seeds */
     double pooled4 = 0.0, pooled2 = 0.0;
-    for (int table = 1; table <= 2; table++) {
+    const int n_observers = 3;
+    for (int table = 0; table < n_observers; table++) {
+        const char *name = table ? argv[table] : "parametric";
         double sq4 = 0.0, sq2 = 0.0;
         int runs = 0;
         for (uint64_t seed = 21; seed <= 26; seed++) {
-            if (sim2afc_table(&o, argv[table], seed) != 0) return 1;
+            if (table == 0) sim2afc_parametric(&o, csf_model_default(), seed);
+            else if (sim2afc_table(&o, argv[table], seed) != 0) return 1;
             csf_cell_estimate e4[24], e2[24];
             CHECK_INT_EQ(sim2afc_run_alt(&csf_procedure_bayes, &o, cells, n, n_alt, 120, 900 + seed, 1.0, e4), 0);
             CHECK_INT_EQ(sim2afc_run_alt(&csf_procedure_bayes, &o, cells, n, NULL, 120, 900 + seed, 1.0, e2), 0);
             int wrong4 = 0;
             double r4 = sim2afc_rms(&o, cells, n, e4, 1.0, &wrong4), r2 = sim2afc_rms(&o, cells, n, e2, 1.0, NULL);
-            printf("%s seed %llu: RMS four places %.3f, two intervals %.3f\n", argv[table],
-                   (unsigned long long)seed, r4, r2);
-            CHECK_MSG(r4 < 0.17, "seed %llu RMS %.3f", (unsigned long long)seed, r4);
-            CHECK(wrong4 <= 1);
+            printf("%s seed %llu: RMS four places %.3f (visibility wrong in %d cells), two intervals %.3f\n",
+                   name, (unsigned long long)seed, r4, wrong4, r2);
+            CHECK_MSG(r4 < 0.17, "%s seed %llu RMS %.3f", name, (unsigned long long)seed, r4);
+            CHECK_MSG(wrong4 <= 1, "%s seed %llu: %d cells with the wrong visibility", name,
+                      (unsigned long long)seed, wrong4);
             sq4 += r4 * r4, sq2 += r2 * r2, runs++;
         }
         double rms4 = sqrt(sq4 / runs), rms2 = sqrt(sq2 / runs);
-        printf("%s: RMS over seeds: four places %.3f, two intervals %.3f\n", argv[table], rms4, rms2);
-        CHECK_MSG(rms4 < 0.12, "four places RMS %.3f", rms4);
-        pooled4 += rms4 * rms4 / 2, pooled2 += rms2 * rms2 / 2;
+        printf("%s: RMS over seeds: four places %.3f, two intervals %.3f\n", name, rms4, rms2);
+        CHECK_MSG(rms4 < 0.12, "%s: four places RMS %.3f", name, rms4);
+        /* the layout comparison stays over the two table observers it was written for: the
+         * parametric one's gain on these six seeds (0.065 against 0.068) is inside the seed
+         * spread (20 seeds in BENCHMARKS.md: 0.082 against 0.093) */
+        if (table) pooled4 += rms4 * rms4 / 2, pooled2 += rms2 * rms2 / 2;
     }
-    /* over both observers (per observer the gain is larger than the seed spread only over more
-     * seeds than a unit test runs) */
+    /* over both table observers (per observer the gain is larger than the seed spread only over
+     * more seeds than a unit test runs) */
     CHECK_MSG(sqrt(pooled4) < 0.95 * sqrt(pooled2), "four places %.3f not better than two intervals %.3f",
               sqrt(pooled4), sqrt(pooled2));
     return CHECK_RESULT();
