@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "calib/afc_layout.h"
 #include "calib/procedure.h"
 #include "results/csf_model.h"
 #include "results/rng.h"
@@ -243,6 +244,26 @@ static inline int sim2afc_default_grid(csf_cell *cells)
     for (int j = 0; j < 4; j++)
         for (int i = 0; i < 6; i++) cells[n++] = (csf_cell){0.5 * pow(2.0, i), eccs[j]};
     return n;
+}
+
+/* Each cell's layout on a session's default station (531 x 299 mm, 1920 x 1080 pixels, seen from
+ * 570 mm; docs/observer-calibration.md) with up to max_alternatives places: 4 is the session
+ * default (four places off the fovea, two intervals at it), 2 is two intervals everywhere.
+ * Fills n_alt[n_cells]; returns 0, or -1 with a message if the station is refused. */
+static inline int sim2afc_default_layouts(const csf_cell *cells, int n_cells, int max_alternatives, int *n_alt)
+{
+    csf_geometry g;
+    csf_error err = {0};
+    if (csf_geometry_init(&g, 531.0, 299.0, 1920, 1080, 570.0, 0.0, 0.0, &err) != CSF_OK) {
+        fprintf(stderr, "default station: %s\n", err.msg);
+        return -1;
+    }
+    for (int c = 0; c < n_cells; c++) {
+        csf_afc_layout l;
+        csf_afc_choose_layout(&g, cells[c].ecc_deg, 1.0, max_alternatives, &l);
+        n_alt[c] = l.n_alternatives;
+    }
+    return 0;
 }
 
 #endif

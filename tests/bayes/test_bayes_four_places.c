@@ -7,7 +7,6 @@
  * (BENCHMARKS.md: about 0.08-0.09 against 0.09-0.11 log10 over 20 seeds). The parametric observer
  * is here because a change to the surface that the mixed layout tolerates may cost the model's
  * own form, which test_bayes_recovery checks with two intervals only. */
-#include "calib/afc_layout.h"
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
 
@@ -19,16 +18,10 @@ int main(int argc, char **argv)
     }
     csf_cell cells[24];
     int n = sim2afc_default_grid(cells);
-    csf_geometry g;
     csf_error err;
-    CHECK(csf_geometry_init(&g, 531.0, 299.0, 1920, 1080, 570.0, 0.0, 0.0, &err) == CSF_OK);
     int n_alt[24];
-    for (int c = 0; c < n; c++) {
-        csf_afc_layout l;
-        csf_afc_choose_layout(&g, cells[c].ecc_deg, 1.0, 4, &l);
-        n_alt[c] = l.n_alternatives;
-        CHECK_INT_EQ(n_alt[c], cells[c].ecc_deg > 0 ? 4 : 2);
-    }
+    CHECK_INT_EQ(sim2afc_default_layouts(cells, n, 4, n_alt), 0);
+    for (int c = 0; c < n; c++) CHECK_INT_EQ(n_alt[c], cells[c].ecc_deg > 0 ? 4 : 2);
 
     /* plans: the layout of their cell, the signal place in range and used evenly */
     csf_procedure_setup setup = {.cells = cells, .n_cells = n, .trial_budget = 200, .seed = 7,
