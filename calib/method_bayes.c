@@ -980,10 +980,9 @@ static double sq_exp_corr(const csf_cell *a, const csf_cell *b, double len_oct, 
     return exp(-0.5 * (df * df + de * de));
 }
 
-static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf_error *err)
+/* The setup's values, checked; slope and guess rates of 0 mean the defaults. */
+static csf_status check_setup(const csf_procedure_setup *setup, double *slope, double *guess, csf_error *err)
 {
-    if (!setup || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: no setup given");
-    *out = NULL;
     if (setup->n_cells < 1 || setup->n_cells > 4096 || !setup->cells)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "bayes: the grid has %d cells; it needs 1 to 4096", setup->n_cells);
@@ -1003,30 +1002,28 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "bayes: min contrast %g must be >= 0 and below the max contrast %g",
                              setup->min_contrast, setup->max_contrast);
-    double slope = setup->slope_beta == 0.0 ? 3.5 : setup->slope_beta;
-    double guess = setup->guess == 0.0 ? 0.5 : setup->guess;
-    if (!(slope >= 0.3 && slope <= 20.0))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: Weibull slope %g is outside 0.3-20", slope);
+    *slope = setup->slope_beta == 0.0 ? 3.5 : setup->slope_beta;
+    *guess = setup->guess == 0.0 ? 0.5 : setup->guess;
+    if (!(*slope >= 0.3 && *slope <= 20.0))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: Weibull slope %g is outside 0.3-20", *slope);
     if (!(setup->lapse >= 0.0 && setup->lapse <= 0.2))
         return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: lapse rate %g is outside 0-0.2", setup->lapse);
-    if (!(guess > 0.0 && guess < 0.9))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: guess rate %g is outside (0, 0.9)", guess);
+    if (!(*guess > 0.0 && *guess < 0.9))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: guess rate %g is outside (0, 0.9)", *guess);
     if (setup->trial_budget < 0 || setup->trial_budget > 100000)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "bayes: trial budget %d is outside 0-100000", setup->trial_budget);
+    return CSF_OK;
+}
 
-    bayes_state *s = calloc(1, sizeof *s);
-    if (!s) return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory");
-    s->n_cells = setup->n_cells;
-    s->seed = setup->seed;
-    s->trial_budget = setup->trial_budget;
-    s->guess = guess;
+/* The threshold grid: from well below the most sensitive plausible observer to 1 log unit above
+ * the display's reach (thresholds up there all look the same: never visible). */
+static void size_grid(bayes_state *s, const csf_procedure_setup *setup)
+{
     s->log_cmax = log10(setup->max_contrast);
     /* below 1e-4 Michelson nobody sees anything; it also bounds the grid */
     s->log_cmin = log10(setup->min_contrast > 1e-4 ? setup->min_contrast : 1e-4);
     s->step = GRID_STEP_LOG10;
-    /* grid from well below the most sensitive plausible observer to 1 log unit above the display's
-     * reach (thresholds up there all look the same: never visible) */
     double lo_want = fmin(s->log_cmin, -3.0) - 0.7;
     s->g_cmax = (int)ceil((s->log_cmax - lo_want) / s->step);
     s->lo = s->log_cmax - s->g_cmax * s->step;
@@ -1035,18 +1032,21 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     if (s->g_cmin > s->g_cmax) s->g_cmin = s->g_cmax;
     s->kw_half = (int)ceil(4.0 * OFFSET_SD_WIDE / s->step);
     for (int l = 0; l < N_LEVELS; l++) s->kn_half[l] = (int)ceil(4.0 * offset_sd_levels[l] / s->step);
-    s->n_part = N_PARTICLES;
+}
 
+/* The arrays every session needs, sized by the grid, the cells, the particles and the
+ * psychometric nodes (s->n_eta). Returns 0 when one could not be had. */
+static int alloc_core(bayes_state *s)
+{
     int G = s->n_grid, nc = s->n_cells, n = s->n_part;
     int scratch_n = G > n ? G : n;
-    s->cells = malloc(sizeof(csf_cell) * (size_t)nc);
+    size_t tab = 2 * (size_t)(2 * G - 1);
     s->kw = malloc(sizeof(double) * (size_t)(2 * s->kw_half + 1));
     int kn_ok = 1;
     for (int l = 0; l < N_LEVELS; l++)
         kn_ok &= (s->kn[l] = malloc(sizeof(double) * (size_t)(2 * s->kn_half[l] + 1))) != NULL;
-    s->ptab = malloc(sizeof(double) * 2 * (size_t)(2 * G - 1));
-    s->htab = malloc(sizeof(double) * 2 * (size_t)(2 * G - 1));
-    s->n_alt = malloc(sizeof(int) * (size_t)nc);
+    s->ptab = malloc(sizeof(double) * tab);
+    s->htab = malloc(sizeof(double) * tab);
     s->tclip = malloc(sizeof(double) * (size_t)G);
     s->level = malloc(sizeof(int) * (size_t)n);
     s->hist = malloc(sizeof(double) * (size_t)N_LEVELS * G);
@@ -1063,35 +1063,28 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     s->scratch_a = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_b = malloc(sizeof(double) * (size_t)scratch_n);
     s->scratch_idx = malloc(sizeof(int) * (size_t)scratch_n);
-    if (!s->cells || !s->kw || !kn_ok || !s->ptab || !s->htab || !s->n_alt || !s->tclip || !s->level || !s->hist || !s->loglik || !s->logconv || !s->n_trials || !s->theta || !s->m ||
-        !s->logz || !s->logw || !s->post || !s->surf || !s->weak || !s->scratch_a || !s->scratch_b ||
-        !s->scratch_idx) {
-        bayes_destroy(s);
-        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-    }
-    memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
-    for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
-    s->dip_free = dip_is_free(s);
     s->gp_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->gp_var = malloc(sizeof(double) * (size_t)N_LEVELS * nc);
     s->kern = malloc(sizeof(double) * (size_t)(2 * G + 1));
-    /* The decision model only shows in four-place cells; without them the doubled grid would be
-     * the same nodes twice. */
-    int any_four = 0;
-    for (int c = 0; c < nc; c++) any_four |= s->n_alt[c] == 4;
-    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE * (DECISION_MIX && any_four ? 2 : 1);
     s->eta_ht = calloc((size_t)s->n_eta, sizeof(int));
     s->eta_slope = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_lapse = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_w = malloc(sizeof(double) * (size_t)s->n_eta);
     s->eta_w_used = malloc(sizeof(double) * (size_t)s->n_eta);
     s->loglik_eta = calloc((size_t)s->n_eta * nc * G, sizeof(double));
-    s->ptab_eta = malloc(sizeof(double) * (size_t)s->n_eta * 2 * (size_t)(2 * G - 1));
-    if (!s->gp_mu || !s->gp_var || !s->kern || !s->eta_slope || !s->eta_lapse || !s->eta_ht || !s->eta_w ||
-        !s->eta_w_used || !s->loglik_eta || !s->ptab_eta) {
-        bayes_destroy(s);
-        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-    }
+    s->ptab_eta = malloc(sizeof(double) * (size_t)s->n_eta * tab);
+    return s->kw && kn_ok && s->ptab && s->htab && s->tclip && s->level && s->hist && s->loglik &&
+           s->logconv && s->n_trials && s->theta && s->m && s->logz && s->logw && s->post && s->surf &&
+           s->weak && s->scratch_a && s->scratch_b && s->scratch_idx && s->gp_mu && s->gp_var && s->kern &&
+           s->eta_ht && s->eta_slope && s->eta_lapse && s->eta_w && s->eta_w_used && s->loglik_eta &&
+           s->ptab_eta;
+}
+
+/* The arrays of the compile-time experiments that are on (CROSS_CELL_INFO, TEMPER_SD,
+ * LOCAL_TEMPER) and of the correlated offsets. Returns 0 when one could not be had. */
+static int alloc_options(bayes_state *s)
+{
+    int G = s->n_grid, nc = s->n_cells, n = s->n_part;
     if (CROSS_CELL_INFO && !BAYES_CRITERION_ENTROPY && nc <= CROSS_MAX_CELLS) {
         s->xc_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc * G);
         s->xc_den = malloc(sizeof(double) * (size_t)N_LEVELS * nc * G);
@@ -1103,19 +1096,14 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         s->xc_w = malloc(sizeof(double) * (size_t)n);
         s->xc_sum = malloc(sizeof(double) * 2 * (size_t)nc);
         if (!s->xc_mu || !s->xc_den || !s->xc_dirty || !s->xc_lin || !s->xc_wide || !s->xc_num || !s->xc_muci ||
-            !s->xc_w || !s->xc_sum) {
-            bayes_destroy(s);
-            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-        }
+            !s->xc_w || !s->xc_sum)
+            return 0;
         for (int c = 0; c < nc; c++) s->xc_dirty[c] = 1;
     }
     if (TEMPER_SD > 0 || LOCAL_TEMPER) {
         s->temper_post = malloc(sizeof(double) * (size_t)G);
         s->local_var = LOCAL_TEMPER ? calloc((size_t)nc, sizeof(double)) : NULL;
-        if (!s->temper_post || (LOCAL_TEMPER && !s->local_var)) {
-            bayes_destroy(s);
-            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-        }
+        if (!s->temper_post || (LOCAL_TEMPER && !s->local_var)) return 0;
     }
     if (nc <= GP_MAX_CELLS && GP_SMOOTH_SHARE > 0.0) {
         s->corr = malloc(sizeof(double) * (size_t)nc * nc);
@@ -1124,22 +1112,30 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         s->gp_y = malloc(sizeof(double) * (size_t)nc);
         s->gp_nv = malloc(sizeof(double) * (size_t)nc);
         s->gp_obs = malloc(sizeof(int) * (size_t)nc);
-        if (!s->corr || !s->gp_a || !s->gp_inv || !s->gp_y || !s->gp_nv || !s->gp_obs) {
-            bayes_destroy(s);
-            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
-        }
-        for (int i = 0; i < nc; i++)
-            for (int j = 0; j < nc; j++) {
-                const double row_w = GP_ROW_WEIGHT_CENTI / 100.0;
-                const csf_cell *a = &s->cells[i], *b = &s->cells[j];
-                double corr_ij = (1.0 - GP_COL_WEIGHT) * sq_exp_corr(a, b, GP_LEN_OCT, GP_LEN_DEG) +
-                                 GP_COL_WEIGHT * sq_exp_corr(a, b, GP_COL_LEN_OCT, GP_COL_LEN_DEG);
-                if (row_w > 0.0)
-                    corr_ij = (1.0 - row_w) * corr_ij + row_w * sq_exp_corr(a, b, GP_ROW_LEN_OCT, GP_ROW_LEN_DEG);
-                s->corr[(size_t)i * nc + j] = corr_ij;
-            }
+        if (!s->corr || !s->gp_a || !s->gp_inv || !s->gp_y || !s->gp_nv || !s->gp_obs) return 0;
     }
-    /* offset-prior weights on the grid (density x step) */
+    return 1;
+}
+
+/* Correlation C of the offsets' shared part between every two cells (see gp_predict). */
+static void fill_offset_corr(bayes_state *s)
+{
+    int nc = s->n_cells;
+    const double row_w = GP_ROW_WEIGHT_CENTI / 100.0;
+    for (int i = 0; i < nc; i++)
+        for (int j = 0; j < nc; j++) {
+            const csf_cell *a = &s->cells[i], *b = &s->cells[j];
+            double corr_ij = (1.0 - GP_COL_WEIGHT) * sq_exp_corr(a, b, GP_LEN_OCT, GP_LEN_DEG) +
+                             GP_COL_WEIGHT * sq_exp_corr(a, b, GP_COL_LEN_OCT, GP_COL_LEN_DEG);
+            if (row_w > 0.0)
+                corr_ij = (1.0 - row_w) * corr_ij + row_w * sq_exp_corr(a, b, GP_ROW_LEN_OCT, GP_ROW_LEN_DEG);
+            s->corr[(size_t)i * nc + j] = corr_ij;
+        }
+}
+
+/* Offset-prior weights on the grid (density x step): one narrow kernel per level, the wide one. */
+static void fill_offset_kernels(bayes_state *s)
+{
     for (int k = -s->kw_half; k <= s->kw_half; k++) {
         double z = k * s->step / OFFSET_SD_WIDE;
         s->kw[k + s->kw_half] = OFFSET_WIDE_WEIGHT * exp(-0.5 * z * z) / OFFSET_SD_WIDE * s->step /
@@ -1151,7 +1147,14 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
             s->kn[l][k + s->kn_half[l]] = (1.0 - OFFSET_WIDE_WEIGHT) * exp(-0.5 * z * z) /
                                           offset_sd_levels[l] * s->step / sqrt(2.0 * M_PI);
         }
-    for (int g = 0; g < G; g++) s->tclip[g] = fmin(s->lo + g * s->step, s->log_cmax + 0.1);
+    for (int g = 0; g < s->n_grid; g++) s->tclip[g] = fmin(s->lo + g * s->step, s->log_cmax + 0.1);
+}
+
+/* The psychometric nodes (the setup's slope and lapse when fixed, else the grid, doubled for the
+ * decision model where four-place cells show it), their prior weights and P(correct) tables. */
+static void init_psychometric(bayes_state *s, const csf_procedure_setup *setup, double slope)
+{
+    int G = s->n_grid;
     if (setup->fixed_psychometric) {
         s->eta_slope[0] = slope;
         s->eta_lapse[0] = setup->lapse < MIN_LAPSE ? MIN_LAPSE : setup->lapse;
@@ -1173,10 +1176,14 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
                     p_correct_layout(s->eta_slope[e], s->eta_lapse[e], s->guess, a, s->eta_ht[e], d * s->step, 0.0);
     }
     mix_ptab(s);
-    /* particles from the prior (rejection for the truncation), deterministic in the seed */
+}
+
+/* Particles from the prior (rejection for the truncation), deterministic in the seed. */
+static void init_particles(bayes_state *s)
+{
     csf_rng r;
     csf_rng_init(&r, s->seed, STREAM_INIT);
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < s->n_part; i++) {
         double *th = &s->theta[(size_t)i * NPAR];
         for (int k = 0; k < NPAR; k++) {
             if (!par_free(s, k)) {
@@ -1198,6 +1205,46 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
         s->level[i] = (int)(csf_rng_next_uniform(&r) * N_LEVELS) % N_LEVELS;
         surface_for_particle(s, i);
     }
+}
+
+static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf_error *err)
+{
+    if (!setup || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: no setup given");
+    *out = NULL;
+    double slope = 0.0, guess = 0.0;
+    csf_status rc = check_setup(setup, &slope, &guess, err);
+    if (rc != CSF_OK) return rc;
+
+    bayes_state *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory");
+    int nc = s->n_cells = setup->n_cells;
+    s->seed = setup->seed;
+    s->trial_budget = setup->trial_budget;
+    s->guess = guess;
+    s->n_part = N_PARTICLES;
+    size_grid(s, setup);
+    s->cells = malloc(sizeof(csf_cell) * (size_t)nc);
+    s->n_alt = malloc(sizeof(int) * (size_t)nc);
+    if (!s->cells || !s->n_alt) {
+        bayes_destroy(s);
+        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+    }
+    memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
+    for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
+    s->dip_free = dip_is_free(s);
+    /* The decision model only shows in four-place cells; without them the doubled grid would be
+     * the same nodes twice. */
+    int any_four = 0;
+    for (int c = 0; c < nc; c++) any_four |= s->n_alt[c] == 4;
+    s->n_eta = setup->fixed_psychometric ? 1 : N_ETA_SLOPE * N_ETA_LAPSE * (DECISION_MIX && any_four ? 2 : 1);
+    if (!alloc_core(s) || !alloc_options(s)) {
+        bayes_destroy(s);
+        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+    }
+    if (s->corr) fill_offset_corr(s);
+    fill_offset_kernels(s);
+    init_psychometric(s, setup, slope);
+    init_particles(s);
     *out = s;
     return CSF_OK;
 }
@@ -1307,6 +1354,66 @@ static const double *tempered_posterior(bayes_state *s, int c)
 }
 #endif
 
+/* Cell c's most informative next trial: the expected gain of the criterion (variance reduction of
+ * its threshold, or Psi-style entropy) and the grid node of its contrast (*cx_out). */
+static double cell_best_trial(bayes_state *s, int c, int *cx_out)
+{
+    int G = s->n_grid;
+    const double *po = &s->post[(size_t)c * G];
+#if TEMPER_SD_CENTI > 0 || LOCAL_TEMPER
+    if (s->temper_post) po = tempered_posterior(s, c);
+#endif
+    /* only nodes with non-negligible posterior mass matter */
+    int g0 = 0, g1 = G - 1;
+    double pmax = 0.0;
+    for (int g = 0; g < G; g++)
+        if (po[g] > pmax) pmax = po[g];
+    while (g0 < g1 && po[g0] < 1e-7 * pmax) g0++;
+    while (g1 > g0 && po[g1] < 1e-7 * pmax) g1--;
+    double ci = -1.0;
+    int cx = s->g_cmax;
+#if BAYES_CRITERION_ENTROPY
+    for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
+        const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
+        const double *ht = &s->htab[cell_tab_offset(s, c) + gx + G - 1];
+        double pc = 0.0, hc = 0.0;
+        for (int g = g0; g <= g1; g++) {
+            pc += po[g] * pt[-g];
+            hc += po[g] * ht[-g];
+        }
+        double info = h2(pc) - hc;
+#else
+    /* expected reduction of the variance of t_c (clipped just above the display's reach, where
+     * all thresholds mean the same thing: never visible) */
+    double m0 = 0.0, m1 = 0.0, m2 = 0.0;
+    for (int g = g0; g <= g1; g++) {
+        double t = s->tclip[g];
+        m0 += po[g], m1 += po[g] * t, m2 += po[g] * t * t;
+    }
+    double var0 = m2 / m0 - (m1 / m0) * (m1 / m0);
+    for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
+        const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
+        double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+        for (int g = g0; g <= g1; g++) {
+            double q = po[g] * pt[-g], t = s->tclip[g];
+            a0 += q, a1 += q * t, a2 += q * t * t;
+        }
+        double b0 = m0 - a0, b1 = m1 - a1, b2 = m2 - a2;
+        double ev = 0.0;
+        if (a0 > 1e-300) ev += a2 - a1 * a1 / a0;
+        if (b0 > 1e-300) ev += b2 - b1 * b1 / b0;
+        double info = var0 - ev / m0;
+#endif
+        if (info > ci) ci = info, cx = gx;
+    }
+#if CELL_TRIAL_CAP > 0
+    /* experiment: a cell that already holds CAP x its share of the budget is demoted */
+    if (s->trial_budget > 0 && s->n_trials[c] * s->n_cells >= CELL_TRIAL_CAP * s->trial_budget) ci *= 0.01;
+#endif
+    *cx_out = cx;
+    return ci;
+}
+
 static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     bayes_state *s = state;
@@ -1329,61 +1436,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
         }
         cell_info = info_buf;
     }
-    for (int c = 0; c < s->n_cells; c++) {
-        const double *po = &s->post[(size_t)c * G];
-#if TEMPER_SD_CENTI > 0 || LOCAL_TEMPER
-        if (s->temper_post) po = tempered_posterior(s, c);
-#endif
-        /* only nodes with non-negligible posterior mass matter */
-        int g0 = 0, g1 = G - 1;
-        double pmax = 0.0;
-        for (int g = 0; g < G; g++)
-            if (po[g] > pmax) pmax = po[g];
-        while (g0 < g1 && po[g0] < 1e-7 * pmax) g0++;
-        while (g1 > g0 && po[g1] < 1e-7 * pmax) g1--;
-        double ci = -1.0;
-        int cx = s->g_cmax;
-#if BAYES_CRITERION_ENTROPY
-        for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
-            const double *ht = &s->htab[cell_tab_offset(s, c) + gx + G - 1];
-            double pc = 0.0, hc = 0.0;
-            for (int g = g0; g <= g1; g++) {
-                pc += po[g] * pt[-g];
-                hc += po[g] * ht[-g];
-            }
-            double info = h2(pc) - hc;
-#else
-        /* expected reduction of the variance of t_c (clipped just above the display's reach, where
-         * all thresholds mean the same thing: never visible) */
-        double m0 = 0.0, m1 = 0.0, m2 = 0.0;
-        for (int g = g0; g <= g1; g++) {
-            double t = s->tclip[g];
-            m0 += po[g], m1 += po[g] * t, m2 += po[g] * t * t;
-        }
-        double var0 = m2 / m0 - (m1 / m0) * (m1 / m0);
-        for (int gx = s->g_cmax; gx >= s->g_cmin; gx -= CAND_STRIDE) {
-            const double *pt = &s->ptab[cell_tab_offset(s, c) + gx + G - 1];
-            double a0 = 0.0, a1 = 0.0, a2 = 0.0;
-            for (int g = g0; g <= g1; g++) {
-                double q = po[g] * pt[-g], t = s->tclip[g];
-                a0 += q, a1 += q * t, a2 += q * t * t;
-            }
-            double b0 = m0 - a0, b1 = m1 - a1, b2 = m2 - a2;
-            double ev = 0.0;
-            if (a0 > 1e-300) ev += a2 - a1 * a1 / a0;
-            if (b0 > 1e-300) ev += b2 - b1 * b1 / b0;
-            double info = var0 - ev / m0;
-#endif
-            if (info > ci) ci = info, cx = gx;
-        }
-#if CELL_TRIAL_CAP > 0
-        /* experiment: a cell that already holds CAP x its share of the budget is demoted */
-        if (s->trial_budget > 0 && s->n_trials[c] * s->n_cells >= CELL_TRIAL_CAP * s->trial_budget) ci *= 0.01;
-#endif
-        cell_info[c] = ci;
-        cell_x[c] = cx;
-    }
+    for (int c = 0; c < s->n_cells; c++) cell_info[c] = cell_best_trial(s, c, &cell_x[c]);
     if (s->xc_mu) cross_cell_info(s, cell_info, cell_x);
     for (int c = 0; c < s->n_cells; c++)
         if (cell_info[c] > best_info) best_info = cell_info[c];

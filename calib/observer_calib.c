@@ -1082,521 +1082,581 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
     return CSF_OK;
 }
 
-csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
-{
-    memset(res, 0, sizeof *res);
-    res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
-    res->fa_rate = res->latency_s = res->median_se_log10 = NAN;
-    struct timespec w0;
-    clock_gettime(CLOCK_MONOTONIC, &w0);
-    if (!opt->out_path || !*opt->out_path)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
-    csf_status st = check_outputs(opt, err);
-    if (st != CSF_OK) return st;
-    const csf_config *cfg = opt->cfg;
+/* ---- one observer session, in phases -------------------------------------------------------- */
+
+/* Everything one session holds while it runs: what it was asked, what it opened, its settings and
+ * where it stands. Each phase below takes it; csf_observer_calibrate calls them in order. */
+typedef struct {
+    const csf_obs_options *opt;
+    const csf_config *cfg;
+    csf_obs_result *res;
     session_res S;
-    memset(&S, 0, sizeof S);
     session_settings set;
-    memset(&set, 0, sizeof set);
-
     csf_geometry geom;
-    st = csf_geometry_init(&geom, CSF_GEOMETRY_FROM_CONFIG(*cfg), err);
+    int64_t sid;              /* 0 until the store has the session (a new one) */
+    uint64_t seed;
+    int resume_n_stored;      /* trials the store held when a resumed session began */
+    int said_paused;          /* the pause message already names --resume */
+    int is_sim, is_human;
+    double mean_lum_cdm2, max_contrast;
+    int n_cells;
+    size_t n_stored;          /* trials in S.stored, practice included */
+    csf_afc_layout prac_layout; /* the four-place practice grating's places (2: none) */
+    double prac_ecc_deg;
+    person who;
+    runner run;
+    int seq;                  /* the next trial's sequence number */
+    int trial_index;          /* the next main trial's index */
+} obs_run;
+
+/* A resumed session's settings, from the store; a session that cannot be resumed says why. */
+static csf_status resumed_settings(obs_run *R, csf_error *err)
+{
+    session_settings *set = &R->set;
+    int64_t sid = R->sid;
+    /* A new session opens the store only once every check has passed (nothing is written for a
+     * refused one); a resumed one needs its settings first. */
+    csf_status st = csf_store_open(R->opt->store_path, &R->S.store, err);
     if (st != CSF_OK) return st;
+    csf_session_info info;
+    memset(&info, 0, sizeof info);
+    st = csf_store_get_session(R->S.store, sid, &info, err);
+    if (st != CSF_OK) return st;
+    int wrong = strcmp(info.kind, "observer") != 0 ||
+                !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
+    char kind[16], state[16];
+    snprintf(kind, sizeof kind, "%s", info.kind);
+    snprintf(state, sizeof state, "%s", info.state);
+    R->seed = info.seed;
+    R->resume_n_stored = info.n_trials;
+    int unreadable = !wrong && csf_obs_settings_from_json(info.settings_json, set) != 0;
+    csf_error why;
+    csf_error_clear(&why);
+    int invalid = !wrong && !unreadable && check_settings(set, 0, &why) != CSF_OK;
+    /* Sessions stored before the settings carried the profile id: the store's profile_id
+     * (schema 5 moved it there from the display column). */
+    if (!wrong && !set->profile_id[0]) snprintf(set->profile_id, sizeof set->profile_id, "%s", info.profile_id);
+    csf_session_info_free(&info);
+    if (wrong)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--resume %lld: session is a %s session in state '%s'; only running or "
+                             "paused observer sessions can be resumed", (long long)sid, kind, state);
+    if (unreadable || invalid) {
+        /* Replaying them would fail the same way at every attempt: say so once, and take the
+         * session off the resumable list; its trials stay in the store. */
+        csf_error e2;
+        csf_store_set_session_state(R->S.store, sid, "aborted", &e2);
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--resume %lld: the session's stored settings %s%s. It cannot be resumed "
+                             "and is now marked aborted; its %d trials stay in the store (csfcal "
+                             "sessions export %lld); start a new session", (long long)sid,
+                             unreadable ? "cannot be read" : "are not valid: ", unreadable ? "" : why.msg,
+                             R->resume_n_stored, (long long)sid);
+    }
+    return CSF_OK;
+}
 
-    int64_t sid = opt->resume_id;
-    uint64_t seed = opt->seed;
-    int resume_n_stored = 0;
-    int said_paused = 0; /* the pause message already names --resume */
-    if (sid) {
-        /* A new session opens the store only once every check has passed (nothing is written for
-         * a refused one); a resumed one needs its settings first. */
-        st = csf_store_open(opt->store_path, &S.store, err);
-        if (st != CSF_OK) return st;
-        csf_session_info info;
-        memset(&info, 0, sizeof info);
-        st = csf_store_get_session(S.store, sid, &info, err);
-        if (st != CSF_OK) goto out;
-        int wrong = strcmp(info.kind, "observer") != 0 ||
-                    !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
-        char kind[16], state[16];
-        snprintf(kind, sizeof kind, "%s", info.kind);
-        snprintf(state, sizeof state, "%s", info.state);
-        seed = info.seed;
-        resume_n_stored = info.n_trials;
-        int unreadable = !wrong && csf_obs_settings_from_json(info.settings_json, &set) != 0;
-        csf_error why;
-        csf_error_clear(&why);
-        int invalid = !wrong && !unreadable && check_settings(&set, 0, &why) != CSF_OK;
-        /* Sessions stored before the settings carried the profile id: the store's profile_id
-         * (schema 5 moved it there from the display column). */
-        if (!wrong && !set.profile_id[0]) snprintf(set.profile_id, sizeof set.profile_id, "%s", info.profile_id);
-        csf_session_info_free(&info);
-        if (wrong) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--resume %lld: session is a %s session in state '%s'; only running or "
-                               "paused observer sessions can be resumed", (long long)sid, kind, state);
-            goto out;
-        }
-        if (unreadable || invalid) {
-            /* Replaying them would fail the same way at every attempt: say so once, and take the
-             * session off the resumable list; its trials stay in the store. */
-            csf_error e2;
-            csf_store_set_session_state(S.store, sid, "aborted", &e2);
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--resume %lld: the session's stored settings %s%s. It cannot be resumed "
-                               "and is now marked aborted; its %d trials stay in the store (csfcal "
-                               "sessions export %lld); start a new session", (long long)sid,
-                               unreadable ? "cannot be read" : "are not valid: ", unreadable ? "" : why.msg,
-                               resume_n_stored, (long long)sid);
-            goto out;
-        }
-    } else {
-        snprintf(set.method, sizeof set.method, "%s", opt->method ? opt->method : "bayes");
-        const char *spec = opt->observer_spec ? opt->observer_spec : (cfg->observer[0] ? cfg->observer : "sim");
-        if (strchr(spec, '"') || strchr(spec, '\\')) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: quotes and backslashes are not allowed");
-            goto out;
-        }
-        snprintf(set.observer, sizeof set.observer, "%s", spec);
-        set.trials = opt->trials > 0 ? opt->trials : 120;
-        set.practice = opt->practice >= 0 ? opt->practice : 3;
-        set.break_every = opt->break_every > 0 ? opt->break_every : 40;
-        set.afc = opt->afc ? opt->afc : 4;
-        set.fade_anchors = opt->fade_anchor_share == 0 ? CSF_FADE_ANCHOR_SHARE_DEFAULT : opt->fade_anchor_share;
-        if (!(set.fade_anchors <= CSF_FADE_ANCHOR_SHARE_MAX)) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--fade-anchors %g: above the limit %g", opt->fade_anchor_share,
-                               CSF_FADE_ANCHOR_SHARE_MAX);
-            goto out;
-        }
-        if (strcmp(set.method, "fade") != 0) {
-            if (opt->fade_anchor_share != 0 && !opt->quiet)
-                fprintf(stderr, "csfcal: observer: --fade-anchors applies to --method fade only; "
-                                "ignored for --method %s\n", set.method);
-            set.fade_anchors = 0;
-        }
-        if (set.fade_anchors < 0) set.fade_anchors = 0;
-        if (set.afc != 2 && set.afc != 4) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "
-                               "(four places where they fit)", opt->afc);
-            goto out;
-        }
-        /* A fade session's only forced-choice trials are its anchors, two-interval at every cell;
-         * storing the layout it did not use would mislead a report or a resume. */
-        if (strcmp(set.method, "fade") == 0) {
-            if (opt->afc && !opt->quiet)
-                fprintf(stderr, "csfcal: observer: --afc applies to --method bayes and 2afc; a fade "
-                                "session's anchor trials are two-interval\n");
-            set.afc = 2;
-        }
-        if (opt->n_freqs < 0 || opt->n_freqs > CSF_OBS_MAX_AXIS || opt->n_eccs < 0 || opt->n_eccs > CSF_OBS_MAX_AXIS) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--freqs/--eccs: at most %d values each", CSF_OBS_MAX_AXIS);
-            goto out;
-        }
-        memcpy(set.freqs, opt->freqs_cpd, sizeof set.freqs);
-        memcpy(set.eccs, opt->eccs_deg, sizeof set.eccs);
-        set.n_freqs = opt->n_freqs;
-        set.n_eccs = opt->n_eccs;
-        default_axes(&geom, &set, opt->quiet);
-        if (set.n_freqs == 0 || set.n_eccs == 0) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
-            goto out;
-        }
-        /* Any order is accepted and sorted (the table's axes increase); a value given twice is
-         * refused. */
-        st = check_settings(&set, 1, err);
-        if (st != CSF_OK) goto out;
+/* A new session's settings, from the options, the configuration and the display's defaults. */
+static csf_status new_settings(obs_run *R, csf_error *err)
+{
+    const csf_obs_options *opt = R->opt;
+    session_settings *set = &R->set;
+    snprintf(set->method, sizeof set->method, "%s", opt->method ? opt->method : "bayes");
+    const char *spec = opt->observer_spec ? opt->observer_spec : (R->cfg->observer[0] ? R->cfg->observer : "sim");
+    if (strchr(spec, '"') || strchr(spec, '\\'))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: quotes and backslashes are not allowed");
+    snprintf(set->observer, sizeof set->observer, "%s", spec);
+    set->trials = opt->trials > 0 ? opt->trials : 120;
+    set->practice = opt->practice >= 0 ? opt->practice : 3;
+    set->break_every = opt->break_every > 0 ? opt->break_every : 40;
+    set->afc = opt->afc ? opt->afc : 4;
+    set->fade_anchors = opt->fade_anchor_share == 0 ? CSF_FADE_ANCHOR_SHARE_DEFAULT : opt->fade_anchor_share;
+    if (!(set->fade_anchors <= CSF_FADE_ANCHOR_SHARE_MAX))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--fade-anchors %g: above the limit %g", opt->fade_anchor_share,
+                             CSF_FADE_ANCHOR_SHARE_MAX);
+    if (strcmp(set->method, "fade") != 0) {
+        if (opt->fade_anchor_share != 0 && !opt->quiet)
+            fprintf(stderr, "csfcal: observer: --fade-anchors applies to --method fade only; "
+                            "ignored for --method %s\n", set->method);
+        set->fade_anchors = 0;
     }
-    S.ops = csf_procedure_find(set.method);
-    if (!S.ops) {
-        if (strcmp(set.method, "bayes") == 0)
-            st = csf_error_set(err, CSF_E_UNSUPPORTED,
-                               "--method bayes: the joint Bayesian method is not in this build; use "
-                               "--method fade or --method 2afc");
-        else
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--method %s: unknown (fade, 2afc, bayes)", set.method);
-        goto out;
+    if (set->fade_anchors < 0) set->fade_anchors = 0;
+    if (set->afc != 2 && set->afc != 4)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--afc %d: expected 2 (two intervals) or 4 "
+                             "(four places where they fit)", opt->afc);
+    /* A fade session's only forced-choice trials are its anchors, two-interval at every cell;
+     * storing the layout it did not use would mislead a report or a resume. */
+    if (strcmp(set->method, "fade") == 0) {
+        if (opt->afc && !opt->quiet)
+            fprintf(stderr, "csfcal: observer: --afc applies to --method bayes and 2afc; a fade "
+                            "session's anchor trials are two-interval\n");
+        set->afc = 2;
     }
-    snprintf(res->method, sizeof res->method, "%s", set.method);
+    if (opt->n_freqs < 0 || opt->n_freqs > CSF_OBS_MAX_AXIS || opt->n_eccs < 0 || opt->n_eccs > CSF_OBS_MAX_AXIS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--freqs/--eccs: at most %d values each", CSF_OBS_MAX_AXIS);
+    memcpy(set->freqs, opt->freqs_cpd, sizeof set->freqs);
+    memcpy(set->eccs, opt->eccs_deg, sizeof set->eccs);
+    set->n_freqs = opt->n_freqs;
+    set->n_eccs = opt->n_eccs;
+    default_axes(&R->geom, set, opt->quiet);
+    if (set->n_freqs == 0 || set->n_eccs == 0)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
+    /* Any order is accepted and sorted (the table's axes increase); a value given twice is
+     * refused. */
+    return check_settings(set, 1, err);
+}
 
-    int is_sim = strncmp(set.observer, "sim", 3) == 0 && (set.observer[3] == '\0' || set.observer[3] == ':');
-    int is_human = strncmp(set.observer, "human", 5) == 0;
-    if (!is_sim && !is_human) {
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human",
-                           set.observer);
-        goto out;
+/* The method and the person: a simulated one is made here, a human one needs a window. */
+static csf_status open_method_and_person(obs_run *R, csf_error *err)
+{
+    const session_settings *set = &R->set;
+    R->S.ops = csf_procedure_find(set->method);
+    if (!R->S.ops) {
+        if (strcmp(set->method, "bayes") == 0)
+            return csf_error_set(err, CSF_E_UNSUPPORTED,
+                                 "--method bayes: the joint Bayesian method is not in this build; use "
+                                 "--method fade or --method 2afc");
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--method %s: unknown (fade, 2afc, bayes)", set->method);
     }
-    if (is_sim) {
-        st = csf_observer_sim_create(set.observer, seed, &S.sim, err);
-        if (st != CSF_OK) goto out;
-    } else if (opt->headless) {
-        st = csf_error_set(err, CSF_E_UNSUPPORTED,
-                           "--observer human needs a display: no window can be opened headless "
-                           "(use --observer sim for a simulated session)");
-        goto out;
-    }
+    snprintf(R->res->method, sizeof R->res->method, "%s", set->method);
+    R->is_sim = strncmp(set->observer, "sim", 3) == 0 && (set->observer[3] == '\0' || set->observer[3] == ':');
+    R->is_human = strncmp(set->observer, "human", 5) == 0;
+    if (!R->is_sim && !R->is_human)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human",
+                             set->observer);
+    if (R->is_sim) return csf_observer_sim_create(set->observer, R->seed, &R->S.sim, err);
+    if (R->opt->headless)
+        return csf_error_set(err, CSF_E_UNSUPPORTED,
+                             "--observer human needs a display: no window can be opened headless "
+                             "(use --observer sim for a simulated session)");
+    return CSF_OK;
+}
 
-    /* Display profile: the luminance the presenter maps through. */
+/* The display side: its profile (the luminance the presenter maps through), the presenter, the
+ * simulated person's eyes on it, the responder, and the checks that this screen can show the
+ * session's grid (and, resumed, with the profile it began with). */
+static csf_status open_display_side(obs_run *R, csf_error *err)
+{
+    const csf_obs_options *opt = R->opt;
+    const csf_config *cfg = R->cfg;
+    session_res *S = &R->S;
+    csf_status st;
     if (cfg->display_profile[0]) {
-        st = csf_profile_load(cfg->display_profile, &S.profile, err);
-        if (st != CSF_OK) goto out;
+        st = csf_profile_load(cfg->display_profile, &S->profile, err);
+        if (st != CSF_OK) return st;
     } else {
-        S.profile = csf_profile_default();
-        if (!S.profile) {
-            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-            goto out;
-        }
+        S->profile = csf_profile_default();
+        if (!S->profile) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
         if (!opt->quiet && !opt->resume_id)
             fprintf(stderr, "csfcal: observer: no --profile given: using the default display model "
-                            "(%s); thresholds are only as good as this guess\n", csf_profile_id(S.profile));
+                            "(%s); thresholds are only as good as this guess\n", csf_profile_id(S->profile));
     }
-
     csf_presenter_config pc;
     csf_presenter_config_defaults(&pc);
-    pc.headless = is_sim ? 1 : 0;
-    pc.geometry = geom;
+    pc.headless = R->is_sim ? 1 : 0;
+    pc.geometry = R->geom;
     pc.refresh_hz = cfg->refresh_hz;
-    pc.profile = S.profile;
+    pc.profile = S->profile;
     pc.framebuffer_bits = cfg->framebuffer_bits;
     pc.monitor = cfg->monitor[0] ? cfg->monitor : NULL;
-    pc.seed = seed;
-    if (is_sim) {
+    pc.seed = R->seed;
+    if (R->is_sim) {
         pc.render_width_px = opt->render_w > 0 ? opt->render_w : 64;
         pc.render_height_px = opt->render_h > 0 ? opt->render_h : 36;
         pc.render_every = opt->render_every ? opt->render_every : 1;
         /* view=frame: the person's regions are rasterised at full resolution on their own; the
          * small session frame has no one to look at it unless --render-every asks for it */
-        if (!opt->render_every && csf_observer_sim_params_get(S.sim)->view_frame) pc.render_every = -1;
+        if (!opt->render_every && csf_observer_sim_params_get(S->sim)->view_frame) pc.render_every = -1;
         pc.fault_polar_offset_deg = opt->fault_polar_offset_deg;
         pc.fault_blank = opt->fault_blank;
     }
-    st = csf_presenter_open(&pc, &S.pres, err);
-    if (st != CSF_OK) goto out;
-    if (S.sim && csf_observer_sim_params_get(S.sim)->view_frame) {
-        const csf_observer_sim_params *sp = csf_observer_sim_params_get(S.sim);
-        st = csf_obs_screen_open(S.pres, S.profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
-                                 (int)sp->frame_step, &S.screen, err);
-        if (st != CSF_OK) goto out;
+    st = csf_presenter_open(&pc, &S->pres, err);
+    if (st != CSF_OK) return st;
+    if (S->sim && csf_observer_sim_params_get(S->sim)->view_frame) {
+        const csf_observer_sim_params *sp = csf_observer_sim_params_get(S->sim);
+        st = csf_obs_screen_open(S->pres, S->profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
+                                 (int)sp->frame_step, &S->screen, err);
+        if (st != CSF_OK) return st;
         if (!opt->quiet)
             fprintf(stderr, "csfcal: observer: the simulated person looks at the rendered frames through "
-                            "the display %s\n", csf_obs_screen_display(S.screen));
+                            "the display %s\n", csf_obs_screen_display(S->screen));
     }
-    if (is_human) {
-        st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S.pres),
-                                &S.resp, err);
-        if (st != CSF_OK) goto out;
+    if (R->is_human) {
+        st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S->pres),
+                                &S->resp, err);
+        if (st != CSF_OK) return st;
     }
     double lb, lm;
-    csf_presenter_lum_range(S.pres, &lb, &lm);
-    double mean_lum = 0.5 * (lb + lm);
-    double max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
+    csf_presenter_lum_range(S->pres, &lb, &lm);
+    R->mean_lum_cdm2 = 0.5 * (lb + lm);
+    R->max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
 
-    st = check_grid_on_screen(S.pres, cfg, &set, set.practice, mean_lum, err);
+    st = check_grid_on_screen(S->pres, cfg, &R->set, R->set.practice, R->mean_lum_cdm2, err);
     if (st != CSF_OK) {
-        if (sid) {
+        if (R->sid) {
             char m[sizeof err->msg];
             snprintf(m, sizeof m, "%s", err->msg);
             csf_error_set(err, CSF_E_INVALID_ARG, "--resume %lld: %s (this screen cannot show the session's "
-                          "grid: resume with the screen settings it began with)", (long long)sid, m);
+                          "grid: resume with the screen settings it began with)", (long long)R->sid, m);
         }
-        goto out;
+        return st;
     }
-    if (sid) {
-        st = check_profile_on_resume(S.store, sid, set.profile_id, resume_n_stored, S.profile, cfg,
-                                     opt->allow_profile_change, opt->quiet, err);
-        if (st != CSF_OK) goto out;
-    }
+    if (R->sid)
+        return check_profile_on_resume(S->store, R->sid, R->set.profile_id, R->resume_n_stored, S->profile, cfg,
+                                       opt->allow_profile_change, opt->quiet, err);
+    return CSF_OK;
+}
 
-    if (!sid) {
-        snprintf(set.profile_id, sizeof set.profile_id, "%s", csf_profile_id(S.profile));
-        st = csf_store_open(opt->store_path, &S.store, err);
-        if (st != CSF_OK) goto out;
-        char json[4096];
-        if (csf_obs_settings_to_json(&set, GABOR_SIGMA_DEG, json, sizeof json) != 0) {
-            st = csf_error_set(err, CSF_E_NOMEM, "observer: the session's settings do not fit in %zu bytes", sizeof json);
-            goto out;
-        }
-        char obs_name[64];
-        snprintf(obs_name, sizeof obs_name, "%.60s", is_sim ? "sim" : (set.observer[5] == ':' ? set.observer + 6 : "human"));
-        st = csf_store_begin_session_profile(S.store, "observer", obs_name, csf_profile_display(S.profile),
-                                             csf_profile_id(S.profile), json, seed, &sid, err);
-        if (st != CSF_OK) goto out;
-    } else {
-        st = csf_store_set_session_state(S.store, sid, "running", err);
-        if (st != CSF_OK) goto out;
+/* The session's row in the store: a new one now that every check has passed, or the resumed one
+ * set running again. */
+static csf_status open_session_row(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    session_settings *set = &R->set;
+    csf_status st;
+    if (R->sid) {
+        st = csf_store_set_session_state(S->store, R->sid, "running", err);
+        if (st == CSF_OK) R->res->session_id = R->sid;
+        return st;
     }
-    res->session_id = sid;
+    snprintf(set->profile_id, sizeof set->profile_id, "%s", csf_profile_id(S->profile));
+    st = csf_store_open(R->opt->store_path, &S->store, err);
+    if (st != CSF_OK) return st;
+    char json[4096];
+    if (csf_obs_settings_to_json(set, GABOR_SIGMA_DEG, json, sizeof json) != 0)
+        return csf_error_set(err, CSF_E_NOMEM, "observer: the session's settings do not fit in %zu bytes", sizeof json);
+    char obs_name[64];
+    snprintf(obs_name, sizeof obs_name, "%.60s",
+             R->is_sim ? "sim" : (set->observer[5] == ':' ? set->observer + 6 : "human"));
+    st = csf_store_begin_session_profile(S->store, "observer", obs_name, csf_profile_display(S->profile),
+                                         csf_profile_id(S->profile), json, R->seed, &R->sid, err);
+    if (st == CSF_OK) R->res->session_id = R->sid;
+    return st;
+}
 
-    /* Cells and the trials already stored (resume). */
-    int n_cells = set.n_freqs * set.n_eccs;
-    S.cells = malloc((size_t)n_cells * sizeof *S.cells);
-    S.est = malloc((size_t)n_cells * sizeof *S.est);
-    if (!S.cells || !S.est) {
-        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        goto out;
-    }
-    for (int e = 0; e < set.n_eccs; e++)
-        for (int f = 0; f < set.n_freqs; f++) S.cells[e * set.n_freqs + f] = (csf_cell){set.freqs[f], set.eccs[e]};
-    size_t n_stored = 0;
-    st = csf_store_get_trials(S.store, sid, &S.stored, &n_stored, err);
-    if (st != CSF_OK) goto out;
-    res->n_stored = (int)n_stored;
-    st = choose_layouts(&S, csf_presenter_geometry(S.pres), n_cells, set.afc, mean_lum, err);
-    if (st != CSF_OK) goto out;
-    res->afc = set.afc;
-    for (int k = 0; k < n_cells; k++) res->n_cells_four_place += S.n_alt[k] == 4;
-    /* Practice for four-place cells: at the smallest eccentricity that has them (the practice
-     * grating's own layout, checked like the cells'). */
-    csf_afc_layout prac_layout = {2, {0, 0, 0, 0}};
-    double prac_ecc = INFINITY;
+/* The cells, the trials already stored (resume), each cell's layout, and the layout of the
+ * four-place practice grating: at the smallest eccentricity that has four places, checked like
+ * the cells'. Then the person the trials will be run with. */
+static csf_status prepare_cells(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    const session_settings *set = &R->set;
+    csf_obs_result *res = R->res;
+    int n_cells = R->n_cells = set->n_freqs * set->n_eccs;
+    S->cells = malloc((size_t)n_cells * sizeof *S->cells);
+    S->est = malloc((size_t)n_cells * sizeof *S->est);
+    if (!S->cells || !S->est) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (int e = 0; e < set->n_eccs; e++)
+        for (int f = 0; f < set->n_freqs; f++) S->cells[e * set->n_freqs + f] = (csf_cell){set->freqs[f], set->eccs[e]};
+    csf_status st = csf_store_get_trials(S->store, R->sid, &S->stored, &R->n_stored, err);
+    if (st != CSF_OK) return st;
+    res->n_stored = (int)R->n_stored;
+    st = choose_layouts(S, csf_presenter_geometry(S->pres), n_cells, set->afc, R->mean_lum_cdm2, err);
+    if (st != CSF_OK) return st;
+    res->afc = set->afc;
+    for (int k = 0; k < n_cells; k++) res->n_cells_four_place += S->n_alt[k] == 4;
+    R->prac_layout = (csf_afc_layout){2, {0, 0, 0, 0}};
+    R->prac_ecc_deg = INFINITY;
     for (int k = 0; k < n_cells; k++)
-        if (S.n_alt[k] == 4 && S.cells[k].ecc_deg < prac_ecc) {
-            prac_ecc = S.cells[k].ecc_deg;
-            prac_layout = S.layouts[k];
+        if (S->n_alt[k] == 4 && S->cells[k].ecc_deg < R->prac_ecc_deg) {
+            R->prac_ecc_deg = S->cells[k].ecc_deg;
+            R->prac_layout = S->layouts[k];
         }
-    for (int j = 0; j < 4 && prac_layout.n_alternatives == 4; j++) {
+    for (int j = 0; j < 4 && R->prac_layout.n_alternatives == 4; j++) {
         csf_stimulus ps;
         csf_error e;
-        make_stimulus(&ps, PRACTICE_FREQ, prac_ecc, prac_layout.polar_deg[j], PRACTICE_CONTRAST, mean_lum);
-        if (csf_presenter_validate(S.pres, &ps, &e) != CSF_OK) prac_layout.n_alternatives = 2;
+        make_stimulus(&ps, PRACTICE_FREQ, R->prac_ecc_deg, R->prac_layout.polar_deg[j], PRACTICE_CONTRAST,
+                      R->mean_lum_cdm2);
+        if (csf_presenter_validate(S->pres, &ps, &e) != CSF_OK) R->prac_layout.n_alternatives = 2;
     }
+    person *who = &R->who;
+    memset(who, 0, sizeof *who);
+    who->sim = S->sim;
+    who->eyes = S->screen;
+    who->seen_hook = R->opt->seen_hook;
+    who->seen_hook_ctx = R->opt->seen_hook_ctx;
+    who->resp = S->resp;
+    who->pres = S->pres;
+    who->geom = csf_presenter_geometry(S->pres);
+    R->run = (runner){S->pres, who, R->mean_lum_cdm2, 1.0 / csf_presenter_refresh_hz(S->pres)};
+    return CSF_OK;
+}
 
-    person who;
-    memset(&who, 0, sizeof who);
-    who.sim = S.sim;
-    who.eyes = S.screen;
-    who.seen_hook = opt->seen_hook;
-    who.seen_hook_ctx = opt->seen_hook_ctx;
-    who.resp = S.resp;
-    who.pres = S.pres;
-    who.geom = csf_presenter_geometry(S.pres);
-    runner run = {S.pres, &who, mean_lum, 1.0 / csf_presenter_refresh_hz(S.pres)};
+/* What the person is told before the first trial: depends on the task and the layouts. */
+static const char *instructions(const obs_run *R)
+{
+    if (R->S.ops->task == CSF_TASK_2AFC && R->res->n_cells_four_place > 0)
+        return "Look at the central mark and keep your eyes on it.\n"
+               "Rings mark the places just before the pattern appears.\n"
+               "One ring: the pattern appears there in one of two intervals:\n"
+               "press 1 or Left for the first, 2 or Right for the second.\n"
+               "Four rings: it appears once, at one of the four places:\n"
+               "click that place, or press keypad 9 7 1 3 or I U J K\n"
+               "(upper right, upper left, lower left, lower right).\n"
+               "When unsure, guess. Escape pauses. Press a key to start.";
+    if (R->S.ops->task == CSF_TASK_2AFC)
+        return "Look at the central mark.\n"
+               "A ring marks the place just before the pattern appears.\n"
+               "The pattern appears there in one of two intervals.\n"
+               "Press 1 or Left for the first, 2 or Right for the second.\n"
+               "Escape pauses. Press a key to start.";
+    return "Look at the central mark and keep your eyes on it.\n"
+           "A faint pattern slowly appears somewhere.\n"
+           "Press Space or click as soon as you see anything,\n"
+           "then click where it was without moving your eyes.\n"
+           "Escape pauses. Press a key to start.";
+}
 
-    struct sigaction sa, old_int, old_term;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, &old_int);
-    sigaction(SIGTERM, &sa, &old_term);
-    stop_requested = 0;
-
-    int seq = 0;
+/* The instructions (not again on a resume with trials stored) and the practice trials not yet
+ * stored: suprathreshold; for fade they measure the simple reaction time. */
+static csf_status run_practice(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    const session_settings *set = &R->set;
+    person *who = &R->who;
     size_t n_prac_stored = 0;
-    for (size_t i = 0; i < n_stored; i++) {
-        if (S.stored[i].is_practice) n_prac_stored++;
-        if (S.stored[i].seq >= seq) seq = S.stored[i].seq + 1;
+    R->seq = 0;
+    for (size_t i = 0; i < R->n_stored; i++) {
+        if (S->stored[i].is_practice) n_prac_stored++;
+        if (S->stored[i].seq >= R->seq) R->seq = S->stored[i].seq + 1;
     }
-    if (!sid || n_stored == 0) {
-        st = person_screen(&who,
-                           S.ops->task == CSF_TASK_2AFC && res->n_cells_four_place > 0
-                               ? "Look at the central mark and keep your eyes on it.\n"
-                                 "Rings mark the places just before the pattern appears.\n"
-                                 "One ring: the pattern appears there in one of two intervals:\n"
-                                 "press 1 or Left for the first, 2 or Right for the second.\n"
-                                 "Four rings: it appears once, at one of the four places:\n"
-                                 "click that place, or press keypad 9 7 1 3 or I U J K\n"
-                                 "(upper right, upper left, lower left, lower right).\n"
-                                 "When unsure, guess. Escape pauses. Press a key to start."
-                           : S.ops->task == CSF_TASK_2AFC
-                               ? "Look at the central mark.\n"
-                                 "A ring marks the place just before the pattern appears.\n"
-                                 "The pattern appears there in one of two intervals.\n"
-                                 "Press 1 or Left for the first, 2 or Right for the second.\n"
-                                 "Escape pauses. Press a key to start."
-                               : "Look at the central mark and keep your eyes on it.\n"
-                                 "A faint pattern slowly appears somewhere.\n"
-                                 "Press Space or click as soon as you see anything,\n"
-                                 "then click where it was without moving your eyes.\n"
-                                 "Escape pauses. Press a key to start.",
-                           err);
-        if (st != CSF_OK) goto restore;
-        if (who.paused) ask_resume(&who, 0, set.trials);
+    csf_status st;
+    if (!R->opt->resume_id || R->n_stored == 0) {
+        st = person_screen(who, instructions(R), err);
+        if (st != CSF_OK) return st;
+        if (who->paused) ask_resume(who, 0, set->trials);
     }
-    /* Practice trials: suprathreshold; for fade they measure the simple reaction time. */
-    for (int k = (int)n_prac_stored; k < set.practice && !who.paused && !stop_requested; k++) {
+    for (int k = (int)n_prac_stored; k < set->practice && !who->paused && !stop_requested; k++) {
         csf_cell pc_cell = {PRACTICE_FREQ, 0};
         csf_trial_plan plan;
         memset(&plan, 0, sizeof plan);
-        plan.task = S.ops->task;
+        plan.task = S->ops->task;
         plan.contrast = PRACTICE_CONTRAST;
-        plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 1);
+        plan.signal_interval = (int)(csf_rng_u64(R->seed, ST_PRACTICE_POLAR, (uint64_t)k) & 1);
         plan.n_alternatives = plan.task == CSF_TASK_2AFC ? 2 : 0;
         /* With four-place cells every second practice trial shows four places. */
-        int four = plan.task == CSF_TASK_2AFC && prac_layout.n_alternatives == 4 && k % 2 == 1;
+        int four = plan.task == CSF_TASK_2AFC && R->prac_layout.n_alternatives == 4 && k % 2 == 1;
         if (four) {
-            pc_cell.ecc_deg = prac_ecc;
+            pc_cell.ecc_deg = R->prac_ecc_deg;
             plan.n_alternatives = 4;
-            plan.signal_interval = (int)(csf_rng_u64(seed, ST_PRACTICE_POLAR, (uint64_t)k) & 3);
+            plan.signal_interval = (int)(csf_rng_u64(R->seed, ST_PRACTICE_POLAR, (uint64_t)k) & 3);
         }
         uint64_t key = 1000000u + (uint64_t)k; /* practice draws never collide with main trials */
-        st = practice_trial(&S, &run, sid, set.method, key, &pc_cell, &plan, &prac_layout, mean_lum, &seq, &n_stored,
-                            err);
-        if (st != CSF_OK) goto restore;
-        if (who.paused) {
-            if (ask_resume(&who, 0, set.trials)) {
+        st = practice_trial(S, &R->run, R->sid, set->method, key, &pc_cell, &plan, &R->prac_layout,
+                            R->mean_lum_cdm2, &R->seq, &R->n_stored, err);
+        if (st != CSF_OK) return st;
+        if (who->paused) {
+            if (ask_resume(who, 0, set->trials)) {
                 k--; /* the practice trial again */
                 continue;
             }
             break;
         }
-        res->n_stored = (int)n_stored;
+        R->res->n_stored = (int)R->n_stored;
     }
-    if (S.ops->task == CSF_TASK_FADE) res->latency_s = practice_latency(S.stored, n_stored);
+    if (S->ops->task == CSF_TASK_FADE) R->res->latency_s = practice_latency(S->stored, R->n_stored);
+    return CSF_OK;
+}
 
-    /* The procedure, rebuilt by replaying every stored main trial through update(). */
+/* The procedure, rebuilt by replaying every stored main trial through update(). */
+static csf_status replay_stored(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    const session_settings *set = &R->set;
+    csf_obs_result *res = R->res;
     csf_procedure_setup setup;
     memset(&setup, 0, sizeof setup);
-    setup.cells = S.cells;
-    setup.n_cells = n_cells;
-    setup.trial_budget = set.trials;
-    setup.seed = seed;
-    setup.max_contrast = max_contrast;
+    setup.cells = S->cells;
+    setup.n_cells = R->n_cells;
+    setup.trial_budget = set->trials;
+    setup.seed = R->seed;
+    setup.max_contrast = R->max_contrast;
     setup.min_contrast = 0.0005;
     setup.slope_beta = 3.5;
     setup.lapse = 0.02;
-    setup.guess = S.ops->task == CSF_TASK_2AFC ? 0.5 : 0.02;
+    setup.guess = S->ops->task == CSF_TASK_2AFC ? 0.5 : 0.02;
     setup.ramp_start_log10 = -3.0;
-    setup.ramp_end_log10 = log10(max_contrast);
+    setup.ramp_end_log10 = log10(R->max_contrast);
     setup.ramp_s = (setup.ramp_end_log10 - setup.ramp_start_log10) / 0.5; /* 0.5 log10 per second */
     setup.reaction_latency_s = isfinite(res->latency_s) ? res->latency_s : 0;
-    setup.n_alternatives = res->n_cells_four_place > 0 ? S.n_alt : NULL;
-    setup.fade_anchor_share = set.fade_anchors > 0 ? set.fade_anchors : -1;
-    st = S.ops->create(&setup, &S.proc, err);
-    if (st != CSF_OK) goto restore;
-    int trial_index = 0;
-    for (size_t i = 0; i < n_stored; i++) {
-        if (S.stored[i].is_practice) continue;
+    setup.n_alternatives = res->n_cells_four_place > 0 ? S->n_alt : NULL;
+    setup.fade_anchor_share = set->fade_anchors > 0 ? set->fade_anchors : -1;
+    csf_status st = S->ops->create(&setup, &S->proc, err);
+    if (st != CSF_OK) return st;
+    R->trial_index = 0;
+    for (size_t i = 0; i < R->n_stored; i++) {
+        if (S->stored[i].is_practice) continue;
         csf_trial_plan plan;
-        if (S.ops->next(S.proc, trial_index, &plan) != CSF_OK) break;
-        if (S.stored[i].n_alternatives != plan_alternatives(&plan)) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--resume %lld: stored trial %d had %d alternatives, the replayed plan "
-                               "has %d (the display or the layout rule changed since the session "
-                               "started); start a new session", (long long)sid, S.stored[i].seq,
-                               S.stored[i].n_alternatives, plan_alternatives(&plan));
-            goto restore;
-        }
+        if (S->ops->next(S->proc, R->trial_index, &plan) != CSF_OK) break;
+        if (S->stored[i].n_alternatives != plan_alternatives(&plan))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "--resume %lld: stored trial %d had %d alternatives, the replayed plan "
+                                 "has %d (the display or the layout rule changed since the session "
+                                 "started); start a new session", (long long)R->sid, S->stored[i].seq,
+                                 S->stored[i].n_alternatives, plan_alternatives(&plan));
         if (plan_alternatives(&plan) == 4) res->n_four_place++;
-        csf_trial_outcome o = outcome_of(&S.stored[i], S.ops->task);
-        S.ops->update(S.proc, trial_index, &plan, &o);
-        trial_index++;
+        csf_trial_outcome o = outcome_of(&S->stored[i], S->ops->task);
+        S->ops->update(S->proc, R->trial_index, &plan, &o);
+        R->trial_index++;
     }
+    return CSF_OK;
+}
 
-    /* Main trials. */
+/* Where a planned main trial's grating goes (polar angle, deg), after checking the plan against
+ * the cell's layout; *four says whether it is a four-place trial. */
+static csf_status place_trial(obs_run *R, const csf_trial_plan *plan, int *four, double *polar, csf_error *err)
+{
+    const session_res *S = &R->S;
+    const char *method = R->set.method;
+    if (plan->cell < 0 || plan->cell >= R->n_cells)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned cell %d of %d", method, plan->cell, R->n_cells);
+    const csf_cell *c = &S->cells[plan->cell];
+    *four = plan_alternatives(plan) == 4;
+    if (*four && S->n_alt[plan->cell] != 4)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned four places for %g cpd at %g deg, "
+                             "which has two intervals", method, c->freq_cpd, c->ecc_deg);
+    if (*four) {
+        if (plan->signal_interval < 0 || plan->signal_interval > 3)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned place %d of 4", method, plan->signal_interval);
+        *polar = S->layouts[plan->cell].polar_deg[plan->signal_interval];
+        return CSF_OK;
+    }
+    if (fit_polar(S->pres, c->freq_cpd, c->ecc_deg, plan->polar_deg, R->mean_lum_cdm2, polar) != 0)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%g cpd at %g deg cannot be shown anywhere on this screen", c->freq_cpd, c->ecc_deg);
+    return CSF_OK;
+}
+
+/* What may come before a main trial: a break every break_every trials (people only), and before a
+ * fade session's first forced-choice anchor the new task's instructions and its practice.
+ * *again: the person paused and went on, so the trial is planned again (the anchors' screen and
+ * practice included); *stop: the person paused and stopped. */
+static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told_anchors, int *again, int *stop,
+                               csf_error *err)
+{
+    const session_settings *set = &R->set;
+    person *who = &R->who;
+    int ti = R->trial_index;
+    csf_status st;
+    *again = *stop = 0;
+    if (set->break_every > 0 && ti > 0 && ti % set->break_every == 0 && !R->S.sim) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", ti, set->trials);
+        st = person_screen(who, msg, err);
+        if (st != CSF_OK) return st;
+        if (who->paused && !ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
+    }
+    if (R->S.ops->task != CSF_TASK_FADE || plan->task != CSF_TASK_2AFC || *told_anchors) return CSF_OK;
+    /* The fade method's forced-choice anchors: a new task, so the person is told. */
+    *told_anchors = 1;
+    st = person_screen(who, "Last part: the pattern now appears in one of two intervals,\n"
+                            "at the place a ring marks just before.\n"
+                            "Press 1 or Left for the first interval, 2 or Right for the second.\n"
+                            "Two easy practice trials first. When unsure, guess.\n"
+                            "Escape pauses. Press a key to go on.", err);
+    if (st != CSF_OK) return st;
+    if (who->paused && !ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
+    st = anchor_practice(&R->S, &R->run, R->sid, set->method, R->seed, R->mean_lum_cdm2, &R->seq, &R->n_stored, err);
+    if (st != CSF_OK) return st;
+    R->res->n_stored = (int)R->n_stored;
+    if (who->paused) {
+        if (ask_resume(who, ti, set->trials)) {
+            *told_anchors = 0; /* the screen and the rest of the practice again */
+            *again = 1;
+        } else {
+            *stop = 1;
+        }
+    }
+    return CSF_OK;
+}
+
+/* The main trials, each stored (durably) before the procedure sees it and before the next is
+ * shown. A pause or a signal leaves the session paused, resumable. */
+static csf_status run_main_trials(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    const session_settings *set = &R->set;
+    csf_obs_result *res = R->res;
+    person *who = &R->who;
     int told_anchors = 0;
-    for (; trial_index < set.trials && !who.paused && !stop_requested; trial_index++) {
+    csf_status st;
+    for (; R->trial_index < set->trials && !who->paused && !stop_requested; R->trial_index++) {
+        int ti = R->trial_index;
         csf_trial_plan plan;
-        csf_status nst = S.ops->next(S.proc, trial_index, &plan);
+        csf_status nst = S->ops->next(S->proc, ti, &plan);
         if (nst == CSF_E_ABORTED) {
             res->finished_early = 1;
             break;
         }
-        if (nst != CSF_OK) {
-            st = csf_error_set(err, nst, "%s: could not plan trial %d", set.method, trial_index);
-            goto restore;
+        if (nst != CSF_OK) return csf_error_set(err, nst, "%s: could not plan trial %d", set->method, ti);
+        int four = 0, again = 0, stop = 0;
+        double polar = 0.0;
+        st = place_trial(R, &plan, &four, &polar, err);
+        if (st != CSF_OK) return st;
+        st = before_trial(R, &plan, &told_anchors, &again, &stop, err);
+        if (st != CSF_OK) return st;
+        if (stop) break;
+        if (again) {
+            R->trial_index--;
+            continue;
         }
-        if (plan.cell < 0 || plan.cell >= n_cells) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned cell %d of %d", set.method, plan.cell, n_cells);
-            goto restore;
-        }
-        const csf_cell *c = &S.cells[plan.cell];
-        int four = plan_alternatives(&plan) == 4;
-        if (four && S.n_alt[plan.cell] != 4) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned four places for %g cpd at %g deg, "
-                               "which has two intervals", set.method, c->freq_cpd, c->ecc_deg);
-            goto restore;
-        }
-        double polar;
-        if (four) {
-            if (plan.signal_interval < 0 || plan.signal_interval > 3) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned place %d of 4", set.method,
-                                   plan.signal_interval);
-                goto restore;
-            }
-            polar = S.layouts[plan.cell].polar_deg[plan.signal_interval];
-        } else if (fit_polar(S.pres, c->freq_cpd, c->ecc_deg, plan.polar_deg, mean_lum, &polar) != 0) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "%g cpd at %g deg cannot be shown anywhere on this screen", c->freq_cpd, c->ecc_deg);
-            goto restore;
-        }
-        if (set.break_every > 0 && trial_index > 0 && trial_index % set.break_every == 0 && !S.sim) {
-            char msg[160];
-            snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", trial_index, set.trials);
-            st = person_screen(&who, msg, err);
-            if (st != CSF_OK) goto restore;
-            if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
-        }
-        if (S.ops->task == CSF_TASK_FADE && plan.task == CSF_TASK_2AFC && !told_anchors) {
-            /* The fade method's forced-choice anchors: a new task, so the person is told. */
-            told_anchors = 1;
-            st = person_screen(&who, "Last part: the pattern now appears in one of two intervals,\n"
-                                     "at the place a ring marks just before.\n"
-                                     "Press 1 or Left for the first interval, 2 or Right for the second.\n"
-                                     "Two easy practice trials first. When unsure, guess.\n"
-                                     "Escape pauses. Press a key to go on.", err);
-            if (st != CSF_OK) goto restore;
-            if (who.paused && !ask_resume(&who, trial_index, set.trials)) break;
-            st = anchor_practice(&S, &run, sid, set.method, seed, mean_lum, &seq, &n_stored, err);
-            if (st != CSF_OK) goto restore;
-            res->n_stored = (int)n_stored;
-            if (who.paused) {
-                if (ask_resume(&who, trial_index, set.trials)) {
-                    told_anchors = 0; /* the screen and the rest of the practice again */
-                    trial_index--;
-                    continue;
-                }
-                break;
-            }
-        }
+        const csf_cell *c = &S->cells[plan.cell];
         trial_result tr;
-        st = plan.task == CSF_TASK_FADE ? run_fade(&run, (uint64_t)trial_index, c, &plan, polar, 0, &tr, err)
-             : four ? run_4afc(&run, (uint64_t)trial_index, c, &plan, &S.layouts[plan.cell], &tr, err)
-                    : run_2afc(&run, (uint64_t)trial_index, c, &plan, polar, &tr, err);
-        if (st != CSF_OK) goto restore;
-        if (who.paused) {
+        st = plan.task == CSF_TASK_FADE ? run_fade(&R->run, (uint64_t)ti, c, &plan, polar, 0, &tr, err)
+             : four ? run_4afc(&R->run, (uint64_t)ti, c, &plan, &S->layouts[plan.cell], &tr, err)
+                    : run_2afc(&R->run, (uint64_t)ti, c, &plan, polar, &tr, err);
+        if (st != CSF_OK) return st;
+        if (who->paused) {
             if (tr.have_rec) csf_trial_record_free(&tr.rec);
             /* The interrupted trial is not stored: it is shown again, now or on --resume
              * (next() is a function of the state and the index, so it plans the same trial). */
-            if (ask_resume(&who, trial_index, set.trials)) {
-                trial_index--;
+            if (ask_resume(who, ti, set->trials)) {
+                R->trial_index--;
                 continue;
             }
             break;
         }
         csf_trial t;
-        fill_trial(&t, sid, seq, set.method, c, polar, mean_lum, &plan, 0, &tr);
-        /* Stored (durably) before the procedure sees it and before the next trial is shown. */
-        st = store_trial(&S, &n_stored, &t, &tr, err);
-        if (st != CSF_OK) goto restore;
-        res->n_stored = (int)n_stored;
-        seq++;
+        fill_trial(&t, R->sid, R->seq, set->method, c, polar, R->mean_lum_cdm2, &plan, 0, &tr);
+        st = store_trial(S, &R->n_stored, &t, &tr, err);
+        if (st != CSF_OK) return st;
+        res->n_stored = (int)R->n_stored;
+        R->seq++;
         if (four) res->n_four_place++;
-        csf_trial_outcome o = outcome_of(&t, S.ops->task);
-        S.ops->update(S.proc, trial_index, &plan, &o);
-        if (!opt->quiet && !S.sim && (trial_index + 1) % 10 == 0)
-            fprintf(stderr, "csfcal: observer: %d of %d trials\n", trial_index + 1, set.trials);
+        csf_trial_outcome o = outcome_of(&t, S->ops->task);
+        S->ops->update(S->proc, ti, &plan, &o);
+        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0)
+            fprintf(stderr, "csfcal: observer: %d of %d trials\n", ti + 1, set->trials);
     }
-    if (who.paused || stop_requested) {
-        csf_store_set_session_state(S.store, sid, "paused", NULL);
-        said_paused = 1;
-        st = csf_error_set(err, CSF_E_ABORTED,
-                           "session %lld paused after %d trials; continue with --resume %lld",
-                           (long long)sid, trial_index, (long long)sid);
-        goto restore;
+    if (who->paused || stop_requested) {
+        csf_store_set_session_state(S->store, R->sid, "paused", NULL);
+        R->said_paused = 1;
+        return csf_error_set(err, CSF_E_ABORTED, "session %lld paused after %d trials; continue with --resume %lld",
+                             (long long)R->sid, R->trial_index, (long long)R->sid);
     }
+    return CSF_OK;
+}
 
-    /* Reliability of the person, measured from the stored trials. */
-    /* Forced choice: wrong answers on clearly visible trials (4x the estimated threshold, where a
-     * person who looks answers right but for lapses). A person who guesses on a share g of them
-     * answers wrongly on g (1 - 1/m) of the m-alternative ones: each wrong answer counts
-     * 1 / (1 - 1/m) guesses (2 with two intervals, 4/3 with four places). */
-    int n_afc_hi = 0, n_afc_hi_wrong = 0;
-    double afc_guesses = 0;
-    st = S.ops->estimate(S.proc, S.est, err);
-    if (st != CSF_OK) goto restore;
-    if (!S.ops->task_offset || !S.ops->task_offset(S.proc, &res->n_fade_anchors, &res->fade_offset_log10,
-                                                   &res->fade_offset_sd_log10))
-        res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
-    for (size_t i = 0; i < n_stored; i++) {
-        const csf_trial *t = &S.stored[i];
+/* The person's reliability, from the stored trials and the estimated thresholds. */
+typedef struct {
+    int n_afc_hi, n_afc_hi_wrong; /* clearly visible forced-choice trials, and the wrong ones */
+    double afc_guesses;           /* guesses those wrong answers stand for */
+    int n_unrelated;              /* presses the stimulus did not cause */
+    int n_unknown;                /* cells without usable data */
+    char unknown[256];            /* which */
+} reliability;
+
+/* Counts every main trial into the result and rel. Forced choice: wrong answers on clearly
+ * visible trials (4x the estimated threshold, where a person who looks answers right but for
+ * lapses). A person who guesses on a share g of them answers wrongly on g (1 - 1/m) of the
+ * m-alternative ones: each wrong answer counts 1 / (1 - 1/m) guesses (2 with two intervals, 4/3
+ * with four places). */
+static void tally_trials(obs_run *R, reliability *rel)
+{
+    const session_res *S = &R->S;
+    csf_obs_result *res = R->res;
+    for (size_t i = 0; i < R->n_stored; i++) {
+        const csf_trial *t = &S->stored[i];
         if (t->is_practice) {
             res->n_practice++;
             continue;
@@ -1612,46 +1672,53 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         }
         if (strstr(t->flags, "click_far")) res->n_invalid_click++;
         int cell = -1;
-        for (int k = 0; k < n_cells; k++)
-            if (S.cells[k].freq_cpd == t->freq_cpd && S.cells[k].ecc_deg == t->ecc_deg) cell = k;
-        if (cell < 0 || !isfinite(S.est[cell].threshold)) continue;
-        double th = S.est[cell].threshold;
-        if (S.ops->task == CSF_TASK_FADE && t->n_alternatives == 0) {
+        for (int k = 0; k < R->n_cells; k++)
+            if (S->cells[k].freq_cpd == t->freq_cpd && S->cells[k].ecc_deg == t->ecc_deg) cell = k;
+        if (cell < 0 || !isfinite(S->est[cell].threshold)) continue;
+        double th = S->est[cell].threshold;
+        if (S->ops->task == CSF_TASK_FADE && t->n_alternatives == 0) {
             /* A lapse: a ramp that climbed well past the person's threshold without a press. */
             if (t->response == 0 && t->valid && t->contrast_requested > th * pow(10.0, 0.5)) res->n_lapses++;
         } else if (t->valid && t->contrast_shown_max >= 4 * th) {
-            n_afc_hi++;
+            rel->n_afc_hi++;
             if (t->response != t->signal_interval) {
                 int m = t->n_alternatives >= 2 ? t->n_alternatives : 2;
-                n_afc_hi_wrong++;
-                afc_guesses += 1.0 / (1.0 - 1.0 / m);
+                rel->n_afc_hi_wrong++;
+                rel->afc_guesses += 1.0 / (1.0 - 1.0 / m);
             }
         }
     }
-    res->n_lapses += n_afc_hi_wrong;
+    res->n_lapses += rel->n_afc_hi_wrong;
     res->fa_rate = res->n_catch ? (double)res->n_false_alarms / res->n_catch : NAN;
     /* Presses the stimulus did not cause: catch-trial presses, clicks far from the grating,
      * anticipations (an anticipation that also clicked far is counted once). */
-    int n_unrelated = res->n_false_alarms;
-    for (size_t i = 0; i < n_stored; i++)
-        if (!S.stored[i].is_practice && !S.stored[i].is_catch &&
-            (strstr(S.stored[i].flags, "click_far") || strstr(S.stored[i].flags, "anticipation")))
-            n_unrelated++;
-    res->n_cells = n_cells;
-    double *ses = malloc((size_t)n_cells * sizeof *ses);
-    int n_se = 0, n_unknown = 0;
-    char unknown[256] = "";
-    for (int k = 0; k < n_cells; k++) {
-        if (isinf(S.est[k].threshold)) res->n_invisible++;
-        else if (isfinite(S.est[k].threshold)) {
+    rel->n_unrelated = res->n_false_alarms;
+    for (size_t i = 0; i < R->n_stored; i++)
+        if (!S->stored[i].is_practice && !S->stored[i].is_catch &&
+            (strstr(S->stored[i].flags, "click_far") || strstr(S->stored[i].flags, "anticipation")))
+            rel->n_unrelated++;
+}
+
+/* Counts the cells by what was found (visible, never visible, no usable data) and the median
+ * standard error of the visible ones. */
+static void tally_cells(obs_run *R, reliability *rel)
+{
+    const session_res *S = &R->S;
+    csf_obs_result *res = R->res;
+    res->n_cells = R->n_cells;
+    double *ses = malloc((size_t)R->n_cells * sizeof *ses);
+    int n_se = 0;
+    for (int k = 0; k < R->n_cells; k++) {
+        if (isinf(S->est[k].threshold)) res->n_invisible++;
+        else if (isfinite(S->est[k].threshold)) {
             res->n_visible++;
-            if (ses && isfinite(S.est[k].stderr_log10)) ses[n_se++] = S.est[k].stderr_log10;
+            if (ses && isfinite(S->est[k].stderr_log10)) ses[n_se++] = S->est[k].stderr_log10;
         } else {
-            n_unknown++;
-            size_t l = strlen(unknown);
-            if (l < sizeof unknown - 40)
-                snprintf(unknown + l, sizeof unknown - l, "%s%g cpd/%g deg", l ? ", " : "", S.cells[k].freq_cpd,
-                         S.cells[k].ecc_deg);
+            rel->n_unknown++;
+            size_t l = strlen(rel->unknown);
+            if (l < sizeof rel->unknown - 40)
+                snprintf(rel->unknown + l, sizeof rel->unknown - l, "%s%g cpd/%g deg", l ? ", " : "",
+                         S->cells[k].freq_cpd, S->cells[k].ecc_deg);
         }
     }
     if (ses && n_se) {
@@ -1659,163 +1726,247 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
         res->median_se_log10 = ses[n_se / 2];
     }
     free(ses);
+}
 
-    const char *why = NULL;
-    char whybuf[400];
-    if (res->n_catch >= FA_MIN_CATCH && res->fa_rate > FA_LIMIT) {
-        snprintf(whybuf, sizeof whybuf,
+/* Why the data do not support a table (NULL: they do), written into buf. */
+static const char *table_refusal(const obs_run *R, const reliability *rel, char *buf, size_t len)
+{
+    const csf_obs_result *res = R->res;
+    if (res->n_catch >= FA_MIN_CATCH && res->fa_rate > FA_LIMIT)
+        snprintf(buf, len,
                  "the observer pressed on %d of %d catch trials (%.0f %%, limit %.0f %%): responses "
                  "do not follow the stimulus", res->n_false_alarms, res->n_catch, 100 * res->fa_rate, 100 * FA_LIMIT);
-        why = whybuf;
-    } else if (res->n_trials >= 10 && n_unrelated > UNRELATED_LIMIT * res->n_trials) {
-        snprintf(whybuf, sizeof whybuf,
+    else if (res->n_trials >= 10 && rel->n_unrelated > UNRELATED_LIMIT * res->n_trials)
+        snprintf(buf, len,
                  "%d of %d presses were not caused by a grating (%d on catch trials, %d clicks far "
                  "from it, %d anticipations; limit %.0f %% of trials): the observer is guessing",
-                 n_unrelated, res->n_trials, res->n_false_alarms, res->n_invalid_click,
+                 rel->n_unrelated, res->n_trials, res->n_false_alarms, res->n_invalid_click,
                  res->n_anticipations, 100 * UNRELATED_LIMIT);
-        why = whybuf;
-    } else if (res->n_trials > 0 && (res->n_trials - res->n_valid - res->n_catch) > INVALID_LIMIT * (res->n_trials - res->n_catch)) {
-        snprintf(whybuf, sizeof whybuf, "%d of %d trials were invalid (clicks far from the grating, "
+    else if (res->n_trials > 0 &&
+             (res->n_trials - res->n_valid - res->n_catch) > INVALID_LIMIT * (res->n_trials - res->n_catch))
+        snprintf(buf, len, "%d of %d trials were invalid (clicks far from the grating, "
                  "anticipations, missed frames; limit %.0f %%)", res->n_trials - res->n_valid - res->n_catch,
                  res->n_trials - res->n_catch, 100 * INVALID_LIMIT);
-        why = whybuf;
-    } else if (n_afc_hi >= 8 && afc_guesses > AFC_GUESS_LIMIT * n_afc_hi) {
-        snprintf(whybuf, sizeof whybuf, "%d of %d clearly visible forced-choice trials were answered "
+    else if (rel->n_afc_hi >= 8 && rel->afc_guesses > AFC_GUESS_LIMIT * rel->n_afc_hi)
+        snprintf(buf, len, "%d of %d clearly visible forced-choice trials were answered "
                  "wrongly, as if guessed on %.0f %% of them (limit %.0f %%; a guess is wrong on 1/2 of "
-                 "two-interval and 3/4 of four-place trials): inconsistent responses", n_afc_hi_wrong,
-                 n_afc_hi, 100 * afc_guesses / n_afc_hi, 100 * AFC_GUESS_LIMIT);
-        why = whybuf;
-    } else if (n_unknown > 0) {
-        snprintf(whybuf, sizeof whybuf, "%d of %d cells have no usable data (%s); give more --trials "
-                 "(now %d) or fewer --freqs/--eccs", n_unknown, n_cells, unknown, set.trials);
-        why = whybuf;
-    } else if (res->n_visible == 0) {
-        why = "no cell was visible at any contrast the display can show";
-    }
+                 "two-interval and 3/4 of four-place trials): inconsistent responses", rel->n_afc_hi_wrong,
+                 rel->n_afc_hi, 100 * rel->afc_guesses / rel->n_afc_hi, 100 * AFC_GUESS_LIMIT);
+    else if (rel->n_unknown > 0)
+        snprintf(buf, len, "%d of %d cells have no usable data (%s); give more --trials "
+                 "(now %d) or fewer --freqs/--eccs", rel->n_unknown, R->n_cells, rel->unknown, R->set.trials);
+    else if (res->n_visible == 0)
+        snprintf(buf, len, "no cell was visible at any contrast the display can show");
+    else
+        return NULL;
+    return buf;
+}
 
-    /* Thresholds into the store in every case (they are the session's data), the table only
-     * when the data support one. */
-    csf_threshold_row *rows = calloc((size_t)n_cells, sizeof *rows);
-    if (!rows) {
-        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        goto restore;
-    }
-    for (int k = 0; k < n_cells; k++)
-        rows[k] = (csf_threshold_row){S.cells[k].freq_cpd, S.cells[k].ecc_deg, 0, csf_round9(mean_lum),
-                                      S.est[k].threshold, S.est[k].stderr_log10, S.est[k].n_trials};
-    st = csf_store_put_thresholds(S.store, sid, rows, (size_t)n_cells, err);
+/* The estimates, the person's reliability, and the thresholds into the store in every case (they
+ * are the session's data); a refusal of the data ends the session aborted. */
+static csf_status judge_session(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    csf_obs_result *res = R->res;
+    csf_status st = S->ops->estimate(S->proc, S->est, err);
+    if (st != CSF_OK) return st;
+    if (!S->ops->task_offset ||
+        !S->ops->task_offset(S->proc, &res->n_fade_anchors, &res->fade_offset_log10, &res->fade_offset_sd_log10))
+        res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
+    reliability rel;
+    memset(&rel, 0, sizeof rel);
+    tally_trials(R, &rel);
+    tally_cells(R, &rel);
+    char whybuf[400];
+    const char *why = table_refusal(R, &rel, whybuf, sizeof whybuf);
+
+    csf_threshold_row *rows = calloc((size_t)R->n_cells, sizeof *rows);
+    if (!rows) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (int k = 0; k < R->n_cells; k++)
+        rows[k] = (csf_threshold_row){S->cells[k].freq_cpd, S->cells[k].ecc_deg, 0, csf_round9(R->mean_lum_cdm2),
+                                      S->est[k].threshold, S->est[k].stderr_log10, S->est[k].n_trials};
+    st = csf_store_put_thresholds(S->store, R->sid, rows, (size_t)R->n_cells, err);
     free(rows);
-    if (st != CSF_OK) goto restore;
+    if (st != CSF_OK) return st;
     if (why) {
-        csf_store_set_session_state(S.store, sid, "aborted", NULL);
-        st = csf_error_set(err, CSF_E_INSUFFICIENT, "session %lld: no table written: %s", (long long)sid, why);
-        goto restore;
+        csf_store_set_session_state(S->store, R->sid, "aborted", NULL);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "session %lld: no table written: %s", (long long)R->sid, why);
     }
+    return CSF_OK;
+}
 
+/* The table's method line: the method and the threshold's task-independent definition (issue 12
+ * item 4); for fade also how the yes/no thresholds were tied to that definition, and by how much. */
+static void method_line(const obs_run *R, char *buf, size_t len)
+{
+    const csf_obs_result *res = R->res;
+    const char *method = R->set.method;
+    if (R->S.ops->task == CSF_TASK_FADE && isfinite(res->fade_offset_log10))
+        snprintf(buf, len, "%s; anchored by %d two-interval trials, yes/no offset %+.3f log10; %s", method,
+                 res->n_fade_anchors, res->fade_offset_log10, CSF_PSY_THRESHOLD_DEFINITION);
+    else if (R->S.ops->task == CSF_TASK_FADE)
+        snprintf(buf, len, "%s; yes/no only, the criterion not measured; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
+    else
+        snprintf(buf, len, "%s; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
+}
+
+/* The threshold table, written and kept in the store as an artifact. */
+static csf_status write_table(obs_run *R, csf_error *err)
+{
+    session_res *S = &R->S;
+    const session_settings *set = &R->set;
+    int n_cells = R->n_cells;
     double *thr = malloc((size_t)n_cells * sizeof *thr), *se = malloc((size_t)n_cells * sizeof *se);
     if (!thr || !se) {
         free(thr);
         free(se);
-        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        goto restore;
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     }
     for (int k = 0; k < n_cells; k++) {
-        thr[k] = S.est[k].threshold;
-        se[k] = S.est[k].stderr_log10;
+        thr[k] = S->est[k].threshold;
+        se[k] = S->est[k].stderr_log10;
     }
-    char date[32], obs_desc[300];
+    char date[32], obs_desc[300], profile_ids[1024], method_desc[256];
     now_utc(date, sizeof date);
-    snprintf(obs_desc, sizeof obs_desc, "%s", S.sim ? csf_observer_sim_describe(S.sim) : set.observer);
+    snprintf(obs_desc, sizeof obs_desc, "%s", S->sim ? csf_observer_sim_describe(S->sim) : set->observer);
+    table_profile_id(S->store, R->sid, csf_profile_id(S->profile), profile_ids, sizeof profile_ids);
+    method_line(R, method_desc, sizeof method_desc);
     csflut_build b;
     memset(&b, 0, sizeof b);
-    b.n_freq = set.n_freqs;
-    b.n_ecc = set.n_eccs;
-    b.freq_cpd = set.freqs;
-    b.ecc_deg = set.eccs;
+    b.n_freq = set->n_freqs;
+    b.n_ecc = set->n_eccs;
+    b.freq_cpd = set->freqs;
+    b.ecc_deg = set->eccs;
     b.threshold = thr;
     b.stderr_log10 = se;
     b.observer = obs_desc;
-    char profile_ids[1024];
-    table_profile_id(S.store, sid, csf_profile_id(S.profile), profile_ids, sizeof profile_ids);
     b.display_profile_id = profile_ids;
-    /* the method and the threshold's task-independent definition (issue 12 item 4) */
-    char method_desc[256];
-    if (S.ops->task == CSF_TASK_FADE && isfinite(res->fade_offset_log10))
-        /* says how the yes/no thresholds were tied to the definition, and by how much */
-        snprintf(method_desc, sizeof method_desc, "%s; anchored by %d two-interval trials, yes/no offset %+.3f log10; %s",
-                 set.method, res->n_fade_anchors, res->fade_offset_log10, CSF_PSY_THRESHOLD_DEFINITION);
-    else if (S.ops->task == CSF_TASK_FADE)
-        snprintf(method_desc, sizeof method_desc, "%s; yes/no only, the criterion not measured; %s", set.method,
-                 CSF_PSY_THRESHOLD_DEFINITION);
-    else
-        snprintf(method_desc, sizeof method_desc, "%s; %s", set.method, CSF_PSY_THRESHOLD_DEFINITION);
     b.method = method_desc;
     b.date_utc = date;
     b.tool_version = CSF_VERSION;
-    b.viewing_distance_mm = cfg->viewing_distance_mm;
-    b.mean_lum_cdm2 = csf_round9(mean_lum);
-    b.trials = res->n_trials;
+    b.viewing_distance_mm = R->cfg->viewing_distance_mm;
+    b.mean_lum_cdm2 = csf_round9(R->mean_lum_cdm2);
+    b.trials = R->res->n_trials;
     csflut_diag diag;
     memset(&diag, 0, sizeof diag);
-    csflut_status ls = csflut_write_file_diag(&b, opt->out_path, &diag);
+    csflut_status ls = csflut_write_file_diag(&b, R->opt->out_path, &diag);
     free(thr);
     free(se);
-    if (ls != CSFLUT_OK) {
+    if (ls != CSFLUT_OK)
         /* the writer's diagnostic carries the OS error ("No space left on device") */
-        st = csf_error_set(err, ls == CSFLUT_E_NOMEM ? CSF_E_NOMEM : CSF_E_IO, "writing the threshold table %s: %s",
-                           opt->out_path, diag.message[0] ? diag.message : csflut_strerror(ls));
-        goto restore;
-    }
-    res->table_written = 1;
+        return csf_error_set(err, ls == CSFLUT_E_NOMEM ? CSF_E_NOMEM : CSF_E_IO, "writing the threshold table %s: %s",
+                             R->opt->out_path, diag.message[0] ? diag.message : csflut_strerror(ls));
+    R->res->table_written = 1;
     char *blob = NULL;
     size_t blen = 0;
-    if (csf_read_file(opt->out_path, "threshold table", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
-        st = csf_store_add_artifact(S.store, sid, "csflut", opt->out_path, blob, blen, err);
+    csf_status st = CSF_OK;
+    if (csf_read_file(R->opt->out_path, "threshold table", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
+        st = csf_store_add_artifact(S->store, R->sid, "csflut", R->opt->out_path, blob, blen, err);
     free(blob);
-    if (st != CSF_OK) goto restore;
-    st = csf_store_set_session_state(S.store, sid, "finished", err);
-    if (st != CSF_OK) goto restore;
-    if (opt->plot_path && *opt->plot_path) {
-        st = csf_report_write(S.store, sid, opt->plot_path, err);
-        if (st != CSF_OK) goto restore;
-        blob = NULL;
-        if (csf_read_file(opt->plot_path, "report plot", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
-            csf_store_add_artifact(S.store, sid, "plot", opt->plot_path, blob, blen, NULL);
-        free(blob);
-    }
+    return st;
+}
 
-restore:
+/* The session finished; its plot, when asked for, written and kept as an artifact. */
+static csf_status finish_session(obs_run *R, csf_error *err)
+{
+    const csf_obs_options *opt = R->opt;
+    csf_status st = csf_store_set_session_state(R->S.store, R->sid, "finished", err);
+    if (st != CSF_OK || !opt->plot_path || !*opt->plot_path) return st;
+    st = csf_report_write(R->S.store, R->sid, opt->plot_path, err);
+    if (st != CSF_OK) return st;
+    char *blob = NULL;
+    size_t blen = 0;
+    if (csf_read_file(opt->plot_path, "report plot", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
+        csf_store_add_artifact(R->S.store, R->sid, "plot", opt->plot_path, blob, blen, NULL);
+    free(blob);
+    return CSF_OK;
+}
+
+/* The trials and what follows them, with SIGINT/SIGTERM turned into a pause meanwhile. */
+static csf_status run_trials_and_table(obs_run *R, csf_error *err)
+{
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    stop_requested = 0;
+    csf_status st = run_practice(R, err);
+    if (st == CSF_OK) st = replay_stored(R, err);
+    if (st == CSF_OK) st = run_main_trials(R, err);
+    if (st == CSF_OK) st = judge_session(R, err);
+    if (st == CSF_OK) st = write_table(R, err);
+    if (st == CSF_OK) st = finish_session(R, err);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
-out:
-    /* A failure after the session began (the store or the disk refused a write, the table or the
-     * plot could not be written) keeps every stored trial: the session is left paused so that
-     * --resume finishes it (the store may refuse that too on a full disk; a running session is
-     * resumable as well); so is a closed window. Pauses already said so, refusals of the data
-     * (aborted) end it. */
-    if (st != CSF_OK && !said_paused && st != CSF_E_INSUFFICIENT && res->session_id) {
-        csf_error e2;
-        csf_store_set_session_state(S.store, res->session_id, "paused", &e2);
-        res->resumable = 1;
-    }
-    struct timespec w1;
-    clock_gettime(CLOCK_MONOTONIC, &w1);
-    res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    return st;
+}
+
+/* The one-line summary of a finished session. */
+static void summarise(const obs_run *R)
+{
+    const csf_obs_result *res = R->res;
+    const csf_obs_options *opt = R->opt;
     char four_note[48] = "", offset_note[120] = "";
     if (res->n_cells_four_place > 0)
         snprintf(four_note, sizeof four_note, " (%d with four places)", res->n_cells_four_place);
     if (isfinite(res->fade_offset_log10))
         snprintf(offset_note, sizeof offset_note, ", yes/no - forced choice %+.3f +- %.3f log10 (%d anchors)",
                  res->fade_offset_log10, res->fade_offset_sd_log10, res->n_fade_anchors);
-    if (st == CSF_OK)
-        snprintf(res->summary, sizeof res->summary,
-                 "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
-                 "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10%s -> %s%s%s",
-                 (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
-                 res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note, res->n_visible,
-                 res->n_invisible, res->median_se_log10, offset_note, opt->out_path,
-                 opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
-    session_free(&S);
+    snprintf(R->res->summary, sizeof R->res->summary,
+             "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
+             "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10%s -> %s%s%s",
+             (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
+             res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note, res->n_visible,
+             res->n_invisible, res->median_se_log10, offset_note, opt->out_path,
+             opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
+}
+
+csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
+{
+    memset(res, 0, sizeof *res);
+    res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
+    res->fa_rate = res->latency_s = res->median_se_log10 = NAN;
+    struct timespec w0;
+    clock_gettime(CLOCK_MONOTONIC, &w0);
+    if (!opt->out_path || !*opt->out_path)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
+    csf_status st = check_outputs(opt, err);
+    if (st != CSF_OK) return st;
+    obs_run *R = calloc(1, sizeof *R);
+    if (!R) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    R->opt = opt;
+    R->cfg = opt->cfg;
+    R->res = res;
+    R->sid = opt->resume_id;
+    R->seed = opt->seed;
+    st = csf_geometry_init(&R->geom, CSF_GEOMETRY_FROM_CONFIG(*R->cfg), err);
+    if (st != CSF_OK) {
+        free(R);
+        return st;
+    }
+    st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
+    if (st == CSF_OK) st = open_method_and_person(R, err);
+    if (st == CSF_OK) st = open_display_side(R, err);
+    if (st == CSF_OK) st = open_session_row(R, err);
+    if (st == CSF_OK) st = prepare_cells(R, err);
+    if (st == CSF_OK) st = run_trials_and_table(R, err);
+    /* A failure after the session began (the store or the disk refused a write, the table or the
+     * plot could not be written) keeps every stored trial: the session is left paused so that
+     * --resume finishes it (the store may refuse that too on a full disk; a running session is
+     * resumable as well); so is a closed window. Pauses already said so, refusals of the data
+     * (aborted) end it. */
+    if (st != CSF_OK && !R->said_paused && st != CSF_E_INSUFFICIENT && res->session_id) {
+        csf_error e2;
+        csf_store_set_session_state(R->S.store, res->session_id, "paused", &e2);
+        res->resumable = 1;
+    }
+    struct timespec w1;
+    clock_gettime(CLOCK_MONOTONIC, &w1);
+    res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    if (st == CSF_OK) summarise(R);
+    session_free(&R->S);
+    free(R);
     return st;
 }
 
