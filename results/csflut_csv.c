@@ -163,231 +163,226 @@ static csflut_status csv_fail(csflut_diag *d, size_t line, const char *what)
     return CSFLUT_E_CSV;
 }
 
-csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out, csflut_diag *diag)
-{
-    if (diag) memset(diag, 0, sizeof *diag);
-    if (!out || (!text && len)) {
-        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL argument");
-        return CSFLUT_E_ARG;
-    }
-    *out = NULL;
+/* What has been read of the CSV: where each column sits, the data rows, the # metadata. */
+typedef struct {
     int colmap[N_COLS]; /* field position of each column, -1 absent */
-    for (int c = 0; c < N_COLS; c++) colmap[c] = -1;
-    int n_fields = 0, have_header = 0;
-    row *rows = NULL;
-    size_t n_rows = 0, cap_rows = 0, line = 0;
-    csflut_status st = CSFLUT_OK;
+    int n_fields, have_header;
+    row *rows;
+    size_t n_rows, cap_rows;
+    csv_meta meta;
+} csv_read;
+
+/* The header: known column names, each once, the required ones present. */
+static csflut_status read_header(csv_read *cr, const char **fs, const size_t *fl, int nf, char *msg, size_t msz)
+{
+    if (nf < 0) {
+        snprintf(msg, msz, "header has more than %d columns", N_COLS);
+        return CSFLUT_E_CSV;
+    }
+    for (int k = 0; k < nf; k++) {
+        int found = -1;
+        for (int c = 0; c < N_COLS; c++)
+            if (fl[k] == strlen(col_names[c]) && memcmp(fs[k], col_names[c], fl[k]) == 0) found = c;
+        if (found < 0) {
+            snprintf(msg, msz,
+                     "unknown column \"%.*s\" (allowed: freq_cpd, ecc_deg, velocity_dps, "
+                     "lum_cdm2, threshold, stderr_log10)", (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
+            return CSFLUT_E_CSV;
+        }
+        if (cr->colmap[found] >= 0) {
+            snprintf(msg, msz, "column %s appears twice", col_names[found]);
+            return CSFLUT_E_CSV;
+        }
+        cr->colmap[found] = k;
+    }
+    const int required[3] = {COL_FREQ, COL_ECC, COL_THR};
+    for (int k = 0; k < 3; k++)
+        if (cr->colmap[required[k]] < 0) {
+            snprintf(msg, msz, "header lacks the required column %s", col_names[required[k]]);
+            return CSFLUT_E_CSV;
+        }
+    cr->n_fields = nf;
+    cr->have_header = 1;
+    return CSFLUT_OK;
+}
+
+/* Why a column's value is out of its range (NULL: it is not). */
+static const char *value_rule(int c, double v)
+{
+    switch (c) {
+    case COL_FREQ: return isfinite(v) && v > 0 ? NULL : "must be finite and > 0 cpd";
+    case COL_ECC: return isfinite(v) && v >= 0 ? NULL : "must be finite and >= 0 deg";
+    case COL_VEL: return isfinite(v) && v >= 0 ? NULL : "must be finite and >= 0 deg/s";
+    case COL_LUM: return isfinite(v) && v > 0 ? NULL : "must be finite and > 0 cd/m2";
+    case COL_THR: return v > 0 ? NULL : "must be > 0 (inf = never visible)";
+    case COL_SE: return v != v || (isfinite(v) && v >= 0) ? NULL : "must be >= 0, or empty/nan for unknown";
+    }
+    return NULL;
+}
+
+/* One data row: as many fields as the header, each a number in its column's range. */
+static csflut_status read_row(csv_read *cr, size_t line, const char **fs, const size_t *fl, int nf, char *msg,
+                              size_t msz)
+{
+    if (nf != cr->n_fields) {
+        snprintf(msg, msz, "%s fields, the header has %d",
+                 nf < 0 ? "too many" : (nf < cr->n_fields ? "too few" : "too many"), cr->n_fields);
+        return CSFLUT_E_CSV;
+    }
+    if (cr->n_rows >= CSFLUT_MAX_NODES) {
+        snprintf(msg, msz, "more than %u rows", (unsigned)CSFLUT_MAX_NODES);
+        return CSFLUT_E_CSV;
+    }
+    if (cr->n_rows == cr->cap_rows) {
+        size_t nc = cr->cap_rows ? cr->cap_rows * 2 : 64;
+        row *nr = realloc(cr->rows, nc * sizeof *cr->rows);
+        if (!nr) return CSFLUT_E_NOMEM;
+        cr->rows = nr;
+        cr->cap_rows = nc;
+    }
+    row *r = &cr->rows[cr->n_rows];
+    r->line = line;
+    for (int c = 0; c < N_COLS; c++) {
+        r->v[c] = NAN;
+        int k = cr->colmap[c];
+        if (k < 0) continue;
+        if (c == COL_SE && (fl[k] == 0)) continue; /* empty = unknown */
+        if (parse_num(fs[k], fl[k], &r->v[c]) != 0) {
+            snprintf(msg, msz, "%s \"%.*s\" is not a number", col_names[c], (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
+            return CSFLUT_E_CSV;
+        }
+        const char *rule = value_rule(c, r->v[c]);
+        if (rule) {
+            snprintf(msg, msz, "%s %g %s", col_names[c], r->v[c], rule);
+            return CSFLUT_E_CSV;
+        }
+    }
+    cr->n_rows++;
+    return CSFLUT_OK;
+}
+
+/* Every line: # metadata, blank lines, the header, then the rows. *line ends as the number of
+ * lines read (the line a failure names). */
+static csflut_status read_lines(csv_read *cr, const char *text, size_t len, size_t *line, csflut_diag *diag)
+{
     char msg[200];
     const char *p = text ? text : "", *end = p + len;
-    csflut_grid *g = NULL;
-    size_t *node_line = NULL;
-    csv_meta meta = {.dist_mm = NAN, .mean_lum = NAN};
-
-    while (p < end) {
+    for (const char *next; p < end; p = next) {
         const char *e = memchr(p, '\n', (size_t)(end - p));
-        const char *next = e ? e + 1 : end;
+        next = e ? e + 1 : end;
         if (!e) e = end;
-        line++;
+        (*line)++;
         const char *le = e;
         if (le > p && le[-1] == '\r') le--;
         const char *q = p;
         while (q < le && (*q == ' ' || *q == '\t')) q++;
         if (q < le && *q == '#') {
-            st = parse_meta(q, le, &meta, msg, sizeof msg);
-            if (st == CSFLUT_E_CSV) st = csv_fail(diag, line, msg);
-            if (st) goto done;
+            csflut_status st = parse_meta(q, le, &cr->meta, msg, sizeof msg);
+            if (st == CSFLUT_E_CSV) return csv_fail(diag, *line, msg);
+            if (st) return st;
         }
-        if (q == le || *q == '#') {
-            p = next;
-            continue;
-        }
-        if (memchr(p, 0, (size_t)(le - p))) {
-            st = csv_fail(diag, line, "NUL byte in the line");
-            goto done;
-        }
+        if (q == le || *q == '#') continue;
+        if (memchr(p, 0, (size_t)(le - p))) return csv_fail(diag, *line, "NUL byte in the line");
         const char *fs[N_COLS];
         size_t fl[N_COLS];
         int nf = split(p, le, fs, fl, N_COLS);
-        if (!have_header) {
-            if (nf < 0) {
-                snprintf(msg, sizeof msg, "header has more than %d columns", N_COLS);
-                st = csv_fail(diag, line, msg);
-                goto done;
-            }
-            for (int k = 0; k < nf; k++) {
-                int found = -1;
-                for (int c = 0; c < N_COLS; c++)
-                    if (fl[k] == strlen(col_names[c]) && memcmp(fs[k], col_names[c], fl[k]) == 0)
-                        found = c;
-                if (found < 0) {
-                    snprintf(msg, sizeof msg,
-                             "unknown column \"%.*s\" (allowed: freq_cpd, ecc_deg, velocity_dps, "
-                             "lum_cdm2, threshold, stderr_log10)", (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
-                    st = csv_fail(diag, line, msg);
-                    goto done;
-                }
-                if (colmap[found] >= 0) {
-                    snprintf(msg, sizeof msg, "column %s appears twice", col_names[found]);
-                    st = csv_fail(diag, line, msg);
-                    goto done;
-                }
-                colmap[found] = k;
-            }
-            const int required[3] = {COL_FREQ, COL_ECC, COL_THR};
-            for (int k = 0; k < 3; k++)
-                if (colmap[required[k]] < 0) {
-                    snprintf(msg, sizeof msg, "header lacks the required column %s",
-                             col_names[required[k]]);
-                    st = csv_fail(diag, line, msg);
-                    goto done;
-                }
-            n_fields = nf;
-            have_header = 1;
-            p = next;
-            continue;
-        }
-        if (nf != n_fields) {
-            snprintf(msg, sizeof msg, "%s fields, the header has %d",
-                     nf < 0 ? "too many" : (nf < n_fields ? "too few" : "too many"), n_fields);
-            st = csv_fail(diag, line, msg);
-            goto done;
-        }
-        if (n_rows >= CSFLUT_MAX_NODES) {
-            snprintf(msg, sizeof msg, "more than %u rows", (unsigned)CSFLUT_MAX_NODES);
-            st = csv_fail(diag, line, msg);
-            goto done;
-        }
-        if (n_rows == cap_rows) {
-            size_t nc = cap_rows ? cap_rows * 2 : 64;
-            row *nr = realloc(rows, nc * sizeof *rows);
-            if (!nr) {
-                st = CSFLUT_E_NOMEM;
-                csflut_diag_set(diag, st, line, "out of memory");
-                goto done;
-            }
-            rows = nr;
-            cap_rows = nc;
-        }
-        row *r = &rows[n_rows];
-        r->line = line;
-        for (int c = 0; c < N_COLS; c++) {
-            r->v[c] = NAN;
-            int k = colmap[c];
-            if (k < 0) continue;
-            if (c == COL_SE && (fl[k] == 0)) continue; /* empty = unknown */
-            if (parse_num(fs[k], fl[k], &r->v[c]) != 0) {
-                snprintf(msg, sizeof msg, "%s \"%.*s\" is not a number", col_names[c],
-                         (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
-                st = csv_fail(diag, line, msg);
-                goto done;
-            }
-            double v = r->v[c];
-            const char *rule = NULL;
-            switch (c) {
-            case COL_FREQ: if (!(isfinite(v) && v > 0)) rule = "must be finite and > 0 cpd"; break;
-            case COL_ECC: if (!(isfinite(v) && v >= 0)) rule = "must be finite and >= 0 deg"; break;
-            case COL_VEL: if (!(isfinite(v) && v >= 0)) rule = "must be finite and >= 0 deg/s"; break;
-            case COL_LUM: if (!(isfinite(v) && v > 0)) rule = "must be finite and > 0 cd/m2"; break;
-            case COL_THR: if (!(v > 0)) rule = "must be > 0 (inf = never visible)"; break;
-            case COL_SE: if (v == v && !(isfinite(v) && v >= 0)) rule = "must be >= 0, or empty/nan for unknown"; break;
-            }
-            if (rule) {
-                snprintf(msg, sizeof msg, "%s %g %s", col_names[c], v, rule);
-                st = csv_fail(diag, line, msg);
-                goto done;
-            }
-        }
-        n_rows++;
-        p = next;
+        csflut_status st = cr->have_header ? read_row(cr, *line, fs, fl, nf, msg, sizeof msg)
+                                           : read_header(cr, fs, fl, nf, msg, sizeof msg);
+        if (st == CSFLUT_E_CSV) return csv_fail(diag, *line, msg);
+        if (st == CSFLUT_E_NOMEM) csflut_diag_set(diag, st, *line, "out of memory");
+        if (st) return st;
     }
-    if (!have_header) {
-        st = csv_fail(diag, line ? line : 1, "no header row (expected freq_cpd,ecc_deg,...,threshold)");
-        goto done;
-    }
-    if (n_rows == 0) {
-        st = csv_fail(diag, line, "no data rows");
-        goto done;
-    }
+    if (!cr->have_header)
+        return csv_fail(diag, *line ? *line : 1, "no header row (expected freq_cpd,ecc_deg,...,threshold)");
+    if (cr->n_rows == 0) return csv_fail(diag, *line, "no data rows");
+    return CSFLUT_OK;
+}
 
-    g = calloc(1, sizeof *g);
-    if (!g) {
-        st = CSFLUT_E_NOMEM;
-        goto done;
-    }
-    int n[4] = {0, 0, 0, 0};
+/* The grid's axes: each present column's distinct values, sorted, into g->pts and n. */
+static csflut_status grid_axes(csflut_grid *g, const csv_read *cr, int n[4], char *msg, size_t msz)
+{
     for (int a = 0; a < 4; a++) {
-        if (colmap[a] < 0) continue;
-        double *v = malloc(n_rows * sizeof *v);
-        if (!v) {
-            st = CSFLUT_E_NOMEM;
-            goto done;
-        }
-        for (size_t i = 0; i < n_rows; i++) v[i] = rows[i].v[a];
-        qsort(v, n_rows, sizeof *v, cmp_double);
+        if (cr->colmap[a] < 0) continue;
+        double *v = malloc(cr->n_rows * sizeof *v);
+        if (!v) return CSFLUT_E_NOMEM;
+        for (size_t i = 0; i < cr->n_rows; i++) v[i] = cr->rows[i].v[a];
+        qsort(v, cr->n_rows, sizeof *v, cmp_double);
         size_t u = 0;
-        for (size_t i = 0; i < n_rows; i++)
+        for (size_t i = 0; i < cr->n_rows; i++)
             if (u == 0 || v[i] != v[u - 1]) v[u++] = v[i];
         if (u > CSFLUT_MAX_POINTS) {
             free(v);
-            snprintf(msg, sizeof msg, "column %s has %zu distinct values (at most %d grid points)",
-                     col_names[a], u, CSFLUT_MAX_POINTS);
-            st = csv_fail(diag, line, msg);
-            goto done;
+            snprintf(msg, msz, "column %s has %zu distinct values (at most %d grid points)", col_names[a], u,
+                     CSFLUT_MAX_POINTS);
+            return CSFLUT_E_CSV;
         }
         g->pts[a] = v;
         n[a] = (int)u;
     }
+    return CSFLUT_OK;
+}
+
+/* Names the grid point node k lacks a row for. */
+static void missing_node(const csflut_grid *g, const int n[4], size_t k, char *msg, size_t msz)
+{
+    size_t nv = n[2] > 0 ? (size_t)n[2] : 1;
+    size_t r = k;
+    int fi = (int)(r % (size_t)n[0]);
+    r /= (size_t)n[0];
+    int ei = (int)(r % (size_t)n[1]);
+    r /= (size_t)n[1];
+    int vi = (int)(r % nv);
+    int li = (int)(r / nv);
+    int m = snprintf(msg, msz, "the grid is incomplete: no row for freq_cpd=%.17g ecc_deg=%.17g", g->pts[0][fi],
+                     g->pts[1][ei]);
+    if (n[2] && m > 0 && (size_t)m < msz) m += snprintf(msg + m, msz - (size_t)m, " velocity_dps=%.17g", g->pts[2][vi]);
+    if (n[3] && m > 0 && (size_t)m < msz) snprintf(msg + m, msz - (size_t)m, " lum_cdm2=%.17g", g->pts[3][li]);
+}
+
+/* Every row's threshold (and standard error) into its grid node: each node exactly once. */
+static csflut_status grid_nodes(csflut_grid *g, const csv_read *cr, const int n[4], size_t line, csflut_diag *diag)
+{
+    char msg[200];
     size_t nodes = 1;
     for (int a = 0; a < 4; a++) nodes *= n[a] > 0 ? (size_t)n[a] : 1;
     if (nodes > CSFLUT_MAX_NODES) {
-        snprintf(msg, sizeof msg, "the grid would have %zu nodes (at most %u)", nodes,
-                 (unsigned)CSFLUT_MAX_NODES);
-        st = csv_fail(diag, line, msg);
-        goto done;
+        snprintf(msg, sizeof msg, "the grid would have %zu nodes (at most %u)", nodes, (unsigned)CSFLUT_MAX_NODES);
+        return csv_fail(diag, line, msg);
     }
     g->thr = malloc(nodes * sizeof(double));
-    node_line = calloc(nodes, sizeof *node_line);
-    if (colmap[COL_SE] >= 0) g->se = malloc(nodes * sizeof(double));
-    if (!g->thr || !node_line || (colmap[COL_SE] >= 0 && !g->se)) {
-        st = CSFLUT_E_NOMEM;
-        goto done;
-    }
+    size_t *node_line = calloc(nodes, sizeof *node_line);
+    if (cr->colmap[COL_SE] >= 0) g->se = malloc(nodes * sizeof(double));
+    csflut_status st = CSFLUT_OK;
+    if (!g->thr || !node_line || (cr->colmap[COL_SE] >= 0 && !g->se)) st = CSFLUT_E_NOMEM;
     size_t nv = n[2] > 0 ? (size_t)n[2] : 1;
-    for (size_t i = 0; i < n_rows; i++) {
+    for (size_t i = 0; st == CSFLUT_OK && i < cr->n_rows; i++) {
+        const row *rw = &cr->rows[i];
         int idx[4] = {0, 0, 0, 0};
         for (int a = 0; a < 4; a++)
-            if (n[a] > 0) idx[a] = find(g->pts[a], n[a], rows[i].v[a]);
-        size_t k = (((size_t)idx[3] * nv + (size_t)idx[2]) * (size_t)n[1] + (size_t)idx[1]) *
-                       (size_t)n[0] + (size_t)idx[0];
+            if (n[a] > 0) idx[a] = find(g->pts[a], n[a], rw->v[a]);
+        size_t k = (((size_t)idx[3] * nv + (size_t)idx[2]) * (size_t)n[1] + (size_t)idx[1]) * (size_t)n[0] +
+                   (size_t)idx[0];
         if (node_line[k]) {
-            snprintf(msg, sizeof msg, "duplicate grid point (same axis values as line %zu)",
-                     node_line[k]);
-            st = csv_fail(diag, rows[i].line, msg);
-            goto done;
+            snprintf(msg, sizeof msg, "duplicate grid point (same axis values as line %zu)", node_line[k]);
+            st = csv_fail(diag, rw->line, msg);
+            break;
         }
-        node_line[k] = rows[i].line;
-        g->thr[k] = rows[i].v[COL_THR];
-        if (g->se) g->se[k] = rows[i].v[COL_SE];
+        node_line[k] = rw->line;
+        g->thr[k] = rw->v[COL_THR];
+        if (g->se) g->se[k] = rw->v[COL_SE];
     }
-    for (size_t k = 0; k < nodes; k++)
+    for (size_t k = 0; st == CSFLUT_OK && k < nodes; k++)
         if (!node_line[k]) {
-            size_t r = k;
-            int fi = (int)(r % (size_t)n[0]);
-            r /= (size_t)n[0];
-            int ei = (int)(r % (size_t)n[1]);
-            r /= (size_t)n[1];
-            int vi = (int)(r % nv);
-            int li = (int)(r / nv);
-            int m = snprintf(msg, sizeof msg,
-                             "the grid is incomplete: no row for freq_cpd=%.17g ecc_deg=%.17g",
-                             g->pts[0][fi], g->pts[1][ei]);
-            if (n[2] && m > 0 && (size_t)m < sizeof msg)
-                m += snprintf(msg + m, sizeof msg - (size_t)m, " velocity_dps=%.17g", g->pts[2][vi]);
-            if (n[3] && m > 0 && (size_t)m < sizeof msg)
-                snprintf(msg + m, sizeof msg - (size_t)m, " lum_cdm2=%.17g", g->pts[3][li]);
+            missing_node(g, n, k, msg, sizeof msg);
             st = csv_fail(diag, line, msg);
-            goto done;
         }
+    free(node_line);
+    return st;
+}
+
+/* The table's build: the axes, the values and the metadata (which g takes over from cr). */
+static void grid_build(csflut_grid *g, csv_read *cr, const int n[4])
+{
     csflut_build *b = &g->build;
     b->n_freq = n[0];
     b->n_ecc = n[1];
@@ -400,27 +395,50 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
     b->threshold = g->thr;
     b->stderr_log10 = g->se;
     for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
-        g->meta[k] = meta.str[k];
-        meta.str[k] = NULL;
+        g->meta[k] = cr->meta.str[k];
+        cr->meta.str[k] = NULL;
     }
     b->observer = g->meta[0];
     b->display_profile_id = g->meta[1];
     b->method = g->meta[2];
     b->date_utc = g->meta[3];
     b->tool_version = g->meta[4];
-    b->viewing_distance_mm = meta.dist_mm;
-    b->mean_lum_cdm2 = meta.mean_lum;
-    b->trials = (int)meta.trials;
-    csflut_diag vd;
-    st = csflut_validate_build(b, &vd);
-    if (st) {
-        csflut_diag_set(diag, st, 0, "%s", vd.message);
-        goto done;
+    b->viewing_distance_mm = cr->meta.dist_mm;
+    b->mean_lum_cdm2 = cr->meta.mean_lum;
+    b->trials = (int)cr->meta.trials;
+}
+
+csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out, csflut_diag *diag)
+{
+    if (diag) memset(diag, 0, sizeof *diag);
+    if (!out || (!text && len)) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL argument");
+        return CSFLUT_E_ARG;
     }
-done:
-    free(rows);
-    free(node_line);
-    for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(meta.str[k]);
+    *out = NULL;
+    csv_read cr;
+    memset(&cr, 0, sizeof cr);
+    for (int c = 0; c < N_COLS; c++) cr.colmap[c] = -1;
+    cr.meta = (csv_meta){.dist_mm = NAN, .mean_lum = NAN};
+    size_t line = 0;
+    csflut_grid *g = NULL;
+    int n[4] = {0, 0, 0, 0};
+    char msg[200];
+    csflut_status st = read_lines(&cr, text, len, &line, diag);
+    if (st == CSFLUT_OK && !(g = calloc(1, sizeof *g))) st = CSFLUT_E_NOMEM;
+    if (st == CSFLUT_OK) {
+        st = grid_axes(g, &cr, n, msg, sizeof msg);
+        if (st == CSFLUT_E_CSV) csv_fail(diag, line, msg);
+    }
+    if (st == CSFLUT_OK) st = grid_nodes(g, &cr, n, line, diag);
+    if (st == CSFLUT_OK) {
+        grid_build(g, &cr, n);
+        csflut_diag vd;
+        st = csflut_validate_build(&g->build, &vd);
+        if (st) csflut_diag_set(diag, st, 0, "%s", vd.message);
+    }
+    free(cr.rows);
+    for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(cr.meta.str[k]);
     if (st) {
         if (st == CSFLUT_E_NOMEM) csflut_diag_set(diag, st, line, "out of memory");
         csflut_grid_free(g);
