@@ -1027,24 +1027,233 @@ static char *trim(char *s)
     return s;
 }
 
+/* What one pass over a profile's text has gathered besides the profile itself. */
+typedef struct {
+    pctx pc;
+    csf_display_profile *p;
+    int section;          /* -1 header keys, 0..3 curve, 4 readings */
+    int section_line;     /* lines seen in this section */
+    int seen_curve[CSF_CH_COUNT];
+    int cap_k[CSF_CH_COUNT];
+    size_t cap_r;
+    int declared_channels; /* has_channels, -1 not given */
+    int seen_prim;        /* bit per primary_r/g/b_xyz and white_xyz given */
+    double gam[CSF_CH_COUNT];
+} profile_parse;
+
+/* Line 1: the format and its version. */
+static csf_status parse_first_line(profile_parse *pp, const char *s)
+{
+    int ver;
+    char extra;
+    if (sscanf(s, "csfcal-display-profile %d%c", &ver, &extra) != 1)
+        return perr(&pp->pc, "not a csfcal display profile (first line must be 'csfcal-display-profile 1')");
+    if (ver != 1)
+        return csf_error_set(pp->pc.err, CSF_E_UNSUPPORTED, "%s: profile format version %d; this csfcal reads version 1",
+                             pp->pc.name, ver);
+    return CSF_OK;
+}
+
+/* "[readings]" or "[curve r|g|b|grey]", each curve once. */
+static csf_status parse_section_header(profile_parse *pp, char *s)
+{
+    char *close = strchr(s, ']');
+    if (!close || close[1]) return perr(&pp->pc, "malformed section header");
+    *close = 0;
+    if (strcmp(s + 1, "readings") == 0) {
+        pp->section = 4;
+    } else if (strncmp(s + 1, "curve ", 6) == 0) {
+        int c = channel_from_name(s + 7);
+        if (c < 0) return perr(&pp->pc, "unknown curve '%s' (r, g, b, grey)", s + 7);
+        if (pp->seen_curve[c]) return perr(&pp->pc, "curve %s given twice", s + 7);
+        pp->seen_curve[c] = 1;
+        pp->section = c;
+    } else {
+        return perr(&pp->pc, "unknown section [%s]", s + 1);
+    }
+    pp->section_line = 0;
+    return CSF_OK;
+}
+
+/* One "key = value" line before the first section. Unknown keys are allowed: later minor
+ * additions must not break older readers. */
+static csf_status parse_header_key(profile_parse *pp, char *s)
+{
+    csf_display_profile *p = pp->p;
+    pctx *pc = &pp->pc;
+    char *eq = strchr(s, '=');
+    if (!eq) return perr(pc, "expected key = value");
+    *eq = 0;
+    char *k = trim(s), *v = trim(eq + 1);
+    double x;
+    if (strcmp(k, "id") == 0) copy_str(p->id, sizeof p->id, v);
+    else if (strcmp(k, "display") == 0) copy_str(p->display, sizeof p->display, v);
+    else if (strcmp(k, "instrument") == 0) copy_str(p->instrument, sizeof p->instrument, v);
+    else if (strcmp(k, "created_utc") == 0) {
+        time_t t;
+        if (parse_utc(v, &t)) return perr(pc, "created_utc must be YYYY-MM-DDTHH:MM:SSZ");
+        copy_str(p->created_utc, sizeof p->created_utc, v);
+    } else if (strcmp(k, "tool_version") == 0) copy_str(p->tool_version, sizeof p->tool_version, v);
+    else if (strcmp(k, "lum_black_cdm2") == 0 || strcmp(k, "lum_max_cdm2") == 0) {
+        /* derived from the grey curve; checked for being a number only */
+        if (parse_dbl(v, &x) < 0) return perr(pc, "%s is not a number", k);
+    } else if (strcmp(k, "additivity_error") == 0) {
+        if (parse_dbl(v, &x) < 0 || (isfinite(x) && fabs(x) > 10))
+            return perr(pc, "additivity_error must be a number in -10..10 or nan");
+        p->additivity_error = x;
+    } else if (strcmp(k, "has_channels") == 0) {
+        if (strcmp(v, "0") && strcmp(v, "1")) return perr(pc, "has_channels must be 0 or 1");
+        pp->declared_channels = v[0] - '0';
+    } else if (strcmp(k, "primary_r_xyz") == 0 || strcmp(k, "primary_g_xyz") == 0 ||
+               strcmp(k, "primary_b_xyz") == 0 || strcmp(k, "white_xyz") == 0) {
+        int slot = k[0] == 'w' ? 3 : (k[8] == 'r' ? 0 : k[8] == 'g' ? 1 : 2);
+        double xyz[3];
+        int em;
+        if (split_nums(v, xyz, 3, &em) != 3 || em || !isfinite(xyz[0]) || !isfinite(xyz[1]) || !isfinite(xyz[2]))
+            return perr(pc, "%s must be three numbers X,Y,Z", k);
+        memcpy(p->rgbw_xyz[slot], xyz, sizeof xyz);
+        pp->seen_prim |= 1 << slot;
+    }
+    return CSF_OK;
+}
+
+/* A curve section's line: its gamma, its header, then rising knots. */
+static csf_status parse_curve_line(profile_parse *pp, char *s)
+{
+    int section = pp->section;
+    curve *c = &pp->p->c[section];
+    pctx *pc = &pp->pc;
+    if (pp->section_line == 1) {
+        char *eq = strchr(s, '=');
+        if (!eq || (*eq = 0, strcmp(trim(s), "transform_gamma") != 0) || parse_dbl(trim(eq + 1), &pp->gam[section]) < 0 ||
+            !(pp->gam[section] >= 1 && pp->gam[section] <= 4))
+            return perr(pc, "curve must start with transform_gamma = G (1 to 4)");
+        return CSF_OK;
+    }
+    if (pp->section_line == 2)
+        return strcmp(s, "drive01,lum_cdm2") != 0 ? perr(pc, "expected header drive01,lum_cdm2") : CSF_OK;
+    double f[2];
+    int em;
+    if (split_nums(s, f, 2, &em) != 2 || em || isnan(f[0]) || isnan(f[1])) return perr(pc, "expected drive01,lum_cdm2");
+    if (c->n >= MAX_KNOTS) return perr(pc, "more than %d knots in a curve", MAX_KNOTS);
+    if (f[0] < 0 || f[0] > 1 || f[1] < 0 || f[1] > 1e5)
+        return perr(pc, "drive %g or luminance %g out of range (0..1, 0..100000 cd/m2)", f[0], f[1]);
+    if (c->n > 0 && (f[0] <= c->v[c->n - 1] || f[1] < c->lum[c->n - 1]))
+        return perr(pc, "knots must rise: drive strictly, luminance never falling");
+    if (c->n == pp->cap_k[section]) {
+        int nc = pp->cap_k[section] ? pp->cap_k[section] * 2 : 32;
+        double *a = realloc(c->v, (size_t)nc * sizeof(double));
+        if (a) c->v = a;
+        double *b2 = realloc(c->lum, (size_t)nc * sizeof(double));
+        if (b2) c->lum = b2;
+        if (!a || !b2) return csf_error_set(pc->err, CSF_E_NOMEM, "out of memory");
+        pp->cap_k[section] = nc;
+    }
+    c->v[c->n] = f[0];
+    c->lum[c->n] = f[1];
+    c->n++;
+    return CSF_OK;
+}
+
+/* A [readings] line: its header, then channel,drive01,lum_cdm2 with X,Y,Z all or none. */
+static csf_status parse_reading_line(profile_parse *pp, char *s)
+{
+    csf_display_profile *p = pp->p;
+    pctx *pc = &pp->pc;
+    if (pp->section_line == 1)
+        return strcmp(s, "channel,drive01,lum_cdm2,X,Y,Z") != 0 ? perr(pc, "expected header channel,drive01,lum_cdm2,X,Y,Z")
+                                                                : CSF_OK;
+    char *comma = strchr(s, ',');
+    if (!comma) return perr(pc, "expected channel,drive01,lum_cdm2,X,Y,Z");
+    *comma = 0;
+    int ch = channel_from_name(s);
+    double f[5];
+    int em;
+    if (ch < 0 || split_nums(comma + 1, f, 5, &em) != 5 || (em & 3) || (em && em != 0x1c))
+        return perr(pc, "expected channel,drive01,lum_cdm2,X,Y,Z (X,Y,Z all or none)");
+    if (!(f[0] >= 0 && f[0] <= 1)) return perr(pc, "reading drive %g out of range 0..1", f[0]);
+    if (p->n_readings >= MAX_READINGS) return perr(pc, "more than %d readings", MAX_READINGS);
+    if (p->n_readings == pp->cap_r) {
+        size_t nc = pp->cap_r ? pp->cap_r * 2 : 64;
+        csf_profile_reading *a = realloc(p->readings, nc * sizeof *a);
+        if (!a) return csf_error_set(pc->err, CSF_E_NOMEM, "out of memory");
+        p->readings = a;
+        pp->cap_r = nc;
+    }
+    csf_profile_reading *r = &p->readings[p->n_readings++];
+    r->channel = ch;
+    r->drive01 = f[0];
+    r->lum_cdm2 = f[1];
+    r->has_xyz = em == 0;
+    for (int k = 0; k < 3; k++) r->xyz[k] = r->has_xyz ? f[2 + k] : NAN;
+    return CSF_OK;
+}
+
+/* One line of the text (NUL-free, trimmed), by where it stands. */
+static csf_status parse_line(profile_parse *pp, char *s)
+{
+    if (pp->pc.line == 1) return parse_first_line(pp, s);
+    if (!*s || *s == '#') return CSF_OK;
+    if (*s == '[') return parse_section_header(pp, s);
+    if (pp->section == -1) return parse_header_key(pp, s);
+    pp->section_line++;
+    return pp->section < 4 ? parse_curve_line(pp, s) : parse_reading_line(pp, s);
+}
+
+/* The checks that need the whole text: a grey curve, all three channel curves or none (as
+ * has_channels says), and each curve usable. */
+static csf_status finish_profile(profile_parse *pp)
+{
+    csf_display_profile *p = pp->p;
+    const char *name = pp->pc.name;
+    csf_error *err = pp->pc.err;
+    csf_status st = CSF_OK;
+    if (pp->pc.line == 0) return csf_error_set(err, CSF_E_FORMAT, "%s: empty file", name);
+    if (!pp->seen_curve[CSF_CH_GREY]) return csf_error_set(err, CSF_E_FORMAT, "%s: no [curve grey] section", name);
+    int chans = pp->seen_curve[0] + pp->seen_curve[1] + pp->seen_curve[2];
+    if (chans != 0 && chans != 3)
+        return csf_error_set(err, CSF_E_FORMAT, "%s: channel curves must be all of r, g, b or none", name);
+    if (pp->declared_channels >= 0 && pp->declared_channels != (chans == 3))
+        return csf_error_set(err, CSF_E_FORMAT, "%s: has_channels = %d but %d channel curves given", name,
+                             pp->declared_channels, chans);
+    for (int c = 0; st == CSF_OK && c < CSF_CH_COUNT; c++) {
+        if (!pp->seen_curve[c]) continue;
+        curve *cv = &p->c[c];
+        int n = cv->n;
+        double *v = cv->v, *L = cv->lum;
+        cv->v = NULL;
+        cv->lum = NULL;
+        if (n < 2 || v[0] != 0 || v[n - 1] != 1 || !(L[n - 1] > (c == CSF_CH_GREY ? L[0] : 0))) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s: curve %s needs knots at drive 0 and 1 with luminance rising",
+                               name, ch_names[c]);
+        } else if (curve_alloc(cv, n)) {
+            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        } else {
+            memcpy(cv->v, v, (size_t)n * sizeof(double));
+            memcpy(cv->lum, L, (size_t)n * sizeof(double));
+            if (curve_finish(cv, c != CSF_CH_GREY, pp->gam[c]))
+                st = csf_error_set(err, CSF_E_FORMAT, "%s: curve %s is not usable", name, ch_names[c]);
+        }
+        free(v);
+        free(L);
+    }
+    if (st == CSF_OK) {
+        p->has_channels = chans == 3;
+        p->has_primaries = pp->seen_prim == 15;
+    }
+    return st;
+}
+
 static csf_status parse_named(const char *text, size_t len, const char *name,
                               csf_display_profile **out, csf_error *err)
 {
     *out = NULL;
-    pctx pc = {name, 0, err};
     if (len > MAX_FILE_BYTES)
         return csf_error_set(err, CSF_E_FORMAT, "%s: %zu bytes (limit %u)", name, len, MAX_FILE_BYTES);
-    csf_display_profile *p = calloc(1, sizeof *p);
+    profile_parse pp = {.pc = {name, 0, err}, .section = -1, .declared_channels = -1};
+    csf_display_profile *p = pp.p = calloc(1, sizeof *p);
     if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     p->additivity_error = NAN;
-    size_t cap_r = 0;
-    int section = -1; /* -1 header keys, 0..3 curve, 4 readings */
-    int section_line = 0; /* lines seen in this section */
-    int seen_curve[CSF_CH_COUNT] = {0};
-    int cap_k[CSF_CH_COUNT] = {0};
-    int declared_channels = -1;
-    int seen_prim = 0;
-    double gam[CSF_CH_COUNT] = {0};
     csf_status st = CSF_OK;
     char line[1024];
     size_t pos = 0;
@@ -1053,230 +1262,24 @@ static csf_status parse_named(const char *text, size_t len, const char *name,
         while (pos < len && text[pos] != '\n') pos++;
         size_t l = pos - start;
         if (pos < len) pos++;
-        pc.line++;
+        pp.pc.line++;
         if (l >= sizeof line) {
-            st = perr(&pc, "line longer than %zu characters", sizeof line - 1);
+            st = perr(&pp.pc, "line longer than %zu characters", sizeof line - 1);
             break;
         }
         memcpy(line, text + start, l);
         line[l] = 0;
         if (strlen(line) != l) {
-            st = perr(&pc, "NUL byte in text");
+            st = perr(&pp.pc, "NUL byte in text");
             break;
         }
-        char *s = trim(line);
-        if (pc.line == 1) {
-            int ver;
-            char extra;
-            if (sscanf(s, "csfcal-display-profile %d%c", &ver, &extra) != 1) {
-                st = perr(&pc, "not a csfcal display profile (first line must be 'csfcal-display-profile 1')");
-            } else if (ver != 1) {
-                st = csf_error_set(err, CSF_E_UNSUPPORTED,
-                                   "%s: profile format version %d; this csfcal reads version 1", name, ver);
-            }
-            continue;
-        }
-        if (!*s || *s == '#') continue;
-        if (*s == '[') {
-            char *close = strchr(s, ']');
-            if (!close || close[1]) {
-                st = perr(&pc, "malformed section header");
-                break;
-            }
-            *close = 0;
-            if (strcmp(s + 1, "readings") == 0) {
-                section = 4;
-            } else if (strncmp(s + 1, "curve ", 6) == 0) {
-                int c = channel_from_name(s + 7);
-                if (c < 0) {
-                    st = perr(&pc, "unknown curve '%s' (r, g, b, grey)", s + 7);
-                    break;
-                }
-                if (seen_curve[c]) {
-                    st = perr(&pc, "curve %s given twice", s + 7);
-                    break;
-                }
-                seen_curve[c] = 1;
-                section = c;
-            } else {
-                st = perr(&pc, "unknown section [%s]", s + 1);
-                break;
-            }
-            section_line = 0;
-            continue;
-        }
-        if (section == -1) {
-            char *eq = strchr(s, '=');
-            if (!eq) {
-                st = perr(&pc, "expected key = value");
-                break;
-            }
-            *eq = 0;
-            char *k = trim(s), *v = trim(eq + 1);
-            double x;
-            if (strcmp(k, "id") == 0) copy_str(p->id, sizeof p->id, v);
-            else if (strcmp(k, "display") == 0) copy_str(p->display, sizeof p->display, v);
-            else if (strcmp(k, "instrument") == 0) copy_str(p->instrument, sizeof p->instrument, v);
-            else if (strcmp(k, "created_utc") == 0) {
-                time_t t;
-                if (parse_utc(v, &t)) {
-                    st = perr(&pc, "created_utc must be YYYY-MM-DDTHH:MM:SSZ");
-                    break;
-                }
-                copy_str(p->created_utc, sizeof p->created_utc, v);
-            } else if (strcmp(k, "tool_version") == 0) copy_str(p->tool_version, sizeof p->tool_version, v);
-            else if (strcmp(k, "lum_black_cdm2") == 0 || strcmp(k, "lum_max_cdm2") == 0) {
-                /* derived from the grey curve; checked for being a number only */
-                if (parse_dbl(v, &x) < 0) st = perr(&pc, "%s is not a number", k);
-            } else if (strcmp(k, "additivity_error") == 0) {
-                if (parse_dbl(v, &x) < 0 || (isfinite(x) && fabs(x) > 10)) st = perr(&pc, "additivity_error must be a number in -10..10 or nan");
-                else p->additivity_error = x;
-            } else if (strcmp(k, "has_channels") == 0) {
-                if (strcmp(v, "0") && strcmp(v, "1")) st = perr(&pc, "has_channels must be 0 or 1");
-                else declared_channels = v[0] - '0';
-            } else if (strcmp(k, "primary_r_xyz") == 0 || strcmp(k, "primary_g_xyz") == 0 ||
-                       strcmp(k, "primary_b_xyz") == 0 || strcmp(k, "white_xyz") == 0) {
-                int slot = k[0] == 'w' ? 3 : (k[8] == 'r' ? 0 : k[8] == 'g' ? 1 : 2);
-                double xyz[3];
-                int em;
-                if (split_nums(v, xyz, 3, &em) != 3 || em || !isfinite(xyz[0]) || !isfinite(xyz[1]) || !isfinite(xyz[2])) {
-                    st = perr(&pc, "%s must be three numbers X,Y,Z", k);
-                    break;
-                }
-                memcpy(p->rgbw_xyz[slot], xyz, sizeof xyz);
-                seen_prim |= 1 << slot;
-            } else {
-                /* unknown keys are allowed: later minor additions must not break older readers */
-            }
-            continue;
-        }
-        section_line++;
-        if (section < 4) {
-            curve *c = &p->c[section];
-            if (section_line == 1) {
-                char *eq = strchr(s, '=');
-                if (!eq || (*eq = 0, strcmp(trim(s), "transform_gamma") != 0) ||
-                    parse_dbl(trim(eq + 1), &gam[section]) < 0 || !(gam[section] >= 1 && gam[section] <= 4)) {
-                    st = perr(&pc, "curve must start with transform_gamma = G (1 to 4)");
-                }
-                continue;
-            }
-            if (section_line == 2) {
-                if (strcmp(s, "drive01,lum_cdm2") != 0) st = perr(&pc, "expected header drive01,lum_cdm2");
-                continue;
-            }
-            double f[2];
-            int em;
-            if (split_nums(s, f, 2, &em) != 2 || em || isnan(f[0]) || isnan(f[1])) {
-                st = perr(&pc, "expected drive01,lum_cdm2");
-                break;
-            }
-            if (c->n >= MAX_KNOTS) {
-                st = perr(&pc, "more than %d knots in a curve", MAX_KNOTS);
-                break;
-            }
-            if (f[0] < 0 || f[0] > 1 || f[1] < 0 || f[1] > 1e5) {
-                st = perr(&pc, "drive %g or luminance %g out of range (0..1, 0..100000 cd/m2)", f[0], f[1]);
-                break;
-            }
-            if (c->n > 0 && (f[0] <= c->v[c->n - 1] || f[1] < c->lum[c->n - 1])) {
-                st = perr(&pc, "knots must rise: drive strictly, luminance never falling");
-                break;
-            }
-            if (c->n == cap_k[section]) {
-                int nc = cap_k[section] ? cap_k[section] * 2 : 32;
-                double *a = realloc(c->v, (size_t)nc * sizeof(double));
-                if (a) c->v = a;
-                double *b2 = realloc(c->lum, (size_t)nc * sizeof(double));
-                if (b2) c->lum = b2;
-                if (!a || !b2) {
-                    st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-                    break;
-                }
-                cap_k[section] = nc;
-            }
-            c->v[c->n] = f[0];
-            c->lum[c->n] = f[1];
-            c->n++;
-            continue;
-        }
-        /* readings */
-        if (section_line == 1) {
-            if (strcmp(s, "channel,drive01,lum_cdm2,X,Y,Z") != 0) st = perr(&pc, "expected header channel,drive01,lum_cdm2,X,Y,Z");
-            continue;
-        }
-        char *comma = strchr(s, ',');
-        if (!comma) {
-            st = perr(&pc, "expected channel,drive01,lum_cdm2,X,Y,Z");
-            break;
-        }
-        *comma = 0;
-        int ch = channel_from_name(s);
-        double f[5];
-        int em;
-        if (ch < 0 || split_nums(comma + 1, f, 5, &em) != 5 || (em & 3) || (em && em != 0x1c)) {
-            st = perr(&pc, "expected channel,drive01,lum_cdm2,X,Y,Z (X,Y,Z all or none)");
-            break;
-        }
-        if (!(f[0] >= 0 && f[0] <= 1)) {
-            st = perr(&pc, "reading drive %g out of range 0..1", f[0]);
-            break;
-        }
-        if (p->n_readings >= MAX_READINGS) {
-            st = perr(&pc, "more than %d readings", MAX_READINGS);
-            break;
-        }
-        if (p->n_readings == cap_r) {
-            size_t nc = cap_r ? cap_r * 2 : 64;
-            csf_profile_reading *a = realloc(p->readings, nc * sizeof *a);
-            if (!a) {
-                st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-                break;
-            }
-            p->readings = a;
-            cap_r = nc;
-        }
-        csf_profile_reading *r = &p->readings[p->n_readings++];
-        r->channel = ch;
-        r->drive01 = f[0];
-        r->lum_cdm2 = f[1];
-        r->has_xyz = em == 0;
-        for (int k = 0; k < 3; k++) r->xyz[k] = r->has_xyz ? f[2 + k] : NAN;
+        st = parse_line(&pp, trim(line));
     }
-    if (st == CSF_OK && pc.line == 0) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty file", name);
-    if (st == CSF_OK && !seen_curve[CSF_CH_GREY]) st = csf_error_set(err, CSF_E_FORMAT, "%s: no [curve grey] section", name);
-    int chans = seen_curve[0] + seen_curve[1] + seen_curve[2];
-    if (st == CSF_OK && chans != 0 && chans != 3)
-        st = csf_error_set(err, CSF_E_FORMAT, "%s: channel curves must be all of r, g, b or none", name);
-    if (st == CSF_OK && declared_channels >= 0 && declared_channels != (chans == 3))
-        st = csf_error_set(err, CSF_E_FORMAT, "%s: has_channels = %d but %d channel curves given", name,
-                           declared_channels, chans);
-    for (int c = 0; st == CSF_OK && c < CSF_CH_COUNT; c++) {
-        if (!seen_curve[c]) continue;
-        curve *cv = &p->c[c];
-        int n = cv->n;
-        double *v = cv->v, *L = cv->lum;
-        cv->v = NULL; cv->lum = NULL;
-        if (n < 2 || v[0] != 0 || v[n - 1] != 1 || !(L[n - 1] > (c == CSF_CH_GREY ? L[0] : 0))) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "%s: curve %s needs knots at drive 0 and 1 with luminance rising", name, ch_names[c]);
-        } else if (curve_alloc(cv, n)) {
-            st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        } else {
-            memcpy(cv->v, v, (size_t)n * sizeof(double));
-            memcpy(cv->lum, L, (size_t)n * sizeof(double));
-            if (curve_finish(cv, c != CSF_CH_GREY, gam[c]))
-                st = csf_error_set(err, CSF_E_FORMAT, "%s: curve %s is not usable", name, ch_names[c]);
-        }
-        free(v);
-        free(L);
-    }
+    if (st == CSF_OK) st = finish_profile(&pp);
     if (st) {
         csf_profile_free(p);
         return st;
     }
-    p->has_channels = chans == 3;
-    p->has_primaries = seen_prim == 15;
     if (!p->created_utc[0]) copy_str(p->created_utc, sizeof p->created_utc, "1970-01-01T00:00:00Z");
     if (!p->id[0]) make_id(p);
     *out = p;
