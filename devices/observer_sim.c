@@ -393,6 +393,132 @@ static void describe(csf_observer_sim *o, const char *table_path)
         snprintf(o->desc + n, sizeof o->desc - (size_t)n, "%s)", extra);
 }
 
+/* What the spec says besides the parameters it sets directly. */
+typedef struct {
+    double rt_mean;        /* rt_mean= (NaN: not given); sets rt_mu from rt_tau at the end */
+    int view_keys;         /* display_gamma= or frame_step= given */
+    char table_path[1024]; /* table= */
+} spec_extras;
+
+/* A numeric key: rt_mean, or one of keys[] within its range (whole numbers where it counts
+ * frames or trials). */
+static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const char *val, spec_extras *x,
+                                   csf_error *err)
+{
+    const param_key *k = NULL;
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (strcmp(keys[i].key, tok) == 0) k = &keys[i];
+    char *end;
+    errno = 0;
+    double v = strtod(val, &end);
+    int bad_num = (*val == '\0' || *end != '\0' || errno == ERANGE || !isfinite(v));
+    if (strcmp(tok, "rt_mean") == 0) {
+        if (bad_num || v < 0.1 || v > 5)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: rt_mean=%s outside 0.1 to 5 s", val);
+        x->rt_mean = v;
+        return CSF_OK;
+    }
+    if (!k)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b ecc_scale "
+                             "field table decision slope lapse k criterion look guess fa anticip "
+                             "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
+                             "lapse_runs run_max click_sd click_sd_ecc click_range view display "
+                             "display_gamma frame_step)", tok);
+    if (bad_num || v < k->lo || v > k->hi)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s outside %g to %g", tok, val, k->lo, k->hi);
+    int counts = k->off == offsetof(csf_observer_sim_params, lapse_run_max) ||
+                 k->off == offsetof(csf_observer_sim_params, frame_step);
+    if (counts && v != floor(v))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s must be a whole number", tok, val);
+    *(double *)((char *)&o->p + k->off) = v;
+    if (k->off == offsetof(csf_observer_sim_params, display_gamma) ||
+        k->off == offsetof(csf_observer_sim_params, frame_step))
+        x->view_keys = 1;
+    if (k->off == offsetof(csf_observer_sim_params, slope)) o->p.slope_drawn = 0;
+    if (k->off == offsetof(csf_observer_sim_params, lapse)) o->p.lapse_drawn = 0;
+    if (k->off == offsetof(csf_observer_sim_params, k_transducer)) o->p.k_drawn = 0;
+    return CSF_OK;
+}
+
+/* One key=value (or "field=nasal") of the spec. */
+static csf_status parse_spec_token(csf_observer_sim *o, char *tok, uint64_t seed, spec_extras *x, csf_error *err)
+{
+    if (strcmp(tok, "field=nasal") == 0) {
+        csf_model_use_nasal_field(&o->p.model);
+        return CSF_OK;
+    }
+    char *eq = strchr(tok, '=');
+    if (!eq) return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: '%s' is not key=value", tok);
+    *eq = '\0';
+    const char *val = eq + 1;
+    if (strcmp(tok, "table") == 0) {
+        snprintf(x->table_path, sizeof x->table_path, "%s", val);
+        return CSF_OK;
+    }
+    if (strcmp(tok, "view") == 0) {
+        if (strcmp(val, "plan") == 0) o->p.view_frame = 0;
+        else if (strcmp(val, "frame") == 0) o->p.view_frame = 1;
+        else return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: view=%s: must be plan or frame", val);
+        return CSF_OK;
+    }
+    if (strcmp(tok, "display") == 0) {
+        int known = !strcmp(val, "crt") || !strcmp(val, "lcd") || !strcmp(val, "oled") || !strcmp(val, "profile") ||
+                    (!strncmp(val, "file=", 5) && val[5]);
+        if (!known || strlen(val) >= sizeof o->p.display)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "--observer: display=%.100s: must be crt, lcd, oled, profile or "
+                                 "file=PATH.csv (at most %zu characters)", val, sizeof o->p.display - 1);
+        snprintf(o->p.display, sizeof o->p.display, "%s", val);
+        return CSF_OK;
+    }
+    if (strcmp(tok, "decision") == 0) {
+        if (strcmp(val, "weibull") == 0) o->p.decision = CSF_SIM_WEIBULL;
+        else if (strcmp(val, "sdt") == 0) o->p.decision = CSF_SIM_SDT;
+        else return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: decision=%s: must be weibull or sdt", val);
+        return CSF_OK;
+    }
+    if (strcmp(val, "draw") == 0 && (!strcmp(tok, "slope") || !strcmp(tok, "lapse") || !strcmp(tok, "k"))) {
+        if (!strcmp(tok, "slope")) {
+            o->p.slope = draw_log_uniform(seed, 0, DRAW_SLOPE_LO, DRAW_SLOPE_HI);
+            o->p.slope_drawn = 1;
+        } else if (!strcmp(tok, "lapse")) {
+            o->p.lapse = DRAW_LAPSE_HI * csf_rng_uniform(seed, ST_DRAW, 1);
+            o->p.lapse_drawn = 1;
+        } else {
+            o->p.k_transducer = draw_log_uniform(seed, 2, DRAW_K_LO, DRAW_K_HI);
+            o->p.k_drawn = 1;
+        }
+        return CSF_OK;
+    }
+    if (strcmp(tok, "field") == 0)
+        return strcmp(val, "temporal") != 0
+                   ? csf_error_set(err, CSF_E_INVALID_ARG, "--observer: field must be temporal or nasal")
+                   : CSF_OK;
+    return parse_spec_number(o, tok, val, x, err);
+}
+
+/* The checks that need the whole spec. */
+static csf_status check_spec(csf_observer_sim *o, const spec_extras *x, csf_error *err)
+{
+    if (!isnan(x->rt_mean)) {
+        o->p.rt_mu_s = x->rt_mean - o->p.rt_tau_s;
+        if (o->p.rt_mu_s < 0.05)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: rt_mean=%g is below rt_tau + 0.05 s = %g s",
+                                 x->rt_mean, o->p.rt_tau_s + 0.05);
+    }
+    if (!o->p.view_frame && (o->p.display[0] || x->view_keys))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--observer: display=, display_gamma= and frame_step= need view=frame "
+                             "(the person looks at the screen only then)");
+    if (o->p.display_gamma > 0 && strcmp(o->p.display, "crt") && strcmp(o->p.display, "lcd") &&
+        strcmp(o->p.display, "oled"))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: display_gamma= applies to display=crt, lcd or oled only");
+    if (o->p.lapse + o->p.guess_2afc >= 1)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: guess + lapse must be below 1");
+    return CSF_OK;
+}
+
 csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer_sim **out,
                                    csf_error *err)
 {
@@ -402,158 +528,25 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "--observer: '%s' is not a simulated observer (expected sim or sim:key=value,...)",
                              spec);
+    char buf[1400];
+    if (strlen(spec) >= sizeof buf)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: spec longer than %zu characters", sizeof buf - 1);
     csf_observer_sim *o = calloc(1, sizeof *o);
     if (!o) return csf_error_set(err, CSF_E_NOMEM, "observer: out of memory");
     params_default(&o->p);
     o->seed = seed;
-    double rt_mean = NAN;
-    int view_keys = 0; /* display_gamma= or frame_step= given */
-    char table_path[1024] = "";
-    char buf[1400];
-    if (strlen(spec) >= sizeof buf) {
-        free(o);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: spec longer than %zu characters",
-                             sizeof buf - 1);
-    }
+    spec_extras x = {.rt_mean = NAN};
     snprintf(buf, sizeof buf, "%s", spec[3] == ':' ? spec + 4 : "");
     csf_status st = CSF_OK;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && st == CSF_OK;
-         tok = strtok_r(NULL, ",", &save)) {
-        char *eq = strchr(tok, '=');
-        if (strcmp(tok, "field=nasal") == 0) {
-            csf_model_use_nasal_field(&o->p.model);
-            continue;
-        }
-        if (!eq) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: '%s' is not key=value", tok);
-            break;
-        }
-        *eq = '\0';
-        const char *val = eq + 1;
-        if (strcmp(tok, "table") == 0) {
-            snprintf(table_path, sizeof table_path, "%s", val);
-            continue;
-        }
-        if (strcmp(tok, "view") == 0) {
-            if (strcmp(val, "plan") == 0) o->p.view_frame = 0;
-            else if (strcmp(val, "frame") == 0) o->p.view_frame = 1;
-            else {
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: view=%s: must be plan or frame", val);
-                break;
-            }
-            continue;
-        }
-        if (strcmp(tok, "display") == 0) {
-            int known = !strcmp(val, "crt") || !strcmp(val, "lcd") || !strcmp(val, "oled") ||
-                        !strcmp(val, "profile") || (!strncmp(val, "file=", 5) && val[5]);
-            if (!known || strlen(val) >= sizeof o->p.display) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG,
-                                   "--observer: display=%.100s: must be crt, lcd, oled, profile or "
-                                   "file=PATH.csv (at most %zu characters)", val, sizeof o->p.display - 1);
-                break;
-            }
-            snprintf(o->p.display, sizeof o->p.display, "%s", val);
-            continue;
-        }
-        if (strcmp(tok, "decision") == 0) {
-            if (strcmp(val, "weibull") == 0) o->p.decision = CSF_SIM_WEIBULL;
-            else if (strcmp(val, "sdt") == 0) o->p.decision = CSF_SIM_SDT;
-            else {
-                st = csf_error_set(err, CSF_E_INVALID_ARG,
-                                   "--observer: decision=%s: must be weibull or sdt", val);
-                break;
-            }
-            continue;
-        }
-        if (strcmp(val, "draw") == 0 &&
-            (!strcmp(tok, "slope") || !strcmp(tok, "lapse") || !strcmp(tok, "k"))) {
-            if (!strcmp(tok, "slope")) {
-                o->p.slope = draw_log_uniform(seed, 0, DRAW_SLOPE_LO, DRAW_SLOPE_HI);
-                o->p.slope_drawn = 1;
-            } else if (!strcmp(tok, "lapse")) {
-                o->p.lapse = DRAW_LAPSE_HI * csf_rng_uniform(seed, ST_DRAW, 1);
-                o->p.lapse_drawn = 1;
-            } else {
-                o->p.k_transducer = draw_log_uniform(seed, 2, DRAW_K_LO, DRAW_K_HI);
-                o->p.k_drawn = 1;
-            }
-            continue;
-        }
-        if (strcmp(tok, "field") == 0) {
-            if (strcmp(val, "temporal") != 0)
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: field must be temporal or nasal");
-            continue;
-        }
-        const param_key *k = NULL;
-        for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
-            if (strcmp(keys[i].key, tok) == 0) k = &keys[i];
-        double v;
-        char *end;
-        errno = 0;
-        v = strtod(val, &end);
-        int bad_num = (*val == '\0' || *end != '\0' || errno == ERANGE || !isfinite(v));
-        if (strcmp(tok, "rt_mean") == 0) {
-            if (bad_num || v < 0.1 || v > 5) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: rt_mean=%s outside 0.1 to 5 s", val);
-                break;
-            }
-            rt_mean = v;
-            continue;
-        }
-        if (!k) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b ecc_scale "
-                               "field table decision slope lapse k criterion look guess fa anticip "
-                               "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
-                               "lapse_runs run_max click_sd click_sd_ecc click_range view display "
-                               "display_gamma frame_step)", tok);
-            break;
-        }
-        if (bad_num || v < k->lo || v > k->hi) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s outside %g to %g", tok, val,
-                               k->lo, k->hi);
-            break;
-        }
-        if ((k->off == offsetof(csf_observer_sim_params, lapse_run_max) ||
-             k->off == offsetof(csf_observer_sim_params, frame_step)) && v != floor(v)) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s must be a whole number", tok, val);
-            break;
-        }
-        if (k->off == offsetof(csf_observer_sim_params, lapse_run_max) && v != floor(v)) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: run_max=%s must be a whole number of trials", val);
-            break;
-        }
-        *(double *)((char *)&o->p + k->off) = v;
-        if (k->off == offsetof(csf_observer_sim_params, display_gamma) ||
-            k->off == offsetof(csf_observer_sim_params, frame_step))
-            view_keys = 1;
-        if (k->off == offsetof(csf_observer_sim_params, slope)) o->p.slope_drawn = 0;
-        if (k->off == offsetof(csf_observer_sim_params, lapse)) o->p.lapse_drawn = 0;
-        if (k->off == offsetof(csf_observer_sim_params, k_transducer)) o->p.k_drawn = 0;
-    }
-    if (st == CSF_OK && !isnan(rt_mean)) {
-        o->p.rt_mu_s = rt_mean - o->p.rt_tau_s;
-        if (o->p.rt_mu_s < 0.05)
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "--observer: rt_mean=%g is below rt_tau + 0.05 s = %g s", rt_mean,
-                               o->p.rt_tau_s + 0.05);
-    }
-    if (st == CSF_OK && !o->p.view_frame && (o->p.display[0] || view_keys))
-        st = csf_error_set(err, CSF_E_INVALID_ARG,
-                           "--observer: display=, display_gamma= and frame_step= need view=frame "
-                           "(the person looks at the screen only then)");
-    if (st == CSF_OK && o->p.display_gamma > 0 && strcmp(o->p.display, "crt") && strcmp(o->p.display, "lcd") &&
-        strcmp(o->p.display, "oled"))
-        st = csf_error_set(err, CSF_E_INVALID_ARG,
-                           "--observer: display_gamma= applies to display=crt, lcd or oled only");
-    if (st == CSF_OK && o->p.lapse + o->p.guess_2afc >= 1)
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--observer: guess + lapse must be below 1");
-    if (st == CSF_OK && table_path[0]) st = csf_obs_table_load(table_path, &o->table, err);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && st == CSF_OK; tok = strtok_r(NULL, ",", &save))
+        st = parse_spec_token(o, tok, seed, &x, err);
+    if (st == CSF_OK) st = check_spec(o, &x, err);
+    if (st == CSF_OK && x.table_path[0]) st = csf_obs_table_load(x.table_path, &o->table, err);
     if (st != CSF_OK) {
         csf_observer_sim_free(o);
         return st;
     }
-    describe(o, table_path);
+    describe(o, x.table_path);
     *out = o;
     return CSF_OK;
 }
