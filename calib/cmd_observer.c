@@ -76,24 +76,10 @@ static void print_resume_hint(const csf_cli *cli, const csf_obs_options *o, cons
             cli->config_path ? " --config " : "", cli->config_path ? cli->config_path : "");
 }
 
-int csf_cmd_observer(int argc, char **argv)
+/* The options into o (and the station's settings into cli). Returns -1 to go on, or the exit
+ * status: 0 after --help, 2 for a bad option or a missing --out. */
+static int parse_calibrate_options(int argc, char **argv, csf_cli *cli, csf_obs_options *o)
 {
-    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? 2 : 0;
-    }
-    if (strcmp(argv[1], "calibrate") != 0) {
-        fprintf(stderr, "csfcal: observer: unknown subcommand '%s' (try csfcal observer --help)\n", argv[1]);
-        return 2;
-    }
-    argc--;
-    argv++;
-    csf_cli cli;
-    int rc = csf_cli_init(&cli, argc, argv);
-    if (rc) return rc;
-    csf_obs_options o;
-    csf_obs_options_defaults(&o);
-    o.cfg = &cli.cfg;
     static const struct option opts[] = {
         {"out", required_argument, 0, OPT_OUT},
         {"plot", required_argument, 0, OPT_PLOT},
@@ -122,39 +108,39 @@ int csf_cmd_observer(int argc, char **argv)
         switch (c) {
         case 'h': usage(stdout); return 0;
         case 'o':
-        case OPT_OUT: o.out_path = optarg; break;
-        case OPT_PLOT: o.plot_path = optarg; break;
+        case OPT_OUT: o->out_path = optarg; break;
+        case OPT_PLOT: o->plot_path = optarg; break;
         case OPT_FREQS:
-            o.n_freqs = csf_parse_double_list(optarg, "freqs", 0.01, 200, o.freqs_cpd, CSF_OBS_MAX_AXIS);
-            if (o.n_freqs < 0) return 2;
+            o->n_freqs = csf_parse_double_list(optarg, "freqs", 0.01, 200, o->freqs_cpd, CSF_OBS_MAX_AXIS);
+            if (o->n_freqs < 0) return 2;
             break;
         case OPT_ECCS:
-            o.n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o.eccs_deg, CSF_OBS_MAX_AXIS);
-            if (o.n_eccs < 0) return 2;
+            o->n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o->eccs_deg, CSF_OBS_MAX_AXIS);
+            if (o->n_eccs < 0) return 2;
             break;
         case OPT_TRIALS:
             if (csf_parse_int(optarg, "trials", 1, 5000, &v) < 0) return 2;
-            o.trials = (int)v;
+            o->trials = (int)v;
             break;
         case OPT_METHOD:
             if (strcmp(optarg, "fade") && strcmp(optarg, "2afc") && strcmp(optarg, "bayes")) {
                 fprintf(stderr, "csfcal: --method: '%s' is unknown (bayes, fade, 2afc)\n", optarg);
                 return 2;
             }
-            o.method = optarg;
+            o->method = optarg;
             break;
         case OPT_PRACTICE:
             if (csf_parse_int(optarg, "practice", 0, 50, &v) < 0) return 2;
-            o.practice = (int)v;
+            o->practice = (int)v;
             break;
         case OPT_BREAK:
             if (csf_parse_int(optarg, "break-every", 1, 5000, &v) < 0) return 2;
-            o.break_every = (int)v;
+            o->break_every = (int)v;
             break;
         case OPT_RENDER_EVERY:
             if (csf_parse_int(optarg, "render-every", -1, 1000, &v) < 0) return 2;
             if (v == 0) v = 1;
-            o.render_every = (int)v;
+            o->render_every = (int)v;
             break;
         case OPT_RENDER_SIZE: {
             int w, h;
@@ -163,28 +149,28 @@ int csf_cmd_observer(int argc, char **argv)
                 fprintf(stderr, "csfcal: --render-size: expected WxH, each 16 to 4096, got '%s'\n", optarg);
                 return 2;
             }
-            o.render_w = w;
-            o.render_h = h;
+            o->render_w = w;
+            o->render_h = h;
             break;
         }
-        case OPT_QUIET: o.quiet = 1; break;
-        case OPT_ALLOW_PROFILE: o.allow_profile_change = 1; break;
+        case OPT_QUIET: o->quiet = 1; break;
+        case OPT_ALLOW_PROFILE: o->allow_profile_change = 1; break;
         case OPT_RESPONDER:
-            if (strlen(optarg) >= sizeof cli.cfg.responder) {
-                fprintf(stderr, "csfcal: --responder: longer than %zu characters\n", sizeof cli.cfg.responder - 1);
+            if (strlen(optarg) >= sizeof cli->cfg.responder) {
+                fprintf(stderr, "csfcal: --responder: longer than %zu characters\n", sizeof cli->cfg.responder - 1);
                 return 2;
             }
-            snprintf(cli.cfg.responder, sizeof cli.cfg.responder, "%s", optarg);
+            snprintf(cli->cfg.responder, sizeof cli->cfg.responder, "%s", optarg);
             break;
         case OPT_FADE_ANCHORS: {
             double share;
             if (csf_parse_double(optarg, "fade-anchors", 0, 0.5, &share) < 0) return 2;
-            o.fade_anchor_share = share > 0 ? share : -1;
+            o->fade_anchor_share = share > 0 ? share : -1;
             break;
         }
         case OPT_AFC:
-            if (strcmp(optarg, "2") == 0) o.afc = 2;
-            else if (strcmp(optarg, "4") == 0) o.afc = 4;
+            if (strcmp(optarg, "2") == 0) o->afc = 2;
+            else if (strcmp(optarg, "4") == 0) o->afc = 4;
             else {
                 fprintf(stderr, "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
                                 "where they fit)\n", optarg);
@@ -192,7 +178,7 @@ int csf_cmd_observer(int argc, char **argv)
             }
             break;
         default: {
-            int r = csf_cli_option_default(&cli, "observer calibrate", "", c, argv);
+            int r = csf_cli_option_default(cli, "observer calibrate", "", c, argv);
             if (r >= 0) return r;
         }
         }
@@ -201,40 +187,51 @@ int csf_cmd_observer(int argc, char **argv)
         fprintf(stderr, "csfcal: observer calibrate: unexpected argument '%s'\n", argv[optind]);
         return 2;
     }
-    if (!o.out_path) {
+    if (!o->out_path) {
         fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
         return 2;
     }
     {
         /* the responder spec (--responder or the station's responder key) before the first trial */
         csf_error rerr;
-        const char *rs = cli.cfg.responder[0] ? cli.cfg.responder : "keyboard";
+        const char *rs = cli->cfg.responder[0] ? cli->cfg.responder : "keyboard";
         if (csf_responder_check_spec(rs, &rerr)) {
             fprintf(stderr, "csfcal: observer calibrate: responder '%s': %s\n", rs, rerr.msg);
             return 2;
         }
     }
-    o.seed = cli.seed;
-    o.headless = csf_cli_want_headless(&cli);
+    return -1;
+}
+
+/* What the options leave to the station: the seed, headless or not, who answers, the store. */
+static void settle_calibrate_options(csf_cli *cli, csf_obs_options *o)
+{
+    o->seed = cli->seed;
+    o->headless = csf_cli_want_headless(cli);
     /* Unless told otherwise, a station with a display measures the person in front of it; without
      * one there is nobody to ask, so the simulated observer runs (and says so in its summary). */
-    o.observer_spec = cli.cfg.observer[0] ? cli.cfg.observer : (o.headless ? "sim" : "human");
+    o->observer_spec = cli->cfg.observer[0] ? cli->cfg.observer : (o->headless ? "sim" : "human");
     /* A table from the simulation must never pass for a person's: say it where the user looks,
      * even with --quiet, when nobody asked for the simulator. */
-    if (!cli.cfg.observer[0] && o.headless && !cli.resume_id)
+    if (!cli->cfg.observer[0] && o->headless && !cli->resume_id)
         fprintf(stderr, "csfcal: observer calibrate: note: no display and no --observer: the SIMULATED "
                         "observer answers (--observer sim); no person is measured\n");
-    o.resume_id = cli.resume_id;
-    o.store_path = csf_cli_store_path(&cli);
-    if (cli.json) o.quiet = 1;
+    o->resume_id = cli->resume_id;
+    o->store_path = csf_cli_store_path(cli);
+    if (cli->json) o->quiet = 1;
+}
 
+/* Runs the session and reports it: the summary, or the error and how to resume; with --json
+ * the result and its status on stdout. */
+static int run_calibrate(csf_cli *cli, csf_obs_options *o)
+{
     csf_obs_result res;
     csf_error err;
     csf_error_clear(&err);
-    csf_status st = csf_observer_calibrate(&o, &res, &err);
-    if (cli.json && res.session_id) {
+    csf_status st = csf_observer_calibrate(o, &res, &err);
+    if (cli->json && res.session_id) {
         char buf[8192];
-        csf_obs_result_json(&res, st == CSF_OK ? o.out_path : NULL, st == CSF_OK ? o.plot_path : NULL, buf,
+        csf_obs_result_json(&res, st == CSF_OK ? o->out_path : NULL, st == CSF_OK ? o->plot_path : NULL, buf,
                             sizeof buf);
         /* The status goes in too, so a script sees why there is no table. */
         size_t n = strlen(buf);
@@ -244,9 +241,33 @@ int csf_cmd_observer(int argc, char **argv)
     }
     if (st != CSF_OK) {
         int status = csf_cli_report("observer calibrate", &err);
-        if (res.resumable) print_resume_hint(&cli, &o, &res);
+        if (res.resumable) print_resume_hint(cli, o, &res);
         return status;
     }
-    if (!cli.json) printf("%s\n", res.summary);
+    if (!cli->json) printf("%s\n", res.summary);
     return 0;
+}
+
+int csf_cmd_observer(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "calibrate") != 0) {
+        fprintf(stderr, "csfcal: observer: unknown subcommand '%s' (try csfcal observer --help)\n", argv[1]);
+        return 2;
+    }
+    argc--;
+    argv++;
+    csf_cli cli;
+    int rc = csf_cli_init(&cli, argc, argv);
+    if (rc) return rc;
+    csf_obs_options o;
+    csf_obs_options_defaults(&o);
+    o.cfg = &cli.cfg;
+    int prc = parse_calibrate_options(argc, argv, &cli, &o);
+    if (prc >= 0) return prc;
+    settle_calibrate_options(&cli, &o);
+    return run_calibrate(&cli, &o);
 }
