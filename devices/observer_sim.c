@@ -87,142 +87,142 @@ typedef struct {
     int line;
 } table_row;
 
-csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out, csf_error *err)
-{
-    *out = NULL;
-    if (!text) return csf_error_set(err, CSF_E_INVALID_ARG, "observer table: no text");
-    size_t cap = 64, n_rows = 0;
-    table_row *rows = malloc(cap * sizeof *rows);
+/* The rows read so far and the distinct axis values they use. */
+typedef struct {
+    table_row *rows;
+    size_t n_rows, cap;
     double fax[TABLE_MAX_AXIS], eax[TABLE_MAX_AXIS];
-    int nf = 0, ne = 0;
-    csf_status st = CSF_OK;
-    if (!rows) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+    int nf, ne;
+} table_read;
+
+/* One data line s..e (trimmed, without its comment): three numbers in range, on a grid of at most
+ * TABLE_MAX_AXIS values per axis. */
+static csf_status read_table_row(table_read *tr, const char *s, const char *e, int line, csf_error *err)
+{
+    const char *c1 = memchr(s, ',', (size_t)(e - s));
+    const char *c2 = c1 ? memchr(c1 + 1, ',', (size_t)(e - c1 - 1)) : NULL;
+    if (!c1 || !c2 || memchr(c2 + 1, ',', (size_t)(e - c2 - 1)))
+        return csf_error_set(err, CSF_E_FORMAT,
+                             "observer table line %d: expected 3 comma-separated numbers "
+                             "freq_cpd,ecc_deg,threshold", line);
+    double f, ecc, th;
+    if (parse_field(s, c1, &f, 0) || parse_field(c1 + 1, c2, &ecc, 0) || parse_field(c2 + 1, e, &th, 1))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
+    if (!(f > 0 && f <= 1000))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: freq_cpd %g outside (0, 1000]", line, f);
+    if (!(ecc >= 0 && ecc <= 180))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: ecc_deg %g outside [0, 180]", line, ecc);
+    if (!(th > 0))
+        return csf_error_set(err, CSF_E_FORMAT,
+                             "observer table line %d: threshold %g must be > 0 (>= 1 or inf = never visible)",
+                             line, th);
+    if (find_or_add(tr->fax, &tr->nf, f) < 0 || find_or_add(tr->eax, &tr->ne, ecc) < 0)
+        return csf_error_set(err, CSF_E_FORMAT,
+                             "observer table line %d: more than %d distinct frequencies or eccentricities", line,
+                             TABLE_MAX_AXIS);
+    if (tr->n_rows >= (size_t)TABLE_MAX_AXIS * TABLE_MAX_AXIS)
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: more than %d rows", line,
+                             TABLE_MAX_AXIS * TABLE_MAX_AXIS);
+    if (tr->n_rows == tr->cap) {
+        tr->cap *= 2;
+        table_row *nr = realloc(tr->rows, tr->cap * sizeof *tr->rows);
+        if (!nr) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+        tr->rows = nr;
+    }
+    tr->rows[tr->n_rows++] = (table_row){f, ecc, th, line};
+    return CSF_OK;
+}
+
+/* Every line: comments (#) and blank lines skipped, an optional header, then the rows. */
+static csf_status read_table_lines(table_read *tr, const char *text, size_t len, csf_error *err)
+{
     size_t pos = 0;
     int line = 0;
-    while (pos < len && st == CSF_OK) {
+    while (pos < len) {
         size_t start = pos;
         while (pos < len && text[pos] != '\n') pos++;
         size_t end = pos;
         if (pos < len) pos++;
         line++;
-        /* Strip comments and whitespace. */
         for (size_t i = start; i < end; i++)
-            if (text[i] == '#') { end = i; break; }
-        for (size_t i = start; i < end; i++)
-            if (text[i] == '\0') {
-                st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: NUL byte", line);
+            if (text[i] == '#') {
+                end = i;
                 break;
             }
-        if (st != CSF_OK) break;
+        if (memchr(text + start, '\0', end - start))
+            return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: NUL byte", line);
         while (start < end && (text[start] == ' ' || text[start] == '\t' || text[start] == '\r')) start++;
         while (end > start && (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r')) end--;
         if (start == end) continue;
         const char *s = text + start, *e = text + end;
-        if (n_rows == 0 && (*s == 'f' || *s == 'F')) {
+        if (tr->n_rows == 0 && (*s == 'f' || *s == 'F')) {
             /* Header: must name the three columns in order. */
             static const char hdr[] = "freq_cpd,ecc_deg,threshold";
-            if ((size_t)(e - s) != sizeof hdr - 1 || memcmp(s, hdr, sizeof hdr - 1) != 0) {
-                st = csf_error_set(err, CSF_E_FORMAT,
-                                   "observer table line %d: header must be '%s'", line, hdr);
-            }
+            if ((size_t)(e - s) != sizeof hdr - 1 || memcmp(s, hdr, sizeof hdr - 1) != 0)
+                return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: header must be '%s'", line, hdr);
             continue;
         }
-        const char *c1 = memchr(s, ',', (size_t)(e - s));
-        const char *c2 = c1 ? memchr(c1 + 1, ',', (size_t)(e - c1 - 1)) : NULL;
-        if (!c1 || !c2 || memchr(c2 + 1, ',', (size_t)(e - c2 - 1))) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "observer table line %d: expected 3 comma-separated numbers "
-                               "freq_cpd,ecc_deg,threshold", line);
-            break;
-        }
-        double f, ecc, th;
-        if (parse_field(s, c1, &f, 0) || parse_field(c1 + 1, c2, &ecc, 0) || parse_field(c2 + 1, e, &th, 1)) {
-            st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
-            break;
-        }
-        if (!(f > 0 && f <= 1000)) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "observer table line %d: freq_cpd %g outside (0, 1000]", line, f);
-            break;
-        }
-        if (!(ecc >= 0 && ecc <= 180)) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "observer table line %d: ecc_deg %g outside [0, 180]", line, ecc);
-            break;
-        }
-        if (!(th > 0)) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "observer table line %d: threshold %g must be > 0 (>= 1 or inf = never visible)",
-                               line, th);
-            break;
-        }
-        if (find_or_add(fax, &nf, f) < 0 || find_or_add(eax, &ne, ecc) < 0) {
-            st = csf_error_set(err, CSF_E_FORMAT,
-                               "observer table line %d: more than %d distinct frequencies or eccentricities",
-                               line, TABLE_MAX_AXIS);
-            break;
-        }
-        if (n_rows >= (size_t)TABLE_MAX_AXIS * TABLE_MAX_AXIS) {
-            st = csf_error_set(err, CSF_E_FORMAT, "observer table line %d: more than %d rows", line,
-                               TABLE_MAX_AXIS * TABLE_MAX_AXIS);
-            break;
-        }
-        if (n_rows == cap) {
-            cap *= 2;
-            table_row *nr = realloc(rows, cap * sizeof *rows);
-            if (!nr) {
-                st = csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
-                break;
-            }
-            rows = nr;
-        }
-        rows[n_rows++] = (table_row){f, ecc, th, line};
+        csf_status st = read_table_row(tr, s, e, line, err);
+        if (st != CSF_OK) return st;
     }
-    if (st == CSF_OK && n_rows == 0)
-        st = csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
+    if (tr->n_rows == 0) return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
+    return CSF_OK;
+}
+
+/* The grid from the rows: sorted axes, every (frequency, eccentricity) node exactly once;
+ * thresholds >= 1 become 1 (never visible). */
+static csf_status build_table(table_read *tr, csf_obs_table **out, csf_error *err)
+{
+    int nf = tr->nf, ne = tr->ne;
+    qsort(tr->fax, (size_t)nf, sizeof tr->fax[0], cmp_double);
+    qsort(tr->eax, (size_t)ne, sizeof tr->eax[0], cmp_double);
+    csf_obs_table *t = *out = calloc(1, sizeof *t);
+    if (t) {
+        t->n_freq = nf;
+        t->n_ecc = ne;
+        t->freq_cpd = malloc((size_t)nf * sizeof(double));
+        t->ecc_deg = malloc((size_t)ne * sizeof(double));
+        t->log10_threshold = malloc((size_t)nf * (size_t)ne * sizeof(double));
+    }
+    if (!t || !t->freq_cpd || !t->ecc_deg || !t->log10_threshold)
+        return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+    memcpy(t->freq_cpd, tr->fax, (size_t)nf * sizeof(double));
+    memcpy(t->ecc_deg, tr->eax, (size_t)ne * sizeof(double));
+    for (int i = 0; i < nf * ne; i++) t->log10_threshold[i] = NAN;
+    for (size_t r = 0; r < tr->n_rows; r++) {
+        const table_row *row = &tr->rows[r];
+        int fi = 0, ei = 0;
+        while (t->freq_cpd[fi] != row->f) fi++;
+        while (t->ecc_deg[ei] != row->e) ei++;
+        double *cell = &t->log10_threshold[ei * nf + fi];
+        if (!isnan(*cell))
+            return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: duplicate row for %g cpd at %g deg",
+                                 row->line, row->f, row->e);
+        *cell = row->th >= 1 ? 1.0 : log10(row->th);
+    }
+    for (int ei = 0; ei < ne; ei++)
+        for (int fi = 0; fi < nf; fi++)
+            if (isnan(t->log10_threshold[ei * nf + fi]))
+                return csf_error_set(err, CSF_E_FORMAT,
+                                     "observer table: no row for %g cpd at %g deg (the table "
+                                     "must be a full frequency x eccentricity grid)",
+                                     t->freq_cpd[fi], t->ecc_deg[ei]);
+    return CSF_OK;
+}
+
+csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out, csf_error *err)
+{
+    *out = NULL;
+    if (!text) return csf_error_set(err, CSF_E_INVALID_ARG, "observer table: no text");
+    table_read tr;
+    memset(&tr, 0, sizeof tr);
+    tr.cap = 64;
+    tr.rows = malloc(tr.cap * sizeof *tr.rows);
+    if (!tr.rows) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
     csf_obs_table *t = NULL;
-    if (st == CSF_OK) {
-        qsort(fax, (size_t)nf, sizeof fax[0], cmp_double);
-        qsort(eax, (size_t)ne, sizeof eax[0], cmp_double);
-        t = calloc(1, sizeof *t);
-        if (t) {
-            t->n_freq = nf;
-            t->n_ecc = ne;
-            t->freq_cpd = malloc((size_t)nf * sizeof(double));
-            t->ecc_deg = malloc((size_t)ne * sizeof(double));
-            t->log10_threshold = malloc((size_t)nf * (size_t)ne * sizeof(double));
-        }
-        if (!t || !t->freq_cpd || !t->ecc_deg || !t->log10_threshold) {
-            st = csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
-        } else {
-            memcpy(t->freq_cpd, fax, (size_t)nf * sizeof(double));
-            memcpy(t->ecc_deg, eax, (size_t)ne * sizeof(double));
-            for (int i = 0; i < nf * ne; i++) t->log10_threshold[i] = NAN;
-            for (size_t r = 0; r < n_rows && st == CSF_OK; r++) {
-                int fi = 0, ei = 0;
-                while (t->freq_cpd[fi] != rows[r].f) fi++;
-                while (t->ecc_deg[ei] != rows[r].e) ei++;
-                double *cell = &t->log10_threshold[ei * nf + fi];
-                if (!isnan(*cell)) {
-                    st = csf_error_set(err, CSF_E_FORMAT,
-                                       "observer table line %d: duplicate row for %g cpd at %g deg",
-                                       rows[r].line, rows[r].f, rows[r].e);
-                    break;
-                }
-                *cell = rows[r].th >= 1 ? 1.0 : log10(rows[r].th);
-            }
-            for (int ei = 0; ei < ne && st == CSF_OK; ei++)
-                for (int fi = 0; fi < nf; fi++)
-                    if (isnan(t->log10_threshold[ei * nf + fi])) {
-                        st = csf_error_set(err, CSF_E_FORMAT,
-                                           "observer table: no row for %g cpd at %g deg (the table "
-                                           "must be a full frequency x eccentricity grid)",
-                                           t->freq_cpd[fi], t->ecc_deg[ei]);
-                        break;
-                    }
-        }
-    }
-    free(rows);
+    csf_status st = read_table_lines(&tr, text, len, err);
+    if (st == CSF_OK) st = build_table(&tr, &t, err);
+    free(tr.rows);
     if (st != CSF_OK) {
         csf_obs_table_free(t);
         return st;
