@@ -939,31 +939,45 @@ static csf_status sweep_ref(ctx *c, int ch, int budget, const double *extra, int
     }
 }
 
-static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
-                        csf_error *err)
+/* A curve's distinct drive levels so far: drive, mean luminance, readings per level. */
+typedef struct {
+    double *v, *lum;
+    int *cnt;
+    size_t m;
+} levels;
+
+static void levels_read(const ctx *c, int ch, levels *L)
 {
-    int start = c->n_sweep;
-    csf_status st;
-    /* full drive first: it sets the curve's peak */
-    double peak;
-    if (ch < 3) {
-        st = measure_level(c, ch, 1.0, INFINITY, budget, err);
-        if (st) return st;
-        peak = predict(c, ch, 1.0);
-    } else {
-        peak = predict(c, ch, 1.0);
-    }
-    if (!(peak > 0)) return csf_error_set(err, CSF_E_INSUFFICIENT,
-                                          "%s at full drive is not brighter than black: is the sensor on the patch?",
-                                          ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
+    double *pv, *pl;
+    size_t k = curve_points(c, ch, &pv, &pl);
+    L->v = malloc((k + 1) * sizeof(double));
+    L->lum = malloc((k + 1) * sizeof(double));
+    L->cnt = calloc(k + 1, sizeof(int));
+    L->m = L->v && L->lum && L->cnt ? distinct(pv, pl, k, L->v, L->lum, L->cnt) : 0;
+    free(pv);
+    free(pl);
+}
+
+static void levels_free(levels *L)
+{
+    free(L->v);
+    free(L->lum);
+    free(L->cnt);
+}
+
+/* The fixed levels of a sweep after full drive: a channel's full drive again when its share
+ * allows (it scales the channel's whole curve; the ratio fit needs the four grid levels more),
+ * the corners the caller asks for, then the grid. */
+static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, const double *extra, int n_extra,
+                                     double peak, csf_error *err)
+{
     static const double grid_grey[] = {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
     /* channels: spread over the range the target covers, for the fit of the channel-to-grey
      * ratio (see fit_ratio); the most informative first in case the budget is short */
     static const double grid_ch[] = {0.5, 0.75, 0.35, 0.9};
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
-    /* a channel's full drive scales its whole curve: read it twice when the share allows (the
-     * ratio fit needs the four grid levels more) */
+    csf_status st;
     if (ch < 3 && budget >= 7 && c->n_sweep - start < budget) {
         st = measure_level(c, ch, 1.0, INFINITY, budget - (c->n_sweep - start), err);
         if (st) return st;
@@ -980,135 +994,180 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
         st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
-    if (ch < 3) {
-        /* the channel-to-grey ratio explains the readings: no adaptive levels needed */
-        ratio_model rm;
-        fit_ratio(c, ch, &rm);
-        if (rm.ok) {
-            /* the rest of this channel's share repeats the level whose mean is noisiest
-             * (a dim channel's low end, where the absolute noise counts), until every level
-             * above 5 % of the channel's peak is known to target/6 */
-            while (c->n_sweep - start < budget) {
-                double *pv, *pl;
-                size_t k = curve_points(c, ch, &pv, &pl);
-                double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-                int *cnt = calloc(k + 1, sizeof(int));
-                size_t m = (dv && dl && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
-                double worst = 0, at = NAN;
-                for (size_t i = 0; i < m; i++) {
-                    if (!(dv[i] > 0) || !(dl[i] >= 0.05 * peak)) continue;
-                    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
-                    double sd = sqrt((nr * nr + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
-                    if (sd > worst) {
-                        worst = sd;
-                        at = dv[i];
-                    }
-                }
-                free(pv); free(pl); free(dv); free(dl); free(cnt);
-                if (isnan(at) || worst < c->o->target_rel / 6) break;
-                rd x;
-                if ((st = take(c, ROLE_SWEEP, ch, at, 0, &x, err))) return st;
+    return CSF_OK;
+}
+
+/* A channel whose readings its ratio to grey explains needs no adaptive levels: the rest of its
+ * share repeats the level whose mean is noisiest (a dim channel's low end, where the absolute
+ * noise counts), until every level above 5 % of the channel's peak is known to target/6. */
+static csf_status repeat_noisiest_channel_level(ctx *c, int ch, int budget, int start, double peak, csf_error *err)
+{
+    while (c->n_sweep - start < budget) {
+        levels L;
+        levels_read(c, ch, &L);
+        double worst = 0, at = NAN;
+        for (size_t i = 0; i < L.m; i++) {
+            if (!(L.v[i] > 0) || !(L.lum[i] >= 0.05 * peak)) continue;
+            double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+            double sd = sqrt((nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i]);
+            if (sd > worst) {
+                worst = sd;
+                at = L.v[i];
             }
-            budget = c->n_sweep - start;
+        }
+        levels_free(&L);
+        if (isnan(at) || worst < c->o->target_rel / 6) break;
+        rd x;
+        csf_status st = take(c, ROLE_SWEEP, ch, at, 0, &x, err);
+        if (st) return st;
+    }
+    return CSF_OK;
+}
+
+/* The drive level that splits interval wi of L: where the secant lines of the two neighbouring
+ * intervals cross inside it (at a kink that is where the break is, found in a few readings like
+ * regula falsi; on a smooth curve it is near the middle anyway), else the middle. */
+static double split_point(const ctx *c, const levels *L, size_t wi)
+{
+    const double *dv = L->v, *dl = L->lum;
+    size_t m = L->m;
+    double width = dv[wi + 1] - dv[wi];
+    double cand = 0.5 * (dv[wi] + dv[wi + 1]);
+    if (m >= 4 && wi >= 1 && wi + 2 < m) {
+        size_t l0 = wi - 1, r1 = wi + 2;
+        while (l0 > 0 && dv[wi] - dv[l0] < 0.03) l0--;
+        while (r1 + 1 < m && dv[r1] - dv[wi + 1] < 0.03) r1++;
+        double s1 = (dl[wi] - dl[l0]) / (dv[wi] - dv[l0]);
+        double s2 = (dl[r1] - dl[wi + 1]) / (dv[r1] - dv[wi + 1]);
+        if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
+            double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
+            double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
+            if (xi > lo && xi < hi) cand = xi;
         }
     }
-    double last_est = INFINITY;
+    double q = snap(c, cand);
+    if (!(q > dv[wi] && q < dv[wi + 1])) q = snap(c, 0.5 * (dv[wi] + dv[wi + 1]));
+    return q;
+}
+
+/* Adaptive levels: the interval whose interpolation error is estimated worst is split, while it
+ * is above target/4 and the display can show a level inside it. *last_est: the last estimate. */
+static csf_status split_worst_intervals(ctx *c, int ch, int budget, int start, double peak, double *last_est,
+                                        csf_error *err)
+{
+    *last_est = INFINITY;
     while (c->n_sweep - start < budget) {
-        double *pv, *pl;
-        size_t k = curve_points(c, ch, &pv, &pl);
-        double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-        int *cnt = calloc(k + 1, sizeof(int));
-        size_t m = distinct(pv, pl, k, dv, dl, cnt);
-        free(pv);
-        free(pl);
+        levels L;
+        levels_read(c, ch, &L);
+        size_t m = L.m;
         double *est = calloc(m + 1, sizeof(double));
-        double worst = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL) : INFINITY;
+        double worst = m >= 3 ? interval_errors(L.v, L.lum, L.cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL)
+                              : INFINITY;
         if (m < 3)
             for (size_t i = 0; i + 1 < m; i++) est[i] = INFINITY; /* too few levels to judge: split */
-        free(cnt);
-        last_est = worst;
+        *last_est = worst;
         /* the worst interval that still has a drive level inside it to measure */
-        double mid = NAN, width = 1;
+        double mid = NAN;
         for (;;) {
             size_t wi = 0;
             for (size_t i = 0; i + 1 < m; i++)
                 if (est[i] > est[wi]) wi = i;
             if (m < 2 || !(est[wi] >= 0)) break;
-            width = dv[wi + 1] - dv[wi];
-            double cand = 0.5 * (dv[wi] + dv[wi + 1]);
-            /* where the secant lines of the two neighbouring intervals cross inside this one,
-             * split there: at a kink that is where the break is (found in a few readings, like
-             * regula falsi), on a smooth curve it is near the middle anyway */
-            if (m >= 4 && wi >= 1 && wi + 2 < m) {
-                size_t l0 = wi - 1, r1 = wi + 2;
-                while (l0 > 0 && dv[wi] - dv[l0] < 0.03) l0--;
-                while (r1 + 1 < m && dv[r1] - dv[wi + 1] < 0.03) r1++;
-                double s1 = (dl[wi] - dl[l0]) / (dv[wi] - dv[l0]);
-                double s2 = (dl[r1] - dl[wi + 1]) / (dv[r1] - dv[wi + 1]);
-                if (fabs(s2 - s1) > 1e-12 * (fabs(s1) + fabs(s2))) {
-                    double xi = (dl[wi + 1] - dl[wi] + s1 * dv[wi] - s2 * dv[wi + 1]) / (s1 - s2);
-                    double lo = dv[wi] + 0.05 * width, hi = dv[wi + 1] - 0.05 * width;
-                    if (xi > lo && xi < hi) cand = xi;
-                }
-            }
-            double q = snap(c, cand);
-            if (!(q > dv[wi] && q < dv[wi + 1])) q = snap(c, 0.5 * (dv[wi] + dv[wi + 1]));
-            if (q > dv[wi] && q < dv[wi + 1] && width >= 1.0 / 4096) {
+            double width = L.v[wi + 1] - L.v[wi];
+            double q = split_point(c, &L, wi);
+            if (q > L.v[wi] && q < L.v[wi + 1] && width >= 1.0 / 4096) {
                 mid = q;
                 worst = est[wi];
                 break;
             }
             est[wi] = -1; /* no level left inside: the display cannot show anything between */
         }
-        free(dv);
-        free(dl);
+        levels_free(&L);
         free(est);
         if (isnan(mid) || worst < c->o->target_rel / 4) break;
-        st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
+        csf_status st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
-    if (ch == CSF_CH_GREY) {
-        /* the model is good enough where it is: the rest of grey's share averages the noise of
-         * the levels above 10 % of peak (the range the target covers), the noisiest mean first
-         * and, among equals, the one whose neighbouring intervals are widest (its error spreads
-         * furthest), until each mean is known to target/6 */
-        double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
-        while (c->n_sweep - start < budget) {
-            double *pv, *pl;
-            size_t k = curve_points(c, ch, &pv, &pl);
-            double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-            int *cnt = calloc(k + 1, sizeof(int));
-            size_t m = (dv && dl && cnt) ? distinct(pv, pl, k, dv, dl, cnt) : 0;
-            double worst = 0, wid = 0, at = NAN;
-            for (size_t i = 1; i + 1 < m; i++) {
-                if (!(dl[i] >= 0.1 * peak)) continue;
-                double sd = sqrt((nr * nr + pow(c->noise_abs / dl[i], 2)) / cnt[i]);
-                double w = dv[i + 1] - dv[i - 1];
-                if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
-                    worst = sd;
-                    wid = w;
-                    at = dv[i];
-                }
+    return CSF_OK;
+}
+
+/* Grey's model is good enough where it is: the rest of its share averages the noise of the levels
+ * above 10 % of peak (the range the target covers), the noisiest mean first and, among equals,
+ * the one whose neighbouring intervals are widest (its error spreads furthest), until each mean
+ * is known to target/6. */
+static csf_status average_grey_noise(ctx *c, int budget, int start, double peak, csf_error *err)
+{
+    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+    while (c->n_sweep - start < budget) {
+        levels L;
+        levels_read(c, CSF_CH_GREY, &L);
+        double worst = 0, wid = 0, at = NAN;
+        for (size_t i = 1; i + 1 < L.m; i++) {
+            if (!(L.lum[i] >= 0.1 * peak)) continue;
+            double sd = sqrt((nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i]);
+            double w = L.v[i + 1] - L.v[i - 1];
+            if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
+                worst = sd;
+                wid = w;
+                at = L.v[i];
             }
-            free(pv); free(pl); free(dv); free(dl); free(cnt);
-            if (isnan(at) || worst < c->o->target_rel / 6) break;
-            rd x;
-            if ((st = take(c, ROLE_SWEEP, ch, at, 0, &x, err))) return st;
+        }
+        levels_free(&L);
+        if (isnan(at) || worst < c->o->target_rel / 6) break;
+        rd x;
+        csf_status st = take(c, ROLE_SWEEP, CSF_CH_GREY, at, 0, &x, err);
+        if (st) return st;
+    }
+    return CSF_OK;
+}
+
+/* The indicator the stopping rule uses after the last reading (noise allowance included); an
+ * upper-side estimate: it is scaled to interval middles and counts kinks pessimistically. */
+static double sweep_estimate(const ctx *c, int ch, double last_est)
+{
+    levels L;
+    levels_read(c, ch, &L);
+    double *est = calloc(L.m + 1, sizeof(double));
+    double e = L.m >= 3 ? interval_errors(L.v, L.lum, L.cnt, L.m, ch < 3, c->noise_rel, c->noise_abs, est, NULL)
+                        : last_est;
+    free(est);
+    levels_free(&L);
+    return e;
+}
+
+static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
+                        csf_error *err)
+{
+    int start = c->n_sweep;
+    csf_status st;
+    /* full drive first: it sets the curve's peak */
+    if (ch < 3) {
+        st = measure_level(c, ch, 1.0, INFINITY, budget, err);
+        if (st) return st;
+    }
+    double peak = predict(c, ch, 1.0);
+    if (!(peak > 0)) return csf_error_set(err, CSF_E_INSUFFICIENT,
+                                          "%s at full drive is not brighter than black: is the sensor on the patch?",
+                                          ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
+    st = sweep_fixed_levels(c, ch, budget, start, extra, n_extra, peak, err);
+    if (st) return st;
+    if (ch < 3) {
+        ratio_model rm;
+        fit_ratio(c, ch, &rm);
+        if (rm.ok) {
+            st = repeat_noisiest_channel_level(c, ch, budget, start, peak, err);
+            if (st) return st;
+            budget = c->n_sweep - start;
         }
     }
-    if (est_out) {
-        /* final estimate after the last reading */
-        double *pv, *pl;
-        size_t k = curve_points(c, ch, &pv, &pl);
-        double *dv = malloc((k + 1) * sizeof(double)), *dl = malloc((k + 1) * sizeof(double));
-        int *cnt = calloc(k + 1, sizeof(int));
-        size_t m = distinct(pv, pl, k, dv, dl, cnt);
-        double *est = calloc(m + 1, sizeof(double));
-        /* the indicator the stopping rule uses (noise allowance included); an upper-side
-         * estimate: it is scaled to interval middles and counts kinks pessimistically */
-        *est_out = m >= 3 ? interval_errors(dv, dl, cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL) : last_est;
-        free(pv); free(pl); free(dv); free(dl); free(est); free(cnt);
+    double last_est;
+    st = split_worst_intervals(c, ch, budget, start, peak, &last_est, err);
+    if (st) return st;
+    if (ch == CSF_CH_GREY) {
+        st = average_grey_noise(c, budget, start, peak, err);
+        if (st) return st;
     }
+    if (est_out) *est_out = sweep_estimate(c, ch, last_est);
     return CSF_OK;
 }
 
