@@ -463,7 +463,10 @@ static csflut_status fail(csflut_diag *d, csflut_status code, size_t where, cons
     return code;
 }
 
-static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, csflut_diag *d)
+/* The envelope: magic, version, the sizes the header claims against the real one, the checksum.
+ * *header_size: where the axis records start. */
+static csflut_status parse_envelope(const unsigned char *p, size_t len, csflut_table *t, uint32_t *header_size,
+                                    csflut_diag *d)
 {
     if (len < CSFLUT_MAGIC_LEN) {
         if (memcmp(p, CSFLUT_MAGIC, len) == 0)
@@ -488,7 +491,7 @@ static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, 
                         CSFLUT_HEADER_SIZE + 4);
         return CSFLUT_E_TRUNCATED;
     }
-    uint32_t header_size = get_u32(p + 12);
+    *header_size = get_u32(p + 12);
     uint64_t file_size = get_u64(p + 16);
     if (file_size > len) {
         csflut_diag_set(d, CSFLUT_E_TRUNCATED, len,
@@ -510,18 +513,27 @@ static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, 
         return CSFLUT_E_BAD_CHECKSUM;
     }
     /* From here on the bytes are what the writer wrote, but a hostile writer can still lie. */
-    if (header_size < CSFLUT_HEADER_SIZE || header_size > len - 4) {
+    if (*header_size < CSFLUT_HEADER_SIZE || *header_size > len - 4) {
         csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 12, "header size %u is impossible (minimum %d)",
-                        (unsigned)header_size, CSFLUT_HEADER_SIZE);
+                        (unsigned)*header_size, CSFLUT_HEADER_SIZE);
         return CSFLUT_E_BAD_HEADER;
     }
-    uint32_t n_axes = get_u32(p + 24), flags = get_u32(p + 28);
-    if (n_axes < 2 || n_axes > 4) {
-        csflut_diag_set(d, CSFLUT_E_BAD_AXIS, 24, "%u axes (allowed 2 to 4)", (unsigned)n_axes);
+    return CSFLUT_OK;
+}
+
+/* The fixed header fields after the sizes: axis count, flags, viewing distance, mean luminance,
+ * trial count. */
+static csflut_status parse_header_fields(const unsigned char *p, csflut_table *t, uint32_t *n_axes,
+                                         uint32_t *flags, csflut_diag *d)
+{
+    *n_axes = get_u32(p + 24);
+    *flags = get_u32(p + 28);
+    if (*n_axes < 2 || *n_axes > 4) {
+        csflut_diag_set(d, CSFLUT_E_BAD_AXIS, 24, "%u axes (allowed 2 to 4)", (unsigned)*n_axes);
         return CSFLUT_E_BAD_AXIS;
     }
-    if (flags & ~CSFLUT_FLAG_STDERR) {
-        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 28, "unknown flags 0x%x", (unsigned)flags);
+    if (*flags & ~CSFLUT_FLAG_STDERR) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 28, "unknown flags 0x%x", (unsigned)*flags);
         return CSFLUT_E_BAD_HEADER;
     }
     t->dist_mm = get_f64(p + 32);
@@ -535,12 +547,17 @@ static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, 
                     "mean luminance must be finite and > 0 cd/m2, or NaN for unknown");
     if (trials > 0x7FFFFFFFu) return fail(d, CSFLUT_E_BAD_METADATA, 48, "trial count above 2^31-1");
     t->trials = (int)trials;
+    return CSFLUT_OK;
+}
 
-    rd r = {p, len - 4, header_size};
+/* The axis records and their points: frequency and eccentricity first, then velocity and/or
+ * luminance, each once, in order. */
+static csflut_status parse_axes(const unsigned char *p, rd *r, uint32_t n_axes, csflut_table *t, csflut_diag *d)
+{
     int prev_id = -1;
     for (uint32_t k = 0; k < n_axes; k++) {
-        size_t at = r.pos;
-        if (!rd_has(&r, CSFLUT_AXIS_RECORD_SIZE))
+        size_t at = r->pos;
+        if (!rd_has(r, CSFLUT_AXIS_RECORD_SIZE))
             return fail(d, CSFLUT_E_BAD_HEADER, at, "axis record runs past the end of the file");
         uint32_t id = get_u32(p + at), scale = get_u32(p + at + 4), n = get_u32(p + at + 8);
         if (id > 3 || (int)id <= prev_id || (k < 2 && id != k)) {
@@ -561,18 +578,25 @@ static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, 
                             axis_names[id], (unsigned)scale);
             return CSFLUT_E_BAD_AXIS;
         }
-        r.pos += CSFLUT_AXIS_RECORD_SIZE;
-        if (!rd_has(&r, 8 * (size_t)n))
-            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "axis points run past the end of the file");
+        r->pos += CSFLUT_AXIS_RECORD_SIZE;
+        if (!rd_has(r, 8 * (size_t)n))
+            return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "axis points run past the end of the file");
         t->n[id] = (int)n;
         t->scale[id] = (int)scale;
         t->pts[id] = malloc(sizeof(double) * n);
         if (!t->pts[id]) return CSFLUT_E_NOMEM;
-        for (uint32_t i = 0; i < n; i++) t->pts[id][i] = get_f64(p + r.pos + 8 * (size_t)i);
-        csflut_status st = csflut_check_axis((int)id, (int)n, t->pts[id], (int)scale, d, r.pos);
+        for (uint32_t i = 0; i < n; i++) t->pts[id][i] = get_f64(p + r->pos + 8 * (size_t)i);
+        csflut_status st = csflut_check_axis((int)id, (int)n, t->pts[id], (int)scale, d, r->pos);
         if (st) return st;
-        r.pos += 8 * (size_t)n;
+        r->pos += 8 * (size_t)n;
     }
+    return CSFLUT_OK;
+}
+
+/* The threshold per grid node and, when the flags say so, its standard error. */
+static csflut_status parse_values(const unsigned char *p, rd *r, uint32_t flags, uint32_t header_size,
+                                  csflut_table *t, csflut_diag *d)
+{
     size_t nodes = 1;
     for (int a = 0; a < 4; a++) {
         if (t->n[a] > 0) nodes *= (size_t)t->n[a];
@@ -583,50 +607,71 @@ static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, 
         }
     }
     t->n_nodes = nodes;
-    size_t where_thr = r.pos;
-    if (!rd_has(&r, 8 * nodes))
-        return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "threshold values run past the end of the file");
+    size_t where_thr = r->pos;
+    if (!rd_has(r, 8 * nodes))
+        return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "threshold values run past the end of the file");
     t->raw = malloc(sizeof(double) * nodes);
     if (!t->raw) return CSFLUT_E_NOMEM;
-    for (size_t i = 0; i < nodes; i++) t->raw[i] = get_f64(p + r.pos + 8 * i);
-    r.pos += 8 * nodes;
-    size_t where_se = r.pos;
+    for (size_t i = 0; i < nodes; i++) t->raw[i] = get_f64(p + r->pos + 8 * i);
+    r->pos += 8 * nodes;
+    size_t where_se = r->pos;
     if (flags & CSFLUT_FLAG_STDERR) {
-        if (!rd_has(&r, 8 * nodes))
-            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "stderr values run past the end of the file");
+        if (!rd_has(r, 8 * nodes))
+            return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "stderr values run past the end of the file");
         t->se = malloc(sizeof(double) * nodes);
         if (!t->se) return CSFLUT_E_NOMEM;
-        for (size_t i = 0; i < nodes; i++) t->se[i] = get_f64(p + r.pos + 8 * i);
-        r.pos += 8 * nodes;
+        for (size_t i = 0; i < nodes; i++) t->se[i] = get_f64(p + r->pos + 8 * i);
+        r->pos += 8 * nodes;
     }
-    csflut_status st = csflut_check_values(t->raw, t->se, nodes, d, where_thr, where_se);
-    if (st) return st;
+    return csflut_check_values(t->raw, t->se, nodes, d, where_thr, where_se);
+}
+
+/* The metadata strings: length-prefixed, bounded, without NUL bytes. */
+static csflut_status parse_strings(const unsigned char *p, rd *r, csflut_table *t, csflut_diag *d)
+{
     for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
-        if (!rd_has(&r, 4))
-            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "metadata runs past the end of the file");
-        uint32_t sl = get_u32(p + r.pos);
+        if (!rd_has(r, 4))
+            return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "metadata runs past the end of the file");
+        uint32_t sl = get_u32(p + r->pos);
         if (sl > CSFLUT_MAX_STRING) {
-            csflut_diag_set(d, CSFLUT_E_BAD_METADATA, r.pos,
+            csflut_diag_set(d, CSFLUT_E_BAD_METADATA, r->pos,
                             "metadata string %d is %u bytes (at most %d)", k, (unsigned)sl,
                             CSFLUT_MAX_STRING);
             return CSFLUT_E_BAD_METADATA;
         }
-        r.pos += 4;
-        if (!rd_has(&r, sl))
-            return fail(d, CSFLUT_E_BAD_HEADER, r.pos, "metadata string runs past the end of the file");
-        if (memchr(p + r.pos, 0, sl))
-            return fail(d, CSFLUT_E_BAD_METADATA, r.pos, "metadata string contains a NUL byte");
+        r->pos += 4;
+        if (!rd_has(r, sl))
+            return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "metadata string runs past the end of the file");
+        if (memchr(p + r->pos, 0, sl))
+            return fail(d, CSFLUT_E_BAD_METADATA, r->pos, "metadata string contains a NUL byte");
         t->str[k] = malloc(sl + 1);
         if (!t->str[k]) return CSFLUT_E_NOMEM;
-        memcpy(t->str[k], p + r.pos, sl);
+        memcpy(t->str[k], p + r->pos, sl);
         t->str[k][sl] = 0;
-        r.pos += sl;
+        r->pos += sl;
     }
-    if (r.pos != r.len) {
-        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, r.pos,
-                        "%zu unexplained bytes before the checksum", r.len - r.pos);
+    if (r->pos != r->len) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, r->pos,
+                        "%zu unexplained bytes before the checksum", r->len - r->pos);
         return CSFLUT_E_BAD_HEADER;
     }
+    return CSFLUT_OK;
+}
+
+static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, csflut_diag *d)
+{
+    uint32_t header_size = 0, n_axes = 0, flags = 0;
+    csflut_status st = parse_envelope(p, len, t, &header_size, d);
+    if (st) return st;
+    st = parse_header_fields(p, t, &n_axes, &flags, d);
+    if (st) return st;
+    rd r = {p, len - 4, header_size};
+    st = parse_axes(p, &r, n_axes, t, d);
+    if (st) return st;
+    st = parse_values(p, &r, flags, header_size, t, d);
+    if (st) return st;
+    st = parse_strings(p, &r, t, d);
+    if (st) return st;
     return csflut_table_finish(t);
 }
 
