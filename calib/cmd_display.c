@@ -393,6 +393,105 @@ static int session_aborted(csf_store *store, int64_t sid)
     return aborted;
 }
 
+/* What a finished calibration reports. */
+typedef struct {
+    const char *spec, *out, *rinfo;
+    const csf_display_profile *p;
+    const csf_display_calib_result *res;
+    double target_rel, wall_s;
+    int64_t sid;
+    int simulated, rendered;
+} calib_report;
+
+static void print_calibration_json(const calib_report *r)
+{
+    static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
+    const csf_display_calib_result *res = r->res;
+    /* the session's own setting decides on --resume (stored), not this command line */
+    int has_ch = csf_profile_has_channels(r->p);
+    printf("{\"profile_id\": ");
+    json_str(stdout, csf_profile_id(r->p));
+    printf(", \"out\": ");
+    json_str(stdout, r->out);
+    printf(", \"session\": %lld, \"photometer\": ", (long long)r->sid);
+    json_str(stdout, r->spec);
+    printf(", \"simulated\": %s, \"black_cdm2\": ", r->simulated ? "true" : "false");
+    json_num(stdout, csf_profile_lum_black(r->p));
+    printf(", \"white_cdm2\": ");
+    json_num(stdout, csf_profile_lum_max(r->p));
+    printf(", \"readings\": %d, \"sweep_readings\": %d, \"warmup_readings\": %d, \"warmup_stable\": %s",
+           res->n_readings, res->n_sweep, res->n_warmup, res->warmup_stable ? "true" : "false");
+    printf(", \"target_rel\": ");
+    json_num(stdout, r->target_rel);
+    printf(", \"error_indicator_rel\": {");
+    for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
+        printf("%s\"%s\": ", k ? ", " : "", chn[c]);
+        json_num(stdout, res->est_error_rel[c]);
+    }
+    printf("}, \"noise_rel\": ");
+    json_num(stdout, res->noise_rel);
+    printf(", \"drift_rel\": ");
+    json_num(stdout, res->drift_rel);
+    printf(", \"additivity_error\": ");
+    json_num(stdout, has_ch ? res->additivity_error : NAN);
+    printf(", \"monotonic\": %s, \"rendered\": %s", res->monotonic_violations ? "false" : "true",
+           r->rendered ? "true" : "false");
+    printf(", \"wall_s\": ");
+    json_num(stdout, r->wall_s);
+    printf("}\n");
+}
+
+static void print_calibration_text(const calib_report *r)
+{
+    const csf_display_calib_result *res = r->res;
+    int has_ch = csf_profile_has_channels(r->p);
+    printf("display profile %s written to %s (session %lld)\n", csf_profile_id(r->p), r->out, (long long)r->sid);
+    printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(r->p), csf_profile_lum_max(r->p));
+    printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res->n_sweep,
+           res->n_readings, res->n_warmup, res->warmup_stable ? "" : ", white never settled");
+    printf("  error indicator (leave-one-out, pessimistic; stopping rule aims below %.3f %%): grey %.3f %%",
+           100 * r->target_rel / 4, 100 * res->est_error_rel[CSF_CH_GREY]);
+    if (has_ch)
+        printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res->est_error_rel[0], 100 * res->est_error_rel[1],
+               100 * res->est_error_rel[2]);
+    printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res->noise_rel,
+           100 * res->drift_rel);
+    if (has_ch) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res->additivity_error);
+    printf("  monotonic: %s\n", res->monotonic_violations ? res->monotonic_msg : "yes");
+    fputs(r->rinfo, stdout);
+}
+
+/* A resumed session: its own seed (so a simulated instrument continues the same noise sequence)
+ * unless --seed says otherwise, and a warning when the display differs from the one it began on. */
+static csf_status resume_calibration(const dargs *a, csf_store *store, int64_t sid, const char *spec, uint64_t *seed,
+                                     csf_error *err)
+{
+    csf_session_info si;
+    memset(&si, 0, sizeof si);
+    csf_status st = csf_store_get_session(store, sid, &si, err);
+    if (st != CSF_OK) return st;
+    if (!a->cli.seed_set) *seed = si.seed;
+    const char *now = a->name ? a->name : spec;
+    if (strncmp(si.display, now, sizeof si.display - 1) != 0)
+        fprintf(stderr, "csfcal: warning: session %lld was measured on '%s', resuming with '%s': "
+                        "the profile mixes both if they are different monitors\n",
+                (long long)sid, si.display, now);
+    csf_session_info_free(&si);
+    return CSF_OK;
+}
+
+/* The calibration's options from the command line. */
+static void calibration_options(const dargs *a, csf_display_calib_opts *o)
+{
+    csf_display_calib_defaults(o);
+    if (a->target > 0) o->target_rel = a->target;
+    if (a->budget > 0) o->budget = (int)a->budget;
+    if (a->warmup_wait_s >= 0) o->warmup_wait_s = a->warmup_wait_s;
+    o->channels = !a->no_channels;
+    o->display_name = a->name;
+    o->progress = !a->quiet && isatty(2);
+}
+
 static int cmd_calibrate(dargs *a)
 {
     if (!a->out) {
@@ -409,38 +508,16 @@ static int cmd_calibrate(dargs *a)
         return 2;
     }
     csf_display_calib_opts o;
-    csf_display_calib_defaults(&o);
-    if (a->target > 0) o.target_rel = a->target;
-    if (a->budget > 0) o.budget = (int)a->budget;
-    if (a->warmup_wait_s >= 0) o.warmup_wait_s = a->warmup_wait_s;
-    o.channels = !a->no_channels;
-    o.display_name = a->name;
-    o.progress = !a->quiet && isatty(2);
+    calibration_options(a, &o);
     const char *store_path = csf_cli_store_path(&a->cli);
     csf_store *store = NULL;
     csf_status st = csf_store_open(store_path, &store, &err);
     if (st) return csf_cli_report("display calibrate", &err);
     int64_t sid = a->cli.resume_id;
     uint64_t seed = a->cli.seed;
-    if (sid > 0) {
-        csf_session_info si;
-        memset(&si, 0, sizeof si);
-        if (csf_store_get_session(store, sid, &si, &err) == CSF_OK) {
-            /* the session's own seed, so a simulated instrument continues the same noise sequence */
-            if (!a->cli.seed_set) seed = si.seed;
-            const char *now = a->name ? a->name : spec;
-            if (strncmp(si.display, now, sizeof si.display - 1) != 0)
-                fprintf(stderr, "csfcal: warning: session %lld was measured on '%s', resuming with '%s': "
-                                "the profile mixes both if they are different monitors\n",
-                        (long long)sid, si.display, now);
-            csf_session_info_free(&si);
-        } else {
-            csf_store_close(store);
-            return csf_cli_report("display calibrate", &err);
-        }
-    }
     csf_photometer *ph = NULL;
-    st = csf_photometer_open(spec, seed, &ph, &err);
+    if (sid > 0) st = resume_calibration(a, store, sid, spec, &seed, &err);
+    if (st == CSF_OK) st = csf_photometer_open(spec, seed, &ph, &err);
     if (st) {
         csf_store_close(store);
         return csf_cli_report("display calibrate", &err);
@@ -494,56 +571,9 @@ static int cmd_calibrate(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display calibrate", &err);
     }
-    /* the session's own setting decides on --resume (stored), not this command line */
-    int has_ch = csf_profile_has_channels(p);
-    if (a->cli.json) {
-        static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
-        printf("{\"profile_id\": ");
-        json_str(stdout, csf_profile_id(p));
-        printf(", \"out\": ");
-        json_str(stdout, a->out);
-        printf(", \"session\": %lld, \"photometer\": ", (long long)sid);
-        json_str(stdout, spec);
-        printf(", \"simulated\": %s, \"black_cdm2\": ", simulated ? "true" : "false");
-        json_num(stdout, csf_profile_lum_black(p));
-        printf(", \"white_cdm2\": ");
-        json_num(stdout, csf_profile_lum_max(p));
-        printf(", \"readings\": %d, \"sweep_readings\": %d, \"warmup_readings\": %d, \"warmup_stable\": %s",
-               res.n_readings, res.n_sweep, res.n_warmup, res.warmup_stable ? "true" : "false");
-        printf(", \"target_rel\": ");
-        json_num(stdout, o.target_rel);
-        printf(", \"error_indicator_rel\": {");
-        for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
-            printf("%s\"%s\": ", k ? ", " : "", chn[c]);
-            json_num(stdout, res.est_error_rel[c]);
-        }
-        printf("}, \"noise_rel\": ");
-        json_num(stdout, res.noise_rel);
-        printf(", \"drift_rel\": ");
-        json_num(stdout, res.drift_rel);
-        printf(", \"additivity_error\": ");
-        json_num(stdout, has_ch ? res.additivity_error : NAN);
-        printf(", \"monotonic\": %s, \"rendered\": %s", res.monotonic_violations ? "false" : "true",
-               ro == 0 ? "true" : "false");
-        printf(", \"wall_s\": ");
-        json_num(stdout, t_cal);
-        printf("}\n");
-    } else if (!a->quiet) {
-        printf("display profile %s written to %s (session %lld)\n", csf_profile_id(p), a->out, (long long)sid);
-        printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(p), csf_profile_lum_max(p));
-        printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res.n_sweep,
-               res.n_readings, res.n_warmup, res.warmup_stable ? "" : ", white never settled");
-        printf("  error indicator (leave-one-out, pessimistic; stopping rule aims below %.3f %%): grey %.3f %%",
-               100 * o.target_rel / 4, 100 * res.est_error_rel[CSF_CH_GREY]);
-        if (has_ch)
-            printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res.est_error_rel[0], 100 * res.est_error_rel[1],
-                   100 * res.est_error_rel[2]);
-        printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res.noise_rel,
-               100 * res.drift_rel);
-        if (has_ch) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res.additivity_error);
-        printf("  monotonic: %s\n", res.monotonic_violations ? res.monotonic_msg : "yes");
-        fputs(rinfo, stdout);
-    }
+    calib_report r = {spec, a->out, rinfo, p, &res, o.target_rel, t_cal, sid, simulated, ro == 0};
+    if (a->cli.json) print_calibration_json(&r);
+    else if (!a->quiet) print_calibration_text(&r);
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
     if (!res.warmup_stable)
