@@ -741,11 +741,12 @@ static void marker(cairo_t *cr, double x, double y, int shape, double r)
     cairo_fill(cr);
 }
 
-static void draw_csf(cairo_t *cr, const report_data *d)
+/* The CSF page's axes: log frequency and log sensitivity spanning every finite threshold and
+ * its standard error bar. Returns 0 when there is nothing to plot. */
+static int csf_axes(const report_data *d, axes *a)
 {
-    size_t n = d->n_th;
     double fmin = INFINITY, fmax = 0, smin = INFINITY, smax = 0;
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; i < d->n_th; i++) {
         const csf_threshold_row *r = &d->th[i];
         if (!(r->freq_cpd > 0) || !isfinite(r->freq_cpd)) continue;
         fmin = r->freq_cpd < fmin ? r->freq_cpd : fmin;
@@ -757,21 +758,150 @@ static void draw_csf(cairo_t *cr, const report_data *d)
             smax = hi > smax ? hi : smax;
         }
     }
-    if (!(fmax > 0) || !(smax > 0)) {
+    if (!(fmax > 0) || !(smax > 0)) return 0;
+    *a = (axes){80, 60, 560, PAGE_H - 130, 0, 0, 0, 0, 1, 1};
+    a->x0 = floor(log10(fmin / 1.5) * 2) / 2;
+    a->x1 = ceil(log10(fmax * 1.5) * 2) / 2;
+    a->y0 = floor(log10(smin / 2));
+    a->y1 = ceil(log10(smax * 1.5));
+    if (a->y0 < -1) a->y0 = -1;
+    if (a->y1 <= a->y0) a->y1 = a->y0 + 1;
+    return 1;
+}
+
+/* One condition's points: a marker with its standard-error bar per finite threshold, an open
+ * circle on the bottom edge per never-visible cell. Fills the fit's inputs (frequency, log
+ * sensitivity, weight); returns how many, *n_inf the never-visible ones. */
+static int draw_condition_points(cairo_t *cr, const axes *a, const report_data *d, const condition *cond, int c,
+                                 double *fx, double *ly, double *wt, int *n_inf)
+{
+    const double *col = palette[c % N_PALETTE];
+    int m = 0;
+    *n_inf = 0;
+    for (size_t i = 0; i < d->n_th; i++) {
+        const csf_threshold_row *r = &d->th[i];
+        if (!same_cond(cond, r) || !(r->freq_cpd > 0)) continue;
+        double px = ax_px(a, r->freq_cpd);
+        set_rgb(cr, col);
+        if (!(r->threshold > 0) || !isfinite(r->threshold)) {
+            (*n_inf)++;
+            cairo_set_line_width(cr, 1.2);
+            cairo_arc(cr, px, a->y + a->h - 6, 4, 0, 2 * M_PI);
+            cairo_stroke(cr);
+            continue;
+        }
+        double s = 1.0 / r->threshold, py = ax_py(a, s);
+        if (isfinite(r->stderr_log10) && r->stderr_log10 > 0) {
+            double up = ax_py(a, s * pow(10, r->stderr_log10));
+            double dn = ax_py(a, s * pow(10, -r->stderr_log10));
+            cairo_set_line_width(cr, 1.2);
+            cairo_move_to(cr, px, up);
+            cairo_line_to(cr, px, dn);
+            cairo_move_to(cr, px - 3, up);
+            cairo_line_to(cr, px + 3, up);
+            cairo_move_to(cr, px - 3, dn);
+            cairo_line_to(cr, px + 3, dn);
+            cairo_stroke(cr);
+        }
+        marker(cr, px, py, c, 3.5);
+        fx[m] = r->freq_cpd;
+        ly[m] = log10(s);
+        double se = isfinite(r->stderr_log10) && r->stderr_log10 > 0.01 ? r->stderr_log10 : 0.01;
+        wt[m] = 1.0 / (se * se);
+        m++;
+    }
+    return m;
+}
+
+/* A curve through one condition's points: a weighted log-parabola from three points, a log-log
+ * line from two. */
+typedef struct {
+    int have_fit, have_line;
+    double l_smax, f_peak, beta; /* the log-parabola */
+    double slope, icpt;          /* the line */
+} csf_curve;
+
+static csf_curve fit_condition(const double *fx, const double *ly, const double *wt, int m)
+{
+    csf_curve k = {0};
+    k.have_fit = m >= 3 && csf_fit_log_parabola(fx, ly, wt, m, &k.l_smax, &k.f_peak, &k.beta) == CSF_OK;
+    if (!k.have_fit && m >= 2) {
+        double sx = 0, sy = 0, sxx = 0, sxy = 0;
+        for (int i = 0; i < m; i++) {
+            double x = log10(fx[i]);
+            sx += x, sy += ly[i], sxx += x * x, sxy += x * ly[i];
+        }
+        double den = m * sxx - sx * sx;
+        if (fabs(den) > 1e-12) {
+            k.slope = (m * sxy - sx * sy) / den;
+            k.icpt = (sy - k.slope * sx) / m;
+            k.have_line = 1;
+        }
+    }
+    return k;
+}
+
+static void draw_curve(cairo_t *cr, const axes *a, const csf_curve *k, const double *col)
+{
+    if (!k->have_fit && !k->have_line) return;
+    set_rgb(cr, col);
+    cairo_set_line_width(cr, 1.8);
+    int started = 0;
+    for (int i = 0; i <= 200; i++) {
+        double lx = a->x0 + (a->x1 - a->x0) * i / 200.0, f = pow(10, lx);
+        double lys = k->have_fit ? log_parabola(k->l_smax, k->f_peak, k->beta, f) : k->icpt + k->slope * lx;
+        double px = a->x + (lx - a->x0) / (a->x1 - a->x0) * a->w;
+        double py = a->y + a->h - (lys - a->y0) / (a->y1 - a->y0) * a->h;
+        if (!isfinite(py)) continue;
+        if (!started) cairo_move_to(cr, px, py);
+        else cairo_line_to(cr, px, py);
+        started = 1;
+    }
+    cairo_stroke(cr);
+}
+
+/* The legend entry of condition c, with its fitted parameters; returns the next entry's y. */
+static double draw_legend_entry(cairo_t *cr, const axes *a, const condition *conds, int nc, int c,
+                                const csf_curve *k, int n_inf, double y)
+{
+    char lab[160];
+    int off = snprintf(lab, sizeof lab, "ecc %g deg", conds[c].ecc);
+    if (conds[c].vel != 0) off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g deg/s", conds[c].vel);
+    if (nc > 1 && conds[c].lum != conds[0].lum)
+        off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g cd/m2", conds[c].lum);
+    set_rgb(cr, palette[c % N_PALETTE]);
+    marker(cr, a->x + a->w + 20, y - 4, c, 3.5);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text_at(cr, a->x + a->w + 30, y, 10, 1, 0, lab);
+    y += 13;
+    if (k->have_fit)
+        snprintf(lab, sizeof lab, "Smax %.0f at %.2g cpd, %.1f oct", pow(10, k->l_smax), k->f_peak, k->beta);
+    else if (k->have_line)
+        snprintf(lab, sizeof lab, "log-log line, slope %.2f", k->slope);
+    else
+        snprintf(lab, sizeof lab, "too few points to fit");
+    text_at(cr, a->x + a->w + 30, y, 9, 0, 0, lab);
+    y += 12;
+    if (n_inf) {
+        snprintf(lab, sizeof lab, "%d never visible (open circles)", n_inf);
+        text_at(cr, a->x + a->w + 30, y, 9, 0, 0, lab);
+        y += 12;
+    }
+    return y + 6;
+}
+
+static void draw_csf(cairo_t *cr, const report_data *d)
+{
+    size_t n = d->n_th;
+    axes a;
+    if (!csf_axes(d, &a)) {
         message_page(cr, "Contrast sensitivity function",
                      "No thresholds stored for this session yet (is it still running?).");
         return;
     }
     title(cr, "Contrast sensitivity function (sensitivity = 1 / Michelson threshold)");
-    axes a = {80, 60, 560, PAGE_H - 130, 0, 0, 0, 0, 1, 1};
-    a.x0 = floor(log10(fmin / 1.5) * 2) / 2;
-    a.x1 = ceil(log10(fmax * 1.5) * 2) / 2;
-    a.y0 = floor(log10(smin / 2));
-    a.y1 = ceil(log10(smax * 1.5));
-    if (a.y0 < -1) a.y0 = -1;
-    if (a.y1 <= a.y0) a.y1 = a.y0 + 1;
     draw_axes(cr, &a, "spatial frequency (cycles per degree)", "sensitivity (1 / Michelson contrast)");
-
+    /* one curve per condition (eccentricity, velocity, luminance) */
     condition conds[32];
     int nc = 0;
     for (size_t i = 0; i < n && nc < 32; i++) {
@@ -786,102 +916,13 @@ static void draw_csf(cairo_t *cr, const report_data *d)
     }
     double legend_y = a.y + 10;
     for (int c = 0; c < nc; c++) {
-        const double *col = palette[c % N_PALETTE];
-        int m = 0, n_inf = 0;
+        int n_inf;
         clip_to(cr, &a);
-        for (size_t i = 0; i < n; i++) {
-            const csf_threshold_row *r = &d->th[i];
-            if (!same_cond(&conds[c], r) || !(r->freq_cpd > 0)) continue;
-            double px = ax_px(&a, r->freq_cpd);
-            set_rgb(cr, col);
-            if (!(r->threshold > 0) || !isfinite(r->threshold)) {
-                /* Never visible: an open marker on the bottom edge. */
-                n_inf++;
-                cairo_set_line_width(cr, 1.2);
-                cairo_arc(cr, px, a.y + a.h - 6, 4, 0, 2 * M_PI);
-                cairo_stroke(cr);
-                continue;
-            }
-            double s = 1.0 / r->threshold, py = ax_py(&a, s);
-            if (isfinite(r->stderr_log10) && r->stderr_log10 > 0) {
-                double up = ax_py(&a, s * pow(10, r->stderr_log10));
-                double dn = ax_py(&a, s * pow(10, -r->stderr_log10));
-                cairo_set_line_width(cr, 1.2);
-                cairo_move_to(cr, px, up);
-                cairo_line_to(cr, px, dn);
-                cairo_move_to(cr, px - 3, up);
-                cairo_line_to(cr, px + 3, up);
-                cairo_move_to(cr, px - 3, dn);
-                cairo_line_to(cr, px + 3, dn);
-                cairo_stroke(cr);
-            }
-            marker(cr, px, py, c, 3.5);
-            fx[m] = r->freq_cpd;
-            ly[m] = log10(s);
-            double se = isfinite(r->stderr_log10) && r->stderr_log10 > 0.01 ? r->stderr_log10 : 0.01;
-            wt[m] = 1.0 / (se * se);
-            m++;
-        }
-        /* Fitted curve. */
-        double l_smax = 0, f_peak = 0, beta = 0;
-        int have_fit = m >= 3 && csf_fit_log_parabola(fx, ly, wt, m, &l_smax, &f_peak, &beta) == CSF_OK;
-        double slope = 0, icpt = 0;
-        int have_line = 0;
-        if (!have_fit && m >= 2) {
-            double sx = 0, sy = 0, sxx = 0, sxy = 0;
-            for (int k = 0; k < m; k++) {
-                double x = log10(fx[k]);
-                sx += x, sy += ly[k], sxx += x * x, sxy += x * ly[k];
-            }
-            double den = m * sxx - sx * sx;
-            if (fabs(den) > 1e-12) {
-                slope = (m * sxy - sx * sy) / den;
-                icpt = (sy - slope * sx) / m;
-                have_line = 1;
-            }
-        }
-        if (have_fit || have_line) {
-            set_rgb(cr, col);
-            cairo_set_line_width(cr, 1.8);
-            int started = 0;
-            for (int k = 0; k <= 200; k++) {
-                double lx = a.x0 + (a.x1 - a.x0) * k / 200.0, f = pow(10, lx);
-                double lys = have_fit ? log_parabola(l_smax, f_peak, beta, f) : icpt + slope * lx;
-                double px = a.x + (lx - a.x0) / (a.x1 - a.x0) * a.w;
-                double py = a.y + a.h - (lys - a.y0) / (a.y1 - a.y0) * a.h;
-                if (!isfinite(py)) continue;
-                if (!started) cairo_move_to(cr, px, py);
-                else cairo_line_to(cr, px, py);
-                started = 1;
-            }
-            cairo_stroke(cr);
-        }
+        int m = draw_condition_points(cr, &a, d, &conds[c], c, fx, ly, wt, &n_inf);
+        csf_curve k = fit_condition(fx, ly, wt, m);
+        draw_curve(cr, &a, &k, palette[c % N_PALETTE]);
         cairo_restore(cr);
-        /* Legend entry with the fitted parameters. */
-        char lab[160];
-        int off = snprintf(lab, sizeof lab, "ecc %g deg", conds[c].ecc);
-        if (conds[c].vel != 0) off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g deg/s", conds[c].vel);
-        if (nc > 1 && conds[c].lum != conds[0].lum)
-            off += snprintf(lab + off, sizeof lab - (size_t)off, ", %g cd/m2", conds[c].lum);
-        set_rgb(cr, col);
-        marker(cr, a.x + a.w + 20, legend_y - 4, c, 3.5);
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        text_at(cr, a.x + a.w + 30, legend_y, 10, 1, 0, lab);
-        legend_y += 13;
-        if (have_fit)
-            snprintf(lab, sizeof lab, "Smax %.0f at %.2g cpd, %.1f oct", pow(10, l_smax), f_peak, beta);
-        else if (have_line)
-            snprintf(lab, sizeof lab, "log-log line, slope %.2f", slope);
-        else
-            snprintf(lab, sizeof lab, "too few points to fit");
-        text_at(cr, a.x + a.w + 30, legend_y, 9, 0, 0, lab);
-        legend_y += 12;
-        if (n_inf) {
-            snprintf(lab, sizeof lab, "%d never visible (open circles)", n_inf);
-            text_at(cr, a.x + a.w + 30, legend_y, 9, 0, 0, lab);
-            legend_y += 12;
-        }
-        legend_y += 6;
+        legend_y = draw_legend_entry(cr, &a, conds, nc, c, &k, n_inf, legend_y);
     }
     free(fx), free(ly), free(wt);
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
