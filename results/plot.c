@@ -473,34 +473,37 @@ static double draw_settings(cairo_t *cr, const char *js, double y)
 static void draw_frames_area(cairo_t *cr, const report_data *d, double top_pt, double bottom_pt);
 
 /* Title, facts, verdicts and settings; returns the y below the last line. */
-static double summary_body(cairo_t *cr, const report_data *d)
-{
-    const csf_session_info *si = &d->info;
-    char buf[512];
-    snprintf(buf, sizeof buf, "csfcal session %lld: %s calibration report", (long long)si->id,
-             si->kind);
-    title(cr, buf);
+/* What the summary page counts in a session. */
+typedef struct {
+    int valid, invalid, catch_n, catch_resp, practice, rd_bad, th_inf;
+    long planned, missed; /* frames */
+} session_counts;
 
-    int valid = 0, invalid = 0, catch_n = 0, catch_resp = 0, practice = 0;
-    long planned = 0, missed = 0;
+static session_counts count_session(const report_data *d)
+{
+    session_counts k = {0};
     for (size_t i = 0; i < d->n_trials; i++) {
         const csf_trial *t = &d->trials[i];
-        if (t->valid) valid++;
-        else invalid++;
+        if (t->valid) k.valid++;
+        else k.invalid++;
         if (t->is_catch) {
-            catch_n++;
-            catch_resp += t->response != 0;
+            k.catch_n++;
+            k.catch_resp += t->response != 0;
         }
-        practice += t->is_practice != 0;
-        planned += t->frames_planned;
-        missed += t->frames_missed;
+        k.practice += t->is_practice != 0;
+        k.planned += t->frames_planned;
+        k.missed += t->frames_missed;
     }
-    int rd_bad = 0;
-    for (size_t i = 0; i < d->n_readings; i++) rd_bad += strcmp(d->readings[i].status, "ok") != 0;
-    int th_inf = 0;
-    for (size_t i = 0; i < d->n_th; i++) th_inf += !isfinite(d->th[i].threshold);
-    double dur_s = iso_to_unix(d->updated) - iso_to_unix(d->created);
+    for (size_t i = 0; i < d->n_readings; i++) k.rd_bad += strcmp(d->readings[i].status, "ok") != 0;
+    for (size_t i = 0; i < d->n_th; i++) k.th_inf += !isfinite(d->th[i].threshold);
+    return k;
+}
 
+/* The left column: the session's facts. Returns where it ends. */
+static double draw_facts(cairo_t *cr, const report_data *d, const session_counts *k)
+{
+    const csf_session_info *si = &d->info;
+    double dur_s = iso_to_unix(d->updated) - iso_to_unix(d->created);
     const char *lines[][2] = {
         {"Kind / state", NULL}, {"Observer", si->observer[0] ? si->observer : "-"},
         {"Display", si->display[0] ? si->display : "-"}, {"Started (UTC)", d->created},
@@ -514,18 +517,18 @@ static double summary_body(cairo_t *cr, const report_data *d)
     else snprintf(v_dur, sizeof v_dur, "unknown");
     snprintf(v_seed, sizeof v_seed, "%llu", (unsigned long long)si->seed);
     snprintf(v_trials, sizeof v_trials, "%zu (%d valid, %d invalid; %d practice, %d catch of which %d responded)",
-             d->n_trials, valid, invalid, practice, catch_n, catch_resp);
+             d->n_trials, k->valid, k->invalid, k->practice, k->catch_n, k->catch_resp);
     snprintf(v_frames, sizeof v_frames, "%ld planned, %ld missed (%.2f %%); %zu intervals recorded",
-             planned, missed, planned ? 100.0 * missed / planned : 0.0, d->n_frames);
+             k->planned, k->missed, k->planned ? 100.0 * k->missed / k->planned : 0.0, d->n_frames);
     double last_t = NAN;
     for (size_t i = 0; i < d->n_readings; i++)
         if (isfinite(d->readings[i].t_s) && !(d->readings[i].t_s <= last_t)) last_t = d->readings[i].t_s;
     if (d->n_readings && isfinite(last_t))
         snprintf(v_read, sizeof v_read, "%zu (%d not ok), last at t = %.1f s of the session clock",
-                 d->n_readings, rd_bad, last_t);
+                 d->n_readings, k->rd_bad, last_t);
     else
-        snprintf(v_read, sizeof v_read, "%zu (%d not ok)", d->n_readings, rd_bad);
-    snprintf(v_th, sizeof v_th, "%zu (%d never visible)", d->n_th, th_inf);
+        snprintf(v_read, sizeof v_read, "%zu (%d not ok)", d->n_readings, k->rd_bad);
+    snprintf(v_th, sizeof v_th, "%zu (%d never visible)", d->n_th, k->th_inf);
     lines[0][1] = v_state;
     lines[5][1] = v_dur;
     lines[6][1] = v_seed;
@@ -533,14 +536,13 @@ static double summary_body(cairo_t *cr, const report_data *d)
     lines[9][1] = v_frames;
     lines[10][1] = v_read;
     lines[11][1] = v_th;
-    /* Left column: the facts; right column: the verdicts, what a person looks at first. */
     double y = 72;
     /* A display session has no trials, an observer session no readings: rows that would only
      * say "0" are left out (a count that is not 0 is always shown). */
     int is_display = !strcmp(si->kind, "display");
     int skip[sizeof lines / sizeof lines[0]] = {0};
     skip[1] = is_display && !si->observer[0];
-    skip[8] = skip[9] = is_display && !d->n_trials && !planned;
+    skip[8] = skip[9] = is_display && !d->n_trials && !k->planned;
     skip[10] = !is_display && !d->n_readings;
     skip[11] = is_display && !d->n_th;
     for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++) {
@@ -556,46 +558,56 @@ static double summary_body(cairo_t *cr, const report_data *d)
             y = wrap_text(cr, 160, y, 300, 10, 0, 13, si->profile_id) + 2;
         }
     }
-    double y_left = y;
+    return y;
+}
 
-    verdict v[8];
+/* The verdicts (OK / CHECK / PROBLEM) on what a person looks at first; returns how many. */
+static int collect_verdicts(const report_data *d, const session_counts *k, verdict v[8])
+{
+    const csf_session_info *si = &d->info;
     int nv = 0;
     if (strcmp(si->state, "finished") != 0)
         snprintf(v[nv].text, sizeof v[nv].text, "Session is %s, not finished: continue it with --resume %lld",
                  si->state, (long long)si->id), v[nv++].level = strcmp(si->state, "aborted") ? 1 : 2;
     if (d->n_trials) {
-        double f = (double)invalid / (double)d->n_trials;
+        double f = (double)k->invalid / (double)d->n_trials;
         v[nv].level = f > 0.10 ? 2 : f > 0.02 ? 1 : 0;
         snprintf(v[nv++].text, sizeof v[0].text, "%.1f %% of trials invalid", 100 * f);
     }
-    if (planned) {
-        double f = (double)missed / (double)planned;
+    if (k->planned) {
+        double f = (double)k->missed / (double)k->planned;
         v[nv].level = f > 0.01 ? 2 : f > 0.001 ? 1 : 0;
         snprintf(v[nv++].text, sizeof v[0].text, "%.2f %% of frames missed", 100 * f);
     }
-    if (catch_n) {
-        double f = (double)catch_resp / catch_n;
+    if (k->catch_n) {
+        double f = (double)k->catch_resp / k->catch_n;
         /* With few catch trials one false alarm is a large fraction: only a warning then. */
-        v[nv].level = f > 0.2 && catch_n >= 10 ? 2 : f > 0.1 ? 1 : 0;
+        v[nv].level = f > 0.2 && k->catch_n >= 10 ? 2 : f > 0.1 ? 1 : 0;
         snprintf(v[nv++].text, sizeof v[0].text, "%d of %d catch trials drew a response (%.0f %%)",
-                 catch_resp, catch_n, 100 * f);
+                 k->catch_resp, k->catch_n, 100 * f);
     }
     if (d->n_readings) {
-        v[nv].level = rd_bad ? 1 : 0;
-        snprintf(v[nv++].text, sizeof v[0].text, "%d of %zu photometer readings failed", rd_bad, d->n_readings);
+        v[nv].level = k->rd_bad ? 1 : 0;
+        snprintf(v[nv++].text, sizeof v[0].text, "%d of %zu photometer readings failed", k->rd_bad, d->n_readings);
     }
     if (!strcmp(si->kind, "observer")) {
         v[nv].level = d->n_th ? 0 : 1;
         if (d->n_th) snprintf(v[nv++].text, sizeof v[0].text, "%zu thresholds measured", d->n_th);
         else snprintf(v[nv++].text, sizeof v[0].text, "no thresholds stored yet");
     }
+    return nv;
+}
+
+/* The right column: the verdicts. Returns where it ends. */
+static double draw_verdicts(cairo_t *cr, const verdict *v, int nv)
+{
+    static const double lvl_col[3][3] = {{0.1, 0.55, 0.2}, {0.85, 0.55, 0.0}, {0.8, 0.1, 0.1}};
+    static const char *lvl_name[3] = {"OK", "CHECK", "PROBLEM"};
     const double gx = 500;
-    y = 72;
+    double y = 72;
     cairo_set_source_rgb(cr, 0, 0, 0);
     text_at(cr, gx, y, 12, 1, 0, "At a glance");
     y += 20;
-    static const double lvl_col[3][3] = {{0.1, 0.55, 0.2}, {0.85, 0.55, 0.0}, {0.8, 0.1, 0.1}};
-    static const char *lvl_name[3] = {"OK", "CHECK", "PROBLEM"};
     for (int i = 0; i < nv; i++) {
         set_rgb(cr, lvl_col[v[i].level]);
         cairo_new_path(cr);
@@ -605,9 +617,22 @@ static double summary_body(cairo_t *cr, const report_data *d)
         cairo_set_source_rgb(cr, 0, 0, 0);
         y = wrap_text(cr, gx + 72, y, PAGE_W - 40 - (gx + 72), 10, 0, 13, v[i].text) + 6;
     }
-    y = fmax(y, y_left) + 10;
-    y = draw_settings(cr, si->settings_json ? si->settings_json : "{}", y);
     return y;
+}
+
+static double summary_body(cairo_t *cr, const report_data *d)
+{
+    const csf_session_info *si = &d->info;
+    char buf[512];
+    snprintf(buf, sizeof buf, "csfcal session %lld: %s calibration report", (long long)si->id, si->kind);
+    title(cr, buf);
+    session_counts k = count_session(d);
+    /* Left column: the facts; right column: the verdicts, what a person looks at first. */
+    double y_left = draw_facts(cr, d, &k);
+    verdict v[8];
+    int nv = collect_verdicts(d, &k, v);
+    double y = fmax(draw_verdicts(cr, v, nv), y_left) + 10;
+    return draw_settings(cr, si->settings_json ? si->settings_json : "{}", y);
 }
 
 /* Where the summary's text ends, measured by drawing it on a scratch surface (the toy font
