@@ -164,6 +164,138 @@ static const char *const frame_cols[] = {"session_id", "trial_seq", "frame", "in
 
 #define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
+static csf_status export_trials(csf_store *s, int64_t session_id, writer *w, csf_error *err)
+{
+    csf_trial *t = NULL;
+    size_t n = 0;
+    csf_status st = csf_store_get_trials(s, session_id, &t, &n, err);
+    if (st != CSF_OK) return st;
+    w->names = trial_cols;
+    w->ncols = NCOLS(trial_cols);
+    begin_table(w);
+    for (size_t i = 0; i < n; i++) {
+        const csf_trial *x = &t[i];
+        begin_row(w);
+        put_i(w, x->session_id);
+        put_i(w, x->seq);
+        put_s(w, x->method);
+        put_r(w, x->freq_cpd);
+        put_r(w, x->ecc_deg);
+        put_r(w, x->polar_deg);
+        put_r(w, x->orientation_deg);
+        put_r(w, x->sigma_deg);
+        put_r(w, x->velocity_dps);
+        put_r(w, x->mean_lum_cdm2);
+        put_b(w, x->is_catch);
+        put_b(w, x->is_practice);
+        put_r(w, x->contrast_requested);
+        put_r(w, x->contrast_shown_mean);
+        put_r(w, x->contrast_shown_max);
+        put_i(w, x->frames_planned);
+        put_i(w, x->frames_shown);
+        put_i(w, x->frames_missed);
+        put_i(w, x->signal_interval);
+        put_i(w, x->response);
+        put_r(w, x->rt_s);
+        put_r(w, x->click_x_deg);
+        put_r(w, x->click_y_deg);
+        put_b(w, x->valid);
+        put_s(w, x->flags);
+        put_i(w, x->n_alternatives);
+        end_row(w);
+    }
+    end_table(w);
+    free(t);
+    return CSF_OK;
+}
+
+static csf_status export_readings(csf_store *s, int64_t session_id, writer *w, csf_error *err)
+{
+    csf_reading *r = NULL;
+    size_t n = 0;
+    csf_status st = csf_store_get_readings(s, session_id, &r, &n, err);
+    if (st != CSF_OK) return st;
+    w->names = reading_cols;
+    w->ncols = NCOLS(reading_cols);
+    begin_table(w);
+    for (size_t i = 0; i < n; i++) {
+        const csf_reading *x = &r[i];
+        begin_row(w);
+        put_i(w, x->session_id);
+        put_i(w, x->seq);
+        put_s(w, x->channel);
+        put_r(w, x->drive01);
+        put_r(w, x->lum_cdm2);
+        put_r(w, x->has_xyz ? x->X : NAN);
+        put_r(w, x->has_xyz ? x->Y : NAN);
+        put_r(w, x->has_xyz ? x->Z : NAN);
+        put_r(w, x->t_s);
+        put_s(w, x->status);
+        end_row(w);
+    }
+    end_table(w);
+    free(r);
+    return CSF_OK;
+}
+
+/* Streamed straight from the table: a long session has many thousands of frames. */
+static csf_status export_frames(csf_store *s, int64_t session_id, writer *w, csf_error *err)
+{
+    sqlite3_stmt *q = NULL;
+    int rc = sqlite3_prepare_v2(csf_store_db(s), "SELECT trial_seq, idx, interval_s FROM "
+                                "frame_intervals WHERE session_id = ? ORDER BY trial_seq, idx",
+                                -1, &q, NULL);
+    if (rc != SQLITE_OK)
+        return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)",
+                             sqlite3_errmsg(csf_store_db(s)));
+    sqlite3_bind_int64(q, 1, session_id);
+    w->names = frame_cols;
+    w->ncols = NCOLS(frame_cols);
+    begin_table(w);
+    while ((rc = sqlite3_step(q)) == SQLITE_ROW) {
+        begin_row(w);
+        put_i(w, session_id);
+        put_i(w, sqlite3_column_int64(q, 0));
+        put_i(w, sqlite3_column_int64(q, 1));
+        put_r(w, sqlite3_column_type(q, 2) == SQLITE_NULL ? NAN : sqlite3_column_double(q, 2));
+        end_row(w);
+    }
+    sqlite3_finalize(q);
+    end_table(w);
+    if (rc != SQLITE_DONE)
+        return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)", sqlite3_errstr(rc));
+    return CSF_OK;
+}
+
+static csf_status export_thresholds(csf_store *s, int64_t session_id, writer *w, csf_error *err)
+{
+    csf_threshold_row *r = NULL;
+    size_t n = 0;
+    csf_status st = csf_store_get_thresholds(s, session_id, &r, &n, err);
+    if (st != CSF_OK) return st;
+    w->names = threshold_cols;
+    w->ncols = NCOLS(threshold_cols);
+    begin_table(w);
+    for (size_t i = 0; i < n; i++) {
+        const csf_threshold_row *x = &r[i];
+        begin_row(w);
+        put_i(w, session_id);
+        put_r(w, x->freq_cpd);
+        put_r(w, x->ecc_deg);
+        put_r(w, x->velocity_dps);
+        put_r(w, x->lum_cdm2);
+        put_r(w, x->threshold);
+        put_b(w, isinf(x->threshold) && x->threshold > 0);
+        put_r(w, x->threshold > 0 ? 1.0 / x->threshold : NAN);
+        put_r(w, x->stderr_log10);
+        put_i(w, x->n_trials);
+        end_row(w);
+    }
+    end_table(w);
+    free(r);
+    return CSF_OK;
+}
+
 csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table table,
                             csf_export_format format, FILE *out, csf_error *err)
 {
@@ -177,121 +309,11 @@ csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table t
     csf_session_info_free(&info);
     writer w = {out, format == CSF_EXPORT_JSON, 0, 0, NULL, 0};
     errno = 0;
-    if (table == CSF_TABLE_TRIALS) {
-        csf_trial *t = NULL;
-        size_t n = 0;
-        if ((st = csf_store_get_trials(s, session_id, &t, &n, err)) != CSF_OK) return st;
-        w.names = trial_cols;
-        w.ncols = NCOLS(trial_cols);
-        begin_table(&w);
-        for (size_t i = 0; i < n; i++) {
-            const csf_trial *x = &t[i];
-            begin_row(&w);
-            put_i(&w, x->session_id);
-            put_i(&w, x->seq);
-            put_s(&w, x->method);
-            put_r(&w, x->freq_cpd);
-            put_r(&w, x->ecc_deg);
-            put_r(&w, x->polar_deg);
-            put_r(&w, x->orientation_deg);
-            put_r(&w, x->sigma_deg);
-            put_r(&w, x->velocity_dps);
-            put_r(&w, x->mean_lum_cdm2);
-            put_b(&w, x->is_catch);
-            put_b(&w, x->is_practice);
-            put_r(&w, x->contrast_requested);
-            put_r(&w, x->contrast_shown_mean);
-            put_r(&w, x->contrast_shown_max);
-            put_i(&w, x->frames_planned);
-            put_i(&w, x->frames_shown);
-            put_i(&w, x->frames_missed);
-            put_i(&w, x->signal_interval);
-            put_i(&w, x->response);
-            put_r(&w, x->rt_s);
-            put_r(&w, x->click_x_deg);
-            put_r(&w, x->click_y_deg);
-            put_b(&w, x->valid);
-            put_s(&w, x->flags);
-            put_i(&w, x->n_alternatives);
-            end_row(&w);
-        }
-        end_table(&w);
-        free(t);
-    } else if (table == CSF_TABLE_READINGS) {
-        csf_reading *r = NULL;
-        size_t n = 0;
-        if ((st = csf_store_get_readings(s, session_id, &r, &n, err)) != CSF_OK) return st;
-        w.names = reading_cols;
-        w.ncols = NCOLS(reading_cols);
-        begin_table(&w);
-        for (size_t i = 0; i < n; i++) {
-            const csf_reading *x = &r[i];
-            begin_row(&w);
-            put_i(&w, x->session_id);
-            put_i(&w, x->seq);
-            put_s(&w, x->channel);
-            put_r(&w, x->drive01);
-            put_r(&w, x->lum_cdm2);
-            put_r(&w, x->has_xyz ? x->X : NAN);
-            put_r(&w, x->has_xyz ? x->Y : NAN);
-            put_r(&w, x->has_xyz ? x->Z : NAN);
-            put_r(&w, x->t_s);
-            put_s(&w, x->status);
-            end_row(&w);
-        }
-        end_table(&w);
-        free(r);
-    } else if (table == CSF_TABLE_FRAMES) {
-        /* Streamed straight from the table: a long session has many thousands of frames. */
-        sqlite3_stmt *q = NULL;
-        int rc = sqlite3_prepare_v2(csf_store_db(s), "SELECT trial_seq, idx, interval_s FROM "
-                                    "frame_intervals WHERE session_id = ? ORDER BY trial_seq, idx",
-                                    -1, &q, NULL);
-        if (rc != SQLITE_OK)
-            return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)",
-                                 sqlite3_errmsg(csf_store_db(s)));
-        sqlite3_bind_int64(q, 1, session_id);
-        w.names = frame_cols;
-        w.ncols = NCOLS(frame_cols);
-        begin_table(&w);
-        while ((rc = sqlite3_step(q)) == SQLITE_ROW) {
-            begin_row(&w);
-            put_i(&w, session_id);
-            put_i(&w, sqlite3_column_int64(q, 0));
-            put_i(&w, sqlite3_column_int64(q, 1));
-            put_r(&w, sqlite3_column_type(q, 2) == SQLITE_NULL ? NAN : sqlite3_column_double(q, 2));
-            end_row(&w);
-        }
-        sqlite3_finalize(q);
-        end_table(&w);
-        if (rc != SQLITE_DONE)
-            return csf_error_set(err, CSF_E_STORE, "export: reading frame intervals failed (%s)",
-                                 sqlite3_errstr(rc));
-    } else {
-        csf_threshold_row *r = NULL;
-        size_t n = 0;
-        if ((st = csf_store_get_thresholds(s, session_id, &r, &n, err)) != CSF_OK) return st;
-        w.names = threshold_cols;
-        w.ncols = NCOLS(threshold_cols);
-        begin_table(&w);
-        for (size_t i = 0; i < n; i++) {
-            const csf_threshold_row *x = &r[i];
-            begin_row(&w);
-            put_i(&w, session_id);
-            put_r(&w, x->freq_cpd);
-            put_r(&w, x->ecc_deg);
-            put_r(&w, x->velocity_dps);
-            put_r(&w, x->lum_cdm2);
-            put_r(&w, x->threshold);
-            put_b(&w, isinf(x->threshold) && x->threshold > 0);
-            put_r(&w, x->threshold > 0 ? 1.0 / x->threshold : NAN);
-            put_r(&w, x->stderr_log10);
-            put_i(&w, x->n_trials);
-            end_row(&w);
-        }
-        end_table(&w);
-        free(r);
-    }
+    st = table == CSF_TABLE_TRIALS     ? export_trials(s, session_id, &w, err)
+         : table == CSF_TABLE_READINGS ? export_readings(s, session_id, &w, err)
+         : table == CSF_TABLE_FRAMES   ? export_frames(s, session_id, &w, err)
+                                       : export_thresholds(s, session_id, &w, err);
+    if (st != CSF_OK) return st;
     if (fflush(out) != 0 || ferror(out))
         return csf_error_set(err, CSF_E_IO, "export: write failed (%s)", strerror(errno ? errno : EIO));
     return CSF_OK;
