@@ -965,6 +965,14 @@ static void levels_free(levels *L)
     free(L->cnt);
 }
 
+/* The standard deviation of a level's mean luminance, relative, from cnt readings: the
+ * instrument's relative noise (or the white drift, if larger) and its absolute noise at lum. */
+static double level_mean_sd(const ctx *c, double lum, int cnt)
+{
+    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+    return sqrt((nr * nr + pow(c->noise_abs / lum, 2)) / cnt);
+}
+
 /* The fixed levels of a sweep after full drive: a channel's full drive again when its share
  * allows (it scales the channel's whole curve; the ratio fit needs the four grid levels more),
  * the corners the caller asks for, then the grid. */
@@ -1008,8 +1016,7 @@ static csf_status repeat_noisiest_channel_level(ctx *c, int ch, int budget, int 
         double worst = 0, at = NAN;
         for (size_t i = 0; i < L.m; i++) {
             if (!(L.v[i] > 0) || !(L.lum[i] >= 0.05 * peak)) continue;
-            double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
-            double sd = sqrt((nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i]);
+            double sd = level_mean_sd(c, L.lum[i], L.cnt[i]);
             if (sd > worst) {
                 worst = sd;
                 at = L.v[i];
@@ -1097,14 +1104,13 @@ static csf_status split_worst_intervals(ctx *c, int ch, int budget, int start, d
  * is known to target/6. */
 static csf_status average_grey_noise(ctx *c, int budget, int start, double peak, csf_error *err)
 {
-    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
     while (c->n_sweep - start < budget) {
         levels L;
         levels_read(c, CSF_CH_GREY, &L);
         double worst = 0, wid = 0, at = NAN;
         for (size_t i = 1; i + 1 < L.m; i++) {
             if (!(L.lum[i] >= 0.1 * peak)) continue;
-            double sd = sqrt((nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i]);
+            double sd = level_mean_sd(c, L.lum[i], L.cnt[i]);
             double w = L.v[i + 1] - L.v[i - 1];
             if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
                 worst = sd;
