@@ -92,7 +92,7 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define DECISION_MIX_HT_PRIOR 0.2
 #endif
 #ifndef CELL_TRIAL_CAP
-#define CELL_TRIAL_CAP 0 /* off; see the stimulus choice in next() */
+#define CELL_TRIAL_CAP 0 /* off; see the stimulus choice in cell_best_trial() */
 #endif
 /* Experiment, off: stimulus choice also counts what a trial teaches about the other cells through
  * the surface particles (cross_cell_info). Screened on held-out sets 1-7 at 20 seeds it moved the
