@@ -180,19 +180,6 @@ csf_status csf_serial_open(const char *path, const csf_serial_params *p, const c
     return CSF_OK;
 }
 
-void csf_quote_bytes(const char *in, size_t n, char *out, size_t cap)
-{
-    size_t o = 0;
-    if (!cap) return;
-    for (size_t i = 0; i < n && o + 5 < cap; i++) {
-        unsigned char c = (unsigned char)in[i];
-        if (c >= 0x20 && c < 0x7f && c != '\\') out[o++] = (char)c;
-        else o += (size_t)snprintf(out + o, cap - o, c == '\r' ? "\\r" : c == '\n' ? "\\n" : "\\x%02x", c);
-    }
-    if (o >= cap) o = cap - 1;
-    out[o] = 0;
-}
-
 csf_status csf_transport_read_line(csf_transport *t, char *line, size_t cap, size_t *len, double timeout_s,
                                    const char *who, const char *what, csf_error *err)
 {

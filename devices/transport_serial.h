@@ -34,7 +34,6 @@ csf_status csf_transport_read_line(csf_transport *t, char *line, size_t cap, siz
 /* Drops bytes already waiting (a late answer to an earlier, timed-out command). */
 void csf_transport_drain(csf_transport *t);
 
-/* Writes a quoted, printable form of bytes into out (for messages about replies). */
-void csf_quote_bytes(const char *in, size_t n, char *out, size_t cap);
+/* csf_quote_bytes (results/csf_status.h) gives the printable form of a reply for messages. */
 
 #endif

@@ -57,3 +57,16 @@ void csf_error_clear(csf_error *e)
         e->msg[0] = '\0';
     }
 }
+
+void csf_quote_bytes(const char *in, size_t n, char *out, size_t cap)
+{
+    size_t o = 0;
+    if (!cap) return;
+    for (size_t i = 0; i < n && o + 5 < cap; i++) {
+        unsigned char c = (unsigned char)in[i];
+        if (c >= 0x20 && c < 0x7f && c != '\\') out[o++] = (char)c;
+        else o += (size_t)snprintf(out + o, cap - o, c == '\r' ? "\\r" : c == '\n' ? "\\n" : "\\x%02x", c);
+    }
+    if (o >= cap) o = cap - 1;
+    out[o] = 0;
+}

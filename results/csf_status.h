@@ -39,4 +39,9 @@ csf_status csf_error_set(csf_error *e, csf_status code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 void csf_error_clear(csf_error *e);
 
+/* Bytes from outside (a file, an instrument's reply) for a message: printable ASCII as it is,
+ * \r and \n as such and every other byte as \xNN, so a hostile input cannot put control codes
+ * on a terminal. Writes at most cap bytes into out, NUL included. */
+void csf_quote_bytes(const char *in, size_t n, char *out, size_t cap);
+
 #endif

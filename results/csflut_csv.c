@@ -50,6 +50,21 @@ typedef struct {
 
 /* A comment line [q, le) (q at the '#'): "# key: value" for a known key sets that field; other
  * comments are ignored. Returns CSFLUT_OK, CSFLUT_E_NOMEM or CSFLUT_E_CSV (msg filled). */
+/* At most 24 bytes of a field for a message, with every byte outside printable ASCII (and the
+ * quote and backslash) as \xNN, so a hostile file cannot put control codes on a terminal. (This
+ * library links only libc, so it keeps its own copy of csf_quote_bytes.) */
+static const char *quote_field(const char *f, size_t n, char *out, size_t cap)
+{
+    size_t o = 0;
+    for (size_t i = 0; i < n && i < 24 && o + 5 < cap; i++) {
+        unsigned char c = (unsigned char)f[i];
+        if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\') out[o++] = (char)c;
+        else o += (size_t)snprintf(out + o, cap - o, "\\x%02x", c);
+    }
+    out[o < cap ? o : cap - 1] = 0;
+    return out;
+}
+
 static csflut_status parse_meta(const char *q, const char *le, csv_meta *m, char *msg, size_t msz)
 {
     q++;
@@ -92,7 +107,8 @@ static csflut_status parse_meta(const char *q, const char *le, csv_meta *m, char
         if (k < 2) ok = ok && (x != x || (isfinite(x) && x > 0));
         else ok = ok && x >= 0 && x <= 2147483647.0 && x == floor(x);
         if (!ok) {
-            snprintf(msg, msz, "%s \"%.*s\" is not %s", num_keys[k], (int)(vl < 40 ? vl : 40), v,
+            char shown[100];
+            snprintf(msg, msz, "%s \"%s\" is not %s", num_keys[k], quote_field(v, vl, shown, sizeof shown),
                      k < 2 ? "a number > 0 (or nan for unknown)" : "a whole number 0 to 2147483647");
             return CSFLUT_E_CSV;
         }
@@ -184,9 +200,10 @@ static csflut_status read_header(csv_read *cr, const char **fs, const size_t *fl
         for (int c = 0; c < N_COLS; c++)
             if (fl[k] == strlen(col_names[c]) && memcmp(fs[k], col_names[c], fl[k]) == 0) found = c;
         if (found < 0) {
+            char shown[100];
             snprintf(msg, msz,
-                     "unknown column \"%.*s\" (allowed: freq_cpd, ecc_deg, velocity_dps, "
-                     "lum_cdm2, threshold, stderr_log10)", (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
+                     "unknown column \"%s\" (allowed: freq_cpd, ecc_deg, velocity_dps, "
+                     "lum_cdm2, threshold, stderr_log10)", quote_field(fs[k], fl[k], shown, sizeof shown));
             return CSFLUT_E_CSV;
         }
         if (cr->colmap[found] >= 0) {
@@ -248,7 +265,8 @@ static csflut_status read_row(csv_read *cr, size_t line, const char **fs, const 
         if (k < 0) continue;
         if (c == COL_SE && (fl[k] == 0)) continue; /* empty = unknown */
         if (parse_num(fs[k], fl[k], &r->v[c]) != 0) {
-            snprintf(msg, msz, "%s \"%.*s\" is not a number", col_names[c], (int)(fl[k] > 40 ? 40 : fl[k]), fs[k]);
+            char shown[100];
+            snprintf(msg, msz, "%s \"%s\" is not a number", col_names[c], quote_field(fs[k], fl[k], shown, sizeof shown));
             return CSFLUT_E_CSV;
         }
         const char *rule = value_rule(c, r->v[c]);

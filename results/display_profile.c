@@ -1060,16 +1060,19 @@ static csf_status parse_section_header(profile_parse *pp, char *s)
     char *close = strchr(s, ']');
     if (!close || close[1]) return perr(&pp->pc, "malformed section header");
     *close = 0;
+    char q[200]; /* the name as the message quotes it: outside bytes, made printable */
     if (strcmp(s + 1, "readings") == 0) {
         pp->section = 4;
     } else if (strncmp(s + 1, "curve ", 6) == 0) {
         int c = channel_from_name(s + 7);
-        if (c < 0) return perr(&pp->pc, "unknown curve '%s' (r, g, b, grey)", s + 7);
-        if (pp->seen_curve[c]) return perr(&pp->pc, "curve %s given twice", s + 7);
+        csf_quote_bytes(s + 7, strlen(s + 7), q, sizeof q);
+        if (c < 0) return perr(&pp->pc, "unknown curve '%s' (r, g, b, grey)", q);
+        if (pp->seen_curve[c]) return perr(&pp->pc, "curve %s given twice", q);
         pp->seen_curve[c] = 1;
         pp->section = c;
     } else {
-        return perr(&pp->pc, "unknown section [%s]", s + 1);
+        csf_quote_bytes(s + 1, strlen(s + 1), q, sizeof q);
+        return perr(&pp->pc, "unknown section [%s]", q);
     }
     pp->section_line = 0;
     return CSF_OK;

@@ -199,6 +199,9 @@ int main(void)
         {"csfcal-display-profile 1\n[curve grey]\ntransform_gamma = 9\n", "transform_gamma", CSF_E_FORMAT},
         {"csfcal-display-profile 1\n[curve grey]\ntransform_gamma = 2\ndrive01,lum_cdm2\n0,1\n0.5,2\n", "drive 0 and 1", CSF_E_FORMAT},
         {"csfcal-display-profile 1\n[curve purple]\n", "unknown curve", CSF_E_FORMAT},
+        /* outside bytes in a message are made printable: a control sequence is shown, not obeyed */
+        {"csfcal-display-profile 1\n[curve \x1b[2J]\n", "unknown curve '\\x1b[2J'", CSF_E_FORMAT},
+        {"csfcal-display-profile 1\n[\x07" "bell]\n", "unknown section [\\x07bell]", CSF_E_FORMAT},
         {"csfcal-display-profile 1\n[curve grey]\ntransform_gamma = 2\ndrive01,lum_cdm2\n0,1\n1,2\n[curve r]\ntransform_gamma = 2\ndrive01,lum_cdm2\n0,0\n1,1\n", "all of r, g, b", CSF_E_FORMAT},
         {"csfcal-display-profile 1\ncreated_utc = yesterday\n", "created_utc", CSF_E_FORMAT},
         {"csfcal-display-profile 1\n[curve grey]\ntransform_gamma = 2\ndrive01,lum_cdm2\n0,1\n1,nan\n", "expected drive01", CSF_E_FORMAT},

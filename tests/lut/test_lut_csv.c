@@ -130,6 +130,10 @@ static void test_bad_csv(void)
     expect_refusal("# only a comment\n", 1, "no header");
     expect_refusal("freq_cpd,ecc_deg,threshold\n", 1, "no data rows");
     expect_refusal("freq_cpd,ecc,threshold\n1,0,0.1\n", 1, "unknown column \"ecc\"");
+    /* outside bytes in a message are made printable: a terminal control sequence is shown, not
+     * obeyed */
+    expect_refusal("freq_cpd,\x1b[2J,threshold\n1,0,0.1\n", 1, "unknown column \"\\x1b[2J\"");
+    expect_refusal("freq_cpd,ecc_deg,threshold\n1,0,0.1\xff\n", 2, "threshold \"0.1\\xff\" is not a number");
     expect_refusal("freq_cpd,threshold\n1,0.1\n", 1, "ecc_deg");
     expect_refusal("freq_cpd,ecc_deg,threshold,freq_cpd\n", 1, "appears twice");
     expect_refusal("a,b,c,d,e,f,g\n", 1, "more than 6 columns");
