@@ -87,12 +87,12 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
         }
         /* A password here would sit in shell history and process lists: libpq reads it from
          * ~/.pgpass, PGPASSFILE or a service file instead. The message does not repeat it. */
-        if (csf_store_has_password(arg)) {
-            char red[1024];
-            csf_store_redact(arg, red, sizeof red);
-            fprintf(stderr, "csfcal: --store: a password on the command line is refused (%s); put it "
-                            "in ~/.pgpass or the file PGPASSFILE names (docs/store.md)\n", red);
-            return -1;
+        {
+            csf_error err;
+            if (csf_store_check_location(arg, "--store", &err) != CSF_OK) {
+                fprintf(stderr, "csfcal: %s\n", err.msg);
+                return -1;
+            }
         }
         return set_key(cli, "store", arg);
     case CSF_OPT_SEED: {
@@ -309,4 +309,29 @@ int csf_cli_report(const char *context, const csf_error *err)
     if (context && *context) fprintf(stderr, "csfcal: %s: %s\n", context, err->msg);
     else fprintf(stderr, "csfcal: %s\n", err->msg);
     return err->code == CSF_E_INVALID_ARG ? 2 : 1;
+}
+
+char *csf_shell_quote(const char *word)
+{
+    if (!word) word = "";
+    /* Words made only of these need no quotes in any POSIX shell; they keep hints readable. */
+    static const char plain[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                                "@%+=:,./_-";
+    size_t n = strlen(word);
+    char *out = malloc(4 * n + 3);
+    if (!out) return NULL;
+    if (n && strspn(word, plain) == n) return memcpy(out, word, n + 1);
+    size_t o = 0;
+    out[o++] = '\'';
+    for (const char *p = word; *p; p++) {
+        if (*p == '\'') {
+            memcpy(out + o, "'\\''", 4); /* close, a quoted quote, reopen */
+            o += 4;
+        } else {
+            out[o++] = *p;
+        }
+    }
+    out[o++] = '\'';
+    out[o] = '\0';
+    return out;
 }

@@ -58,6 +58,11 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg);
 /* Decides headless mode: true if --headless was given or no X11/Wayland display is reachable. */
 int csf_cli_want_headless(const csf_cli *cli);
 
+/* word as one POSIX shell word, for commands printed for the user to paste: unchanged when it
+ * holds only letters, digits and @%+=:,./_- (and is not empty), else in single quotes with each
+ * ' written as '\''. malloc'd (free()); NULL when out of memory. */
+char *csf_shell_quote(const char *word);
+
 /* Resolved store path (config/--store, else the XDG default); creates the parent directory. */
 const char *csf_cli_store_path(csf_cli *cli);
 

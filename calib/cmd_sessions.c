@@ -8,6 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "calib/cli.h"
 #include "calib/commands.h"
 #include "results/file_write.h"
@@ -59,57 +61,88 @@ static const struct option sessions_options[] = {
     {0, 0, 0, 0},
 };
 
-static void json_str(FILE *out, const char *s)
+/* A JSON string of text read from the store: jansson checks it is UTF-8; text that is not (a
+ * row written around csfcal) is given in its escaped, printable form instead. */
+static json_t *json_text(const char *s)
 {
-    fputc('"', out);
-    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-        if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
-        else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
-        else fputc(*p, out);
-    }
-    fputc('"', out);
+    json_t *j = json_string(s ? s : "");
+    if (j) return j;
+    char buf[4096];
+    csf_store_printable(s, buf, sizeof buf);
+    return json_string(buf);
 }
 
-static void print_session_json(FILE *out, const csf_session_info *si, int with_settings)
+static json_t *session_json(const csf_session_info *si, int with_settings)
 {
-    fprintf(out, "{\"id\": %lld, \"kind\": ", (long long)si->id);
-    json_str(out, si->kind);
-    fputs(", \"state\": ", out);
-    json_str(out, si->state);
-    fputs(", \"observer\": ", out);
-    json_str(out, si->observer);
-    fputs(", \"display\": ", out);
-    json_str(out, si->display);
-    fputs(", \"profile_id\": ", out);
-    if (si->profile_id[0]) json_str(out, si->profile_id);
-    else fputs("null", out);
-    fprintf(out, ", \"seed\": %llu, \"tool_version\": ", (unsigned long long)si->seed);
-    json_str(out, si->tool_version);
-    fputs(", \"created_utc\": ", out);
-    json_str(out, si->created_utc);
-    fprintf(out, ", \"n_trials\": %d, \"n_readings\": %d", si->n_trials, si->n_readings);
-    if (with_settings) {
-        /* Stored as text by the procedures; quoted so the output stays valid whatever it holds. */
-        fputs(", \"settings_json\": ", out);
-        json_str(out, si->settings_json ? si->settings_json : "{}");
-    }
-    fputc('}', out);
+    json_t *o = json_object();
+    json_object_set_new(o, "id", json_integer(si->id));
+    json_object_set_new(o, "kind", json_text(si->kind));
+    json_object_set_new(o, "state", json_text(si->state));
+    json_object_set_new(o, "observer", json_text(si->observer));
+    json_object_set_new(o, "display", json_text(si->display));
+    json_object_set_new(o, "profile_id", si->profile_id[0] ? json_text(si->profile_id) : json_null());
+    json_object_set_new(o, "seed", json_integer((json_int_t)si->seed));
+    json_object_set_new(o, "tool_version", json_text(si->tool_version));
+    json_object_set_new(o, "created_utc", json_text(si->created_utc));
+    json_object_set_new(o, "n_trials", json_integer(si->n_trials));
+    json_object_set_new(o, "n_readings", json_integer(si->n_readings));
+    /* Stored as text by the procedures; a string, so the output stays valid whatever it holds. */
+    if (with_settings)
+        json_object_set_new(o, "settings_json", json_text(si->settings_json ? si->settings_json : "{}"));
+    return o;
+}
+
+/* Writes doc (taken) and a newline; 0, or 1 after a message. */
+static int print_json(json_t *doc)
+{
+    int bad = !doc || json_dumpf(doc, stdout, JSON_INDENT(1) | JSON_PRESERVE_ORDER) != 0;
+    json_decref(doc);
+    if (bad) fprintf(stderr, "csfcal: sessions: cannot write the JSON output\n");
+    else putchar('\n');
+    return bad;
 }
 
 /* The command that continues an unfinished session: each kind has its own (a display session
- * is continued by display calibrate, which needs the photometer and the profile file again). */
-static void print_resume_hint(FILE *out, const csf_session_info *si, const char *store_path)
+ * is continued by display calibrate, which needs the photometer and the profile file again).
+ * location is the store as given (checked on open: printable, no secret), quoted for a shell
+ * so the line pastes as it is. */
+static void print_resume_hint(FILE *out, const csf_session_info *si, const char *location)
 {
     long long id = (long long)si->id;
+    char *q = csf_shell_quote(location);
+    char kind[64];
+    csf_store_printable(si->kind, kind, sizeof kind);
     if (!strcmp(si->kind, "display"))
         fprintf(out, "  %lld (display):  csfcal display calibrate --resume %lld --store %s --photometer SPEC "
-                "--out FILE.profile\n", id, id, store_path);
+                "--out FILE.profile\n", id, id, q ? q : "?");
     else if (!strcmp(si->kind, "observer"))
         fprintf(out, "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --out FILE.csflut\n",
-                id, id, store_path);
+                id, id, q ? q : "?");
     else
         fprintf(out, "  %lld (%s): cannot be resumed by this csfcal; csfcal sessions abort %lld --store %s "
-                "closes it\n", id, si->kind, id, store_path);
+                "closes it\n", id, kind, id, q ? q : "?");
+    free(q);
+}
+
+/* A column of the listing: the text in printable form, cut to width characters for the table
+ * only (never in the store), padded. */
+static void print_cell(const char *text, int width)
+{
+    char buf[1024];
+    csf_store_printable(text && *text ? text : "-", buf, sizeof buf);
+    int shown = 0;
+    const char *p = buf;
+    while (*p) {
+        /* One column per character; an escape (\xNN, \r, \n) is kept whole or left out. */
+        size_t n = *p == '\\' ? (p[1] == 'x' ? 4 : 2) : 1;
+        while (n == 1 && (p[n] & 0xc0) == 0x80) n++; /* the rest of a UTF-8 character */
+        int cols = *p == '\\' ? (int)n : 1;
+        if (shown + cols > width) break;
+        fwrite(p, 1, n, stdout);
+        p += n;
+        shown += cols;
+    }
+    printf("%*s ", width - shown, "");
 }
 
 static int unfinished(const csf_session_info *si)
@@ -165,13 +198,11 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
         list[kept++] = list[i];
     }
     n = kept;
+    int rc = 0;
     if (cli->json) {
-        printf("[");
-        for (size_t i = 0; i < n; i++) {
-            printf(i ? ",\n " : "\n ");
-            print_session_json(stdout, &list[i], 0);
-        }
-        printf(n ? "\n]\n" : "]\n");
+        json_t *arr = json_array();
+        for (size_t i = 0; i < n; i++) json_array_append_new(arr, session_json(&list[i], 0));
+        rc = print_json(arr);
     } else if (n == 0) {
         printf("No %ssessions in %s\n", kind || state ? "matching " : "", csf_store_path(s));
     } else {
@@ -180,20 +211,49 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
         int n_open = 0;
         for (size_t i = 0; i < n; i++) {
             const csf_session_info *si = &list[i];
-            printf("%-5lld %-8s %-9s %-14.14s %-18.18s %7d %8d  %s\n", (long long)si->id, si->kind,
-                   si->state, si->observer[0] ? si->observer : "-", si->display[0] ? si->display : "-",
-                   si->n_trials, si->n_readings, si->created_utc);
+            printf("%-5lld ", (long long)si->id);
+            print_cell(si->kind, 8);
+            print_cell(si->state, 9);
+            print_cell(si->observer, 14);
+            print_cell(si->display, 18);
+            char created[64];
+            csf_store_printable(si->created_utc, created, sizeof created);
+            printf("%7d %8d  %s\n", si->n_trials, si->n_readings, created);
             n_open += unfinished(si);
         }
         if (n_open) {
             printf("\n%d unfinished session%s; continue with:\n", n_open, n_open == 1 ? "" : "s");
             for (size_t i = 0; i < n; i++)
-                if (unfinished(&list[i])) print_resume_hint(stdout, &list[i], csf_store_path(s));
+                if (unfinished(&list[i])) print_resume_hint(stdout, &list[i], path);
         }
     }
     csf_session_list_free(list, n);
     csf_store_close(s);
-    return 0;
+    return rc;
+}
+
+/* One session in detail; every text from the store in printable form. */
+static void print_show(const csf_session_info *si, const char *created, const char *updated)
+{
+    const char *label[] = {"kind", "state", "observer", "display", "profile"};
+    const char *val[] = {si->kind, si->state, si->observer, si->display, si->profile_id};
+    char buf[1024];
+    printf("session      %lld\n", (long long)si->id);
+    for (size_t i = 0; i < sizeof label / sizeof label[0]; i++) {
+        csf_store_printable(val[i][0] ? val[i] : "-", buf, sizeof buf);
+        printf("%-12s %s\n", label[i], buf);
+    }
+    csf_store_printable(si->tool_version, buf, sizeof buf);
+    printf("seed         %llu\ntool version %s\n", (unsigned long long)si->seed, buf);
+    csf_store_printable(created, buf, sizeof buf);
+    printf("created      %s\n", buf);
+    csf_store_printable(updated, buf, sizeof buf);
+    printf("last write   %s\ntrials       %d\nreadings     %d\n", buf, si->n_trials, si->n_readings);
+    size_t n = si->settings_json ? strlen(si->settings_json) : 0;
+    char *settings = malloc(4 * n + 1);
+    if (settings) csf_store_printable(si->settings_json ? si->settings_json : "", settings, 4 * n + 1);
+    printf("settings     %s\n", settings ? settings : "?");
+    free(settings);
 }
 
 static int cmd_show(csf_cli *cli, int64_t id)
@@ -210,24 +270,17 @@ static int cmd_show(csf_cli *cli, int64_t id)
         return csf_cli_report("sessions", &err);
     }
     if (cli->json) {
-        print_session_json(stdout, &si, 1);
-        printf("\n");
+        rc = print_json(session_json(&si, 1));
     } else {
-        printf("session      %lld\nkind         %s\nstate        %s\nobserver     %s\ndisplay      %s\n"
-               "profile      %s\nseed         %llu\ntool version %s\ncreated      %s\nlast write   %s\n"
-               "trials       %d\nreadings     %d\nsettings     %s\n",
-               (long long)si.id, si.kind, si.state, si.observer[0] ? si.observer : "-",
-               si.display[0] ? si.display : "-", si.profile_id[0] ? si.profile_id : "-",
-               (unsigned long long)si.seed, si.tool_version, created, updated, si.n_trials,
-               si.n_readings, si.settings_json);
+        print_show(&si, created, updated);
         if (unfinished(&si)) {
             printf("unfinished; continue with:\n");
-            print_resume_hint(stdout, &si, csf_store_path(s));
+            print_resume_hint(stdout, &si, csf_cli_store_path(cli));
         }
     }
     csf_session_info_free(&si);
     csf_store_close(s);
-    return 0;
+    return rc;
 }
 
 static int cmd_abort(csf_cli *cli, int64_t id)
@@ -334,6 +387,17 @@ static int push_one(csf_store *src, csf_store *dst, int64_t id)
 {
     csf_error err;
     csf_push_counts c;
+    csf_session_info si;
+    if (csf_store_get_session(src, id, &si, &err) == CSF_OK) {
+        int cut = si.names_cut;
+        csf_session_info_free(&si);
+        if (cut) {
+            fprintf(stderr, "csfcal: sessions push: session %lld: its observer or display name is "
+                    "longer than %zu characters; not copied, as the copy would hold it cut\n",
+                    (long long)id, sizeof si.observer - 1);
+            return 1;
+        }
+    }
     if (csf_store_push_session(src, dst, id, &c, &err) != CSF_OK) {
         fprintf(stderr, "csfcal: sessions push: session %lld: %s\n", (long long)id, err.msg);
         return 1;
@@ -356,13 +420,9 @@ static int cmd_push(csf_cli *cli, const char *to, char **ids, int n_ids)
         fprintf(stderr, "csfcal: sessions push: --to LOCATION is required (the store to copy to)\n");
         return 2;
     }
-    if (csf_store_has_password(to)) {
-        char red[1024];
-        csf_store_redact(to, red, sizeof red);
-        fprintf(stderr, "csfcal: sessions push: --to: a password on the command line is refused "
-                        "(%s); put it in ~/.pgpass or the file PGPASSFILE names\n", red);
-        return 2;
-    }
+    csf_error err;
+    if (csf_store_check_location(to, "--to", &err) != CSF_OK)
+        return csf_cli_report("sessions push", &err);
     int64_t *want = n_ids ? calloc((size_t)n_ids, sizeof *want) : NULL;
     for (int i = 0; i < n_ids; i++)
         if (!want || parse_id(ids[i], &want[i]) < 0) {
@@ -370,7 +430,6 @@ static int cmd_push(csf_cli *cli, const char *to, char **ids, int n_ids)
             return 2;
         }
     csf_store *src = NULL, *dst = NULL;
-    csf_error err;
     int rc = open_store(cli, &src, 1);
     if (rc) {
         free(want);

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "results/file_read.h"
+#include "results/store.h"
 
 void csf_config_defaults(csf_config *c)
 {
@@ -81,6 +82,14 @@ csf_status csf_config_set(csf_config *c, const char *key, const char *value, con
             if (strlen(value) >= k->size)
                 return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s is too long (at most %zu characters)",
                                      where, key, k->size - 1);
+            /* Checked where they are read: these values are echoed in messages and stored with
+             * sessions, and a store location must not carry a secret into either. */
+            char w[1200];
+            snprintf(w, sizeof w, "%s: %s", where, key);
+            csf_status cs = k->offset == offsetof(csf_config, store_path) && *value
+                                ? csf_store_check_location(value, w, err)
+                                : csf_store_check_text(value, w, err);
+            if (cs != CSF_OK) return cs;
             memcpy(base, value, strlen(value) + 1);
             return CSF_OK;
         }

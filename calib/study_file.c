@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "results/file_read.h"
+#include "results/store.h"
 #include "stimuli/image.h"
 
 #define SETTINGS_MAX_BYTES (1u << 20)
@@ -132,9 +133,9 @@ static csf_status set_key(csf_study *s, const char *key, const char *v, const ch
         return CSF_OK;
     }
     if (!strcmp(key, "name")) {
-        if (!*v || strlen(v) >= sizeof s->name || strpbrk(v, "\"\\"))
+        if (!*v || strlen(v) >= sizeof s->name || strpbrk(v, "\"'\\"))
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: name: 1 to %zu characters, no quotes "
-                                 "or backslashes", where, line, sizeof s->name - 1);
+                                 "(\" or ') or backslashes", where, line, sizeof s->name - 1);
         snprintf(s->name, sizeof s->name, "%s", v);
     } else if (!strcmp(key, "design")) {
         if (!strcmp(v, "2afc")) s->design = CSF_DESIGN_2AFC;
@@ -202,6 +203,21 @@ static csf_status check_settings(const csf_study *s, const char *where, csf_erro
     return CSF_OK;
 }
 
+/* A line of a study file is shown in messages and stored with every session: tabs and the CR
+ * of a CRLF line end apart, it holds printable text only (the message names the character and
+ * its position in the line). */
+static csf_status check_line(const char *l, const char *where, int line, csf_error *err)
+{
+    char tmp[8192], what[1100];
+    snprintf(tmp, sizeof tmp, "%s", l);
+    size_t n = strlen(tmp);
+    if (n > 0 && tmp[n - 1] == '\r') tmp[n - 1] = '\0';
+    for (char *t = tmp; *t; t++)
+        if (*t == '\t') *t = ' ';
+    snprintf(what, sizeof what, "%s:%d", where, line);
+    return csf_store_check_text(tmp, what, err);
+}
+
 csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, const char *where,
                                     csf_error *err)
 {
@@ -226,6 +242,8 @@ csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, 
         char *l = buf;
         if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
             l += 3;
+        csf_status lst = check_line(l, where, line, err);
+        if (lst != CSF_OK) return lst;
         char *hash = strchr(l, '#');
         if (hash) *hash = '\0';
         l = trim(l);
@@ -495,6 +513,7 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
         char *l = buf;
         if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
             l += 3;
+        if ((st = check_line(l, where, line, err)) != CSF_OK) goto out;
         l = trim(l);
         if (!*l || l[0] == '#') continue;
         const char *why = NULL;

@@ -3,14 +3,118 @@
  * results/store_sqlite.c, the PostgreSQL one in results/store_pg.c. */
 #include "results/store.h"
 
-#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/random.h>
 
+#include <jansson.h>
+#include <libpq-fe.h>
+
 #include "results/store_backend.h"
+
+/* ---- names and printable text -------------------------------------------------------------- */
+
+/* Length (1-4) of the well-formed UTF-8 sequence at p, 0 when it is not one (overlong forms,
+ * surrogates and code points past U+10FFFF are not); *cp gets its code point. */
+static size_t utf8_char(const unsigned char *p, uint32_t *cp)
+{
+    static const uint32_t min[5] = {0, 0, 0x80, 0x800, 0x10000};
+    size_t n = p[0] < 0x80 ? 1 : p[0] >= 0xc2 && p[0] < 0xe0 ? 2 : p[0] >= 0xe0 && p[0] < 0xf0 ? 3
+             : p[0] >= 0xf0 && p[0] < 0xf5 ? 4 : 0;
+    if (n == 0) return 0;
+    uint32_t c = n == 1 ? p[0] : p[0] & (0x7fu >> n);
+    for (size_t i = 1; i < n; i++) {
+        if ((p[i] & 0xc0) != 0x80) return 0;
+        c = (c << 6) | (p[i] & 0x3fu);
+    }
+    if (c < min[n] || c > 0x10ffff || (c >= 0xd800 && c <= 0xdfff)) return 0;
+    *cp = c;
+    return n;
+}
+
+/* Characters a terminal acts on instead of showing: C0 controls, DEL, C1 controls (which some
+ * terminals take as escape sequences), and the line separators and direction overrides that
+ * make one row look like another. */
+static int is_control(uint32_t c)
+{
+    return c < 0x20 || (c >= 0x7f && c <= 0x9f) || c == 0x2028 || c == 0x2029 ||
+           (c >= 0x202a && c <= 0x202e) || (c >= 0x2066 && c <= 0x2069);
+}
+
+/* Byte offset of the first character of s that is not printable text, or -1; *pos its 1-based
+ * position in characters and *len its length in bytes (1 for a byte that is not UTF-8). */
+static long first_unprintable(const char *s, size_t *pos, size_t *len)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    for (size_t i = 0, k = 1; p[i]; k++) {
+        uint32_t c = 0;
+        size_t n = utf8_char(p + i, &c);
+        if (n == 0 || is_control(c)) {
+            *pos = k;
+            *len = n ? n : 1;
+            return (long)i;
+        }
+        i += n;
+    }
+    return -1;
+}
+
+csf_status csf_store_check_text(const char *s, const char *what, csf_error *err)
+{
+    if (!s) return CSF_OK;
+    size_t pos = 0, len = 0;
+    long at = first_unprintable(s, &pos, &len);
+    if (at < 0) return CSF_OK;
+    char hex[20] = "";
+    for (size_t i = 0; i < len; i++)
+        snprintf(hex + 4 * i, sizeof hex - 4 * i, "\\x%02x", (unsigned char)s[at + (long)i]);
+    return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s %s at character %zu refused (only "
+                         "printable text is accepted)", what,
+                         len == 1 && (unsigned char)s[at] >= 0x80 ? "byte" : "control character",
+                         hex, pos);
+}
+
+csf_status csf_store_check_name(const char *v, const char *what, size_t max, int required,
+                                csf_error *err)
+{
+    if ((required && (!v || !*v)) || (v && strlen(v) > max))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "store: %s must be %s%zu characters%s", what,
+                             required ? "1 to " : "at most ", max,
+                             v && strlen(v) > max ? " (it is not shortened)" : "");
+    if (!v) return CSF_OK;
+    char w[96];
+    snprintf(w, sizeof w, "store: %s", what);
+    return csf_store_check_text(v, w, err);
+}
+
+void csf_store_printable(const char *in, char *out, size_t cap)
+{
+    if (!out || cap == 0) return;
+    size_t o = 0;
+    const unsigned char *p = (const unsigned char *)(in ? in : "");
+    out[0] = '\0';
+    while (*p) {
+        uint32_t c = 0;
+        size_t n = utf8_char(p, &c);
+        if (n && !is_control(c) && *p != '\\') {
+            if (o + n >= cap) break;
+            memcpy(out + o, p, n);
+            o += n;
+        } else {
+            n = 1;
+            char q[8];
+            csf_quote_bytes((const char *)p, 1, q, sizeof q);
+            size_t ql = strlen(q);
+            if (o + ql >= cap) break;
+            memcpy(out + o, q, ql);
+            o += ql;
+        }
+        p += n;
+        out[o] = '\0';
+    }
+}
 
 /* ---- locations ------------------------------------------------------------------------------ */
 
@@ -21,114 +125,131 @@ int csf_store_is_server(const char *location)
            !strncmp(location, "service=", 8);
 }
 
-/* Copies n bytes of src (n may exceed what is left: clipped) into out at *o. */
+/* libpq marks the options whose values it hides (password, sslpassword) with '*'. */
+static int is_secret(const PQconninfoOption *o) { return o->dispchar && strchr(o->dispchar, '*'); }
+
+/* The options libpq reads from a location, after its own percent-decoding of a URI; NULL when
+ * libpq cannot read it. Free with PQconninfoFree. */
+static PQconninfoOption *parse_location(const char *location)
+{
+    char *msg = NULL;
+    PQconninfoOption *opts = PQconninfoParse(location, &msg);
+    PQfreemem(msg); /* may quote the string, secret included: never shown */
+    return opts;
+}
+
+static const PQconninfoOption *secret_option(const PQconninfoOption *opts)
+{
+    for (const PQconninfoOption *o = opts; o && o->keyword; o++)
+        if (o->val && is_secret(o)) return o;
+    return NULL;
+}
+
+/* Appends n bytes of src to out at *o, clipped to cap (out stays terminated). */
 static void put(char *out, size_t cap, size_t *o, const char *src, size_t n)
 {
     while (n-- > 0 && *o + 1 < cap) out[(*o)++] = *src++;
     out[*o] = '\0';
 }
 
-/* postgresql://user:secret@host/db -> postgresql://user@host/db (the userinfo is the part of
- * the authority before the last '@'; the authority ends at the first '/', '?' or '#'). */
-static void redact_uri(const char *in, char *out, size_t cap)
-{
-    const char *auth = strstr(in, "://") + 3;
-    size_t alen = strcspn(auth, "/?#");
-    const char *at = NULL;
-    for (const char *p = auth; p < auth + alen; p++)
-        if (*p == '@') at = p;
-    const char *colon = at ? memchr(auth, ':', (size_t)(at - auth)) : NULL;
-    size_t o = 0;
-    out[0] = '\0';
-    put(out, cap, &o, in, colon ? (size_t)(colon - in) : (size_t)(auth + alen - in));
-    if (colon) put(out, cap, &o, at, (size_t)(auth + alen - at));
-    /* The path, then the query without its password parameter, then any fragment. */
-    const char *rest = auth + alen;
-    size_t plen = strcspn(rest, "?#");
-    put(out, cap, &o, rest, plen);
-    rest += plen;
-    int first = 1;
-    while (*rest == '?' || *rest == '&') {
-        size_t seg = strcspn(rest + 1, "&#");
-        if (strncmp(rest + 1, "password=", 9) != 0) {
-            put(out, cap, &o, first ? "?" : "&", 1);
-            put(out, cap, &o, rest + 1, seg);
-            first = 0;
-        }
-        rest += seg + 1;
-    }
-    put(out, cap, &o, rest, strlen(rest));
-}
-
-/* Where a key = value pair of a libpq connection string ends, read as libpq reads it: spaces
- * may surround '='; a value is quoted only when it starts with a quote (a quote inside a bare
- * value is an ordinary character); a backslash escapes the next character. Sets *is_password
- * when the key is "password" (a "password" without '=' takes the next word as its value, so a
- * malformed string still loses the secret). */
-static const char *conninfo_pair_end(const char *p, int *is_password)
-{
-    const char *key = p;
-    while (*p && *p != '=' && !isspace((unsigned char)*p)) p++;
-    *is_password = (size_t)(p - key) == 8 && !strncmp(key, "password", 8);
-    const char *after_key = p;
-    while (isspace((unsigned char)*p)) p++;
-    if (*p == '=') {
-        p++;
-        while (isspace((unsigned char)*p)) p++;
-    } else if (!*is_password) {
-        return after_key; /* a lone word: libpq refuses it; nothing of a value to take along */
-    }
-    if (*p == '\'') {
-        for (p++; *p && *p != '\''; p++)
-            if (*p == '\\' && p[1]) p++;
-        if (*p) p++;
-    } else {
-        for (; *p && !isspace((unsigned char)*p); p++)
-            if (*p == '\\' && p[1]) p++;
-    }
-    return p;
-}
-
-/* service=lab password=x host=h -> service=lab host=h. Everything but the password pairs (and
- * the blanks before them) is copied unchanged, so a string without a password comes out equal. */
-static void redact_conninfo(const char *in, char *out, size_t cap)
+/* key=value form of the options libpq read, secrets left out, each value quoted as libpq reads
+ * it back. */
+static void rebuild_conninfo(const PQconninfoOption *opts, char *out, size_t cap)
 {
     size_t o = 0;
     out[0] = '\0';
-    const char *p = in;
-    while (*p) {
-        const char *blank = p;
-        while (isspace((unsigned char)*p)) p++;
-        if (!*p) {
-            put(out, cap, &o, blank, (size_t)(p - blank));
-            break;
+    for (const PQconninfoOption *op = opts; op->keyword; op++) {
+        if (!op->val || is_secret(op)) continue;
+        int quote = !*op->val || strpbrk(op->val, " \t\n\r\f\v'\\") != NULL;
+        if (o) put(out, cap, &o, " ", 1);
+        put(out, cap, &o, op->keyword, strlen(op->keyword));
+        put(out, cap, &o, quote ? "='" : "=", quote ? 2 : 1);
+        for (const char *v = op->val; *v; v++) {
+            if (quote && (*v == '\'' || *v == '\\')) put(out, cap, &o, "\\", 1);
+            put(out, cap, &o, v, 1);
         }
-        int is_password = 0;
-        const char *end = conninfo_pair_end(p, &is_password);
-        if (end == p) end = p + 1; /* a stray '=': one character at a time */
-        if (!is_password) put(out, cap, &o, blank, (size_t)(end - blank));
-        /* libpq needs no blank after a quoted value: keep the next pair apart from the previous. */
-        else if (*end && !isspace((unsigned char)*end) && o > 0) put(out, cap, &o, " ", 1);
-        p = end;
+        if (quote) put(out, cap, &o, "'", 1);
     }
 }
+
+#define UNREADABLE_LOCATION "(a connection string libpq cannot read; not shown)"
 
 void csf_store_redact(const char *location, char *out, size_t cap)
 {
     if (!out || cap == 0) return;
     out[0] = '\0';
     if (!location) return;
-    if (strstr(location, "://") && csf_store_is_server(location)) redact_uri(location, out, cap);
-    else if (csf_store_is_server(location)) redact_conninfo(location, out, cap);
-    else snprintf(out, cap, "%s", location);
+    if (!csf_store_is_server(location)) {
+        csf_store_printable(location, out, cap);
+        return;
+    }
+    PQconninfoOption *opts = parse_location(location);
+    if (!opts) {
+        snprintf(out, cap, "%s", UNREADABLE_LOCATION);
+        return;
+    }
+    if (secret_option(opts)) {
+        char *plain = malloc(cap);
+        if (plain) rebuild_conninfo(opts, plain, cap);
+        csf_store_printable(plain ? plain : "", out, cap);
+        free(plain);
+    } else {
+        csf_store_printable(location, out, cap);
+    }
+    PQconninfoFree(opts);
 }
 
 int csf_store_has_password(const char *location)
 {
-    char red[2048];
-    if (!location || strlen(location) >= sizeof red) return 0;
-    csf_store_redact(location, red, sizeof red);
-    return strcmp(red, location) != 0;
+    if (!csf_store_is_server(location)) return 0;
+    PQconninfoOption *opts = parse_location(location);
+    int has = secret_option(opts) != NULL;
+    PQconninfoFree(opts);
+    return has;
+}
+
+/* A server location libpq reads, with no secret in it and no control character in any value
+ * it decodes. */
+static csf_status check_server_location(const char *location, const char *where, csf_error *err)
+{
+    PQconninfoOption *opts = parse_location(location);
+    if (!opts)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: libpq cannot read this PostgreSQL "
+                             "connection string (not repeated here: it may hold a secret); the "
+                             "forms are postgresql://[user@]host[:port]/dbname[?key=value&...] "
+                             "and service=NAME [key=value ...] (docs/store.md)", where);
+    csf_status cs = CSF_OK;
+    const PQconninfoOption *sec = secret_option(opts);
+    if (sec) {
+        char red[1024];
+        csf_store_redact(location, red, sizeof red);
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "%s: a password in the store location is "
+                           "refused (libpq reads it as %s; the rest is %s); put it in ~/.pgpass "
+                           "(or the file PGPASSFILE names) or a service file (PGSERVICEFILE), "
+                           "see docs/store.md", where, sec->keyword, red);
+    }
+    for (const PQconninfoOption *o = opts; cs == CSF_OK && o->keyword; o++) {
+        char what[160];
+        snprintf(what, sizeof what, "%s: option %s of the store location", where, o->keyword);
+        if (o->val) cs = csf_store_check_text(o->val, what, err);
+    }
+    PQconninfoFree(opts);
+    return cs;
+}
+
+csf_status csf_store_check_location(const char *location, const char *where, csf_error *err)
+{
+    if (!location || !*location)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty store location", where);
+    if (strlen(location) >= 1024)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: store location longer than 1023 "
+                             "characters", where);
+    char what[160];
+    snprintf(what, sizeof what, "%s: store location", where);
+    csf_status cs = csf_store_check_text(location, what, err);
+    if (cs == CSF_OK && csf_store_is_server(location))
+        cs = check_server_location(location, where, err);
+    return cs;
 }
 
 /* ---- open and close ----------------------------------------------------------------------- */
@@ -142,22 +263,12 @@ static csf_status open_any(const char *path, int readonly, csf_store **out, csf_
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: empty path (give --store PATH)");
     if (strlen(path) >= 1024)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: path longer than 1023 characters");
-    csf_status cs;
-    if (csf_store_is_server(path)) {
-        /* A password in the location would end up in shell history, process lists and any
-         * message that names the store: libpq reads it from its own files instead. */
-        if (csf_store_has_password(path)) {
-            char red[1024];
-            csf_store_redact(path, red, sizeof red);
-            return csf_error_set(err, CSF_E_INVALID_ARG,
-                                 "store %s: a password in the store location is refused; put it "
-                                 "in ~/.pgpass (or the file PGPASSFILE names) or a service file "
-                                 "(PGSERVICEFILE), see docs/store.md", red);
-        }
-        cs = csf_store_pg_open(path, readonly, out, err);
-    } else {
-        cs = csf_store_sqlite_open(path, readonly, out, err);
-    }
+    /* A password in the location would end up in shell history, process lists and any
+     * message that names the store: libpq reads it from its own files instead. */
+    csf_status cs = csf_store_check_location(path, "store", err);
+    if (cs != CSF_OK) return cs;
+    if (csf_store_is_server(path)) cs = csf_store_pg_open(path, readonly, out, err);
+    else cs = csf_store_sqlite_open(path, readonly, out, err);
     if (cs == CSF_OK) (*out)->readonly = readonly;
     return cs;
 }
@@ -226,13 +337,20 @@ static csf_status check_trial(const csf_store *s, const csf_trial *t, csf_error 
     return CSF_OK;
 }
 
-static csf_status check_name(const char *v, const char *what, size_t max, int required,
-                             csf_error *err)
+/* Settings and designs are read back as JSON by reports and by the analyst's SQL: text that is
+ * not a JSON object or array (one built by hand around a name with a quote or a control
+ * character in it) is refused rather than stored. NULL stands for "{}". */
+static csf_status check_json(const char *text, const char *what, csf_error *err)
 {
-    if ((required && (!v || !*v)) || (v && strlen(v) > max))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: %s must be %s%zu characters", what,
-                             required ? "1 to " : "at most ", max);
-    return CSF_OK;
+    if (!text) return CSF_OK;
+    json_error_t je;
+    json_t *doc = json_loads(text, 0, &je);
+    if (doc) {
+        json_decref(doc);
+        return CSF_OK;
+    }
+    return csf_error_set(err, CSF_E_INVALID_ARG, "store: %s are not valid JSON (%s at character "
+                         "%d)", what, je.text, je.position);
 }
 
 /* ---- sessions ------------------------------------------------------------------------------ */
@@ -273,13 +391,11 @@ csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "store: session kind '%s' unknown (allowed display, observer, study)",
                              kind ? kind : "(null)");
-    /* Stored in full; csf_session_info shows the first 63 characters. */
-    if (observer && strlen(observer) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name longer than 255 characters");
-    if (display && strlen(display) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name longer than 255 characters");
-    if (profile_id && strlen(profile_id) > 127)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
+    csf_status cs = csf_store_check_name(observer, "observer name", 255, 0, err);
+    if (cs == CSF_OK) cs = csf_store_check_name(display, "display name", 255, 0, err);
+    if (cs == CSF_OK) cs = csf_store_check_name(profile_id, "profile id", 127, 0, err);
+    if (cs == CSF_OK) cs = check_json(settings_json, "session settings", err);
+    if (cs != CSF_OK) return cs;
     if (s->readonly) return read_only(s, "a session", err);
     if (profile_id && !*profile_id) profile_id = NULL;
     char uuid[40];
@@ -449,8 +565,8 @@ csf_status csf_store_add_artifact(csf_store *s, int64_t session_id, const char *
 {
     csf_error_clear(err);
     if (!s) return not_open(err);
-    if (!kind || !*kind || strlen(kind) > 15)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact kind must be 1 to 15 characters");
+    csf_status cs = csf_store_check_name(kind, "artifact kind", 15, 1, err);
+    if (cs != CSF_OK) return cs;
     if (len > 0 && !blob)
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: artifact of %zu bytes without content", len);
     if (len > 512u * 1024 * 1024)
@@ -476,10 +592,10 @@ csf_status csf_store_upsert_display(csf_store *s, const char *name, const char *
                                     int64_t *id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: display name must be 1 to 255 characters");
-    if (profile_id && strlen(profile_id) > 127)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: profile id longer than 127 characters");
+    if (!s) return not_open(err);
+    csf_status cs = csf_store_check_name(name, "display name", 255, 1, err);
+    if (cs == CSF_OK) cs = csf_store_check_name(profile_id, "profile id", 127, 0, err);
+    if (cs != CSF_OK) return cs;
     if (s->readonly) return read_only(s, "a display", err);
     return s->ops->upsert_display(s, name, profile_id, id, err);
 }
@@ -496,8 +612,9 @@ csf_status csf_store_display_profile_id(csf_store *s, const char *display, char 
 csf_status csf_store_upsert_observer(csf_store *s, const char *name, int64_t *id, csf_error *err)
 {
     csf_error_clear(err);
-    if (!s || !name || !*name || strlen(name) > 255)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: observer name must be 1 to 255 characters");
+    if (!s) return not_open(err);
+    csf_status cs = csf_store_check_name(name, "observer name", 255, 1, err);
+    if (cs != CSF_OK) return cs;
     if (s->readonly) return read_only(s, "an observer", err);
     return s->ops->upsert_observer(s, name, id, err);
 }
@@ -507,7 +624,8 @@ csf_status csf_store_create_study(csf_store *s, const char *name, const char *de
 {
     csf_error_clear(err);
     if (!s) return not_open(err);
-    csf_status cs = check_name(name, "study name", 255, 1, err);
+    csf_status cs = csf_store_check_name(name, "study name", 255, 1, err);
+    if (cs == CSF_OK) cs = check_json(design_json, "study design", err);
     if (cs != CSF_OK) return cs;
     if (s->readonly) return read_only(s, "a study", err);
     return s->ops->create_study(s, name, design_json, id, err);
@@ -525,7 +643,7 @@ csf_status csf_store_add_participant(csf_store *s, int64_t study_id, const char 
 {
     csf_error_clear(err);
     if (!s) return not_open(err);
-    csf_status cs = check_name(code, "participant code", 63, 1, err);
+    csf_status cs = csf_store_check_name(code, "participant code", 63, 1, err);
     if (cs != CSF_OK) return cs;
     if (s->readonly) return read_only(s, "a participant", err);
     return s->ops->add_participant(s, study_id, code, id, err);

@@ -54,11 +54,33 @@ csf_status csf_store_open_readonly(const char *path, csf_store **out, csf_error 
 
 /* 1 when location names a PostgreSQL server (postgresql://, postgres:// or service=NAME). */
 int csf_store_is_server(const char *location);
-/* The location with any password removed (URI user:password@, password= in a URI query or a
- * key=value connection string); a file path is copied unchanged. out is always terminated. */
+/* The one form in which a location is shown. A server location is read as libpq reads it
+ * (PQconninfoParse, after its own percent-decoding): one without a secret is shown as given,
+ * one with a password (however spelled: user:pw@, pass%77ord=, after a '#') is rebuilt as
+ * key=value pairs without it, and one libpq cannot read is not shown. Bytes that are not
+ * printable text are escaped (csf_store_printable). out is always terminated. */
 void csf_store_redact(const char *location, char *out, size_t cap);
-/* 1 when the location carries a password (csf_store_open refuses it). */
+/* 1 when libpq would read a password (or another option it hides) from the location. */
 int csf_store_has_password(const char *location);
+/* What csf_store_open checks before anything else, for --store, --to and `store =`: 1 to 1023
+ * bytes of printable text; a server location must be one libpq reads, with no password and no
+ * control character in any value it decodes. Messages start with where and never repeat a
+ * secret. */
+csf_status csf_store_check_location(const char *location, const char *where, csf_error *err);
+
+/* Text that is to be shown (NULL passes): well-formed UTF-8 without control characters (C0,
+ * DEL, C1, line separators, direction overrides). The message starts with what and names the
+ * refused character as \xNN bytes and its 1-based position. */
+csf_status csf_store_check_text(const char *s, const char *what, csf_error *err);
+/* A name or label to be stored (observer, display, study, participant code, ...): at most max
+ * bytes (at least 1 when required; NULL passes when not) that csf_store_check_text accepts;
+ * nothing is shortened. */
+csf_status csf_store_check_name(const char *v, const char *what, size_t max, int required,
+                                csf_error *err);
+/* Text read from a store (or any outside text) as it may be put on a terminal: printable UTF-8
+ * as it is, every other byte and the backslash escaped by csf_quote_bytes. Clipped to cap at a
+ * character boundary; out is always terminated. */
+void csf_store_printable(const char *in, char *out, size_t cap);
 /* "sqlite" or "postgresql". */
 const char *csf_store_backend(const csf_store *s);
 
@@ -73,9 +95,10 @@ typedef struct {
     int64_t id;
     char kind[16];        /* "display", "observer", "study" */
     char state[16];       /* "running", "paused", "finished", "aborted" */
-    char observer[64];    /* observer name (observer/study sessions), "" otherwise; the store
-                             keeps up to 255 characters, this shows the first 63 */
-    char display[64];     /* display name (same length rule); "" when unknown */
+    char observer[256];   /* observer name (observer/study sessions), "" otherwise; whole */
+    char display[256];    /* display name, whole; "" when unknown */
+    int names_cut;        /* 1 when the stored observer or display name is longer than these
+                             fields (a row written past csfcal): shown cut, never copied */
     char profile_id[128]; /* observer and study sessions: id of the display profile the stimuli
                              were mapped through ("" when none was recorded) */
     char *settings_json;  /* malloc'd; the settings the session was started with */

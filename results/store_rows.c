@@ -23,6 +23,9 @@ int csf_store_row_session(const csf_store_cols *c, csf_session_info *o)
     text(c, 2, o->state, sizeof o->state);
     text(c, 3, o->observer, sizeof o->observer);
     text(c, 4, o->display, sizeof o->display);
+    /* Rows written past csfcal can hold longer names than it stores: said, never hidden. */
+    const char *ob = c->txt(c, 3), *di = c->txt(c, 4);
+    o->names_cut = (ob && strlen(ob) >= sizeof o->observer) || (di && strlen(di) >= sizeof o->display);
     const char *js = c->txt(c, 5);
     o->settings_json = strdup(js ? js : "{}");
     o->seed = (uint64_t)c->i64(c, 6); /* stored as the same 64 bits, signed */

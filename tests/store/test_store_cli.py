@@ -7,6 +7,7 @@ import io
 import json
 import math
 import os
+import sqlite3
 import subprocess
 import sys
 import tempfile
@@ -164,7 +165,7 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run("sessions", "list", "--json", "--store", lab)
     check([x["n_trials"] for x in json.loads(p.stdout)] == [240, 0], "pushed listing")
     p = run("sessions", "push", "--to", "postgresql://bob:s3cret@db.lab/csf", *S, expect=2)
-    check("s3cret" not in p.stderr and "postgresql://bob@db.lab/csf" in p.stderr, f"--to password: {p.stderr}")
+    check("s3cret" not in p.stderr and "user=bob dbname=csf host=db.lab" in p.stderr, f"--to password: {p.stderr}")
     p = run("sessions", "list", "--store", "service=lab password=s3cret", expect=2)
     check("s3cret" not in p.stderr and "service=lab" in p.stderr, f"--store password: {p.stderr}")
     p = run("sessions", "push", *S, expect=2)
@@ -173,6 +174,103 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run("sessions", "init", "--store", fresh)
     check(os.path.exists(fresh) and "sqlite, schema version 6" in p.stdout, f"init: {p.stdout}")
     p = run("sessions", "init", "extra", "--store", fresh, expect=2)
+
+# --- secrets, names and pasted commands: each attack must fail ---
+def sh_words(cmdline):
+    """The words a POSIX shell reads from cmdline, by running it."""
+    p = subprocess.run(["sh", "-c", 'for w in "$@"; do printf "%s\\0" "$w"; done', "sh"],
+                       capture_output=True)
+    r = subprocess.run(["sh", "-c", "set -- " + cmdline + '; for w in "$@"; do printf "%s\\0" "$w"; done'],
+                       capture_output=True)
+    check(r.returncode == 0 and p.returncode == 0, f"sh could not read {cmdline!r}: {r.stderr!r}")
+    return r.stdout.decode().split("\0")[:-1]
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    env = dict(os.environ, XDG_CONFIG_HOME=os.path.join(tmp, "cfg"), XDG_DATA_HOME=os.path.join(tmp, "data"))
+
+    def run_env(*args, expect=0, extra=None):
+        p = subprocess.run([csfcal, *args], capture_output=True, text=True, env=dict(env, **(extra or {})))
+        check(p.returncode == expect, f"csfcal {' '.join(args)}: exit {p.returncode}, expected {expect}; "
+              f"stderr: {p.stderr.strip()}")
+        return p
+
+    # A password however libpq would read it: refused from --store, --set, station.conf and
+    # --to, and never repeated.
+    spellings = ["postgresql://127.0.0.1:1/csf?pass%77ord=Sekr1tA",
+                 "postgresql://127.0.0.1:1/csf?%70assword=Sekr1tA",
+                 "postgresql://127.0.0.1:1/csf?application_name=x#&password=Sekr1tA",
+                 "postgresql://127.0.0.1:1/csf?sslpassword=Sekr1tA"]
+    conf = os.path.join(tmp, "station.conf")
+    for loc in spellings:
+        for args in (["sessions", "list", "--store", loc], ["sessions", "list", "--set", "store=" + loc],
+                     ["sessions", "push", "--to", loc, "--store", os.path.join(tmp, "none.sqlite")]):
+            p = run_env(*args, expect=2)
+            check("Sekr1tA" not in p.stderr + p.stdout and "password" in p.stderr,
+                  f"{args}: secret shown or not named: {p.stderr}")
+        if "#" not in loc:  # '#' starts a comment in station.conf
+            with open(conf, "w") as f:
+                f.write(f"store = {loc}\n")
+            p = run_env("sessions", "list", "--config", conf, expect=2)
+            check("Sekr1tA" not in p.stderr and "station.conf:1" in p.stderr, f"station.conf: {p.stderr}")
+    p = run_env("sessions", "list", "--store", "postgresql://127.0.0.1:1/csf?x=Sekr1tA", expect=2)
+    check("Sekr1tA" not in p.stderr and "libpq cannot read" in p.stderr, f"unreadable location: {p.stderr}")
+
+    # Rows written past csfcal (sqlite3 directly) with terminal controls in their names: every
+    # listing shows them escaped, one row per session, and the JSON stays valid.
+    odd = os.path.join(tmp, "lab & co's store", "s.sqlite")
+    os.makedirs(os.path.dirname(odd))
+    ids = subprocess.run([make_sample, odd], capture_output=True, text=True, check=True).stdout.split()
+    evil_obs, evil_disp = "eve\x1b]0;pwned\x07\x1b[2J", "booth\rlcd\x7f\xc2\x9b"
+    db = sqlite3.connect(odd)
+    db.execute("UPDATE sessions SET observer = ?, display = ?, state = 'running' WHERE id = ?",
+               (evil_obs, evil_disp, int(ids[0])))
+    db.execute("UPDATE sessions SET tool_version = 'v\x1b[1m', state = 'paused' WHERE id = ?", (int(ids[1]),))
+    db.commit()
+    db.close()
+    for args in (["sessions", "list"], ["sessions", "show", ids[0]], ["sessions", "show", ids[1]]):
+        p = run_env(*args, "--store", odd)
+        raw = [c for c in p.stdout if (ord(c) < 0x20 and c != "\n") or 0x7f <= ord(c) <= 0x9f]
+        check(not raw, f"{args}: raw control characters {raw!r} in {p.stdout!r}")
+        check("\\x1b" in p.stdout, f"{args}: ESC not shown escaped: {p.stdout!r}")
+    p = run_env("sessions", "list", "--store", odd)
+    rows = [l for l in p.stdout.splitlines() if len(l.split()) > 1 and l.split()[0] in ids
+            and l.split()[1] in ("observer", "display")]
+    check(len(rows) == 2, f"one row per session: {rows}")
+    lst = json.loads(run_env("sessions", "list", "--json", "--store", odd).stdout)
+    check(lst[0]["observer"] == evil_obs and lst[0]["display"] == evil_disp, f"json names: {lst[0]}")
+    # The printed resume command pastes into sh as it is: the store path with '&', spaces and
+    # a quote comes back as one word.
+    hints = [l.split(": ", 1)[1] for l in p.stdout.splitlines() if "--resume" in l or "sessions abort" in l]
+    check(len(hints) == 2, f"resume hints: {p.stdout}")
+    for h in hints:
+        cmd = h.split(" closes it")[0]
+        words = sh_words(cmd)
+        check("--store" in words and words[words.index("--store") + 1] == odd, f"hint {h!r} read as {words}")
+
+    # Names refused where they are first read, with the character and its position.
+    study = os.path.join(tmp, "s.conf")
+    with open(os.path.join(tmp, "s.csv"), "w") as f:
+        f.write("label,freq_cpd,ecc_deg,contrast\na,2,5,0.01\n")
+    for name, want in (("esc\x1b[31m", "s.conf:1: control character \\x1b at character 11"),
+                       ("bell\x07", "s.conf:1: control character \\x07 at character 12"),
+                       ("O'Brien", "no quotes")):
+        with open(study, "w") as f:
+            f.write(f"name = {name}\ndesign = 2afc\nconditions = s.csv\n")
+        p = run_env("study", "run", study, "--participant", "P1", "--observer", "sim", "--headless",
+                    "--store", os.path.join(tmp, "st.sqlite"), expect=2)
+        check(want in p.stderr and "\x1b" not in p.stderr, f"study name {name!r}: {p.stderr!r}")
+    p = run_env("display", "calibrate", "--photometer", "sim", "--name", "lcd\r2", "--headless",
+                "--out", os.path.join(tmp, "x.profile"), "--store", os.path.join(tmp, "d.sqlite"), expect=2)
+    check("\\x0d at character 4" in p.stderr and "\r" not in p.stderr, f"display name: {p.stderr!r}")
+
+    # A 332-character observer name is never cut without a word: push refuses it.
+    db = sqlite3.connect(odd)
+    db.execute("UPDATE sessions SET observer = ? WHERE id = ?", ("n" * 332, int(ids[0])))
+    db.commit()
+    db.close()
+    p = run_env("sessions", "push", ids[0], "--to", os.path.join(tmp, "lab.sqlite"), "--store", odd, expect=1)
+    check("longer than 255" in p.stderr, f"long name push: {p.stderr}")
 
 print(f"{checks} checks, {failures} failed", file=sys.stderr)
 sys.exit(1 if failures else 0)
