@@ -1,30 +1,57 @@
 /* A store location (--store, --to, `store =` in station.conf) is outside input that csfcal
- * echoes in every message: csf_store_redact must never read or write out of bounds, always
- * terminate its output, never make it longer than the input, and leave no password behind:
- * redacting twice changes nothing (a password left in would be removed the second time), and
- * has_password agrees with whether redaction changed anything; a server URI keeps no
- * "user:secret@" in its authority; and a key=value string keeps no "password" key where libpq
- * would read one (a quote inside a bare value is an ordinary character there). */
+ * echoes in every message: csf_store_redact must never read or write out of bounds and always
+ * terminate its output; what it shows holds no secret libpq would read (parsed again by libpq:
+ * no password or sslpassword option, and no secret value of the input as text); redacting what
+ * it shows finds no password in it; and csf_store_check_location accepts no location with a
+ * secret or with a byte that is not printable text, and its message never repeats a secret. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <libpq-fe.h>
+
 #include "results/store.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-/* A password in a URI's userinfo: a ':' before the last '@' of the authority. */
-static int uri_userinfo_has_secret(const char *s)
+/* A secret worth looking for in shown text: 8 or more letters and digits, with both, so it
+ * cannot be a word of a message, a keyword or part of an escape that happens to match. */
+static int distinctive(const char *v)
 {
-    const char *auth = strstr(s, "://");
-    if (!auth) return 0;
-    auth += 3;
-    size_t alen = strcspn(auth, "/?#");
-    const char *at = NULL;
-    for (const char *p = auth; p < auth + alen; p++)
-        if (*p == '@') at = p;
-    return at && memchr(auth, ':', (size_t)(at - auth)) != NULL;
+    int digit = 0, alpha = 0;
+    size_t n = 0;
+    for (; v[n]; n++) {
+        if (v[n] >= '0' && v[n] <= '9') digit = 1;
+        else if ((v[n] >= 'a' && v[n] <= 'z') || (v[n] >= 'A' && v[n] <= 'Z')) alpha = 1;
+        else return 0;
+    }
+    return n >= 8 && digit && alpha;
+}
+
+/* Whether another option of the input shows v anyway (its value holds it): then finding v in
+ * the shown text proves nothing. */
+static int shown_elsewhere(const PQconninfoOption *opts, const PQconninfoOption *secret)
+{
+    char buf[4096 * 4 + 1];
+    for (const PQconninfoOption *p = opts; p->keyword; p++) {
+        if (p == secret || !p->val) continue;
+        csf_store_printable(p->val, buf, sizeof buf);
+        if (strstr(buf, secret->val) || strstr(p->val, secret->val)) return 1;
+    }
+    return 0;
+}
+
+/* No distinctive secret value of in (libpq marks them '*') appears in text. */
+static void check_no_secret(const char *in, const char *text)
+{
+    if (!csf_store_is_server(in)) return;
+    PQconninfoOption *opts = PQconninfoParse(in, NULL);
+    for (PQconninfoOption *o = opts; o && o->keyword; o++) {
+        if (!o->val || !o->dispchar || !strchr(o->dispchar, '*') || !distinctive(o->val)) continue;
+        if (!shown_elsewhere(opts, o) && strstr(text, o->val)) abort();
+    }
+    PQconninfoFree(opts);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -40,19 +67,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         csf_store_redact(in, out, cap);
         if (!memchr(out, '\0', cap)) abort();
     }
-    size_t n = strlen(in);
-    char *big = malloc(n + 1), *big2 = malloc(n + 1);
-    if (big && big2) {
-        csf_store_redact(in, big, n + 1);
-        if (strlen(big) > n) abort();
-        csf_store_redact(big, big2, n + 1);
-        if (strcmp(big, big2) != 0) abort(); /* nothing left to remove */
-        if (csf_store_has_password(big) && n < 2048) abort();
-        if (n < 2048 && csf_store_has_password(in) != (strcmp(in, big) != 0)) abort();
-        if (csf_store_is_server(in) && strstr(in, "://") && uri_userinfo_has_secret(big)) abort();
+    size_t n = strlen(in), cap = 4 * n + 64;
+    char *big = malloc(cap);
+    if (big) {
+        csf_store_redact(in, big, cap);
+        if (csf_store_has_password(big)) abort();
+        check_no_secret(in, big);
     }
+    csf_error err;
+    csf_error_clear(&err);
+    csf_status cs = csf_store_check_location(in, "--store", &err);
+    if (cs == CSF_OK && (csf_store_has_password(in) || !*in)) abort();
+    if (cs != CSF_OK && !err.msg[0]) abort();
+    check_no_secret(in, err.msg);
     free(big);
-    free(big2);
     free(in);
     return 0;
 }
