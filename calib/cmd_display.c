@@ -554,10 +554,17 @@ static int cmd_calibrate(dargs *a)
     csf_photometer_close(ph);
     if (st) {
         int rc = csf_cli_report("display calibrate", &err);
-        if (sid > 0 && !session_aborted(store, sid))
+        if (sid > 0 && !session_aborted(store, sid)) {
+            /* The command is pasted into a shell: its words are quoted for one. */
+            char where[1024];
+            csf_store_redact(store_path, where, sizeof where);
+            char *qs = csf_shell_quote(store_path), *qo = csf_shell_quote(a->out);
             fprintf(stderr, "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
                             "  csfcal display calibrate --resume %lld --store %s --photometer SPEC --out %s\n",
-                    res.n_readings, (long long)sid, store_path, (long long)sid, store_path, a->out);
+                    res.n_readings, (long long)sid, where, (long long)sid, qs ? qs : "?", qo ? qo : "?");
+            free(qs);
+            free(qo);
+        }
         csf_store_close(store);
         return rc;
     }

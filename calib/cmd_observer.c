@@ -1,12 +1,14 @@
 /* csfcal observer calibrate: the command line of the per-user CSF calibration session. */
 #include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "calib/cli.h"
 #include "calib/commands.h"
 #include "calib/observer_calib.h"
 #include "devices/responder.h"
+#include "results/store.h"
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
@@ -67,13 +69,20 @@ static void usage(FILE *f)
  * (the same outputs, profile and station settings). */
 static void print_resume_hint(const csf_cli *cli, const csf_obs_options *o, const csf_obs_result *res)
 {
+    /* Every word the user pastes is quoted for the shell; the prose names the store as shown. */
+    char where[1024];
+    csf_store_redact(o->store_path, where, sizeof where);
+    const char *raw[] = {o->store_path, o->out_path, o->plot_path, cli->cfg.display_profile,
+                         cli->config_path};
+    char *q[5];
+    for (int i = 0; i < 5; i++) q[i] = raw[i] && *raw[i] ? csf_shell_quote(raw[i]) : NULL;
     fprintf(stderr, "csfcal: %d trials kept in session %lld of %s%s; after fixing the cause, finish it with:\n"
                     "  csfcal observer calibrate --resume %lld --store %s --out %s%s%s%s%s%s%s\n",
-            res->n_stored, (long long)res->session_id, o->store_path,
-            res->table_written ? " (the table was written)" : "", (long long)res->session_id, o->store_path,
-            o->out_path, o->plot_path ? " --plot " : "", o->plot_path ? o->plot_path : "",
-            cli->cfg.display_profile[0] ? " --profile " : "", cli->cfg.display_profile,
-            cli->config_path ? " --config " : "", cli->config_path ? cli->config_path : "");
+            res->n_stored, (long long)res->session_id, where,
+            res->table_written ? " (the table was written)" : "", (long long)res->session_id,
+            q[0] ? q[0] : "?", q[1] ? q[1] : "?", q[2] ? " --plot " : "", q[2] ? q[2] : "",
+            q[3] ? " --profile " : "", q[3] ? q[3] : "", q[4] ? " --config " : "", q[4] ? q[4] : "");
+    for (int i = 0; i < 5; i++) free(q[i]);
 }
 
 /* The options into o (and the station's settings into cli). Returns -1 to go on, or the exit
