@@ -81,6 +81,7 @@ static json_t *session_json(const csf_session_info *si, int with_settings)
     json_object_set_new(o, "observer", json_text(si->observer));
     json_object_set_new(o, "display", json_text(si->display));
     json_object_set_new(o, "profile_id", si->profile_id[0] ? json_text(si->profile_id) : json_null());
+    /* csfcal's seeds are below 2^53 (--seed: 31 bits; study participants: 53). */
     json_object_set_new(o, "seed", json_integer((json_int_t)si->seed));
     json_object_set_new(o, "tool_version", json_text(si->tool_version));
     json_object_set_new(o, "created_utc", json_text(si->created_utc));

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "calib/procedure.h"
 #include "calib/study_plan.h"
 #include "calib/trial_io.h"
@@ -605,6 +607,22 @@ static void feedback(study_ctx *x, const csf_trial *t)
         if (csf_presenter_text_screen(x->pres, correct ? "Correct" : "Wrong", &e) != CSF_OK) break;
 }
 
+/* doc (taken) as compact JSON text, keys in order; malloc'd, NULL when doc is NULL (jansson
+ * refuses text that is not UTF-8) or memory ran out. Settings are written only this way, so a
+ * name with a quote or a control character can never make them invalid. */
+static char *to_json(json_t *doc)
+{
+    char *text = doc ? json_dumps(doc, JSON_COMPACT | JSON_PRESERVE_ORDER) : NULL;
+    json_decref(doc);
+    return text;
+}
+
+static csf_status not_json(const csf_study *s, csf_error *err)
+{
+    return csf_error_set(err, CSF_E_INVALID_ARG, "study %s: its settings cannot be written as JSON "
+                         "(names, codes and the observer must be UTF-8 text)", s->name);
+}
+
 static csf_status open_session(run_res *R, const csf_study_run_options *opt, const char *observer,
                                uint64_t seed, int64_t *sid, int *resumed, csf_study_run_result *res,
                                csf_error *err)
@@ -633,19 +651,24 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
         return csf_store_set_session_state(R->store, *sid, "running", err);
     }
     if (csf_store_find_study(R->store, s->name, &res->study_id, NULL) != CSF_OK) {
-        char design[256];
-        snprintf(design, sizeof design, "{\"design\":\"%s\",\"hash\":\"%s\"}", csf_study_design_name(s->design), want);
-        st = csf_store_create_study(R->store, s->name, design, &res->study_id, err);
+        char *design = to_json(json_pack("{s:s,s:s}", "design", csf_study_design_name(s->design),
+                                         "hash", want));
+        st = design ? csf_store_create_study(R->store, s->name, design, &res->study_id, err)
+                    : not_json(s, err);
+        free(design);
         if (st != CSF_OK) return st;
     }
-    char json[2048];
-    snprintf(json, sizeof json,
-             "{\"study\":\"%s\",\"participant\":\"%s\",\"hash\":\"%s\",\"design\":\"%s\","
-             "\"observer\":\"%s\",\"study_seed\":%llu,\"seed\":%llu,\"n_conditions\":%d}",
-             s->name, opt->participant, want, csf_study_design_name(s->design), observer,
-             (unsigned long long)s->seed, (unsigned long long)seed, s->n_conds);
-    st = csf_store_begin_session_profile(R->store, "study", opt->participant, csf_profile_display(R->profile),
-                                         csf_profile_id(R->profile), json, seed, sid, err);
+    /* Seeds are below 2^53 (csf_study_participant_seed; a study file's seed): JSON integers. */
+    char *json = to_json(json_pack("{s:s,s:s,s:s,s:s,s:s,s:I,s:I,s:i}", "study", s->name,
+                                   "participant", opt->participant, "hash", want, "design",
+                                   csf_study_design_name(s->design), "observer", observer,
+                                   "study_seed", (json_int_t)s->seed, "seed", (json_int_t)seed,
+                                   "n_conditions", s->n_conds));
+    st = json ? csf_store_begin_session_profile(R->store, "study", opt->participant,
+                                                csf_profile_display(R->profile), csf_profile_id(R->profile),
+                                                json, seed, sid, err)
+              : not_json(s, err);
+    free(json);
     if (st != CSF_OK) return st;
     st = csf_store_add_participant(R->store, res->study_id, opt->participant, &res->participant_id, err);
     if (st == CSF_OK) st = csf_store_link_session_participant(R->store, *sid, res->participant_id, err);

@@ -344,7 +344,9 @@ static csf_status check_json(const char *text, const char *what, csf_error *err)
 {
     if (!text) return CSF_OK;
     json_error_t je;
-    json_t *doc = json_loads(text, 0, &je);
+    /* Numbers as reals: a 64-bit seed past INT64_MAX is valid JSON that jansson's integers
+     * cannot hold. */
+    json_t *doc = json_loads(text, JSON_DECODE_INT_AS_REAL, &je);
     if (doc) {
         json_decref(doc);
         return CSF_OK;
