@@ -27,6 +27,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 /* ROLE_DARK_REJECTED: a dark reading of a series found contradictory (see dark_series), or taken
  * while the sensor was off the patch (see set_aside); ROLE_REJECTED: a sweep reading taken
  * between a good white reference and one that showed the sensor had moved or the display had
@@ -1434,14 +1436,17 @@ static csf_status build_profile(ctx *c, const char *display_name, const char *in
 
 static void settings_json(const csf_display_calib_opts *o, const char *spec, char *buf, size_t len)
 {
-    char safe[300];
-    size_t j = 0;
-    for (const char *s = spec; *s && j < sizeof safe - 2; s++)
-        if (*s != '"' && *s != '\\' && (unsigned char)*s >= 0x20) safe[j++] = *s;
-    safe[j] = 0;
-    snprintf(buf, len, "{\"photometer\":\"%s\",\"target_rel\":%.17g,\"budget\":%d,\"channels\":%d,"
-             "\"warmup_wait_s\":%.17g,\"warmup_max\":%d,\"drive_levels\":%d}", safe, o->target_rel, o->budget,
-             o->channels, o->warmup_wait_s, o->warmup_max, o->drive_levels);
+    /* Through jansson, so the photometer spec is kept as given and the text is always JSON; a
+     * spec jansson refuses (not UTF-8) is stored empty, as the settings do not depend on it. */
+    json_t *sp = json_string(spec);
+    json_t *doc = json_pack("{s:o,s:f,s:i,s:i,s:f,s:i,s:i}", "photometer", sp ? sp : json_string(""),
+                            "target_rel", o->target_rel, "budget", o->budget, "channels", o->channels,
+                            "warmup_wait_s", o->warmup_wait_s, "warmup_max", o->warmup_max,
+                            "drive_levels", o->drive_levels);
+    char *text = doc ? json_dumps(doc, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) : NULL;
+    json_decref(doc);
+    snprintf(buf, len, "%s", text && strlen(text) < len ? text : "{}");
+    free(text);
 }
 
 /* The stored settings decide on resume, so the replay takes the same path. They are outside input
