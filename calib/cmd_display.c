@@ -125,7 +125,19 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_NOCH: a->no_channels = 1; break;
         case OPT_CHANNELS: a->channels = 1; break;
         case OPT_WARMWAIT: bad = csf_parse_double(optarg, "warmup-wait", 0, 600, &a->warmup_wait_s); break;
-        case OPT_NAME: a->name = optarg; break;
+        case OPT_NAME: {
+            /* The display's name is stored and shown on every station: printable text only. */
+            csf_error e;
+            if (!*optarg || strlen(optarg) > 255) {
+                fprintf(stderr, "csfcal: display: --name: 1 to 255 characters (it is not shortened)\n");
+                bad = -1;
+            } else if (csf_store_check_text(optarg, "--name", &e) != CSF_OK) {
+                fprintf(stderr, "csfcal: display: %s\n", e.msg);
+                bad = -1;
+            }
+            a->name = optarg;
+            break;
+        }
         case OPT_QUIET: a->quiet = 1; break;
         case OPT_LEVELS: bad = csf_parse_int(optarg, "levels", 1, 64, &a->levels); break;
         case OPT_TOL: bad = csf_parse_double(optarg, "tolerance", 1e-5, 1, &a->tol); break;

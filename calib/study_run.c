@@ -763,9 +763,12 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     memset(res, 0, sizeof *res);
     run_res R;
     memset(&R, 0, sizeof R);
-    if (!opt->participant || !participant_ok(opt->participant))
+    if (!opt->participant || !participant_ok(opt->participant)) {
+        char shown[300]; /* the code as typed, escaped: it may hold terminal controls */
+        csf_store_printable(opt->participant, shown, sizeof shown);
         return csf_error_set(err, CSF_E_INVALID_ARG, "--participant '%s': 1 to 63 letters, digits, '_', '-' "
-                             "or '.' (a pseudonymous code, not a name)", opt->participant ? opt->participant : "");
+                             "or '.' (a pseudonymous code, not a name)", shown);
+    }
     const char *observer = opt->observer_spec ? opt->observer_spec
                          : opt->cfg->observer[0] ? opt->cfg->observer : "sim";
     int is_sim = !strncmp(observer, "sim", 3) && (observer[3] == '\0' || observer[3] == ':');

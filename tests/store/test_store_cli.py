@@ -260,6 +260,11 @@ with tempfile.TemporaryDirectory() as tmp:
         p = run_env("study", "run", study, "--participant", "P1", "--observer", "sim", "--headless",
                     "--store", os.path.join(tmp, "st.sqlite"), expect=2)
         check(want in p.stderr and "\x1b" not in p.stderr, f"study name {name!r}: {p.stderr!r}")
+    with open(study, "w") as f:
+        f.write("name = fine\ndesign = 2afc\nconditions = s.csv\n")
+    p = run_env("study", "run", study, "--participant", "P\x071", "--observer", "sim", "--headless",
+                "--store", os.path.join(tmp, "st.sqlite"), expect=2)
+    check("P\\x071" in p.stderr and "\x07" not in p.stderr, f"participant code: {p.stderr!r}")
     p = run_env("display", "calibrate", "--photometer", "sim", "--name", "lcd\r2", "--headless",
                 "--out", os.path.join(tmp, "x.profile"), "--store", os.path.join(tmp, "d.sqlite"), expect=2)
     check("\\x0d at character 4" in p.stderr and "\r" not in p.stderr, f"display name: {p.stderr!r}")
