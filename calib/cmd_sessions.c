@@ -178,8 +178,10 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
     csf_status ost = csf_store_open_readonly(path, &s, &err);
     if (ost == CSF_E_NOT_FOUND) {
         /* Nothing recorded yet is not an error for a listing. */
+        char shown[1024];
+        csf_store_redact(path, shown, sizeof shown);
         if (cli->json) printf("[]\n");
-        else printf("No sessions yet: the store %s does not exist.\n", path);
+        else printf("No sessions yet: the store %s does not exist.\n", shown);
         return 0;
     }
     if (ost != CSF_OK) return csf_cli_report("sessions", &err);

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <jansson.h>
+
 #include "results/store_internal.h"
 
 typedef enum { COL_INT, COL_REAL, COL_TEXT, COL_BOOL } col_type;
@@ -33,15 +35,21 @@ static void put_text_csv(FILE *out, const char *s)
     fputc('"', out);
 }
 
+/* A JSON string through jansson: text that is not UTF-8 (a row written past csfcal) goes out
+ * in its escaped, printable form, so the export stays valid JSON whatever the store holds. */
 static void put_text_json(FILE *out, const char *s)
 {
-    fputc('"', out);
-    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-        if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
-        else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
-        else fputc(*p, out);
+    json_t *j = json_string(s ? s : "");
+    if (!j) {
+        size_t n = strlen(s);
+        char *shown = malloc(4 * n + 1);
+        if (shown) csf_store_printable(s, shown, 4 * n + 1);
+        j = json_string(shown ? shown : "");
+        free(shown);
     }
-    fputc('"', out);
+    if (j) json_dumpf(j, out, JSON_ENCODE_ANY); /* a failed write shows in ferror(out) */
+    else fputs("null", out);
+    json_decref(j);
 }
 
 /* The shortest decimal that reads back as the same double: exact like %.17g, but 0.3 stays 0.3

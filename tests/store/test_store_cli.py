@@ -269,6 +269,22 @@ with tempfile.TemporaryDirectory() as tmp:
                 "--out", os.path.join(tmp, "x.profile"), "--store", os.path.join(tmp, "d.sqlite"), expect=2)
     check("\\x0d at character 4" in p.stderr and "\r" not in p.stderr, f"display name: {p.stderr!r}")
 
+    # A trial's text written past csfcal with a terminal control and a byte that is not UTF-8:
+    # the JSON export is still JSON (written through jansson), the control escaped by it.
+    db = sqlite3.connect(odd)
+    db.execute("UPDATE trials SET flags = CAST(X'6c6174651b5b324aff' AS TEXT) WHERE session_id = ? AND seq = 0",
+               (int(ids[0]),))
+    db.commit()
+    db.close()
+    p = subprocess.run([csfcal, "sessions", "export", ids[0], "--format", "json", "--store", odd],
+                       capture_output=True, env=env)
+    check(p.returncode == 0 and b"\x1b" not in p.stdout, f"json export of raw bytes: {p.returncode} {p.stderr!r}")
+    try:
+        recs = json.loads(p.stdout.decode("utf-8"))
+        check(recs[0]["flags"] == "late\\x1b[2J\\xff", f"flags read back as {recs[0]['flags']!r}")
+    except (ValueError, UnicodeDecodeError) as e:
+        check(False, f"json export of raw bytes is not JSON: {e}")
+
     # A 332-character observer name is never cut without a word: push refuses it.
     db = sqlite3.connect(odd)
     db.execute("UPDATE sessions SET observer = ? WHERE id = ?", ("n" * 332, int(ids[0])))
