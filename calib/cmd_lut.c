@@ -416,11 +416,18 @@ static int cmd_import(const lut_args *a)
     if (!isnan(a->dist)) b->viewing_distance_mm = a->dist;
     if (!isnan(a->meanlum)) b->mean_lum_cdm2 = a->meanlum;
     if (a->have_trials) b->trials = (int)a->trials;
-    st = csflut_write_file_diag(b, a->out, &d);
+    unsigned char *blob = NULL;
+    size_t blen = 0;
+    st = csflut_write_memory_diag(b, &blob, &blen, &d);
     csflut_grid_free(g);
     if (st) {
-        if (st == CSFLUT_E_IO) fprintf(stderr, "csfcal: lut import: %s\n", d.message);
-        else fprintf(stderr, "csfcal: lut import: %s: %s\n", a->out, d.message);
+        fprintf(stderr, "csfcal: lut import: %s: %s\n", a->out, d.message);
+        return 1;
+    }
+    csf_status ws = csf_write_file_atomic(a->out, "threshold table", blob, blen, &werr);
+    free(blob);
+    if (ws != CSF_OK) {
+        fprintf(stderr, "csfcal: lut import: %s\n", werr.msg);
         return 1;
     }
     return 0;

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -1849,19 +1850,24 @@ static csf_status write_table(obs_run *R, csf_error *err)
     b.trials = R->res->n_trials;
     csflut_diag diag;
     memset(&diag, 0, sizeof diag);
-    csflut_status ls = csflut_write_file_diag(&b, R->opt->out_path, &diag);
+    unsigned char *blob = NULL;
+    size_t blen = 0;
+    csflut_status ls = csflut_write_memory_diag(&b, &blob, &blen, &diag);
     free(thr);
     free(se);
     if (ls != CSFLUT_OK)
-        /* the writer's diagnostic carries the OS error ("No space left on device") */
         return csf_error_set(err, ls == CSFLUT_E_NOMEM ? CSF_E_NOMEM : CSF_E_IO, "writing the threshold table %s: %s",
                              R->opt->out_path, diag.message[0] ? diag.message : csflut_strerror(ls));
-    R->res->table_written = 1;
-    char *blob = NULL;
-    size_t blen = 0;
-    csf_status st = CSF_OK;
-    if (csf_read_file(R->opt->out_path, "threshold table", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
+    /* The store keeps the bytes that were written, not a read-back of the path: the path may be a
+     * FIFO or a device that gives nothing back. */
+    csf_error werr;
+    csf_status st = csf_write_file_atomic(R->opt->out_path, "threshold table", blob, blen, &werr);
+    if (st != CSF_OK)
+        st = csf_error_set(err, st, "writing the threshold table %s: %s", R->opt->out_path, werr.msg);
+    else {
+        R->res->table_written = 1;
         st = csf_store_add_artifact(S->store, R->sid, "csflut", R->opt->out_path, blob, blen, err);
+    }
     free(blob);
     return st;
 }
@@ -1874,6 +1880,9 @@ static csf_status finish_session(obs_run *R, csf_error *err)
     if (st != CSF_OK || !opt->plot_path || !*opt->plot_path) return st;
     st = csf_report_write(R->S.store, R->sid, opt->plot_path, err);
     if (st != CSF_OK) return st;
+    /* Kept only when it went to a file: a FIFO or a device at the path gives nothing back. */
+    struct stat sb;
+    if (stat(opt->plot_path, &sb) != 0 || !S_ISREG(sb.st_mode)) return CSF_OK;
     char *blob = NULL;
     size_t blen = 0;
     if (csf_read_file(opt->plot_path, "report plot", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)

@@ -1,6 +1,7 @@
 /* csflut writer: validates a csflut_build with the reader's rules and serialises it in the
  * little-endian v1 layout of docs/csflut.md, CRC-32 last. Files are written to a temporary in the
- * same folder, fsynced and renamed (POSIX), so a reader never sees half a table. */
+ * same folder, fsynced and renamed (POSIX), so a reader never sees half a table; a device or FIFO
+ * at the destination is written in place, never replaced. */
 #if !defined(_POSIX_C_SOURCE) || _POSIX_C_SOURCE < 200809L
 #undef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fsync, fileno: this file builds on its own when vendored */
@@ -230,20 +231,67 @@ static char *dir_of(const char *path)
     return d;
 }
 
+/* An existing destination that is not a regular file (/dev/null, a terminal, a FIFO, a pipe
+ * behind /dev/stdout) is written in place, never replaced by a file: opened without O_CREAT or
+ * O_TRUNC. Folders, block devices and sockets are refused. */
+static csflut_status write_through(const char *path, const struct stat *sb,
+                                   const unsigned char *buf, size_t len, csflut_diag *diag)
+{
+    if (!S_ISCHR(sb->st_mode) && !S_ISFIFO(sb->st_mode)) {
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s: it is %s, not a file", path,
+                        S_ISDIR(sb->st_mode) ? "a folder" : S_ISBLK(sb->st_mode) ? "a block device"
+                                                                                 : "a socket");
+        return CSFLUT_E_IO;
+    }
+    int fd = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC), err = 0;
+    if (fd < 0) err = errno;
+    else {
+        err = write_all(fd, buf, len);
+        if (close(fd) != 0 && !err) err = errno;
+    }
+    if (err) csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s: %s", path, strerror(err));
+    return err ? CSFLUT_E_IO : CSFLUT_OK;
+}
+
+/* The mode a new file gets (what the umask allows) or the one the replaced file had. */
+static mode_t mode_for(const struct stat *old)
+{
+    if (old) return old->st_mode & 0777;
+    mode_t mask = umask(0);
+    umask(mask);
+    return 0666 & ~mask;
+}
+
 /* buf -> temporary beside path -> fsync -> rename over path -> fsync of the folder. On failure
- * the temporary is removed, path is untouched, and the OS error is named. */
+ * the temporary is removed, path is untouched, and the OS error is named. A symbolic link is
+ * followed: its target is replaced and the link stays; a link to nothing is refused. */
 static csflut_status write_atomic(const char *path, const unsigned char *buf, size_t len,
                                   csflut_diag *diag)
 {
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + 16), *dir = dir_of(path);
+    struct stat lsb, sb;
+    int exists = lstat(path, &lsb) == 0;
+    if (exists && S_ISLNK(lsb.st_mode) && stat(path, &sb) != 0) {
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s: a symbolic link to a file that "
+                        "does not exist", path);
+        return CSFLUT_E_IO;
+    }
+    if (exists && !S_ISLNK(lsb.st_mode)) sb = lsb;
+    if (exists && !S_ISREG(sb.st_mode)) return write_through(path, &sb, buf, len, diag);
+    char *real = exists && S_ISLNK(lsb.st_mode) ? realpath(path, NULL) : strdup(path);
+    if (!real) {
+        csflut_diag_set(diag, CSFLUT_E_IO, 0, "cannot write %s: %s", path, strerror(errno));
+        return CSFLUT_E_IO;
+    }
+    size_t pl = strlen(real);
+    char *tmp = malloc(pl + 16), *dir = dir_of(real);
     if (!tmp || !dir) {
         free(tmp);
         free(dir);
+        free(real);
         csflut_diag_set(diag, CSFLUT_E_NOMEM, 0, "out of memory");
         return CSFLUT_E_NOMEM;
     }
-    snprintf(tmp, pl + 16, "%s.tmp.XXXXXX", path);
+    snprintf(tmp, pl + 16, "%s.tmp.XXXXXX", real);
     int fd = mkstemp(tmp), err = 0;
     const char *step = "cannot create a temporary file in";
     if (fd < 0) {
@@ -251,10 +299,10 @@ static csflut_status write_atomic(const char *path, const unsigned char *buf, si
     } else {
         step = "cannot write";
         err = write_all(fd, buf, len);
+        if (!err && fchmod(fd, mode_for(exists ? &sb : NULL)) != 0) err = errno; /* mkstemp: 0600 */
         if (!err && fsync(fd) != 0) err = errno;
         if (close(fd) != 0 && !err) err = errno;
-        if (!err && chmod(tmp, 0644) != 0) err = errno; /* mkstemp makes 0600 */
-        if (!err && rename(tmp, path) != 0) {
+        if (!err && rename(tmp, real) != 0) {
             err = errno;
             step = "cannot rename the temporary file over";
         }
@@ -272,6 +320,7 @@ static csflut_status write_atomic(const char *path, const unsigned char *buf, si
     }
     free(tmp);
     free(dir);
+    free(real);
     return err ? CSFLUT_E_IO : CSFLUT_OK;
 }
 
