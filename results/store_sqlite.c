@@ -8,6 +8,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -38,7 +39,7 @@ typedef struct sq_store {
     char path[1024];
     sqlite3_stmt *ins_trial, *ins_reading, *ins_frame;
     int sys_errno; /* errno of the last failed step, caught before finalize/reset can clear it */
-    int claims_fd;   /* PATH-claims, opened at the first claim; -1 before */
+    int claims_fd;   /* the database file for the claims' locks, opened at the first claim */
     int64_t *claims; /* sessions this handle holds */
     size_t n_claims, cap_claims;
 } sq_store;
@@ -1108,24 +1109,55 @@ static csf_status sq_get_session(csf_store *base, int64_t id, csf_session_info *
  * Two stations (or two csfcal processes) resuming one session at once would interleave their
  * trials: a session is claimed by the handle that starts or resumes it, as the PostgreSQL
  * backend does with advisory locks. The claim is an open-file-description lock on one byte of
- * PATH-claims (byte CLAIM_REC * id), so the kernel gives it back when the holder's process ends,
- * however it ends; the same lock works between machines where SQLite's own locking does (a
- * network share with working POSIX locks). The holder writes who it is (host, pid, time) into
- * the CLAIM_REC bytes it locked, for the message another station gets. */
+ * the database file itself, at CLAIM_BASE + id: every name of the store (a symbolic link, a
+ * hard link, a relative path) reaches the same lock, since the kernel keys it by the file, and
+ * the kernel gives it back when the holder's process ends, however it ends. The bytes lie far
+ * past SQLite's own lock bytes (at 1 GiB) and past any database's end, so the two never meet;
+ * an OFD lock is not dropped when SQLite closes a descriptor of the same file. The same lock
+ * works between machines where SQLite's own locking does (a network share with POSIX locks).
+ * Who holds a claim (host, pid, time) is written for the message another station gets into
+ * REALPATH-claims beside the resolved database file, CLAIM_REC bytes per session, opened without
+ * following a link: a link planted there would otherwise have its target overwritten. */
 #define CLAIM_REC 128
+#define CLAIM_BASE ((off_t)1 << 40)
+/* Keeps CLAIM_BASE + id and id * CLAIM_REC inside off_t; no store reaches it (an id past it is
+ * one no session has, and the state change that follows says so). */
+#define CLAIM_ID_MAX ((int64_t)1 << 54)
 
+/* The database file, opened once for the claims' locks and kept open until the handle closes
+ * (after SQLite has closed its own: closing any descriptor of the file would drop SQLite's
+ * POSIX locks in this process). */
 static int claims_fd(sq_store *s)
 {
     if (s->claims_fd > 0) return s->claims_fd;
-    char p[1100];
-    snprintf(p, sizeof p, "%s-claims", s->path);
-    int fd = open(p, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    int fd = open(s->path, O_RDWR | O_CLOEXEC);
     if (fd == 0) { /* never keep fd 0: 0 means "not open" here */
         int fd2 = fcntl(fd, F_DUPFD_CLOEXEC, 3);
         close(fd);
         fd = fd2;
     }
     if (fd > 0) s->claims_fd = fd;
+    return fd;
+}
+
+/* PATH-claims for the holders' records, or -1 with errno (ELOOP for a link, EINVAL for
+ * anything but a regular file). */
+static int holders_fd(const sq_store *s, int create)
+{
+    /* Named after the file the store's path resolves to, so every name of it finds the records. */
+    char p[PATH_MAX + 8];
+    char *real = realpath(s->path, NULL);
+    snprintf(p, sizeof p, "%s-claims", real ? real : s->path);
+    free(real);
+    int fd = open(p, O_RDWR | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY | O_NONBLOCK | (create ? O_CREAT : 0),
+                  0666);
+    if (fd < 0) return -1;
+    struct stat sb;
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
+        errno = EINVAL;
+        return -1;
+    }
     return fd;
 }
 
@@ -1138,35 +1170,46 @@ static int sq_has_claim(const sq_store *s, int64_t id)
 
 static int claim_lock(int fd, int64_t id, short type)
 {
-    struct flock fl = {.l_type = type, .l_whence = SEEK_SET, .l_start = (off_t)(id * CLAIM_REC),
+    struct flock fl = {.l_type = type, .l_whence = SEEK_SET, .l_start = CLAIM_BASE + (off_t)id,
                        .l_len = 1};
     return fcntl(fd, F_OFD_SETLK, &fl);
 }
 
-/* Takes session id's claim, or says who holds it and what to do. */
-static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err)
+/* The refusal for a claim another process holds, naming it from its record when there is one. */
+static csf_status claim_refused(const sq_store *s, int64_t id, csf_error *err)
 {
-    if (sq_has_claim(s, id) || id <= 0 || id > INT64_MAX / (2 * CLAIM_REC)) return CSF_OK;
-    int fd = claims_fd(s);
-    if (fd < 0)
-        return csf_error_set(err, CSF_E_STORE, "store %s: cannot open %s-claims to claim session "
-                             "%lld (%s)", s->path, s->path, (long long)id, strerror(errno));
-    if (claim_lock(fd, id, F_WRLCK) != 0) {
-        if (errno != EAGAIN && errno != EACCES)
-            return csf_error_set(err, CSF_E_STORE, "store %s: cannot claim session %lld (%s)",
-                                 s->path, (long long)id, strerror(errno));
-        char rec[CLAIM_REC + 1] = "", host[64] = "?", since[32] = "?";
-        long pid = 0;
-        ssize_t got = pread(fd, rec, CLAIM_REC, (off_t)(id * CLAIM_REC));
+    char rec[CLAIM_REC + 1] = "", host[64] = "?", since[32] = "?";
+    long pid = 0;
+    int hfd = holders_fd(s, 0);
+    if (hfd >= 0) {
+        ssize_t got = pread(hfd, rec, CLAIM_REC, (off_t)(id * CLAIM_REC));
         rec[got > 0 ? got : 0] = '\0';
-        sscanf(rec, "station=%63s pid=%ld since=%31s", host, &pid, since);
-        return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
-                             "station: %s, csfcal process %ld, since %s, holds its claim. Two "
-                             "stations must not write one session. The claim ends with that "
-                             "process (a crashed or killed csfcal has none); if it hangs, end it "
-                             "(kill %ld on %s) and resume again", s->path, (long long)id, host,
-                             pid, since, pid, host);
+        close(hfd);
     }
+    if (sscanf(rec, "station=%63s pid=%ld since=%31s", host, &pid, since) < 2)
+        return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
+                             "csfcal process, which holds its claim (it left no record of who it "
+                             "is in %s-claims). Two stations must not write one session. The "
+                             "claim ends with that process; resume again when it has ended",
+                             s->path, (long long)id, s->path);
+    return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another "
+                         "station: %s, csfcal process %ld, since %s, holds its claim. Two "
+                         "stations must not write one session. The claim ends with that "
+                         "process (a crashed or killed csfcal has none); if it hangs, end it "
+                         "(kill %ld on %s) and resume again", s->path, (long long)id, host,
+                         pid, since, pid, host);
+}
+
+/* Writes who holds session id's claim into its record. */
+static csf_status write_holder(const sq_store *s, int64_t id, csf_error *err)
+{
+    int hfd = holders_fd(s, 1);
+    if (hfd < 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: cannot use %s-claims to record who "
+                             "holds session %lld: %s%s", s->path, s->path, (long long)id,
+                             strerror(errno), errno == ELOOP || errno == EINVAL
+                             ? " (it is a symbolic link or not a regular file: csfcal does not "
+                               "write through it; remove it)" : "");
     char host[64] = "", now[32], rec[CLAIM_REC];
     if (gethostname(host, sizeof host) != 0 || !host[0]) snprintf(host, sizeof host, "unknown");
     host[sizeof host - 1] = '\0';
@@ -1177,8 +1220,31 @@ static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err)
     int n = snprintf(rec, sizeof rec, "station=%s pid=%ld since=%s\n", host, (long)getpid(), now);
     if (n > 0 && n < (int)sizeof rec) rec[n] = ' ';
     rec[sizeof rec - 1] = '\n';
-    if (pwrite(fd, rec, sizeof rec, (off_t)(id * CLAIM_REC)) != (ssize_t)sizeof rec) {
+    if (pwrite(hfd, rec, sizeof rec, (off_t)(id * CLAIM_REC)) != (ssize_t)sizeof rec) {
         /* Only the message for another station is lost: the lock holds. */
+    }
+    close(hfd);
+    return CSF_OK;
+}
+
+/* Takes session id's claim, or says who holds it and what to do. */
+static csf_status sq_claim(sq_store *s, int64_t id, csf_error *err)
+{
+    if (sq_has_claim(s, id) || id <= 0 || id >= CLAIM_ID_MAX) return CSF_OK;
+    int fd = claims_fd(s);
+    if (fd < 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: cannot open it to claim session %lld (%s)",
+                             s->path, (long long)id, strerror(errno));
+    if (claim_lock(fd, id, F_WRLCK) != 0) {
+        if (errno != EAGAIN && errno != EACCES)
+            return csf_error_set(err, CSF_E_STORE, "store %s: cannot claim session %lld (%s)",
+                                 s->path, (long long)id, strerror(errno));
+        return claim_refused(s, id, err);
+    }
+    csf_status ws = write_holder(s, id, err);
+    if (ws != CSF_OK) {
+        claim_lock(fd, id, F_UNLCK);
+        return ws;
     }
     if (s->n_claims == s->cap_claims) {
         size_t nc = s->cap_claims ? 2 * s->cap_claims : 8;

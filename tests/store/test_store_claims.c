@@ -11,6 +11,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -193,6 +194,88 @@ static void test_resume_race(void)
     CHECK_INT_EQ(no, N - 1);
 }
 
+
+/* SQLite: a claim belongs to the file, not to the name it was opened by. A session held
+ * through the store's own path is refused to a handle that opened the store through a symbolic
+ * link (`sessions abort 3 --store link.sqlite` once aborted a running session this way), or
+ * through a relative path to it. (A hard link is no way in: SQLite refuses to open a database
+ * file with more than one link.) */
+static void test_claim_by_file(const char *dir)
+{
+    char sym[1024], rel[1024];
+    snprintf(sym, sizeof sym, "%s/sym.sqlite", dir);
+    snprintf(rel, sizeof rel, "%s/./sub/../lab.sqlite", dir);
+    CHECK(symlink(loc, sym) == 0);
+    char sub[1024];
+    snprintf(sub, sizeof sub, "%s/sub", dir);
+    CHECK(mkdir(sub, 0700) == 0);
+    csf_store *a = test_open_or_exit(loc, "holder");
+    csf_error err;
+    int64_t sid = 0;
+    CHECK_INT_EQ(csf_store_begin_session(a, "observer", "held", "lcd", NULL, 5, &sid, &err), CSF_OK);
+    /* The aliases are tried from another process, as a second station would. */
+    int res[2];
+    CHECK(pipe(res) == 0);
+    pid_t p = fork();
+    if (p == 0) {
+        close(res[0]);
+        int out[2] = {0, 0};
+        const char *names[2] = {sym, rel};
+        for (int i = 0; i < 2; i++) {
+            csf_store *b = test_open_or_exit(names[i], "alias");
+            csf_error e;
+            csf_status cs = csf_store_set_session_state(b, sid, "aborted", &e);
+            out[i] = cs == CSF_E_STORE && strstr(e.msg, "in use by another station") != NULL;
+            csf_store_close(b);
+        }
+        if (write(res[1], out, sizeof out) != sizeof out) _exit(2);
+        _exit(0);
+    }
+    close(res[1]);
+    int out[2] = {0, 0};
+    CHECK(read(res[0], out, sizeof out) == sizeof out);
+    close(res[0]);
+    waitpid(p, NULL, 0);
+    CHECK_MSG(out[0], "a symbolic link to the store aborted a session another process holds");
+    CHECK_MSG(out[1], "another path to the store aborted a session another process holds");
+    csf_session_info si;
+    CHECK_INT_EQ(csf_store_get_session(a, sid, &si, &err), CSF_OK);
+    CHECK_MSG(!strcmp(si.state, "running"), "state %s", si.state);
+    csf_session_info_free(&si);
+    CHECK_INT_EQ(csf_store_set_session_state(a, sid, "finished", &err), CSF_OK);
+    csf_store_close(a);
+    unlink(sym);
+    rmdir(sub);
+}
+
+/* SQLite: a symbolic link planted at STORE-claims is not written through (its target once had
+ * bytes 128-255 overwritten); the claim is refused with the reason, and the target is intact. */
+static void test_planted_claims_link(const char *dir)
+{
+    char store[1024], claims[1100], victim[1024];
+    snprintf(store, sizeof store, "%s/planted.sqlite", dir);
+    snprintf(claims, sizeof claims, "%s-claims", store);
+    snprintf(victim, sizeof victim, "%s/victim.txt", dir);
+    FILE *f = fopen(victim, "w");
+    CHECK(f != NULL);
+    for (int i = 0; f && i < 64; i++) fputs("untouchable\n", f);
+    if (f) fclose(f);
+    CHECK(symlink(victim, claims) == 0);
+    csf_store *s = test_open_or_exit(store, "planted");
+    csf_error err;
+    int64_t sid = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "lcd", NULL, 5, &sid, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "symbolic link or not a regular file");
+    csf_store_close(s);
+    char buf[1024] = "";
+    f = fopen(victim, "r");
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f) fclose(f);
+    CHECK(n == 64 * 12 && strstr(buf, "station=") == NULL);
+    unlink(claims);
+    unlink(victim);
+}
+
 int main(void)
 {
     test_pg_require();
@@ -202,6 +285,10 @@ int main(void)
     test_holder_named();
     test_resume_race();
     if (test_pg()) test_take_over_hung();
+    else {
+        test_claim_by_file(dir);
+        test_planted_claims_link(dir);
+    }
     rm_rf(dir);
     return CHECK_RESULT();
 }
