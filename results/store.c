@@ -199,13 +199,18 @@ void csf_store_redact(const char *location, char *out, size_t cap)
     PQconninfoFree(opts);
 }
 
-int csf_store_has_password(const char *location)
+/* 1 when libpq reads a secret from text (whatever csfcal takes it for). */
+static int libpq_secret(const char *text)
 {
-    if (!csf_store_is_server(location)) return 0;
-    PQconninfoOption *opts = parse_location(location);
+    PQconninfoOption *opts = parse_location(text);
     int has = secret_option(opts) != NULL;
     PQconninfoFree(opts);
     return has;
+}
+
+int csf_store_has_password(const char *location)
+{
+    return csf_store_is_server(location) && libpq_secret(location);
 }
 
 /* A server location libpq reads, with no secret in it and no control character in any value
@@ -249,6 +254,12 @@ csf_status csf_store_check_location(const char *location, const char *where, csf
     csf_status cs = csf_store_check_text(location, what, err);
     if (cs == CSF_OK && csf_store_is_server(location))
         cs = check_server_location(location, where, err);
+    else if (cs == CSF_OK && strchr(location, '=') && libpq_secret(location))
+        /* "host=db password=x" is a file name to csfcal, but meant as a connection string: its
+         * password would be shown in every message naming the file. */
+        cs = csf_error_set(err, CSF_E_INVALID_ARG, "%s: a password in the store location is "
+                           "refused (a server is named postgresql://... or service=NAME; the "
+                           "password goes in ~/.pgpass), see docs/store.md", where);
     return cs;
 }
 

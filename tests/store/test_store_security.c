@@ -77,6 +77,10 @@ static void test_redact(void)
     check_refused("service=lab password=s3cret", "s3cret");
     check_refused("service=lab sslpassword=s3cret", "s3cret");
     csf_error err;
+    /* Not a server location to csfcal (a file name), but one libpq reads a password from. */
+    CHECK_INT_EQ(csf_store_check_location("host=db password=s3cret", "--store", &err), CSF_E_INVALID_ARG);
+    CHECK(!strstr(err.msg, "s3cret"));
+    CHECK_INT_EQ(csf_store_check_location("/data/a=b/csfcal.sqlite", "--store", &err), CSF_OK);
     CHECK_INT_EQ(csf_store_check_location("postgresql://db/csf?s3cret", "--to", &err), CSF_E_INVALID_ARG);
     CHECK(!strstr(err.msg, "s3cret"));
     CHECK_STR_CONTAINS(err.msg, "libpq cannot read");
