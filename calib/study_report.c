@@ -60,7 +60,10 @@ static csf_status load_session(csf_store *store, const csf_session_info *info, s
     csf_status st = csf_json_parse_object(info->settings_json, "study session settings", &doc, err);
     if (st != CSF_OK) return st;
     double seed = 0;
-    csf_json_get_string(doc, "participant", d->participant, sizeof d->participant, err);
+    char code[sizeof d->participant] = "";
+    csf_json_get_string(doc, "participant", code, sizeof code, err);
+    /* Stored settings are outside input by now: a code is shown escaped, never as raw bytes. */
+    csf_store_printable(code, d->participant, sizeof d->participant);
     int got = csf_json_get_number(doc, "seed", 0, 1.8446744073709552e19, &seed, err);
     csf_json_free(doc);
     (void)got;
