@@ -265,6 +265,19 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run_env("study", "run", study, "--participant", "P\x071", "--observer", "sim", "--headless",
                 "--store", os.path.join(tmp, "st.sqlite"), expect=2)
     check("P\\x071" in p.stderr and "\x07" not in p.stderr, f"participant code: {p.stderr!r}")
+    # A participant code in a study session's stored settings, rewritten past csfcal with a
+    # terminal control (JSON lets "\u001b" through): study report shows it escaped.
+    with open(study, "w") as f:
+        f.write("name = fine\ndesign = 2afc\nconditions = s.csv\ntrials_per_condition = 10\nbootstrap = 0\n")
+    st_store = os.path.join(tmp, "report.sqlite")
+    run_env("study", "run", study, "--participant", "P1", "--observer", "sim", "--headless", "--quiet",
+            "--store", st_store)
+    db = sqlite3.connect(st_store)
+    db.execute("UPDATE sessions SET settings_json = replace(settings_json, '\"P1\"', '\"P\\u001b[2J1\"')")
+    db.commit()
+    db.close()
+    p = run_env("study", "report", "fine", "--store", st_store)
+    check("P\\x1b[2J1" in p.stdout and "\x1b" not in p.stdout, f"study report participant: {p.stdout!r}")
     p = run_env("display", "calibrate", "--photometer", "sim", "--name", "lcd\r2", "--headless",
                 "--out", os.path.join(tmp, "x.profile"), "--store", os.path.join(tmp, "d.sqlite"), expect=2)
     check("\\x0d at character 4" in p.stderr and "\r" not in p.stderr, f"display name: {p.stderr!r}")
