@@ -53,6 +53,8 @@ static csf_status study_name_of(const char *study, char *name, size_t cap, csf_e
     return st;
 }
 
+/* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
+ * storing them): the caller leaves such a session out instead of failing the whole study. */
 static csf_status load_session(csf_store *store, const csf_session_info *info, session_data *d, csf_error *err)
 {
     memset(d, 0, sizeof *d);
@@ -288,6 +290,14 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
         }
         st = load_session(store, &info, &ds[nd], err);
         csf_session_info_free(&info);
+        if (st == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
+            fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)list[i].id,
+                    err->msg);
+            session_data_free(&ds[nd]);
+            csf_error_clear(err);
+            st = CSF_OK;
+            continue;
+        }
         if (st != CSF_OK) {
             char m[sizeof err->msg];
             snprintf(m, sizeof m, "%s", err->msg);

@@ -607,6 +607,17 @@ static void feedback(study_ctx *x, const csf_trial *t)
         if (csf_presenter_text_screen(x->pres, correct ? "Correct" : "Wrong", &e) != CSF_OK) break;
 }
 
+/* A session whose participant or study files could not be stored: marked aborted, and the
+ * message says so (its number stays unused; a report leaves it out). */
+static void abort_unstarted(csf_store *store, int64_t sid, csf_error *err)
+{
+    csf_error e2;
+    char m[sizeof err->msg];
+    snprintf(m, sizeof m, "%s", err->msg);
+    if (csf_store_set_session_state(store, sid, "aborted", &e2) == CSF_OK)
+        csf_error_set(err, err->code, "%s; session %lld marked aborted", m, (long long)sid);
+}
+
 /* doc (taken) as compact JSON text, keys in order; malloc'd, NULL when doc is NULL (jansson
  * refuses text that is not UTF-8) or memory ran out. Settings are written only this way, so a
  * name with a quote or a control character can never make them invalid. */
@@ -670,12 +681,18 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
               : not_json(s, err);
     free(json);
     if (st != CSF_OK) return st;
+    /* The session comes first: on a server a station may add a participant only to a study
+     * session of its own that has none yet (docs/store_roles.sql), so a code cannot be taken
+     * without a session. find_session above refuses a code another session has; a code taken
+     * any other way is refused here, and the session just begun is closed as aborted so the lab
+     * never sees a running session without its participant and study files. */
     st = csf_store_add_participant(R->store, res->study_id, opt->participant, &res->participant_id, err);
     if (st == CSF_OK) st = csf_store_link_session_participant(R->store, *sid, res->participant_id, err);
     if (st == CSF_OK) st = csf_store_add_artifact(R->store, *sid, "study", s->path, s->settings_text,
                                                   strlen(s->settings_text), err);
     if (st == CSF_OK) st = csf_store_add_artifact(R->store, *sid, "conditions", s->conditions_path,
                                                   s->conditions_text, strlen(s->conditions_text), err);
+    if (st != CSF_OK) abort_unstarted(R->store, *sid, err);
     return st;
 }
 

@@ -51,6 +51,7 @@ typedef struct pg_store {
     int readonly;
     int retrying;        /* the current transaction is a repeat after a reconnect */
     double retry_limit_s;
+    double lock_wait_s;  /* the longest any statement waits for a lock another connection holds */
     int64_t *claims;     /* sessions this station holds */
     size_t n_claims, cap_claims;
     /* The local spool (an SQLite store) that keeps trials while the server is away. */
@@ -176,9 +177,20 @@ static csf_status fail(pg_store *p, const PGresult *r, const char *what, csf_err
     if (lost(p))
         return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable while %s (%s)",
                              p->base.path, what, msg);
+    if (!strcmp(st, "42501") && strstr(msg, "row-level security"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: permission denied while %s: the row "
+                             "belongs to another station's session (%s)", p->base.path, what, msg);
     if (!strcmp(st, "42501"))
         return csf_error_set(err, CSF_E_STORE, "store %s: permission denied while %s (%s); the "
                              "station's role needs the grants in docs/store_roles.sql", p->base.path,
+                             what, msg);
+    if (!strcmp(st, "55P03"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: gave up after %.0f s waiting for a lock "
+                             "another connection holds while %s (%s); see pg_locks and "
+                             "pg_stat_activity on the server, or raise CSF_STORE_LOCK_WAIT_S",
+                             p->base.path, p->lock_wait_s, what, msg);
+    if (!strcmp(st, "55000"))
+        return csf_error_set(err, CSF_E_STORE, "store %s: refused while %s: %s", p->base.path,
                              what, msg);
     if (!strcmp(st, "25006"))
         return csf_error_set(err, CSF_E_STORE, "store %s: opened read-only, cannot write while %s",
@@ -288,6 +300,11 @@ static void release_claim(pg_store *p, int64_t id)
 static csf_status setup_connection(pg_store *p, csf_error *err)
 {
     csf_status cs = run_cmd(p, "SET synchronous_commit = on", NULL, "connecting", err);
+    /* No statement waits silently for a lock another connection holds: it gives up and says so. */
+    char sql[64];
+    long wait_ms = (long)(p->lock_wait_s * 1000.0);
+    snprintf(sql, sizeof sql, "SET lock_timeout = %ld", wait_ms > 0 ? wait_ms : 1); /* 0: no limit */
+    if (cs == CSF_OK) cs = run_cmd(p, sql, NULL, "connecting", err);
     if (cs == CSF_OK && p->readonly)
         cs = run_cmd(p, "SET default_transaction_read_only = on", NULL, "connecting", err);
     return cs;
@@ -316,20 +333,22 @@ static csf_status reclaim_all(pg_store *p, csf_error *err)
 }
 
 /* Waits for the server after the connection dropped: one try a second, a line on stderr each
- * time (the person at the station sees why the next stimulus is late), for retry_limit_s. */
-static csf_status reconnect(pg_store *p, double limit_s, csf_error *err)
+ * time when say (the person at the station sees why the next stimulus is late), for limit_s.
+ * While rows are spooled each write tries once more without a line: the station said so once. */
+static csf_status reconnect(pg_store *p, double limit_s, int say, csf_error *err)
 {
     char msg[512];
     message(p, NULL, msg, sizeof msg);
     double waited_s = 0.0;
     for (;;) {
-        fprintf(stderr, "csfcal: store %s: connection to the server lost (%s); retrying "
-                        "(%.0f s of %.0f s)\n", p->base.path, msg, waited_s, limit_s);
+        if (say)
+            fprintf(stderr, "csfcal: store %s: connection to the server lost (%s); retrying "
+                            "(%.0f s of %.0f s)\n", p->base.path, msg, waited_s, limit_s);
         PQreset(p->conn);
         if (!lost(p)) {
             csf_status cs = setup_connection(p, err);
             if (cs == CSF_OK) cs = reclaim_all(p, err);
-            if (cs == CSF_OK) fprintf(stderr, "csfcal: store %s: reconnected\n", p->base.path);
+            if (cs == CSF_OK && say) fprintf(stderr, "csfcal: store %s: reconnected\n", p->base.path);
             return cs;
         }
         message(p, NULL, msg, sizeof msg);
@@ -349,7 +368,7 @@ static csf_status reconnect(pg_store *p, double limit_s, csf_error *err)
         for (;;) {                                                                           \
             csf_status cs_ = (call);                                                         \
             if (cs_ == CSF_OK || !lost(p)) return cs_;                                       \
-            csf_status rs_ = reconnect((p), (p)->retry_limit_s, (err));                                          \
+            csf_status rs_ = reconnect((p), (p)->retry_limit_s, 1, (err));                                          \
             if (rs_ != CSF_OK) return rs_;                                                   \
             (p)->retrying = 1;                                                               \
         }                                                                                    \
@@ -414,47 +433,143 @@ static csf_status query_i64(pg_store *p, const char *sql, const pgargs *a, int64
 
 /* ---- open ----------------------------------------------------------------------------------- */
 
-/* Creates the schema in an empty database, or checks and migrates the one there, under a lock
- * so stations started together on a new database wait for each other. */
+/* Who holds advisory lock (CLAIM_CLASS, object): login, program, server process and since when,
+ * as pg_locks and pg_stat_activity show it to every role (the start times of another login's
+ * connection are shown only to roles with pg_read_all_stats: "since ?" otherwise). */
+static void lock_holder(pg_store *p, int64_t object, char *out, size_t cap, long *pid)
+{
+    *pid = 0;
+    pgargs a = {0};
+    a_i64(&a, CLAIM_CLASS);
+    a_i64(&a, object);
+    PGresult *r = run(p, "SELECT a.usename, a.application_name, l.pid, COALESCE(to_char(COALESCE("
+                         "a.xact_start, a.backend_start) AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"'),"
+                         " '?') FROM pg_locks l LEFT JOIN pg_stat_activity a ON a.pid = l.pid"
+                         " WHERE l.locktype = 'advisory' AND l.granted AND l.classid ="
+                         " $1::bigint::oid AND l.objid = ($2::bigint % 2147483647)::oid AND"
+                         " l.objsubid = 2 LIMIT 1", &a);
+    if (PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1) {
+        char who[80], app[80], since[40];
+        g_txt(r, 0, 0, who, sizeof who);
+        g_txt(r, 0, 1, app, sizeof app);
+        g_txt(r, 0, 3, since, sizeof since);
+        *pid = (long)g_i64(r, 0, 2);
+        snprintf(out, cap, "login %s, program '%s', server process %ld, since %s", who[0] ? who : "?",
+                 app, *pid, since);
+    } else {
+        snprintf(out, cap, "a connection that has let go of it since");
+    }
+    PQclear(r);
+}
+
+/* The schema lock, inside the open transaction, waited for at most lock_wait_s: a connection
+ * that holds it (a station's csfcal migrating, or anyone holding it by hand) is named once on
+ * stderr, and named again in the refusal when it does not let go. */
+static csf_status schema_lock(pg_store *p, csf_error *err)
+{
+    const char *what = "locking the schema";
+    double waited_s = 0.0;
+    char holder[256] = "";
+    long pid = 0;
+    for (;;) {
+        pgargs a = {0};
+        a_i64(&a, CLAIM_CLASS);
+        PGresult *r = run(p, "SELECT pg_try_advisory_xact_lock($1::int, 0)", &a);
+        csf_status cs = PQresultStatus(r) == PGRES_TUPLES_OK ? CSF_OK : fail(p, r, what, err);
+        int got = cs == CSF_OK && PQgetvalue(r, 0, 0)[0] == 't';
+        PQclear(r);
+        if (cs != CSF_OK || got) return cs;
+        lock_holder(p, 0, holder, sizeof holder, &pid);
+        if (waited_s >= p->lock_wait_s)
+            return csf_error_set(err, CSF_E_STORE, "store %s: gave up after %.0f s waiting for the "
+                                 "schema lock, held by %s; once that connection ends (the database "
+                                 "owner can end it with pg_terminate_backend) try again",
+                                 p->base.path, waited_s, holder);
+        if (waited_s == 0.0)
+            fprintf(stderr, "csfcal: store %s: waiting up to %.0f s for the schema lock, held by %s\n",
+                    p->base.path, p->lock_wait_s, holder);
+        usleep(200000);
+        waited_s += 0.2;
+    }
+}
+
+typedef struct {
+    int64_t has, tables, version;
+} schema_state;
+
+static csf_status read_schema_state(pg_store *p, schema_state *ss, csf_error *err)
+{
+    const char *what = "reading the schema";
+    *ss = (schema_state){0};
+    csf_status cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema"
+                                 " = current_schema() AND table_name = 'schema_version'", NULL,
+                              &ss->has, what, err);
+    if (cs == CSF_OK)
+        cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema ="
+                          " current_schema()", NULL, &ss->tables, what, err);
+    if (cs == CSF_OK && ss->has)
+        cs = query_i64(p, "SELECT MAX(version) FROM schema_version", NULL, &ss->version, what, err);
+    if (cs == CSF_OK && !ss->has && ss->tables > 0)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: the database has tables but is not a csfcal "
+                           "store (no schema_version table); refusing to change it", p->base.path);
+    if (cs == CSF_OK && ss->version > CSF_STORE_SCHEMA_VERSION)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld, this csfcal reads %d; "
+                           "use a csfcal of that version", p->base.path, (long long)ss->version,
+                           CSF_STORE_SCHEMA_VERSION);
+    return cs;
+}
+
+/* A read-only connection never changes the schema, so it never takes the schema lock: a
+ * listing cannot be kept waiting by it. */
+static csf_status check_schema_readonly(pg_store *p, const schema_state *ss, csf_error *err)
+{
+    if (!ss->has)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no csfcal store in that database yet; "
+                             "no session has been recorded there", p->base.path);
+    if (ss->version != CSF_STORE_SCHEMA_VERSION)
+        return csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld must be migrated to %d "
+                             "before it can be read; open it once with a role that may change the "
+                             "schema", p->base.path, (long long)ss->version, CSF_STORE_SCHEMA_VERSION);
+    return CSF_OK;
+}
+
+/* Creates the schema in an empty database, or migrates the one there, under the schema lock
+ * (stations started together on a new database wait for each other), reading its state again
+ * once the lock is held. */
+static csf_status create_or_migrate(pg_store *p, schema_state *ss, csf_error *err)
+{
+    const char *what = "creating the schema";
+    csf_status cs = schema_lock(p, err);
+    if (cs == CSF_OK) cs = read_schema_state(p, ss, err);
+    if (cs == CSF_OK && !ss->has) cs = run_cmd(p, csf_store_pg_schema_v5, NULL, what, err);
+    if (cs == CSF_OK && !ss->has) ss->version = 5;
+    /* The portable migrations after version 5, the same SQL as on SQLite. */
+    while (cs == CSF_OK && ss->version >= 5 && ss->version < CSF_STORE_SCHEMA_VERSION) {
+        char upd[80];
+        snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %lld",
+                 (long long)ss->version + 1);
+        cs = run_cmd(p, csf_store_migrations[ss->version], NULL, "migrating the schema", err);
+        if (cs == CSF_OK) cs = run_cmd(p, upd, NULL, "migrating the schema", err);
+        ss->version++;
+    }
+    if (cs == CSF_OK && ss->version != CSF_STORE_SCHEMA_VERSION)
+        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld, this csfcal reads %d; "
+                           "use a csfcal of that version", p->base.path, (long long)ss->version,
+                           CSF_STORE_SCHEMA_VERSION);
+    return cs;
+}
+
+/* Checks the schema, creating or migrating it when a writable connection finds it missing or
+ * old. A current schema is only read, without the lock. */
 static csf_status ensure_schema(pg_store *p, csf_error *err)
 {
     const char *what = "creating the schema";
+    schema_state ss;
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
-    pgargs a = {0};
-    a_i64(&a, CLAIM_CLASS);
-    if (cs == CSF_OK) cs = run_cmd(p, "SELECT pg_advisory_xact_lock($1::int, 0)", &a, what, err);
-    int64_t has = 0, tables = 0, version = 0;
-    if (cs == CSF_OK)
-        cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema ="
-                          " current_schema() AND table_name = 'schema_version'", NULL, &has, what, err);
-    if (cs == CSF_OK)
-        cs = query_i64(p, "SELECT COUNT(*) FROM information_schema.tables WHERE table_schema ="
-                          " current_schema()", NULL, &tables, what, err);
-    if (cs == CSF_OK && !has && tables > 0)
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: the database has tables but is not a csfcal "
-                           "store (no schema_version table); refusing to change it", p->base.path);
-    if (cs == CSF_OK && !has && p->readonly)
-        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no csfcal store in that database yet; "
-                           "no session has been recorded there", p->base.path);
-    if (cs == CSF_OK && !has) cs = run_cmd(p, csf_store_pg_schema_v5, NULL, what, err);
-    if (cs == CSF_OK)
-        cs = query_i64(p, "SELECT MAX(version) FROM schema_version", NULL, &version, what, err);
-    if (cs == CSF_OK && version >= 5 && version < CSF_STORE_SCHEMA_VERSION && p->readonly)
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld must be migrated to %d "
-                           "before it can be read; open it once with a role that may change the "
-                           "schema", p->base.path, (long long)version, CSF_STORE_SCHEMA_VERSION);
-    /* The portable migrations after version 5, the same SQL as on SQLite. */
-    while (cs == CSF_OK && version >= 5 && version < CSF_STORE_SCHEMA_VERSION) {
-        char upd[80];
-        snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %lld", (long long)version + 1);
-        cs = run_cmd(p, csf_store_migrations[version], NULL, "migrating the schema", err);
-        if (cs == CSF_OK) cs = run_cmd(p, upd, NULL, "migrating the schema", err);
-        version++;
-    }
-    if (cs == CSF_OK && version != CSF_STORE_SCHEMA_VERSION)
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: schema version %lld, this csfcal reads %d; "
-                           "use a csfcal of that version", p->base.path, (long long)version,
-                           CSF_STORE_SCHEMA_VERSION);
+    if (cs == CSF_OK) cs = read_schema_state(p, &ss, err);
+    int current = cs == CSF_OK && ss.has && ss.version == CSF_STORE_SCHEMA_VERSION;
+    if (cs == CSF_OK && !current && p->readonly) cs = check_schema_readonly(p, &ss, err);
+    else if (cs == CSF_OK && !current) cs = create_or_migrate(p, &ss, err);
     if (cs == CSF_OK) return commit(p, what, err);
     rollback(p);
     return cs;
@@ -499,6 +614,7 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
     p->readonly = readonly;
     p->retry_limit_s = env_seconds("CSF_STORE_RETRY_S", 120.0);
     p->spool_after_s = env_seconds("CSF_STORE_SPOOL_AFTER_S", 5.0);
+    p->lock_wait_s = env_seconds("CSF_STORE_LOCK_WAIT_S", 10.0);
     spool_path(p->spool_path, sizeof p->spool_path);
     /* dbname last: what the location says wins over these defaults. */
     const char *keys[] = {"application_name", "connect_timeout", "dbname", NULL};
@@ -747,7 +863,7 @@ static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw
     for (;;) {
         csf_status cs = begin_once(p, nw, id, err);
         if (cs == CSF_OK || !lost(p)) return cs;
-        csf_status rs = reconnect(p, p->retry_limit_s, err);
+        csf_status rs = reconnect(p, p->retry_limit_s, 1, err);
         if (rs != CSF_OK) {
             if (p->begin_unsure) spool_unsure_begin(p, nw);
             return rs;
@@ -818,27 +934,35 @@ static csf_status pg_get_session(csf_store *b, int64_t id, csf_session_info *out
  * notices only when TCP keepalive gives up). */
 static csf_status claimed_elsewhere(pg_store *p, int64_t id, csf_error *err)
 {
-    pgargs a = {0};
-    a_i64(&a, CLAIM_CLASS);
-    a_i64(&a, id);
-    PGresult *r = run(p, "SELECT a.usename, l.pid FROM pg_locks l LEFT JOIN pg_stat_activity a"
-                         " ON a.pid = l.pid WHERE l.locktype = 'advisory' AND l.granted AND"
-                         " l.classid = $1::bigint::oid AND l.objid = ($2::bigint % 2147483647)::oid"
-                         " AND l.objsubid = 2 LIMIT 1", &a);
-    char who[80] = "?";
+    char holder[256];
     long pid = 0;
-    if (PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1) {
-        g_txt(r, 0, 0, who, sizeof who);
-        pid = (long)g_i64(r, 0, 1);
-    }
-    PQclear(r);
+    lock_holder(p, id, holder, sizeof holder, &pid);
     return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another station: "
-                         "login %s, server process %ld, holds its claim. Two stations must not "
-                         "write one session. The claim ends with that station's connection (a "
-                         "crashed csfcal's goes when the server notices); if the station is gone "
-                         "and its connection lingers, the database owner can end it with SELECT "
-                         "pg_terminate_backend(%ld); then resume again", p->base.path,
-                         (long long)id, who[0] ? who : "?", pid, pid);
+                         "%s, holds its claim. Two stations must not write one session. The claim "
+                         "ends with that station's connection (a crashed csfcal's goes when the "
+                         "server notices); if the station is gone and its connection lingers, the "
+                         "database owner can end it with SELECT pg_terminate_backend(%ld); then "
+                         "resume again", p->base.path, (long long)id, holder, pid);
+}
+
+/* A state change that changed no row: the session is missing, or it belongs to another
+ * station (row-level security hides it from this login's UPDATE). */
+static csf_status state_unchanged(pg_store *p, int64_t id, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT station FROM sessions WHERE id = $1", &a);
+    char owner[80] = "";
+    int found = PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1;
+    if (found) g_txt(r, 0, 0, owner, sizeof owner);
+    PQclear(r);
+    if (!found)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
+                             (long long)id);
+    return csf_error_set(err, CSF_E_STORE, "store %s: session %lld belongs to another station "
+                         "(login %s); a station changes only the sessions it started, so ask at "
+                         "that station or the database owner", p->base.path, (long long)id,
+                         owner[0] ? owner : "?");
 }
 
 /* A state change needs the session's claim: a station resuming a session takes it, and one
@@ -858,9 +982,7 @@ static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf
     a_i64(&a, id);
     PGresult *r = run(p, "UPDATE sessions SET state = $1, updated_utc = $2 WHERE id = $3", &a);
     if (!ok(r)) cs = fail(p, r, "changing a session's state", err);
-    else if (!strcmp(PQcmdTuples(r), "0"))
-        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path,
-                           (long long)id);
+    else if (!strcmp(PQcmdTuples(r), "0")) cs = state_unchanged(p, id, err);
     PQclear(r);
     if (cs == CSF_OK && !strcmp(state, "running")) cs = remember(p, id, err);
     if (cs != CSF_OK || strcmp(state, "running") != 0) release_claim(p, id);
@@ -1084,7 +1206,7 @@ static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
         if (wait_s <= 0.0 && mono_s() < p->next_try_s)
             return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable", p->base.path);
         p->next_try_s = mono_s() + 5.0;
-        csf_status rs = reconnect(p, wait_s, err);
+        csf_status rs = reconnect(p, wait_s, wait_s > 0.0, err);
         if (rs != CSF_OK) return rs;
     }
     p->spooling = 0; /* the pushes below write to the server, never back into the spool */
@@ -1184,7 +1306,7 @@ static csf_status write_or_spool(pg_store *p, const write_op *w, csf_error *err)
         csf_status cs = to_server(p, w, err);
         if (cs == CSF_OK || !lost(p)) return cs;
         csf_error e2;
-        csf_status rs = reconnect(p, p->spool_after_s, &e2);
+        csf_status rs = reconnect(p, p->spool_after_s, 1, &e2);
         if (rs != CSF_OK) return lost(p) ? to_spool(p, w, err) : csf_error_set(err, rs, "%s", e2.msg);
         p->retrying = 1;
     }
@@ -1506,14 +1628,19 @@ static csf_status record_profile(pg_store *p, int64_t session_id, const void *bl
     a_txt(&a, display);
     a_txt(&a, id);
     a_txt(&a, now);
+    /* The history row first: on a lab's server a station may make a display's current profile
+     * only one its own session measured (docs/store_roles.sql), and this row is what says so. */
     csf_status cs = run_cmd(p, "INSERT INTO displays (name, profile_id, created_utc) VALUES"
-                               " ($1, $2, $3) ON CONFLICT (name) DO UPDATE SET profile_id = $2",
-                            &a, what, err);
+                               " ($1, $2, $3) ON CONFLICT (name) DO NOTHING", &a, what, err);
     a_i64(&a, session_id);
     if (cs == CSF_OK)
         cs = run_cmd(p, "INSERT INTO display_profiles (display_id, profile_id, session_id,"
                         " created_utc) SELECT id, $2, $4, $3 FROM displays WHERE name = $1",
                      &a, what, err);
+    a.n = 2;
+    if (cs == CSF_OK)
+        cs = run_cmd(p, "UPDATE displays SET profile_id = $2 WHERE name = $1 AND profile_id IS"
+                        " DISTINCT FROM $2", &a, what, err);
     return cs;
 }
 
@@ -1818,11 +1945,15 @@ static csf_status link_named_once(pg_store *p, int64_t session_id, const char *s
     static const char *const sql[] = {
         "INSERT INTO studies (name, design_json, created_utc) VALUES ($1, $2, $3)"
         " ON CONFLICT DO NOTHING",
+        /* Rows already there are not proposed again: a lab's server checks every proposed row
+         * (a participant only for a session of this station, nothing added to a closed one). */
         "INSERT INTO participants (study_id, code, created_utc) SELECT id, $4, $3 FROM studies"
-        " WHERE name = $1 ON CONFLICT DO NOTHING",
+        " WHERE name = $1 AND NOT EXISTS (SELECT 1 FROM participants q WHERE q.study_id ="
+        " studies.id AND q.code = $4) ON CONFLICT DO NOTHING",
         "INSERT INTO session_participants (session_id, participant_id) SELECT $5, p.id FROM"
         " participants p JOIN studies st ON st.id = p.study_id WHERE st.name = $1 AND"
-        " p.code = $4 ON CONFLICT DO NOTHING",
+        " p.code = $4 AND NOT EXISTS (SELECT 1 FROM session_participants q WHERE q.session_id"
+        " = $5) ON CONFLICT DO NOTHING",
     };
     const char *what = "linking a session to a participant";
     char now[32];

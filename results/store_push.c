@@ -35,7 +35,9 @@ static csf_status dest_session(csf_store *dst, const csf_session_info *si, int64
                                 .display = si->display, .profile_id = si->profile_id[0] ? si->profile_id : NULL,
                                 .settings_json = si->settings_json, .seed = si->seed,
                                 .uuid = si->uuid, .created_utc = si->created_utc,
-                                .state = si->state, .tool_version = si->tool_version};
+                                .state = "paused", .tool_version = si->tool_version};
+    /* Made paused, never finished: a lab's server refuses rows added to a finished session,
+     * and the copy takes the source's state once it has everything (push, below). */
     *created = 1;
     return dst->ops->begin_session(dst, &nw, id, err);
 }
