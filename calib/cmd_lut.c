@@ -296,6 +296,42 @@ static int cmd_lookup(const lut_args *a)
     return 0;
 }
 
+/* The names the C and GLSL exports generate all start with the prefix (PREFIX_threshold,
+ * PREFIX_NF, ...), so it must be a C identifier that GLSL and C++ also accept; the library
+ * refuses the same prefixes (csflut_export), this says which rule. 1 = refused (message given). */
+static int prefix_refused(const char *p)
+{
+    size_t n = strlen(p);
+    int ident = n > 0 && n <= 64 && !(p[0] >= '0' && p[0] <= '9');
+    for (size_t i = 0; i < n && ident; i++)
+        ident = (p[i] >= 'a' && p[i] <= 'z') || (p[i] >= 'A' && p[i] <= 'Z') ||
+                (p[i] >= '0' && p[i] <= '9') || p[i] == '_';
+    if (!ident) {
+        int printable = 1;
+        for (size_t i = 0; i < n; i++) printable &= p[i] >= 0x20 && p[i] < 0x7f;
+        fprintf(stderr, "csfcal: lut export: --prefix %s%s%sis not a C identifier (a letter or _, "
+                        "then letters, digits or _; at most 64 characters)\n",
+                printable ? "'" : "", printable ? p : "", printable ? "' " : "");
+        return 1;
+    }
+    if (strncmp(p, "gl_", 3) == 0) {
+        fprintf(stderr, "csfcal: lut export: --prefix '%s' starts with \"gl_\": GLSL reserves names "
+                        "starting with gl_ and refuses to compile them\n", p);
+        return 1;
+    }
+    if (strstr(p, "__") || p[n - 1] == '_') {
+        if (strstr(p, "__"))
+            fprintf(stderr, "csfcal: lut export: --prefix '%s' contains \"__\": GLSL and C++ reserve "
+                            "names containing two consecutive underscores\n", p);
+        else
+            fprintf(stderr, "csfcal: lut export: --prefix '%s' ends with '_', so %s_threshold would "
+                            "contain \"__\": GLSL and C++ reserve names containing two consecutive "
+                            "underscores\n", p, p);
+        return 1;
+    }
+    return 0;
+}
+
 static int cmd_export(const lut_args *a)
 {
     if (!a->format) {
@@ -311,6 +347,7 @@ static int cmd_export(const lut_args *a)
         fprintf(stderr, "csfcal: lut export: --format '%s' is not one of csv, json, c, glsl\n", a->format);
         return 2;
     }
+    if (a->prefix && prefix_refused(a->prefix)) return 2;
     csf_error werr;
     if (a->out && csf_check_output_path(a->out, "export", &werr) != CSF_OK) {
         fprintf(stderr, "csfcal: lut export: %s\n", werr.msg);
@@ -323,9 +360,8 @@ static int cmd_export(const lut_args *a)
     size_t len;
     csflut_status st = csflut_export(t, fmt, a->prefix, &text, &len);
     csflut_close(t);
-    if (st == CSFLUT_E_ARG) {
-        fprintf(stderr, "csfcal: lut export: --prefix '%s' is not a C identifier (letters, digits, "
-                        "_, at most 64)\n", a->prefix ? a->prefix : "");
+    if (st == CSFLUT_E_ARG) { /* the library's rule is the one above: not reached */
+        fprintf(stderr, "csfcal: lut export: --prefix refused by the library\n");
         return 2;
     }
     if (st) {

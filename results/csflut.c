@@ -32,10 +32,14 @@ const char *csflut_strerror(csflut_status s)
     case CSFLUT_E_BAD_VALUE: return "non-finite, zero or negative value";
     case CSFLUT_E_BAD_METADATA: return "bad metadata";
     case CSFLUT_E_CSV: return "CSV input refused";
-    case CSFLUT_E_UNREACHABLE: return "unreachable";
     }
     return "unknown csflut status";
 }
+
+/* The version this file was compiled as, so a program can tell which library it runs against
+ * (the macros in its own csflut.h say which one it was built against). */
+const char *csflut_version(void) { return CSFLUT_LIB_VERSION; }
+int csflut_version_number(void) { return CSFLUT_LIB_VERSION_NUMBER; }
 
 const char *csflut_axis_name(csflut_axis a) { return (unsigned)a < 4 ? axis_names[a] : "?"; }
 const char *csflut_axis_unit(csflut_axis a) { return (unsigned)a < 4 ? axis_units[a] : "?"; }
@@ -479,10 +483,10 @@ static csflut_status parse_envelope(const unsigned char *p, size_t len, csflut_t
     if (len < 12) return fail(d, CSFLUT_E_TRUNCATED, len, "file ends inside the version field");
     t->vmaj = (int)(p[8] | p[9] << 8);
     t->vmin = (int)(p[10] | p[11] << 8);
-    if (t->vmaj != CSFLUT_VERSION_MAJOR) {
+    if (t->vmaj != CSFLUT_FORMAT_VERSION_MAJOR) {
         csflut_diag_set(d, CSFLUT_E_BAD_VERSION, 8,
                         "format version %d.%d is not supported (this library reads %d.x)",
-                        t->vmaj, t->vmin, CSFLUT_VERSION_MAJOR);
+                        t->vmaj, t->vmin, CSFLUT_FORMAT_VERSION_MAJOR);
         return CSFLUT_E_BAD_VERSION;
     }
     if (len < CSFLUT_HEADER_SIZE + 4) {

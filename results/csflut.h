@@ -44,21 +44,48 @@
 extern "C" {
 #endif
 
-/* Only the functions below are exported from the shared library. */
-#if defined(_WIN32)
+/* Only the functions below are exported from the shared library (it is built with hidden
+ * visibility). On Windows a DLL exports only what is marked dllexport, and a program calling into a
+ * DLL needs dllimport: the library's own build defines CSFLUT_BUILD; a program that links the
+ * static library, or compiles the sources into itself (vendoring), defines CSFLUT_STATIC, because
+ * a dllimport declaration of a function that is not in a DLL does not link. Elsewhere neither
+ * define matters. */
+#if defined(_WIN32) || defined(__CYGWIN__)
+#if defined(CSFLUT_STATIC)
 #define CSFLUT_API
+#elif defined(CSFLUT_BUILD)
+#define CSFLUT_API __declspec(dllexport)
+#else
+#define CSFLUT_API __declspec(dllimport)
+#endif
 #elif defined(__GNUC__) && __GNUC__ >= 4
 #define CSFLUT_API __attribute__((visibility("default")))
 #else
 #define CSFLUT_API
 #endif
 
-#define CSFLUT_VERSION_MAJOR 1 /* file format major version this library reads and writes */
-#define CSFLUT_VERSION_MINOR 0
-/* Library (API) version; the shared library's soname and pkg-config carry the same number.
- * 2.0.0: every query takes (freq, ecc, ..., contrast); geometric interpolation. */
-#define CSFLUT_LIB_VERSION "2.0.0"
+/* Two versions that change independently:
+ * - the FILE FORMAT version: the .csflut layout. This library reads files of format major 1 (any
+ *   minor) and writes 1.0; csflut_version_major(t) / csflut_version_minor(t) give an open file's.
+ * - the LIBRARY version: this API and ABI. The shared library's soname carries the major,
+ *   pkg-config's Version the whole string. csflut_version() / csflut_version_number() give the
+ *   version of the library actually linked, which a program built against a newer header may
+ *   compare with these macros.
+ *   2.0.0: every query takes (freq, ecc, ..., contrast); geometric interpolation.
+ *   2.1.0: csflut_version(), csflut_version_number(); Windows DLL exports; the reserved status
+ *          code CSFLUT_E_UNREACHABLE (never returned) removed, every other code unchanged. */
+#define CSFLUT_FORMAT_VERSION_MAJOR 1
+#define CSFLUT_FORMAT_VERSION_MINOR 0
 #define CSFLUT_LIB_VERSION_MAJOR 2
+#define CSFLUT_LIB_VERSION_MINOR 1
+#define CSFLUT_LIB_VERSION_PATCH 0
+#define CSFLUT_LIB_VERSION "2.1.0"
+/* major * 10000 + minor * 100 + patch: 20100 for 2.1.0; compare with >= */
+#define CSFLUT_LIB_VERSION_NUMBER \
+    (CSFLUT_LIB_VERSION_MAJOR * 10000 + CSFLUT_LIB_VERSION_MINOR * 100 + CSFLUT_LIB_VERSION_PATCH)
+/* Deprecated names of the file format version (they never meant the library's version). */
+#define CSFLUT_VERSION_MAJOR CSFLUT_FORMAT_VERSION_MAJOR
+#define CSFLUT_VERSION_MINOR CSFLUT_FORMAT_VERSION_MINOR
 
 typedef enum {
     CSFLUT_OK = 0,
@@ -74,9 +101,14 @@ typedef enum {
     CSFLUT_E_NONMONOTONE = 10,/* grid points not strictly increasing */
     CSFLUT_E_BAD_VALUE = 11,  /* non-finite, zero or negative grid point, threshold or stderr */
     CSFLUT_E_BAD_METADATA = 12,/* metadata string too long or containing NUL; bad numeric field */
-    CSFLUT_E_CSV = 13,        /* CSV input refused (the diagnostic names the line) */
-    CSFLUT_E_UNREACHABLE = 14 /* (never returned by open) reserved */
+    CSFLUT_E_CSV = 13         /* CSV input refused (the diagnostic names the line) */
 } csflut_status;
+
+/* The library's version as linked at run time: "MAJOR.MINOR.PATCH" (CSFLUT_LIB_VERSION of the
+ * library's own build; never NULL), and the same as major * 10000 + minor * 100 + patch
+ * (CSFLUT_LIB_VERSION_NUMBER). Not the file format's version (csflut_version_major(t)). */
+CSFLUT_API const char *csflut_version(void);
+CSFLUT_API int csflut_version_number(void);
 
 /* A short English sentence for a status code; never NULL. */
 CSFLUT_API const char *csflut_strerror(csflut_status s);
@@ -170,6 +202,7 @@ CSFLUT_API const double *csflut_raw_thresholds(const csflut_table *t);
 CSFLUT_API const double *csflut_conservative_thresholds(const csflut_table *t); /* under the current shift */
 CSFLUT_API const double *csflut_stderr_log10(const csflut_table *t); /* NULL when the file has none */
 
+/* The open file's FORMAT version (header bytes 8 and 10), not the library's (csflut_version). */
 CSFLUT_API int csflut_version_major(const csflut_table *t);
 CSFLUT_API int csflut_version_minor(const csflut_table *t);
 CSFLUT_API const char *csflut_observer(const csflut_table *t);           /* "" when absent, never NULL */
@@ -224,8 +257,11 @@ CSFLUT_API void csflut_grid_free(csflut_grid *g);
  * CSV and JSON hold every axis and the raw values (+ stderr); the C header and GLSL hold the 2-D
  * (frequency, eccentricity) view at the default velocity and luminance, in the table's current
  * view (conservative or raw), as a self-contained function named PREFIX_threshold(freq_cpd,
- * ecc_deg) that reproduces csflut_threshold (C: bit for bit; GLSL: in float32). `prefix` must be a C identifier (NULL = "csflut_gen").
- * *out is malloc'd and NUL-terminated. */
+ * ecc_deg) that reproduces csflut_threshold (C: bit for bit, built without fused multiply-add;
+ * GLSL: in float32, but a NaN argument gives a finite result there), and PREFIX_perceptible.
+ * `prefix` (NULL = "csflut_gen") starts every generated name, so it must be a C identifier of at
+ * most 64 characters that GLSL and C++ also accept: not starting with "gl_", not containing "__",
+ * not ending in '_'; otherwise CSFLUT_E_ARG. *out is malloc'd and NUL-terminated. */
 typedef enum { CSFLUT_FORMAT_CSV = 0, CSFLUT_FORMAT_JSON, CSFLUT_FORMAT_C, CSFLUT_FORMAT_GLSL }
     csflut_format;
 CSFLUT_API csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char *prefix,

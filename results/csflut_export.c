@@ -1,7 +1,7 @@
 /* Exports of a csflut table: CSV (re-importable, every axis, raw values, %.17g so a round trip is
  * bit-exact), JSON, a self-contained C header and a GLSL function. The C and GLSL forms hold the
  * 2-D (frequency, eccentricity) view at the table's default velocity and luminance and reproduce
- * csflut_threshold: same nodes (C: hex floats, bit-exact), same cell search, same nested lerp. */
+ * csflut_threshold: same nodes (C: 17-digit decimals, bit-exact), same cell search, same nested lerp. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -197,6 +197,16 @@ static void sb_c_array(sbuf *b, const char *px, const char *name, const double *
     sb_printf(b, "};\n");
 }
 
+/* First lines of every generated function body. At the start of a compound statement the
+ * standard pragma holds to the end of that body only, so the header changes nothing in the code
+ * that includes it. GCC ignores the pragma and warns about it under -Wall (unknown-pragmas), which
+ * with -Werror stops the build: it is left out for GCC, whose contraction the header's comment
+ * covers (-ffp-contract=off). */
+#define C_NO_CONTRACT                                                                              \
+    "#if defined(__clang__) || !defined(__GNUC__)\n"                                             \
+    "#pragma STDC FP_CONTRACT OFF\n"                                                              \
+    "#endif\n"
+
 static void export_c(const csflut_table *t, const char *px, sbuf *b)
 {
     const csflut_axis_fast *F = &t->fx, *E = &t->ex;
@@ -207,12 +217,21 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b, "; display: ");
     sb_comment_str(b, csflut_display_profile_id(t));
     sb_printf(b, "; view: %s.\n"
-                 " * %s_threshold(freq_cpd, ecc_deg) returns the threshold Michelson contrast:\n"
-                 " * log2 thresholds blended bilinearly in log2 frequency and linear eccentricity,\n"
-                 " * clamped to the grid edges; a never-visible node enters as the cap, and\n"
-                 " * HUGE_VAL (never visible) is returned only where the blend is the cap.\n"
-                 " * Identical to csflut_threshold() with the same libm. C99 or later, C++11 or later. */\n",
-              t->conservative ? "conservative" : "raw", px);
+                 " * double %s_threshold(double freq_cpd, double ecc_deg) returns the threshold\n"
+                 " * Michelson contrast: log2 thresholds blended bilinearly in log2 frequency and\n"
+                 " * linear eccentricity, clamped to the grid edges; a never-visible node enters as\n"
+                 " * the cap, and HUGE_VAL (never visible) is returned only where the blend is the cap.\n"
+                 " * int %s_perceptible(double freq_cpd, double ecc_deg, double contrast) is 1 when\n"
+                 " * contrast >= that threshold: 0 where never visible, 0 for a NaN argument.\n"
+                 " * A NaN frequency or eccentricity gives a NaN threshold (as csflut_threshold).\n"
+                 " * Bit for bit csflut_threshold() with any libm, as long as the compiler does not\n"
+                 " * fuse a * b + c into one FMA: each function says #pragma STDC FP_CONTRACT OFF,\n"
+                 " * which clang honours (unless -ffp-contract=fast) but GCC ignores, so it is\n"
+                 " * emitted for compilers other than GCC. gcc in GNU modes (gnu99, gnu11: its\n"
+                 " * default) and g++ in every mode fuse on a target with FMA (-march=native on x86,\n"
+                 " * aarch64): build with -ffp-contract=off there. Never -ffast-math.\n"
+                 " * C99 or later, C++11 or later. */\n",
+              t->conservative ? "conservative" : "raw", px, px);
     sb_printf(b, "#ifndef %s_H\n#define %s_H\n#include <math.h>\n\n", px, px);
     sb_printf(b, "#define %s_NF %d\n#define %s_NE %d\n", px, F->n, px, E->n);
     sb_printf(b, "static const double %s_cap_log2 = ", px);
@@ -230,6 +249,7 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b,
               "static inline double %s_log2_poly(double m, double e)\n"
               "{\n"
+              C_NO_CONTRACT
               "    double s = (m - 1) / (m + 1), z = s * s, z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;\n"
               "    double a0 = 2.8853900817779268 + 0.9617966939259757 * z;\n"
               "    double a1 = 0.5770780163555853 + 0.41219858311113244 * z;\n"
@@ -244,6 +264,7 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b,
               "static inline double %s_log2(double x)\n"
               "{\n"
+              C_NO_CONTRACT
               "    int e;\n"
               "    x = x > 2.2250738585072014e-308 ? x : 2.2250738585072014e-308;\n"
               "    x = x < 1.7976931348623157e+308 ? x : 1.7976931348623157e+308;\n"
@@ -257,6 +278,7 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b,
               "static inline double %s_exp2_poly(double f)\n"
               "{\n"
+              C_NO_CONTRACT
               "    double f2 = f * f, f4 = f2 * f2, f8 = f4 * f4;\n"
               "    double a0 = 1.0 + 0.6931471805599453 * f;\n"
               "    double a1 = 0.2402265069591007 + 0.055504108664821576 * f;\n"
@@ -273,6 +295,7 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b,
               "static inline double %s_exp2(double r)\n"
               "{\n"
+              C_NO_CONTRACT
               "    double t = r + 6755399441055744.0;\n"
               "    double k = t - 6755399441055744.0;\n"
               "    return ldexp(%s_exp2_poly(r - k), (int)k);\n"
@@ -280,11 +303,13 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b,
               "static inline double %s_lerp(double a, double b, double w)\n"
               "{\n"
+              C_NO_CONTRACT
               "    return (1 - w) * a + w * b;\n"
               "}\n\n", px);
     sb_printf(b,
               "static inline double %s_threshold(double freq_cpd, double ecc_deg)\n"
               "{\n"
+              C_NO_CONTRACT
               "    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg) return NAN;\n"
               "    double u = %s_log2(freq_cpd);\n"
               "    u = u > %s_freq_log2[0] ? u : %s_freq_log2[0];\n"
@@ -307,6 +332,7 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
               "/* 1 if a pattern of this contrast at this frequency and eccentricity is visible. */\n"
               "static inline int %s_perceptible(double freq_cpd, double ecc_deg, double contrast)\n"
               "{\n"
+              C_NO_CONTRACT
               "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
               "}\n\n#endif\n", px, px);
 }
@@ -326,11 +352,22 @@ static void export_glsl(const csflut_table *t, const char *px, sbuf *b)
     const csflut_axis_fast *F = &t->fx, *E = &t->ex;
     const double *v = t->conservative ? t->slice_cons : t->slice_raw;
     sb_printf(b, "// Generated by csflut %s from a csfcal threshold table: do not edit.\n"
-                 "// %s_threshold(freq_cpd, ecc_deg): threshold Michelson contrast (float32); log2\n"
-                 "// thresholds blended in log2 frequency x linear eccentricity, clamped to the grid;\n"
-                 "// a never-visible node enters as the cap; +inf = never visible.\n"
-                 "// GLSL 3.30 / ES 3.00 or later (uintBitsToFloat). View: %s.\n",
-              CSFLUT_LIB_VERSION, px, t->conservative ? "conservative" : "raw");
+                 "// float %s_threshold(float freq_cpd, float ecc_deg): threshold Michelson\n"
+                 "// contrast (float32); log2 thresholds blended in log2 frequency x linear\n"
+                 "// eccentricity, clamped to the grid; a never-visible node enters as the cap;\n"
+                 "// +inf = never visible.\n"
+                 "// bool %s_perceptible(float freq_cpd, float ecc_deg, float contrast): true when\n"
+                 "// contrast >= that threshold; false where never visible.\n"
+                 "// NaN arguments: csflut_threshold gives NaN (and perceptible false); GLSL leaves\n"
+                 "// max and clamp of NaN undefined, so here the result is some finite threshold\n"
+                 "// (driver-dependent). Keep NaN out, or test isnan() before the call.\n"
+                 "// GLSL 3.30 / ES 3.00 or later (uintBitsToFloat). Include it after #version.\n"
+                 "// Under GLSL ES it sets the default precision to highp for float and int (an ES\n"
+                 "// fragment shader has no default float precision; mediump is too coarse for\n"
+                 "// these numbers): code after it gets highp unless it says otherwise.\n"
+                 "// View: %s.\n",
+              CSFLUT_LIB_VERSION, px, px, t->conservative ? "conservative" : "raw");
+    sb_printf(b, "#ifdef GL_ES\nprecision highp float;\nprecision highp int;\n#endif\n");
     sb_printf(b, "const int %s_NF = %d;\nconst int %s_NE = %d;\n", px, F->n, px, E->n);
     sb_printf(b, "const float %s_cap_log2 = %.9e;\n", px, t->cap_log2);
     sb_glsl_array(b, px, "freq_log2", F->node, F->n);
@@ -375,6 +412,17 @@ static int is_identifier(const char *s)
     return 1;
 }
 
+/* The prefix starts every generated name (PREFIX_threshold, PREFIX_NF, ...), in C and in GLSL:
+ * GLSL refuses names that start with "gl_", and reserves names containing "__" (so does C++, in
+ * which the C header must also compile); a prefix ending in '_' puts "__" into PREFIX_threshold. */
+static int is_usable_prefix(const char *s)
+{
+    if (!is_identifier(s)) return 0;
+    if (strncmp(s, "gl_", 3) == 0) return 0;
+    if (strstr(s, "__") || s[strlen(s) - 1] == '_') return 0;
+    return 1;
+}
+
 csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char *prefix,
                             char **out, size_t *len)
 {
@@ -382,7 +430,7 @@ csflut_status csflut_export(const csflut_table *t, csflut_format fmt, const char
     *out = NULL;
     if (len) *len = 0;
     const char *px = prefix ? prefix : "csflut_gen";
-    if (!is_identifier(px)) return CSFLUT_E_ARG;
+    if (!is_usable_prefix(px)) return CSFLUT_E_ARG;
     sbuf b = {0};
     switch (fmt) {
     case CSFLUT_FORMAT_CSV: export_csv(t, &b); break;

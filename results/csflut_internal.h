@@ -9,6 +9,15 @@
 
 #include "csflut.h"
 
+/* No a * b + c fused into one FMA anywhere in the library: a fused result differs in the last
+ * place, so the numbers would depend on -march, and the C export (which keeps them unfused) would
+ * no longer match bit for bit. Clang honours the standard pragma (from here to the end of each
+ * file); GCC ignores it and warns under -Wall, so it gets -ffp-contract=off from the build
+ * (results/meson.build; docs/csflut.md for vendoring). */
+#if defined(__clang__) || !defined(__GNUC__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
 /* File layout (docs/csflut.md): 64-byte header, axis records, thresholds, optional stderr,
  * metadata strings, CRC-32 trailer. All little-endian. */
 #define CSFLUT_MAGIC "\x89" "CSFLUT\n"
@@ -20,6 +29,11 @@
 #define CSFLUT_MAX_STRING 4096     /* per metadata string */
 #define CSFLUT_N_STRINGS 5
 #define CSFLUT_FLAG_STDERR 1u
+
+/* One past the highest csflut_status code: the bound for walking every code (the enum itself
+ * carries no such member, so a switch over it stays exhaustive and no caller can receive it).
+ * Raise it when a code is added. */
+#define CSFLUT_STATUS_END (CSFLUT_E_CSV + 1)
 
 /* Precomputed 2-D (frequency, eccentricity) slice for the fast path. Axes with one point are
  * padded to two identical-valued nodes so every query has a cell. */

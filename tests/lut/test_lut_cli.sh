@@ -101,6 +101,19 @@ ls "$T" | grep -q 'tmp' && { bad "temporaries left behind"; ls "$T"; } || ok "no
 "$CSFCAL" lut lookup "$T/a.csflut" --freq 4 >"$T/out" 2>&1; expect "missing --ecc" 2 "required" "$T/out" $?
 "$CSFCAL" lut export "$T/a.csflut" --format xml >"$T/out" 2>&1; expect "bad format" 2 "csv, json, c, glsl" "$T/out" $?
 "$CSFCAL" lut export "$T/a.csflut" --format c --prefix 1x >"$T/out" 2>&1; expect "bad prefix" 2 "C identifier" "$T/out" $?
+# every generated name starts with the prefix: GLSL refuses gl_..., GLSL and C++ reserve __ (also
+# made by a trailing _ before _threshold); refused up front, in every format, naming the rule
+for fmt in glsl c; do
+    "$CSFCAL" lut export "$T/a.csflut" --format $fmt --prefix gl_x -o "$T/p.$fmt" >"$T/out" 2>&1
+    expect "--prefix gl_x refused ($fmt)" 2 "'gl_x' starts with \"gl_\": GLSL reserves names starting with gl_" "$T/out" $?
+    "$CSFCAL" lut export "$T/a.csflut" --format $fmt --prefix a__b -o "$T/p.$fmt" >"$T/out" 2>&1
+    expect "--prefix a__b refused ($fmt)" 2 "'a__b' contains \"__\": GLSL and C++ reserve names containing two consecutive underscores" "$T/out" $?
+    "$CSFCAL" lut export "$T/a.csflut" --format $fmt --prefix lut_ -o "$T/p.$fmt" >"$T/out" 2>&1
+    expect "--prefix lut_ refused ($fmt)" 2 "'lut_' ends with '_', so lut__threshold would contain \"__\"" "$T/out" $?
+    [ ! -e "$T/p.$fmt" ] && ok "no $fmt export for a refused prefix" || bad "no $fmt export for a refused prefix"
+done
+"$CSFCAL" lut export "$T/a.csflut" --format glsl --prefix GL_lut_2 -o "$T/p.glsl" >"$T/out" 2>&1 \
+    && grep -q "float GL_lut_2_threshold" "$T/p.glsl" && ok "--prefix GL_lut_2 accepted" || { bad "--prefix GL_lut_2 accepted"; cat "$T/out"; }
 "$CSFCAL" lut frobnicate >"$T/out" 2>&1; expect "unknown subcommand" 2 "unknown subcommand" "$T/out" $?
 "$CSFCAL" lut info "$T/a.csflut" --bogus >"$T/out" 2>&1; expect "unknown option" 2 "unknown option" "$T/out" $?
 "$CSFCAL" lut lookup "$T/a.csflut" --freq 4 --ecc 0 --shift 11 >"$T/out" 2>&1; expect "shift range" 2 "allowed 0 to 10" "$T/out" $?

@@ -352,10 +352,15 @@ static void test_bad_files(void)
     open_expect(b, len, CSFLUT_E_TRUNCATED, "file size too big");
 
     /* every code has a distinct message */
-    for (int s = 0; s <= CSFLUT_E_UNREACHABLE; s++)
-        for (int u = s + 1; u <= CSFLUT_E_UNREACHABLE; u++)
+    for (int s = 0; s < CSFLUT_STATUS_END; s++)
+        for (int u = s + 1; u < CSFLUT_STATUS_END; u++)
             CHECK(strcmp(csflut_strerror((csflut_status)s), csflut_strerror((csflut_status)u)) != 0);
     CHECK(csflut_strerror((csflut_status)999) != NULL);
+    /* the bound covers every real code and nothing past it */
+    for (int s = 0; s < CSFLUT_STATUS_END; s++)
+        CHECK_MSG(strcmp(csflut_strerror((csflut_status)s), "unknown csflut status") != 0,
+                  "status %d has no message", s);
+    CHECK(strcmp(csflut_strerror((csflut_status)CSFLUT_STATUS_END), "unknown csflut status") == 0);
     CHECK_INT_EQ(csflut_open_memory(NULL, 10, NULL), CSFLUT_E_ARG);
     free(b);
     free(good);
@@ -459,8 +464,37 @@ static void test_write_fails_cleanly(void)
     rmdir(dir);
 }
 
+/* The run-time version query returns the macros this test was built with (the library is built
+ * from the same header), the number and the string agree, and the file format version is kept
+ * apart: a table written now carries the format version, not the library's. */
+static void test_versions(void)
+{
+    CHECK(csflut_version() != NULL);
+    if (csflut_version()) CHECK(strcmp(csflut_version(), CSFLUT_LIB_VERSION) == 0);
+    CHECK_INT_EQ(csflut_version_number(), CSFLUT_LIB_VERSION_NUMBER);
+    CHECK_INT_EQ(csflut_version_number(), CSFLUT_LIB_VERSION_MAJOR * 10000 +
+                                              CSFLUT_LIB_VERSION_MINOR * 100 +
+                                              CSFLUT_LIB_VERSION_PATCH);
+    char s[32];
+    snprintf(s, sizeof s, "%d.%d.%d", CSFLUT_LIB_VERSION_MAJOR, CSFLUT_LIB_VERSION_MINOR,
+             CSFLUT_LIB_VERSION_PATCH);
+    CHECK(strcmp(s, CSFLUT_LIB_VERSION) == 0);
+    CHECK_INT_EQ(CSFLUT_VERSION_MAJOR, CSFLUT_FORMAT_VERSION_MAJOR);
+    CHECK_INT_EQ(CSFLUT_VERSION_MINOR, CSFLUT_FORMAT_VERSION_MINOR);
+    fx_table fx;
+    fx_make(&fx, 3, 0.05, 1.0);
+    csflut_table *t = fx_open(&fx.b);
+    CHECK(t != NULL);
+    if (t) {
+        CHECK_INT_EQ(csflut_version_major(t), CSFLUT_FORMAT_VERSION_MAJOR);
+        CHECK_INT_EQ(csflut_version_minor(t), CSFLUT_FORMAT_VERSION_MINOR);
+        csflut_close(t);
+    }
+}
+
 int main(void)
 {
+    test_versions();
     test_round_trip_memory();
     test_round_trip_file_and_absent_metadata();
     test_4d_round_trip();

@@ -1,7 +1,10 @@
 /* The exported GLSL gives the library's numbers: the function is compiled into a fragment shader
  * on an EGL surfaceless context (Mesa llvmpipe on CI), evaluated for 64x64 queries read from a
  * float texture, written to a float framebuffer and read back; compared to csflut_threshold at
- * the same float inputs to 1e-5 relative (float32), never-visible as +inf. */
+ * the same float inputs to 1e-5 relative (float32), never-visible as +inf. Twice: as GLSL 3.30
+ * core on an OpenGL 3.3 core context, and as GLSL ES 3.00 on an OpenGL ES 3.0 context with the
+ * export straight after #version (an ES fragment shader has no default float precision; the
+ * export sets highp under #ifdef GL_ES). */
 #define GL_GLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -17,11 +20,10 @@
 
 enum { W = 64, H = 64 };
 
-static const char *vs_src = "#version 330 core\n"
-                            "void main() {\n"
-                            "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
-                            "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
-                            "}\n";
+static const char *vs_body = "void main() {\n"
+                             "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+                             "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+                             "}\n";
 
 static GLuint compile(GLenum kind, const char *src)
 {
@@ -40,18 +42,29 @@ static GLuint compile(GLenum kind, const char *src)
     return s;
 }
 
-/* Renders prefix_threshold for the queries; out gets W*H floats. Returns 0 on success. */
-static int run_shader(const char *glsl, const char *prefix, const float *q, float *out)
+/* Renders prefix_threshold for the queries; out gets W*H floats. es: GLSL ES 3.00 on an ES
+ * context, the export first after #version (nothing sets a precision before it); else GLSL 3.30
+ * core. Returns 0 on success. */
+static int run_shader(const char *glsl, const char *prefix, const float *q, float *out, int es)
 {
     size_t n = strlen(glsl) + 1024;
-    char *fs = malloc(n);
-    snprintf(fs, n,
-             "#version 330 core\nuniform sampler2D q;\nout vec4 o;\n%s\n"
-             "void main() {\n"
-             "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
-             "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
-             "}\n", glsl, prefix);
-    GLuint v = compile(GL_VERTEX_SHADER, vs_src), f = compile(GL_FRAGMENT_SHADER, fs);
+    char *fs = malloc(n), vs[512];
+    if (es)
+        snprintf(fs, n,
+                 "#version 300 es\n%s\nuniform highp sampler2D q;\nout vec4 o;\n"
+                 "void main() {\n"
+                 "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
+                 "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
+                 "}\n", glsl, prefix);
+    else
+        snprintf(fs, n,
+                 "#version 330 core\nuniform sampler2D q;\nout vec4 o;\n%s\n"
+                 "void main() {\n"
+                 "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
+                 "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
+                 "}\n", glsl, prefix);
+    snprintf(vs, sizeof vs, "%s\n%s", es ? "#version 300 es" : "#version 330 core", vs_body);
+    GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
     free(fs);
     if (!v || !f) return -1;
     GLuint prog = glCreateProgram();
@@ -81,7 +94,11 @@ static int run_shader(const char *glsl, const char *prefix, const float *q, floa
     glBindTexture(GL_TEXTURE_2D, tex[0]);
     glUniform1i(glGetUniformLocation(prog, "q"), 0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    glReadPixels(0, 0, W, H, GL_RED, GL_FLOAT, out);
+    /* RGBA/FLOAT: the one float read-back format OpenGL ES guarantees */
+    float *rgba = malloc(sizeof(float) * 4 * W * H);
+    glReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, rgba);
+    for (int i = 0; i < W * H; i++) out[i] = rgba[4 * i];
+    free(rgba);
     GLenum err = glGetError();
     glDeleteVertexArrays(1, &vao);
     glDeleteFramebuffers(1, &fbo);
@@ -90,6 +107,24 @@ static int run_shader(const char *glsl, const char *prefix, const float *q, floa
     glDeleteShader(v);
     glDeleteShader(f);
     return err == GL_NO_ERROR ? 0 : -1;
+}
+
+/* Makes a surfaceless context current: OpenGL 3.3 core, or OpenGL ES 3.0. */
+static EGLContext make_context(EGLDisplay dpy, int es)
+{
+    EGLContext ctx = EGL_NO_CONTEXT;
+    if (eglBindAPI(es ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) {
+        EGLint gl_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                            EGL_NONE};
+        EGLint es_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
+        ctx = eglCreateContext(dpy, (EGLConfig)0, EGL_NO_CONTEXT, es ? es_attr : gl_attr);
+    }
+    if (ctx != EGL_NO_CONTEXT && !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+        eglDestroyContext(dpy, ctx);
+        ctx = EGL_NO_CONTEXT;
+    }
+    return ctx;
 }
 
 int main(void)
@@ -103,13 +138,8 @@ int main(void)
         fprintf(stderr, "no EGL surfaceless display: skipped\n");
         return 77;
     }
-    EGLContext ctx = EGL_NO_CONTEXT;
-    if (eglBindAPI(EGL_OPENGL_API)) {
-        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-        ctx = eglCreateContext(dpy, (EGLConfig)0, EGL_NO_CONTEXT, attr);
-    }
-    if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+    EGLContext ctx = make_context(dpy, 0);
+    if (ctx == EGL_NO_CONTEXT) {
         fprintf(stderr, "no OpenGL 3.3 core context: skipped\n");
         eglTerminate(dpy);
         return 77;
@@ -128,39 +158,60 @@ int main(void)
     /* a few edge cases: beyond both ends of both axes */
     q[0] = 100.0f, q[1] = 100.0f;
     q[2] = 0.01f, q[3] = -5.0f;
-    for (int view = 0; view < 2; view++) {
-        csflut_set_conservative(t, view);
+    /* the generated comment describes both functions and what NaN does on each side */
+    {
         char *glsl;
         CHECK_INT_EQ(csflut_export(t, CSFLUT_FORMAT_GLSL, "lut", &glsl, NULL), CSFLUT_OK);
-        int rc = run_shader(glsl, "lut", q, out);
+        CHECK_STR_CONTAINS(glsl, "// float lut_threshold(float freq_cpd, float ecc_deg)");
+        CHECK_STR_CONTAINS(glsl, "// bool lut_perceptible(float freq_cpd, float ecc_deg, float contrast)");
+        CHECK_STR_CONTAINS(glsl, "// NaN arguments: csflut_threshold gives NaN");
+        CHECK_STR_CONTAINS(glsl, "#ifdef GL_ES\nprecision highp float;\nprecision highp int;\n#endif\n");
         free(glsl);
-        CHECK_MSG(rc == 0, "GL rendering failed");
-        if (rc) break;
-        double worst = 0;
-        int n_inf = 0, mismatch_inf = 0;
-        for (int i = 0; i < W * H; i++) {
-            double want = csflut_threshold(t, (double)q[2 * i], (double)q[2 * i + 1]);
-            double got = (double)out[i];
-            if (isinf(want) || isinf(got)) {
-                if (!(isinf(want) && isinf(got) && got > 0)) {
-                    mismatch_inf++;
-                    fprintf(stderr, "query f=%g e=%g: lib %g glsl %g\n", q[2 * i], q[2 * i + 1], want, got);
-                }
-                n_inf++;
-                continue;
-            }
-            double d = rel_diff(got, want);
-            if (d > worst) worst = d;
+    }
+    for (int es = 0; es < 2; es++) {
+        if (es) {
+            eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            eglDestroyContext(dpy, ctx);
+            ctx = make_context(dpy, 1);
+            /* Mesa's surfaceless platform offers ES 3 wherever it offers GL 3.3 core */
+            CHECK_MSG(ctx != EGL_NO_CONTEXT, "no OpenGL ES 3.0 context");
+            if (ctx == EGL_NO_CONTEXT) break;
         }
-        fprintf(stderr, "GLSL %s view: %d queries (%d never visible), worst rel diff %.3g\n",
-                view ? "conservative" : "raw", W * H, n_inf, worst);
-        CHECK(n_inf > 100); /* the comparison covers infinities */
-        CHECK_INT_EQ(mismatch_inf, 0);
-        CHECK_MSG(worst < 1e-5, "worst relative difference %g", worst);
+        const char *api = es ? "GLSL ES 3.00" : "GLSL 3.30 core";
+        for (int view = 0; view < 2; view++) {
+            csflut_set_conservative(t, view);
+            char *glsl;
+            CHECK_INT_EQ(csflut_export(t, CSFLUT_FORMAT_GLSL, "lut", &glsl, NULL), CSFLUT_OK);
+            int rc = run_shader(glsl, "lut", q, out, es);
+            free(glsl);
+            CHECK_MSG(rc == 0, "%s: GL rendering failed", api);
+            if (rc) break;
+            double worst = 0;
+            int n_inf = 0, mismatch_inf = 0;
+            for (int i = 0; i < W * H; i++) {
+                double want = csflut_threshold(t, (double)q[2 * i], (double)q[2 * i + 1]);
+                double got = (double)out[i];
+                if (isinf(want) || isinf(got)) {
+                    if (!(isinf(want) && isinf(got) && got > 0)) {
+                        mismatch_inf++;
+                        fprintf(stderr, "query f=%g e=%g: lib %g glsl %g\n", q[2 * i], q[2 * i + 1], want, got);
+                    }
+                    n_inf++;
+                    continue;
+                }
+                double d = rel_diff(got, want);
+                if (d > worst) worst = d;
+            }
+            fprintf(stderr, "%s, %s view: %d queries (%d never visible), worst rel diff %.3g\n", api,
+                    view ? "conservative" : "raw", W * H, n_inf, worst);
+            CHECK(n_inf > 100); /* the comparison covers infinities */
+            CHECK_INT_EQ(mismatch_inf, 0);
+            CHECK_MSG(worst < 1e-5, "%s: worst relative difference %g", api, worst);
+        }
     }
     csflut_close(t);
     eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglDestroyContext(dpy, ctx);
+    if (ctx != EGL_NO_CONTEXT) eglDestroyContext(dpy, ctx);
     /* no eglTerminate: it unloads the driver, and LeakSanitizer could then no longer attribute
      * Mesa's own small leaks to their module (tests/lsan.supp matches them by module name) */
     return CHECK_RESULT();

@@ -1,6 +1,8 @@
 #!/bin/sh
-# The GLSL export passes Khronos' reference compiler, glslangValidator, as GLSL 3.30 core,
-# GLSL ES 3.00 and GLSL 4.50 (issue 10 item 4); the numbers themselves are checked on a GPU
+# The GLSL export passes Khronos' reference compiler, glslangValidator, as a GLSL 3.30 core,
+# GLSL ES 3.00 and GLSL 4.50 fragment shader, included right after #version with nothing before
+# it (an ES fragment shader has no default float precision: the export sets highp itself, under
+# #ifdef GL_ES), with no error and no warning; the numbers themselves are checked on a GPU
 # driver by test_lut_glsl.
 set -eu
 CSFCAL=$1
@@ -18,21 +20,53 @@ void main()
     float t = lut_threshold(q.x, q.y) + lut_raw_threshold(q.x, q.y);
     colour = vec4(t, lut_perceptible(q.x, q.y, q.z) ? 1.0 : 0.0, 0.0, 1.0);
 }'
+# shader VERSION EXPORT... > file: the exports straight after #version, then the body
+shader() {
+    v=$1; shift
+    echo "#version $v"
+    cat "$@"
+    echo "$BODY"
+}
 for v in "330 core" "300 es" "450 core"; do
     f="$T/v$(echo "$v" | tr -d ' ').frag"
-    {
-        echo "#version $v"
-        case $v in *es*) echo "precision highp float;";; esac
-        cat "$T/lut.glsl" "$T/lut_raw.glsl"
-        echo "$BODY"
-    } >"$f"
+    shader "$v" "$T/lut.glsl" "$T/lut_raw.glsl" >"$f"
     if ! glslangValidator "$f" >"$T/log" 2>&1; then
         echo "FAIL: glslangValidator refuses the export as GLSL $v:"; cat "$T/log"; exit 1
     fi
+    if grep -q 'WARNING' "$T/log"; then
+        echo "FAIL: glslangValidator warns about the export as GLSL $v:"; cat "$T/log"; exit 1
+    fi
     echo "GLSL $v: ok"
 done
-# and the validator does refuse a broken export (the check can fail)
+# the precision statements are guarded, so desktop GLSL never sees them
+grep -q '^#ifdef GL_ES$' "$T/lut.glsl" && grep -q '^precision highp float;$' "$T/lut.glsl" \
+    || { echo "FAIL: no guarded precision statement in the export"; exit 1; }
+# and they are what makes the ES shader compile: without them the validator refuses it (so the
+# ES check above can fail)
+for g in lut lut_raw; do
+    awk '/^#ifdef GL_ES$/ {skip = 1} !skip {print} skip && /^#endif$/ {skip = 0}' "$T/$g.glsl" >"$T/$g.noprec.glsl"
+done
+shader "300 es" "$T/lut.noprec.glsl" "$T/lut_raw.noprec.glsl" >"$T/noprec.frag"
+if glslangValidator "$T/noprec.frag" >"$T/log" 2>&1; then echo "FAIL: an ES shader without precision passed"; exit 1; fi
+grep -q 'precision' "$T/log" || { echo "FAIL: the ES shader without precision failed for another reason:"; cat "$T/log"; exit 1; }
+echo "ES 3.00 without the export's precision statements: refused (as it must be)"
+# the validator does refuse a broken export (the check can fail)
 sed 's/float r = mix(r0, r1, we);/float r = mix(r0, r1, we)/' "$T/lut.glsl" >"$T/bad.glsl"
-{ echo "#version 330 core"; cat "$T/bad.glsl" "$T/lut_raw.glsl"; echo "$BODY"; } >"$T/bad.frag"
+shader "330 core" "$T/bad.glsl" "$T/lut_raw.glsl" >"$T/bad.frag"
 if glslangValidator "$T/bad.frag" >/dev/null 2>&1; then echo "FAIL: a broken shader passed"; exit 1; fi
+# prefixes GLSL refuses ("gl_") or reserves ("__") are refused at export; the validator agrees
+# that they would be wrong: an error for gl_, a warning for __
+sed 's/lut_/gl_x_/g' "$T/lut.glsl" >"$T/gl.glsl"
+{ echo "#version 330 core"; cat "$T/gl.glsl"; echo 'out vec4 o; void main() { o = vec4(gl_x_threshold(1.0, 0.0)); }'; } >"$T/gl.frag"
+if glslangValidator "$T/gl.frag" >"$T/log" 2>&1; then echo "FAIL: gl_ names passed the validator"; exit 1; fi
+sed 's/lut_/a__b_/g' "$T/lut.glsl" >"$T/us.glsl"
+{ echo "#version 330 core"; cat "$T/us.glsl"; echo 'out vec4 o; void main() { o = vec4(a__b_threshold(1.0, 0.0)); }'; } >"$T/us.frag"
+glslangValidator "$T/us.frag" >"$T/log" 2>&1 || true
+grep -q 'WARNING.*__' "$T/log" || { echo "FAIL: the validator did not flag __ names:"; cat "$T/log"; exit 1; }
+for p in gl_x a__b; do
+    if "$CSFCAL" lut export "$EX" --format glsl --prefix "$p" -o "$T/refused.glsl" >"$T/err" 2>&1; then
+        echo "FAIL: --prefix $p accepted"; exit 1
+    fi
+    [ ! -e "$T/refused.glsl" ] || { echo "FAIL: --prefix $p wrote a file"; exit 1; }
+done
 echo ok
