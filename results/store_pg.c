@@ -1532,10 +1532,58 @@ static csf_status pg_get_frame_intervals(csf_store *b, int64_t session_id, doubl
 
 /* ---- thresholds ------------------------------------------------------------------------------ */
 
+static int threshold_row(const PGresult *r, int i, void *elem, int64_t session_id)
+{
+    (void)session_id;
+    csf_store_cols c = cols(r, i);
+    csf_store_row_threshold(&c, elem);
+    return 0;
+}
+
+static const row_query threshold_query = {
+    .sql = "SELECT " CSF_STORE_THRESHOLD_COLS " FROM thresholds WHERE session_id = $1"
+           " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
+    .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
+    .what = "reading thresholds"};
+
+static int same_value(double a, double b) { return (isnan(a) && isnan(b)) || a == b; }
+
+static int same_threshold(const csf_threshold_row *a, const csf_threshold_row *b)
+{
+    return same_value(a->freq_cpd, b->freq_cpd) && same_value(a->ecc_deg, b->ecc_deg) &&
+           same_value(isnan(a->velocity_dps) ? 0.0 : a->velocity_dps, b->velocity_dps) &&
+           same_value(isnan(a->lum_cdm2) ? 0.0 : a->lum_cdm2, b->lum_cdm2) &&
+           same_value(a->threshold, b->threshold) &&
+           same_value(a->stderr_log10, b->stderr_log10) && a->n_trials == b->n_trials;
+}
+
+/* 1 when the session already has exactly these thresholds (in any order): replacing them would
+ * change nothing, and a lab's server refuses any change to a finished session, so a second push
+ * of one must not try. */
+static int thresholds_stored(pg_store *p, int64_t session_id, const csf_threshold_row *rows,
+                             size_t n)
+{
+    void *list = NULL;
+    size_t have = 0;
+    csf_error e;
+    if (query_rows_once(p, &threshold_query, session_id, &list, &have, &e) != CSF_OK) return 0;
+    const csf_threshold_row *h = list;
+    int same = have == n;
+    for (size_t i = 0; same && i < n; i++) {
+        int found = 0;
+        for (size_t k = 0; !found && k < have; k++) found = same_threshold(&rows[i], &h[k]);
+        same = found;
+    }
+    free(list);
+    return same;
+}
+
+
 static csf_status put_thresholds_once(pg_store *p, int64_t session_id, const csf_threshold_row *rows,
                                       size_t n, csf_error *err)
 {
     const char *what = "storing thresholds";
+    if (n > 0 && thresholds_stored(p, session_id, rows, n)) return CSF_OK;
     csf_status cs = run_cmd(p, "BEGIN", NULL, what, err);
     pgargs s = {0};
     a_i64(&s, session_id);
@@ -1574,23 +1622,10 @@ static csf_status pg_put_thresholds(csf_store *b, int64_t session_id, const csf_
     return write_or_spool(p, &w, err);
 }
 
-static int threshold_row(const PGresult *r, int i, void *elem, int64_t session_id)
-{
-    (void)session_id;
-    csf_store_cols c = cols(r, i);
-    csf_store_row_threshold(&c, elem);
-    return 0;
-}
-
 static csf_status pg_get_thresholds(csf_store *b, int64_t session_id, csf_threshold_row **out,
                                     size_t *n, csf_error *err)
 {
-    static const row_query q = {
-        .sql = "SELECT " CSF_STORE_THRESHOLD_COLS " FROM thresholds WHERE session_id = $1"
-               " ORDER BY lum_cdm2, velocity_dps, ecc_deg, freq_cpd",
-        .binds_session = 1, .elem_size = sizeof(csf_threshold_row), .row = threshold_row,
-        .what = "reading thresholds"};
-    return query_rows(pg(b), &q, session_id, (void **)out, n, err);
+    return query_rows(pg(b), &threshold_query, session_id, (void **)out, n, err);
 }
 
 /* ---- artifacts ------------------------------------------------------------------------------ */

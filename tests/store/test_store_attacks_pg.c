@@ -13,6 +13,8 @@
  *   others:   a state change of another station's session names its owner;
  *   studies:  no participant without the station's own study session; a refused participant
  *             leaves no running session, and the study report leaves such a session out;
+ *   push:     what a station may still do under these rules: push a finished session of its
+ *             own file to the server, twice (the second adds nothing);
  *   held:     what held before (analyst writes, COPY TO PROGRAM, pg_read_file, SET ROLE). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +27,7 @@
 #include "calib/study_report.h"
 #include "calib/study_run.h"
 #include "results/store.h"
+#include "results/store_push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 
@@ -431,6 +434,40 @@ static void test_studies(void)
     rm_rf(dir);
 }
 
+/* ---- a station's own finished work, pushed ------------------------------------------------------ */
+
+static void test_push_finished(void)
+{
+    char dir[512], file[600];
+    CHECK_INT_EQ(tmp_dir(dir, sizeof dir, "attacks-push"), 0);
+    snprintf(file, sizeof file, "%s/local.sqlite", dir);
+    csf_store *src = NULL, *dst = open_as("booth1", 0);
+    csf_error err;
+    CHECK_INT_EQ(csf_store_open(file, &src, &err), CSF_OK);
+    if (!src || !dst) return;
+    int64_t sid = session_with_trials(src, 4);
+    csf_threshold_row th = {.freq_cpd = 4, .ecc_deg = 0, .threshold = 0.02, .stderr_log10 = 0.1,
+                            .n_trials = 4};
+    CHECK_INT_EQ(csf_store_put_thresholds(src, sid, &th, 1, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_artifact(src, sid, "csflut", "t.csflut", "table", 5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);
+    for (int round = 0; round < 2; round++) {
+        csf_push_counts c;
+        csf_status st = csf_store_push_session(src, dst, sid, &c, &err);
+        CHECK_MSG(st == CSF_OK, "push %d: %s", round, err.msg);
+        CHECK_INT_EQ(c.trials_sent, round ? 0 : 4);
+        CHECK_INT_EQ(c.artifacts_sent, round ? 0 : 1);
+        char q[200];
+        snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions s WHERE id = %lld AND state = 'finished'"
+                 " AND station = 'booth1' AND (SELECT COUNT(*) FROM thresholds WHERE session_id ="
+                 " s.id) = 1", (long long)c.dest_id);
+        CHECK_INT_EQ(owner_int(q), 1);
+    }
+    csf_store_close(dst);
+    csf_store_close(src);
+    rm_rf(dir);
+}
+
 /* ---- what held before ---------------------------------------------------------------------------- */
 
 static void test_held(void)
@@ -472,6 +509,7 @@ int main(int argc, char **argv)
     test_closed();
     test_others_session(sid1);
     test_studies();
+    test_push_finished();
     test_held();
     return CHECK_RESULT();
 }
