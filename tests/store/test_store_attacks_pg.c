@@ -15,10 +15,12 @@
  *             leaves no running session, and the study report leaves such a session out;
  *   push:     what a station may still do under these rules: push a finished session of its
  *             own file to the server, twice (the second adds nothing);
+ *   spool:    a station whose server went away says so once, not on every write;
  *   held:     what held before (analyst writes, COPY TO PROGRAM, pg_read_file, SET ROLE). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -484,6 +486,71 @@ static void test_held(void)
     CHECK(try_as("alice", "SELECT COUNT(*) FROM trials") == 0);
 }
 
+/* ---- a station without its server ------------------------------------------------------------------ */
+
+static void server(const char *what)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "'%s' %s '%s'", getenv("CSF_TEST_PG_RUN"), what, getenv("CSF_TEST_PG_DIR"));
+    CHECK_INT_EQ(system(cmd), 0);
+}
+
+static int count_lines(const char *text, const char *needle)
+{
+    int n = 0;
+    for (const char *p = text; p && (p = strstr(p, needle)); p += strlen(needle)) n++;
+    return n;
+}
+
+/* Seven writes over seven seconds with the server stopped: the wait for it is announced (one line
+ * a second for CSF_STORE_SPOOL_AFTER_S), then the spool once; the later tries to reach the
+ * server, one every 5 s, say nothing. */
+static void test_spool_says_once(void)
+{
+    char loc[1024], dir[512], spool[600], log[600];
+    CHECK_INT_EQ(test_store_location("", "", loc, sizeof loc), 0);
+    CHECK_INT_EQ(tmp_dir(dir, sizeof dir, "attacks-spool"), 0);
+    snprintf(spool, sizeof spool, "%s/spool.sqlite", dir);
+    snprintf(log, sizeof log, "%s/stderr.txt", dir);
+    setenv("CSF_STORE_SPOOL", spool, 1);
+    setenv("CSF_STORE_SPOOL_AFTER_S", "1", 1);
+    csf_store *s = NULL;
+    csf_error err;
+    CHECK_INT_EQ(csf_store_open(loc, &s, &err), CSF_OK);
+    if (!s) return;
+    int64_t sid = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "p", "d", NULL, 1, &sid, &err), CSF_OK);
+    server("stop");
+    fflush(stderr);
+    int saved = dup(2), fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    dup2(fd, 2);
+    close(fd);
+    for (int i = 0; i < 7; i++) {
+        csf_trial t = make_trial(sid, i, 1);
+        CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_OK);
+        sleep(1);
+    }
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    server("start");
+    csf_trial t = make_trial(sid, 7, 1);
+    CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_OK);
+    csf_store_close(s);
+    size_t len = 0;
+    char *text = test_read_file(log, &len);
+    CHECK(text != NULL);
+    CHECK_INT_EQ(count_lines(text, "keeping what is measured in the local spool"), 1);
+    CHECK_INT_EQ(count_lines(text, "(0 s of 0 s)"), 0);
+    CHECK_MSG(count_lines(text, "connection to the server lost") <= 2, "stderr:\n%s", text ? text : "");
+    free(text);
+    char q[160];
+    snprintf(q, sizeof q, "SELECT COUNT(*) FROM trials WHERE session_id = %lld", (long long)sid);
+    CHECK_INT_EQ(test_query_int(NULL, loc, q), 8);
+    unsetenv("CSF_STORE_SPOOL_AFTER_S");
+    rm_rf(dir);
+}
+
 int main(int argc, char **argv)
 {
     if (!test_pg()) {
@@ -511,5 +578,6 @@ int main(int argc, char **argv)
     test_studies();
     test_push_finished();
     test_held();
+    test_spool_says_once();
     return CHECK_RESULT();
 }
