@@ -6,6 +6,10 @@
 #undef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fsync, fileno: this file builds on its own when vendored */
 #endif
+#if !defined(_XOPEN_SOURCE) || _XOPEN_SOURCE < 700
+#undef _XOPEN_SOURCE
+#define _XOPEN_SOURCE 700 /* realpath: glibc declares it only for X/Open */
+#endif
 #include <errno.h>
 #include <fcntl.h>
 #include <sys/stat.h>
