@@ -169,6 +169,26 @@ static int lost(const pg_store *p) { return PQstatus(p->conn) != CONNECTION_OK; 
 static int constraint(const PGresult *r) { return !strncmp(sqlstate(r), "23", 2); }
 static int duplicate(const PGresult *r) { return !strcmp(sqlstate(r), "23505"); }
 
+/* After a lock wait gave up: who holds a table lock that blocks writes or reads in this
+ * database (a row lock's holder is gone from pg_locks once the wait ends). The failed
+ * transaction is rolled back first (its caller would anyway) so the question can be asked. */
+static void table_lock_holders(pg_store *p, char *out, size_t cap)
+{
+    snprintf(out, cap, "another connection (see pg_locks and pg_stat_activity on the server)");
+    if (PQtransactionStatus(p->conn) == PQTRANS_INERROR) PQclear(PQexec(p->conn, "ROLLBACK"));
+    if (PQtransactionStatus(p->conn) != PQTRANS_IDLE) return;
+    PGresult *r = PQexec(p->conn, "SELECT string_agg(DISTINCT format('login %s, program ''%s'',"
+                                  " server process %s', a.usename, a.application_name, l.pid), '; ')"
+                                  " FROM pg_locks l JOIN pg_stat_activity a ON a.pid = l.pid"
+                                  " WHERE l.granted AND l.pid <> pg_backend_pid() AND l.locktype ="
+                                  " 'relation' AND l.database = (SELECT oid FROM pg_database WHERE"
+                                  " datname = current_database()) AND l.mode IN ('ShareLock',"
+                                  " 'ShareRowExclusiveLock', 'ExclusiveLock', 'AccessExclusiveLock')");
+    if (PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1 && !is_null(r, 0, 0))
+        g_txt(r, 0, 0, out, cap);
+    PQclear(r);
+}
+
 static csf_status fail(pg_store *p, const PGresult *r, const char *what, csf_error *err)
 {
     char msg[512];
@@ -184,11 +204,15 @@ static csf_status fail(pg_store *p, const PGresult *r, const char *what, csf_err
         return csf_error_set(err, CSF_E_STORE, "store %s: permission denied while %s (%s); the "
                              "station's role needs the grants in docs/store_roles.sql", p->base.path,
                              what, msg);
-    if (!strcmp(st, "55P03"))
+    if (!strcmp(st, "55P03")) {
+        char holders[256];
+        table_lock_holders(p, holders, sizeof holders);
         return csf_error_set(err, CSF_E_STORE, "store %s: gave up after %.0f s waiting for a lock "
-                             "another connection holds while %s (%s); see pg_locks and "
-                             "pg_stat_activity on the server, or raise CSF_STORE_LOCK_WAIT_S",
-                             p->base.path, p->lock_wait_s, what, msg);
+                             "another connection holds while %s (%s); held by %s. Try again once "
+                             "it lets go (the database owner can end it with pg_terminate_backend), "
+                             "or raise CSF_STORE_LOCK_WAIT_S", p->base.path, p->lock_wait_s, what,
+                             msg, holders);
+    }
     if (!strcmp(st, "55000"))
         return csf_error_set(err, CSF_E_STORE, "store %s: refused while %s: %s", p->base.path,
                              what, msg);

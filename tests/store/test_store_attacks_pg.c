@@ -229,6 +229,7 @@ static void test_table_lock_wait(int64_t sid)
 {
     csf_store *s1 = open_as("booth1", 0), *ro = open_as("alice", 1);
     PGconn *own = connect_as("csfcal_admin");
+    CHECK_INT_EQ(exec_on(own, "SET application_name = 'lab-maintenance'"), 0);
     CHECK_INT_EQ(exec_on(own, "BEGIN"), 0);
     CHECK_INT_EQ(exec_on(own, "LOCK TABLE sessions, trials IN ACCESS EXCLUSIVE MODE"), 0);
     csf_error err;
@@ -237,10 +238,12 @@ static void test_table_lock_wait(int64_t sid)
     double t0 = now_s();
     if (ro) CHECK(csf_store_list_sessions(ro, &list, &n, &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "gave up after 1 s waiting for a lock");
+    CHECK_STR_CONTAINS(err.msg, "held by login csfcal_admin, program 'lab-maintenance'");
     CHECK_MSG(now_s() - t0 < 5.0, "listing waited %.1f s", now_s() - t0);
     csf_trial t = make_trial(sid, 100, 1);
     if (s1) CHECK(csf_store_add_trial(s1, &t, &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "waiting for a lock");
+    CHECK_STR_CONTAINS(err.msg, "held by login csfcal_admin");
     exec_on(own, "ROLLBACK");
     PQfinish(own);
     csf_store_close(ro);
