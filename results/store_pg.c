@@ -12,7 +12,11 @@
  * one row; trials are keyed (session, seq) so a duplicate is refused, never doubled. A station
  * holds an advisory lock on each session it started or resumed (CLAIM_CLASS, id): another
  * station's state change of that session is refused while it is held, and the server drops it
- * when the station's connection ends, so the session of a crashed station can be resumed.
+ * when the station's connection ends, so the session of a crashed station can be resumed. On a
+ * lab's server only the station roles and the owner may take advisory locks
+ * (docs/store_roles.sql), so a read-only role cannot hold a claim or the schema lock; and no
+ * wait for a lock is open-ended: the schema lock is waited for at most lock_wait_s, naming its
+ * holder, and lock_timeout bounds every statement's wait for a table or row lock.
  *
  * Faults: when the connection drops (server restart, network), the call waits for the server,
  * saying so on stderr once a second, reconnects, takes its claims again and repeats the
