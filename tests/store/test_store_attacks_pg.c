@@ -171,6 +171,15 @@ static void test_analyst_takes_no_lock(int64_t sid)
         snprintf(sql, sizeof sql, "SELECT %s", fns[i]);
         CHECK_MSG(try_as("alice", sql) != 0, "analyst may run %s", sql);
     }
+    /* Nor a row or table lock a station's write would wait for. */
+    static const char *const row_locks[] = {
+        "SELECT id FROM sessions FOR UPDATE", "SELECT id FROM sessions FOR KEY SHARE",
+        "SELECT seq FROM trials FOR SHARE", "BEGIN; LOCK TABLE trials IN SHARE MODE; COMMIT",
+        "BEGIN; LOCK TABLE sessions IN EXCLUSIVE MODE; COMMIT"};
+    for (size_t i = 0; i < sizeof row_locks / sizeof row_locks[0]; i++) {
+        CHECK_MSG(try_as("alice", row_locks[i]) != 0, "analyst may run %s", row_locks[i]);
+        CHECK_MSG(try_as("csfcal_admin", row_locks[i]) == 0, "owner may not run %s", row_locks[i]);
+    }
     char sql[160];
     snprintf(sql, sizeof sql, "SELECT pg_try_advisory_lock_shared(" CLASS ", %lld)", (long long)sid);
     CHECK(try_as("alice", sql) != 0);
