@@ -962,15 +962,23 @@ static csf_status pg_get_session(csf_store *b, int64_t id, csf_session_info *out
  * notices only when TCP keepalive gives up). */
 static csf_status claimed_elsewhere(pg_store *p, int64_t id, csf_error *err)
 {
-    char holder[256];
+    char holder[256], since[40] = "?";
     long pid = 0;
     lock_holder(p, id, holder, sizeof holder, &pid);
+    /* The session's last state change is when that station started or resumed it: every role
+     * may read it, unlike the connection's start time. */
+    pgargs a = {0};
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT updated_utc FROM sessions WHERE id = $1", &a);
+    if (PQresultStatus(r) == PGRES_TUPLES_OK && PQntuples(r) == 1) g_txt(r, 0, 0, since, sizeof since);
+    PQclear(r);
     return csf_error_set(err, CSF_E_STORE, "store %s: session %lld is in use by another station: "
-                         "%s, holds its claim. Two stations must not write one session. The claim "
-                         "ends with that station's connection (a crashed csfcal's goes when the "
-                         "server notices); if the station is gone and its connection lingers, the "
-                         "database owner can end it with SELECT pg_terminate_backend(%ld); then "
-                         "resume again", p->base.path, (long long)id, holder, pid);
+                         "%s, holds its claim (running since %s). Two stations must not write one "
+                         "session. The claim ends with that station's connection (a crashed "
+                         "csfcal's goes when the server notices); if the station is gone and its "
+                         "connection lingers, the database owner can end it with SELECT "
+                         "pg_terminate_backend(%ld); then resume again", p->base.path,
+                         (long long)id, holder, since, pid);
 }
 
 /* A state change that changed no row: the session is missing, or it belongs to another

@@ -359,6 +359,11 @@ static void test_others_session(int64_t sid1)
     csf_store *s1 = open_as("booth1", 0), *s2 = open_as("booth2", 0);
     if (!s1 || !s2) return;
     csf_error err;
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "running", &err), CSF_OK);
+    /* While booth1 runs it: refused, naming the holder and since when it runs. */
+    CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, "paused", &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "in use by another station: login booth1, program 'csfcal'");
+    CHECK_STR_CONTAINS(err.msg, "running since 20");
     CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "paused", &err), CSF_OK);
     csf_store_close(s1);
     CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, "aborted", &err), CSF_E_STORE);
