@@ -73,7 +73,8 @@ END $$;
 
 -- Rows without a session of their own. A participant is added by the station whose study session
 -- it belongs to, while that session has none yet (csfcal adds it right after starting the
--- session): no station can take a participant code of a study without running it. A display
+-- session, which carries the participant's code as its observer): no station can take a
+-- participant code without running a session for it. A display
 -- profile history row names a session of the station itself, or none (a profile only used).
 ALTER TABLE participants ENABLE ROW LEVEL SECURITY;
 DROP POLICY IF EXISTS csf_read ON participants;
@@ -81,7 +82,7 @@ DROP POLICY IF EXISTS csf_add ON participants;
 CREATE POLICY csf_read ON participants FOR SELECT USING (true);
 CREATE POLICY csf_add ON participants FOR INSERT TO csf_station WITH CHECK (EXISTS (
   SELECT 1 FROM sessions s WHERE s.station = current_user AND s.kind = 'study'
-    AND s.state IN ('running', 'paused')
+    AND s.observer = participants.code AND s.state IN ('running', 'paused')
     AND NOT EXISTS (SELECT 1 FROM session_participants sp WHERE sp.session_id = s.id)));
 
 ALTER TABLE display_profiles ENABLE ROW LEVEL SECURITY;

@@ -429,6 +429,16 @@ static void test_studies(void)
     CHECK(try_as("booth2", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P09',"
                            " 'x' FROM studies WHERE name = 'tiny'") != 0);
     CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM participants WHERE code = 'P09'"), 0);
+    /* Nor another code while a study session of its own waits for its participant. */
+    csf_store *s1 = open_as("booth1", 0);
+    int64_t waiting = 0;
+    if (s1) CHECK_INT_EQ(csf_store_begin_session(s1, "study", "P20", "", NULL, 1, &waiting, &e), CSF_OK);
+    CHECK(try_as("booth1", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P21',"
+                           " 'x' FROM studies WHERE name = 'tiny'") != 0);
+    CHECK(try_as("booth1", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P20',"
+                           " 'x' FROM studies WHERE name = 'tiny'") == 0); /* its own: allowed */
+    if (s1) CHECK_INT_EQ(csf_store_set_session_state(s1, waiting, "aborted", &e), CSF_OK);
+    csf_store_close(s1);
     /* A code taken some other way (an older csfcal, the owner by hand): the run is refused, and
      * the session it began is not left running. */
     test_pg_admin(g_db, "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P09', 'x'"
