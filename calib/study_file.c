@@ -288,20 +288,16 @@ static int csv_split(const char *l, char fields[][CSV_FIELD_MAX], int max, const
                     *why = "a quoted field is not closed on its line";
                     return -1;
                 }
-                if (*p == '"' && p[1] == '"') {
-                    p += 2;
-                    if (k + 1 < CSV_FIELD_MAX) f[k++] = '"';
-                    continue;
-                }
-                if (*p == '"') {
+                if (*p == '"' && p[1] != '"') {
                     p++;
                     break;
                 }
-                if (k + 1 >= CSV_FIELD_MAX) {
+                if (k + 1 >= CSV_FIELD_MAX) { /* refused, never cut */
                     *why = "a field longer than 1023 characters";
                     return -1;
                 }
-                f[k++] = *p++;
+                f[k++] = *p;
+                p += *p == '"' ? 2 : 1; /* "" is one quote */
             }
             while (*p == ' ' || *p == '\t') p++;
             if (*p && *p != ',') {

@@ -6,6 +6,8 @@
  * - settings that are not JSON (built by hand around such a name) are refused, not stored;
  * - a long name is refused with the limit or kept whole: a 255-character observer name reads
  *   back and pushes whole, and a longer one written past csfcal is flagged, never cut silently;
+ * - a study file with such a character in a line is refused with its line and position, and
+ *   a CSV field too long for its buffer is refused, not cut;
  * - text read from a store is shown escaped (csf_store_printable), printable UTF-8 as it is;
  * - a store location with '&', spaces and quotes in a printed command is one shell word
  *   (csf_shell_quote), checked by running it through sh.
@@ -15,6 +17,7 @@
 #include <string.h>
 
 #include "calib/cli.h"
+#include "calib/study_file.h"
 #include "results/store.h"
 #include "results/store_push.h"
 #include "store_test_util.h"
@@ -168,6 +171,39 @@ static void test_push_whole(const char *dir, const char *dest)
     csf_store_close(dst);
 }
 
+/* A study file's names and labels are read once, where a control character is refused with
+ * the file, line and position; a field too long for its buffer is refused, never cut. */
+static csf_status study(const char *settings, const char *conditions, csf_error *err)
+{
+    csf_study *s = NULL;
+    csf_status cs = csf_study_from_texts(settings, conditions, "s.conf", "s.csv", 0, &s, err);
+    csf_study_free(s);
+    return cs;
+}
+
+static void test_study_files(void)
+{
+    const char *ok_set = "name = fine\ndesign = 2afc\nconditions = s.csv\n";
+    const char *ok_csv = "label,freq_cpd,ecc_deg,contrast\na,2,5,0.01\n";
+    csf_error err;
+    CHECK_INT_EQ(study(ok_set, ok_csv, &err), CSF_OK);
+    check_refusal(study("name = a\x1b[2J\ndesign = 2afc\nconditions = s.csv\n", ok_csv, &err), &err,
+                  "s.conf:1: control character \\x1b", "character 9");
+    check_refusal(study(ok_set, "label,freq_cpd,ecc_deg,contrast\nA\rB,2,5,0.01\n", &err), &err,
+                  "s.csv:2: control character \\x0d", "character 2");
+    CHECK_INT_EQ(study(ok_set, "label,freq_cpd,ecc_deg,contrast\r\na,2,5,0.01\r\n", &err), CSF_OK);
+    CHECK_INT_EQ(study("name = O'Brien\ndesign = 2afc\nconditions = s.csv\n", ok_csv, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "no quotes");
+    /* A quoted field of 1023 characters (all its buffer holds) and an escaped quote: the quote
+     * was dropped, and the field read as 1023 characters. */
+    char csv[1200];
+    int n = snprintf(csv, sizeof csv, "label,freq_cpd,ecc_deg,contrast,\"");
+    memset(csv + n, 'c', 1023);
+    snprintf(csv + n + 1023, sizeof csv - (size_t)n - 1023, "\"\"\"\na,2,5,0.01,x\n");
+    CHECK_INT_EQ(study(ok_set, csv, &err), CSF_E_FORMAT);
+    CHECK_STR_CONTAINS(err.msg, "longer than 1023");
+}
+
 /* A command line as sh reads it back: the words of `printf '%s\n' WORDS`. */
 static void test_shell_quote(void)
 {
@@ -205,6 +241,7 @@ int main(void)
     test_text_rules();
     test_printable();
     test_shell_quote();
+    test_study_files();
     char dir[512], loc[1024], dest[1024];
     if (tmp_dir(dir, sizeof dir, "names") < 0) return 1;
     if (test_store_location(dir, "names.sqlite", loc, sizeof loc) == 0) test_store_refuses(loc);
