@@ -77,7 +77,8 @@ static int try_as(const char *user, const char *sql)
     return rc;
 }
 
-static long long owner_int(const char *sql)
+/* First column of the first row of sql, read as the server's superuser. */
+static long long admin_int(const char *sql)
 {
     char uri[1024];
     loc_as("csfcal_admin", uri, sizeof uri);
@@ -102,15 +103,34 @@ static int run_roles(const char *file)
     return test_pg_admin(g_db, sql);
 }
 
-/* The owner's store, the roles, two stations and an analyst with passwords in PGPASSFILE. */
+/* As README sets a lab up: a database owned by an ordinary login (csfcal_owner, no superuser,
+ * no CREATEROLE) that creates the schema with csfcal; the roles script run by the superuser; two
+ * stations and an analyst; passwords only in PGPASSFILE. */
 static int setup(const char *roles_sql)
 {
     char owner[1024];
     if (test_store_location("", "", owner, sizeof owner) != 0) return -1;
     sscanf(owner, "postgresql:///%63[^?]", g_db);
+    char pass[600];
+    snprintf(pass, sizeof pass, "%s/pgpass", getenv("CSF_TEST_PG_DIR"));
+    FILE *f = fopen(pass, "w");
+    if (!f) return -1;
+    fprintf(f, "*:*:*:booth1:pw-booth-one\n*:*:*:booth2:pw-booth-two\n*:*:*:alice:pw-alice\n"
+               "*:*:*:csfcal_owner:pw-owner\n");
+    fclose(f);
+    chmod(pass, 0600);
+    setenv("PGPASSFILE", pass, 1);
+    setenv("CSF_STORE_LOCK_WAIT_S", "1", 1);
+    char sql[256];
+    test_pg_admin(g_db, "DO $$ BEGIN IF NOT EXISTS (SELECT 1 FROM pg_roles WHERE rolname ="
+                        " 'csfcal_owner') THEN CREATE ROLE csfcal_owner LOGIN PASSWORD 'pw-owner';"
+                        " END IF; END $$");
+    snprintf(sql, sizeof sql, "ALTER DATABASE %s OWNER TO csfcal_owner", g_db);
+    CHECK_INT_EQ(test_pg_admin(g_db, sql), 0);
+    loc_as("csfcal_owner", owner, sizeof owner);
     csf_error err;
     csf_store *s = NULL;
-    CHECK_INT_EQ(csf_store_open(owner, &s, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_open(owner, &s, &err), CSF_OK); /* csfcal sessions init */
     csf_store_close(s);
     CHECK_INT_EQ(run_roles(roles_sql), 0);
     CHECK_INT_EQ(run_roles(roles_sql), 0); /* safe to run again */
@@ -118,15 +138,8 @@ static int setup(const char *roles_sql)
                         " THEN CREATE ROLE booth1 LOGIN PASSWORD 'pw-booth-one' IN ROLE csf_station;"
                         " CREATE ROLE booth2 LOGIN PASSWORD 'pw-booth-two' IN ROLE csf_station;"
                         " CREATE ROLE alice LOGIN PASSWORD 'pw-alice' IN ROLE csf_analyst; END IF; END $$");
-    char pass[600];
-    snprintf(pass, sizeof pass, "%s/pgpass", getenv("CSF_TEST_PG_DIR"));
-    FILE *f = fopen(pass, "w");
-    if (!f) return -1;
-    fprintf(f, "*:*:*:booth1:pw-booth-one\n*:*:*:booth2:pw-booth-two\n*:*:*:alice:pw-alice\n");
-    fclose(f);
-    chmod(pass, 0600);
-    setenv("PGPASSFILE", pass, 1);
-    setenv("CSF_STORE_LOCK_WAIT_S", "1", 1);
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM pg_tables WHERE tablename = 'sessions' AND"
+                           " tableowner = 'csfcal_owner'"), 1);
     return 0;
 }
 
@@ -278,14 +291,14 @@ static void test_displays(int64_t sid1, int64_t sid2)
     char sql[512];
     test_pg_admin(g_db, "INSERT INTO displays (name, profile_id, created_utc) VALUES ('default',"
                         " 'lab-profile', 'x') ON CONFLICT (name) DO UPDATE SET profile_id = 'lab-profile'");
-    long long before = owner_int("SELECT COUNT(*) FROM display_profiles");
+    long long before = admin_int("SELECT COUNT(*) FROM display_profiles");
     snprintf(sql, sizeof sql, "INSERT INTO display_profiles (display_id, profile_id, session_id,"
              " created_utc) SELECT id, 'forged', %lld, 'x' FROM displays WHERE name = 'default'",
              (long long)sid2);
     CHECK(try_as("booth1", sql) != 0); /* naming booth2's session */
-    CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM display_profiles"), before);
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM display_profiles"), before);
     CHECK(try_as("booth1", "UPDATE displays SET profile_id = 'forged' WHERE name = 'default'") != 0);
-    CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM displays WHERE name = 'default' AND profile_id ="
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM displays WHERE name = 'default' AND profile_id ="
                            " 'lab-profile'"), 1);
     /* What a station may do: a profile its own session measured becomes current. */
     csf_store *s1 = open_as("booth1", 0);
@@ -293,7 +306,7 @@ static void test_displays(int64_t sid1, int64_t sid2)
     csf_error err;
     if (s1) CHECK_INT_EQ(csf_store_add_artifact(s1, sid1, "profile", NULL, prof, strlen(prof), &err), CSF_OK);
     csf_store_close(s1);
-    CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM displays WHERE name = 'default' AND profile_id ="
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM displays WHERE name = 'default' AND profile_id ="
                            " 'booth1-measured'"), 1);
 }
 
@@ -333,20 +346,20 @@ static void test_closed(void)
     CHECK(csf_store_set_session_state(s1, sid, "running", &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "closed");
     /* The owner is held to it too (a repair disables the trigger on purpose). */
-    CHECK(try_as("csfcal_admin", sql) != 0);
+    CHECK(try_as("csfcal_owner", sql) != 0);
 
     char q[256];
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM trials WHERE session_id = %lld", (long long)sid);
-    CHECK_INT_EQ(owner_int(q), 3);
+    CHECK_INT_EQ(admin_int(q), 3);
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM frame_intervals WHERE session_id = %lld", (long long)sid);
-    CHECK_INT_EQ(owner_int(q), 9);
+    CHECK_INT_EQ(admin_int(q), 9);
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM thresholds WHERE session_id = %lld", (long long)sid);
-    CHECK_INT_EQ(owner_int(q), 1);
+    CHECK_INT_EQ(admin_int(q), 1);
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM artifacts WHERE session_id = %lld AND content ="
              " 'table'::bytea", (long long)sid);
-    CHECK_INT_EQ(owner_int(q), 1);
+    CHECK_INT_EQ(admin_int(q), 1);
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE id = %lld AND state = 'finished'", (long long)sid);
-    CHECK_INT_EQ(owner_int(q), 1);
+    CHECK_INT_EQ(admin_int(q), 1);
     /* A file written from it afterwards (a report plot) is still recorded. */
     CHECK_INT_EQ(csf_store_add_artifact(s1, sid, "plot", "p.png", "png", 3, &err), CSF_OK);
     csf_store_close(s1);
@@ -371,7 +384,7 @@ static void test_others_session(int64_t sid1)
     CHECK_STR_CONTAINS(err.msg, "login booth1");
     char q[160];
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE id = %lld AND state = 'paused'", (long long)sid1);
-    CHECK_INT_EQ(owner_int(q), 1);
+    CHECK_INT_EQ(admin_int(q), 1);
     CHECK_INT_EQ(csf_store_set_session_state(s2, 999999, "aborted", &err), CSF_E_NOT_FOUND);
     CHECK_STR_CONTAINS(err.msg, "no session 999999");
     csf_trial t = make_trial(sid1, 40, 1);
@@ -428,7 +441,7 @@ static void test_studies(void)
                            " 'x' FROM studies WHERE name = 'tiny'") != 0);
     CHECK(try_as("booth2", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P09',"
                            " 'x' FROM studies WHERE name = 'tiny'") != 0);
-    CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM participants WHERE code = 'P09'"), 0);
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM participants WHERE code = 'P09'"), 0);
     /* Nor another code while a study session of its own waits for its participant. */
     csf_store *s1 = open_as("booth1", 0);
     int64_t waiting = 0;
@@ -439,14 +452,14 @@ static void test_studies(void)
                            " 'x' FROM studies WHERE name = 'tiny'") == 0); /* its own: allowed */
     if (s1) CHECK_INT_EQ(csf_store_set_session_state(s1, waiting, "aborted", &e), CSF_OK);
     csf_store_close(s1);
-    /* A code taken some other way (an older csfcal, the owner by hand): the run is refused, and
-     * the session it began is not left running. */
+    /* A code taken some other way (an older csfcal, the superuser or the owner by hand): the
+     * run is refused, and the session it began is not left running. */
     test_pg_admin(g_db, "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P09', 'x'"
                         " FROM studies WHERE name = 'tiny'");
     st = run_study(conf, "booth2", "P09", &e);
     CHECK(st != CSF_OK);
     CHECK_STR_CONTAINS(e.msg, "P09");
-    CHECK_INT_EQ(owner_int("SELECT COUNT(*) FROM sessions WHERE kind = 'study' AND state = 'running'"), 0);
+    CHECK_INT_EQ(admin_int("SELECT COUNT(*) FROM sessions WHERE kind = 'study' AND state = 'running'"), 0);
     /* A phantom as an older csfcal left it (running, no study files) does not stop the report. */
     test_pg_admin(g_db, "INSERT INTO sessions (kind, state, settings_json, seed, tool_version,"
                         " created_utc, updated_utc, station) VALUES ('study', 'running',"
@@ -490,7 +503,7 @@ static void test_push_finished(void)
         snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions s WHERE id = %lld AND state = 'finished'"
                  " AND station = 'booth1' AND (SELECT COUNT(*) FROM thresholds WHERE session_id ="
                  " s.id) = 1", (long long)c.dest_id);
-        CHECK_INT_EQ(owner_int(q), 1);
+        CHECK_INT_EQ(admin_int(q), 1);
     }
     csf_store_close(dst);
     csf_store_close(src);
