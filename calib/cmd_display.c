@@ -845,7 +845,6 @@ static int refuse_foreign_options(const char *sub, const dargs *a)
 int csf_cmd_display(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
-        fputs(argc < 2 ? "" : "", stdout);
         fprintf(argc < 2 ? stderr : stdout, display_help);
         fputs(csf_cli_common_help, argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;

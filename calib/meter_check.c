@@ -62,7 +62,9 @@ int csf_meter_frozen(const csf_photometer_reading *prev, const double prev_rgb[3
 {
     if (patch_distance(prev_rgb, rgb) < l->same_min_drive) return 0;
     if (!(now->lum_cdm2 > 0) || now->lum_cdm2 != prev->lum_cdm2) return 0;
-    if (now->has_xyz && prev->has_xyz && memcmp(now->xyz, prev->xyz, sizeof now->xyz) != 0) return 0;
+    if (now->has_xyz && prev->has_xyz)
+        for (int i = 0; i < 3; i++)
+            if (now->xyz[i] != prev->xyz[i]) return 0;
     snprintf(why, len, "it answered exactly %.6g cd/m2 for patch (%.3g, %.3g, %.3g) and for patch "
              "(%.3g, %.3g, %.3g) before it: a stale answer, the instrument is not measuring",
              now->lum_cdm2, rgb[0], rgb[1], rgb[2], prev_rgb[0], prev_rgb[1], prev_rgb[2]);

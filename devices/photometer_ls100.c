@@ -243,7 +243,7 @@ static csf_status ls_measure(void *state, const csf_screen_source *src, csf_phot
 
 #define LS_DRIVER(var, nm, desc, openfn, capv)                                                     \
     const csf_photometer_driver var = {                                                            \
-        .name = nm, .description = desc, .caps = capv, .open = openfn, .identify = ls_identify,    \
+        .name = (nm), .description = (desc), .caps = (capv), .open = (openfn), .identify = ls_identify, \
         .measure = ls_measure, .close = ls_close,                                                  \
     }
 LS_DRIVER(csf_photometer_ls100_driver, "ls100", "Konica Minolta LS-100 luminance meter (serial: ls100:/dev/ttyUSB0)",

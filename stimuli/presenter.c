@@ -352,8 +352,8 @@ static csf_status gl_program(const char *defines, GLuint *prog, GLint *u, csf_er
     char *src = malloc(vlen + dlen + rlen + 1);
     if (!src) return csf_error_set(err, CSF_E_NOMEM, "presenter: out of memory for the shader");
     memcpy(src, fs_src, vlen);
-    memcpy(src + vlen, defines, dlen);
-    memcpy(src + vlen + dlen, nl + 1, rlen + 1);
+    memcpy(src + vlen, defines, dlen); // NOLINT(bugprone-not-null-terminated-result): the NUL comes next
+    memcpy(src + vlen + dlen, nl + 1, rlen + 1); /* with its NUL */
     GLuint vs = 0, fs = 0;
     csf_status st = gl_compile(GL_VERTEX_SHADER, vs_src, &vs, err);
     if (st == CSF_OK) st = gl_compile(GL_FRAGMENT_SHADER, src, &fs, err);
@@ -1481,7 +1481,7 @@ csf_status csf_presenter_readback_region(csf_presenter *p, int x, int y, int w, 
 csf_status csf_presenter_readback_rgb8(csf_presenter *p, unsigned char *rgb, csf_error *err)
 {
     size_t n = (size_t)p->rw * p->rh * 3;
-    uint16_t *lv = malloc(sizeof(uint16_t) * n);
+    uint16_t *lv = calloc(n, sizeof(uint16_t)); /* zeroed: a failed read-back leaves no garbage */
     if (!lv) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     csf_status st = csf_presenter_readback_levels(p, lv, err);
     if (!st)

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# clang-tidy (.clang-tidy's checks, warnings as errors) over csfcal's own sources, using the
+# compile commands of a configured build folder (default build-test). Exits non-zero on any
+# finding.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build-test}
+root=$(pwd)
+out=$(run-clang-tidy-14 -p "$build" -j "$(nproc)" -quiet \
+      "^$root/(core|results|model|devices|stimuli|calib|studies|cli|examples)/.*\.(c|cpp)$" 2>&1)
+rc=$?
+findings=$(printf '%s\n' "$out" | grep -cE '(warning|error): .*\[[a-z0-9.,-]+\]$' || true)
+if [ $rc -ne 0 ] || [ "$findings" -ne 0 ]; then
+  printf '%s\n' "$out" | grep -E -A3 '(warning|error): ' | head -200
+  echo "tidy: $findings finding(s)"
+  exit 1
+fi
+echo "tidy: clean"
