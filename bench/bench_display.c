@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "calib/display_calib.h"
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "devices/photometer.h"
 
 typedef struct {

@@ -14,7 +14,7 @@
 #include <time.h>
 
 #include "calib/procedure.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 #include "tests/observer/sim_loop.h"
 
 static double now_s(void)

@@ -1,6 +1,6 @@
 /* bench_lut: threshold lookups per second on one core over a realistic 8 x 6 table (the default
  * model observer, never-visible cells as +inf), scalar and batch, against the analytic CSF the
- * table was made from (log-parabola x stelaCSF eccentricity, results/csf_model.h), in the same
+ * table was made from (log-parabola x stelaCSF eccentricity, model/csf_model.h), in the same
  * run; exactness checked against a straightforward reference interpolator (libm log and exp,
  * linear cell search); and how often a truly visible query (analytic threshold <= 1) is answered
  * too high or "never visible", by the library and by the linear blend it had before 2.0.0.
@@ -11,9 +11,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "results/csf_model.h"
-#include "results/csflut.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "results/csflut/csflut.h"
+#include "core/rng.h"
 
 static const double freq[8] = {0.5, 1, 2, 4, 8, 16, 24, 32};
 static const double ecc[6] = {0, 5, 10, 20, 30, 40};

@@ -9,12 +9,12 @@
 
 #include "calib/method_bayes.h"
 #include "calib/procedure.h"
-#include "devices/observer_sdt.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sdt.h"
+#include "model/observer_sim.h"
 #include "quest_cell.h"
 #include "questplus.h"
-#include "results/psychometric.h"
-#include "results/rng.h"
+#include "model/psychometric.h"
+#include "core/rng.h"
 #include "tests/bayes/sim_2afc.h"
 
 enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2, MAX_SPECS = 8 };

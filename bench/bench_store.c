@@ -11,10 +11,10 @@
 #include <unistd.h>
 
 #include "results/plot.h"
-#include "results/rng.h"
-#include "results/store.h"
-#include "results/store_export.h"
-#include "results/store_internal.h"
+#include "core/rng.h"
+#include "results/store/store.h"
+#include "results/store/export.h"
+#include "results/store/internal.h"
 
 static double now_s(void)
 {

@@ -13,7 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 
 #define FRAMES 60
 #define MAX_STATIONS 64

@@ -1,10 +1,10 @@
 /* Coverage of the study report's intervals (issue 14 item 4, nominal 95 %): many simulated
- * studies of one design, each analysed as `csfcal study report` does (calib/study_report.c ->
- * results/study_stats.h), counting how often each interval holds the simulated observer's truth.
+ * studies of one design, each analysed as `csfcal study report` does (studies/study_report.c ->
+ * studies/study_stats.h), counting how often each interval holds the simulated observer's truth.
  *
  * Design (after examples/studies/contrast_2afc and yes_no: one curve): LEVELS fixed contrasts
  * 0.15 log10 apart around the threshold (from t - 0.45), N trials each. Answers come from the
- * simulated observer (devices/observer_sim.h; slope 3.5, lapse 0.02 by default) at 2 cpd and
+ * simulated observer (model/observer_sim.h; slope 3.5, lapse 0.02 by default) at 2 cpd and
  * 5 deg, where its true threshold is t:
  *   2afc:  csf_observer_sim_2afc (its Weibull with guess 1/2 and lapse);
  *   yesno: its fade-in model fed a constant contrast for 0.3 s then 1.5 s of blank at 60 Hz, as
@@ -26,8 +26,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "devices/observer_sim.h"
-#include "results/study_stats.h"
+#include "model/observer_sim.h"
+#include "studies/study_stats.h"
 #include "sim_study.h"
 
 #define MAX_LEVELS 32
@@ -108,7 +108,7 @@ int main(int argc, char **argv)
         }
         csf_observer_sim_free(o);
         double guess = 0.5;
-        if (yesno) guess = fmin(0.5, fmax(0.001, (double)fa / n_catch)); /* as calib/study_report.c */
+        if (yesno) guess = fmin(0.5, fmax(0.001, (double)fa / n_catch)); /* as studies/study_report.c */
         csf_weibull_fit fit;
         if (csf_weibull_fit_ml(lv, (size_t)levels, guess, 0.06, &fit) != 0) continue;
         fitted++;

@@ -26,7 +26,7 @@
 #include <time.h>
 
 #include "calib/procedure.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 #include "tests/observer/sim_loop.h"
 
 static const csf_cell CELLS[] = {{1.0, 5}, {2.0, 5}, {4.0, 5}, {8.0, 5}, {1.0, 10}, {2.0, 10}, {4.0, 10}, {8.0, 10}};

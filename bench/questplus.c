@@ -3,8 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "results/csf_model.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "core/rng.h"
 
 enum { N_SMAX = 8, N_FMAX = 7, N_BW = 3, N_DELTA = 2, N_A = 4, N_B = 4, N_SLOPE = 3, N_X = 23 };
 enum { N_SURF = N_SMAX * N_FMAX * N_BW * N_DELTA * N_A * N_B, N_HYP = N_SURF * N_SLOPE };

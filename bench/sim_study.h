@@ -5,8 +5,8 @@
 
 #include <stdint.h>
 
-#include "devices/observer_sim.h"
-#include "results/study_stats.h"
+#include "model/observer_sim.h"
+#include "studies/study_stats.h"
 
 /* One yes/no trial through the fade-in observer: contrast c (0 = catch) for 0.3 s, then 1.5 s of
  * blank at 60 Hz, as `csfcal study run` shows it; 1 = "yes". */

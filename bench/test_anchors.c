@@ -1,14 +1,14 @@
 /* The benchmark's anchors (bench/quest_cell.h, bench/questplus.h) recover a known observer: a
  * QUEST posterior starts at its guess and converges to the truth; QUEST+ fits a surface that is
  * on its grid exactly (best-fit RMS 0) and recovers it from simulated trials, reporting cells
- * beyond the display's reach as never visible. Seeded; results/rng.h only. */
+ * beyond the display's reach as never visible. Seeded; core/rng.h only. */
 #include <math.h>
 #include <stdio.h>
 
 #include "quest_cell.h"
 #include "questplus.h"
-#include "results/csf_model.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "core/rng.h"
 
 static int fails;
 #define CHECK(cond, ...)                                                                          \

@@ -19,7 +19,7 @@
  * fit). */
 #include "calib/display_calib.h"
 #include "calib/meter_check.h"
-#include "results/json_read.h"
+#include "core/json_read.h"
 
 #include <math.h>
 #include <stdio.h>

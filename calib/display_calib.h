@@ -11,9 +11,9 @@
 #include <stdint.h>
 
 #include "devices/photometer.h"
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 #include "results/display_profile.h"
-#include "results/store.h"
+#include "results/store/store.h"
 
 typedef struct {
     double target_rel;     /* accuracy target: max relative luminance error above 10 % of peak (0.0025) */

@@ -15,16 +15,16 @@
  *
  * Cells the setup gives four places (setup.n_alternatives[c] == 4, spatial 4AFC) plan the place
  * 0-3 and use the four-place function of the same d' (csf_psy_p_afc, guess 1/4), so their
- * threshold is the table's task-independent one (results/psychometric.h); the others are
+ * threshold is the table's task-independent one (model/psychometric.h); the others are
  * two-interval as before (their plans, draws and posteriors unchanged). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "calib/procedure.h"
-#include "results/csf_model.h"
-#include "results/psychometric.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "model/psychometric.h"
+#include "core/rng.h"
 
 #define AFC_GRID_N 81
 #define AFC_X_CANDIDATES 31
@@ -99,7 +99,7 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     a->s.cells = a->cells;
     for (int i = 0; i < n; i++) a->n_alt[i] = setup->n_alternatives && setup->n_alternatives[i] == 4 ? 4 : 2;
     a->s.n_alternatives = a->n_alt;
-    /* Prior per cell: the population-average observer (results/csf_model.h defaults, the same
+    /* Prior per cell: the population-average observer (model/csf_model.h defaults, the same
      * guess a QUEST user would enter), sd 0.7 log10, so an invisible cell needs evidence only
      * where the population says it is hard to see. */
     csf_model_params pop = csf_model_default();

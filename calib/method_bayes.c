@@ -2,7 +2,7 @@
  *
  * Model. For cell c (frequency f, eccentricity e) the log10 threshold is
  *     t_c = m(f, e; theta) + o_c
- * where m is the truncated log-parabola x stelaCSF surface of results/csf_model.h with
+ * where m is the truncated log-parabola x stelaCSF surface of model/csf_model.h with
  * theta = (log10 Smax, log10 fmax, log10 beta, delta, ecc_a, ecc_b), and o_c is a per-cell
  * offset with a heavy-tailed prior (mixture of a narrow and a wide normal; the narrow sd is
  * itself learned: each particle carries one of a few levels). The offsets let an observer whose
@@ -35,7 +35,7 @@
  * evidence under a weak prior (the surface blurred by the wide sd); where the weak prior wins
  * clearly, estimate() uses it, i.e. falls back to the cell's own data.
  *
- * Determinism: every random draw comes from results/rng.h keyed by the seed and the trial index,
+ * Determinism: every random draw comes from core/rng.h keyed by the seed and the trial index,
  * and the state depends only on the sequence of update() calls, so replaying stored trials
  * rebuilds exactly the same state and the same next plans. */
 #include "calib/method_bayes.h"
@@ -45,9 +45,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csf_model.h"
-#include "results/psychometric.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "model/psychometric.h"
+#include "core/rng.h"
 
 enum { NPAR = 8 };
 enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_RESAMPLE = 0x42a4 };
@@ -404,7 +404,7 @@ static double p_correct(double slope, double lapse, double g, double x, double t
     return g + (1.0 - g - lapse) * (1.0 - e);
 }
 
-/* A four-place cell: the SDT 4AFC function of the same d' (results/psychometric.h), so its
+/* A four-place cell: the SDT 4AFC function of the same d' (model/psychometric.h), so its
  * threshold is the table's task-independent one; a Weibull with guess 1/4 would read 0.094 / k
  * log10 high for a signal-detection observer. */
 static double p_correct_layout(double slope, double lapse, double g, int four, int ht, double x, double t)

@@ -1,5 +1,5 @@
 /* Fade-in method (seed 000 sec. 6.1): a grating's log contrast rises linearly; the person presses
- * when something is visible. Under the observer model of results/psychometric.h the contrast at
+ * when something is visible. Under the observer model of model/psychometric.h the contrast at
  * detection is a draw from the Weibull F itself (the latent-threshold reading of a fade-in), so
  * per cell the likelihood of the threshold t given
  *   a detection at x:          (1 - lapse) f(x; t) + spont / range   (f = dF/dx; spont: a valid
@@ -56,8 +56,8 @@
 #include <string.h>
 
 #include "calib/procedure.h"
-#include "results/psychometric.h"
-#include "results/rng.h"
+#include "model/psychometric.h"
+#include "core/rng.h"
 
 #define FADE_CATCH_RATE 0.10
 #define FADE_SE_STABLE 0.06

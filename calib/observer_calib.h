@@ -12,8 +12,8 @@
 
 #include <stdint.h>
 
-#include "calib/config.h"
-#include "results/csf_status.h"
+#include "core/station.h"
+#include "core/csf_status.h"
 
 #define CSF_OBS_MAX_AXIS 16
 

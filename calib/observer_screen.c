@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/display_model.h"
-#include "devices/observer_view.h"
+#include "model/display_model.h"
+#include "model/observer_view.h"
 #include "stimuli/geometry.h"
 
 /* Places are cached by (frequency, eccentricity, polar angle): a session shows a few dozen. */

@@ -5,19 +5,19 @@
  * region around each place (csf_presenter_readback_region: the frame's own pixels there, dither
  * included, whatever --render-every says), its pixels are turned into light through the
  * simulated display, and the Gabor's contrast is measured there by a matched filter
- * (devices/observer_view.h). The region is a disc of CSF_OBS_SCREEN_RADIUS_SIGMAS Gabor sigmas
+ * (model/observer_view.h). The region is a disc of CSF_OBS_SCREEN_RADIUS_SIGMAS Gabor sigmas
  * around the place, less the fixation mark (a person does not take the mark they fixate for the
  * grating). Nothing here sees the plan: not where the grating was drawn, nor its contrast.
  *
  * The display is chosen by name: "crt", "lcd", "oled" (with display_gamma > 0 replacing the
- * model's gamma), "file=PATH.csv" (devices/display_model.h), "profile" (the profile in use is
+ * model's gamma), "file=PATH.csv" (model/display_model.h), "profile" (the profile in use is
  * the truth: a perfect profile), or "" = the display the profile was measured on: a profile made
  * with the simulated photometer names it in its display line ("sim:display=crt,..."); any other
  * profile (a real monitor, the documented default) describes its display, so it is the truth. */
 #ifndef CSF_OBSERVER_SCREEN_H
 #define CSF_OBSERVER_SCREEN_H
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 #include "results/display_profile.h"
 #include "stimuli/presenter.h"
 

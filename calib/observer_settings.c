@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/json_read.h"
+#include "core/json_read.h"
 
 int csf_obs_settings_to_json(const csf_obs_settings *s, double sigma_deg, char *buf, size_t len)
 {

@@ -1,7 +1,7 @@
 /* Adaptive psychophysical procedures behind one interface (fade-in, 2AFC, joint Bayesian).
  * A procedure sees only what an experimenter would: the stimuli it chose and the responses.
  * Determinism contract: next() depends only on the procedure's state and the trial index (random
- * choices come from results/rng.h keyed by setup->seed and the trial index), so replaying the
+ * choices come from core/rng.h keyed by setup->seed and the trial index), so replaying the
  * stored trials through update() rebuilds exactly the state an uninterrupted run had — that is
  * how sessions resume. */
 #ifndef CSF_PROCEDURE_H
@@ -9,7 +9,7 @@
 
 #include <stdint.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef struct {
     double freq_cpd, ecc_deg;

@@ -1,5 +1,5 @@
 /* Trial pieces shared by observer calibration (calib/observer_calib.c) and user studies
- * (calib/study_run.c): storing a trial with its frame timing, waiting for a person's answer
+ * (studies/study_run.c): storing a trial with its frame timing, waiting for a person's answer
  * through the responders, blank and text screens with pause handling, and the rounding that
  * makes a resumed simulated run reproduce an uninterrupted one. One copy, two callers. */
 #ifndef CSF_TRIAL_IO_H
@@ -8,7 +8,7 @@
 #include <signal.h>
 
 #include "devices/responder.h"
-#include "results/store.h"
+#include "results/store/store.h"
 #include "stimuli/presenter.h"
 
 /* Values that reach the store are rounded to 9 significant digits: far below what a float GPU

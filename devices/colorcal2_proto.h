@@ -14,7 +14,7 @@
 
 #include <stddef.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 enum { CSF_CC2_USB_VID = 0x0861, CSF_CC2_USB_PID = 0x1001, CSF_CC2_REPLY_MAX = 64 };
 

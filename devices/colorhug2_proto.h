@@ -16,7 +16,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 enum {
     CSF_CH2_USB_VID = 0x273f,

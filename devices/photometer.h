@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef struct csf_photometer csf_photometer;
 

@@ -1,7 +1,7 @@
-/* Simulated photometer: a display model (devices/display_model.h) seen through an instrument
+/* Simulated photometer: a display model (model/display_model.h) seen through an instrument
  * model. The instrument has relative and absolute noise, a warm-up drift that decays with a time
  * constant, an integration time on a virtual clock, a floor below which it reports "too dark",
- * a saturation level, and injectable faults. Every random draw comes from results/rng.h with the
+ * a saturation level, and injectable faults. Every random draw comes from core/rng.h with the
  * reading number as index, so a resumed session draws what an uninterrupted one would have.
  *
  * Options (sim:key=value,...):
@@ -27,9 +27,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "devices/photometer.h"
-#include "results/rng.h"
+#include "core/rng.h"
 
 enum {
     FAULT_NONE, FAULT_UNPLUG, FAULT_TIMEOUT, FAULT_GARBAGE, FAULT_DARK, FAULT_SATURATE,

@@ -23,7 +23,7 @@
 #ifndef CSF_RESPONDER_H
 #define CSF_RESPONDER_H
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef enum {
     CSF_RESP_NONE = 0,

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/file_write.h"
+#include "core/file_write.h"
 
 struct csf_screen_mirror {
     char *path;

@@ -6,7 +6,7 @@
  * csf_photometer_open rewrites that file atomically (temporary file in the same folder, fsync,
  * rename: a reader never sees half of it) just before each reading is asked for, with the patch
  * under the sensor. The emulator reads it when the measure command arrives and runs the drive
- * values through its simulated display (devices/display_model.h). Without the variable nothing
+ * values through its simulated display (model/display_model.h). Without the variable nothing
  * is written; the simulated photometer never writes it (it is told the patch directly).
  *
  * File format (text, version 1, lines in this order, '\n' endings):
@@ -24,7 +24,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 #define CSF_SCREEN_MIRROR_ENV "CSFCAL_SCREEN_MIRROR"
 

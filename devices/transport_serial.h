@@ -34,6 +34,6 @@ csf_status csf_transport_read_line(csf_transport *t, char *line, size_t cap, siz
 /* Drops bytes already waiting (a late answer to an earlier, timed-out command). */
 void csf_transport_drain(csf_transport *t);
 
-/* csf_quote_bytes (results/csf_status.h) gives the printable form of a reply for messages. */
+/* csf_quote_bytes (core/csf_status.h) gives the printable form of a reply for messages. */
 
 #endif

@@ -3,9 +3,9 @@
 // No exception crosses into C: every entry point catches and reports through csf_error.
 // csfcal's C headers have no extern "C" guards of their own (except ours): give them C linkage.
 extern "C" {
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 #include "results/display_profile.h"
-#include "results/file_write.h"
+#include "core/file_write.h"
 }
 #include "results/colour_export.h"
 

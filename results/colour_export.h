@@ -6,14 +6,14 @@
  * (0..1, same on R, G, B) to luminance relative to white, black included: Y = L / L(1), so
  * Y(0) = black / white and cd/m2 = Y * white. A renderer applies the inverse (OCIO inverts a Lut1D
  * exactly; ICC consumers invert the TRC) to get the drive value that produces a wanted luminance
- * on this monitor. Every file is written atomically (results/file_write.h). See
+ * on this monitor. Every file is written atomically (core/file_write.h). See
  * docs/display-profile.md. */
 #ifndef CSF_COLOUR_EXPORT_H
 #define CSF_COLOUR_EXPORT_H
 
 #include <stddef.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 #include "results/display_profile.h"
 
 #ifdef __cplusplus

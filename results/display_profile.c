@@ -7,8 +7,8 @@
  * many more readings. g is fitted per curve and stored, so the model is fully determined by the
  * file and the inverse is exact on the same piecewise cubic. */
 #include "results/display_profile.h"
-#include "results/file_write.h"
-#include "results/file_read.h"
+#include "core/file_write.h"
+#include "core/file_read.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -15,7 +15,7 @@
 #include <time.h>
 
 #include "results/display_profile.h"
-#include "results/file_write.h"
+#include "core/file_write.h"
 
 #ifndef CSF_VERSION
 #define CSF_VERSION "unknown"
@@ -1296,7 +1296,7 @@ csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_pa
     /* A session without frame intervals (display sessions) gets no page that says so. */
     if (!d.frames_inline && d.n_frames) panels[np++] = draw_frames;
 
-    /* The file is written through a temporary beside it (results/file_write.h) and renamed
+    /* The file is written through a temporary beside it (core/file_write.h) and renamed
      * when complete: a full disk or a failed draw leaves no partial report. */
     csf_atomic_file af = {0};
     st = csf_atomic_open(&af, out_path, "report", err);

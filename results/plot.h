@@ -11,8 +11,8 @@
 
 #include <stdint.h>
 
-#include "results/csf_status.h"
-#include "results/store.h"
+#include "core/csf_status.h"
+#include "results/store/store.h"
 
 csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_path, csf_error *err);
 

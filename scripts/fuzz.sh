@@ -38,8 +38,8 @@ for src in tests/fuzz/fuzz_*.c; do
   targets+=("$t")
 done
 # Only what the fuzzing needs: the targets and csfcal (for the seeds).
-ninja -C build-fuzz calib/csfcal "${targets[@]/#/tests/fuzz/}" >/dev/null ||
-  { ninja -C build-fuzz calib/csfcal "${targets[@]/#/tests/fuzz/}" | tail -30; exit 1; }
+ninja -C build-fuzz cli/csfcal "${targets[@]/#/tests/fuzz/}" >/dev/null ||
+  { ninja -C build-fuzz cli/csfcal "${targets[@]/#/tests/fuzz/}" | tail -30; exit 1; }
 mkdir -p build-fuzz/crashes
 rc=0
 
@@ -49,7 +49,7 @@ if [ "${CSF_FUZZ_FRESH_SEEDS:-1}" != 0 ]; then
   start=$SECONDS
   # A failed step is a finding in itself (csfcal could not write its own formats), but the
   # fuzzing goes on with whatever seeds there are.
-  if ! bash tests/fuzz/gen-seeds.sh build-fuzz/calib/csfcal "$fresh"; then
+  if ! bash tests/fuzz/gen-seeds.sh build-fuzz/cli/csfcal "$fresh"; then
     echo "fuzz: seed generation FAILED (above)"; rc=1
   fi
   echo "fuzz: seeds generated in $((SECONDS - start)) s"

@@ -7,10 +7,10 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 mkdir -p out
 
-./build/calib/csfcal display calibrate --photometer sim:display=lcd --seed 1 \
+./build/cli/csfcal display calibrate --photometer sim:display=lcd --seed 1 \
   --store out/csfcal.sqlite --out out/display.profile
-./build/calib/csfcal observer calibrate --observer sim --seed 1 --trials 120 \
+./build/cli/csfcal observer calibrate --observer sim --seed 1 --trials 120 \
   --store out/csfcal.sqlite --profile out/display.profile \
   --out out/observer.csflut --plot out/observer.png "$@"
-./build/calib/csfcal lut info out/observer.csflut
+./build/cli/csfcal lut info out/observer.csflut
 echo "main: wrote out/display.profile, out/observer.csflut and out/observer.png"

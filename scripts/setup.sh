@@ -50,4 +50,4 @@ fi
 if ! ninja -C build > build/setup-build.log 2>&1; then
   tail -n 40 build/setup-build.log; echo "setup: build failed (full log: build/setup-build.log)"; exit 1
 fi
-echo "setup: built build/calib/csfcal"
+echo "setup: built build/cli/csfcal"

@@ -9,7 +9,7 @@
 #ifndef CSF_STIMULI_GAMMA_GUARD_H
 #define CSF_STIMULI_GAMMA_GUARD_H
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef struct GLFWmonitor GLFWmonitor;
 

@@ -17,11 +17,11 @@
  * pixel (i, j) covers [i, i+1) x [j, j+1), its centre is at (i + 0.5, j + 0.5).
  *
  * This header depends on results/ only. To build a geometry from a station configuration
- * (calib/config.h): csf_geometry_init(&g, CSF_GEOMETRY_FROM_CONFIG(cfg), &err). */
+ * (cli/config.h): csf_geometry_init(&g, CSF_GEOMETRY_FROM_CONFIG(cfg), &err). */
 #ifndef CSF_STIMULI_GEOMETRY_H
 #define CSF_STIMULI_GEOMETRY_H
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef struct {
     double width_mm, height_mm;   /* visible image area */

@@ -13,7 +13,7 @@
 
 #include <stddef.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 
 typedef struct csf_image {
     int width, height;

@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "results/rng.h"
+#include "core/rng.h"
 #include "stimuli/gamma_guard.h"
 
 #define DEG (M_PI / 180.0)

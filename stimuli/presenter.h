@@ -37,7 +37,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "results/csf_status.h"
+#include "core/csf_status.h"
 #include "results/display_profile.h"
 #include "stimuli/geometry.h"
 #include "stimuli/image.h"

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/rng.h"
+#include "core/rng.h"
 
 #define DEG (M_PI / 180.0)
 

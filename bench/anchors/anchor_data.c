@@ -1,6 +1,6 @@
 /* Data sets and our fits for the anchor cross-check (bench/anchors/check_psignifit.sh): studies of
  * several designs answered by the simulated observer (as bench/bench_study_coverage), each fitted
- * as `csfcal study report` does (results/study_stats.h): ML Weibull (t, beta, lapse <= 0.06) and
+ * as `csfcal study report` does (studies/study_stats.h): ML Weibull (t, beta, lapse <= 0.06) and
  * its 95 % intervals (profile likelihood; marginal posterior with flat priors on t, log beta and
  * lapse, the report's interval).
  *
@@ -12,8 +12,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "devices/observer_sim.h"
-#include "results/study_stats.h"
+#include "model/observer_sim.h"
+#include "studies/study_stats.h"
 #include "../sim_study.h"
 
 int main(int argc, char **argv)

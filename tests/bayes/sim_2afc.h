@@ -4,8 +4,8 @@
  * contrast with slope, guess 0.5 and lapse (DESIGN.md's form) with two intervals; with four places
  * the signal-detection max rule of the same d' (the table's task-independent threshold, see
  * sim2afc_respond); every draw comes from
- * results/rng.h keyed by (seed, trial index), so runs are reproducible.
- * Truth: the parametric surface (results/csf_model.h) or a table (CSV freq_cpd,ecc_deg,threshold,
+ * core/rng.h keyed by (seed, trial index), so runs are reproducible.
+ * Truth: the parametric surface (model/csf_model.h) or a table (CSV freq_cpd,ecc_deg,threshold,
  * bilinear in log10 frequency x eccentricity on log10 threshold; threshold >= 1 = never visible). */
 #ifndef CSF_TESTS_SIM_2AFC_H
 #define CSF_TESTS_SIM_2AFC_H
@@ -17,8 +17,8 @@
 
 #include "calib/afc_layout.h"
 #include "calib/procedure.h"
-#include "results/csf_model.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "core/rng.h"
 
 typedef struct {
     int is_table;

@@ -3,7 +3,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/config.h"
+#include "cli/config.h"
 #include "tests/check.h"
 
 static const char *write_tmp(const char *text)

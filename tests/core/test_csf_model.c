@@ -1,6 +1,6 @@
 #include <math.h>
 
-#include "results/csf_model.h"
+#include "model/csf_model.h"
 #include "tests/check.h"
 
 int main(void)

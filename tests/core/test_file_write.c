@@ -17,8 +17,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "results/file_read.h"
-#include "results/file_write.h"
+#include "core/file_read.h"
+#include "core/file_write.h"
 #include "tests/check.h"
 
 static int count_entries(const char *dir)

@@ -1,6 +1,6 @@
 #include <math.h>
 
-#include "results/rng.h"
+#include "core/rng.h"
 #include "tests/check.h"
 
 int main(void)

@@ -2,7 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "tests/check.h"
 
 static csf_display_model *make(const char *spec)

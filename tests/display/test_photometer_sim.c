@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "devices/photometer.h"
 #include "tests/check.h"
 

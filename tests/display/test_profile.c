@@ -5,7 +5,7 @@
 #include <unistd.h>
 
 #include "results/display_profile.h"
-#include "results/rng.h"
+#include "core/rng.h"
 #include "tests/check.h"
 
 static double truth(double v) { return 0.3 + 150.0 * pow(v, 2.4) * (1 + 0.05 * sin(3 * v)); }

@@ -12,11 +12,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/commands.h"
+#include "cli/commands.h"
 #include "calib_truth.h"
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "results/display_profile.h"
-#include "results/store.h"
+#include "results/store/store.h"
 #include "stimuli/presenter.h"
 #include "tests/check.h"
 

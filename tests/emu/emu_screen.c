@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "devices/screen_mirror.h"
-#include "results/rng.h"
+#include "core/rng.h"
 
 int emu_screen_parse(const char *text, size_t len, emu_screen_patch *out, char *why, size_t why_len)
 {

@@ -1,7 +1,7 @@
 /* Emulator side of the screen mirror (devices/screen_mirror.h): an out-of-process instrument
  * emulator reads the file csfcal rewrites before each reading and turns the patch into the light
- * a simulated display (devices/display_model.h) emits, seen through a simple instrument model
- * (gain error, relative and absolute noise drawn from results/rng.h by reading number).
+ * a simulated display (model/display_model.h) emits, seen through a simple instrument model
+ * (gain error, relative and absolute noise drawn from core/rng.h by reading number).
  * Used by the serial emulators (emu_minolta, emu_pr), the spotread stand-in, and any other
  * emulator that measures light. */
 #ifndef CSF_EMU_SCREEN_H
@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 
 typedef struct {
     uint64_t seq;      /* csfcal's reading number */

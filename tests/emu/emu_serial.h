@@ -4,7 +4,7 @@
  *
  * Command line (both emulators):
  *   --path-file F      write the pty's slave path (/dev/pts/N) to F (atomically) once ready
- *   --display SPEC     simulated display (devices/display_model.h spec; default lcd)
+ *   --display SPEC     simulated display (model/display_model.h spec; default lcd)
  *   --seed N --noise REL --abs-noise CDM2 --gain G   instrument model (defaults 1, 0.001, 0.0005, 1)
  *   --model NAME       instrument name it reports (emulator-specific)
  *   --slow S           every reply is sent S seconds late (a slow device)

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "calib/cli.h"
+#include "cli/cli.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -20,7 +20,7 @@ enum { N_OPTS = sizeof opts / sizeof opts[0], PICK_LIST = N_OPTS, PICK_DOUBLE, P
 
 static void check_config(const csf_config *c)
 {
-    /* the ranges calib/config.c and calib/cli.c document */
+    /* the ranges cli/config.c and cli/cli.c document */
     if (!(c->screen_width_mm >= 30 && c->screen_width_mm <= 10000)) abort();
     if (!(c->screen_height_mm >= 30 && c->screen_height_mm <= 10000)) abort();
     if (c->screen_width_px < 64 || c->screen_width_px > 16384) abort();

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csflut.h"
-#include "results/csflut_internal.h"
+#include "results/csflut/csflut.h"
+#include "results/csflut/csflut_internal.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

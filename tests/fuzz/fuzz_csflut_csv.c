@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "results/csflut.h"
+#include "results/csflut/csflut.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

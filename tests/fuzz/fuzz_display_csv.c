@@ -4,7 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -10,8 +10,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "calib/commands.h"
-#include "results/csflut.h"
+#include "cli/commands.h"
+#include "results/csflut/csflut.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

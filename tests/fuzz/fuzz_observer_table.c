@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

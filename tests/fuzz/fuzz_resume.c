@@ -13,7 +13,7 @@
 
 #include "calib/display_calib.h"
 #include "devices/photometer.h"
-#include "results/store.h"
+#include "results/store/store.h"
 #include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -7,8 +7,8 @@
 #include <unistd.h>
 
 #include "results/plot.h"
-#include "results/store.h"
-#include "results/store_export.h"
+#include "results/store/store.h"
+#include "results/store/export.h"
 #include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -11,7 +11,7 @@
 
 #include <libpq-fe.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

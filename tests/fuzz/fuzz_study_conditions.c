@@ -1,4 +1,4 @@
-/* Study conditions tables (CSV, calib/study_file.h) are outside input. The first byte picks the
+/* Study conditions tables (CSV, studies/study_file.h) are outside input. The first byte picks the
  * design (its value mod 4: 2afc, 2ifc, same_different, yes_no); the rest is the CSV text. An
  * accepted table goes on to a trial plan. */
 #include <stdint.h>
@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "calib/study_file.h"
-#include "calib/study_plan.h"
+#include "studies/study_file.h"
+#include "studies/study_plan.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

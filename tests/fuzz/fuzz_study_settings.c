@@ -1,12 +1,12 @@
-/* Study settings files (calib/study_file.h) are outside input: parsing must refuse garbage with
+/* Study settings files (studies/study_file.h) are outside input: parsing must refuse garbage with
  * a message, never crash or read out of bounds. Accepted settings go on to a small conditions
  * table and a trial plan. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "calib/study_file.h"
-#include "calib/study_plan.h"
+#include "studies/study_file.h"
+#include "studies/study_plan.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

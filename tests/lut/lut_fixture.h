@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csf_model.h"
-#include "results/csflut.h"
-#include "results/rng.h"
+#include "model/csf_model.h"
+#include "results/csflut/csflut.h"
+#include "core/rng.h"
 
 static const double fx_freq[8] = {0.5, 1, 2, 4, 8, 16, 24, 32};
 static const double fx_ecc[6] = {0, 5, 10, 20, 30, 40};

@@ -10,7 +10,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "results/csflut_internal.h"
+#include "results/csflut/csflut_internal.h"
 #include "tests/check.h"
 #include "tests/lut/lut_fixture.h"
 

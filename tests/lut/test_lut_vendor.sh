@@ -6,12 +6,11 @@
 # Windows, csflut.h declares the API dllexport, dllimport or plain as CSFLUT_BUILD / (nothing) /
 # CSFLUT_STATIC say (checked with clang's Windows targets, front end only).
 set -eu
-SRC=$1/results
+SRC=$1/results/csflut
 T=$(mktemp -d /tmp/csflut-vendor-XXXXXX)
 trap 'rm -rf "$T"' EXIT
 mkdir "$T/csflut"
-cp "$SRC/csflut.h" "$SRC/csflut_internal.h" "$SRC/csflut.c" "$SRC/csflut_write.c" \
-   "$SRC/csflut_csv.c" "$SRC/csflut_export.c" "$T/csflut/"
+cp "$SRC"/*.h "$SRC"/*.c "$T/csflut/" # the whole folder: it is the library
 cp "$1/docs/examples/example_default_observer.csflut" "$T/"
 cat >"$T/use.c" <<'C'
 #include "csflut/csflut.h"

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "calib/procedure.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 
 /* Runs up to budget trials; returns the number run. est must hold n_cells entries. */
 static int sim_loop_run(const csf_procedure_ops *ops, const csf_procedure_setup *setup,

@@ -18,9 +18,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "results/csflut.h"
-#include "results/rng.h"
-#include "results/store.h"
+#include "results/csflut/csflut.h"
+#include "core/rng.h"
+#include "results/store/store.h"
 #include "tests/check.h"
 
 static const char *csfcal;

@@ -5,7 +5,7 @@
 #include <stdio.h>
 
 #include "calib/procedure.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 #include "tests/check.h"
 #include "tests/observer/sim_loop.h"
 

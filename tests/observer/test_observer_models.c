@@ -15,10 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/observer_sdt.h"
-#include "devices/observer_sim.h"
-#include "results/csf_model.h"
-#include "results/psychometric.h"
+#include "model/observer_sdt.h"
+#include "model/observer_sim.h"
+#include "model/csf_model.h"
+#include "model/psychometric.h"
 #include "tests/check.h"
 
 /* |measured - expected| within z binomial sds (plus a little for the integral's own error). */

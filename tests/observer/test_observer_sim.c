@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "devices/observer_sim.h"
-#include "results/psychometric.h"
+#include "model/observer_sim.h"
+#include "model/psychometric.h"
 #include "tests/check.h"
 
 static void test_spec(void)

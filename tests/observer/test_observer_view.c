@@ -1,5 +1,5 @@
 /* The simulated person's eyes (issue 12 item 1): the presenter's full-resolution region readback
- * is the frame's own pixels there, and the matched filter of devices/observer_view.h measures the
+ * is the frame's own pixels there, and the matched filter of model/observer_view.h measures the
  * contrast that is on screen at a place -- the Gabor's when it is drawn there through a right
  * profile, a changed one through a wrong profile, about nothing for a flat frame, a grating drawn
  * elsewhere or at another frequency -- never the plan (it is never given the plan). */
@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "calib/observer_screen.h"
-#include "devices/display_model.h"
-#include "devices/observer_view.h"
+#include "model/display_model.h"
+#include "model/observer_view.h"
 #include "results/display_profile.h"
 #include "stimuli/presenter.h"
 #include "tests/check.h"

@@ -1,8 +1,8 @@
 /* Weibull psychometric function, inverse, fade hazard, grid posterior and ML fit. */
 #include <math.h>
 
-#include "results/psychometric.h"
-#include "results/rng.h"
+#include "model/psychometric.h"
+#include "core/rng.h"
 #include "tests/check.h"
 
 int main(void)

@@ -1,7 +1,7 @@
 /* Issue 12 item 4: one threshold, whatever the task. A simulated signal-detection observer
  * (devices/observer_sim, decision=sdt) measured with two intervals everywhere, with four places
  * everywhere and with the fade method gives the same table: the table's threshold is the
- * contrast at which d' reaches CSF_PSY_DPRIME_CRITERION (results/psychometric.h), which is what
+ * contrast at which d' reaches CSF_PSY_DPRIME_CRITERION (model/psychometric.h), which is what
  * the observer's truth table holds. The error of each table is taken against that truth per
  * (seed, cell), so the comparison is not swamped by the per-cell noise of two independent runs:
  *   - two intervals vs four places: mean signed difference within 0.02 log10 for 2afc and bayes
@@ -18,7 +18,7 @@
 #include <string.h>
 
 #include "calib/procedure.h"
-#include "devices/observer_sim.h"
+#include "model/observer_sim.h"
 #include "tests/check.h"
 #include "tests/observer/sim_loop.h"
 

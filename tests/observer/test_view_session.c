@@ -17,13 +17,13 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/config.h"
+#include "cli/config.h"
 #include "calib/observer_calib.h"
-#include "devices/display_model.h"
-#include "devices/observer_sim.h"
-#include "results/csflut.h"
+#include "model/display_model.h"
+#include "model/observer_sim.h"
+#include "results/csflut/csflut.h"
 #include "results/display_profile.h"
-#include "results/store.h"
+#include "results/store/store.h"
 #include "tests/check.h"
 
 static char dir[] = "/tmp/csfcal-viewtest-XXXXXX";

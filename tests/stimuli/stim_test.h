@@ -1,4 +1,4 @@
-/* Shared helpers for the stimulus tests: a simulated display (devices/display_model.h) as both
+/* Shared helpers for the stimulus tests: a simulated display (model/display_model.h) as both
  * the presenter's luminance model and the truth that turns read-back pixels into cd/m2. */
 #ifndef CSF_TESTS_STIM_TEST_H
 #define CSF_TESTS_STIM_TEST_H
@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "stimuli/presenter.h"
 #include "stimuli/selfcheck.h"
 

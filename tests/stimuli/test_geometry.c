@@ -2,7 +2,7 @@
  * 0.5 cycle/pixel Nyquist limit, screen reach, eye offset, and argument checks. */
 #include <math.h>
 
-#include "results/rng.h"
+#include "core/rng.h"
 #include "stimuli/geometry.h"
 #include "tests/check.h"
 

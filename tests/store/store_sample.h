@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/csf_model.h"
+#include "model/csf_model.h"
 #include "results/display_profile.h"
-#include "results/rng.h"
-#include "results/store.h"
+#include "core/rng.h"
+#include "results/store/store.h"
 #include "store_test_util.h"
 
 static const double sample_freqs[] = {0.5, 1, 2, 4, 8, 16, 24};

@@ -11,9 +11,9 @@
 #include <libpq-fe.h>
 #include <sqlite3.h>
 
-#include "results/rng.h"
-#include "results/store.h"
-#include "results/store_internal.h"
+#include "core/rng.h"
+#include "results/store/store.h"
+#include "results/store/internal.h"
 
 /* Makes a fresh folder under $TMPDIR (or /tmp); path written to dir. */
 static inline int tmp_dir(char *dir, size_t cap, const char *tag)

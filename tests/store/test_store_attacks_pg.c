@@ -25,11 +25,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "calib/config.h"
-#include "calib/study_report.h"
-#include "calib/study_run.h"
-#include "results/store.h"
-#include "results/store_push.h"
+#include "cli/config.h"
+#include "studies/study_report.h"
+#include "studies/study_run.h"
+#include "results/store/store.h"
+#include "results/store/push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

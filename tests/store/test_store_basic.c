@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/store.h"
-#include "results/store_internal.h"
+#include "results/store/store.h"
+#include "results/store/internal.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

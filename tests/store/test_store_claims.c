@@ -16,7 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

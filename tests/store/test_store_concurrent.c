@@ -6,7 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

@@ -14,8 +14,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "results/store.h"
-#include "results/store_internal.h"
+#include "results/store/store.h"
+#include "results/store/internal.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

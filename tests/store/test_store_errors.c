@@ -15,8 +15,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "results/store.h"
-#include "results/store_internal.h"
+#include "results/store/store.h"
+#include "results/store/internal.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

@@ -16,10 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "calib/cli.h"
-#include "calib/study_file.h"
-#include "results/store.h"
-#include "results/store_push.h"
+#include "cli/cli.h"
+#include "studies/study_file.h"
+#include "results/store/store.h"
+#include "results/store/push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

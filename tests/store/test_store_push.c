@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "results/store.h"
-#include "results/store_push.h"
+#include "results/store/store.h"
+#include "results/store/push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

@@ -7,8 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "results/store.h"
-#include "results/store_internal.h"
+#include "results/store/store.h"
+#include "results/store/internal.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

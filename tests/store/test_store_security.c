@@ -12,7 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "results/store.h"
+#include "results/store/store.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 

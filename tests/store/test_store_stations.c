@@ -19,8 +19,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "results/store.h"
-#include "results/store_push.h"
+#include "results/store/store.h"
+#include "results/store/push.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 
@@ -475,7 +475,7 @@ static void test_away_results(const char *loc)
     }
 }
 
-/* The fault hook of results/store_internal.h: at the named point, once, run pg_run.sh with
+/* The fault hook of results/store/internal.h: at the named point, once, run pg_run.sh with
  * the action (restart: the server comes back; stop: it stays away). */
 static const char *hook_action;
 static int hook_fired;

@@ -1,4 +1,4 @@
-/* The simulated observer's image-pair model (devices/observer_images.h) pools over space as the
+/* The simulated observer's image-pair model (model/observer_images.h) pools over space as the
  * thresholds it uses were measured (Gabors of sigma 1 deg):
  *   - a 1-deg Gabor difference at the observer's threshold pools to r near 1 (P(seen) 1 - 1/e);
  *   - the same band contrast spread over a 4x larger grating patch is more visible (summation);
@@ -11,8 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "devices/observer_images.h"
-#include "devices/observer_sim.h"
+#include "model/observer_images.h"
+#include "model/observer_sim.h"
 #include "tests/check.h"
 
 enum { W = 256, H = 256 };

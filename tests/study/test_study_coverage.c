@@ -8,7 +8,7 @@
  *
  * The trials follow each study's own plan (csf_study_make_plan: conditions, levels, targets,
  * catch trials, practice left out) and the observer's own trial functions on the contrast the
- * plan asks for (devices/observer_sim.h; yes/no through its fade-in model, 60 Hz frames, as
+ * plan asks for (model/observer_sim.h; yes/no through its fade-in model, 60 Hz frames, as
  * `csfcal study run` feeds it); the presenter and the store are left out so that 20 participants
  * x 3 curves fit in a CI budget. That this shortcut is the real pipeline is checked on one
  * participant per study: run end to end (presenter, store) and reported, it gives the same
@@ -20,18 +20,18 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/config.h"
-#include "calib/study_plan.h"
-#include "calib/study_report.h"
-#include "calib/study_run.h"
-#include "devices/observer_sim.h"
-#include "results/study_stats.h"
+#include "cli/config.h"
+#include "studies/study_plan.h"
+#include "studies/study_report.h"
+#include "studies/study_run.h"
+#include "model/observer_sim.h"
+#include "studies/study_stats.h"
 #include "tests/check.h"
 
 #define PARTICIPANTS 20
 
 /* Yes/no: the observer's fade-in model fed `c` for the stimulus frames, then blank frames for
- * the response window; a press is "yes" (calib/study_run.c does the same with the shown frames). */
+ * the response window; a press is "yes" (studies/study_run.c does the same with the shown frames). */
 static int yes_no_answer(const csf_observer_sim *o, uint64_t key, const csf_study *s, const csf_study_condition *c,
                          int present)
 {

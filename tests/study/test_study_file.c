@@ -1,14 +1,14 @@
 /* Study files refused before any trial, with the file, line and problem in the message
- * (calib/study_file.h), and the display checks (calib/study_run.h: off-screen, Nyquist, frames). */
+ * (studies/study_file.h), and the display checks (studies/study_run.h: off-screen, Nyquist, frames). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/config.h"
-#include "calib/study_file.h"
-#include "calib/study_plan.h"
-#include "calib/study_run.h"
+#include "cli/config.h"
+#include "studies/study_file.h"
+#include "studies/study_plan.h"
+#include "studies/study_run.h"
 #include "stimuli/presenter.h"
 #include "tests/check.h"
 

@@ -12,10 +12,10 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "calib/config.h"
-#include "calib/study_report.h"
-#include "calib/study_run.h"
-#include "devices/observer_sim.h"
+#include "cli/config.h"
+#include "studies/study_report.h"
+#include "studies/study_run.h"
+#include "model/observer_sim.h"
 #include "tests/check.h"
 
 static int run(const char *examples, const char *study, const char *store, const char *participant)

@@ -1,12 +1,12 @@
-/* Study statistics (results/study_stats.h) against values computed independently: exact
+/* Study statistics (studies/study_stats.h) against values computed independently: exact
  * binomial sums in Python's integer arithmetic (math.comb; the interval ends by bisection on the
  * tail sums, as binom.test defines them), Macmillan & Creelman's d' definitions, and Weibull fits
  * of data drawn from known psychometric functions. */
 #include <math.h>
 #include <stdlib.h>
 
-#include "results/rng.h"
-#include "results/study_stats.h"
+#include "core/rng.h"
+#include "studies/study_stats.h"
 #include "tests/check.h"
 
 static void test_normal(void)

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "results/rng.h"
+#include "core/rng.h"
 
 enum { STREAM_REL = 0xe301, STREAM_ABS = 0xe311, STREAM_GARBAGE = 0xe321 };
 

@@ -1,5 +1,5 @@
 /* What the USB instrument emulators share: the instrument's view of the simulated display (the
- * screen source the driver passes on, through devices/display_model.h), its noise, its virtual
+ * screen source the driver passes on, through model/display_model.h), its noise, its virtual
  * clock, the faults it can be told to have, and a pending reply with the transport's behaviour
  * (slow answers, timeouts, unplugging). Each protocol (emu_colorcal2.c, emu_colorhug2.c) turns
  * commands into reply bytes on top of it.
@@ -21,7 +21,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "devices/transport_emu.h"
 
 enum { EMU_OK, EMU_UNPLUG, EMU_TIMEOUT, EMU_GARBAGE, EMU_TRUNCATED, EMU_ERROR, EMU_DARK, EMU_SATURATE };

@@ -9,7 +9,7 @@
 
 #include "devices/colorcal2_proto.h"
 #include "devices/colorhug2_proto.h"
-#include "devices/display_model.h"
+#include "model/display_model.h"
 #include "devices/photometer.h"
 #include "devices/transport_libusb.h"
 #include "tests/check.h"

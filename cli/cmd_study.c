@@ -1,0 +1,191 @@
+/* `csfcal study run|report`: 2AFC user studies (docs/studies.md). */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/commands.h"
+#include "studies/study_report.h"
+#include "studies/study_run.h"
+#include "core/file_write.h"
+
+enum { OPT_PARTICIPANT = CSF_OPT_FIRST_FREE, OPT_CSV, OPT_QUIET, OPT_BOOT };
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: csfcal study run STUDY.conf --participant ID [options]\n"
+            "       csfcal study report STUDY.conf|NAME [--json] [-o report.pdf] [--csv FILE] [options]\n\n"
+            "A study is a settings file (key = value) naming a conditions CSV, one row per condition\n"
+            "(docs/studies.md; examples in examples/studies/). Designs: 2afc (two places), 2ifc (two\n"
+            "intervals), same_different (image pairs), yes_no (with catch trials).\n\n"
+            "run: checks the study files, the images and every stimulus on this display before the\n"
+            "first trial (bad files exit 2, naming file, line and problem), then runs the\n"
+            "participant's trials, storing each answer as it is given. Running the same command\n"
+            "again after a crash, Escape or Ctrl-C continues the participant's unfinished session.\n"
+            "  --participant ID     pseudonymous code: 1-63 letters, digits, '_', '-', '.' (required)\n"
+            "  --observer sim[:...] simulated observer (docs/observer-calibration.md keys) or human\n"
+            "                       (window, keyboard and mouse: 1/Left = first interval or left place,\n"
+            "                       same, no; 2/Right = second or right, different, yes)\n"
+            "  --quiet              no progress on stderr\n\n"
+            "report: proportion correct with exact (Clopper-Pearson) 95%% intervals and an exact\n"
+            "binomial test against chance per condition; hit and false-alarm rates and d' (yes/no;\n"
+            "same/different: differencing or independent-observation model as the study says);\n"
+            "Weibull fits with lapse (maximum likelihood) and parametric-bootstrap intervals for\n"
+            "threshold and slope; pooled and per participant.\n"
+            "  --json               the report as JSON on stdout\n"
+            "  -o, --out FILE       plots (.pdf one page per panel, .png, .svg)\n"
+            "  --csv FILE           tidy CSV, one row per scope and condition or curve\n"
+            "  --bootstrap N        bootstrap samples (default: the study's, 200)\n\n%s",
+            csf_cli_common_help);
+}
+
+/* Refusals before any trial are bad user input: exit 2. */
+static int exit_for(const csf_error *err, int started)
+{
+    if (!started && (err->code == CSF_E_INVALID_ARG || err->code == CSF_E_FORMAT || err->code == CSF_E_NOT_FOUND))
+        return 2;
+    return 1;
+}
+
+static int cmd_run(csf_cli *cli, const char *study, const char *participant, int quiet)
+{
+    csf_study_run_options o;
+    memset(&o, 0, sizeof o);
+    o.cfg = &cli->cfg;
+    o.study_path = study;
+    o.participant = participant;
+    o.headless = csf_cli_want_headless(cli);
+    o.observer_spec = cli->cfg.observer[0] ? cli->cfg.observer : (o.headless ? "sim" : "human");
+    if (!cli->cfg.observer[0] && o.headless)
+        fprintf(stderr, "csfcal: study run: note: no display and no --observer: the SIMULATED observer "
+                        "answers (--observer sim); no person is measured\n");
+    o.store_path = csf_cli_store_path(cli);
+    o.quiet = quiet || cli->json;
+    csf_study_run_result res;
+    csf_error err;
+    csf_error_clear(&err);
+    csf_status st = csf_study_run(&o, &res, &err);
+    if (cli->json && res.session_id)
+        printf("{\"session\":%lld,\"study_id\":%lld,\"participant\":\"%s\",\"trials_planned\":%d,"
+               "\"trials_stored\":%d,\"trials_this_run\":%d,\"resumed\":%s,\"finished\":%s,\"seed\":%llu,"
+               "\"hash\":\"%016llx\",\"status\":\"%s\"}\n",
+               (long long)res.session_id, (long long)res.study_id, participant, res.n_planned, res.n_stored,
+               res.n_run_now, res.resumed ? "true" : "false", res.finished ? "true" : "false",
+               (unsigned long long)res.seed, (unsigned long long)res.hash, st == CSF_OK ? "ok" : csf_status_name(st));
+    if (st != CSF_OK) {
+        csf_cli_report("study run", &err);
+        return exit_for(&err, res.session_id != 0);
+    }
+    if (!cli->json)
+        printf("study run: participant %s finished: %d trials in session %lld (%d this run%s)\n", participant,
+               res.n_stored, (long long)res.session_id, res.n_run_now, res.resumed ? ", resumed" : "");
+    return 0;
+}
+
+static int cmd_report(csf_cli *cli, const char *study, const char *out, const char *csv, int n_boot)
+{
+    csf_error err;
+    csf_error_clear(&err);
+    if ((out && csf_check_output_path(out, "report plot", &err) != CSF_OK) ||
+        (csv && csf_check_output_path(csv, "report CSV", &err) != CSF_OK)) {
+        csf_cli_report("study report", &err);
+        return 2;
+    }
+    csf_study_report *r = NULL;
+    csf_status st = csf_study_report_build(csf_cli_store_path(cli), study, n_boot, &r, &err);
+    if (st != CSF_OK) {
+        csf_cli_report("study report", &err);
+        return exit_for(&err, 0);
+    }
+    if (cli->json) {
+        char *j = csf_study_report_json(r);
+        if (j) printf("%s\n", j);
+        free(j);
+    } else {
+        csf_study_report_print(r, stdout);
+    }
+    if (st == CSF_OK && csv) st = csf_study_report_csv(r, csv, &err);
+    if (st == CSF_OK && out) st = csf_study_report_plot(r, out, &err);
+    csf_study_report_free(r);
+    if (st != CSF_OK) {
+        csf_cli_report("study report", &err);
+        return 1;
+    }
+    return 0;
+}
+
+int csf_cmd_study(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const char *sub = argv[1];
+    if (strcmp(sub, "run") && strcmp(sub, "report")) {
+        fprintf(stderr, "csfcal: study: unknown subcommand '%s' (run, report; try csfcal study --help)\n", sub);
+        return 2;
+    }
+    argc--;
+    argv++;
+    csf_cli cli;
+    int rc = csf_cli_init(&cli, argc, argv);
+    if (rc) return rc;
+    static const struct option opts[] = {
+        {"participant", required_argument, 0, OPT_PARTICIPANT},
+        {"csv", required_argument, 0, OPT_CSV},
+        {"out", required_argument, 0, 'o'},
+        {"quiet", no_argument, 0, OPT_QUIET},
+        {"bootstrap", required_argument, 0, OPT_BOOT},
+        {"help", no_argument, 0, 'h'},
+        CSF_CLI_COMMON_OPTIONS,
+        {0, 0, 0, 0},
+    };
+    const char *participant = NULL, *csv = NULL, *out = NULL;
+    int quiet = 0, n_boot = -1;
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":ho:", opts, NULL)) != -1) {
+        long v;
+        switch (c) {
+        case 'h': usage(stdout); return 0;
+        case 'o': out = optarg; break;
+        case OPT_PARTICIPANT: participant = optarg; break;
+        case OPT_CSV: csv = optarg; break;
+        case OPT_QUIET: quiet = 1; break;
+        case OPT_BOOT:
+            if (csf_parse_int(optarg, "bootstrap", 0, 100000, &v) < 0) return 2;
+            n_boot = (int)v;
+            break;
+        default: {
+            int r = csf_cli_option_default(&cli, "study", "", c, argv);
+            if (r >= 0) return r;
+        }
+        }
+    }
+    if (optind + 1 != argc) {
+        fprintf(stderr, "csfcal: study %s: expected one STUDY argument (a settings file%s)\n", sub,
+                strcmp(sub, "report") ? "" : " or a study name");
+        return 2;
+    }
+    const char *study = argv[optind];
+    if (!strcmp(sub, "run")) {
+        if (!participant) {
+            fprintf(stderr, "csfcal: study run: --participant ID is required\n");
+            return 2;
+        }
+        if (out || csv) {
+            fprintf(stderr, "csfcal: study run: -o and --csv belong to study report\n");
+            return 2;
+        }
+        return cmd_run(&cli, study, participant, quiet);
+    }
+    if (participant) {
+        fprintf(stderr, "csfcal: study report: --participant belongs to study run (the report covers every "
+                        "participant, pooled and one by one)\n");
+        return 2;
+    }
+    return cmd_report(&cli, study, out, csv, n_boot);
+}

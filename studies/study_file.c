@@ -1,0 +1,697 @@
+/* Study settings and conditions files (see study_file.h, docs/studies.md). */
+#include "studies/study_file.h"
+
+#include <errno.h>
+#include <stddef.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/file_read.h"
+#include "results/store/store.h"
+#include "stimuli/image.h"
+
+#define SETTINGS_MAX_BYTES (1u << 20)
+#define CONDITIONS_MAX_BYTES (4u << 20)
+#define CSV_MAX_COLUMNS 32
+#define CSV_FIELD_MAX 1024
+
+const char *csf_study_design_name(csf_study_design d)
+{
+    switch (d) {
+    case CSF_DESIGN_2AFC: return "2afc";
+    case CSF_DESIGN_2IFC: return "2ifc";
+    case CSF_DESIGN_SAME_DIFF: return "same_different";
+    case CSF_DESIGN_YES_NO: return "yes_no";
+    }
+    return "?";
+}
+
+uint64_t csf_fnv1a64(const void *data, size_t len, uint64_t h)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < len; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ULL;
+    }
+    return h;
+}
+
+static void settings_defaults(csf_study *s)
+{
+    s->design = CSF_DESIGN_2AFC;
+    s->trials_per_condition = 40;
+    s->practice_trials = 4;
+    s->blocks = 1;
+    s->stimulus_s = 0.5;
+    s->isi_s = 0.5;
+    s->response_window_s = 0;
+    s->iti_s = 0.5;
+    s->fixation_s = 0.5;
+    s->feedback_s = 0.4;
+    s->seed = 1;
+    s->counterbalance = 1;
+    s->catch_fraction = 0.25;
+    s->same_fraction = 0.5;
+    s->sd_differencing = 1;
+    s->max_lapse = 0.06;
+    s->bootstrap = 200;
+    s->adaptive_max_contrast = 0.5;
+    snprintf(s->break_text, sizeof s->break_text, "Take a short break. Press any key to go on.");
+}
+
+static char *trim(char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    size_t n = strlen(s);
+    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
+        s[--n] = '\0';
+    return s;
+}
+
+/* A number in [lo, hi], the whole value (no trailing text, no NaN). */
+static int parse_num(const char *v, double lo, double hi, double *out)
+{
+    if (!*v) return -1;
+    char *end;
+    errno = 0;
+    double d = strtod(v, &end);
+    if (errno || *end || !isfinite(d) || d < lo || d > hi) return -1;
+    *out = d;
+    return 0;
+}
+
+static int parse_bool(const char *v, int *out)
+{
+    if (!strcmp(v, "yes") || !strcmp(v, "true") || !strcmp(v, "1") || !strcmp(v, "on")) *out = 1;
+    else if (!strcmp(v, "no") || !strcmp(v, "false") || !strcmp(v, "0") || !strcmp(v, "off")) *out = 0;
+    else return -1;
+    return 0;
+}
+
+typedef struct {
+    const char *name;
+    double lo, hi;
+    const char *unit;
+    size_t off;    /* offsetof in csf_study; int fields flagged by is_int */
+    int is_int;
+} num_key;
+
+#define NK(n, f, lo, hi, u) {n, lo, hi, u, offsetof(csf_study, f), 0}
+#define IK(n, f, lo, hi, u) {n, lo, hi, u, offsetof(csf_study, f), 1}
+static const num_key num_keys[] = {
+    IK("trials_per_condition", trials_per_condition, 1, 10000, "trials"),
+    IK("practice_trials", practice_trials, 0, 200, "trials"),
+    IK("blocks", blocks, 1, 100, "blocks"),
+    NK("stimulus_s", stimulus_s, 0.001, 60, "s"),
+    NK("isi_s", isi_s, 0, 60, "s"),
+    NK("response_window_s", response_window_s, 0, 600, "s (0 = no limit)"),
+    NK("iti_s", iti_s, 0, 60, "s"),
+    NK("fixation_s", fixation_s, 0, 60, "s"),
+    NK("feedback_s", feedback_s, 0, 10, "s"),
+    NK("catch_fraction", catch_fraction, 0, 0.9, ""),
+    NK("same_fraction", same_fraction, 0.05, 0.95, ""),
+    NK("max_lapse", max_lapse, 0, 0.2, ""),
+    IK("bootstrap", bootstrap, 0, 100000, "samples"),
+    NK("adaptive_max_contrast", adaptive_max_contrast, 0.001, 1, "Michelson"),
+};
+
+static csf_status set_key(csf_study *s, const char *key, const char *v, const char *where, int line,
+                          csf_error *err)
+{
+    for (size_t i = 0; i < sizeof num_keys / sizeof num_keys[0]; i++) {
+        const num_key *k = &num_keys[i];
+        if (strcmp(k->name, key)) continue;
+        double d;
+        if (parse_num(v, k->lo, k->hi, &d) || (k->is_int && d != floor(d)))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: %s = '%s': expected %s from %g to %g %s",
+                                 where, line, key, v, k->is_int ? "a whole number" : "a number", k->lo,
+                                 k->hi, k->unit);
+        if (k->is_int) *(int *)((char *)s + k->off) = (int)d;
+        else *(double *)((char *)s + k->off) = d;
+        return CSF_OK;
+    }
+    if (!strcmp(key, "name")) {
+        if (!*v || strlen(v) >= sizeof s->name || strpbrk(v, "\"'\\"))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: name: 1 to %zu characters, no quotes "
+                                 "(\" or ') or backslashes", where, line, sizeof s->name - 1);
+        snprintf(s->name, sizeof s->name, "%s", v);
+    } else if (!strcmp(key, "design")) {
+        if (!strcmp(v, "2afc")) s->design = CSF_DESIGN_2AFC;
+        else if (!strcmp(v, "2ifc")) s->design = CSF_DESIGN_2IFC;
+        else if (!strcmp(v, "same_different")) s->design = CSF_DESIGN_SAME_DIFF;
+        else if (!strcmp(v, "yes_no")) s->design = CSF_DESIGN_YES_NO;
+        else return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: design = '%s': expected 2afc, 2ifc, "
+                                  "same_different or yes_no", where, line, v);
+    } else if (!strcmp(key, "conditions")) {
+        if (!*v || strlen(v) >= sizeof s->conditions_path)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: conditions: a file name of 1 to %zu "
+                                 "characters", where, line, sizeof s->conditions_path - 1);
+        snprintf(s->conditions_path, sizeof s->conditions_path, "%s", v);
+    } else if (!strcmp(key, "seed")) {
+        double d;
+        if (parse_num(v, 0, 9007199254740991.0, &d) || d != floor(d))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: seed = '%s': expected a whole number "
+                                 "from 0 to 2^53-1", where, line, v);
+        s->seed = (uint64_t)d;
+    } else if (!strcmp(key, "feedback") || !strcmp(key, "counterbalance")) {
+        int b;
+        if (parse_bool(v, &b))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: %s = '%s': expected yes or no", where,
+                                 line, key, v);
+        if (!strcmp(key, "feedback")) s->feedback = b;
+        else s->counterbalance = b;
+    } else if (!strcmp(key, "sd_model")) {
+        if (!strcmp(v, "differencing")) s->sd_differencing = 1;
+        else if (!strcmp(v, "independent")) s->sd_differencing = 0;
+        else return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: sd_model = '%s': expected differencing "
+                                  "or independent", where, line, v);
+    } else if (!strcmp(key, "break_text")) {
+        if (strlen(v) >= sizeof s->break_text)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: break_text: at most %zu characters",
+                                 where, line, sizeof s->break_text - 1);
+        snprintf(s->break_text, sizeof s->break_text, "%s", v);
+    } else {
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown key '%s' (see docs/studies.md)",
+                             where, line, key);
+    }
+    return CSF_OK;
+}
+
+/* Checks between settings that each were fine alone. */
+static csf_status check_settings(const csf_study *s, const char *where, csf_error *err)
+{
+    if (!s->conditions_path[0])
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: no 'conditions = FILE.csv' line", where);
+    if (!s->name[0])
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: no 'name = ...' line (the study's name in the "
+                             "store)", where);
+    if (s->trials_per_condition % s->blocks)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: trials_per_condition %d cannot be split into %d "
+                             "equal blocks", where, s->trials_per_condition, s->blocks);
+    if ((s->design == CSF_DESIGN_2IFC || s->design == CSF_DESIGN_SAME_DIFF) && !(s->isi_s > 0))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: isi_s = 0: a %s design needs a gap between its "
+                             "two intervals (isi_s > 0)", where, csf_study_design_name(s->design));
+    if (s->response_window_s > 0 && s->response_window_s < 0.2)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: response_window_s = %g s: nobody answers that "
+                             "fast (0 = no limit, else at least 0.2 s)", where, s->response_window_s);
+    if (s->design == CSF_DESIGN_YES_NO && !(s->catch_fraction > 0))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: a yes_no design needs catch trials "
+                             "(catch_fraction > 0): without them no false-alarm rate can be measured",
+                             where);
+    return CSF_OK;
+}
+
+/* A line of a study file is shown in messages and stored with every session: tabs and the CR
+ * of a CRLF line end apart, it holds printable text only (the message names the character and
+ * its position in the line). */
+static csf_status check_line(const char *l, const char *where, int line, csf_error *err)
+{
+    char tmp[8192], what[1100];
+    snprintf(tmp, sizeof tmp, "%s", l);
+    size_t n = strlen(tmp);
+    if (n > 0 && tmp[n - 1] == '\r') tmp[n - 1] = '\0';
+    for (char *t = tmp; *t; t++)
+        if (*t == '\t') *t = ' ';
+    snprintf(what, sizeof what, "%s:%d", where, line);
+    return csf_store_check_text(tmp, what, err);
+}
+
+csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, const char *where,
+                                    csf_error *err)
+{
+    settings_defaults(s);
+    if (len > SETTINGS_MAX_BYTES)
+        return csf_error_set(err, CSF_E_FORMAT, "%s: larger than %u bytes", where, SETTINGS_MAX_BYTES);
+    if (memchr(text, '\0', len))
+        return csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a text file)", where);
+    size_t pos = 0;
+    int line = 0;
+    char buf[2048];
+    while (pos < len) {
+        line++;
+        const char *nl = memchr(text + pos, '\n', len - pos);
+        size_t n = nl ? (size_t)(nl - (text + pos)) : len - pos;
+        if (n >= sizeof buf)
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than %zu characters", where, line,
+                                 sizeof buf - 1);
+        memcpy(buf, text + pos, n);
+        buf[n] = '\0';
+        pos += n + (nl ? 1 : 0);
+        char *l = buf;
+        if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
+            l += 3;
+        csf_status lst = check_line(l, where, line, err);
+        if (lst != CSF_OK) return lst;
+        char *hash = strchr(l, '#');
+        if (hash) *hash = '\0';
+        l = trim(l);
+        if (!*l || !strcmp(l, "[study]")) continue;
+        char *eq = strchr(l, '=');
+        if (!eq)
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 'key = value', got '%.60s'", where,
+                                 line, l);
+        *eq = '\0';
+        char *key = trim(l), *val = trim(eq + 1);
+        size_t vl = strlen(val);
+        if (vl >= 2 && val[0] == '"' && val[vl - 1] == '"') {
+            val[vl - 1] = '\0';
+            val++;
+        }
+        csf_status st = set_key(s, key, val, where, line, err);
+        if (st != CSF_OK) return st;
+    }
+    return check_settings(s, where, err);
+}
+
+/* ---- conditions CSV ------------------------------------------------------------------------ */
+
+/* Splits one CSV line into fields (RFC 4180 quoting, "" inside quotes). Returns the number of
+ * fields, or -1 with *why set. */
+static int csv_split(const char *l, char fields[][CSV_FIELD_MAX], int max, const char **why)
+{
+    int n = 0;
+    const char *p = l;
+    for (;;) {
+        if (n == max) {
+            *why = "too many columns";
+            return -1;
+        }
+        size_t k = 0;
+        char *f = fields[n];
+        while (*p == ' ' || *p == '\t') p++;
+        if (*p == '"') {
+            p++;
+            for (;;) {
+                if (!*p) {
+                    *why = "a quoted field is not closed on its line";
+                    return -1;
+                }
+                if (*p == '"' && p[1] != '"') {
+                    p++;
+                    break;
+                }
+                if (k + 1 >= CSV_FIELD_MAX) { /* refused, never cut */
+                    *why = "a field longer than 1023 characters";
+                    return -1;
+                }
+                f[k++] = *p;
+                p += *p == '"' ? 2 : 1; /* "" is one quote */
+            }
+            while (*p == ' ' || *p == '\t') p++;
+            if (*p && *p != ',') {
+                *why = "text after a closing quote";
+                return -1;
+            }
+        } else {
+            while (*p && *p != ',') {
+                if (k + 1 >= CSV_FIELD_MAX) {
+                    *why = "a field longer than 1023 characters";
+                    return -1;
+                }
+                f[k++] = *p++;
+            }
+            while (k > 0 && (f[k - 1] == ' ' || f[k - 1] == '\t')) k--;
+        }
+        f[k] = '\0';
+        n++;
+        if (*p != ',') break;
+        p++;
+    }
+    return n;
+}
+
+enum {
+    COL_LABEL, COL_STIMULUS, COL_FREQ, COL_CONTRAST, COL_METHOD, COL_ECC, COL_POLAR, COL_ORIENT,
+    COL_PHASE, COL_SIGMA, COL_RADIUS, COL_DRIFT, COL_VELOCITY, COL_MOTION_DIR, COL_MEAN_LUM,
+    COL_IMAGE_A, COL_IMAGE_B, COL_SIZE, COL_CURVE, N_COLS
+};
+static const char *const col_names[N_COLS] = {
+    "label", "stimulus", "freq_cpd", "contrast", "method", "ecc_deg", "polar_deg", "orientation_deg",
+    "phase_deg", "sigma_deg", "radius_deg", "drift_hz", "velocity_dps", "motion_dir_deg",
+    "mean_lum_cdm2", "image_a", "image_b", "size_deg", "curve"};
+
+typedef struct {
+    const char *where;
+    int line;
+    const char *label;
+    csf_error *err;
+} row_ctx;
+
+/* A numeric cell: column c of the row, default dflt when the column is absent or the cell empty. */
+static csf_status cell_num(const row_ctx *r, const int *col, char fields[][CSV_FIELD_MAX], int c,
+                           double lo, double hi, const char *unit, double dflt, double *out)
+{
+    *out = dflt;
+    if (col[c] < 0 || !fields[col[c]][0]) return CSF_OK;
+    if (parse_num(fields[col[c]], lo, hi, out))
+        return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): %s = '%.40s': expected a number "
+                             "from %g to %g %s", r->where, r->line, r->label, col_names[c],
+                             fields[col[c]], lo, hi, unit);
+    return CSF_OK;
+}
+
+static csf_status resolve(const char *base_dir, const char *rel, char *out, size_t cap, const row_ctx *r,
+                          const char *col)
+{
+    int n = (rel[0] == '/' || !base_dir || !*base_dir) ? snprintf(out, cap, "%s", rel)
+                                                       : snprintf(out, cap, "%s/%s", base_dir, rel);
+    if (n < 0 || (size_t)n >= cap)
+        return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): %s path longer than %zu characters",
+                             r->where, r->line, r->label, col, cap - 1);
+    return CSF_OK;
+}
+
+/* Radius of a condition's patch in degrees (images: half the width; the height is known only
+ * once the image is read, so csf_study_load checks images again). */
+static double patch_radius_deg(const csf_study_condition *c)
+{
+    switch (c->kind) {
+    case CSF_COND_GABOR: return 3.0 * c->sigma_deg;
+    case CSF_COND_GRATING: return c->radius_deg + 0.25;
+    case CSF_COND_IMAGE: return 0.5 * c->size_deg;
+    }
+    return 0;
+}
+
+static csf_status parse_row(csf_study *s, csf_study_condition *c, const int *col,
+                            char fields[][CSV_FIELD_MAX], const char *base_dir, row_ctx *r)
+{
+    memset(c, 0, sizeof *c);
+    c->line = r->line;
+    const char *lab = fields[col[COL_LABEL]];
+    if (!*lab || strlen(lab) >= sizeof c->label || strpbrk(lab, "\"\\,"))
+        return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d: label: 1 to %zu characters, no quotes, "
+                             "commas or backslashes", r->where, r->line, sizeof c->label - 1);
+    snprintf(c->label, sizeof c->label, "%s", lab);
+    r->label = c->label;
+    const char *kind = col[COL_STIMULUS] >= 0 && fields[col[COL_STIMULUS]][0] ? fields[col[COL_STIMULUS]] : "gabor";
+    if (!strcmp(kind, "gabor")) c->kind = CSF_COND_GABOR;
+    else if (!strcmp(kind, "grating")) c->kind = CSF_COND_GRATING;
+    else if (!strcmp(kind, "image")) c->kind = CSF_COND_IMAGE;
+    else return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): stimulus = '%.40s': expected gabor, "
+                              "grating or image", r->where, r->line, c->label, kind);
+    csf_status st;
+    if ((st = cell_num(r, col, fields, COL_ECC, 0, 80, "deg", NAN, &c->ecc_deg)) != CSF_OK) return st;
+    if (isnan(c->ecc_deg))
+        return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): ecc_deg is empty: every condition "
+                             "needs its eccentricity", r->where, r->line, c->label);
+    if ((st = cell_num(r, col, fields, COL_POLAR, -360, 360, "deg", 0, &c->polar_deg)) != CSF_OK) return st;
+    if ((st = cell_num(r, col, fields, COL_MEAN_LUM, 0, 10000, "cd/m2", 0, &c->mean_lum_cdm2)) != CSF_OK) return st;
+    const char *cu = col[COL_CURVE] >= 0 && fields[col[COL_CURVE]][0] ? fields[col[COL_CURVE]] : c->label;
+    if (strlen(cu) >= sizeof c->curve || strpbrk(cu, "\"\\,"))
+        return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): curve: at most %zu characters, no "
+                             "quotes, commas or backslashes", r->where, r->line, c->label, sizeof c->curve - 1);
+    snprintf(c->curve, sizeof c->curve, "%s", cu);
+    if (c->kind == CSF_COND_IMAGE) {
+        if (col[COL_IMAGE_A] < 0 || col[COL_IMAGE_B] < 0 || col[COL_SIZE] < 0)
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): image conditions need the columns "
+                                 "image_a, image_b and size_deg", r->where, r->line, c->label);
+        if (!fields[col[COL_IMAGE_A]][0] || !fields[col[COL_IMAGE_B]][0])
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): image_a and image_b must both name "
+                                 "a PNG file", r->where, r->line, c->label);
+        if ((st = resolve(base_dir, fields[col[COL_IMAGE_A]], c->image_a, sizeof c->image_a, r, "image_a")) != CSF_OK ||
+            (st = resolve(base_dir, fields[col[COL_IMAGE_B]], c->image_b, sizeof c->image_b, r, "image_b")) != CSF_OK)
+            return st;
+        if ((st = cell_num(r, col, fields, COL_SIZE, 0.05, 160, "deg", NAN, &c->size_deg)) != CSF_OK) return st;
+        if (isnan(c->size_deg))
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): size_deg is empty: an image needs "
+                                 "its width in degrees", r->where, r->line, c->label);
+        c->contrast = 1;
+        if (s->design == CSF_DESIGN_YES_NO)
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): image pairs are judged in 2afc, "
+                                 "2ifc or same_different designs, not yes_no", r->where, r->line, c->label);
+    } else {
+        if (col[COL_FREQ] < 0 || col[COL_CONTRAST] < 0)
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): %s conditions need the columns "
+                                 "freq_cpd and contrast", r->where, r->line, c->label, kind);
+        if ((st = cell_num(r, col, fields, COL_FREQ, 0.01, 1000, "cpd", NAN, &c->freq_cpd)) != CSF_OK) return st;
+        if (isnan(c->freq_cpd))
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): freq_cpd is empty", r->where,
+                                 r->line, c->label);
+        const char *ct = fields[col[COL_CONTRAST]];
+        if (!strcmp(ct, "adaptive")) {
+            c->adaptive = 1;
+            c->contrast = NAN;
+            const char *m = col[COL_METHOD] >= 0 && fields[col[COL_METHOD]][0] ? fields[col[COL_METHOD]] : "2afc";
+            if (strcmp(m, "2afc") && strcmp(m, "bayes"))
+                return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): method = '%.40s': expected 2afc "
+                                     "or bayes (adaptive forced-choice procedures)", r->where, r->line,
+                                     c->label, m);
+            snprintf(c->method, sizeof c->method, "%s", m);
+            if (s->design != CSF_DESIGN_2AFC && s->design != CSF_DESIGN_2IFC)
+                return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): adaptive contrast needs a 2afc "
+                                     "or 2ifc design (the procedures are forced-choice)", r->where, r->line,
+                                     c->label);
+        } else {
+            if (parse_num(ct, 0.0001, 1, &c->contrast))
+                return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): contrast = '%.40s': expected a "
+                                     "Michelson contrast from 0.0001 to 1, or 'adaptive'", r->where, r->line,
+                                     c->label, ct);
+        }
+        if ((st = cell_num(r, col, fields, COL_ORIENT, -360, 360, "deg", 0, &c->orientation_deg)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_PHASE, -360, 360, "deg", 0, &c->phase_deg)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_SIGMA, 0.05, 20, "deg", 1.0, &c->sigma_deg)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_RADIUS, 0.1, 40, "deg", 2.0, &c->radius_deg)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_DRIFT, -60, 60, "Hz", 0, &c->drift_hz)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_VELOCITY, 0, 200, "deg/s", 0, &c->velocity_dps)) != CSF_OK ||
+            (st = cell_num(r, col, fields, COL_MOTION_DIR, -360, 360, "deg", 0, &c->motion_dir_deg)) != CSF_OK)
+            return st;
+        if (s->design == CSF_DESIGN_SAME_DIFF)
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): a same_different design compares "
+                                 "image pairs (stimulus = image)", r->where, r->line, c->label);
+    }
+    if (s->design == CSF_DESIGN_2AFC) {
+        /* the two places are opposite each other on the condition's eccentricity ring */
+        double rad = patch_radius_deg(c);
+        if (c->ecc_deg < rad)
+            return csf_error_set(r->err, CSF_E_INVALID_ARG, "%s:%d (%s): in a 2afc design the two places at "
+                                 "%g deg either side of fixation overlap (patch radius %.3g deg): ecc_deg "
+                                 "must be at least %.3g", r->where, r->line, c->label, c->ecc_deg, rad, rad);
+    }
+    return CSF_OK;
+}
+
+csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len, const char *where,
+                                      const char *base_dir, csf_error *err)
+{
+    free(s->conds);
+    s->conds = NULL;
+    s->n_conds = 0;
+    if (len > CONDITIONS_MAX_BYTES)
+        return csf_error_set(err, CSF_E_FORMAT, "%s: larger than %u bytes", where, CONDITIONS_MAX_BYTES);
+    if (memchr(text, '\0', len))
+        return csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a CSV file)", where);
+    char (*fields)[CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
+    char *buf = malloc(8192);
+    s->conds = calloc(CSF_STUDY_MAX_CONDITIONS, sizeof *s->conds);
+    csf_status st = CSF_OK;
+    if (!fields || !buf || !s->conds) {
+        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        goto out;
+    }
+    int col[N_COLS];
+    for (int i = 0; i < N_COLS; i++) col[i] = -1;
+    int n_header = 0, line = 0;
+    size_t pos = 0;
+    while (pos < len) {
+        line++;
+        const char *nl = memchr(text + pos, '\n', len - pos);
+        size_t n = nl ? (size_t)(nl - (text + pos)) : len - pos;
+        if (n >= 8192) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than 8191 characters", where, line);
+            goto out;
+        }
+        memcpy(buf, text + pos, n);
+        buf[n] = '\0';
+        pos += n + (nl ? 1 : 0);
+        char *l = buf;
+        if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
+            l += 3;
+        if ((st = check_line(l, where, line, err)) != CSF_OK) goto out;
+        l = trim(l);
+        if (!*l || l[0] == '#') continue;
+        const char *why = NULL;
+        int nf = csv_split(l, fields, CSV_MAX_COLUMNS, &why);
+        if (nf < 0) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", where, line, why);
+            goto out;
+        }
+        if (!n_header) {
+            for (int i = 0; i < nf; i++) {
+                int k = 0;
+                while (k < N_COLS && strcmp(fields[i], col_names[k])) k++;
+                if (k == N_COLS) {
+                    st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown column '%.40s' (known: label, "
+                                       "stimulus, freq_cpd, contrast, method, ecc_deg, polar_deg, "
+                                       "orientation_deg, phase_deg, sigma_deg, radius_deg, drift_hz, "
+                                       "velocity_dps, motion_dir_deg, mean_lum_cdm2, image_a, image_b, "
+                                       "size_deg, curve)", where, line, fields[i]);
+                    goto out;
+                }
+                if (col[k] >= 0) {
+                    st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where,
+                                       line, col_names[k]);
+                    goto out;
+                }
+                col[k] = i;
+            }
+            n_header = nf;
+            if (col[COL_LABEL] < 0 || col[COL_ECC] < 0) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: missing column '%s' (every conditions "
+                                   "file needs label and ecc_deg)", where, line,
+                                   col[COL_LABEL] < 0 ? "label" : "ecc_deg");
+                goto out;
+            }
+            continue;
+        }
+        if (nf != n_header) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %d fields, the header has %d", where, line, nf,
+                               n_header);
+            goto out;
+        }
+        if (s->n_conds == CSF_STUDY_MAX_CONDITIONS) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: more than %d conditions", where, line,
+                               CSF_STUDY_MAX_CONDITIONS);
+            goto out;
+        }
+        row_ctx r = {where, line, "?", err};
+        csf_study_condition *c = &s->conds[s->n_conds];
+        st = parse_row(s, c, col, fields, base_dir, &r);
+        if (st != CSF_OK) goto out;
+        for (int i = 0; i < s->n_conds; i++)
+            if (!strcmp(s->conds[i].label, c->label)) {
+                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: label '%s' already used on line %d", where,
+                                   line, c->label, s->conds[i].line);
+                goto out;
+            }
+        s->n_conds++;
+    }
+    if (!n_header) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty (no header row)", where);
+    else if (!s->n_conds) st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: no conditions after the header", where);
+out:
+    free(fields);
+    free(buf);
+    if (st != CSF_OK) {
+        free(s->conds);
+        s->conds = NULL;
+        s->n_conds = 0;
+    }
+    return st;
+}
+
+/* Every image exists, decodes, and the two of a pair have the same size. */
+static csf_status check_images(const csf_study *s, csf_error *err)
+{
+    for (int i = 0; i < s->n_conds; i++) {
+        const csf_study_condition *c = &s->conds[i];
+        if (c->kind != CSF_COND_IMAGE) continue;
+        csf_image *im[2] = {NULL, NULL};
+        const char *paths[2] = {c->image_a, c->image_b};
+        for (int k = 0; k < 2; k++) {
+            csf_error e;
+            if (csf_image_load_png(paths[k], &im[k], &e) != CSF_OK) {
+                csf_image_free(im[0]);
+                return csf_error_set(err, CSF_E_NOT_FOUND, "%s:%d (%s): %s: %s", s->conditions_path, c->line,
+                                     c->label, k ? "image_b" : "image_a", e.msg);
+            }
+        }
+        int same = im[0]->width == im[1]->width && im[0]->height == im[1]->height;
+        int w0 = im[0]->width, h0 = im[0]->height, w1 = im[1]->width, h1 = im[1]->height;
+        csf_image_free(im[0]);
+        csf_image_free(im[1]);
+        if (!same)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d (%s): image_a is %dx%d px, image_b %dx%d px: "
+                                 "a pair must have one size", s->conditions_path, c->line, c->label, w0, h0,
+                                 w1, h1);
+    }
+    return CSF_OK;
+}
+
+static void dir_of(const char *path, char *out, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(out, cap, ".");
+    else if (slash == path) snprintf(out, cap, "/");
+    else snprintf(out, cap, "%.*s", (int)(slash - path), path);
+}
+
+csf_status csf_study_from_texts(const char *settings, const char *conditions, const char *path,
+                                const char *conditions_path, int check_img, csf_study **out,
+                                csf_error *err)
+{
+    *out = NULL;
+    csf_study *s = calloc(1, sizeof *s);
+    if (!s) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    csf_status st = csf_study_parse_settings(s, settings, strlen(settings), path, err);
+    if (st == CSF_OK) {
+        snprintf(s->path, sizeof s->path, "%s", path);
+        snprintf(s->conditions_path, sizeof s->conditions_path, "%s", conditions_path);
+        char dir[1024];
+        dir_of(conditions_path, dir, sizeof dir);
+        st = csf_study_parse_conditions(s, conditions, strlen(conditions), conditions_path, dir, err);
+    }
+    if (st == CSF_OK && check_img) st = check_images(s, err);
+    if (st == CSF_OK) {
+        s->settings_text = strdup(settings);
+        s->conditions_text = strdup(conditions);
+        if (!s->settings_text || !s->conditions_text) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        uint64_t h = csf_fnv1a64(settings, strlen(settings), CSF_FNV1A64_INIT);
+        h = csf_fnv1a64("\n--\n", 4, h);
+        s->hash = csf_fnv1a64(conditions, strlen(conditions), h);
+    }
+    if (st != CSF_OK) {
+        csf_study_free(s);
+        return st;
+    }
+    *out = s;
+    return CSF_OK;
+}
+
+csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
+{
+    *out = NULL;
+    char *settings = NULL, *conditions = NULL;
+    size_t len = 0, clen = 0;
+    csf_status st = csf_read_file(path, "study settings", SETTINGS_MAX_BYTES, &settings, &len, err);
+    if (st != CSF_OK) return st;
+    csf_study probe;
+    memset(&probe, 0, sizeof probe);
+    st = csf_study_parse_settings(&probe, settings, len, path, err);
+    if (st != CSF_OK) {
+        free(settings);
+        return st;
+    }
+    char dir[1024], cpath[2048];
+    dir_of(path, dir, sizeof dir);
+    if (probe.conditions_path[0] == '/') snprintf(cpath, sizeof cpath, "%s", probe.conditions_path);
+    else snprintf(cpath, sizeof cpath, "%s/%s", dir, probe.conditions_path);
+    if (strlen(cpath) >= sizeof probe.conditions_path) {
+        free(settings);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: conditions path too long", path);
+    }
+    csf_error e;
+    st = csf_read_file(cpath, "study conditions", CONDITIONS_MAX_BYTES, &conditions, &clen, &e);
+    if (st != CSF_OK) {
+        free(settings);
+        return csf_error_set(err, st, "%s: conditions = %s: %s", path, probe.conditions_path, e.msg);
+    }
+    if (memchr(conditions, '\0', clen) || memchr(settings, '\0', len))
+        st = csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a text file)",
+                           memchr(settings, '\0', len) ? path : cpath);
+    else
+        st = csf_study_from_texts(settings, conditions, path, cpath, 1, out, err);
+    free(settings);
+    free(conditions);
+    return st;
+}
+
+void csf_study_free(csf_study *s)
+{
+    if (!s) return;
+    free(s->conds);
+    free(s->settings_text);
+    free(s->conditions_text);
+    free(s);
+}

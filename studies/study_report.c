@@ -1,0 +1,563 @@
+/* User-study analysis (see study_report.h). */
+#include "studies/study_report.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "studies/study_plan.h"
+#include "core/file_read.h"
+#include "core/file_write.h"
+#include "core/json_read.h"
+#include "results/store/store.h"
+#include "studies/study_plot.h"
+
+#define MAX_SCOPES 257 /* pooled + participants */
+
+/* One session's material: its study copy, plan and trials. */
+typedef struct {
+    csf_study *study;
+    csf_study_trial *plan;
+    int n_plan;
+    csf_trial *trials;
+    size_t n_trials;
+    char participant[64];
+    int finished;
+} session_data;
+
+static void session_data_free(session_data *d)
+{
+    csf_study_free(d->study);
+    free(d->plan);
+    free(d->trials);
+}
+
+static csf_status study_name_of(const char *study, char *name, size_t cap, csf_error *err)
+{
+    char *text = NULL;
+    size_t len = 0;
+    csf_error e;
+    if (csf_read_file(study, "study settings", 1u << 20, &text, &len, &e) != CSF_OK) {
+        /* not a readable file: a study name */
+        if (strchr(study, '/') || strstr(study, ".conf"))
+            return csf_error_set(err, CSF_E_NOT_FOUND, "study report: %s", e.msg);
+        snprintf(name, cap, "%s", study);
+        return CSF_OK;
+    }
+    csf_study s;
+    memset(&s, 0, sizeof s);
+    csf_status st = csf_study_parse_settings(&s, text, len, study, err);
+    free(text);
+    if (st == CSF_OK) snprintf(name, cap, "%s", s.name);
+    return st;
+}
+
+/* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
+ * storing them): the caller leaves such a session out instead of failing the whole study. */
+static csf_status load_session(csf_store *store, const csf_session_info *info, session_data *d, csf_error *err)
+{
+    memset(d, 0, sizeof *d);
+    csf_json_doc *doc = NULL;
+    csf_status st = csf_json_parse_object(info->settings_json, "study session settings", &doc, err);
+    if (st != CSF_OK) return st;
+    double seed = 0;
+    char code[sizeof d->participant] = "";
+    csf_json_get_string(doc, "participant", code, sizeof code, err);
+    /* Stored settings are outside input by now: a code is shown escaped, never as raw bytes. */
+    csf_store_printable(code, d->participant, sizeof d->participant);
+    int got = csf_json_get_number(doc, "seed", 0, 1.8446744073709552e19, &seed, err);
+    csf_json_free(doc);
+    (void)got;
+    void *sb = NULL, *cb = NULL;
+    size_t sl = 0, cl = 0;
+    char sp[1024] = "", cp[1024] = "";
+    st = csf_store_get_artifact(store, info->id, "study", &sb, &sl, sp, sizeof sp, err);
+    if (st == CSF_OK) st = csf_store_get_artifact(store, info->id, "conditions", &cb, &cl, cp, sizeof cp, err);
+    if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
+    free(sb);
+    free(cb);
+    /* the seed as stored with the session row (exact; the JSON number is a double) */
+    if (st == CSF_OK) st = csf_study_make_plan(d->study, info->seed, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK) st = csf_store_get_trials(store, info->id, &d->trials, &d->n_trials, err);
+    d->finished = !strcmp(info->state, "finished");
+    return st;
+}
+
+/* Row lookup/creation: (scope, is_curve, name). */
+static csf_study_row *row_for(csf_study_report *r, int cap, const char *scope, int is_curve, const char *name,
+                             const csf_study_condition *c)
+{
+    for (int i = 0; i < r->n_rows; i++)
+        if (r->rows[i].is_curve == is_curve && !strcmp(r->rows[i].scope, scope) && !strcmp(r->rows[i].name, name))
+            return &r->rows[i];
+    if (r->n_rows >= cap) return NULL;
+    csf_study_row *w = &r->rows[r->n_rows++];
+    memset(w, 0, sizeof *w);
+    snprintf(w->scope, sizeof w->scope, "%s", scope);
+    snprintf(w->name, sizeof w->name, "%s", name);
+    w->is_curve = is_curve;
+    w->freq_cpd = c->kind == CSF_COND_IMAGE ? NAN : c->freq_cpd;
+    w->ecc_deg = c->ecc_deg;
+    return w;
+}
+
+static void add_level(csf_study_row *w, double x, int ok)
+{
+    int best = -1;
+    for (int i = 0; i < w->n_levels; i++)
+        if (fabs(w->levels[i].x_log10 - x) < 1e-9) best = i;
+    if (best < 0 && w->n_levels < CSF_REPORT_MAX_LEVELS) {
+        best = w->n_levels++;
+        w->levels[best].x_log10 = x;
+    }
+    if (best < 0) { /* full: the nearest level takes it */
+        best = 0;
+        for (int i = 1; i < w->n_levels; i++)
+            if (fabs(w->levels[i].x_log10 - x) < fabs(w->levels[best].x_log10 - x)) best = i;
+    }
+    w->levels[best].n++;
+    w->levels[best].k += ok;
+}
+
+/* Scores one trial into a row: forced choice counts correct answers; yes/no and same/different
+ * count hits (response 1 when a target/difference was there) and false alarms. */
+static void score(csf_study_row *w, csf_study_design d, const csf_trial *t, int curve)
+{
+    int forced = d == CSF_DESIGN_2AFC || d == CSF_DESIGN_2IFC;
+    int correct = forced ? t->response == t->signal_interval : (t->response == 1) == !t->is_catch;
+    if (!curve) {
+        w->n++;
+        w->k += correct;
+    }
+    if (!forced) {
+        if (t->is_catch) {
+            w->n_noise++;
+            w->false_alarms += t->response == 1;
+        } else {
+            w->n_signal++;
+            w->hits += t->response == 1;
+        }
+    }
+    if (curve && t->contrast_requested > 0 && (forced || !t->is_catch))
+        add_level(w, log10(t->contrast_requested), forced ? correct : t->response == 1);
+}
+
+/* Rates of 0 or 1 moved by 1/(2N) (Macmillan & Kaplan 1985) so that z stays finite. */
+static double corrected_rate(int k, int n)
+{
+    if (n <= 0) return NAN;
+    double r = (double)k / n;
+    if (k == 0) r = 0.5 / n;
+    if (k == n) r = 1 - 0.5 / n;
+    return r;
+}
+
+void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed)
+{
+    if (w->n > 0) {
+        w->p = (double)w->k / w->n;
+        csf_stats_clopper_pearson(w->k, w->n, 0.95, &w->ci_lo, &w->ci_hi);
+        w->p_greater = csf_stats_binom_p_greater(w->k, w->n, 0.5);
+        w->p_two_sided = csf_stats_binom_p_two_sided(w->k, w->n, 0.5);
+    } else {
+        w->p = w->ci_lo = w->ci_hi = w->p_greater = w->p_two_sided = NAN;
+    }
+    w->hit_rate = w->n_signal ? (double)w->hits / w->n_signal : NAN;
+    w->fa_rate = w->n_noise ? (double)w->false_alarms / w->n_noise : NAN;
+    w->dprime = NAN;
+    if (w->n_signal && w->n_noise) {
+        double h = corrected_rate(w->hits, w->n_signal), f = corrected_rate(w->false_alarms, w->n_noise);
+        if (s->design == CSF_DESIGN_YES_NO) w->dprime = csf_stats_dprime_yesno(h, f);
+        else if (s->design == CSF_DESIGN_SAME_DIFF) {
+            w->dprime = s->sd_differencing ? csf_stats_dprime_sd_differencing(h, f)
+                                           : csf_stats_dprime_sd_independent(h, f);
+            if (isnan(w->dprime)) w->dprime = 0; /* h <= f: no evidence of a difference */
+        }
+    }
+    w->t_lo = w->t_hi = w->beta_lo = w->beta_hi = NAN;
+    w->tb_lo = w->tb_hi = w->bb_lo = w->bb_hi = NAN;
+    if (w->is_curve != 1) return;
+    double guess = 0.5;
+    if (s->design == CSF_DESIGN_YES_NO) {
+        guess = w->n_noise ? (double)w->false_alarms / w->n_noise : 0.02;
+        guess = fmin(0.5, fmax(0.001, guess));
+    }
+    if (csf_weibull_fit_ml(w->levels, (size_t)w->n_levels, guess, s->max_lapse, &w->fit) == 0) {
+        w->have_fit = 1;
+        csf_weibull_marginal_ci(w->levels, (size_t)w->n_levels, &w->fit, s->max_lapse, 0.95, &w->t_lo, &w->t_hi,
+                                &w->beta_lo, &w->beta_hi);
+        if (n_boot > 1)
+            w->n_boot_ok = csf_weibull_bootstrap(w->levels, (size_t)w->n_levels, &w->fit, s->max_lapse, n_boot,
+                                                 seed, 0.95, &w->tb_lo, &w->tb_hi, &w->bb_lo, &w->bb_hi);
+    }
+}
+
+static void add_participant(csf_study_report *r, const char *p)
+{
+    size_t n = strlen(r->participants);
+    if (n + strlen(p) + 2 < sizeof r->participants)
+        snprintf(r->participants + n, sizeof r->participants - n, "%s%s", n ? "," : "", p);
+}
+
+static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap, int n_boot, csf_error *err)
+{
+    const csf_study *s = ds[0].study;
+    /* rows in a fixed order: pooled, then each participant; conditions in file order, then curves */
+    for (int i = -1; i < nd; i++) {
+        const char *scope = i < 0 ? "pooled" : ds[i].participant;
+        for (int c = 0; c < s->n_conds; c++)
+            if (!row_for(r, cap, scope, 0, s->conds[c].label, &s->conds[c]))
+                return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+        /* gratings: psychometric curves (1); images: groups pooled by their curve name (2) */
+        for (int c = 0; c < s->n_conds; c++)
+            if (!row_for(r, cap, scope, s->conds[c].kind == CSF_COND_IMAGE ? 2 : 1, s->conds[c].curve, &s->conds[c]))
+                return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+    }
+    for (int i = 0; i < nd; i++) {
+        session_data *d = &ds[i];
+        add_participant(r, d->participant);
+        r->n_finished += d->finished;
+        for (size_t j = 0; j < d->n_trials; j++) {
+            const csf_trial *t = &d->trials[j];
+            if (t->seq < 0 || t->seq >= d->n_plan) continue;
+            const csf_study_trial *pt = &d->plan[t->seq];
+            if (t->is_practice || pt->practice) continue;
+            if (!t->valid) {
+                r->n_excluded++;
+                continue;
+            }
+            r->n_trials++;
+            const csf_study_condition *c = &s->conds[pt->cond];
+            const char *scopes[2] = {"pooled", d->participant};
+            for (int k = 0; k < 2; k++) {
+                csf_study_row *w = row_for(r, cap, scopes[k], 0, c->label, c);
+                if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+                score(w, s->design, t, 0);
+                if (c->kind == CSF_COND_IMAGE) {
+                    w = row_for(r, cap, scopes[k], 2, c->curve, c);
+                    if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+                    score(w, s->design, t, 0);
+                    continue;
+                }
+                w = row_for(r, cap, scopes[k], 1, c->curve, c);
+                if (!w) return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
+                score(w, s->design, t, 1);
+            }
+        }
+    }
+    for (int i = 0; i < r->n_rows; i++) csf_study_row_finish(&r->rows[i], s, n_boot, s->hash ^ (uint64_t)(i + 1));
+    return CSF_OK;
+}
+
+csf_status csf_study_report_build(const char *store_path, const char *study, int n_boot,
+                                  csf_study_report **out, csf_error *err)
+{
+    *out = NULL;
+    char name[128];
+    csf_status st = study_name_of(study, name, sizeof name, err);
+    if (st != CSF_OK) return st;
+    csf_store *store = NULL;
+    st = csf_store_open_readonly(store_path, &store, err);
+    if (st != CSF_OK) return st;
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    session_data *ds = NULL;
+    int nd = 0;
+    csf_study_report *r = calloc(1, sizeof *r);
+    if (!r) {
+        csf_store_close(store);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    snprintf(r->name, sizeof r->name, "%s", name);
+    st = csf_store_list_sessions(store, &list, &n, err);
+    if (st == CSF_OK && !(ds = calloc(n ? n : 1, sizeof *ds))) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (size_t i = 0; st == CSF_OK && i < n; i++) {
+        if (strcmp(list[i].kind, "study")) continue;
+        csf_session_info info;
+        memset(&info, 0, sizeof info);
+        csf_error e;
+        if (csf_store_get_session(store, list[i].id, &info, &e) != CSF_OK) continue;
+        csf_json_doc *doc = NULL;
+        char sname[128] = "";
+        if (info.settings_json && csf_json_parse_object(info.settings_json, "settings", &doc, &e) == CSF_OK) {
+            csf_json_get_string(doc, "study", sname, sizeof sname, &e);
+            csf_json_free(doc);
+        }
+        if (strcmp(sname, name)) {
+            csf_session_info_free(&info);
+            continue;
+        }
+        st = load_session(store, &info, &ds[nd], err);
+        csf_session_info_free(&info);
+        if (st == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
+            fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)list[i].id,
+                    err->msg);
+            session_data_free(&ds[nd]);
+            csf_error_clear(err);
+            st = CSF_OK;
+            continue;
+        }
+        if (st != CSF_OK) {
+            char m[sizeof err->msg];
+            snprintf(m, sizeof m, "%s", err->msg);
+            csf_error_set(err, st, "study report: session %lld: %s", (long long)list[i].id, m);
+            session_data_free(&ds[nd]);
+            break;
+        }
+        /* sessions of another version of the study files are not pooled with this one */
+        if (nd > 0 && ds[nd].study->hash != ds[0].study->hash) {
+            fprintf(stderr, "csfcal: study report: session %lld ran other study files (hash %016llx, not "
+                            "%016llx): left out\n", (long long)list[i].id,
+                    (unsigned long long)ds[nd].study->hash, (unsigned long long)ds[0].study->hash);
+            session_data_free(&ds[nd]);
+            continue;
+        }
+        nd++;
+    }
+    if (st == CSF_OK && nd == 0)
+        st = csf_error_set(err, CSF_E_NOT_FOUND, "study report: the store %s holds no session of study '%s'",
+                           store_path, name);
+    int cap = 0;
+    if (st == CSF_OK) {
+        const csf_study *s = ds[0].study;
+        r->design = s->design;
+        r->sd_differencing = s->sd_differencing;
+        r->hash = s->hash;
+        r->n_sessions = nd;
+        cap = 2 * s->n_conds * (nd + 1);
+        r->rows = calloc((size_t)cap, sizeof *r->rows);
+        if (!r->rows) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        else st = analyse(r, ds, nd, cap, n_boot >= 0 ? n_boot : s->bootstrap, err);
+    }
+    for (int i = 0; i < nd; i++) session_data_free(&ds[i]);
+    free(ds);
+    csf_session_list_free(list, n);
+    csf_store_close(store);
+    if (st != CSF_OK) {
+        csf_study_report_free(r);
+        return st;
+    }
+    *out = r;
+    return CSF_OK;
+}
+
+void csf_study_report_free(csf_study_report *r)
+{
+    if (!r) return;
+    free(r->rows);
+    free(r);
+}
+
+static const char *sd_model_name(const csf_study_report *r)
+{
+    if (r->design == CSF_DESIGN_YES_NO) return "yes/no: z(H) - z(F)";
+    if (r->design == CSF_DESIGN_SAME_DIFF)
+        return r->sd_differencing ? "same/different, differencing model" : "same/different, independent observations";
+    return "";
+}
+
+void csf_study_report_print(const csf_study_report *r, FILE *fp)
+{
+    fprintf(fp, "study %s (%s): %d session(s), %d finished; participants %s; %d trials scored, %d invalid left "
+                "out\n", r->name, csf_study_design_name(r->design), r->n_sessions, r->n_finished, r->participants,
+            r->n_trials, r->n_excluded);
+    if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF) fprintf(fp, "d': %s\n", sd_model_name(r));
+    fprintf(fp, "%-10s %-16s %5s %5s %6s %15s %9s", "scope", "condition", "n", "k", "p", "95% CI (exact)", "p(>chance)");
+    if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF) fprintf(fp, " %6s %6s %6s", "H", "F", "d'");
+    fputc('\n', fp);
+    for (int i = 0; i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        if (w->is_curve == 1) continue;
+        char nm[80];
+        snprintf(nm, sizeof nm, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
+        fprintf(fp, "%-10.10s %-16.16s %5d %5d %6.3f [%5.3f, %5.3f] %10.3g", w->scope, nm, w->n, w->k, w->p,
+                w->ci_lo, w->ci_hi, w->p_greater);
+        if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF)
+            fprintf(fp, " %6.3f %6.3f %6.2f", w->hit_rate, w->fa_rate, w->dprime);
+        fputc('\n', fp);
+    }
+    int any = 0;
+    for (int i = 0; i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        if (w->is_curve != 1) continue;
+        if (!any++)
+            fprintf(fp, "\npsychometric fits (Weibull, ML; 95%% intervals from the marginal posterior, flat priors):\n%-10s %-16s %8s %19s %6s "
+                        "%15s %6s\n", "scope", "curve", "t log10", "t 95% CI", "beta", "beta 95% CI", "lapse");
+        if (!w->have_fit) {
+            fprintf(fp, "%-10.10s %-16.16s  (no fit: fewer than two levels)\n", w->scope, w->name);
+            continue;
+        }
+        fprintf(fp, "%-10.10s %-16.16s %8.3f [%7.3f, %7.3f] %6.2f [%5.2f, %5.2f] %6.3f\n", w->scope, w->name,
+                w->fit.t_log10, w->t_lo, w->t_hi, w->fit.beta, w->beta_lo, w->beta_hi, w->fit.lapse);
+    }
+}
+
+static json_t *num(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
+char *csf_study_report_json(const csf_study_report *r)
+{
+    json_t *root = json_object();
+    char hash[32];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)r->hash);
+    json_object_set_new(root, "study", json_string(r->name));
+    json_object_set_new(root, "design", json_string(csf_study_design_name(r->design)));
+    json_object_set_new(root, "hash", json_string(hash));
+    json_object_set_new(root, "dprime_model", json_string(sd_model_name(r)));
+    json_object_set_new(root, "sessions", json_integer(r->n_sessions));
+    json_object_set_new(root, "sessions_finished", json_integer(r->n_finished));
+    json_object_set_new(root, "trials_scored", json_integer(r->n_trials));
+    json_object_set_new(root, "trials_invalid", json_integer(r->n_excluded));
+    json_object_set_new(root, "participants", json_string(r->participants));
+    json_t *conds = json_array(), *curves = json_array(), *groups = json_array();
+    for (int i = 0; i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "scope", json_string(w->scope));
+        json_object_set_new(o, w->is_curve == 1 ? "curve" : w->is_curve == 2 ? "group" : "condition",
+                            json_string(w->name));
+        json_object_set_new(o, "freq_cpd", num(w->freq_cpd));
+        json_object_set_new(o, "ecc_deg", num(w->ecc_deg));
+        if (w->is_curve != 1) {
+            json_object_set_new(o, "n", json_integer(w->n));
+            json_object_set_new(o, "correct", json_integer(w->k));
+            json_object_set_new(o, "p_correct", num(w->p));
+            json_object_set_new(o, "ci95", json_pack("[o,o]", num(w->ci_lo), num(w->ci_hi)));
+            json_object_set_new(o, "p_value_above_chance", num(w->p_greater));
+            json_object_set_new(o, "p_value_two_sided", num(w->p_two_sided));
+            if (w->n_signal || w->n_noise) {
+                json_object_set_new(o, "hits", json_integer(w->hits));
+                json_object_set_new(o, "n_signal", json_integer(w->n_signal));
+                json_object_set_new(o, "false_alarms", json_integer(w->false_alarms));
+                json_object_set_new(o, "n_noise", json_integer(w->n_noise));
+                json_object_set_new(o, "hit_rate", num(w->hit_rate));
+                json_object_set_new(o, "fa_rate", num(w->fa_rate));
+                json_object_set_new(o, "dprime", num(w->dprime));
+            }
+            json_array_append_new(w->is_curve == 2 ? groups : conds, o);
+            continue;
+        }
+        json_t *lv = json_array();
+        for (int j = 0; j < w->n_levels; j++)
+            json_array_append_new(lv, json_pack("{s:o,s:i,s:i}", "log10_contrast", num(w->levels[j].x_log10), "n",
+                                                w->levels[j].n, "k", w->levels[j].k));
+        json_object_set_new(o, "levels", lv);
+        json_object_set_new(o, "fitted", json_boolean(w->have_fit));
+        if (w->have_fit) {
+            json_object_set_new(o, "t_log10", num(w->fit.t_log10));
+            json_object_set_new(o, "threshold", num(pow(10.0, w->fit.t_log10)));
+            json_object_set_new(o, "t_log10_ci95", json_pack("[o,o]", num(w->t_lo), num(w->t_hi)));
+            json_object_set_new(o, "beta", num(w->fit.beta));
+            json_object_set_new(o, "beta_ci95", json_pack("[o,o]", num(w->beta_lo), num(w->beta_hi)));
+            json_object_set_new(o, "lapse", num(w->fit.lapse));
+            json_object_set_new(o, "guess", num(w->fit.guess));
+            json_object_set_new(o, "ci95_method", json_string("marginal posterior, flat priors on t, log beta, lapse"));
+            json_object_set_new(o, "t_log10_ci95_bootstrap", json_pack("[o,o]", num(w->tb_lo), num(w->tb_hi)));
+            json_object_set_new(o, "beta_ci95_bootstrap", json_pack("[o,o]", num(w->bb_lo), num(w->bb_hi)));
+            json_object_set_new(o, "bootstrap_ok", json_integer(w->n_boot_ok));
+        }
+        json_array_append_new(curves, o);
+    }
+    json_object_set_new(root, "conditions", conds);
+    json_object_set_new(root, "curves", curves);
+    json_object_set_new(root, "groups", groups);
+    char *s = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER);
+    json_decref(root);
+    return s;
+}
+
+static void csv_num(FILE *fp, double v)
+{
+    if (isfinite(v)) fprintf(fp, ",%.9g", v);
+    else fputs(",NA", fp);
+}
+
+csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf_error *err)
+{
+    csf_atomic_file af = {0};
+    csf_status st = csf_atomic_open(&af, path, "study report CSV", err);
+    if (st != CSF_OK) return st;
+    FILE *fp = af.fp;
+    fputs("study,design,scope,kind,name,freq_cpd,ecc_deg,n,correct,p_correct,ci_lo,ci_hi,p_above_chance,"
+          "p_two_sided,hits,n_signal,false_alarms,n_noise,hit_rate,fa_rate,dprime,t_log10,t_lo,t_hi,beta,"
+          "beta_lo,beta_hi,lapse,guess\n", fp);
+    for (int i = 0; i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        fprintf(fp, "%s,%s,%s,%s,%s", r->name, csf_study_design_name(r->design), w->scope,
+                w->is_curve == 1 ? "curve" : w->is_curve == 2 ? "group" : "condition", w->name);
+        csv_num(fp, w->freq_cpd);
+        csv_num(fp, w->ecc_deg);
+        if (w->is_curve == 1) fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
+        else {
+            fprintf(fp, ",%d,%d", w->n, w->k);
+            csv_num(fp, w->p);
+            csv_num(fp, w->ci_lo);
+            csv_num(fp, w->ci_hi);
+            csv_num(fp, w->p_greater);
+            csv_num(fp, w->p_two_sided);
+        }
+        if (w->is_curve != 1 && (w->n_signal || w->n_noise)) {
+            fprintf(fp, ",%d,%d,%d,%d", w->hits, w->n_signal, w->false_alarms, w->n_noise);
+            csv_num(fp, w->hit_rate);
+            csv_num(fp, w->fa_rate);
+            csv_num(fp, w->dprime);
+        } else {
+            fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
+        }
+        if (w->is_curve == 1 && w->have_fit) {
+            csv_num(fp, w->fit.t_log10);
+            csv_num(fp, w->t_lo);
+            csv_num(fp, w->t_hi);
+            csv_num(fp, w->fit.beta);
+            csv_num(fp, w->beta_lo);
+            csv_num(fp, w->beta_hi);
+            csv_num(fp, w->fit.lapse);
+            csv_num(fp, w->fit.guess);
+        } else {
+            fputs(",NA,NA,NA,NA,NA,NA,NA,NA", fp);
+        }
+        fputc('\n', fp);
+    }
+    return csf_atomic_commit(&af, err);
+}
+
+csf_status csf_study_report_plot(const csf_study_report *r, const char *path, csf_error *err)
+{
+    csf_study_plot_curve *cv = calloc((size_t)(r->n_rows ? r->n_rows : 1), sizeof *cv);
+    csf_study_plot_bar *bars = calloc((size_t)(r->n_rows ? r->n_rows : 1), sizeof *bars);
+    if (!cv || !bars) {
+        free(cv);
+        free(bars);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
+    int nc = 0, nb = 0;
+    for (int i = 0; i < r->n_rows; i++) {
+        const csf_study_row *w = &r->rows[i];
+        if (w->is_curve == 1) {
+            csf_study_plot_curve *c = &cv[nc++];
+            snprintf(c->title, sizeof c->title, "%s: curve %s (%s)", r->name, w->name, w->scope);
+            c->levels = w->levels;
+            c->n_levels = w->n_levels;
+            c->fit = w->fit;
+            c->have_fit = w->have_fit;
+            c->t_lo = w->t_lo;
+            c->t_hi = w->t_hi;
+        } else if (!strcmp(w->scope, "pooled")) {
+            csf_study_plot_bar *b = &bars[nb++];
+            snprintf(b->label, sizeof b->label, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
+            b->p = w->p;
+            b->lo = w->ci_lo;
+            b->hi = w->ci_hi;
+            b->chance = 0.5;
+        }
+    }
+    char title[200];
+    snprintf(title, sizeof title, "%s (%s): proportion correct, pooled", r->name, csf_study_design_name(r->design));
+    csf_status st = csf_study_plot_write(path, title, cv, nc, bars, nb, "proportion correct (95% exact CI)", err);
+    free(cv);
+    free(bars);
+    return st;
+}
