@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds with ASan/UBSan and warnings as errors, runs every test (unit,
-# integration, fuzz-corpus replay, and a short libFuzzer run of each fuzz target), and prints
-# the closing line "N passed, N failed".
+# integration, fuzz-corpus replay, and a short libFuzzer run of each fuzz target), checks the
+# format of changed lines and runs clang-tidy, and prints the closing line "N passed, N failed".
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh || { echo "setup failed"; echo "0 passed, 1 failed"; exit 1; }
@@ -29,6 +29,14 @@ for line in open(sys.argv[1]):
 print(p, f)
 PY
 )
+
+# Changed lines follow .clang-format; clang-tidy's checks are clean (one count each).
+lint_passed=0; lint_failed=0
+if bash scripts/check-format.sh; then lint_passed=$((lint_passed + 1)); else lint_failed=$((lint_failed + 1)); fi
+if [ "${CSF_SKIP_TIDY:-0}" != 1 ]; then
+  if bash scripts/tidy.sh build-test; then lint_passed=$((lint_passed + 1)); else lint_failed=$((lint_failed + 1)); fi
+fi
+passed=$((passed + lint_passed)); failed=$((failed + lint_failed))
 
 # Short coverage-guided fuzzing of every target (clang + libFuzzer).
 fuzz_passed=0; fuzz_failed=0

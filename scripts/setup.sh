@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
-  meson ninja-build pkg-config gcc g++ clang libclang-rt-14-dev make
+  meson ninja-build pkg-config gcc g++ clang libclang-rt-14-dev make clang-format clang-tidy
   libglfw3-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libsqlite3-dev sqlite3 libcairo2-dev libpng-dev
   libopencolorio-dev opencolorio-tools liblcms2-dev liblcms2-utils
