@@ -1,4 +1,4 @@
-/* Display calibration accuracy against the simulated truth (issue 4 targets): max relative
+/* Display calibration accuracy against the simulated truth: max relative
  * luminance error above 10 % of peak, grey and channels, and readings used, for csfcal's adaptive
  * procedure beside two baselines measured with the same simulated instrument after the same
  * warm-up: a Pelli–Zhang power law L = a + (b + kV)^g fitted to 8 grey readings (what PsychoPy

@@ -1,4 +1,4 @@
-/* Several stations writing trials at once (issue 15 item 6): 1, 4 and 16 processes, each with
+/* Several stations writing trials at once: 1, 4 and 16 processes, each with
  * its own session, each trial (with 60 frame intervals) committed durably before the next, as
  * during a session. Prints, per number of stations: durable trial commits per second over all
  * stations, and the per-trial latency (median, 99th percentile) a station sees.

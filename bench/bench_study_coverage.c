@@ -1,4 +1,4 @@
-/* Coverage of the study report's intervals (issue 14 item 4, nominal 95 %): many simulated
+/* Coverage of the study report's intervals (nominal 95 %): many simulated
  * studies of one design, each analysed as `csfcal study report` does (studies/study_report.c ->
  * studies/study_stats.h), counting how often each interval holds the simulated observer's truth.
  *

@@ -1,4 +1,4 @@
-/* Issue 12 item 4 across observers: does the table's threshold stay the same whatever the task?
+/* Across observers: does the table's threshold stay the same whatever the task?
  * For every simulated person below, the same 8 cells off the fovea (1-8 cpd at 5 and 10 deg) are
  * measured three ways: the fade method (yes/no on a rising ramp, 12 trials a cell, latency probes
  * included), two-interval forced choice and four-place forced choice (per-cell Psi, `2afc`,

@@ -2,7 +2,7 @@
  * benchmark (bench_observer --honest): the anchor a vision scientist would pick instead of our
  * bayes method. The surface is qCSF's truncated log-parabola (Lesmes et al. 2010: Smax, fmax,
  * bandwidth, truncation) extended to eccentricity with the stelaCSF factor 10^-((a + b f) e)
- * (DESIGN.md), i.e. model/csf_model.h. The Weibull slope is a parameter too and is marginalised
+ * (Mantiuk et al. 2022), i.e. model/csf_model.h. The Weibull slope is a parameter too and is marginalised
  * in the estimate; the lapse and the guess rate per cell (1/2 or 1/4) are given.
  *
  * Grids (documented in BENCHMARKS.md): log10 Smax 1.5..2.9 step 0.2 (8), log10 fmax -0.1..0.8

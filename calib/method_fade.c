@@ -1,5 +1,5 @@
-/* Fade-in method (seed 000 sec. 6.1): a grating's log contrast rises linearly; the person presses
- * when something is visible. Under the observer model of model/psychometric.h the contrast at
+/* Fade-in method (Luebke & Hallen 2001, sec. 6.1): a grating's log contrast rises linearly; the person
+ * presses when something is visible. Under the observer model of model/psychometric.h the contrast at
  * detection is a draw from the Weibull F itself (the latent-threshold reading of a fade-in), so
  * per cell the likelihood of the threshold t given
  *   a detection at x:          (1 - lapse) f(x; t) + spont / range   (f = dF/dx; spont: a valid
@@ -8,7 +8,7 @@
  * A plain exponential ML (no lapse term) is ruined by one lapse on a full-range ramp, so the
  * method keeps a posterior over t on a grid (flat prior) per cell; the estimate is the posterior
  * mean in log10, its standard error the posterior sd.
- * The person's slope and lapse are unknown (issue 12 item 3): one pair per person on the bayes
+ * The person's slope and lapse are unknown: one pair per person on the bayes
  * method's grid (slope 1.5-6 x lapse 0.001-0.08); each cell keeps its posterior per pair, the
  * pair's posterior is the product of every trial's predictive density given the pair (cells are
  * independent a priori, so this is exact), and estimates use the threshold's marginal.

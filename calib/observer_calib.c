@@ -35,7 +35,7 @@
 /* Tables and plots are copied into the store as artifacts; anything larger is not ours. */
 #define ARTIFACT_MAX_BYTES ((size_t)64 << 20)
 
-#define GABOR_SIGMA_DEG 1.0     /* DESIGN.md: the CSF parameters are for Gabors of sigma ~1 deg */
+#define GABOR_SIGMA_DEG 1.0     /* the CSF parameters are for Gabors of sigma ~1 deg (model/csf_model.h) */
 #define FIXATION_S 0.3          /* fixation before each trial */
 #define RESPONSE_WINDOW_S 1.0   /* presses still accepted after the ramp ends */
 #define ANTICIPATION_S 0.15     /* presses sooner than this after onset are anticipations */
@@ -1796,8 +1796,8 @@ static csf_status judge_session(obs_run *R, csf_error *err)
     return CSF_OK;
 }
 
-/* The table's method line: the method and the threshold's task-independent definition (issue 12
- * item 4); for fade also how the yes/no thresholds were tied to that definition, and by how much. */
+/* The table's method line: the method and the threshold's task-independent definition; for fade also
+ * how the yes/no thresholds were tied to that definition, and by how much. */
 static void method_line(const obs_run *R, char *buf, size_t len)
 {
     const csf_obs_result *res = R->res;

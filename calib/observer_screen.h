@@ -1,4 +1,4 @@
-/* The simulated person's eyes on the presenter (`--observer sim:view=frame`, issue 12 item 1).
+/* The simulated person's eyes on the presenter (`--observer sim:view=frame`).
  *
  * While the person looks at one or more places, every frame_step-th frame the presenter draws
  * (csf_presenter_set_frame_hook) is rasterised again at the screen's full resolution in a small

@@ -28,12 +28,12 @@ typedef struct {
     uint64_t seed;
     double max_contrast;    /* highest Michelson contrast the display can show at the mean luminance */
     double min_contrast;    /* lowest meaningful contrast (luminance resolution limit) */
-    /* Psychometric assumptions (Weibull in log10 contrast), from DESIGN.md. */
+    /* Psychometric assumptions (Weibull in log10 contrast, model/psychometric.h). */
     double slope_beta;      /* default 3.5 */
     double lapse;           /* default 0.02 */
     /* bayes only: 0 (default) = the person's slope and lapse are unknown: they are marginalised
      * (slope 1.5-6, lapse 0-0.08; docs/bayes-method.md) and slope_beta / lapse above are only
-     * validated; 1 = assume slope_beta and lapse exactly (the method's behaviour before issue 12). */
+     * validated; 1 = assume slope_beta and lapse exactly. */
     int fixed_psychometric;
     double guess;           /* 0.5 for 2AFC; false-alarm rate for detection */
     /* fade-in ramp: log10 contrast rises linearly from start to end over ramp_s */

@@ -3,7 +3,7 @@
  * pixels into luminance. It is a model, not a table of answers the calibration could copy.
  *
  * Spec: KIND[,key=value...] with KIND one of
- *   crt       gain-offset-gamma per channel (DESIGN.md): L = black + Lmax*max(0, a v + b)^gamma
+ *   crt       gain-offset-gamma per channel (docs/display-profile.md): L = black + Lmax*max(0, a v + b)^gamma
  *   lcd       S-shaped low end (the panel's dark toe), a few % channel interaction, black level
  *   oled      near-zero black, gamma ~2.2 with a hard clip near black, mild white-level droop
  *             when all channels are high (power limiting)

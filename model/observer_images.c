@@ -12,7 +12,8 @@ enum { ST_IMG_LAPSE = 0x1a6e, ST_IMG_SEEN, ST_IMG_GUESS, ST_IMG_RT };
 #define DOG_PEAK_CPP 0.153     /* sqrt(ln 4 / 3 / (2 pi^2)): peak of G(s) - G(2s), cycles/px * s */
 #define DOG_PEAK_GAIN 0.4725   /* exp(-ln4/3) - exp(-4 ln4/3) */
 
-/* The CSF thresholds are for Gabors of sigma 1 deg (DESIGN.md; calib/observer_calib.c). */
+/* The CSF thresholds are for Gabors of sigma 1 deg, the session's stimuli
+ * (docs/observer-calibration.md; calib/observer_calib.c). */
 #define REF_SIGMA_DEG 1.0
 
 /* mean over a period of |sin x|^p = Gamma((p + 1) / 2) / (sqrt(pi) Gamma(p / 2 + 1)) */

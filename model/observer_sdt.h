@@ -3,9 +3,9 @@
  *
  * Transducer: d'(c) = CSF_SDT_D_AT_T * (c / t)^k. The table's threshold t is therefore the
  * contrast where two-interval P(correct) (no lapse) is 1 - e^-1/2 = 81.6 %, exactly where the
- * high-threshold Weibull of DESIGN.md puts its t in 2AFC, so one truth table means the same in
- * the two-interval task under either model. The DESIGN.md form d' = (c / t')^k has
- * t' = t * CSF_SDT_D_AT_T^(-1/k) (d' = 1 there; 2AFC P = 76.0 %).
+ * high-threshold Weibull of model/psychometric.h puts its t in 2AFC, so one truth table means the
+ * same in the two-interval task under either model. The power-law form d' = (c / t')^k (Legge &
+ * Foley 1980) has t' = t * CSF_SDT_D_AT_T^(-1/k) (d' = 1 there; 2AFC P = 76.0 %).
  * m-AFC: P(correct | d') = integral phi(x - d') Phi(x)^(m-1) dx (the signal's response is the
  * largest of m unit-variance Gaussians). At t: 2AFC 81.6 %, 4AFC 63.1 %; the 4AFC 72.4 % point
  * (the Weibull's t in four places) is at d' = 1.582, i.e. 0.094 / k log10 above t. */

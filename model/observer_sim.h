@@ -9,7 +9,7 @@
  * Psychometric function: Weibull in log10 contrast (model/psychometric.h) with slope `slope`
  * (default 3.5) and lapse `lapse` (default 0.02). 2AFC guess rate `guess` (default 0.5).
  *
- * Fade-in trials (seed 000 sec. 6.1). Per trial the simulated person
+ * Fade-in trials (Luebke & Hallen 2001, sec. 6.1). Per trial the simulated person
  *   - attends with probability 1 - lapse (a lapse: the stimulus is never detected);
  *   - while attending, detects at a frame with the hazard of csf_psy_fade_hazard on the running
  *     maximum of the log contrast the presenter REPORTS as shown (csf_frame_info.contrast_shown),

@@ -1,4 +1,4 @@
-/* What a simulated person sees at one place on the screen (issue 12 item 1, `--observer
+/* What a simulated person sees at one place on the screen (`--observer
  * sim:view=frame`): the contrast of a Gabor of known frequency, orientation and size, measured
  * from framebuffer pixels turned into light by the simulated display, never from the plan.
  *

@@ -1,4 +1,4 @@
-/* Psychometric functions for contrast detection, in x = log10 Michelson contrast (DESIGN.md):
+/* Psychometric functions for contrast detection, in x = log10 Michelson contrast (a Weibull):
  *
  *   P(x) = guess + (1 - guess - lapse) * F(x),   F(x) = 1 - exp(-10^(beta * (x - t)))
  *
@@ -44,16 +44,16 @@ double csf_psy_inverse(const csf_weibull *w, double p);
  * the simulated observer adds lapses (missed stimulus) and false alarms as separate events. */
 double csf_psy_fade_hazard(double x_prev_max, double x_now, double t_log10, double beta);
 
-/* ---- One threshold, whatever the task (issue 12 item 4; docs/observer-calibration.md) ----------
+/* ---- One threshold, whatever the task (docs/observer-calibration.md) ----------------------------
  *
  * The table's threshold t is the contrast at which the person's sensitivity index d' reaches
  * CSF_PSY_DPRIME_CRITERION, d' = CSF_PSY_DPRIME_CRITERION * 10^(k (x - t)) (a power-law contrast
  * transducer, Legge & Foley 1980), and d' is the task-independent quantity of signal-detection
  * theory (Green & Swets 1966; Macmillan & Creelman 2005): the same person has the same d' in two
  * intervals, in four places and in yes/no. The criterion is the d' at which two-interval
- * P(correct) is 1 - e^-1/2 = 81.6 %, where the Weibull of DESIGN.md puts its t, so a two-interval
+ * P(correct) is 1 - e^-1/2 = 81.6 %, where the Weibull above puts its t, so a two-interval
  * table means what it meant before. Each task maps d' to its own probability:
- *   two intervals: the Weibull of DESIGN.md (guess 1/2) with slope beta; a Weibull fitted to the
+ *   two intervals: the Weibull above (guess 1/2) with slope beta; a Weibull fitted to the
  *     SDT 2AFC function has beta = CSF_PSY_WEIBULL_PER_K * k (Pelli 1987; May & Solomon 2013,
  *     Theorem 2), and puts t within 0.01/k log10 of the d' criterion;
  *   m places (m >= 3): P = lapse' / m + (1 - lapse') Pc_m(d'), Pc_m the max rule's proportion

@@ -1,4 +1,4 @@
-/* Visual-angle geometry of a flat screen (contract [D], shared/DESIGN.md "Geometry").
+/* Visual-angle geometry of a flat screen (docs/stimuli.md, "Geometry").
  *
  * Frame of reference: millimetres, origin at the screen centre, x to the right, y up, the screen
  * in the plane z = 0 and the eye at (eye_x_mm, eye_y_mm, viewing_distance_mm). The fixation mark

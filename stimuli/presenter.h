@@ -1,4 +1,4 @@
-/* Stimulus presenter (contract [D]): draws fixation, Gabors, windowed gratings, drifting and
+/* Stimulus presenter: draws fixation, Gabors, windowed gratings, drifting and
  * moving patches, PNG images and text screens, in exact visual degrees (stimuli/geometry.h), with
  * luminance computed in cd/m2 per fragment, mapped through the display profile's inverse and
  * dithered (spatially and temporally) to the framebuffer depth, so that the mean luminance of a

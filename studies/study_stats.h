@@ -3,7 +3,7 @@
  * with lapse and its parametric bootstrap. Pure functions of their arguments (the bootstrap draws
  * from core/rng.h with a caller's seed), no allocation beyond what is documented.
  *
- * Psychometric function (DESIGN.md, x = log10 Michelson contrast):
+ * Psychometric function (the Weibull of model/psychometric.h, x = log10 Michelson contrast):
  *   P(x) = guess + (1 - guess - lapse) (1 - exp(-10^(beta (x - t))))
  * guess is fixed by the design (0.5 in 2AFC/2IFC; in yes/no the false-alarm rate measured on
  * catch trials); t, beta and lapse are fitted. */

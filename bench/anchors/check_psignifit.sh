@@ -1,5 +1,5 @@
 #!/bin/sh
-# Cross-check of the study report's fits against psignifit 4 under Octave (issue 14 item 4).
+# Cross-check of the study report's fits against psignifit 4 under Octave.
 # Needs octave-cli (Debian: apt-get install octave; not needed by the build or the tests) and a
 # psignifit 4 checkout (MATLAB/Octave version, https://github.com/wichmann-lab/psignifit): it is
 # run from where it is, never copied into this repository.

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Writes the three HELD-OUT truths of bench_observer --honest (issue 12 item 5). They were made
+"""Writes the three HELD-OUT truths of bench_observer --honest. They were made
 for the benchmark on 2026-11-23 and were not used to tune any method; none is of the parametric
 form the bayes method and the QUEST+ anchor fit (truncated log-parabola x stelaCSF).
 
 observer_msdexp.csv -- Mannos & Sakrison (1974) double-exponential form,
     A(u) = 2.6 (0.0192 + 0.114 u) exp(-(0.114 u)^1.1),   peak at u = 8 cpd,
   moved to a peak at 4 cpd (u = 2 f) and scaled to Smax 200; eccentricity with the NASAL-field
-  stelaCSF constants of DESIGN.md (a = 0.0114, b = 0.0194), i.e. a slower fall-off than the
+  stelaCSF constants (Mantiuk et al. 2022; a = 0.0114, b = 0.0194), i.e. a slower fall-off than the
   temporal field that the methods' priors centre on.
 observer_older.csv -- an older / mildly low-vision observer: Barten's simplified CSF (Barten
   1999, eq. 3.26) at 10 cd/m^2 for a 2-deg field, frequency axis compressed by 0.6 (peak near

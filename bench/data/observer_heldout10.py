@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the TENTH held-out truths of bench_observer --honest --heldout 10 (issue 12), and prints
+"""Writes the TENTH held-out truths of bench_observer --honest --heldout 10, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_TENTH).
 
 Made on 2026-11-27 at 20:20 UTC, after the ninth set had measured the shipped method (the two

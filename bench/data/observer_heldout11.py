@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the ELEVENTH held-out truths of bench_observer --honest --heldout 11 (issue 12), and
+"""Writes the ELEVENTH held-out truths of bench_observer --honest --heldout 11, and
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_ELEVENTH).
 
 Made on 2026-11-28 at 00:50 UTC, after the tenth set had measured the shipped method and judged

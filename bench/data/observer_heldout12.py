@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the TWELFTH held-out truths of bench_observer --honest --heldout 12 (issue 12), and
+"""Writes the TWELFTH held-out truths of bench_observer --honest --heldout 12, and
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_TWELFTH).
 
 Made on 2026-11-28 at 02:15 UTC, after the eleventh set had judged the decision-model mixture

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the THIRTEENTH held-out truths of bench_observer --honest --heldout 13 (issue 12), and
+"""Writes the THIRTEENTH held-out truths of bench_observer --honest --heldout 13, and
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_THIRTEENTH).
 
 Made on 2026-11-28 at 03:24 UTC, after the twelfth set had judged the decision-model mixture, and

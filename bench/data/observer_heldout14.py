@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FOURTEENTH held-out truths of bench_observer --honest --heldout 14 (issue 12), and
+"""Writes the FOURTEENTH held-out truths of bench_observer --honest --heldout 14, and
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_FOURTEENTH).
 
 Made on 2026-11-28 at 05:29 UTC, after the thirteenth set had judged the two-sided foveal term,

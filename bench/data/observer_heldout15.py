@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FIFTEENTH held-out truths of bench_observer --honest --heldout 15 (issue 12), and
+"""Writes the FIFTEENTH held-out truths of bench_observer --honest --heldout 15, and
 prints the observer specs the bench compiles in (bench/bench_observer.c, HONEST_FIFTEENTH).
 
 Made on 2026-11-28 at 07:02 UTC, after the fourteenth set had judged the foveal term freed only

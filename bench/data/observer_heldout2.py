@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FRESH held-out truths of bench_observer --honest --fresh (issue 12), and prints the
+"""Writes the FRESH held-out truths of bench_observer --honest --fresh, and prints the
 observer specs the bench compiles in (bench/bench_observer.c, HONEST_FRESH).
 
 Made on 2026-11-23 at 22:35 UTC, after the bayes method was frozen for the final measurement of

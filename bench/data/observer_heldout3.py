@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the THIRD held-out truths of bench_observer --honest --heldout 3 (issue 12), and prints
+"""Writes the THIRD held-out truths of bench_observer --honest --heldout 3, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_THIRD).
 
 Made on 2026-11-27 at 10:15 UTC, at the start of that day's work on the bayes method and before

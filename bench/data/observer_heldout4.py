@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FOURTH held-out truths of bench_observer --honest --heldout 4 (issue 12), and prints
+"""Writes the FOURTH held-out truths of bench_observer --honest --heldout 4, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_FOURTH).
 
 Made on 2026-11-27 at 11:05 UTC, after the third set had measured the method as it stood and

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FIFTH held-out truths of bench_observer --honest --heldout 5 (issue 12), and prints
+"""Writes the FIFTH held-out truths of bench_observer --honest --heldout 5, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_FIFTH).
 
 Made on 2026-11-27 at 12:55 UTC, at the start of a session that set out to change how the bayes

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the SIXTH held-out truths of bench_observer --honest --heldout 6 (issue 12), and prints
+"""Writes the SIXTH held-out truths of bench_observer --honest --heldout 6, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_SIXTH).
 
 Made on 2026-11-27 at 13:42 UTC, after the fifth set had measured the method (and its frequency-

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the SEVENTH held-out truths of bench_observer --honest --heldout 7 (issue 12), and prints
+"""Writes the SEVENTH held-out truths of bench_observer --honest --heldout 7, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_SEVENTH).
 
 Made on 2026-11-27 at 15:00 UTC, at the start of a session, before the frequency-scaling option

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the EIGHTH held-out truths of bench_observer --honest --heldout 8 (issue 12), and prints
+"""Writes the EIGHTH held-out truths of bench_observer --honest --heldout 8, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_EIGHTH).
 
 Made on 2026-11-27 at 16:20 UTC, after the seventh set had measured the method with its frequency

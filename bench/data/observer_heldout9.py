@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the NINTH held-out truths of bench_observer --honest --heldout 9 (issue 12), and prints
+"""Writes the NINTH held-out truths of bench_observer --honest --heldout 9, and prints
 the observer specs the bench compiles in (bench/bench_observer.c, HONEST_NINTH).
 
 Made on 2026-11-27 at 18:05 UTC, after the eighth set had measured the shipped method and before

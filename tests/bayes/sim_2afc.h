@@ -1,7 +1,7 @@
 /* A small simulated 2AFC observer for the bayes tests and bench/bench_observer.c.
  * Why not devices/observer_sim: this one is independent of the observer area so the method can be
  * checked against a truth it did not help write. It is a model with noise: Weibull in log10
- * contrast with slope, guess 0.5 and lapse (DESIGN.md's form) with two intervals; with four places
+ * contrast with slope, guess 0.5 and lapse (docs/bayes-method.md's form) with two intervals; with four places
  * the signal-detection max rule of the same d' (the table's task-independent threshold, see
  * sim2afc_respond); every draw comes from
  * core/rng.h keyed by (seed, trial index), so runs are reproducible.
@@ -128,7 +128,7 @@ static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_tria
 {
     csf_trial_outcome out = {.response = 0, .rt_s = 0.6, .contrast_at_response = NAN, .valid = 1};
     double t = sim2afc_log10_threshold(o, freq_cpd, ecc_deg);
-    /* DESIGN.md's Weibull: P(correct) = guess + (1 - guess - lapse)(1 - exp(-10^(slope (x - t)))) */
+    /* Weibull in log10 contrast: P(correct) = guess + (1 - guess - lapse)(1 - exp(-10^(slope (x - t)))) */
     double seen = 0.0;
     if (plan->contrast > 0 && t < 0.0) /* threshold >= 1: never visible */
         seen = 1.0 - exp(-pow(10.0, o->slope * (log10(plan->contrast) - t)));
@@ -236,7 +236,8 @@ static inline double sim2afc_rms(const sim2afc *o, const csf_cell *cells, int n_
     return n ? sqrt(se / n) : NAN;
 }
 
-/* The default grid of issue 6: 6 frequencies log-spaced 0.5-16 cpd x eccentricities 0, 5, 10, 20. */
+/* The session's default grid (docs/observer-calibration.md): 6 frequencies log-spaced 0.5-16 cpd
+ * x eccentricities 0, 5, 10, 20. */
 static inline int sim2afc_default_grid(csf_cell *cells)
 {
     static const double eccs[4] = {0, 5, 10, 20};

@@ -2,7 +2,7 @@
  * threshold is the posterior mean of the thresholds the display can show (t <= log10 max
  * contrast), not the mean over every threshold clipped at the reach. The mass above the reach
  * means "never visible" whatever its value (the grid runs 1 log10 above it), so letting it into
- * the mean pulled edge cells up to exactly the max contrast (issue 12: the error over the visible
+ * the mean pulled edge cells up to exactly the max contrast (inflating the error over the visible
  * cells of observers who are less sensitive than the prior).
  * One cell (12 cpd at 10 deg: the prior puts it near the reach; 16 cpd at 10 deg was the cell before
  * the surface's frequency scaling, whose prior puts that cell deeper, so that 7 of 8 at the reach

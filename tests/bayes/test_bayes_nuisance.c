@@ -1,4 +1,5 @@
-/* The bayes method does not assume the observer's psychometric slope and lapse (issue 12 item 3).
+/* The bayes method does not assume the observer's psychometric slope and lapse: a person's are
+ * unknown, and wrong assumed values bias the thresholds.
  * An observer with slope 2.2 and lapse 0.05 (an ordinary naive observer; the simulator of
  * sim_2afc.h, independent of the method) is measured on the same seeds by the method as sessions
  * set it up before (slope 3.5 and lapse 0.02 assumed) and by the method with slope and lapse

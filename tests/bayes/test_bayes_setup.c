@@ -74,8 +74,8 @@ int main(void)
      * that stops flagging misfits finds it in none. */
     int n_found = 0;
     for (uint64_t seed = 77; seed < 97; seed++) {
-        /* told the observer's slope and lapse: with them marginalised (the default since issue 12
-         * item 3) the odd cell was found in only 3 of the first 5 seeds (in two it got 4-7 trials:
+        /* told the observer's slope and lapse: with them marginalised (the default) the odd
+         * cell was found in only 3 of the first 5 seeds (in two it got 4-7 trials:
          * its wrong answers pass for lapses); docs/bayes-method.md, Limits */
         s = good, s.seed = seed, s.trial_budget = 240, s.fixed_psychometric = 1;
         o.seed = seed;

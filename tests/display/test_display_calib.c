@@ -152,7 +152,7 @@ int main(void)
         csf_photometer_close(ph);
     }
 
-    /* "too dark" during the dark readings (issue 11 item 1): the sensor off the screen must not
+    /* "too dark" during the dark readings: the sensor off the screen must not
      * become black = 0 cd/m2, uninterrupted or resumed. The LCD's true black is 0.35 cd/m2. */
     {
         csf_display_calib_result base;

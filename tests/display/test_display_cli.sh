@@ -157,7 +157,7 @@ grep -q 'NOT WARM' "$t/v" || { echo "cold monitor: $(cat "$t/v")"; fail=1; }
 id=$(python3 -c "$jq_py" profile_id <"$t/j")
 case "$id" in */*|*kink*) echo "id carries the path: $id"; fail=1;; esac
 [ ${#id} -le 48 ] || { echo "id too long: $id"; fail=1; }
-# issue 11 item 1 as reported: "too dark" during the dark readings, then --resume without the fault:
+# "too dark" during the dark readings, then --resume without the fault:
 # black is the LCD's 0.35 cd/m2, not 0
 "$exe" display calibrate --photometer sim:display=lcd,fault=dark@13 --no-render --seed 5 --store "$t/d.sqlite" \
   --out "$t/d.profile" --quiet 2>/dev/null && { echo "dark fault: no error"; fail=1; }

@@ -60,7 +60,7 @@ head -c 100 "$T/a.csflut" >"$T/trunc.csflut"
 "$CSFCAL" lut info "$EXAMPLES/example_default_observer.csv" >"$T/out" 2>&1; expect "csv is not a table" 1 "magic" "$T/out" $?
 "$CSFCAL" lut info "$T/none.csflut" >"$T/out" 2>&1; expect "missing file says why" 1 "cannot open .*none.csflut: No such file or directory" "$T/out" $?
 "$CSFCAL" lut info "$T" >"$T/out" 2>&1; expect "a folder says why" 1 "Is a directory" "$T/out" $?
-# issue 11 item 10: --date must be a real UTC date and time, and the message names the form
+# --date must be a real UTC date and time, and the message names the form
 for d in yesterday 2026-13-45T99:99:99Z 2026-02-29T00:00:00Z 2026-11-23 2026-11-23T10:00:00 2026-04-31T00:00:00Z; do
     "$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/d.csflut" --date "$d" >"$T/out" 2>&1
     expect "--date $d refused" 2 "YYYY-MM-DDTHH:MM:SSZ" "$T/out" $?
@@ -68,7 +68,7 @@ done
 [ ! -e "$T/d.csflut" ] && ok "no table for a bad date" || bad "no table for a bad date"
 "$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/d.csflut" --date 2024-02-29T23:59:60Z >"$T/out" 2>&1
 [ $? = 0 ] && [ -s "$T/d.csflut" ] && ok "--date leap day, leap second accepted" || { bad "--date leap day accepted"; cat "$T/out"; }
-# issue 10 item 5: export -> import keeps every metadata field the CSV export writes
+# export -> import keeps every metadata field the CSV export writes
 "$CSFCAL" lut import "$EXAMPLES/example_default_observer.csv" -o "$T/m.csflut" --observer "Ann O." \
     --display-profile "lcd-7 #2" --method fade --date 2025-01-02T03:04:05Z --distance-mm 650 \
     --mean-lum 90 --trials 120 >"$T/out" 2>&1 || bad "import with metadata"
@@ -85,7 +85,7 @@ cmp -s "$T/j1" "$T/j2" && grep -q '"display_profile_id": "lcd-7 #2"' "$T/j2" && 
 grep -q '"observer": "Bob"' "$T/out" && grep -q '"trials": 7' "$T/out" && grep -q '"method": "fade"' "$T/out" && ok "options override the CSV metadata" || { bad "options override"; cat "$T/out"; }
 printf '# trials: many\nfreq_cpd,ecc_deg,threshold\n1,0,0.01\n' >"$T/badmeta.csv"
 "$CSFCAL" lut import "$T/badmeta.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "bad metadata comment names line 1" 1 "line 1.*trials" "$T/out" $?
-# issue 11 item 6: an output that does not fit (RLIMIT_FSIZE, SIGXFSZ ignored: fails like a full
+# An output that does not fit (RLIMIT_FSIZE, SIGXFSZ ignored: fails like a full
 # disk) leaves no partial file and no temporary, keeps what was there, and says why
 echo old >"$T/keep.c"
 (trap '' XFSZ; ulimit -f 2; exec "$CSFCAL" lut export "$T/a.csflut" --format c -o "$T/keep.c") >"$T/out" 2>&1

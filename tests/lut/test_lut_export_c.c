@@ -118,8 +118,8 @@ int main(void)
     snprintf(path, sizeof path, "%s/alone.c", dir);
     CHECK(write_text(path, "#include \"lut_cons.h\"\ndouble f(double a, double b);\n"
                            "double f(double a, double b) { return lut_cons_threshold(a, b); }\n") == 0);
-    /* Issue 10 item 4: C99, C11, C++11, C++14, C++17 under gcc and clang, strict, and every
-     * value bit-identical to the library's */
+    /* The exported source builds as C99, C11, C++11, C++14, C++17 under gcc and clang, strict,
+     * and every value is bit-identical to the library's */
     /* and with the host's FMA instructions allowed (-march=native): clang keeps a * b + c unfused
      * because of the header's pragma; GCC ignores the pragma and fuses in GNU C modes and in
      * C++, so those builds carry -ffp-contract=off, as the header's comment says */

@@ -411,7 +411,7 @@ static int dir_entries(const char *dir)
     return n;
 }
 
-/* Issue 11 item 6: csflut_write_file on a "full disk" (RLIMIT_FSIZE, SIGXFSZ ignored, fails the
+/* csflut_write_file on a "full disk" (RLIMIT_FSIZE, SIGXFSZ ignored, fails the
  * write like ENOSPC) leaves the previous table intact and no temporary, and the diagnostic names
  * the OS error; file errors on open name theirs too. */
 static void test_write_fails_cleanly(void)

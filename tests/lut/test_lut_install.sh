@@ -36,7 +36,7 @@ OUT=$(LD_LIBRARY_PATH="$LIBDIR" "$T/use" "$2/docs/examples/example_default_obser
 echo "installed library says: $OUT"
 [ "$OUT" = "0.004218 1" ] || { echo "FAIL: unexpected output"; exit 1; }
 LD_LIBRARY_PATH="$LIBDIR" ldd "$T/use" | grep -q "$LIBDIR/libcsflut.so" || { echo "FAIL: not linked to the installed library"; exit 1; }
-# Issue 10 item 3: the shared library exports the public API and nothing else, and carries one
+# The shared library exports the public API and nothing else, and carries one
 # version (pkg-config, the file name, CSFLUT_LIB_VERSION in the header).
 HDR=$(find "$T/root" -name csflut.h | head -1)
 nm -D --defined-only "$LIBSO" | awk '$2 ~ /^[TDBR]$/ {print $3}' | grep -v '^_' | sort >"$T/exported"

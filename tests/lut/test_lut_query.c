@@ -126,9 +126,10 @@ static void test_infinity(void)
     csflut_close(t);
 }
 
-/* Issue 10 item 1, reproduced on the bundled example: thresholds next to visible nodes must come
- * back close to the analytic model the table was made from, not "never visible" or far too high;
- * and over a query mix almost no truly visible query may be answered invisible or too high. */
+/* The bundled example table fails safe: thresholds next to visible nodes must come back close to
+ * the analytic model the table was made from, not "never visible" or far too high (a renderer
+ * would drop detail the person sees); and over a query mix almost no truly visible query may be
+ * answered invisible or too high. */
 static void test_example_table_fails_safe(const char *path)
 {
     csflut_table *t = NULL;

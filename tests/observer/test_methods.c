@@ -16,7 +16,7 @@ static const csf_cell cells[] = {{1.0, 0}, {4.0, 0}, {1.0, 10}, {4.0, 10}, {40.0
 /* Forced-choice layout per cell for the 2afc method (NULL = two intervals everywhere). */
 static const int *layout;
 /* The simulated observer's spec, and whether the method is told slope 3.5 / lapse 0.02 as fixed
- * values (the behaviour before issue 12 item 3) instead of marginalising them. */
+ * values (fixed_psychometric = 1) instead of marginalising them. */
 static const char *obs_spec = "sim";
 static int fixed_psy;
 /* fade: correct by the practice latency alone (the behaviour before the latency probes) */
@@ -70,9 +70,9 @@ static void test_method(const char *name, int budget, double rms_limit, double b
     CHECK_MSG(inv_ok, "%s: invisible cell not reported as +inf", name);
 }
 
-/* Issue 12 item 3: a person with slope 2.2 and lapse 0.05 (a naive observer). On the same seeds,
- * the method with slope and lapse marginalised (the default) is more accurate and less biased
- * than with the old fixed 3.5 / 0.02. */
+/* The person's slope and lapse are unknown: a person with slope 2.2 and lapse 0.05 (a naive
+ * observer). On the same seeds, the method with slope and lapse marginalised (the default) is
+ * more accurate and less biased than with them fixed at 3.5 / 0.02. */
 static void test_unknown_slope(const char *name, int budget)
 {
     const csf_procedure_ops *ops = csf_procedure_find(name);
@@ -91,7 +91,7 @@ static void test_unknown_slope(const char *name, int budget)
     CHECK(inv_marg);
 }
 
-/* Issue 12 item 3: the person's reaction time slows near threshold (Pieron, pieron_k = 0.15 s at
+/* The person's reaction time slows near threshold (Pieron, pieron_k = 0.15 s at
  * threshold); the session's practice latency (0.37 s here, the ex-Gaussian median at 30 %
  * contrast) undercorrects, so the old method reads high. With the latency probes the bias must
  * at least halve and stay within 0.05 log10 (measured: +0.102 before, +0.039 with probes). */

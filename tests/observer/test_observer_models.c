@@ -1,4 +1,4 @@
-/* Simulated observer: the decision models and session effects of issue 12 item 2, checked
+/* Simulated observer: the decision models and session effects (docs/observer-calibration.md), checked
  * statistically against the model they document (binomial confidence bounds of about 4 sd, so a
  * correct model fails about once in 30,000 checks; all draws are seeded, so each run is the same).
  * - sdt m-AFC proportion correct against the numeric integral, lapses included;

@@ -14,7 +14,8 @@ static void test_spec(void)
     csf_observer_sim *o;
     csf_error err;
     CHECK(csf_observer_sim_create("sim", 1, &o, &err) == CSF_OK);
-    /* Default truth is the DESIGN.md surface: threshold at the peak = 1/250 in the fovea. */
+    /* Default truth is the log-parabola x stelaCSF surface (model/csf_model.h): threshold at the
+     * peak = 1/250 in the fovea. */
     CHECK_NEAR(csf_observer_sim_threshold(o, 3.0, 0.0), 1.0 / 250, 1e-9);
     CHECK(isinf(csf_observer_sim_threshold(o, 60.0, 20.0)));
     csf_observer_sim_free(o);
@@ -259,7 +260,7 @@ static void test_afc(void)
     csf_observer_sim_free(o);
 }
 
-/* view=frame and its keys (issue 12 item 1): parsed, described, refused with the key named. */
+/* view=frame and its keys: parsed, described, refused with the key named. */
 static void test_view_spec(void)
 {
     csf_observer_sim *o = NULL;

@@ -1,4 +1,4 @@
-/* The simulated person's eyes (issue 12 item 1): the presenter's full-resolution region readback
+/* The simulated person's eyes: the presenter's full-resolution region readback
  * is the frame's own pixels there, and the matched filter of model/observer_view.h measures the
  * contrast that is on screen at a place -- the Gabor's when it is drawn there through a right
  * profile, a changed one through a wrong profile, about nothing for a flat frame, a grating drawn

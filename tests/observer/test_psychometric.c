@@ -8,7 +8,7 @@
 int main(void)
 {
     csf_weibull w = {-2.0, 3.5, 0.5, 0.0};
-    /* DESIGN.md: at x = t with lapse 0, 2AFC gives 81.6 %. */
+    /* The Weibull's t: at x = t with lapse 0, 2AFC gives 1 - e^-1/2 = 81.6 %. */
     CHECK_NEAR(csf_psy_p(&w, -2.0), 0.816, 0.001);
     CHECK_NEAR(csf_psy_p(&w, -10.0), 0.5, 1e-9);
     CHECK_NEAR(csf_psy_p(&w, 1.0), 1.0, 1e-9);
@@ -53,11 +53,11 @@ int main(void)
     csf_psy_grid_free(&g);
     CHECK(csf_psy_grid_init(&g, 1, -4, 0, 0, 1, 3.5, 0.5, 0.02) == -1);
 
-    /* One threshold, whatever the task (issue 12 item 4). */
+    /* One threshold, whatever the task (model/psychometric.h). */
     double d_t = CSF_PSY_DPRIME_CRITERION;
     CHECK_NEAR(csf_psy_sdt_pc_mafc(d_t, 2), 1 - exp(-1) / 2, 1e-9);   /* 81.6 % at t */
     CHECK_NEAR(csf_psy_sdt_pc_mafc(0, 4), 0.25, 1e-9);
-    /* m = 2 is DESIGN.md's Weibull; m = 4 the max rule of the same d': 63.7 % at t (no lapse) */
+    /* m = 2 is the two-interval Weibull; m = 4 the max rule of the same d': 63.7 % at t (no lapse) */
     CHECK(csf_psy_p_afc(-2.1, -2.3, 3.1, 0.02, 2) == csf_psy_p4(-2.1, -2.3, 3.1, 0.5, 0.02));
     CHECK_NEAR(csf_psy_p_afc(-2.3, -2.3, 3.1, 0, 4), csf_psy_sdt_pc_mafc(d_t, 4), 1e-6);
     CHECK_NEAR(csf_psy_sdt_pc_mafc(d_t, 4), 0.637, 0.001);

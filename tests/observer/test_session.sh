@@ -26,7 +26,7 @@ check "fade JSON counts catch trials" grep -q '"catch":[1-9]' <<<"$out"
 check "fade table written" test -s "$T/fade.csflut"
 info=$("$CSFCAL" lut info "$T/fade.csflut")
 check "table method is fade" grep -q 'method *fade' <<<"$info"
-check "table states the threshold's definition and the anchors (issue 12 item 4)" grep -q "method *fade; anchored by [1-9][0-9]* two-interval trials, yes/no offset [-+]0\.[0-9]* log10; threshold d'=1.2734 (2AFC 81.6%, SDT)" <<<"$info"
+check "table states the threshold's definition and the anchors" grep -q "method *fade; anchored by [1-9][0-9]* two-interval trials, yes/no offset [-+]0\.[0-9]* log10; threshold d'=1.2734 (2AFC 81.6%, SDT)" <<<"$info"
 check "table has 2 x 2 nodes" grep -q 'nodes: *4' <<<"$info"
 check "table names the simulated observer" grep -q 'observer *sim(' <<<"$info"
 

@@ -1,5 +1,5 @@
 #!/bin/bash
-# csfcal observer calibrate and bad input or faults (issue 11): every option, the output paths and
+# csfcal observer calibrate and bad input or faults: every option, the output paths and
 # the grid on this screen are checked before the first trial (exit 2, nothing stored); a stored
 # session whose settings cannot run says so once; a table, plot or store write that fails after
 # trials were stored leaves the session resumable and prints the command that finishes it; a

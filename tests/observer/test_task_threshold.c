@@ -1,4 +1,4 @@
-/* Issue 12 item 4: one threshold, whatever the task. A simulated signal-detection observer
+/* One threshold, whatever the task. A simulated signal-detection observer
  * (devices/observer_sim, decision=sdt) measured with two intervals everywhere, with four places
  * everywhere and with the fade method gives the same table: the table's threshold is the
  * contrast at which d' reaches CSF_PSY_DPRIME_CRITERION (model/psychometric.h), which is what

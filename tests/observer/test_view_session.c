@@ -1,5 +1,5 @@
 /* Whole sessions with the simulated person who looks at the rendered frames (`--observer
- * sim:view=frame`, issue 12 item 1):
+ * sim:view=frame`):
  *  (a) with the right profile its table equals the table of the same person told the planned
  *      contrast: over seeds, mean signed log10 difference and the difference in RMS error
  *      against the truth both within 0.02, and most seeds' tables identical;

@@ -1,4 +1,4 @@
-/* Geometry against the closed forms of DESIGN.md: atan(r/D), D/cos^2 radial pixel density,
+/* Geometry against its closed forms (docs/stimuli.md): atan(r/D), D/cos^2 radial pixel density,
  * 0.5 cycle/pixel Nyquist limit, screen reach, eye offset, and argument checks. */
 #include <math.h>
 

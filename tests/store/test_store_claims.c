@@ -1,4 +1,4 @@
-/* Session claims (issue 15 item 2), on SQLite and (under tests/store/pg_run.sh) PostgreSQL:
+/* Session claims, on SQLite and (under tests/store/pg_run.sh) PostgreSQL:
  * two stations, each a process of its own, must never write one session at once.
  * - a second station resuming a session another holds is refused, with a message that names
  *   the holder (station and process) and says how to take over when it is stale;

@@ -1,4 +1,4 @@
-/* csfcal sessions push (issue 15 item 3): a station ran on its own SQLite file and sends its
+/* csfcal sessions push: a station ran on its own SQLite file and sends its
  * sessions to the lab store later (a server under CSF_TEST_BACKEND=postgresql, another SQLite
  * file otherwise). Everything arrives as stored (trials with their frame intervals, readings,
  * thresholds, artifacts, state); pushing again sends nothing; a session that grew sends only the

@@ -1,4 +1,4 @@
-/* What the rows mean (issue 10 item 9, issue 11 item 8): a store written by the schema-4 code
+/* What the rows mean: a store written by the schema-4 code
  * (fixtures/schema_v4.sql, made by csfcal itself) is repaired by the v5 migration; new sessions
  * record the display and the profile apart; one file is one artifact row; units in column names,
  * one threshold per cell, CHECKs on enumerations; someone else's database is refused without a

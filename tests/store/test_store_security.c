@@ -1,4 +1,4 @@
-/* Credentials and roles (issue 15 item 4).
+/* Credentials and roles.
  * Always: a password in a store location, however libpq would read it (user:pw@, pass%77ord=,
  * %70assword=, after a '#', sslpassword), is refused without being repeated and is absent from
  * the one form in which csfcal shows a location (csf_store_redact).

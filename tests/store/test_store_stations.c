@@ -1,4 +1,4 @@
-/* Several stations on one server store (issue 15 items 2 and 5), each a process of its own:
+/* Several stations on one server store, each a process of its own:
  * - stations started together on a new database all open it (the schema is made once) and
  *   share the observer, display, study and participant rows instead of failing or doubling them;
  * - every trial of every station arrives exactly once, equal to what a single station writes

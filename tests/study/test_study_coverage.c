@@ -1,4 +1,4 @@
-/* Coverage over many seeds (issue 14, "Done when"): the example studies with fixed levels
+/* Coverage over many seeds: the example studies with fixed levels
  * (examples/studies/contrast_2afc: two curves; yes_no: one curve with catch trials) are answered
  * by the simulated observer for many participants, each participant's curves fitted by the
  * report's own statistics (csf_study_row_finish: ML Weibull and its 95 % marginal-posterior
