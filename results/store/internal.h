@@ -16,8 +16,4 @@ sqlite3 *csf_store_db(csf_store *s);
  * instead of racing it with sleeps. */
 extern void (*csf_store_fault_hook)(const char *point);
 
-/* SQL of each schema migration step: index v gives the script that takes version v to v + 1
- * (index 0 creates version 1). Exposed so the migration test can build an old store. */
-extern const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION];
-
 #endif

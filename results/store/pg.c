@@ -35,6 +35,7 @@
 #include "results/store/store.h"
 #include "results/store/backend.h"
 #include "results/store/internal.h"
+#include "results/store/migrations.h"
 #include "results/store/pg_schema.h"
 #include "results/store/rows.h"
 #include "results/store/push.h"
