@@ -103,12 +103,6 @@ static csf_status push_readings(csf_store *src, csf_store *dst, int64_t sid, int
     return cs;
 }
 
-void csf_store_artifacts_free(csf_store_artifact *list, size_t n)
-{
-    for (size_t i = 0; list && i < n; i++) free(list[i].blob);
-    free(list);
-}
-
 /* The destination has this artifact: same kind, and the same path and bytes as far as the
  * source row has them (a path-only or bytes-only source row matches the row it completed). */
 static int has_artifact(const csf_store_artifact *have, size_t n, const csf_store_artifact *a)

@@ -463,6 +463,12 @@ void csf_session_list_free(csf_session_info *list, size_t n)
     free(list);
 }
 
+void csf_store_artifacts_free(csf_store_artifact *list, size_t n)
+{
+    for (size_t i = 0; list && i < n; i++) free(list[i].blob);
+    free(list);
+}
+
 csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32],
                                    char updated_utc[32], csf_error *err)
 {
