@@ -1,6 +1,7 @@
-/* Internals of the SQLite store shared by results/store*.c, tests and the benchmark: direct access
- * to the connection (fault injection in tests, bulk loading in the benchmark). Not for use by
- * the procedures: they go through results/store/store.h only, so another backend can replace SQLite. */
+/* Hooks into the store's two backends for tests and the benchmark: the SQLite backend's
+ * connection (fault injection in tests, bulk loading in the benchmark) and the PostgreSQL
+ * backend's fault hook. Not for use by the procedures: they go through results/store/store.h
+ * only, so either backend can serve them. */
 #ifndef CSF_STORE_INTERNAL_H
 #define CSF_STORE_INTERNAL_H
 
