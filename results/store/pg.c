@@ -29,7 +29,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "results/store/store.h"
@@ -39,6 +38,7 @@
 #include "results/store/pg_schema.h"
 #include "results/store/rows.h"
 #include "results/store/push.h"
+#include "results/store/spool.h"
 
 #ifndef CSF_VERSION
 #define CSF_VERSION "unknown"
@@ -60,13 +60,10 @@ typedef struct pg_store {
     int64_t *claims;     /* sessions this station holds */
     size_t n_claims, cap_claims;
     /* The local spool (an SQLite store) that keeps trials while the server is away. */
-    char spool_path[1024];
+    csf_spool spool;
     double spool_after_s;  /* how long a write waits for the server before it is spooled */
-    csf_store *spool;
-    int spooling;          /* rows are in the spool that the server does not have yet */
     int flushing;          /* sending the spool: writes go to the server only */
     double next_try_s;     /* monotonic time of the next try to reach the server */
-    int n_spooled;
     int begin_unsure;      /* begin_session sent its COMMIT: the server may have the row */
     csf_session_info *known; /* sessions this station ran: what their spool copy is made from */
     size_t n_known;
@@ -80,11 +77,9 @@ static const csf_store_ops pg_ops;
 
 static pg_store *pg(csf_store *b) { return (pg_store *)b; }
 static csf_status remember(pg_store *p, int64_t id, csf_error *err);
-static void spool_path(char *out, size_t cap);
 static void recover_spool(pg_store *p);
 static csf_status find_uuid(pg_store *p, const char *uuid, int64_t *id, csf_error *err);
 static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err);
-static void mkdir_parents(const char *path);
 
 void (*csf_store_fault_hook)(const char *point);
 
@@ -644,7 +639,7 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
     p->retry_limit_s = env_seconds("CSF_STORE_RETRY_S", 120.0);
     p->spool_after_s = env_seconds("CSF_STORE_SPOOL_AFTER_S", 5.0);
     p->lock_wait_s = env_seconds("CSF_STORE_LOCK_WAIT_S", 10.0);
-    spool_path(p->spool_path, sizeof p->spool_path);
+    csf_spool_init(&p->spool, p->base.path);
     /* dbname last: what the location says wins over these defaults. */
     const char *keys[] = {"application_name", "connect_timeout", "dbname", NULL};
     const char *vals[] = {"csfcal", "10", conninfo, NULL};
@@ -675,16 +670,16 @@ csf_status csf_store_pg_open(const char *conninfo, int readonly, csf_store **out
 static void pg_close(csf_store *b)
 {
     pg_store *p = pg(b);
-    if (p->spooling) {
+    if (p->spool.spooling) {
         csf_error e;
         p->flushing = 1;
         if (flush_spool(p, p->retry_limit_s, &e) != CSF_OK)
             fprintf(stderr, "csfcal: store %s: %d writes (trials, readings, state changes) are only "
                             "in the local spool %s; send them when the server is back with: csfcal "
-                            "sessions push --store '%s' --to '%s'\n", p->base.path, p->n_spooled, p->spool_path,
-                    p->spool_path, p->base.path);
+                            "sessions push --store '%s' --to '%s'\n", p->base.path, p->spool.n_spooled,
+                    p->spool.path, p->spool.path, p->base.path);
     }
-    if (p->spool) p->spool->ops->close(p->spool);
+    csf_spool_close(&p->spool);
     for (size_t i = 0; i < p->n_known; i++) csf_session_info_free(&p->known[i]);
     free(p->known);
     free(p->names);
@@ -861,28 +856,6 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
     return cs;
 }
 
-/* A session whose start the server may have committed although the station never heard back
- * (the server went away for longer than the retry limit): the spool keeps its uuid as an
- * aborted session with no rows, and the next csfcal that reaches the server marks the server's
- * copy aborted (recover_spool), so the lab never sees a phantom running session. */
-static void spool_unsure_begin(pg_store *p, const csf_store_session_new *nw)
-{
-    csf_error e;
-    csf_store_session_new ab = *nw;
-    ab.state = "aborted";
-    int64_t lsid = 0;
-    if (!p->spool) mkdir_parents(p->spool_path);
-    csf_status cs = p->spool ? CSF_OK : csf_store_sqlite_open(p->spool_path, 0, &p->spool, &e);
-    if (cs == CSF_OK) cs = p->spool->ops->begin_session(p->spool, &ab, &lsid, &e);
-    if (cs != CSF_OK)
-        fprintf(stderr, "csfcal: store %s: the local spool %s cannot record the unfinished start "
-                        "of session %s (%s)\n", p->base.path, p->spool_path, nw->uuid, e.msg);
-    else
-        fprintf(stderr, "csfcal: store %s: the server went away while session %s was starting; "
-                        "if the server recorded it, it is marked aborted when csfcal next reaches "
-                        "the server\n", p->base.path, nw->uuid);
-}
-
 static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw, int64_t *id,
                                    csf_error *err)
 {
@@ -894,7 +867,9 @@ static csf_status pg_begin_session(csf_store *b, const csf_store_session_new *nw
         if (cs == CSF_OK || !lost(p)) return cs;
         csf_status rs = reconnect(p, p->retry_limit_s, 1, err);
         if (rs != CSF_OK) {
-            if (p->begin_unsure) spool_unsure_begin(p, nw);
+            /* the server may have the row: the spool keeps its uuid, aborted, so that the next
+             * csfcal that reaches the server marks the server's copy aborted (recover_spool) */
+            if (p->begin_unsure) csf_spool_unsure_begin(&p->spool, nw);
             return rs;
         }
         p->retrying = 1;
@@ -1063,34 +1038,11 @@ static csf_status pg_session_times(csf_store *b, int64_t id, char created_utc[32
     return cs;
 }
 
-/* ---- the local spool ----------------------------------------------------------------------
- * When the server cannot be reached within spool_after_s, a trial, reading, frame timing or
- * state change of a session this station runs goes into a local SQLite store (the spool) under
- * the session's uuid, durably, and the procedure goes on. Each later write first tries the
- * server again (at most every 5 s); once it answers, the spooled rows are sent with
- * csf_store_push_session (matched by uuid and seq: nothing doubled) before the new one. What is
- * still spooled at close is sent then if the server is back, else the close says how to send it
- * (csfcal sessions push). The spool keeps its copies after sending them: a local record. */
-
-static void spool_path(char *out, size_t cap)
-{
-    const char *e = getenv("CSF_STORE_SPOOL"), *xdg = getenv("XDG_DATA_HOME"), *home = getenv("HOME");
-    if (e && *e) snprintf(out, cap, "%s", e);
-    else if (xdg && *xdg) snprintf(out, cap, "%s/csfcal/spool.sqlite", xdg);
-    else snprintf(out, cap, "%s/.local/share/csfcal/spool.sqlite", home && *home ? home : ".");
-}
-
-static void mkdir_parents(const char *path)
-{
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *c = buf + 1; *c; c++)
-        if (*c == '/') {
-            *c = '\0';
-            mkdir(buf, 0700);
-            *c = '/';
-        }
-}
+/* ---- spooling ----------------------------------------------------------------------------
+ * When the server cannot be reached within spool_after_s, a write of a session this station runs
+ * goes to the local spool (results/store/spool.c) and the procedure goes on. Each later write
+ * first tries the server again (at most every 5 s) and, once it answers, sends the spooled rows
+ * before the new one. */
 
 static const csf_session_info *known(const pg_store *p, int64_t id)
 {
@@ -1125,40 +1077,10 @@ static csf_status spool_session(pg_store *p, int64_t sid, int64_t *lsid, csf_err
         return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and session %lld was "
                              "not started or resumed by this station, so it cannot be spooled",
                              p->base.path, (long long)sid);
-    csf_status cs = CSF_OK;
-    if (!p->spool) {
-        mkdir_parents(p->spool_path);
-        cs = csf_store_sqlite_open(p->spool_path, 0, &p->spool, err);
-        if (cs != CSF_OK) return cs;
-    }
-    cs = p->spool->ops->find_session_uuid(p->spool, k->uuid, lsid, err);
-    if (cs != CSF_E_NOT_FOUND) return cs;
-    csf_error_clear(err);
-    csf_store_session_new nw = {.kind = k->kind, .observer = k->observer, .display = k->display,
-                                .profile_id = k->profile_id[0] ? k->profile_id : NULL,
-                                .settings_json = k->settings_json, .seed = k->seed,
-                                .uuid = k->uuid, .created_utc = k->created_utc,
-                                .tool_version = k->tool_version};
-    return p->spool->ops->begin_session(p->spool, &nw, lsid, err);
+    return csf_spool_session(&p->spool, k, lsid, err);
 }
 
-/* One write that may be spooled: what it is and its arguments. */
-typedef enum { W_TRIAL, W_READING, W_FRAMES, W_STATE, W_THRESHOLDS, W_ARTIFACT, W_LINK } write_kind;
-typedef struct {
-    write_kind kind;
-    int64_t sid;
-    const csf_trial *t;
-    const csf_reading *r;
-    const double *iv;
-    int n, seq;
-    const char *state;
-    const csf_threshold_row *rows; /* W_THRESHOLDS: n_rows of them */
-    size_t n_rows;
-    const char *art_kind, *path;   /* W_ARTIFACT */
-    const void *blob;
-    size_t len;
-    int64_t participant_id;        /* W_LINK */
-} write_op;
+typedef csf_spool_write write_op;
 
 static csf_status to_server(pg_store *p, const write_op *w, csf_error *err);
 static csf_status put_thresholds_once(pg_store *p, int64_t session_id,
@@ -1194,39 +1116,18 @@ static csf_status to_spool(pg_store *p, const write_op *w, csf_error *err)
     int64_t lsid = 0;
     csf_status cs = spool_session(p, w->sid, &lsid, err);
     if (cs != CSF_OK) return cs;
-    csf_store *sp = p->spool;
-    if (w->kind == W_TRIAL) {
-        csf_trial t = *w->t;
-        t.session_id = lsid;
-        cs = sp->ops->add_trial_frames(sp, &t, w->iv, w->n, err);
-    } else if (w->kind == W_READING) {
-        csf_reading r = *w->r;
-        r.session_id = lsid;
-        cs = sp->ops->add_reading(sp, &r, err);
-    } else if (w->kind == W_FRAMES) {
-        cs = sp->ops->add_frame_intervals(sp, lsid, w->seq, w->iv, w->n, err);
-    } else if (w->kind == W_THRESHOLDS) {
-        cs = sp->ops->put_thresholds(sp, lsid, w->rows, w->n_rows, err);
-    } else if (w->kind == W_ARTIFACT) {
-        cs = sp->ops->add_artifact(sp, lsid, w->art_kind, w->path, w->blob, w->len, err);
-    } else if (w->kind == W_LINK) {
+    write_op named = *w;
+    if (w->kind == CSF_SPOOL_LINK) {
         const struct pg_name *pt = find_name(p, w->participant_id, 1);
         const struct pg_name *st = pt ? find_name(p, pt->study_id, 0) : NULL;
-        cs = st ? sp->ops->link_named(sp, lsid, st->name, NULL, pt->name, err)
-                : csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and participant "
-                                "%lld was not recorded by this station, so the link cannot be "
-                                "spooled", p->base.path, (long long)w->participant_id);
-    } else {
-        cs = sp->ops->set_session_state(sp, lsid, w->state, err);
+        if (!st)
+            return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and participant "
+                                 "%lld was not recorded by this station, so the link cannot be "
+                                 "spooled", p->base.path, (long long)w->participant_id);
+        named.study = st->name;
+        named.code = pt->name;
     }
-    if (cs != CSF_OK) return cs;
-    if (!p->spooling)
-        fprintf(stderr, "csfcal: store %s: server unreachable; keeping what is measured in the "
-                        "local spool %s and sending it when the server is back\n", p->base.path,
-                p->spool_path);
-    p->spooling = 1;
-    p->n_spooled++;
-    return CSF_OK;
+    return csf_spool_put(&p->spool, lsid, &named, err);
 }
 
 static double mono_s(void)
@@ -1246,36 +1147,15 @@ static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
         csf_status rs = reconnect(p, wait_s, wait_s > 0.0, err);
         if (rs != CSF_OK) return rs;
     }
-    p->spooling = 0; /* the pushes below write to the server, never back into the spool */
-    csf_status cs = CSF_OK;
-    int sent = 0;
-    for (size_t i = 0; i < p->n_known && cs == CSF_OK; i++) {
-        int64_t lsid = 0;
-        cs = p->spool->ops->find_session_uuid(p->spool, p->known[i].uuid, &lsid, err);
-        if (cs == CSF_E_NOT_FOUND) {
-            csf_error_clear(err);
-            cs = CSF_OK;
-            continue;
-        }
-        csf_push_counts c;
-        if (cs == CSF_OK) cs = csf_store_push_session(p->spool, &p->base, lsid, &c, err);
-        if (cs == CSF_OK) sent += c.trials_sent + c.readings_sent;
-    }
-    if (cs != CSF_OK) {
-        p->spooling = 1;
-        return cs;
-    }
-    fprintf(stderr, "csfcal: store %s: server back; %d spooled trials and readings sent\n",
-            p->base.path, sent);
-    p->n_spooled = 0;
-    return CSF_OK;
+    return csf_spool_send(&p->spool, &p->base, p->known, p->n_known, err);
 }
 
-/* A start the server got but its station never heard of (spool_unsure_begin): the spool has it
- * aborted and empty; the server's copy, still running with no rows, becomes aborted too. A
+/* A start the server got but its station never heard of (csf_spool_unsure_begin): the spool has
+ * it aborted and empty; the server's copy, still running with no rows, becomes aborted too. A
  * session someone resumed and wrote to is left alone. 1 when it was marked. */
-static int abort_phantom(pg_store *p, const csf_session_info *local, int64_t sid)
+static int abort_phantom(csf_store *b, const csf_session_info *local, int64_t sid)
 {
+    pg_store *p = pg(b);
     if (strcmp(local->state, "aborted") != 0 || local->n_trials || local->n_readings) return 0;
     csf_session_info si;
     csf_error e;
@@ -1292,38 +1172,9 @@ static int abort_phantom(pg_store *p, const csf_session_info *local, int64_t sid
  * said on stderr and does not stop the open: the rows stay in the spool. */
 static void recover_spool(pg_store *p)
 {
-    if (access(p->spool_path, F_OK) != 0) return;
-    csf_store *sp = NULL;
-    csf_error e;
-    if (csf_store_sqlite_open(p->spool_path, 0, &sp, &e) != CSF_OK) {
-        fprintf(stderr, "csfcal: store %s: the local spool cannot be read (%s)\n", p->base.path, e.msg);
-        return;
-    }
-    csf_session_info *list = NULL;
-    size_t n = 0;
-    csf_status cs = sp->ops->list_sessions(sp, &list, &n, &e);
-    int sent = 0, aborted = 0;
     p->flushing = 1;
-    for (size_t i = 0; cs == CSF_OK && i < n; i++) {
-        int64_t sid = 0;
-        if (!list[i].uuid[0] || find_uuid(p, list[i].uuid, &sid, NULL) != CSF_OK) continue;
-        csf_push_counts c;
-        cs = csf_store_push_rows(sp, &p->base, list[i].id, &c, &e);
-        sent += c.trials_sent + c.readings_sent;
-        if (cs == CSF_OK) aborted += abort_phantom(p, &list[i], sid);
-    }
+    csf_spool_recover(&p->spool, &p->base, abort_phantom);
     p->flushing = 0;
-    if (cs != CSF_OK)
-        fprintf(stderr, "csfcal: store %s: rows left in the local spool %s could not be sent (%s)\n",
-                p->base.path, p->spool_path, e.msg);
-    else if (sent > 0)
-        fprintf(stderr, "csfcal: store %s: %d trials and readings left in the local spool %s by an "
-                        "earlier run sent\n", p->base.path, sent, p->spool_path);
-    if (aborted > 0)
-        fprintf(stderr, "csfcal: store %s: %d session(s) whose start was cut off by a lost "
-                        "connection marked aborted\n", p->base.path, aborted);
-    csf_session_list_free(list, n);
-    sp->ops->close(sp);
 }
 
 /* A write of a session this station runs: to the server; after a drop, a short wait for it;
@@ -1331,7 +1182,7 @@ static void recover_spool(pg_store *p)
 static csf_status write_or_spool(pg_store *p, const write_op *w, csf_error *err)
 {
     if (p->flushing) return to_server(p, w, err);
-    if (p->spooling) {
+    if (p->spool.spooling) {
         csf_error e2;
         p->flushing = 1;
         csf_status fs = flush_spool(p, 0.0, &e2);
@@ -1353,7 +1204,7 @@ static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *sta
 {
     pg_store *p = pg(b);
     if (!known(p, id)) RETRY(p, err, set_state_once(p, id, state, err)); /* a claim to take */
-    write_op w = {.kind = W_STATE, .sid = id, .state = state};
+    write_op w = {.kind = CSF_SPOOL_STATE, .sid = id, .state = state};
     return write_or_spool(p, &w, err);
 }
 
@@ -1389,7 +1240,7 @@ static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error
 
 static csf_status pg_add_reading(csf_store *b, const csf_reading *rd, csf_error *err)
 {
-    write_op w = {.kind = W_READING, .sid = rd->session_id, .r = rd};
+    write_op w = {.kind = CSF_SPOOL_READING, .sid = rd->session_id, .r = rd};
     return write_or_spool(pg(b), &w, err);
 }
 
@@ -1508,7 +1359,7 @@ static csf_status add_trial_once(pg_store *p, const csf_trial *t, const double *
 static csf_status pg_add_trial_frames(csf_store *b, const csf_trial *t, const double *iv, int n,
                                       csf_error *err)
 {
-    write_op w = {.kind = W_TRIAL, .sid = t->session_id, .t = t, .iv = iv, .n = n};
+    write_op w = {.kind = CSF_SPOOL_TRIAL, .sid = t->session_id, .t = t, .iv = iv, .n = n};
     return write_or_spool(pg(b), &w, err);
 }
 
@@ -1532,20 +1383,21 @@ static csf_status pg_get_trials(csf_store *b, int64_t session_id, csf_trial **ou
 static csf_status pg_add_frame_intervals(csf_store *b, int64_t session_id, int trial_seq,
                                          const double *interval_s, int n, csf_error *err)
 {
-    write_op w = {.kind = W_FRAMES, .sid = session_id, .seq = trial_seq, .iv = interval_s, .n = n};
+    write_op w = {.kind = CSF_SPOOL_FRAMES, .sid = session_id, .seq = trial_seq, .iv = interval_s,
+                  .n = n};
     return write_or_spool(pg(b), &w, err);
 }
 
 static csf_status to_server(pg_store *p, const write_op *w, csf_error *err)
 {
     switch (w->kind) {
-    case W_TRIAL: return add_trial_once(p, w->t, w->iv, w->n, err);
-    case W_READING: return add_reading_once(p, w->r, err);
-    case W_FRAMES: return insert_frames(p, w->sid, w->seq, w->iv, w->n, err);
-    case W_THRESHOLDS: return put_thresholds_once(p, w->sid, w->rows, w->n_rows, err);
-    case W_ARTIFACT:
+    case CSF_SPOOL_TRIAL: return add_trial_once(p, w->t, w->iv, w->n, err);
+    case CSF_SPOOL_READING: return add_reading_once(p, w->r, err);
+    case CSF_SPOOL_FRAMES: return insert_frames(p, w->sid, w->seq, w->iv, w->n, err);
+    case CSF_SPOOL_THRESHOLDS: return put_thresholds_once(p, w->sid, w->rows, w->n_rows, err);
+    case CSF_SPOOL_ARTIFACT:
         return add_artifact_once(p, w->sid, w->art_kind, w->path, w->blob, w->len, err);
-    case W_LINK: return link_once(p, w->sid, w->participant_id, err);
+    case CSF_SPOOL_LINK: return link_once(p, w->sid, w->participant_id, err);
     default: return set_state_once(p, w->sid, w->state, err);
     }
 }
@@ -1655,7 +1507,7 @@ static csf_status pg_put_thresholds(csf_store *b, int64_t session_id, const csf_
 {
     pg_store *p = pg(b);
     if (!known(p, session_id)) RETRY(p, err, put_thresholds_once(p, session_id, rows, n, err));
-    write_op w = {.kind = W_THRESHOLDS, .sid = session_id, .rows = rows, .n_rows = n};
+    write_op w = {.kind = CSF_SPOOL_THRESHOLDS, .sid = session_id, .rows = rows, .n_rows = n};
     return write_or_spool(p, &w, err);
 }
 
@@ -1797,7 +1649,7 @@ static csf_status pg_add_artifact(csf_store *b, int64_t session_id, const char *
     pg_store *p = pg(b);
     if (!known(p, session_id))
         RETRY(p, err, add_artifact_once(p, session_id, kind, path, blob, len, err));
-    write_op w = {.kind = W_ARTIFACT, .sid = session_id, .art_kind = kind, .path = path,
+    write_op w = {.kind = CSF_SPOOL_ARTIFACT, .sid = session_id, .art_kind = kind, .path = path,
                   .blob = blob, .len = len};
     return write_or_spool(p, &w, err);
 }
@@ -1942,7 +1794,7 @@ static csf_status pg_link_session_participant(csf_store *b, int64_t session_id,
 {
     pg_store *p = pg(b);
     if (!known(p, session_id)) RETRY(p, err, link_once(p, session_id, participant_id, err));
-    write_op w = {.kind = W_LINK, .sid = session_id, .participant_id = participant_id};
+    write_op w = {.kind = CSF_SPOOL_LINK, .sid = session_id, .participant_id = participant_id};
     return write_or_spool(p, &w, err);
 }
 
