@@ -207,7 +207,8 @@ static void sb_c_array(sbuf *b, const char *px, const char *name, const double *
     "#pragma STDC FP_CONTRACT OFF\n"                                                              \
     "#endif\n"
 
-static void export_c(const csflut_table *t, const char *px, sbuf *b)
+/* The header's opening comment, include guard and the grid as constant arrays. */
+static void export_c_data(const csflut_table *t, const char *px, sbuf *b)
 {
     const csflut_axis_fast *F = &t->fx, *E = &t->ex;
     const double *v = t->conservative ? t->slice_cons : t->slice_raw;
@@ -244,8 +245,12 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     sb_printf(b, "/* log2 threshold, [ecc][freq] */\n");
     sb_c_array(b, px, "log2_thr", v, F->n * E->n, 4);
     sb_printf(b, "\n");
-    /* log2 and exp2 exactly as the library computes them (csflut_internal.h), so the header
-     * gives the same bits with any libm: frexp and ldexp are exact. */
+}
+
+/* log2 and exp2 exactly as the library computes them (csflut_internal.h), so the header
+ * gives the same bits with any libm: frexp and ldexp are exact. */
+static void export_c_log2_exp2(const char *px, sbuf *b)
+{
     sb_printf(b,
               "static inline double %s_log2_poly(double m, double e)\n"
               "{\n"
@@ -300,6 +305,11 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
               "    double k = t - 6755399441055744.0;\n"
               "    return ldexp(%s_exp2_poly(r - k), (int)k);\n"
               "}\n\n", px, px);
+}
+
+/* The bilinear blend over the grid and the visibility test built on it. */
+static void export_c_lookup(const char *px, sbuf *b)
+{
     sb_printf(b,
               "static inline double %s_lerp(double a, double b, double w)\n"
               "{\n"
@@ -335,6 +345,13 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
               C_NO_CONTRACT
               "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
               "}\n\n#endif\n", px, px);
+}
+
+static void export_c(const csflut_table *t, const char *px, sbuf *b)
+{
+    export_c_data(t, px, b);
+    export_c_log2_exp2(px, b);
+    export_c_lookup(px, b);
 }
 
 static void sb_glsl_array(sbuf *b, const char *px, const char *name, const double *v, int n)
