@@ -86,6 +86,116 @@ static void print_resume_hint(const csf_cli *cli, const csf_obs_options *o, cons
     for (int i = 0; i < 5; i++) free(q[i]);
 }
 
+/* One option from getopt_long into o (or cli). Returns -1 to go on, or the exit status: 0 after
+ * --help, 2 for a bad value or an unknown option. */
+static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_options *o)
+{
+    long v;
+    switch (c) {
+    case 'h': usage(stdout); return 0;
+    case 'o':
+    case OPT_OUT: o->out_path = optarg; break;
+    case OPT_PLOT: o->plot_path = optarg; break;
+    case OPT_FREQS:
+        o->n_freqs = csf_parse_double_list(optarg, "freqs", 0.01, 200, o->freqs_cpd, CSF_OBS_MAX_AXIS);
+        if (o->n_freqs < 0) return 2;
+        break;
+    case OPT_ECCS:
+        o->n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o->eccs_deg, CSF_OBS_MAX_AXIS);
+        if (o->n_eccs < 0) return 2;
+        break;
+    case OPT_TRIALS:
+        if (csf_parse_int(optarg, "trials", 1, 5000, &v) < 0) return 2;
+        o->trials = (int)v;
+        break;
+    case OPT_METHOD:
+        if (strcmp(optarg, "fade") && strcmp(optarg, "2afc") && strcmp(optarg, "bayes")) {
+            fprintf(stderr, "csfcal: --method: '%s' is unknown (bayes, fade, 2afc)\n", optarg);
+            return 2;
+        }
+        o->method = optarg;
+        break;
+    case OPT_PRACTICE:
+        if (csf_parse_int(optarg, "practice", 0, 50, &v) < 0) return 2;
+        o->practice = (int)v;
+        break;
+    case OPT_BREAK:
+        if (csf_parse_int(optarg, "break-every", 1, 5000, &v) < 0) return 2;
+        o->break_every = (int)v;
+        break;
+    case OPT_RENDER_EVERY:
+        if (csf_parse_int(optarg, "render-every", -1, 1000, &v) < 0) return 2;
+        if (v == 0) v = 1;
+        o->render_every = (int)v;
+        break;
+    case OPT_RENDER_SIZE: {
+        int w, h;
+        char tail;
+        if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) {
+            fprintf(stderr, "csfcal: --render-size: expected WxH, each 16 to 4096, got '%s'\n", optarg);
+            return 2;
+        }
+        o->render_w = w;
+        o->render_h = h;
+        break;
+    }
+    case OPT_QUIET: o->quiet = 1; break;
+    case OPT_ALLOW_PROFILE: o->allow_profile_change = 1; break;
+    case OPT_RESPONDER:
+        if (strlen(optarg) >= sizeof cli->cfg.responder) {
+            fprintf(stderr, "csfcal: --responder: longer than %zu characters\n", sizeof cli->cfg.responder - 1);
+            return 2;
+        }
+        snprintf(cli->cfg.responder, sizeof cli->cfg.responder, "%s", optarg);
+        break;
+    case OPT_FADE_ANCHORS: {
+        double share;
+        if (csf_parse_double(optarg, "fade-anchors", 0, 0.5, &share) < 0) return 2;
+        o->fade_anchor_share = share > 0 ? share : -1;
+        break;
+    }
+    case OPT_AFC:
+        if (strcmp(optarg, "2") == 0) o->afc = 2;
+        else if (strcmp(optarg, "4") == 0) o->afc = 4;
+        else {
+            fprintf(stderr, "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
+                            "where they fit)\n", optarg);
+            return 2;
+        }
+        break;
+    default: {
+        int r = csf_cli_option_default(cli, "observer calibrate", "", c, argv);
+        if (r >= 0) return r;
+    }
+    }
+    return -1;
+}
+
+/* What the options must say together once all are read: no stray argument, an --out, a
+ * responder spec that opens (--responder or the station's responder key) before the first
+ * trial. Returns -1 to go on or 2. */
+static int check_calibrate_options(int argc, char **argv, csf_cli *cli, const csf_obs_options *o)
+{
+    if (optind < argc) {
+        fprintf(stderr, "csfcal: observer calibrate: unexpected argument '%s'\n", argv[optind]);
+        return 2;
+    }
+    if (!o->out_path) {
+        fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
+        return 2;
+    }
+    {
+        /* the responder spec (--responder or the station's responder key) before the first trial */
+        csf_error rerr;
+        const char *rs = cli->cfg.responder[0] ? cli->cfg.responder : "keyboard";
+        if (csf_responder_check_spec(rs, &rerr)) {
+            fprintf(stderr, "csfcal: observer calibrate: responder '%s': %s\n", rs, rerr.msg);
+            return 2;
+        }
+    }
+    return -1;
+}
+
 /* The options into o (and the station's settings into cli). Returns -1 to go on, or the exit
  * status: 0 after --help, 2 for a bad option or a missing --out. */
 static int parse_calibrate_options(int argc, char **argv, csf_cli *cli, csf_obs_options *o)
