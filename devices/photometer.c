@@ -7,9 +7,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "devices/photometer_ls100.h"
-#include "devices/photometer_pr655.h"
-#include "devices/photometer_spotread.h"
+#include "devices/photometer_driver.h"
 #include "devices/screen_mirror.h"
 
 struct csf_photometer {

@@ -1,7 +1,8 @@
-/* Photometers: one instrument per file behind one struct of function pointers (the shape of
- * libusb's os backends and ArgyllCMS's instruments). A driver is split into protocol (bytes) and
- * transport (libusb / hidapi / serial / process) so real meters can be tested against emulators
- * that speak the same bytes; the simulated meter needs neither.
+/* Photometers: one instrument per file behind one struct of function pointers
+ * (devices/photometer_driver.h, the shape of libusb's os backends and ArgyllCMS's instruments). A
+ * driver is split into protocol (bytes) and transport (libusb / hidapi / serial / process) so real
+ * meters can be tested against emulators that speak the same bytes; the simulated meter needs
+ * neither. This header is the callers' side.
  *
  * Open by spec: "sim[:key=value,...]" (see devices/photometer_sim.c and docs/display-profile.md).
  * Errors: CSF_E_TOO_DARK, CSF_E_SATURATED, CSF_E_TIMEOUT, CSF_E_GONE, CSF_E_PROTOCOL, each with a
@@ -41,45 +42,6 @@ typedef struct {
 /* Capabilities. */
 enum { CSF_PHOT_CAP_XYZ = 1, CSF_PHOT_CAP_SIMULATED = 2 };
 
-/* The driver interface: one static instance per instrument file. `state` is the driver's own. */
-typedef struct csf_photometer_driver {
-    const char *name;         /* spec prefix: "sim", later "colorcal2", "colorhug2", "spotread" */
-    const char *description;
-    int caps;
-    csf_status (*open)(const char *options /* text after "name:" or "" */, uint64_t seed,
-                       void **state, csf_error *err);
-    /* Model, serial number, firmware: one line. */
-    csf_status (*identify)(void *state, char *buf, size_t len, csf_error *err);
-    csf_status (*measure)(void *state, const csf_screen_source *src, csf_photometer_reading *out,
-                          csf_error *err);
-    /* Tells the instrument how many readings were already taken in this session and at which
-     * clock time, so a resumed session continues where it left off (the simulator's noise draw
-     * index is the reading number). May be NULL. */
-    void (*resume_at)(void *state, uint64_t reading_index, double t_s);
-    /* Lets time pass (warm-up). NULL: the caller sleeps on the real clock. The simulator
-     * advances its virtual clock instead. */
-    void (*wait)(void *state, double seconds);
-    void (*close)(void *state);
-    /* Seconds of light one reading integrates (a rendered source shows that many frames of a
-     * dithered patch). NULL: unknown. */
-    double (*integration_s)(void *state);
-    /* Capabilities of this open instrument when they differ from `caps` (a USB driver talking to
-     * its test emulator measures a simulated display). May be NULL. */
-    int (*instance_caps)(void *state);
-} csf_photometer_driver;
-
-/* Byte transport for real instruments (USB bulk/HID/serial/process pipe); protocols are written
- * against it so emulators can stand in for the device in tests. */
-typedef struct csf_transport {
-    csf_status (*write)(struct csf_transport *t, const uint8_t *buf, size_t len, double timeout_s,
-                        csf_error *err);
-    /* Reads up to cap bytes; *got is what arrived before the timeout. */
-    csf_status (*read)(struct csf_transport *t, uint8_t *buf, size_t cap, size_t *got,
-                       double timeout_s, csf_error *err);
-    void (*close)(struct csf_transport *t);
-    void *user;
-} csf_transport;
-
 /* Opens by spec "name[:options]". Unknown name: CSF_E_NOT_FOUND with the list of known ones. */
 csf_status csf_photometer_open(const char *spec, uint64_t seed, csf_photometer **out, csf_error *err);
 void csf_photometer_close(csf_photometer *p);
@@ -99,14 +61,5 @@ double csf_photometer_integration_s(const csf_photometer *p);
 const char *csf_photometer_driver_name(const csf_photometer *p);
 /* The spec the photometer was opened with (for the store / profile). */
 const char *csf_photometer_spec(const csf_photometer *p);
-
-/* Registered drivers (NULL-terminated), for `csfcal devices`. */
-const csf_photometer_driver *const *csf_photometer_drivers(void);
-
-/* The simulator's driver (devices/photometer_sim.c). */
-extern const csf_photometer_driver csf_photometer_sim_driver;
-/* USB meters (devices/photometer_colorcal2.c, photometer_colorhug2.c; docs/instruments.md). */
-extern const csf_photometer_driver csf_photometer_colorcal2_driver;
-extern const csf_photometer_driver csf_photometer_colorhug2_driver;
 
 #endif

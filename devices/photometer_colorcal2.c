@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "devices/colorcal2_proto.h"
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 #include "devices/transport_libusb.h"
 #include "devices/usb_common.h"
 

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "devices/colorhug2_proto.h"
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 #include "devices/transport_hidapi.h"
 #include "devices/usb_common.h"
 

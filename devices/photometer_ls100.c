@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "devices/photometer_driver.h"
 #include "devices/transport_serial.h"
 
 enum { MODEL_LS100, MODEL_LS110, MODEL_CS100A };

@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "devices/photometer.h"
+#include "core/csf_status.h"
 
 typedef struct {
     int ok;         /* 1: "OKnn..." ; 0: "ERnn" */
@@ -26,9 +26,5 @@ csf_status csf_minolta_parse(const char *line, size_t len, csf_minolta_reply *ou
 /* The manual's sentence for an ER code, and the csfcal status it maps to. */
 const char *csf_minolta_error_text(int code);
 csf_status csf_minolta_error_status(int code);
-
-extern const csf_photometer_driver csf_photometer_ls100_driver;
-extern const csf_photometer_driver csf_photometer_ls110_driver;
-extern const csf_photometer_driver csf_photometer_cs100a_driver;
 
 #endif

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "devices/photometer_driver.h"
 #include "devices/transport_serial.h"
 
 typedef struct {

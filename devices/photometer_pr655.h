@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-#include "devices/photometer.h"
+#include "core/csf_status.h"
 
 #define CSF_PR_MAX_FIELDS 8
 
@@ -29,8 +29,5 @@ csf_status csf_pr_parse(const char *line, size_t len, csf_pr_reply *out, csf_err
 int csf_pr_field_num(const csf_pr_reply *r, int i, double *out);
 const char *csf_pr_error_text(long code);
 csf_status csf_pr_error_status(long code);
-
-extern const csf_photometer_driver csf_photometer_pr655_driver;
-extern const csf_photometer_driver csf_photometer_pr670_driver;
 
 #endif

@@ -28,7 +28,7 @@
 #include <string.h>
 
 #include "model/display_model.h"
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 #include "core/rng.h"
 
 enum {

@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "devices/photometer_driver.h"
 #include "devices/transport_serial.h"
 
 #define MAX_ARGS 32

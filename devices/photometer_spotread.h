@@ -17,7 +17,7 @@
 
 #include <stddef.h>
 
-#include "devices/photometer.h"
+#include "core/csf_status.h"
 
 enum {
     CSF_SPOT_NONE = 0,   /* nothing complete yet: read more */
@@ -38,7 +38,5 @@ typedef struct {
 /* Scans spotread's output text for the first complete event. Pure (fuzzed by fuzz_spotread). A
  * result line whose numbers do not parse is CSF_SPOT_FAIL with CSF_E_PROTOCOL. */
 void csf_spotread_scan(const char *buf, size_t len, csf_spotread_event *ev);
-
-extern const csf_photometer_driver csf_photometer_spotread_driver;
 
 #endif

@@ -11,7 +11,7 @@
 #ifndef CSF_TRANSPORT_EMU_H
 #define CSF_TRANSPORT_EMU_H
 
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 
 #define CSF_EMU_ENV "CSFCAL_TEST_USB_EMULATOR"
 #define CSF_EMU_OPEN_SYMBOL "csf_emu_open_device"

@@ -6,7 +6,7 @@
 
 #include <stdint.h>
 
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 
 /* serial: NULL or "" for the first device with this VID:PID; instrument names it in messages. */
 csf_status csf_transport_hidapi_open(uint16_t vid, uint16_t pid, const char *serial, const char *instrument,

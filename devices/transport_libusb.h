@@ -7,7 +7,7 @@
 
 #include <stdint.h>
 
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 
 typedef struct {
     uint16_t vid, pid;

@@ -9,7 +9,7 @@
 
 #include <stddef.h>
 
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 
 typedef struct {
     int baud;       /* 1200 .. 115200 */

@@ -5,7 +5,7 @@
 
 #include <stdint.h>
 
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 #include "devices/transport_emu.h"
 
 typedef struct {

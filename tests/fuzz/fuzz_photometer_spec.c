@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "calib/meter_check.h"
-#include "devices/photometer.h"
+#include "devices/photometer_driver.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
