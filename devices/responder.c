@@ -1,14 +1,11 @@
 /* Responder registry and the "queue" backend (events pushed by the program). */
 #include "devices/responder.h"
-#include "devices/responder_gamepad.h"
-#include "devices/responder_hid.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-extern const csf_responder_backend csf_responder_glfw_keyboard, csf_responder_glfw_mouse, csf_responder_gamepad,
-    csf_responder_hid;
+#include "devices/responder_backend.h"
 
 #define QUEUE_CAP 256
 
@@ -42,7 +39,7 @@ static void queue_close(void *state)
     free(state);
 }
 
-static const csf_responder_backend queue_backend = {"queue", queue_open, queue_poll, queue_close};
+static const csf_responder_backend queue_backend = {"queue", queue_open, queue_poll, queue_close, NULL};
 
 struct csf_responder {
     const csf_responder_backend *b;
@@ -72,16 +69,9 @@ csf_status csf_responder_check_spec(const char *spec, csf_error *err)
     const char *colon = spec ? strchr(spec, ':') : NULL;
     size_t nl = spec ? (colon ? (size_t)(colon - spec) : strlen(spec)) : 0;
     const char *opts = colon ? colon + 1 : "";
-    if (spec && nl == 3 && strncmp(spec, "hid", 3) == 0) {
-        csf_hid_spec h;
-        return csf_hid_spec_parse(opts, &h, err);
-    }
-    if (spec && nl == 7 && strncmp(spec, "gamepad", 7) == 0) {
-        csf_gamepad_spec g;
-        return csf_gamepad_spec_parse(opts, &g, err);
-    }
     for (size_t i = 0; spec && i < sizeof backends / sizeof backends[0]; i++)
         if (strlen(backends[i]->name) == nl && strncmp(spec, backends[i]->name, nl) == 0) {
+            if (backends[i]->check_options) return backends[i]->check_options(opts, err);
             if (*opts)
                 return csf_error_set(err, CSF_E_INVALID_ARG, "responder %s takes no options (got '%.60s')",
                                      backends[i]->name, opts);

@@ -1,8 +1,9 @@
 /* Response devices for a real person: one backend per file behind one struct of function
- * pointers (the libusb backend shape), chosen by spec "name[:options]". Events carry a timestamp
- * in seconds on raw CLOCK_MONOTONIC (csf_responder_now). The windowed presenter's frame times are
- * the same clock minus its first frame's time: to compare an event with a frame, subtract
- * csf_responder_now() - csf_presenter_time(p) from the event's t_s first.
+ * pointers (devices/responder_backend.h, the libusb backend shape), chosen by spec
+ * "name[:options]". Events carry a timestamp in seconds on raw CLOCK_MONOTONIC
+ * (csf_responder_now). The windowed presenter's frame times are the same clock minus its first
+ * frame's time: to compare an event with a frame, subtract csf_responder_now() -
+ * csf_presenter_time(p) from the event's t_s first.
  *
  * Backends (docs/instruments.md, "Response devices", has each one's timestamp and latency):
  *  - "keyboard" and "mouse" (devices/responder_glfw.c: both read the presenter's GLFW window; any
@@ -50,16 +51,6 @@ typedef struct {
 /* key of the CSF_RESP_ESCAPE a backend reports when its device has gone */
 enum { CSF_RESP_KEY_GONE = -1 };
 
-typedef struct {
-    const char *name;
-    /* options: the text after "name:" ("" when none); window: the GLFWwindow* of the presenter
-     * (NULL for backends that need none). */
-    csf_status (*open)(const char *options, void *window, void **state, csf_error *err);
-    /* Pumps the device and returns 1 with the oldest pending event, 0 when none is pending. */
-    int (*poll)(void *state, csf_response *out);
-    void (*close)(void *state);
-} csf_responder_backend;
-
 typedef struct csf_responder csf_responder;
 
 /* spec: "name[:options]" (above). Unknown names are refused with the list of known ones. */
@@ -67,9 +58,6 @@ csf_status csf_responder_open(const char *spec, void *window, csf_responder **ou
 /* Checks a spec without opening anything (name known, options well formed): for the command
  * line, before the first trial. CSF_E_INVALID_ARG with the problem. */
 csf_status csf_responder_check_spec(const char *spec, csf_error *err);
-/* Wraps an opened backend state (for backends opened through a test seam, e.g. an emulated HID
- * device: devices/responder_hid.h). Closes the state through b->close on failure. */
-csf_status csf_responder_wrap(const csf_responder_backend *b, void *state, csf_responder **out, csf_error *err);
 int csf_responder_poll(csf_responder *r, csf_response *out);
 /* Queue backend only: appends an event (returns -1 when full or not a queue responder). */
 int csf_responder_push(csf_responder *r, const csf_response *ev);

@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "devices/responder_backend.h"
+
 #define PAD_QUEUE_CAP 128
 enum { PAD_LT = 15, PAD_RT = 16 };
 
@@ -154,8 +156,6 @@ static csf_status open_on(const char *options, const csf_pad_io *io, pad_state *
     return CSF_OK;
 }
 
-extern const csf_responder_backend csf_responder_gamepad;
-
 csf_status csf_responder_open_gamepad_io(const char *options, const csf_pad_io *io, csf_responder **out,
                                          csf_error *err)
 {
@@ -216,4 +216,12 @@ static csf_status pad_open(const char *options, void *window, void **state, csf_
     return CSF_OK;
 }
 
-const csf_responder_backend csf_responder_gamepad = {"gamepad", pad_open, pad_poll, pad_close};
+/* The spec's options parse (csf_responder_check_spec): nothing is opened. */
+static csf_status pad_check_options(const char *options, csf_error *err)
+{
+    csf_gamepad_spec g;
+    return csf_gamepad_spec_parse(options, &g, err);
+}
+
+const csf_responder_backend csf_responder_gamepad = {"gamepad", pad_open, pad_poll, pad_close,
+                                                     pad_check_options};

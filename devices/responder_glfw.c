@@ -8,7 +8,7 @@
 #include <GLFW/glfw3.h>
 #include <stdlib.h>
 
-#include "devices/responder.h"
+#include "devices/responder_backend.h"
 
 #define GLFW_QUEUE_CAP 128
 #define MAX_WINDOWS 4
@@ -139,5 +139,6 @@ static void glfw_close(void *state)
     free(s);
 }
 
-const csf_responder_backend csf_responder_glfw_keyboard = {"keyboard", open_keyboard, glfw_poll, glfw_close};
-const csf_responder_backend csf_responder_glfw_mouse = {"mouse", open_mouse, glfw_poll, glfw_close};
+const csf_responder_backend csf_responder_glfw_keyboard = {"keyboard", open_keyboard, glfw_poll, glfw_close,
+                                                          NULL};
+const csf_responder_backend csf_responder_glfw_mouse = {"mouse", open_mouse, glfw_poll, glfw_close, NULL};

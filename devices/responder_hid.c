@@ -12,6 +12,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include "devices/responder_backend.h"
+
 #define HID_QUEUE_CAP 256
 
 static int hexval(const char *p, size_t n, uint16_t *out)
@@ -234,8 +236,6 @@ static csf_status start(const csf_hid_spec *spec, csf_hid_io *io, void **state, 
     return CSF_OK;
 }
 
-extern const csf_responder_backend csf_responder_hid;
-
 csf_status csf_responder_open_hid_io(const char *options, csf_hid_io *io, csf_responder **out,
                                      csf_error *err)
 {
@@ -298,4 +298,12 @@ static csf_status hid_open_backend(const char *options, void *window, void **sta
     return CSF_OK;
 }
 
-const csf_responder_backend csf_responder_hid = {"hid", hid_open_backend, hid_poll, hidr_close};
+/* The spec's options parse (csf_responder_check_spec): nothing is opened. */
+static csf_status hid_check_options(const char *options, csf_error *err)
+{
+    csf_hid_spec h;
+    return csf_hid_spec_parse(options, &h, err);
+}
+
+const csf_responder_backend csf_responder_hid = {"hid", hid_open_backend, hid_poll, hidr_close,
+                                                 hid_check_options};
