@@ -10,8 +10,6 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <cairo.h>
-#include <dlfcn.h>
-#include <link.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,7 +17,7 @@
 #include <time.h>
 
 #include "core/rng.h"
-#include "stimuli/gamma_guard.h"
+#include "stimuli/context.h"
 
 #define DEG (M_PI / 180.0)
 #define INV_TABLE_N 4096
@@ -443,141 +441,21 @@ static csf_status gl_setup(csf_presenter *p, csf_error *err)
     return CSF_OK;
 }
 
-/* Marks the loaded Mesa/LLVM driver modules as never-unloaded. eglTerminate would otherwise
- * dlclose them, and the driver's own leftover allocations would then appear in leak reports with
- * no module name, so they could not be told apart from ours (tests/lsan.supp matches by module).
- * Keeping a driver resident for the life of the process costs nothing. */
-static int pin_module(struct dl_phdr_info *info, size_t size, void *data)
-{
-    (void)size;
-    (void)data;
-    const char *n = info->dlpi_name;
-    if (n && *n && (strstr(n, "_dri.so") || strstr(n, "libLLVM") || strstr(n, "libgallium") ||
-                    strstr(n, "libEGL_mesa") || strstr(n, "libglapi"))) {
-        void *h = dlopen(n, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-        if (h) dlclose(h);
-    }
-    return 0;
-}
-
-static csf_status egl_open(csf_presenter *p, csf_error *err)
-{
-    PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display =
-        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
-    if (get_platform_display)
-        p->dpy = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    if (p->dpy == EGL_NO_DISPLAY)
-        return csf_error_set(err, CSF_E_UNSUPPORTED,
-                             "no EGL surfaceless display (Mesa EGL_MESA_platform_surfaceless needed "
-                             "for --headless)");
-    EGLint major, minor;
-    if (!eglInitialize(p->dpy, &major, &minor)) {
-        p->dpy = EGL_NO_DISPLAY;
-        return csf_error_set(err, CSF_E_UNSUPPORTED, "eglInitialize failed on the surfaceless platform");
-    }
-    if (!eglBindAPI(EGL_OPENGL_API))
-        return csf_error_set(err, CSF_E_UNSUPPORTED, "EGL cannot bind the desktop OpenGL API");
-    static const EGLint versions[][2] = {{4, 5}, {3, 3}};
-    for (int i = 0; i < 2 && p->ctx == EGL_NO_CONTEXT; i++) {
-        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
-                         versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-        p->ctx = eglCreateContext(p->dpy, (EGLConfig)0 /* EGL_NO_CONFIG_KHR */, EGL_NO_CONTEXT, attr);
-    }
-    if (p->ctx == EGL_NO_CONTEXT)
-        return csf_error_set(err, CSF_E_UNSUPPORTED,
-                             "cannot create an OpenGL 4.5 or 3.3 core context through EGL (0x%x)",
-                             (unsigned)eglGetError());
-    if (!eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, p->ctx))
-        return csf_error_set(err, CSF_E_UNSUPPORTED, "eglMakeCurrent without a surface failed");
-    dl_iterate_phdr(pin_module, NULL);
-    return CSF_OK;
-}
-
-static GLFWmonitor *pick_monitor(const char *spec, csf_error *err)
-{
-    int n = 0;
-    GLFWmonitor **mons = glfwGetMonitors(&n);
-    if (n <= 0) {
-        csf_error_set(err, CSF_E_UNSUPPORTED, "no monitor found for a fullscreen window");
-        return NULL;
-    }
-    if (!spec || !*spec) return glfwGetPrimaryMonitor();
-    char *end;
-    long idx = strtol(spec, &end, 10);
-    if (*end == '\0') {
-        if (idx < 0 || idx >= n) {
-            csf_error_set(err, CSF_E_INVALID_ARG, "--monitor %ld: there are %d monitors (0 to %d)",
-                          idx, n, n - 1);
-            return NULL;
-        }
-        return mons[idx];
-    }
-    for (int i = 0; i < n; i++) {
-        const char *name = glfwGetMonitorName(mons[i]);
-        if (name && strstr(name, spec)) return mons[i];
-    }
-    csf_error_set(err, CSF_E_NOT_FOUND, "--monitor '%s': no monitor with that name among %d", spec, n);
-    return NULL;
-}
-
 static csf_status window_open(csf_presenter *p, csf_error *err)
 {
-    if (!glfwInit()) {
-        const char *d = NULL;
-        glfwGetError(&d);
-        return csf_error_set(err, CSF_E_UNSUPPORTED, "GLFW could not start (%s); use --headless",
-                             d ? d : "no display");
-    }
-    p->glfw_inited = 1;
-    GLFWmonitor *mon = pick_monitor(p->cfg.monitor, err);
-    if (!mon) return err ? err->code : CSF_E_UNSUPPORTED;
-    const GLFWvidmode *mode = glfwGetVideoMode(mon);
-    glfwDefaultWindowHints();
-    glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
-    glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    glfwWindowHint(GLFW_RED_BITS, p->bits);
-    glfwWindowHint(GLFW_GREEN_BITS, p->bits);
-    glfwWindowHint(GLFW_BLUE_BITS, p->bits);
-    glfwWindowHint(GLFW_REFRESH_RATE, mode ? mode->refreshRate : GLFW_DONT_CARE);
-    glfwWindowHint(GLFW_AUTO_ICONIFY, GLFW_FALSE);
-    int w = mode ? mode->width : p->geom.width_px, h = mode ? mode->height : p->geom.height_px;
-    p->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
-    if (!p->win && p->bits == 10) { /* 10-bit refused: fall back to 8 and say so via bits */
-        p->bits = 8;
+    csf_glfw_context c = {.monitor = p->cfg.monitor, .width_px = p->geom.width_px,
+                          .height_px = p->geom.height_px, .bits = p->bits};
+    csf_status st = csf_context_glfw_open(&c, err);
+    p->win = c.win;
+    p->glfw_inited = c.glfw_inited;
+    if (c.bits != p->bits) { /* 10-bit refused: 8, and bits says so */
+        p->bits = c.bits;
         p->maxlevel = 255;
-        glfwWindowHint(GLFW_RED_BITS, 8);
-        glfwWindowHint(GLFW_GREEN_BITS, 8);
-        glfwWindowHint(GLFW_BLUE_BITS, 8);
-        p->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
     }
-    if (!p->win) {
-        const char *d = NULL;
-        glfwGetError(&d);
-        return csf_error_set(err, CSF_E_UNSUPPORTED,
-                             "cannot open a fullscreen OpenGL 3.3 window through EGL (%s)",
-                             d ? d : "unknown");
-    }
-    glfwMakeContextCurrent(p->win);
-    dl_iterate_phdr(pin_module, NULL);
-    glfwSwapInterval(1);
-    glfwSetInputMode(p->win, GLFW_CURSOR, GLFW_CURSOR_HIDDEN);
-    int fw, fh;
-    glfwGetFramebufferSize(p->win, &fw, &fh);
-    if (fw != p->geom.width_px || fh != p->geom.height_px)
-        fprintf(stderr,
-                "csfcal: warning: the window is %dx%d px but the configuration says %dx%d px; "
-                "drawing at the window size with the configured size in mm\n",
-                fw, fh, p->geom.width_px, p->geom.height_px);
-    p->rw = fw;
-    p->rh = fh;
-    if (mode && p->cfg.refresh_hz <= 0) p->refresh_hz = mode->refreshRate;
-    csf_error gerr;
-    if (csf_gamma_guard_install(mon, &gerr) != CSF_OK)
-        fprintf(stderr, "csfcal: warning: %s\n", gerr.msg);
+    if (st != CSF_OK) return st;
+    p->rw = c.fb_w;
+    p->rh = c.fb_h;
+    if (c.has_mode && p->cfg.refresh_hz <= 0) p->refresh_hz = c.mode_hz;
     return CSF_OK;
 }
 
@@ -626,7 +504,7 @@ csf_status csf_presenter_open(const csf_presenter_config *cfg, csf_presenter **o
     p->rw = cfg->render_width_px ? cfg->render_width_px : chk.width_px;
     p->rh = cfg->render_height_px ? cfg->render_height_px : chk.height_px;
     st = setup_luminance(p, err);
-    if (!st) st = p->headless ? egl_open(p, err) : window_open(p, err);
+    if (!st) st = p->headless ? csf_context_egl_open(&p->dpy, &p->ctx, err) : window_open(p, err);
     if (!st) st = gl_setup(p, err);
     if (st) {
         csf_presenter_close(p);
@@ -650,16 +528,8 @@ void csf_presenter_close(csf_presenter *p)
         if (p->region_fbo) glDeleteFramebuffers(1, &p->region_fbo);
         if (p->region_tex) glDeleteTextures(1, &p->region_tex);
     }
-    if (p->ctx != EGL_NO_CONTEXT) {
-        eglMakeCurrent(p->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        eglDestroyContext(p->dpy, p->ctx);
-    }
-    if (p->dpy != EGL_NO_DISPLAY) eglTerminate(p->dpy);
-    if (p->win) glfwDestroyWindow(p->win);
-    if (p->glfw_inited) {
-        csf_gamma_guard_restore();
-        glfwTerminate();
-    }
+    csf_context_egl_close(p->dpy, p->ctx);
+    csf_context_glfw_close(p->win, p->glfw_inited);
     csf_profile_free(p->own_profile);
     free(p->level_lum);
     free(p);
