@@ -176,6 +176,68 @@ static int parse_num(const char *s, double lo, double hi, double *out)
     return 0;
 }
 
+/* The four comma-separated numbers of a data line into f. */
+static csf_status csv_fields(char *s, const char *name, int line_no, double f[4], csf_error *err)
+{
+    char *p = s;
+    for (int k = 0; k < 4; k++) {
+        char *end;
+        errno = 0;
+        f[k] = strtod(p, &end);
+        if (end == p || errno || !isfinite(f[k]))
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: field %d is not a number", name,
+                                 line_no, k + 1);
+        p = end;
+        while (*p == ' ' || *p == '\t') p++;
+        if (k < 3) {
+            if (*p != ',')
+                return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields",
+                                     name, line_no);
+            p++;
+        }
+    }
+    if (*p) return csf_error_set(err, CSF_E_FORMAT, "%s:%d: trailing text after 4 fields", name, line_no);
+    return CSF_OK;
+}
+
+/* One row's level and three channel luminances into m; seen marks the levels given so far. */
+static csf_status csv_store_row(csf_display_model *m, int *seen, const double f[4], const char *name,
+                                int line_no, csf_error *err)
+{
+    if (f[0] != floor(f[0]) || f[0] < 0 || f[0] > CSV_LEVELS - 1)
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level must be an integer 0..255", name,
+                             line_no);
+    int lv = (int)f[0];
+    if (seen[lv]) return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level %d given twice", name, line_no, lv);
+    for (int c = 0; c < 3; c++) {
+        if (f[c + 1] < 0 || f[c + 1] > 10000)
+            return csf_error_set(err, CSF_E_FORMAT,
+                                 "%s:%d: luminance %g out of range (0 to 10000 cd/m2)", name,
+                                 line_no, f[c + 1]);
+        m->csv[c][lv] = f[c + 1];
+    }
+    seen[lv] = 1;
+    return CSF_OK;
+}
+
+/* Every level present, and no channel darker at a higher level. */
+static csf_status csv_check_levels(const csf_display_model *m, const int *seen, const char *name,
+                                   csf_error *err)
+{
+    for (int lv = 0; lv < CSV_LEVELS; lv++) {
+        if (!seen[lv])
+            return csf_error_set(err, CSF_E_FORMAT, "%s: level %d missing (need all levels 0..255)",
+                                 name, lv);
+        if (lv > 0)
+            for (int c = 0; c < 3; c++)
+                if (m->csv[c][lv] < m->csv[c][lv - 1])
+                    return csf_error_set(err, CSF_E_FORMAT,
+                                         "%s: channel %c decreases at level %d (a display curve must not)",
+                                         name, "rgb"[c], lv);
+    }
+    return CSF_OK;
+}
+
 csf_status csf_display_model_from_csv(const char *text, size_t len, const char *name,
                                       csf_display_model **out, csf_error *err)
 {
@@ -215,67 +277,18 @@ csf_status csf_display_model_from_csv(const char *text, size_t len, const char *
                                  name, line_no);
         }
         double f[4];
-        char *p = s;
-        for (int k = 0; k < 4; k++) {
-            char *end;
-            errno = 0;
-            f[k] = strtod(p, &end);
-            if (end == p || errno || !isfinite(f[k])) {
-                free(m);
-                return csf_error_set(err, CSF_E_FORMAT, "%s:%d: field %d is not a number", name,
-                                     line_no, k + 1);
-            }
-            p = end;
-            while (*p == ' ' || *p == '\t') p++;
-            if (k < 3) {
-                if (*p != ',') {
-                    free(m);
-                    return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields",
-                                         name, line_no);
-                }
-                p++;
-            }
-        }
-        if (*p) {
+        csf_status rc = csv_fields(s, name, line_no, f, err);
+        if (!rc) rc = csv_store_row(m, seen, f, name, line_no, err);
+        if (rc) {
             free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: trailing text after 4 fields", name, line_no);
+            return rc;
         }
-        if (f[0] != floor(f[0]) || f[0] < 0 || f[0] > CSV_LEVELS - 1) {
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level must be an integer 0..255", name,
-                                 line_no);
-        }
-        int lv = (int)f[0];
-        if (seen[lv]) {
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level %d given twice", name, line_no, lv);
-        }
-        for (int c = 0; c < 3; c++) {
-            if (f[c + 1] < 0 || f[c + 1] > 10000) {
-                free(m);
-                return csf_error_set(err, CSF_E_FORMAT,
-                                     "%s:%d: luminance %g out of range (0 to 10000 cd/m2)", name,
-                                     line_no, f[c + 1]);
-            }
-            m->csv[c][lv] = f[c + 1];
-        }
-        seen[lv] = 1;
         n_rows++;
     }
-    for (int lv = 0; lv < CSV_LEVELS; lv++) {
-        if (!seen[lv]) {
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s: level %d missing (need all levels 0..255)",
-                                 name, lv);
-        }
-        if (lv > 0)
-            for (int c = 0; c < 3; c++)
-                if (m->csv[c][lv] < m->csv[c][lv - 1]) {
-                    free(m);
-                    return csf_error_set(err, CSF_E_FORMAT,
-                                         "%s: channel %c decreases at level %d (a display curve must not)",
-                                         name, "rgb"[c], lv);
-                }
+    csf_status rc = csv_check_levels(m, seen, name, err);
+    if (rc) {
+        free(m);
+        return rc;
     }
     double white = m->csv[0][255] + m->csv[1][255] + m->csv[2][255];
     if (!(white > 0)) {
