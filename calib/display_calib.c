@@ -254,15 +254,13 @@ static csf_status meter_fault(const ctx *c, csf_status st, int role, int ch, dou
                          drive, m->msg, *hint ? "; " : "", hint);
 }
 
-/* Takes one reading: from the stored session while replaying, else from the instrument (and
- * stores it at once). accept_dark: a too-dark answer is a valid result here (black of an OLED). */
-static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, rd *out, csf_error *err)
+/* The next stored reading of a session being resumed, which must be the one the procedure
+ * asks for: a failed attempt there is passed over, as the live run went on to retry it.
+ * *replayed is 0 when the stored readings have run out: the reading is then taken live. */
+static csf_status take_replayed(ctx *c, int role, double drive, int accept_dark, const char *want, rd *out,
+                                int *replayed, csf_error *err)
 {
-    memset(out, 0, sizeof *out);
-    out->role = role;
-    out->ch = ch;
-    out->drive = drive;
-    const char *want = ch_name_store(role, ch);
+    *replayed = 1;
     while (c->replay_pos < c->n_replay) {
         const csf_reading *s = &c->replay[c->replay_pos++];
         if (strcmp(s->channel, want) != 0 || fabs(s->drive01 - drive) > 1e-12)
@@ -307,6 +305,35 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
         if (!rst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
         return rst;
     }
+    *replayed = 0;
+    return CSF_OK;
+}
+
+/* Every live attempt goes into the store at once, failed ones too; keep: its values are stored
+ * (a reading, or an implausible one), else NAN. */
+static csf_status store_live_reading(const ctx *c, const char *want, double drive, int keep,
+                                     const csf_photometer_reading *pr, csf_status st, csf_error *err)
+{
+    csf_reading sr;
+    memset(&sr, 0, sizeof sr);
+    sr.session_id = c->sid;
+    sr.seq = c->seq;
+    snprintf(sr.channel, sizeof sr.channel, "%s", want);
+    sr.drive01 = drive;
+    sr.lum_cdm2 = keep ? pr->lum_cdm2 : NAN;
+    sr.X = keep ? pr->xyz[0] : NAN;
+    sr.Y = keep ? pr->xyz[1] : NAN;
+    sr.Z = keep ? pr->xyz[2] : NAN;
+    sr.has_xyz = keep && pr->has_xyz;
+    sr.t_s = pr->t_s;
+    snprintf(sr.status, sizeof sr.status, "%s", status_name(st));
+    return csf_store_add_reading(c->store, &sr, err);
+}
+
+/* A reading from the instrument: the patch shown, measured, checked, stored. */
+static csf_status take_live(ctx *c, int role, int ch, double drive, int accept_dark, const char *want,
+                            rd *out, csf_error *err)
+{
     if (!c->live_started) {
         csf_photometer_resume_at(c->ph, c->inst_index, c->t_accepted);
         c->live_started = 1;
@@ -328,20 +355,7 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     if (!st) implausible = (st = sanity(c, role, rgb, &pr, &merr, &span)) != CSF_OK;
     int keep = !st || implausible; /* an implausible reading is stored with its values */
     if (c->store) {
-        csf_reading sr;
-        memset(&sr, 0, sizeof sr);
-        sr.session_id = c->sid;
-        sr.seq = c->seq;
-        snprintf(sr.channel, sizeof sr.channel, "%s", want);
-        sr.drive01 = drive;
-        sr.lum_cdm2 = keep ? pr.lum_cdm2 : NAN;
-        sr.X = keep ? pr.xyz[0] : NAN;
-        sr.Y = keep ? pr.xyz[1] : NAN;
-        sr.Z = keep ? pr.xyz[2] : NAN;
-        sr.has_xyz = keep && pr.has_xyz;
-        sr.t_s = pr.t_s;
-        snprintf(sr.status, sizeof sr.status, "%s", status_name(st));
-        csf_status sst = csf_store_add_reading(c->store, &sr, err);
+        csf_status sst = store_live_reading(c, want, drive, keep, &pr, st, err);
         if (sst) return sst;
     }
     c->seq++;
@@ -359,6 +373,21 @@ static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, 
     if (!pst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
     progress(c);
     return pst;
+}
+
+/* Takes one reading: from the stored session while replaying, else from the instrument (and
+ * stores it at once). accept_dark: a too-dark answer is a valid result here (black of an OLED). */
+static csf_status take(ctx *c, int role, int ch, double drive, int accept_dark, rd *out, csf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->role = role;
+    out->ch = ch;
+    out->drive = drive;
+    const char *want = ch_name_store(role, ch);
+    int replayed;
+    csf_status rst = take_replayed(c, role, drive, accept_dark, want, out, &replayed, err);
+    if (replayed) return rst;
+    return take_live(c, role, ch, drive, accept_dark, want, out, err);
 }
 
 /* White reference events: consecutive reference readings averaged (time and luminance). */
