@@ -12,11 +12,11 @@
 
 /* The driver interface: one static instance per instrument file. `state` is the driver's own. */
 typedef struct csf_photometer_driver {
-    const char *name;         /* spec prefix: "sim", later "colorcal2", "colorhug2", "spotread" */
+    const char *name; /* spec prefix: "sim", later "colorcal2", "colorhug2", "spotread" */
     const char *description;
     int caps;
-    csf_status (*open)(const char *options /* text after "name:" or "" */, uint64_t seed,
-                       void **state, csf_error *err);
+    csf_status (*open)(const char *options /* text after "name:" or "" */, uint64_t seed, void **state,
+                       csf_error *err);
     /* Model, serial number, firmware: one line. */
     csf_status (*identify)(void *state, char *buf, size_t len, csf_error *err);
     csf_status (*measure)(void *state, const csf_screen_source *src, csf_photometer_reading *out,
@@ -43,8 +43,8 @@ typedef struct csf_transport {
     csf_status (*write)(struct csf_transport *t, const uint8_t *buf, size_t len, double timeout_s,
                         csf_error *err);
     /* Reads up to cap bytes; *got is what arrived before the timeout. */
-    csf_status (*read)(struct csf_transport *t, uint8_t *buf, size_t cap, size_t *got,
-                       double timeout_s, csf_error *err);
+    csf_status (*read)(struct csf_transport *t, uint8_t *buf, size_t cap, size_t *got, double timeout_s,
+                       csf_error *err);
     void (*close)(struct csf_transport *t);
     void *user;
 } csf_transport;

@@ -140,5 +140,5 @@ static void glfw_close(void *state)
 }
 
 const csf_responder_backend csf_responder_glfw_keyboard = {"keyboard", open_keyboard, glfw_poll, glfw_close,
-                                                          NULL};
+                                                           NULL};
 const csf_responder_backend csf_responder_glfw_mouse = {"mouse", open_mouse, glfw_poll, glfw_close, NULL};

@@ -28,8 +28,8 @@ typedef struct {
     int bits;                /* 8 or 10 asked; 8 when a 10-bit window was refused */
     GLFWwindow *win;
     int glfw_inited;
-    int fb_w, fb_h;          /* the framebuffer's size */
-    int has_mode, mode_hz;   /* the monitor's video mode and its refresh rate */
+    int fb_w, fb_h;        /* the framebuffer's size */
+    int has_mode, mode_hz; /* the monitor's video mode and its refresh rate */
 } csf_glfw_context;
 
 csf_status csf_context_glfw_open(csf_glfw_context *c, csf_error *err);

@@ -15,8 +15,9 @@ static int pin_module(struct dl_phdr_info *info, size_t size, void *data)
     (void)size;
     (void)data;
     const char *n = info->dlpi_name;
-    if (n && *n && (strstr(n, "_dri.so") || strstr(n, "libLLVM") || strstr(n, "libgallium") ||
-                    strstr(n, "libEGL_mesa") || strstr(n, "libglapi"))) {
+    if (n && *n &&
+        (strstr(n, "_dri.so") || strstr(n, "libLLVM") || strstr(n, "libgallium") ||
+         strstr(n, "libEGL_mesa") || strstr(n, "libglapi"))) {
         void *h = dlopen(n, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
         if (h) dlclose(h);
     }
@@ -47,9 +48,13 @@ csf_status csf_context_egl_open(EGLDisplay *dpy, EGLContext *ctx, csf_error *err
         return csf_error_set(err, CSF_E_UNSUPPORTED, "EGL cannot bind the desktop OpenGL API");
     static const EGLint versions[][2] = {{4, 5}, {3, 3}};
     for (int i = 0; i < 2 && *ctx == EGL_NO_CONTEXT; i++) {
-        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
-                         versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        EGLint attr[] = {EGL_CONTEXT_MAJOR_VERSION,
+                         versions[i][0],
+                         EGL_CONTEXT_MINOR_VERSION,
+                         versions[i][1],
+                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                         EGL_NONE};
         *ctx = eglCreateContext(*dpy, (EGLConfig)0 /* EGL_NO_CONFIG_KHR */, EGL_NO_CONTEXT, attr);
     }
     if (*ctx == EGL_NO_CONTEXT)

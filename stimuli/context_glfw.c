@@ -22,8 +22,8 @@ static GLFWmonitor *pick_monitor(const char *spec, csf_error *err)
     long idx = strtol(spec, &end, 10);
     if (*end == '\0') {
         if (idx < 0 || idx >= n) {
-            csf_error_set(err, CSF_E_INVALID_ARG, "--monitor %ld: there are %d monitors (0 to %d)",
-                          idx, n, n - 1);
+            csf_error_set(err, CSF_E_INVALID_ARG, "--monitor %ld: there are %d monitors (0 to %d)", idx, n,
+                          n - 1);
             return NULL;
         }
         return mons[idx];
@@ -91,8 +91,7 @@ csf_status csf_context_glfw_open(csf_glfw_context *c, csf_error *err)
     c->has_mode = mode != NULL;
     c->mode_hz = mode ? mode->refreshRate : 0;
     csf_error gerr;
-    if (csf_gamma_guard_install(mon, &gerr) != CSF_OK)
-        fprintf(stderr, "csfcal: warning: %s\n", gerr.msg);
+    if (csf_gamma_guard_install(mon, &gerr) != CSF_OK) fprintf(stderr, "csfcal: warning: %s\n", gerr.msg);
     return CSF_OK;
 }
 

@@ -674,10 +674,11 @@ static void pg_close(csf_store *b)
         csf_error e;
         p->flushing = 1;
         if (flush_spool(p, p->retry_limit_s, &e) != CSF_OK)
-            fprintf(stderr, "csfcal: store %s: %d writes (trials, readings, state changes) are only "
-                            "in the local spool %s; send them when the server is back with: csfcal "
-                            "sessions push --store '%s' --to '%s'\n", p->base.path, p->spool.n_spooled,
-                    p->spool.path, p->spool.path, p->base.path);
+            fprintf(stderr,
+                    "csfcal: store %s: %d writes (trials, readings, state changes) are only "
+                    "in the local spool %s; send them when the server is back with: csfcal "
+                    "sessions push --store '%s' --to '%s'\n",
+                    p->base.path, p->spool.n_spooled, p->spool.path, p->spool.path, p->base.path);
     }
     csf_spool_close(&p->spool);
     for (size_t i = 0; i < p->n_known; i++) csf_session_info_free(&p->known[i]);
@@ -1121,9 +1122,11 @@ static csf_status to_spool(pg_store *p, const write_op *w, csf_error *err)
         const struct pg_name *pt = find_name(p, w->participant_id, 1);
         const struct pg_name *st = pt ? find_name(p, pt->study_id, 0) : NULL;
         if (!st)
-            return csf_error_set(err, CSF_E_STORE, "store %s: server unreachable, and participant "
+            return csf_error_set(err, CSF_E_STORE,
+                                 "store %s: server unreachable, and participant "
                                  "%lld was not recorded by this station, so the link cannot be "
-                                 "spooled", p->base.path, (long long)w->participant_id);
+                                 "spooled",
+                                 p->base.path, (long long)w->participant_id);
         named.study = st->name;
         named.code = pt->name;
     }
@@ -1383,8 +1386,7 @@ static csf_status pg_get_trials(csf_store *b, int64_t session_id, csf_trial **ou
 static csf_status pg_add_frame_intervals(csf_store *b, int64_t session_id, int trial_seq,
                                          const double *interval_s, int n, csf_error *err)
 {
-    write_op w = {.kind = CSF_SPOOL_FRAMES, .sid = session_id, .seq = trial_seq, .iv = interval_s,
-                  .n = n};
+    write_op w = {.kind = CSF_SPOOL_FRAMES, .sid = session_id, .seq = trial_seq, .iv = interval_s, .n = n};
     return write_or_spool(pg(b), &w, err);
 }
 
@@ -1395,8 +1397,7 @@ static csf_status to_server(pg_store *p, const write_op *w, csf_error *err)
     case CSF_SPOOL_READING: return add_reading_once(p, w->r, err);
     case CSF_SPOOL_FRAMES: return insert_frames(p, w->sid, w->seq, w->iv, w->n, err);
     case CSF_SPOOL_THRESHOLDS: return put_thresholds_once(p, w->sid, w->rows, w->n_rows, err);
-    case CSF_SPOOL_ARTIFACT:
-        return add_artifact_once(p, w->sid, w->art_kind, w->path, w->blob, w->len, err);
+    case CSF_SPOOL_ARTIFACT: return add_artifact_once(p, w->sid, w->art_kind, w->path, w->blob, w->len, err);
     case CSF_SPOOL_LINK: return link_once(p, w->sid, w->participant_id, err);
     default: return set_state_once(p, w->sid, w->state, err);
     }
@@ -1649,8 +1650,12 @@ static csf_status pg_add_artifact(csf_store *b, int64_t session_id, const char *
     pg_store *p = pg(b);
     if (!known(p, session_id))
         RETRY(p, err, add_artifact_once(p, session_id, kind, path, blob, len, err));
-    write_op w = {.kind = CSF_SPOOL_ARTIFACT, .sid = session_id, .art_kind = kind, .path = path,
-                  .blob = blob, .len = len};
+    write_op w = {.kind = CSF_SPOOL_ARTIFACT,
+                  .sid = session_id,
+                  .art_kind = kind,
+                  .path = path,
+                  .blob = blob,
+                  .len = len};
     return write_or_spool(p, &w, err);
 }
 

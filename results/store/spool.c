@@ -69,10 +69,14 @@ csf_status csf_spool_session(csf_spool *sp, const csf_session_info *k, int64_t *
     cs = sp->store->ops->find_session_uuid(sp->store, k->uuid, lsid, err);
     if (cs != CSF_E_NOT_FOUND) return cs;
     csf_error_clear(err);
-    csf_store_session_new nw = {.kind = k->kind, .observer = k->observer, .display = k->display,
+    csf_store_session_new nw = {.kind = k->kind,
+                                .observer = k->observer,
+                                .display = k->display,
                                 .profile_id = k->profile_id[0] ? k->profile_id : NULL,
-                                .settings_json = k->settings_json, .seed = k->seed,
-                                .uuid = k->uuid, .created_utc = k->created_utc,
+                                .settings_json = k->settings_json,
+                                .seed = k->seed,
+                                .uuid = k->uuid,
+                                .created_utc = k->created_utc,
                                 .tool_version = k->tool_version};
     return sp->store->ops->begin_session(sp->store, &nw, lsid, err);
 }
@@ -102,9 +106,10 @@ csf_status csf_spool_put(csf_spool *sp, int64_t lsid, const csf_spool_write *w, 
     }
     if (cs != CSF_OK) return cs;
     if (!sp->spooling)
-        fprintf(stderr, "csfcal: store %s: server unreachable; keeping what is measured in the "
-                        "local spool %s and sending it when the server is back\n", sp->location,
-                sp->path);
+        fprintf(stderr,
+                "csfcal: store %s: server unreachable; keeping what is measured in the "
+                "local spool %s and sending it when the server is back\n",
+                sp->location, sp->path);
     sp->spooling = 1;
     sp->n_spooled++;
     return CSF_OK;
@@ -119,16 +124,20 @@ void csf_spool_unsure_begin(csf_spool *sp, const csf_store_session_new *nw)
     csf_status cs = spool_open(sp, &e);
     if (cs == CSF_OK) cs = sp->store->ops->begin_session(sp->store, &ab, &lsid, &e);
     if (cs != CSF_OK)
-        fprintf(stderr, "csfcal: store %s: the local spool %s cannot record the unfinished start "
-                        "of session %s (%s)\n", sp->location, sp->path, nw->uuid, e.msg);
+        fprintf(stderr,
+                "csfcal: store %s: the local spool %s cannot record the unfinished start "
+                "of session %s (%s)\n",
+                sp->location, sp->path, nw->uuid, e.msg);
     else
-        fprintf(stderr, "csfcal: store %s: the server went away while session %s was starting; "
-                        "if the server recorded it, it is marked aborted when csfcal next reaches "
-                        "the server\n", sp->location, nw->uuid);
+        fprintf(stderr,
+                "csfcal: store %s: the server went away while session %s was starting; "
+                "if the server recorded it, it is marked aborted when csfcal next reaches "
+                "the server\n",
+                sp->location, nw->uuid);
 }
 
-csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_info *sessions,
-                          size_t n, csf_error *err)
+csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_info *sessions, size_t n,
+                          csf_error *err)
 {
     sp->spooling = 0; /* the pushes below write to the server, never back into the spool */
     csf_status cs = CSF_OK;
@@ -149,8 +158,8 @@ csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_in
         sp->spooling = 1;
         return cs;
     }
-    fprintf(stderr, "csfcal: store %s: server back; %d spooled trials and readings sent\n",
-            sp->location, sent);
+    fprintf(stderr, "csfcal: store %s: server back; %d spooled trials and readings sent\n", sp->location,
+            sent);
     sp->n_spooled = 0;
     return CSF_OK;
 }
@@ -159,8 +168,7 @@ csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_in
  * go to the server when the next csfcal opens it, before a procedure reads the trials it
  * resumes from (a resume without them would number new trials over them). */
 void csf_spool_recover(csf_spool *sp, csf_store *server,
-                       int (*abort_phantom)(csf_store *server, const csf_session_info *local,
-                                            int64_t sid))
+                       int (*abort_phantom)(csf_store *server, const csf_session_info *local, int64_t sid))
 {
     if (access(sp->path, F_OK) != 0) return;
     csf_store *st = NULL;
@@ -186,11 +194,15 @@ void csf_spool_recover(csf_spool *sp, csf_store *server,
         fprintf(stderr, "csfcal: store %s: rows left in the local spool %s could not be sent (%s)\n",
                 sp->location, sp->path, e.msg);
     else if (sent > 0)
-        fprintf(stderr, "csfcal: store %s: %d trials and readings left in the local spool %s by an "
-                        "earlier run sent\n", sp->location, sent, sp->path);
+        fprintf(stderr,
+                "csfcal: store %s: %d trials and readings left in the local spool %s by an "
+                "earlier run sent\n",
+                sp->location, sent, sp->path);
     if (aborted > 0)
-        fprintf(stderr, "csfcal: store %s: %d session(s) whose start was cut off by a lost "
-                        "connection marked aborted\n", sp->location, aborted);
+        fprintf(stderr,
+                "csfcal: store %s: %d session(s) whose start was cut off by a lost "
+                "connection marked aborted\n",
+                sp->location, aborted);
     csf_session_list_free(list, n);
     st->ops->close(st);
 }

@@ -14,8 +14,8 @@
 typedef struct {
     char location[1024]; /* the server store's location, as its messages name it */
     char path[1024];
-    csf_store *store;    /* opened at the first write that needs it */
-    int spooling;        /* rows are in the spool that the server does not have yet */
+    csf_store *store; /* opened at the first write that needs it */
+    int spooling;     /* rows are in the spool that the server does not have yet */
     int n_spooled;
 } csf_spool;
 
@@ -40,11 +40,11 @@ typedef struct {
     const char *state;
     const csf_threshold_row *rows; /* CSF_SPOOL_THRESHOLDS: n_rows of them */
     size_t n_rows;
-    const char *art_kind, *path;   /* CSF_SPOOL_ARTIFACT */
+    const char *art_kind, *path; /* CSF_SPOOL_ARTIFACT */
     const void *blob;
     size_t len;
-    int64_t participant_id;        /* CSF_SPOOL_LINK */
-    const char *study, *code;      /* CSF_SPOOL_LINK in the spool: the names the server's ids stand for */
+    int64_t participant_id;   /* CSF_SPOOL_LINK */
+    const char *study, *code; /* CSF_SPOOL_LINK in the spool: the names the server's ids stand for */
 } csf_spool_write;
 
 /* Sets the spool's path (CSF_STORE_SPOOL, else $XDG_DATA_HOME/csfcal/spool.sqlite, else
@@ -67,14 +67,13 @@ void csf_spool_unsure_begin(csf_spool *sp, const csf_store_session_new *nw);
 
 /* Sends the spool's copies of sessions (the server's sessions this station ran) to server;
  * CSF_OK when the server has them all. */
-csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_info *sessions,
-                          size_t n, csf_error *err);
+csf_status csf_spool_send(csf_spool *sp, csf_store *server, const csf_session_info *sessions, size_t n,
+                          csf_error *err);
 
 /* Sends the rows an earlier run left in the spool file to server, for the sessions server has
  * (by uuid), leaving each one's state as server has it; abort_phantom is asked about each one
  * (1: it marked server's copy aborted). Failures are said on stderr, never returned. */
 void csf_spool_recover(csf_spool *sp, csf_store *server,
-                       int (*abort_phantom)(csf_store *server, const csf_session_info *local,
-                                            int64_t sid));
+                       int (*abort_phantom)(csf_store *server, const csf_session_info *local, int64_t sid));
 
 #endif
