@@ -1118,13 +1118,20 @@ static int push_d(double **arr, int *n, int *cap, double v)
     return 0;
 }
 
-csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, const csf_envelope *env,
-                                   int fixation, csf_trial_stop_fn stop, void *stop_ctx,
-                                   csf_trial_record *out, csf_error *err)
+/* What a trial has drawn and recorded so far, carried from its stimulus frames to its blank
+ * offset frame and into the record's summary. */
+typedef struct {
+    csf_presenter *p;
+    csf_trial_record *out;
+    int ncap, icap, nper, nint;
+    double onset, last_c;
+    int drawn, missed, stopped;
+} trial_run;
+
+/* The arguments and the whole path of a moving patch are checked before anything is shown. */
+static csf_status check_trial(csf_presenter *p, const csf_stimulus *s, const csf_envelope *env,
+                              csf_error *err)
 {
-    if (!p || !s || !env || !out)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "run_trial: NULL argument");
-    memset(out, 0, sizeof *out);
     if (!(env->duration_s > 0 && env->duration_s <= 600))
         return csf_error_set(err, CSF_E_INVALID_ARG, "trial duration %g s is outside (0, 600] s",
                              env->duration_s);
@@ -1132,7 +1139,6 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "fade start contrast %g must be in (0, end contrast %g]",
                              env->start_contrast, s->contrast);
-    /* validate the whole path of a moving patch before showing anything */
     csf_stimulus st = *s;
     st.time_s = 0;
     csf_status rc = csf_presenter_validate(p, &st, err);
@@ -1142,52 +1148,72 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
         rc = csf_presenter_validate(p, &st, err);
         if (rc) return rc;
     }
+    return CSF_OK;
+}
+
+/* The image before frame fi stayed on screen for a whole number of periods at contrast last_c.
+ * Returns -1 out of memory. */
+static int record_held(trial_run *r, const csf_frame_info *fi)
+{
+    int held = (int)lround(fi->interval_s * r->p->refresh_hz);
+    if (held < 1) held = 1;
+    for (int k = 0; k < held; k++)
+        if (push_d(&r->out->contrast_per_period, &r->nper, &r->ncap, r->last_c)) return -1;
+    if (push_d(&r->out->interval_s, &r->nint, &r->icap, fi->interval_s)) return -1;
+    if (fi->missed) r->missed++;
+    return 0;
+}
+
+static csf_status trial_nomem(csf_error *err)
+{
+    return csf_error_set(err, CSF_E_NOMEM, "out of memory recording a trial");
+}
+
+/* The stimulus frames until the envelope's duration or the stop callback, then a blank frame
+ * that ends the last of them. */
+static csf_status draw_trial_frames(trial_run *r, const csf_stimulus *s, const csf_envelope *env,
+                                    int fixation, csf_trial_stop_fn stop, void *stop_ctx, csf_error *err)
+{
+    csf_presenter *p = r->p;
     double period = 1.0 / p->refresh_hz;
-    out->frames_planned = (int)lround(env->duration_s * p->refresh_hz);
-    int ncap = 0, icap = 0, nper = 0, nint = 0;
-    double onset = 0, last_c = 0, sum = 0, maxc = 0, maxdev = 0;
-    int drawn = 0, missed = 0, stopped = 0;
+    csf_stimulus st = *s;
+    csf_status rc;
     for (;;) {
         /* predicted time of this frame on the presenter's clock */
-        double t_pred = drawn == 0 ? 0.0 : next_frame_time(p) - onset;
-        if (drawn > 0 && t_pred >= env->duration_s - 0.5 * period) break;
+        double t_pred = r->drawn == 0 ? 0.0 : next_frame_time(p) - r->onset;
+        if (r->drawn > 0 && t_pred >= env->duration_s - 0.5 * period) break;
         st.time_s = t_pred;
         st.contrast = csf_envelope_contrast(env, s->contrast, t_pred);
         csf_frame_info fi;
         rc = draw_frame(p, &st, fixation, &fi, err);
-        if (rc) goto fail;
-        if (drawn == 0) onset = fi.t_s;
-        else {
-            /* the previous image stayed on screen for this many periods */
-            int held = (int)lround(fi.interval_s * p->refresh_hz);
-            if (held < 1) held = 1;
-            for (int k = 0; k < held; k++)
-                if (push_d(&out->contrast_per_period, &nper, &ncap, last_c)) goto nomem;
-            if (push_d(&out->interval_s, &nint, &icap, fi.interval_s)) goto nomem;
-            if (fi.missed) missed++;
-        }
+        if (rc) return rc;
+        if (r->drawn == 0) r->onset = fi.t_s;
+        else if (record_held(r, &fi)) return trial_nomem(err);
         /* what is on screen is what was drawn for this frame's (predicted = actual) time */
-        last_c = st.contrast;
-        drawn++;
+        r->last_c = st.contrast;
+        r->drawn++;
         if (stop && stop(stop_ctx, &(csf_frame_info){fi.frame_index, fi.t_s, fi.interval_s, fi.missed,
-                                                      fi.rendered, last_c})) {
-            stopped = 1;
+                                                      fi.rendered, r->last_c})) {
+            r->stopped = 1;
             break;
         }
     }
-    {
-        /* offset: a blank frame ends the last stimulus frame */
-        csf_frame_info fi;
-        rc = draw_frame(p, NULL, fixation, &fi, err);
-        if (rc) goto fail;
-        int held = (int)lround(fi.interval_s * p->refresh_hz);
-        if (held < 1) held = 1;
-        for (int k = 0; k < held; k++)
-            if (push_d(&out->contrast_per_period, &nper, &ncap, last_c)) goto nomem;
-        if (push_d(&out->interval_s, &nint, &icap, fi.interval_s)) goto nomem;
-        if (fi.missed) missed++;
-        out->t_end_s = fi.t_s;
-    }
+    /* offset: a blank frame ends the last stimulus frame */
+    csf_frame_info fi;
+    rc = draw_frame(p, NULL, fixation, &fi, err);
+    if (rc) return rc;
+    if (record_held(r, &fi)) return trial_nomem(err);
+    r->out->t_end_s = fi.t_s;
+    return CSF_OK;
+}
+
+/* The record's figures and its deviation flags from the periods actually shown. */
+static void summarise_trial(const trial_run *r, const csf_stimulus *s, const csf_envelope *env)
+{
+    csf_trial_record *out = r->out;
+    double period = 1.0 / r->p->refresh_hz;
+    int nper = r->nper;
+    double sum = 0, maxc = 0, maxdev = 0;
     for (int j = 0; j < nper; j++) {
         double c = out->contrast_per_period[j];
         sum += c;
@@ -1196,16 +1222,16 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
         if (dev > maxdev) maxdev = dev;
     }
     out->frames_shown = nper;
-    out->frames_drawn = drawn + 1;
-    out->frames_missed = missed;
+    out->frames_drawn = r->drawn + 1;
+    out->frames_missed = r->missed;
     out->contrast_shown_mean = nper ? sum / nper : 0;
     out->contrast_shown_max = maxc;
-    out->contrast_shown_last = last_c;
+    out->contrast_shown_last = r->last_c;
     out->max_abs_deviation = maxdev;
-    out->t_onset_s = onset;
-    out->stopped_by_callback = stopped;
+    out->t_onset_s = r->onset;
+    out->stopped_by_callback = r->stopped;
     out->flags[0] = '\0';
-    if (missed > 0) {
+    if (r->missed > 0) {
         out->deviated = 1;
         snprintf(out->flags, sizeof out->flags, "missed_frames");
     }
@@ -1221,17 +1247,31 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
             break;
         }
     }
-    if (!stopped && nper != out->frames_planned) {
+    if (!r->stopped && nper != out->frames_planned) {
         out->deviated = 1;
         size_t L = strlen(out->flags);
         snprintf(out->flags + L, sizeof out->flags - L, "%sduration", L ? "," : "");
     }
+}
+
+csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, const csf_envelope *env,
+                                   int fixation, csf_trial_stop_fn stop, void *stop_ctx,
+                                   csf_trial_record *out, csf_error *err)
+{
+    if (!p || !s || !env || !out)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "run_trial: NULL argument");
+    memset(out, 0, sizeof *out);
+    csf_status rc = check_trial(p, s, env, err);
+    if (rc) return rc;
+    out->frames_planned = (int)lround(env->duration_s * p->refresh_hz);
+    trial_run r = {.p = p, .out = out};
+    rc = draw_trial_frames(&r, s, env, fixation, stop, stop_ctx, err);
+    if (rc) {
+        csf_trial_record_free(out);
+        return rc;
+    }
+    summarise_trial(&r, s, env);
     return CSF_OK;
-nomem:
-    rc = csf_error_set(err, CSF_E_NOMEM, "out of memory recording a trial");
-fail:
-    csf_trial_record_free(out);
-    return rc;
 }
 
 csf_status csf_presenter_inject_missed(csf_presenter *p, long frame_index, int periods, csf_error *err)
