@@ -1501,6 +1501,96 @@ static csf_status stored_settings(const char *json, int64_t sid, csf_display_cal
     return CSF_OK;
 }
 
+/* A session being resumed: its kind and state checked, its stored settings into o (a session whose
+ * settings cannot be used is marked aborted), its readings into c for the replay. */
+static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t session_id, csf_error *err)
+{
+    csf_status st;
+    csf_session_info si;
+    memset(&si, 0, sizeof si);
+    st = csf_store_get_session(c->store, session_id, &si, err);
+    if (st) return st;
+    if (strcmp(si.kind, "display") != 0) {
+        csf_session_info_free(&si);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is a %s session, not a display calibration",
+                             (long long)session_id, si.kind);
+    }
+    if (strcmp(si.state, "finished") == 0) {
+        csf_session_info_free(&si);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
+                             (long long)session_id);
+    }
+    st = stored_settings(si.settings_json, session_id, o, err);
+    csf_session_info_free(&si);
+    if (st) {
+        /* Every later resume would fail the same way: take the session off the resumable
+         * list, keep its readings. */
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err ? err->msg : "stored settings are damaged");
+        csf_store_set_session_state(c->store, session_id, "aborted", NULL);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s; the session cannot be resumed and is now "
+                             "marked aborted (its readings stay in the store: csfcal sessions export %lld)",
+                             why, (long long)session_id);
+    }
+    c->sid = session_id;
+    st = csf_store_get_readings(c->store, c->sid, &c->replay, &c->n_replay, err);
+    if (st) return st;
+    c->seq = (int)c->n_replay;
+    for (size_t i = 0; i < c->n_replay; i++)
+        if (c->replay[i].seq >= c->seq) c->seq = c->replay[i].seq + 1;
+    if ((st = csf_store_set_session_state(c->store, c->sid, "running", err))) {
+        free(c->replay);
+        return st;
+    }
+    return CSF_OK;
+}
+
+/* The profile from a run that ended well: the checks, the profile and the channels taken from the
+ * grey curve where their own readings are too few. *out is NULL when it fails. */
+static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_display_profile **out,
+                                 csf_display_calib_result *res, csf_error *err)
+{
+    csf_photometer *ph = c->ph;
+    csf_status st;
+    checks(c, res);
+    char ident[256];
+    csf_error ie;
+    if (csf_photometer_identify(ph, ident, sizeof ident, &ie)) snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
+    const char *dn = o->display_name ? o->display_name : csf_photometer_spec(ph);
+    st = build_profile(c, dn, ident, res->additivity_error, out, err);
+    for (int ch = 0; !st && o->channels && ch < 3; ch++) {
+        ratio_model rm;
+        fit_ratio(c, ch, &rm);
+        /* not within noise but sane: still better than a Hermite through fewer than 8
+         * levels of the channel's own (a short budget) */
+        const double *kv;
+        int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
+        res->channel_via_grey[ch] = use;
+        if (use) st = channel_from_grey(c, ch, &rm, *out, err);
+    }
+    if (st) {
+        csf_profile_free(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
+/* The session's end in the store: finished with its profile, or paused to be resumed. */
+static void close_session(const ctx *c, csf_status st, const csf_display_profile *out)
+{
+    csf_error e2;
+    if (st == CSF_OK) {
+        char *text = NULL;
+        if (csf_profile_to_text(out, &text, &e2) == CSF_OK) {
+            csf_store_add_artifact(c->store, c->sid, "profile", NULL, text, strlen(text), &e2);
+            free(text);
+        }
+        csf_store_set_session_state(c->store, c->sid, "finished", &e2);
+    } else {
+        csf_store_set_session_state(c->store, c->sid, "paused", &e2);
+    }
+}
+
 csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opts *opts_in,
                                  csf_store *store, int64_t *session_id, uint64_t seed,
                                  csf_display_profile **out, csf_display_calib_result *res,
@@ -1526,42 +1616,8 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     csf_status st = CSF_OK;
     char settings[1024];
     if (store && session_id && *session_id > 0) {
-        csf_session_info si;
-        memset(&si, 0, sizeof si);
-        st = csf_store_get_session(store, *session_id, &si, err);
+        st = resume_session(&c, &o, *session_id, err);
         if (st) return st;
-        if (strcmp(si.kind, "display") != 0) {
-            csf_session_info_free(&si);
-            return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is a %s session, not a display calibration",
-                                 (long long)*session_id, si.kind);
-        }
-        if (strcmp(si.state, "finished") == 0) {
-            csf_session_info_free(&si);
-            return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
-                                 (long long)*session_id);
-        }
-        st = stored_settings(si.settings_json, *session_id, &o, err);
-        csf_session_info_free(&si);
-        if (st) {
-            /* Every later resume would fail the same way: take the session off the resumable
-             * list, keep its readings. */
-            char why[sizeof err->msg];
-            snprintf(why, sizeof why, "%s", err ? err->msg : "stored settings are damaged");
-            csf_store_set_session_state(store, *session_id, "aborted", NULL);
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s; the session cannot be resumed and is now "
-                                 "marked aborted (its readings stay in the store: csfcal sessions export %lld)",
-                                 why, (long long)*session_id);
-        }
-        c.sid = *session_id;
-        st = csf_store_get_readings(store, c.sid, &c.replay, &c.n_replay, err);
-        if (st) return st;
-        c.seq = (int)c.n_replay;
-        for (size_t i = 0; i < c.n_replay; i++)
-            if (c.replay[i].seq >= c.seq) c.seq = c.replay[i].seq + 1;
-        if ((st = csf_store_set_session_state(store, c.sid, "running", err))) {
-            free(c.replay);
-            return st;
-        }
     } else if (store) {
         settings_json(&o, csf_photometer_spec(ph), settings, sizeof settings);
         const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
@@ -1576,39 +1632,10 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     res->n_warmup = c.n_warmup;
     res->n_profile = (int)c.n - c.n_warmup;
     if (!st) {
-        checks(&c, res);
-        char ident[256];
-        csf_error ie;
-        if (csf_photometer_identify(ph, ident, sizeof ident, &ie)) snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
-        const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
-        st = build_profile(&c, dn, ident, res->additivity_error, out, err);
-        for (int ch = 0; !st && o.channels && ch < 3; ch++) {
-            ratio_model rm;
-            fit_ratio(&c, ch, &rm);
-            /* not within noise but sane: still better than a Hermite through fewer than 8
-             * levels of the channel's own (a short budget) */
-            const double *kv;
-            int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
-            res->channel_via_grey[ch] = use;
-            if (use) st = channel_from_grey(&c, ch, &rm, *out, err);
-        }
-        if (st) {
-            csf_profile_free(*out);
-            *out = NULL;
-        }
+        st = finish_profile(&c, &o, out, res, err);
     }
     if (store && c.sid > 0) {
-        csf_error e2;
-        if (st == CSF_OK) {
-            char *text = NULL;
-            if (csf_profile_to_text(*out, &text, &e2) == CSF_OK) {
-                csf_store_add_artifact(store, c.sid, "profile", NULL, text, strlen(text), &e2);
-                free(text);
-            }
-            csf_store_set_session_state(store, c.sid, "finished", &e2);
-        } else {
-            csf_store_set_session_state(store, c.sid, "paused", &e2);
-        }
+        close_session(&c, st, *out);
     }
     free(c.r);
     free(c.replay);
