@@ -584,10 +584,10 @@ static int cmp_reading(const void *a, const void *b)
     return (x->drive01 > y->drive01) - (x->drive01 < y->drive01);
 }
 
-/* Averages repeats, then pool-adjacent-violators so the knots are non-decreasing (noise can make
- * two close levels cross; the display itself does not). */
-static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, int ch, double black,
-                              csf_error *err)
+/* The readings of channel ch in a fresh array, with the shared black point for a colour
+ * channel (drive 0 of every channel is black). */
+static csf_status select_readings(const csf_profile_reading *r, size_t n, int ch, csf_profile_reading **out,
+                                  size_t *n_out, csf_error *err)
 {
     csf_profile_reading *sel = malloc((n ? n : 1) * sizeof *sel);
     if (!sel) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
@@ -610,9 +610,16 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
                 k++;
             }
     }
-    qsort(sel, k, sizeof *sel, cmp_reading);
-    double *v = malloc((k ? k : 1) * sizeof(double)), *L = malloc((k ? k : 1) * sizeof(double)),
-           *wt = malloc((k ? k : 1) * sizeof(double));
+    *out = sel;
+    *n_out = k;
+    return CSF_OK;
+}
+
+/* Readings sorted by drive into one level per distinct drive: its mean luminance (less black
+ * for a colour channel) weighted by the number of repeats. Returns the number of levels. */
+static int average_repeats(const csf_profile_reading *sel, size_t k, int ch, double black, double *v,
+                           double *L, double *wt)
+{
     int m = 0;
     for (size_t i = 0; i < k;) {
         size_t j = i;
@@ -624,19 +631,12 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
         m++;
         i = j;
     }
-    free(sel);
-    if (m < 2 || v[0] != 0 || v[m - 1] != 1) {
-        free(v); free(L); free(wt);
-        return csf_error_set(err, CSF_E_INSUFFICIENT,
-                             "%s curve needs readings at drive 0 and 1 (has %d distinct levels)",
-                             ch_names[ch], m);
-    }
-    if (m > MAX_KNOTS) {
-        free(v); free(L); free(wt);
-        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve has %d levels (limit %d)", ch_names[ch],
-                             m, MAX_KNOTS);
-    }
-    /* PAV: blocks of pooled values, then expanded back per knot */
+    return m;
+}
+
+/* PAV: blocks of pooled values, then expanded back per knot */
+static void pool_adjacent_violators(double *L, const double *wt, int m)
+{
     double *bv = malloc((size_t)m * sizeof(double)), *bw = malloc((size_t)m * sizeof(double));
     int *bn = malloc((size_t)m * sizeof(int));
     int nb = 0;
@@ -654,45 +654,83 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
     for (int b = 0; b < nb; b++)
         for (int j = 0; j < bn[b]; j++) L[idx++] = bv[b];
     free(bv); free(bw); free(bn);
+}
+
+/* The nk kinks found between the knots of a fitted c added as knots of their own, and c refitted
+ * (g included). */
+static csf_status add_kinks(curve *c, int ch, const double *xs, const double *ys, int nk, csf_error *err)
+{
     csf_status st = CSF_OK;
-    if (curve_alloc(c, m)) {
+    curve o = *c;
+    memset(c, 0, sizeof *c);
+    if (curve_alloc(c, o.n + nk)) {
         st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
     } else {
-        memcpy(c->v, v, (size_t)m * sizeof(double));
-        memcpy(c->lum, L, (size_t)m * sizeof(double));
-        if (ch != CSF_CH_GREY && c->lum[0] < 0) c->lum[0] = 0;
-        for (int i = 1; ch != CSF_CH_GREY && i < m; i++)
-            if (c->lum[i] < 0) c->lum[i] = 0;
-        if (curve_finish(c, ch != CSF_CH_GREY, 0))
-            st = csf_error_set(err, CSF_E_INSUFFICIENT,
-                               "%s curve does not rise: full drive is not brighter than drive 0 "
-                               "(is the sensor on the patch?)", ch_names[ch]);
-        double xs[8], ys[8];
-        int nk = st ? 0 : bracketed_corners(c, xs, ys, 8);
-        if (nk > 0 && c->n + nk <= MAX_KNOTS) {
-            /* add the kinks found between knots and refit (g included) */
-            curve o = *c;
-            memset(c, 0, sizeof *c);
-            if (curve_alloc(c, o.n + nk)) {
-                st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-            } else {
-                int j = 0, q = 0;
-                for (int i = 0; i < o.n; i++) {
-                    c->v[j] = o.v[i];
-                    c->lum[j++] = o.lum[i];
-                    if (q < nk && i + 1 < o.n && xs[q] > o.v[i] && xs[q] < o.v[i + 1]) {
-                        c->v[j] = xs[q];
-                        c->lum[j++] = o.base + o.top * pow(ys[q], o.g);
-                        q++;
-                    }
-                }
-                c->n = j;
-                if (curve_finish(c, ch != CSF_CH_GREY, 0))
-                    st = csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve does not rise", ch_names[ch]);
+        int j = 0, q = 0;
+        for (int i = 0; i < o.n; i++) {
+            c->v[j] = o.v[i];
+            c->lum[j++] = o.lum[i];
+            if (q < nk && i + 1 < o.n && xs[q] > o.v[i] && xs[q] < o.v[i + 1]) {
+                c->v[j] = xs[q];
+                c->lum[j++] = o.base + o.top * pow(ys[q], o.g);
+                q++;
             }
-            curve_free(&o);
         }
+        c->n = j;
+        if (curve_finish(c, ch != CSF_CH_GREY, 0))
+            st = csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve does not rise", ch_names[ch]);
     }
+    curve_free(&o);
+    return st;
+}
+
+/* The curve fitted through the m levels, then through the kinks between them as well. */
+static csf_status fit_levels(curve *c, int ch, const double *v, const double *L, int m, csf_error *err)
+{
+    if (curve_alloc(c, m)) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    csf_status st = CSF_OK;
+    memcpy(c->v, v, (size_t)m * sizeof(double));
+    memcpy(c->lum, L, (size_t)m * sizeof(double));
+    if (ch != CSF_CH_GREY && c->lum[0] < 0) c->lum[0] = 0;
+    for (int i = 1; ch != CSF_CH_GREY && i < m; i++)
+        if (c->lum[i] < 0) c->lum[i] = 0;
+    if (curve_finish(c, ch != CSF_CH_GREY, 0))
+        st = csf_error_set(err, CSF_E_INSUFFICIENT,
+                           "%s curve does not rise: full drive is not brighter than drive 0 "
+                           "(is the sensor on the patch?)", ch_names[ch]);
+    double xs[8], ys[8];
+    int nk = st ? 0 : bracketed_corners(c, xs, ys, 8);
+    if (nk > 0 && c->n + nk <= MAX_KNOTS) st = add_kinks(c, ch, xs, ys, nk, err);
+    return st;
+}
+
+/* Averages repeats, then pool-adjacent-violators so the knots are non-decreasing (noise can make
+ * two close levels cross; the display itself does not). */
+static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, int ch, double black,
+                              csf_error *err)
+{
+    csf_profile_reading *sel = NULL;
+    size_t k = 0;
+    csf_status st = select_readings(r, n, ch, &sel, &k, err);
+    if (st) return st;
+    qsort(sel, k, sizeof *sel, cmp_reading);
+    double *v = malloc((k ? k : 1) * sizeof(double)), *L = malloc((k ? k : 1) * sizeof(double)),
+           *wt = malloc((k ? k : 1) * sizeof(double));
+    int m = average_repeats(sel, k, ch, black, v, L, wt);
+    free(sel);
+    if (m < 2 || v[0] != 0 || v[m - 1] != 1) {
+        free(v); free(L); free(wt);
+        return csf_error_set(err, CSF_E_INSUFFICIENT,
+                             "%s curve needs readings at drive 0 and 1 (has %d distinct levels)",
+                             ch_names[ch], m);
+    }
+    if (m > MAX_KNOTS) {
+        free(v); free(L); free(wt);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve has %d levels (limit %d)", ch_names[ch],
+                             m, MAX_KNOTS);
+    }
+    pool_adjacent_violators(L, wt, m);
+    st = fit_levels(c, ch, v, L, m, err);
     free(v); free(L); free(wt);
     return st;
 }
