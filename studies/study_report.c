@@ -153,26 +153,55 @@ static double corrected_rate(int k, int n)
     return r;
 }
 
-void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed)
+/* Same/different d' by the design's model; h < f gives the swapped rates' d' negated, so a
+ * negative d' reads as in yes/no (more "different" answers to same pairs than to different). */
+static double sd_dprime(const csf_study *s, double h, double f)
 {
+    if (h == f) return 0;
+    if (h < f) return -sd_dprime(s, f, h);
+    return s->sd_differencing ? csf_stats_dprime_sd_differencing(h, f) : csf_stats_dprime_sd_independent(h, f);
+}
+
+/* Whether a design is scored by hits and false alarms (yes/no, same/different) rather than by
+ * proportion correct against a chance of one half (forced choice). */
+static int by_hits(csf_study_design d)
+{
+    return d == CSF_DESIGN_YES_NO || d == CSF_DESIGN_SAME_DIFF;
+}
+
+/* Proportion correct with its exact interval; the test is against 0.5 in forced choice, and hits
+ * against false alarms where there are both (chance in yes/no is the false-alarm rate, not 0.5). */
+static void finish_counts(csf_study_row *w, const csf_study *s)
+{
+    w->p = w->ci_lo = w->ci_hi = w->p_greater = w->p_two_sided = NAN;
     if (w->n > 0) {
         w->p = (double)w->k / w->n;
         csf_stats_clopper_pearson(w->k, w->n, 0.95, &w->ci_lo, &w->ci_hi);
+    }
+    if (by_hits(s->design)) {
+        if (w->n_signal && w->n_noise) {
+            w->p_greater = csf_stats_fisher_greater(w->hits, w->n_signal, w->false_alarms, w->n_noise);
+            w->p_two_sided = csf_stats_fisher_two_sided(w->hits, w->n_signal, w->false_alarms, w->n_noise);
+        }
+    } else if (w->n > 0) {
         w->p_greater = csf_stats_binom_p_greater(w->k, w->n, 0.5);
         w->p_two_sided = csf_stats_binom_p_two_sided(w->k, w->n, 0.5);
-    } else {
-        w->p = w->ci_lo = w->ci_hi = w->p_greater = w->p_two_sided = NAN;
     }
+}
+
+void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint64_t seed)
+{
+    finish_counts(w, s);
     w->hit_rate = w->n_signal ? (double)w->hits / w->n_signal : NAN;
     w->fa_rate = w->n_noise ? (double)w->false_alarms / w->n_noise : NAN;
-    w->dprime = NAN;
+    w->dprime = w->dprime_lo = w->dprime_hi = NAN;
     if (w->n_signal && w->n_noise) {
         double h = corrected_rate(w->hits, w->n_signal), f = corrected_rate(w->false_alarms, w->n_noise);
-        if (s->design == CSF_DESIGN_YES_NO) w->dprime = csf_stats_dprime_yesno(h, f);
-        else if (s->design == CSF_DESIGN_SAME_DIFF) {
-            w->dprime = s->sd_differencing ? csf_stats_dprime_sd_differencing(h, f)
-                                           : csf_stats_dprime_sd_independent(h, f);
-            if (isnan(w->dprime)) w->dprime = 0; /* h <= f: no evidence of a difference */
+        if (s->design == CSF_DESIGN_YES_NO) {
+            w->dprime = csf_stats_dprime_yesno(h, f);
+            csf_stats_dprime_yesno_ci(h, f, w->n_signal, w->n_noise, 0.95, &w->dprime_lo, &w->dprime_hi);
+        } else if (s->design == CSF_DESIGN_SAME_DIFF) {
+            w->dprime = sd_dprime(s, h, f);
         }
     }
     w->t_lo = w->t_hi = w->beta_lo = w->beta_hi = NAN;
@@ -363,8 +392,12 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
                 "out\n", r->name, csf_study_design_name(r->design), r->n_sessions, r->n_finished, r->participants,
             r->n_trials, r->n_excluded);
     if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF) fprintf(fp, "d': %s\n", sd_model_name(r));
-    fprintf(fp, "%-10s %-16s %5s %5s %6s %15s %9s", "scope", "condition", "n", "k", "p", "95% CI (exact)", "p(>chance)");
-    if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF) fprintf(fp, " %6s %6s %6s", "H", "F", "d'");
+    if (by_hits(r->design))
+        fputs("p(H>F): Fisher's exact test of hits against false alarms (one-sided)\n", fp);
+    fprintf(fp, "%-10s %-16s %5s %5s %6s %15s %9s", "scope", "condition", "n", "k", "p", "95% CI (exact)",
+            by_hits(r->design) ? "p(H>F)" : "p(>chance)");
+    if (by_hits(r->design)) fprintf(fp, " %6s %6s %6s", "H", "F", "d'");
+    if (r->design == CSF_DESIGN_YES_NO) fprintf(fp, " %15s", "d' 95% CI");
     fputc('\n', fp);
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
@@ -373,8 +406,8 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
         snprintf(nm, sizeof nm, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
         fprintf(fp, "%-10.10s %-16.16s %5d %5d %6.3f [%5.3f, %5.3f] %10.3g", w->scope, nm, w->n, w->k, w->p,
                 w->ci_lo, w->ci_hi, w->p_greater);
-        if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF)
-            fprintf(fp, " %6.3f %6.3f %6.2f", w->hit_rate, w->fa_rate, w->dprime);
+        if (by_hits(r->design)) fprintf(fp, " %6.3f %6.3f %6.2f", w->hit_rate, w->fa_rate, w->dprime);
+        if (r->design == CSF_DESIGN_YES_NO) fprintf(fp, " [%5.2f, %5.2f]", w->dprime_lo, w->dprime_hi);
         fputc('\n', fp);
     }
     int any = 0;
@@ -426,6 +459,9 @@ char *csf_study_report_json(const csf_study_report *r)
             json_object_set_new(o, "correct", json_integer(w->k));
             json_object_set_new(o, "p_correct", num(w->p));
             json_object_set_new(o, "ci95", json_pack("[o,o]", num(w->ci_lo), num(w->ci_hi)));
+            json_object_set_new(o, "test", json_string(by_hits(r->design)
+                                                           ? "Fisher exact, hits against false alarms"
+                                                           : "exact binomial against 0.5"));
             json_object_set_new(o, "p_value_above_chance", num(w->p_greater));
             json_object_set_new(o, "p_value_two_sided", num(w->p_two_sided));
             if (w->n_signal || w->n_noise) {
@@ -436,6 +472,8 @@ char *csf_study_report_json(const csf_study_report *r)
                 json_object_set_new(o, "hit_rate", num(w->hit_rate));
                 json_object_set_new(o, "fa_rate", num(w->fa_rate));
                 json_object_set_new(o, "dprime", num(w->dprime));
+                if (r->design == CSF_DESIGN_YES_NO)
+                    json_object_set_new(o, "dprime_ci95", json_pack("[o,o]", num(w->dprime_lo), num(w->dprime_hi)));
             }
             json_array_append_new(w->is_curve == 2 ? groups : conds, o);
             continue;
@@ -454,7 +492,7 @@ char *csf_study_report_json(const csf_study_report *r)
             json_object_set_new(o, "beta_ci95", json_pack("[o,o]", num(w->beta_lo), num(w->beta_hi)));
             json_object_set_new(o, "lapse", num(w->fit.lapse));
             json_object_set_new(o, "guess", num(w->fit.guess));
-            json_object_set_new(o, "ci95_method", json_string("marginal posterior, flat priors on t, log beta, lapse"));
+            json_object_set_new(o, "ci95_method", json_string("marginal posterior, flat priors on t, 1/beta (width) and lapse"));
             json_object_set_new(o, "t_log10_ci95_bootstrap", json_pack("[o,o]", num(w->tb_lo), num(w->tb_hi)));
             json_object_set_new(o, "beta_ci95_bootstrap", json_pack("[o,o]", num(w->bb_lo), num(w->bb_hi)));
             json_object_set_new(o, "bootstrap_ok", json_integer(w->n_boot_ok));
@@ -483,7 +521,7 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
     FILE *fp = af.fp;
     fputs("study,design,scope,kind,name,freq_cpd,ecc_deg,n,correct,p_correct,ci_lo,ci_hi,p_above_chance,"
           "p_two_sided,hits,n_signal,false_alarms,n_noise,hit_rate,fa_rate,dprime,t_log10,t_lo,t_hi,beta,"
-          "beta_lo,beta_hi,lapse,guess\n", fp);
+          "beta_lo,beta_hi,lapse,guess,dprime_lo,dprime_hi\n", fp);
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
         fprintf(fp, "%s,%s,%s,%s,%s", r->name, csf_study_design_name(r->design), w->scope,
@@ -519,6 +557,8 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
         } else {
             fputs(",NA,NA,NA,NA,NA,NA,NA,NA", fp);
         }
+        csv_num(fp, w->dprime_lo);
+        csv_num(fp, w->dprime_hi);
         fputc('\n', fp);
     }
     return csf_atomic_commit(&af, err);
@@ -548,10 +588,17 @@ csf_status csf_study_report_plot(const csf_study_report *r, const char *path, cs
         } else if (!strcmp(w->scope, "pooled")) {
             csf_study_plot_bar *b = &bars[nb++];
             snprintf(b->label, sizeof b->label, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
-            b->p = w->p;
-            b->lo = w->ci_lo;
-            b->hi = w->ci_hi;
-            b->chance = 0.5;
+            if (r->design == CSF_DESIGN_YES_NO && w->n_signal && w->n_noise) {
+                /* "yes" to a signal against "yes" to nothing: chance is the false-alarm rate */
+                b->p = w->hit_rate;
+                csf_stats_clopper_pearson(w->hits, w->n_signal, 0.95, &b->lo, &b->hi);
+                b->chance = w->fa_rate;
+            } else {
+                b->p = w->p;
+                b->lo = w->ci_lo;
+                b->hi = w->ci_hi;
+                b->chance = 0.5;
+            }
         }
     }
     char title[200];

@@ -136,6 +136,61 @@ double csf_stats_binom_p_two_sided(int k, int n, double p0)
     return sum > 1 ? 1 : sum;
 }
 
+/* log P(hits = a) for the hypergeometric of the 2x2 table with margins n_signal, n_noise and
+ * a + b = yes answers in all. */
+static double hyper_logpmf(int a, int n_signal, int n_noise, int yes)
+{
+    return lgamma(n_signal + 1.0) - lgamma(a + 1.0) - lgamma(n_signal - a + 1.0) + lgamma(n_noise + 1.0) -
+           lgamma(yes - a + 1.0) - lgamma(n_noise - (yes - a) + 1.0) - lgamma(n_signal + n_noise + 1.0) +
+           lgamma(yes + 1.0) + lgamma(n_signal + n_noise - yes + 1.0);
+}
+
+/* Sums the hypergeometric over hits in [from, to]; with only_at_most, only the tables no more
+ * probable than log-probability lk. */
+static double fisher_sum(int n_signal, int n_noise, int yes, int from, int to, int only_at_most, double lk)
+{
+    double sum = 0;
+    for (int a = from; a <= to; a++) {
+        double la = hyper_logpmf(a, n_signal, n_noise, yes);
+        if (!only_at_most || la <= lk + 1e-7 * fabs(lk) + 1e-12) sum += exp(la);
+    }
+    return sum > 1 ? 1 : sum;
+}
+
+double csf_stats_fisher_greater(int hits, int n_signal, int false_alarms, int n_noise)
+{
+    if (n_signal <= 0 || n_noise <= 0 || hits < 0 || false_alarms < 0 || hits > n_signal ||
+        false_alarms > n_noise)
+        return 1;
+    int yes = hits + false_alarms;
+    int a_max = yes < n_signal ? yes : n_signal;
+    return fisher_sum(n_signal, n_noise, yes, hits, a_max, 0, 0);
+}
+
+double csf_stats_fisher_two_sided(int hits, int n_signal, int false_alarms, int n_noise)
+{
+    if (n_signal <= 0 || n_noise <= 0 || hits < 0 || false_alarms < 0 || hits > n_signal ||
+        false_alarms > n_noise)
+        return 1;
+    int yes = hits + false_alarms;
+    int a_min = yes > n_noise ? yes - n_noise : 0, a_max = yes < n_signal ? yes : n_signal;
+    return fisher_sum(n_signal, n_noise, yes, a_min, a_max, 1, hyper_logpmf(hits, n_signal, n_noise, yes));
+}
+
+void csf_stats_dprime_yesno_ci(double h, double f, int n_signal, int n_noise, double conf, double *lo,
+                               double *hi)
+{
+    *lo = *hi = NAN;
+    double d = csf_stats_dprime_yesno(h, f);
+    if (isnan(d) || n_signal <= 0 || n_noise <= 0 || !(conf > 0 && conf < 1)) return;
+    double zh = csf_stats_norm_quantile(h), zf = csf_stats_norm_quantile(f);
+    double ph = exp(-0.5 * zh * zh) / sqrt(2 * M_PI), pf = exp(-0.5 * zf * zf) / sqrt(2 * M_PI);
+    double var = h * (1 - h) / (n_signal * ph * ph) + f * (1 - f) / (n_noise * pf * pf);
+    double half = csf_stats_norm_quantile(0.5 * (1 + conf)) * sqrt(var);
+    *lo = d - half;
+    *hi = d + half;
+}
+
 double csf_stats_dprime_yesno(double h, double f)
 {
     if (!(h > 0 && h < 1 && f > 0 && f < 1)) return NAN;
@@ -294,6 +349,31 @@ static double nelder_mead(const fit_ctx *c, int d, double *q, const double *step
     return f[best];
 }
 
+/* A grid over t in [xmin - 1, xmax + 1] (the limits the fit keeps t to), beta log-spaced over its
+ * limits and three lapses. A steep peak is narrow in t and a shallow one wide, so the best point
+ * of each of GRID_BANDS slope bands is kept (q[band]), each to be polished on its own. */
+#define GRID_BANDS 4
+static void grid_search(const fit_ctx *c, double xmin, double xmax, double q[GRID_BANDS][3],
+                        double f_best[GRID_BANDS])
+{
+    enum { N_T = 161, N_BETA = 24 };
+    static const double lapse_v[3] = {-3.0, 0.0, 3.0};
+    for (int band = 0; band < GRID_BANDS; band++) f_best[band] = INFINITY;
+    for (int j = 0; j < N_BETA; j++) {
+        int band = j * GRID_BANDS / N_BETA;
+        double u = log(CSF_FIT_BETA_MIN) + (log(CSF_FIT_BETA_MAX) - log(CSF_FIT_BETA_MIN)) * j / (N_BETA - 1);
+        for (int i = 0; i < N_T; i++)
+            for (int k = 0; k < (c->max_lapse > 0 ? 3 : 1); k++) {
+                double cand[3] = {xmin - 1 + (xmax - xmin + 2) * i / (N_T - 1), u, lapse_v[k]};
+                double f = negloglik(c, cand);
+                if (f < f_best[band]) {
+                    f_best[band] = f;
+                    memcpy(q[band], cand, sizeof cand);
+                }
+            }
+    }
+}
+
 int csf_weibull_fit_ml(const csf_psy_level *lv, size_t n_levels, double guess, double max_lapse,
                        csf_weibull_fit *out)
 {
@@ -327,6 +407,22 @@ int csf_weibull_fit_ml(const csf_psy_level *lv, size_t n_levels, double guess, d
                 best_conv = conv;
             }
         }
+    /* The simplex starts above can all settle on a local optimum of a two-peak surface (a steep
+     * slope through one level against a shallow one through all): a grid over everything the
+     * data identify finds the better peak, and a simplex polishes it. */
+    double grid_q[GRID_BANDS][3], grid_f[GRID_BANDS];
+    grid_search(&c, xmin, xmax, grid_q, grid_f);
+    for (int band = 0; band < GRID_BANDS; band++) {
+        if (!(grid_f[band] < INFINITY)) continue;
+        double gstep[3] = {0.05, 0.2, 0.5};
+        int gconv;
+        double gf = nelder_mead(&c, 3, grid_q[band], gstep, 600, &gconv);
+        if (gf < best_f) {
+            best_f = gf;
+            memcpy(best_q, grid_q[band], sizeof best_q);
+            best_conv = gconv;
+        }
+    }
     /* restart from the best point: Nelder-Mead can stall on a ridge */
     double step[3] = {0.05, 0.2, 0.5};
     int conv;

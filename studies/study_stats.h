@@ -29,6 +29,21 @@ void csf_stats_clopper_pearson(int k, int n, double conf, double *lo, double *hi
 double csf_stats_binom_p_greater(int k, int n, double p0);
 double csf_stats_binom_p_two_sided(int k, int n, double p0);
 
+/* Hits against false alarms, the test of a yes/no or same/different design (a person who says
+ * "yes" often has many hits and as many false alarms: testing hits alone against 0.5 would call a
+ * guesser able to see). Fisher's exact test of the 2x2 table (hits, misses; false alarms, correct
+ * rejections), conditional on the margins: one-sided P(hits >= observed | no difference) and
+ * two-sided (the sum of the tables no more probable than the one observed, as R's fisher.test).
+ * At most the nominal false-positive rate at any response bias. 1 when either row is empty. */
+double csf_stats_fisher_greater(int hits, int n_signal, int false_alarms, int n_noise);
+double csf_stats_fisher_two_sided(int hits, int n_signal, int false_alarms, int n_noise);
+
+/* Interval for a yes/no d' at confidence conf from the rates (corrected as for d') and the trial
+ * counts: d' +- z * sqrt(h(1-h) / (n_signal phi(z(h))^2) + f(1-f) / (n_noise phi(z(f))^2))
+ * (Gourevitch & Galanter 1967; Macmillan & Creelman 2005, ch. 13). NaN where d' is. */
+void csf_stats_dprime_yesno_ci(double h, double f, int n_signal, int n_noise, double conf, double *lo,
+                               double *hi);
+
 /* d' from hit rate h and false-alarm rate f. Rates of 0 or 1 must be corrected by the caller
  * (the report uses the 1/(2N) rule); NaN for rates outside (0, 1).
  *   yes/no:            d' = z(h) - z(f)
@@ -36,7 +51,9 @@ double csf_stats_binom_p_two_sided(int k, int n, double p0);
  *     f = 2 Phi(-k / sqrt 2), h = Phi((d' - k)/sqrt 2) + Phi((-d' - k)/sqrt 2), solved for d'
  *   same/different, independent-observation model (fixed designs):
  *     p_max = Phi((z(h) - z(f)) / 2),  d' = 2 z(0.5 (1 + sqrt(2 p_max - 1)))
- * Same/different: NaN when h <= f (no evidence of discrimination); the caller reports 0. */
+ * Same/different: NaN when h <= f; the report then gives the d' of the swapped rates with its
+ * sign flipped (0 when h = f), so a negative d' means the same in every design: more "yes" or
+ * "different" answers without a signal than with one (yes/no's z(h) - z(f) is already so). */
 double csf_stats_dprime_yesno(double h, double f);
 double csf_stats_dprime_sd_differencing(double h, double f);
 double csf_stats_dprime_sd_independent(double h, double f);
@@ -59,8 +76,9 @@ typedef struct {
 #define CSF_FIT_BETA_MIN 0.5
 #define CSF_FIT_BETA_MAX 20.0
 
-/* ML fit of t, beta and lapse (guess fixed) to binomial data at n_levels levels (Nelder-Mead on a
- * bounded reparameterisation, restarted from a grid of starting points). Returns 0, or -1 when
+/* ML fit of t, beta and lapse (guess fixed) to binomial data at n_levels levels: a grid over t
+ * (the data's range +- 1 log10), beta and lapse finds the global peak's basin, and Nelder-Mead on
+ * a bounded reparameterisation, started there and from a few other points, polishes it. Returns 0, or -1 when
  * there is nothing to fit (no trials, or fewer than 2 distinct levels). */
 int csf_weibull_fit_ml(const csf_psy_level *lv, size_t n_levels, double guess, double max_lapse,
                        csf_weibull_fit *out);

@@ -200,6 +200,105 @@ static void test_intervals(void)
     CHECK(csf_weibull_marginal_ci(lv, 6, &f, 0.06, 1.5, &a, &b, &c, &d) == -1);
 }
 
+/* Fisher's exact test of hits against false alarms, against exact hypergeometric sums (Python,
+ * fractions and math.comb; the two-sided rule as R's fisher.test). */
+static void test_fisher(void)
+{
+    CHECK_NEAR(csf_stats_fisher_greater(15, 20, 5, 20), 0.0019237636541887641, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_two_sided(15, 20, 5, 20), 0.0038475273083775283, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_greater(3, 10, 8, 10), 0.9972612526792093, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_two_sided(3, 10, 8, 10), 0.06977851869492736, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_greater(40, 60, 12, 20), 0.3886752524910985, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_two_sided(40, 60, 12, 20), 0.5988132945627055, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_greater(0, 5, 0, 5), 1.0, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_greater(5, 5, 0, 5), 0.003968253968253968, 1e-12);
+    CHECK_NEAR(csf_stats_fisher_greater(3, 0, 1, 5), 1.0, 0); /* no signal trials: nothing to test */
+}
+
+/* Observers who cannot see the stimulus, with any bias (a "yes" rate from 0.02 to 0.98, as an
+ * observer who always says yes has 0.9): 1000 yes/no sessions of 60 signal and 20 catch trials.
+ * Hits against false alarms calls at most 5 % of them able to see at p < 0.05; hits against 0.5,
+ * the test a yes/no report must not use, calls far more. */
+static void test_yesno_blind(void)
+{
+    csf_rng rng;
+    csf_rng_init(&rng, 2024, 7);
+    int fisher_pos = 0, binom_pos = 0;
+    for (int i = 0; i < 1000; i++) {
+        double p_yes = 0.02 + 0.96 * csf_rng_next_uniform(&rng);
+        int hits = 0, fa = 0;
+        for (int j = 0; j < 60; j++) hits += csf_rng_next_uniform(&rng) < p_yes;
+        for (int j = 0; j < 20; j++) fa += csf_rng_next_uniform(&rng) < p_yes;
+        fisher_pos += csf_stats_fisher_greater(hits, 60, fa, 20) < 0.05;
+        binom_pos += csf_stats_binom_p_greater(hits, 60, 0.5) < 0.05;
+    }
+    CHECK_MSG(fisher_pos <= 50, "%d of 1000 blind observers called able to see", fisher_pos);
+    CHECK_MSG(binom_pos > 300, "the binomial test against 0.5 called only %d of 1000", binom_pos);
+}
+
+/* d' interval: the Gourevitch & Galanter variance, computed here from its definition. */
+static void test_dprime_ci(void)
+{
+    double lo, hi, h = 0.8, f = 0.2;
+    csf_stats_dprime_yesno_ci(h, f, 50, 40, 0.95, &lo, &hi);
+    double zh = csf_stats_norm_quantile(h), zf = csf_stats_norm_quantile(f);
+    double ph = exp(-zh * zh / 2) / sqrt(2 * M_PI), pf = exp(-zf * zf / 2) / sqrt(2 * M_PI);
+    double se = sqrt(h * (1 - h) / (50 * ph * ph) + f * (1 - f) / (40 * pf * pf));
+    CHECK_NEAR(0.5 * (lo + hi), zh - zf, 1e-12);
+    CHECK_NEAR(0.5 * (hi - lo), 1.959963984540054 * se, 1e-9);
+    csf_stats_dprime_yesno_ci(1.0, 0.2, 50, 40, 0.95, &lo, &hi);
+    CHECK(isnan(lo) && isnan(hi));
+}
+
+/* Negative log-likelihood of the Weibull with guess g, written out here from its definition. */
+static double nll(const csf_psy_level *lv, int n, double g, double t, double beta, double lapse)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) {
+        double p = g + (1 - g - lapse) * (1 - exp(-pow(10.0, beta * (lv[i].x_log10 - t))));
+        p = fmin(fmax(p, 1e-12), 1 - 1e-12);
+        s -= lv[i].k * log(p) + (lv[i].n - lv[i].k) * log(1 - p);
+    }
+    return s;
+}
+
+/* The fit reaches the global optimum on two-peak data: 2AFC sets of 6 levels x 12 trials where
+ * a steep slope through one jump competes with a shallow slope through all the levels. These
+ * seven came from seeded random observers; a simplex from a few starts settled on the worse peak
+ * in each (by 0.06 to 1.2 in negative log-likelihood). Each fit is checked against a brute-force
+ * search of this test's own likelihood (t in steps of 0.005 log10, beta 0.5-20 in 1 % steps,
+ * lapse 0-0.06 in steps of 0.01). */
+static void test_fit_global(void)
+{
+    static const int k[7][6] = {{4, 5, 11, 9, 11, 12}, {4, 11, 9, 12, 11, 12}, {4, 5, 11, 9, 10, 11},
+                                {5, 7, 11, 10, 11, 12}, {4, 7, 7, 12, 8, 12},   {4, 3, 5, 11, 10, 12},
+                                {7, 5, 5, 10, 10, 11}};
+    for (int set = 0; set < 7; set++) {
+        csf_psy_level lv[6];
+        for (int i = 0; i < 6; i++) {
+            lv[i].x_log10 = -2.5 + 0.2 * i;
+            lv[i].n = 12;
+            lv[i].k = k[set][i];
+        }
+        csf_weibull_fit fit;
+        CHECK(csf_weibull_fit_ml(lv, 6, 0.5, 0.06, &fit) == 0);
+        double best = INFINITY, bt = NAN, bb = NAN;
+        for (double tt = -3.5; tt <= -0.5; tt += 0.005)
+            for (double b = 0.5; b <= 20; b *= 1.01)
+                for (int l = 0; l <= 6; l++) {
+                    double f = nll(lv, 6, 0.5, tt, b, 0.01 * l);
+                    if (f < best) {
+                        best = f;
+                        bt = tt;
+                        bb = b;
+                    }
+                }
+        double got = nll(lv, 6, 0.5, fit.t_log10, fit.beta, fit.lapse);
+        CHECK_MSG(got <= best + 1e-3, "set %d: fit t %.3f beta %.2f (nll %.4f), brute force t %.3f beta %.2f (%.4f)",
+                  set, fit.t_log10, fit.beta, got, bt, bb, best);
+    }
+}
+
 int main(void)
 {
     test_normal();
@@ -208,5 +307,9 @@ int main(void)
     test_dprime();
     test_fit();
     test_intervals();
+    test_fisher();
+    test_yesno_blind();
+    test_dprime_ci();
+    test_fit_global();
     return CHECK_RESULT();
 }
