@@ -473,6 +473,69 @@ static csf_status parse_row(csf_study *s, csf_study_condition *c, const int *col
     return CSF_OK;
 }
 
+/* The header row: every column known and given once, label and ecc_deg among them; col[k] is
+ * the field of column k, -1 where absent. */
+static csf_status parse_header(char (*fields)[CSV_FIELD_MAX], int nf, int *col, const char *where, int line,
+                               csf_error *err)
+{
+    csf_status st;
+    for (int i = 0; i < nf; i++) {
+        int k = 0;
+        while (k < N_COLS && strcmp(fields[i], col_names[k])) k++;
+        if (k == N_COLS) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown column '%.40s' (known: label, "
+                               "stimulus, freq_cpd, contrast, method, ecc_deg, polar_deg, "
+                               "orientation_deg, phase_deg, sigma_deg, radius_deg, drift_hz, "
+                               "velocity_dps, motion_dir_deg, mean_lum_cdm2, image_a, image_b, "
+                               "size_deg, curve)", where, line, fields[i]);
+            return st;
+        }
+        if (col[k] >= 0) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where,
+                               line, col_names[k]);
+            return st;
+        }
+        col[k] = i;
+    }
+    if (col[COL_LABEL] < 0 || col[COL_ECC] < 0) {
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: missing column '%s' (every conditions "
+                           "file needs label and ecc_deg)", where, line,
+                           col[COL_LABEL] < 0 ? "label" : "ecc_deg");
+        return st;
+    }
+    return CSF_OK;
+}
+
+/* One data row as the next condition of s, its label not used before. */
+static csf_status add_condition(csf_study *s, const int *col, char (*fields)[CSV_FIELD_MAX], int nf,
+                                int n_header, const char *base_dir, const char *where, int line,
+                                csf_error *err)
+{
+    csf_status st;
+    if (nf != n_header) {
+        st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %d fields, the header has %d", where, line, nf,
+                           n_header);
+        return st;
+    }
+    if (s->n_conds == CSF_STUDY_MAX_CONDITIONS) {
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: more than %d conditions", where, line,
+                           CSF_STUDY_MAX_CONDITIONS);
+        return st;
+    }
+    row_ctx r = {where, line, "?", err};
+    csf_study_condition *c = &s->conds[s->n_conds];
+    st = parse_row(s, c, col, fields, base_dir, &r);
+    if (st != CSF_OK) return st;
+    for (int i = 0; i < s->n_conds; i++)
+        if (!strcmp(s->conds[i].label, c->label)) {
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: label '%s' already used on line %d", where,
+                               line, c->label, s->conds[i].line);
+            return st;
+        }
+    s->n_conds++;
+    return CSF_OK;
+}
+
 csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len, const char *where,
                                       const char *base_dir, csf_error *err)
 {
@@ -519,54 +582,11 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
             goto out;
         }
         if (!n_header) {
-            for (int i = 0; i < nf; i++) {
-                int k = 0;
-                while (k < N_COLS && strcmp(fields[i], col_names[k])) k++;
-                if (k == N_COLS) {
-                    st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown column '%.40s' (known: label, "
-                                       "stimulus, freq_cpd, contrast, method, ecc_deg, polar_deg, "
-                                       "orientation_deg, phase_deg, sigma_deg, radius_deg, drift_hz, "
-                                       "velocity_dps, motion_dir_deg, mean_lum_cdm2, image_a, image_b, "
-                                       "size_deg, curve)", where, line, fields[i]);
-                    goto out;
-                }
-                if (col[k] >= 0) {
-                    st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where,
-                                       line, col_names[k]);
-                    goto out;
-                }
-                col[k] = i;
-            }
+            if ((st = parse_header(fields, nf, col, where, line, err)) != CSF_OK) goto out;
             n_header = nf;
-            if (col[COL_LABEL] < 0 || col[COL_ECC] < 0) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: missing column '%s' (every conditions "
-                                   "file needs label and ecc_deg)", where, line,
-                                   col[COL_LABEL] < 0 ? "label" : "ecc_deg");
-                goto out;
-            }
             continue;
         }
-        if (nf != n_header) {
-            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %d fields, the header has %d", where, line, nf,
-                               n_header);
-            goto out;
-        }
-        if (s->n_conds == CSF_STUDY_MAX_CONDITIONS) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: more than %d conditions", where, line,
-                               CSF_STUDY_MAX_CONDITIONS);
-            goto out;
-        }
-        row_ctx r = {where, line, "?", err};
-        csf_study_condition *c = &s->conds[s->n_conds];
-        st = parse_row(s, c, col, fields, base_dir, &r);
-        if (st != CSF_OK) goto out;
-        for (int i = 0; i < s->n_conds; i++)
-            if (!strcmp(s->conds[i].label, c->label)) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: label '%s' already used on line %d", where,
-                                   line, c->label, s->conds[i].line);
-                goto out;
-            }
-        s->n_conds++;
+        if ((st = add_condition(s, col, fields, nf, n_header, base_dir, where, line, err)) != CSF_OK) goto out;
     }
     if (!n_header) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty (no header row)", where);
     else if (!s->n_conds) st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: no conditions after the header", where);
