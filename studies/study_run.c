@@ -775,11 +775,11 @@ static csf_status open_display(run_res *R, const csf_study_run_options *opt, int
     return st;
 }
 
-csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result *res, csf_error *err)
+/* The participant code and the observer (sim or human, and whether it can run here), before
+ * anything is loaded. */
+static csf_status check_run_options(const csf_study_run_options *opt, const char **observer_out,
+                                    int *is_sim_out, csf_error *err)
 {
-    memset(res, 0, sizeof *res);
-    run_res R;
-    memset(&R, 0, sizeof R);
     if (!opt->participant || !participant_ok(opt->participant)) {
         char shown[300]; /* the code as typed, escaped: it may hold terminal controls */
         csf_store_printable(opt->participant, shown, sizeof shown);
@@ -789,6 +789,8 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     const char *observer = opt->observer_spec ? opt->observer_spec
                          : opt->cfg->observer[0] ? opt->cfg->observer : "sim";
     int is_sim = !strncmp(observer, "sim", 3) && (observer[3] == '\0' || observer[3] == ':');
+    *observer_out = observer;
+    *is_sim_out = is_sim;
     if (!is_sim && strcmp(observer, "human"))
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human", observer);
     if (strpbrk(observer, "\"\\") || strpbrk(opt->study_path, "\"\\"))
@@ -797,7 +799,74 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     if (!is_sim && opt->headless)
         return csf_error_set(err, CSF_E_UNSUPPORTED, "--observer human needs a display: no window can be "
                              "opened headless (use --observer sim)");
-    csf_status st = csf_study_load(opt->study_path, &R.study, err);
+    return CSF_OK;
+}
+
+/* Adaptive procedures: the stored answers replayed into them, so each goes on where it stopped. */
+static void replay_stored(run_res *R, size_t n_stored, double max_contrast)
+{
+    const csf_study *s = R->study;
+    for (size_t i = 0; i < n_stored; i++) {
+        const csf_study_trial *t = &R->plan[i];
+        if (t->practice || !s->conds[t->cond].adaptive) continue;
+        csf_trial_plan plan;
+        trial_level(R, t, max_contrast, &plan);
+        csf_trial_outcome oc = outcome_of(&R->stored[i]);
+        R->ops[t->cond]->update(R->proc[t->cond], t->cond_trial, &plan, &oc);
+    }
+}
+
+/* The trials, with SIGINT and SIGTERM asking for a pause between them (their handlers as
+ * before once the trials stop); a new human session starts with the instructions. */
+static csf_status run_with_signals(run_res *R, study_ctx *x, int64_t sid, int n_plan, size_t n_stored,
+                                   double max_contrast, csf_study_run_result *res, csf_error *err)
+{
+    csf_status st = CSF_OK;
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    stop_requested = 0;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    if (!res->resumed && !x->sim) {
+        st = csf_trial_io_screen(&x->io, "Fixate the central mark. After each trial answer with the keys for "
+                                 "first/left or second/right.\nPress any key to begin.", err);
+    }
+    if (st == CSF_OK) st = run_trials(R, x, sid, n_plan, n_stored, max_contrast, res, err);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+    return st;
+}
+
+/* The session's state in the store once the trials stop: finished, or paused to be continued. */
+static csf_status end_session(run_res *R, int64_t sid, int n_plan, csf_status st, csf_study_run_result *res,
+                              csf_error *err)
+{
+    const csf_study *s = R->study;
+    csf_error e2;
+    if (st == CSF_OK) {
+        res->finished = 1;
+        st = csf_store_set_session_state(R->store, sid, "finished", err);
+    } else if (st == CSF_E_ABORTED) {
+        csf_store_set_session_state(R->store, sid, "paused", &e2);
+        csf_error_set(err, CSF_E_ABORTED, "study %s: paused after %d of %d trials (all stored); run the same "
+                      "command again to continue", s->name, res->n_stored, n_plan);
+    } else {
+        csf_store_set_session_state(R->store, sid, "paused", &e2);
+    }
+    return st;
+}
+
+csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result *res, csf_error *err)
+{
+    memset(res, 0, sizeof *res);
+    run_res R;
+    memset(&R, 0, sizeof R);
+    const char *observer = NULL;
+    int is_sim = 0;
+    csf_status st = check_run_options(opt, &observer, &is_sim, err);
+    if (st != CSF_OK) return st;
+    st = csf_study_load(opt->study_path, &R.study, err);
     if (st != CSF_OK) return st;
     const csf_study *s = R.study;
     uint64_t seed = csf_study_participant_seed(s, opt->participant);
@@ -838,43 +907,13 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
                            (long long)sid, n_stored, n_plan);
         goto out;
     }
-    /* adaptive procedures: replay the stored answers */
-    for (size_t i = 0; i < n_stored; i++) {
-        const csf_study_trial *t = &R.plan[i];
-        if (t->practice || !s->conds[t->cond].adaptive) continue;
-        csf_trial_plan plan;
-        trial_level(&R, t, max_contrast, &plan);
-        csf_trial_outcome oc = outcome_of(&R.stored[i]);
-        R.ops[t->cond]->update(R.proc[t->cond], t->cond_trial, &plan, &oc);
-    }
+    replay_stored(&R, n_stored, max_contrast);
     res->n_stored = (int)n_stored;
     if (!opt->quiet)
         fprintf(stderr, "csfcal: study %s: participant %s, session %lld, %s%d of %d trials stored\n", s->name,
                 opt->participant, (long long)sid, res->resumed ? "resuming: " : "", (int)n_stored, n_plan);
-    struct sigaction sa, old_int, old_term;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    stop_requested = 0;
-    sigaction(SIGINT, &sa, &old_int);
-    sigaction(SIGTERM, &sa, &old_term);
-    if (!res->resumed && !x.sim) {
-        st = csf_trial_io_screen(&x.io, "Fixate the central mark. After each trial answer with the keys for "
-                                 "first/left or second/right.\nPress any key to begin.", err);
-    }
-    if (st == CSF_OK) st = run_trials(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
-    sigaction(SIGINT, &old_int, NULL);
-    sigaction(SIGTERM, &old_term, NULL);
-    csf_error e2;
-    if (st == CSF_OK) {
-        res->finished = 1;
-        st = csf_store_set_session_state(R.store, sid, "finished", err);
-    } else if (st == CSF_E_ABORTED) {
-        csf_store_set_session_state(R.store, sid, "paused", &e2);
-        csf_error_set(err, CSF_E_ABORTED, "study %s: paused after %d of %d trials (all stored); run the same "
-                      "command again to continue", s->name, res->n_stored, n_plan);
-    } else {
-        csf_store_set_session_state(R.store, sid, "paused", &e2);
-    }
+    st = run_with_signals(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
+    st = end_session(&R, sid, n_plan, st, res, err);
 out:
     run_res_free(&R);
     return st;
