@@ -6,10 +6,12 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build-test}
 root=$(pwd)
+# Colour codes stripped, so that the findings can be counted.
 out=$(run-clang-tidy-14 -p "$build" -j "$(nproc)" -quiet \
-      "^$root/(core|results|model|devices|stimuli|calib|studies|cli|examples)/.*\.(c|cpp)$" 2>&1)
+      "^$root/(core|results|model|devices|stimuli|calib|studies|cli|examples)/.*\.(c|cpp)$" 2>&1 |
+      sed -E 's/\x1b\[[0-9;]*m//g')
 rc=$?
-findings=$(printf '%s\n' "$out" | grep -cE '(warning|error): .*\[[a-z0-9.,-]+\]$' || true)
+findings=$(printf '%s\n' "$out" | grep -E '(warning|error): .*\[[a-zA-Z0-9.,-]+\]$' | sort -u | wc -l)
 if [ $rc -ne 0 ] || [ "$findings" -ne 0 ]; then
   printf '%s\n' "$out" | grep -E -A3 '(warning|error): ' | head -200
   echo "tidy: $findings finding(s)"

@@ -218,6 +218,30 @@ static csf_status check_line(const char *l, const char *where, int line, csf_err
     return csf_store_check_text(tmp, what, err);
 }
 
+/* The keys met so far, to find one given twice (where the last would silently win). */
+typedef struct {
+    char key[32][32];
+    int line[32];
+    int n;
+} seen_keys;
+
+static void note_key(seen_keys *k, csf_study *s, const char *key, int line)
+{
+    for (int i = 0; i < k->n; i++)
+        if (!strcmp(k->key[i], key)) {
+            if (!s->dup_line) {
+                snprintf(s->dup_key, sizeof s->dup_key, "%s", key);
+                s->dup_line = line;
+                s->dup_first_line = k->line[i];
+            }
+            return;
+        }
+    if (k->n < 32 && strlen(key) < sizeof k->key[0]) {
+        snprintf(k->key[k->n], sizeof k->key[0], "%s", key);
+        k->line[k->n++] = line;
+    }
+}
+
 csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, const char *where,
                                     csf_error *err)
 {
@@ -229,6 +253,7 @@ csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, 
     size_t pos = 0;
     int line = 0;
     char buf[2048];
+    seen_keys seen = {0};
     while (pos < len) {
         line++;
         const char *nl = memchr(text + pos, '\n', len - pos);
@@ -261,6 +286,7 @@ csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, 
         }
         csf_status st = set_key(s, key, val, where, line, err);
         if (st != CSF_OK) return st;
+        note_key(&seen, s, key, line);
     }
     return check_settings(s, where, err);
 }
@@ -669,6 +695,54 @@ csf_status csf_study_from_texts(const char *settings, const char *conditions, co
     return CSF_OK;
 }
 
+/* A fraction of each condition's trials in a block (catch trials, same pairs) must be a whole
+ * number of trials: the plan would round it, and the study would not be what its file says. */
+static csf_status check_fraction(const csf_study *s, const char *key, double fraction, csf_error *err)
+{
+    int per_block = s->trials_per_condition / s->blocks;
+    double trials = fraction * per_block;
+    if (fabs(trials - floor(trials + 0.5)) < 1e-9) return CSF_OK;
+    return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s = %g of %d trials per condition and block is "
+                         "%.3g trials: the plan would round it; choose a fraction that gives a whole "
+                         "number (%g or %g)", s->path, key, fraction, per_block, trials,
+                         floor(trials) / per_block, ceil(trials) / per_block);
+}
+
+/* A psychometric curve varies contrast only: conditions sharing a curve name with different
+ * frequencies or places would be fitted as one function (a slope of 0.5 from two thresholds). */
+static csf_status check_curves(const csf_study *s, csf_error *err)
+{
+    for (int i = 0; i < s->n_conds; i++) {
+        const csf_study_condition *a = &s->conds[i];
+        if (a->kind == CSF_COND_IMAGE) continue;
+        for (int j = 0; j < i; j++) {
+            const csf_study_condition *b = &s->conds[j];
+            if (b->kind == CSF_COND_IMAGE || strcmp(a->curve, b->curve)) continue;
+            if (a->freq_cpd != b->freq_cpd || a->ecc_deg != b->ecc_deg || a->polar_deg != b->polar_deg)
+                return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d (%s): curve '%s' mixes %g cpd at %g deg "
+                                     "(line %d) and %g cpd at %g deg: the conditions of one psychometric "
+                                     "curve differ in contrast only; give them different curve names",
+                                     s->conditions_path, a->line, a->label, a->curve, b->freq_cpd,
+                                     b->ecc_deg, b->line, a->freq_cpd, a->ecc_deg);
+        }
+    }
+    return CSF_OK;
+}
+
+/* What a new run is held to beyond what a stored copy must satisfy to be read back. */
+static csf_status check_new_study(const csf_study *s, csf_error *err)
+{
+    if (s->dup_line)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: %s given twice (first on line %d): keep one",
+                             s->path, s->dup_line, s->dup_key, s->dup_first_line);
+    csf_status st = CSF_OK;
+    if (s->design == CSF_DESIGN_YES_NO) st = check_fraction(s, "catch_fraction", s->catch_fraction, err);
+    if (st == CSF_OK && s->design == CSF_DESIGN_SAME_DIFF)
+        st = check_fraction(s, "same_fraction", s->same_fraction, err);
+    if (st == CSF_OK) st = check_curves(s, err);
+    return st;
+}
+
 csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
 {
     *out = NULL;
@@ -702,6 +776,10 @@ csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
                            memchr(settings, '\0', len) ? path : cpath);
     else
         st = csf_study_from_texts(settings, conditions, path, cpath, 1, out, err);
+    if (st == CSF_OK && (st = check_new_study(*out, err)) != CSF_OK) {
+        csf_study_free(*out);
+        *out = NULL;
+    }
     free(settings);
     free(conditions);
     return st;

@@ -66,6 +66,10 @@ typedef struct {
     int n_conds;
     char *settings_text, *conditions_text; /* the bytes read (stored with each session) */
     uint64_t hash;                 /* FNV-1a 64 of both files' bytes: the study's identity */
+    /* the first key given twice in the settings, for csf_study_load to refuse (a stored copy
+       from an older csfcal is still read, last value winning as it did) */
+    char dup_key[32];
+    int dup_line, dup_first_line;
 } csf_study;
 
 const char *csf_study_design_name(csf_study_design d);
@@ -81,7 +85,10 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
                                       const char *base_dir, csf_error *err);
 
 /* Reads and checks both files and that every image exists and decodes (a missing or broken one is
- * named with the conditions file's line). CSF_E_INVALID_ARG / CSF_E_FORMAT / CSF_E_NOT_FOUND. */
+ * named with the conditions file's line), and the rules a new run is held to: no settings key
+ * given twice, a curve's conditions differing in contrast only, a catch or same fraction that
+ * gives a whole number of trials per condition and block. CSF_E_INVALID_ARG / CSF_E_FORMAT /
+ * CSF_E_NOT_FOUND. */
 csf_status csf_study_load(const char *path, csf_study **out, csf_error *err);
 /* The same from texts already in memory (a stored session's copy); check_images = 0 skips the
  * image files (a report needs only the design, not the pictures). */

@@ -209,6 +209,47 @@ static void test_plan(void)
     free(s.conds);
 }
 
+/* What a new run is refused, each with its line and reason: a settings key given twice (the
+ * last used to win silently), a catch fraction that the plan would round, a curve whose
+ * conditions mix frequencies (fitted as one function with a slope of 0.5). A stored copy from
+ * an older csfcal with a key given twice still reads back, so its sessions can be reported. */
+static void test_new_run_rules(const char *dir)
+{
+    char p[512], c[512];
+    snprintf(p, sizeof p, "%s/r.conf", dir);
+    snprintf(c, sizeof c, "%s/r.csv", dir);
+    csf_study *s = NULL;
+    csf_error e;
+    const char *csv = "label,freq_cpd,contrast,ecc_deg,curve\na1,2,0.01,5,a\na2,2,0.02,5,a\n";
+    write_file(c, csv);
+    write_file(p, "name = r\ndesign = 2afc\nconditions = r.csv\ntrials_per_condition = 10\n"
+                  "trials_per_condition = 20\n");
+    CHECK(csf_study_load(p, &s, &e) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(e.msg, "r.conf:5: trials_per_condition given twice (first on line 4)");
+    CHECK(s == NULL);
+    csf_study *old = NULL;
+    CHECK(csf_study_from_texts("name = r\ndesign = 2afc\nconditions = r.csv\ntrials_per_condition = 10\n"
+                               "trials_per_condition = 20\n", csv, p, c, 0, &old, &e) == CSF_OK);
+    CHECK(old && old->trials_per_condition == 20);
+    csf_study_free(old);
+
+    write_file(p, "name = r\ndesign = yes_no\nconditions = r.csv\ntrials_per_condition = 10\n"
+                  "catch_fraction = 0.25\n");
+    CHECK(csf_study_load(p, &s, &e) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(e.msg, "catch_fraction = 0.25 of 10 trials per condition and block is 2.5 trials");
+    write_file(p, "name = r\ndesign = yes_no\nconditions = r.csv\ntrials_per_condition = 12\n"
+                  "catch_fraction = 0.25\n");
+    CHECK_MSG(csf_study_load(p, &s, &e) == CSF_OK, "%s", e.msg);
+    csf_study_free(s);
+    s = NULL;
+
+    write_file(c, "label,freq_cpd,contrast,ecc_deg,curve\na1,2,0.01,5,a\na2,4,0.02,5,a\n");
+    write_file(p, "name = r\ndesign = 2afc\nconditions = r.csv\ntrials_per_condition = 10\n");
+    CHECK(csf_study_load(p, &s, &e) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(e.msg, "r.csv:3 (a2): curve 'a' mixes 2 cpd at 5 deg (line 2) and 4 cpd at 5 deg");
+    CHECK(s == NULL);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/csf_study_file_XXXXXX";
@@ -218,6 +259,7 @@ int main(void)
     test_missing_image(dir);
     test_display(dir);
     test_plan();
+    test_new_run_rules(dir);
     char cmd[600];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
