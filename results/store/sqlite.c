@@ -470,6 +470,77 @@ static csf_status check_open_args(const char *path, csf_store **out, csf_error *
     return CSF_OK;
 }
 
+/* The connection itself, set up for a file that is outside input. */
+static csf_status sq_connect(sq_store *s, const char *path, csf_error *err)
+{
+    int rc = sqlite3_open_v2(path, &s->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
+                             SQLITE_OPEN_NOMUTEX, NULL);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "opening");
+    sqlite3_extended_result_codes(s->db, 1);
+    /* The file is outside input: do not run functions a crafted schema might name in views or
+     * triggers, and refuse writes that could corrupt it on purpose. */
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
+    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
+    /* A second csfcal on the same store waits a little instead of failing at once. */
+    sqlite3_busy_timeout(s->db, 5000);
+    return CSF_OK;
+}
+
+/* Write-ahead logging, refused where the file system cannot give it, and full durability. */
+static csf_status sq_use_wal(sq_store *s, const char *path, csf_error *err)
+{
+    char mode[16] = "";
+    int rc = switch_to_wal(s, mode, sizeof mode);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "switching to write-ahead logging");
+    if (strcmp(mode, "wal") != 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: cannot use write-ahead logging (journal "
+                             "mode stays '%s'); is the file on a network file system?", path, mode);
+    rc = exec_s(s, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
+    if (rc != SQLITE_OK) return fail(s, err, rc, "setting durability");
+    return CSF_OK;
+}
+
+/* quick_check reads every page: a malformed file is refused here rather than mid-session. */
+static csf_status sq_quick_check(sq_store *s, const char *path, csf_error *err)
+{
+    sqlite3_stmt *st = NULL;
+    char check[256] = "";
+    int rc = prepare(s, "PRAGMA quick_check(1)", &st);
+    if (rc == SQLITE_OK) {
+        rc = step(s, st);
+        if (rc == SQLITE_ROW) {
+            col_text(st, 0, check, sizeof check);
+            rc = SQLITE_OK;
+        }
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "checking integrity");
+    if (strcmp(check, "ok") != 0)
+        return csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s); "
+                             "restore it from a backup or start a new store with --store", path, check);
+    return CSF_OK;
+}
+
+/* The inserts a session repeats for every trial, reading and frame. */
+static csf_status sq_prepare_inserts(sq_store *s, csf_error *err)
+{
+    int rc = prepare(s, "INSERT INTO trials (session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
+                        " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
+                        " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
+                        " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
+                        " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
+                        "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
+    if (rc == SQLITE_OK)
+        rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
+                        " Y_cdm2, Z_cdm2,"
+                        " t_s, status, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?)", &s->ins_reading);
+    if (rc == SQLITE_OK)
+        rc = prepare(s, "INSERT INTO frame_intervals (session_id, trial_seq, idx, interval_s)"
+                        " VALUES (?,?,?,?)", &s->ins_frame);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "preparing statements");
+    return CSF_OK;
+}
+
 static csf_status sq_open_rw(const char *path, csf_store **out, csf_error *err)
 {
     csf_status as = check_open_args(path, out, err);
@@ -484,90 +555,28 @@ static csf_status sq_open_rw(const char *path, csf_store **out, csf_error *err)
     copy_str(s->path, sizeof s->path, path);
     s->base.ops = &sqlite_ops;
     copy_str(s->base.path, sizeof s->base.path, path);
-    int rc = sqlite3_open_v2(path, &s->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
-                             SQLITE_OPEN_NOMUTEX, NULL);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "opening");
-        sq_close(&s->base);
-        return cs;
-    }
-    sqlite3_extended_result_codes(s->db, 1);
-    /* The file is outside input: do not run functions a crafted schema might name in views or
-     * triggers, and refuse writes that could corrupt it on purpose. */
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, (int *)NULL);
-    sqlite3_db_config(s->db, SQLITE_DBCONFIG_DEFENSIVE, 1, (int *)NULL);
-    /* A second csfcal on the same store waits a little instead of failing at once. */
-    sqlite3_busy_timeout(s->db, 5000);
+    cs = sq_connect(s, path, err);
+    if (cs != CSF_OK) goto bad;
 
     /* Someone else's database, or a newer csfcal's, is refused before the switch to WAL
      * below rewrites its header: a refused file stays exactly as it was. */
-    int version = 0;
+    int version = 0, rc = SQLITE_OK;
     if (read_version(s, &version, &rc) < 0) {
         cs = fail(s, err, rc, "reading the schema");
         goto bad;
     }
     cs = check_schema(s, version, err);
     if (cs != CSF_OK) goto bad;
-
-    char mode[16] = "";
-    rc = switch_to_wal(s, mode, sizeof mode);
-    sqlite3_stmt *st = NULL;
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "switching to write-ahead logging");
-        goto bad;
-    }
-    if (strcmp(mode, "wal") != 0) {
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: cannot use write-ahead logging (journal "
-                           "mode stays '%s'); is the file on a network file system?", path, mode);
-        goto bad;
-    }
-    rc = exec_s(s, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "setting durability");
-        goto bad;
-    }
-    /* quick_check reads every page: a malformed file is refused here rather than mid-session. */
-    char check[256] = "";
-    rc = prepare(s, "PRAGMA quick_check(1)", &st);
-    if (rc == SQLITE_OK) {
-        rc = step(s, st);
-        if (rc == SQLITE_ROW) {
-            col_text(st, 0, check, sizeof check);
-            rc = SQLITE_OK;
-        }
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "checking integrity");
-        goto bad;
-    }
-    if (strcmp(check, "ok") != 0) {
-        cs = csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s); "
-                           "restore it from a backup or start a new store with --store", path, check);
-        goto bad;
-    }
+    cs = sq_use_wal(s, path, err);
+    if (cs != CSF_OK) goto bad;
+    cs = sq_quick_check(s, path, err);
+    if (cs != CSF_OK) goto bad;
     cs = migrate(s, err);
     if (cs != CSF_OK) goto bad;
     cs = probe_write(s, err);
     if (cs != CSF_OK) goto bad;
-
-    rc = prepare(s, "INSERT INTO trials (session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
-                    " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
-                    " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
-                    " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
-                    " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
-                    "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
-    if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
-                        " Y_cdm2, Z_cdm2,"
-                        " t_s, status, stored_s) VALUES (?,?,?,?,?,?,?,?,?,?,?)", &s->ins_reading);
-    if (rc == SQLITE_OK)
-        rc = prepare(s, "INSERT INTO frame_intervals (session_id, trial_seq, idx, interval_s)"
-                        " VALUES (?,?,?,?)", &s->ins_frame);
-    if (rc != SQLITE_OK) {
-        cs = fail(s, err, rc, "preparing statements");
-        goto bad;
-    }
+    cs = sq_prepare_inserts(s, err);
+    if (cs != CSF_OK) goto bad;
     *out = &s->base;
     return CSF_OK;
 bad:
