@@ -1512,8 +1512,9 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
     if (st) return st;
     if (strcmp(si.kind, "display") != 0) {
         csf_session_info_free(&si);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is a %s session, not a display calibration",
-                             (long long)session_id, si.kind);
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "session %lld is a %s session, not a display calibration", (long long)session_id,
+                             si.kind);
     }
     if (strcmp(si.state, "finished") == 0) {
         csf_session_info_free(&si);
@@ -1528,7 +1529,8 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
         char why[sizeof err->msg];
         snprintf(why, sizeof why, "%s", err ? err->msg : "stored settings are damaged");
         csf_store_set_session_state(c->store, session_id, "aborted", NULL);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s; the session cannot be resumed and is now "
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s; the session cannot be resumed and is now "
                              "marked aborted (its readings stay in the store: csfcal sessions export %lld)",
                              why, (long long)session_id);
     }
@@ -1555,7 +1557,8 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
     checks(c, res);
     char ident[256];
     csf_error ie;
-    if (csf_photometer_identify(ph, ident, sizeof ident, &ie)) snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
+    if (csf_photometer_identify(ph, ident, sizeof ident, &ie))
+        snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
     const char *dn = o->display_name ? o->display_name : csf_photometer_spec(ph);
     st = build_profile(c, dn, ident, res->additivity_error, out, err);
     for (int ch = 0; !st && o->channels && ch < 3; ch++) {

@@ -143,7 +143,8 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
     case OPT_ALLOW_PROFILE: o->allow_profile_change = 1; break;
     case OPT_RESPONDER:
         if (strlen(optarg) >= sizeof cli->cfg.responder) {
-            fprintf(stderr, "csfcal: --responder: longer than %zu characters\n", sizeof cli->cfg.responder - 1);
+            fprintf(stderr, "csfcal: --responder: longer than %zu characters\n",
+                    sizeof cli->cfg.responder - 1);
             return 2;
         }
         snprintf(cli->cfg.responder, sizeof cli->cfg.responder, "%s", optarg);
@@ -158,8 +159,10 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
         if (strcmp(optarg, "2") == 0) o->afc = 2;
         else if (strcmp(optarg, "4") == 0) o->afc = 4;
         else {
-            fprintf(stderr, "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
-                            "where they fit)\n", optarg);
+            fprintf(stderr,
+                    "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
+                    "where they fit)\n",
+                    optarg);
             return 2;
         }
         break;

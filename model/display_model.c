@@ -185,14 +185,13 @@ static csf_status csv_fields(char *s, const char *name, int line_no, double f[4]
         errno = 0;
         f[k] = strtod(p, &end);
         if (end == p || errno || !isfinite(f[k]))
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: field %d is not a number", name,
-                                 line_no, k + 1);
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: field %d is not a number", name, line_no, k + 1);
         p = end;
         while (*p == ' ' || *p == '\t') p++;
         if (k < 3) {
             if (*p != ',')
-                return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields",
-                                     name, line_no);
+                return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields", name,
+                                     line_no);
             p++;
         }
     }
@@ -205,15 +204,13 @@ static csf_status csv_store_row(csf_display_model *m, int *seen, const double f[
                                 int line_no, csf_error *err)
 {
     if (f[0] != floor(f[0]) || f[0] < 0 || f[0] > CSV_LEVELS - 1)
-        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level must be an integer 0..255", name,
-                             line_no);
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level must be an integer 0..255", name, line_no);
     int lv = (int)f[0];
     if (seen[lv]) return csf_error_set(err, CSF_E_FORMAT, "%s:%d: level %d given twice", name, line_no, lv);
     for (int c = 0; c < 3; c++) {
         if (f[c + 1] < 0 || f[c + 1] > 10000)
-            return csf_error_set(err, CSF_E_FORMAT,
-                                 "%s:%d: luminance %g out of range (0 to 10000 cd/m2)", name,
-                                 line_no, f[c + 1]);
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: luminance %g out of range (0 to 10000 cd/m2)",
+                                 name, line_no, f[c + 1]);
         m->csv[c][lv] = f[c + 1];
     }
     seen[lv] = 1;
@@ -226,8 +223,8 @@ static csf_status csv_check_levels(const csf_display_model *m, const int *seen, 
 {
     for (int lv = 0; lv < CSV_LEVELS; lv++) {
         if (!seen[lv])
-            return csf_error_set(err, CSF_E_FORMAT, "%s: level %d missing (need all levels 0..255)",
-                                 name, lv);
+            return csf_error_set(err, CSF_E_FORMAT, "%s: level %d missing (need all levels 0..255)", name,
+                                 lv);
         if (lv > 0)
             for (int c = 0; c < 3; c++)
                 if (m->csv[c][lv] < m->csv[c][lv - 1])

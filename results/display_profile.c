@@ -697,7 +697,8 @@ static csf_status fit_levels(curve *c, int ch, const double *v, const double *L,
     if (curve_finish(c, ch != CSF_CH_GREY, 0))
         st = csf_error_set(err, CSF_E_INSUFFICIENT,
                            "%s curve does not rise: full drive is not brighter than drive 0 "
-                           "(is the sensor on the patch?)", ch_names[ch]);
+                           "(is the sensor on the patch?)",
+                           ch_names[ch]);
     double xs[8], ys[8];
     int nk = st ? 0 : bracketed_corners(c, xs, ys, 8);
     if (nk > 0 && c->n + nk <= MAX_KNOTS) st = add_kinks(c, ch, xs, ys, nk, err);
@@ -719,15 +720,19 @@ static csf_status build_curve(curve *c, const csf_profile_reading *r, size_t n, 
     int m = average_repeats(sel, k, ch, black, v, L, wt);
     free(sel);
     if (m < 2 || v[0] != 0 || v[m - 1] != 1) {
-        free(v); free(L); free(wt);
+        free(v);
+        free(L);
+        free(wt);
         return csf_error_set(err, CSF_E_INSUFFICIENT,
                              "%s curve needs readings at drive 0 and 1 (has %d distinct levels)",
                              ch_names[ch], m);
     }
     if (m > MAX_KNOTS) {
-        free(v); free(L); free(wt);
-        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve has %d levels (limit %d)", ch_names[ch],
-                             m, MAX_KNOTS);
+        free(v);
+        free(L);
+        free(wt);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "%s curve has %d levels (limit %d)", ch_names[ch], m,
+                             MAX_KNOTS);
     }
     pool_adjacent_violators(L, wt, m);
     st = fit_levels(c, ch, v, L, m, err);

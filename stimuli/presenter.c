@@ -1136,8 +1136,7 @@ static csf_status check_trial(csf_presenter *p, const csf_stimulus *s, const csf
         return csf_error_set(err, CSF_E_INVALID_ARG, "trial duration %g s is outside (0, 600] s",
                              env->duration_s);
     if (env->kind == CSF_ENV_FADE_LOG && !(env->start_contrast > 0 && env->start_contrast <= s->contrast))
-        return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "fade start contrast %g must be in (0, end contrast %g]",
+        return csf_error_set(err, CSF_E_INVALID_ARG, "fade start contrast %g must be in (0, end contrast %g]",
                              env->start_contrast, s->contrast);
     csf_stimulus st = *s;
     st.time_s = 0;
@@ -1193,7 +1192,7 @@ static csf_status draw_trial_frames(trial_run *r, const csf_stimulus *s, const c
         r->last_c = st.contrast;
         r->drawn++;
         if (stop && stop(stop_ctx, &(csf_frame_info){fi.frame_index, fi.t_s, fi.interval_s, fi.missed,
-                                                      fi.rendered, r->last_c})) {
+                                                     fi.rendered, r->last_c})) {
             r->stopped = 1;
             break;
         }
@@ -1258,8 +1257,7 @@ csf_status csf_presenter_run_trial(csf_presenter *p, const csf_stimulus *s, cons
                                    int fixation, csf_trial_stop_fn stop, void *stop_ctx,
                                    csf_trial_record *out, csf_error *err)
 {
-    if (!p || !s || !env || !out)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "run_trial: NULL argument");
+    if (!p || !s || !env || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "run_trial: NULL argument");
     memset(out, 0, sizeof *out);
     csf_status rc = check_trial(p, s, env, err);
     if (rc) return rc;

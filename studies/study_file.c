@@ -509,24 +509,27 @@ static csf_status parse_header(char (*fields)[CSV_FIELD_MAX], int nf, int *col, 
         int k = 0;
         while (k < N_COLS && strcmp(fields[i], col_names[k])) k++;
         if (k == N_COLS) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown column '%.40s' (known: label, "
+            st = csf_error_set(err, CSF_E_INVALID_ARG,
+                               "%s:%d: unknown column '%.40s' (known: label, "
                                "stimulus, freq_cpd, contrast, method, ecc_deg, polar_deg, "
                                "orientation_deg, phase_deg, sigma_deg, radius_deg, drift_hz, "
                                "velocity_dps, motion_dir_deg, mean_lum_cdm2, image_a, image_b, "
-                               "size_deg, curve)", where, line, fields[i]);
+                               "size_deg, curve)",
+                               where, line, fields[i]);
             return st;
         }
         if (col[k] >= 0) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where,
-                               line, col_names[k]);
+            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where, line,
+                               col_names[k]);
             return st;
         }
         col[k] = i;
     }
     if (col[COL_LABEL] < 0 || col[COL_ECC] < 0) {
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: missing column '%s' (every conditions "
-                           "file needs label and ecc_deg)", where, line,
-                           col[COL_LABEL] < 0 ? "label" : "ecc_deg");
+        st = csf_error_set(err, CSF_E_INVALID_ARG,
+                           "%s:%d: missing column '%s' (every conditions "
+                           "file needs label and ecc_deg)",
+                           where, line, col[COL_LABEL] < 0 ? "label" : "ecc_deg");
         return st;
     }
     return CSF_OK;
@@ -612,7 +615,8 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
             n_header = nf;
             continue;
         }
-        if ((st = add_condition(s, col, fields, nf, n_header, base_dir, where, line, err)) != CSF_OK) goto out;
+        if ((st = add_condition(s, col, fields, nf, n_header, base_dir, where, line, err)) != CSF_OK)
+            goto out;
     }
     if (!n_header) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty (no header row)", where);
     else if (!s->n_conds) st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: no conditions after the header", where);

@@ -829,8 +829,10 @@ static csf_status run_with_signals(run_res *R, study_ctx *x, int64_t sid, int n_
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     if (!res->resumed && !x->sim) {
-        st = csf_trial_io_screen(&x->io, "Fixate the central mark. After each trial answer with the keys for "
-                                 "first/left or second/right.\nPress any key to begin.", err);
+        st = csf_trial_io_screen(&x->io,
+                                 "Fixate the central mark. After each trial answer with the keys for "
+                                 "first/left or second/right.\nPress any key to begin.",
+                                 err);
     }
     if (st == CSF_OK) st = run_trials(R, x, sid, n_plan, n_stored, max_contrast, res, err);
     sigaction(SIGINT, &old_int, NULL);
@@ -849,8 +851,10 @@ static csf_status end_session(run_res *R, int64_t sid, int n_plan, csf_status st
         st = csf_store_set_session_state(R->store, sid, "finished", err);
     } else if (st == CSF_E_ABORTED) {
         csf_store_set_session_state(R->store, sid, "paused", &e2);
-        csf_error_set(err, CSF_E_ABORTED, "study %s: paused after %d of %d trials (all stored); run the same "
-                      "command again to continue", s->name, res->n_stored, n_plan);
+        csf_error_set(err, CSF_E_ABORTED,
+                      "study %s: paused after %d of %d trials (all stored); run the same "
+                      "command again to continue",
+                      s->name, res->n_stored, n_plan);
     } else {
         csf_store_set_session_state(R->store, sid, "paused", &e2);
     }

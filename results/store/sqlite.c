@@ -493,8 +493,10 @@ static csf_status sq_use_wal(sq_store *s, const char *path, csf_error *err)
     int rc = switch_to_wal(s, mode, sizeof mode);
     if (rc != SQLITE_OK) return fail(s, err, rc, "switching to write-ahead logging");
     if (strcmp(mode, "wal") != 0)
-        return csf_error_set(err, CSF_E_STORE, "store %s: cannot use write-ahead logging (journal "
-                             "mode stays '%s'); is the file on a network file system?", path, mode);
+        return csf_error_set(err, CSF_E_STORE,
+                             "store %s: cannot use write-ahead logging (journal "
+                             "mode stays '%s'); is the file on a network file system?",
+                             path, mode);
     rc = exec_s(s, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON");
     if (rc != SQLITE_OK) return fail(s, err, rc, "setting durability");
     return CSF_OK;
@@ -516,20 +518,24 @@ static csf_status sq_quick_check(sq_store *s, const char *path, csf_error *err)
     sqlite3_finalize(st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "checking integrity");
     if (strcmp(check, "ok") != 0)
-        return csf_error_set(err, CSF_E_STORE, "store %s: database is corrupt (malformed: %s); "
-                             "restore it from a backup or start a new store with --store", path, check);
+        return csf_error_set(err, CSF_E_STORE,
+                             "store %s: database is corrupt (malformed: %s); "
+                             "restore it from a backup or start a new store with --store",
+                             path, check);
     return CSF_OK;
 }
 
 /* The inserts a session repeats for every trial, reading and frame. */
 static csf_status sq_prepare_inserts(sq_store *s, csf_error *err)
 {
-    int rc = prepare(s, "INSERT INTO trials (session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
-                        " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
-                        " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
-                        " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
-                        " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
-                        "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &s->ins_trial);
+    int rc = prepare(s,
+                     "INSERT INTO trials (session_id, seq, method, freq_cpd, ecc_deg, polar_deg,"
+                     " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
+                     " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
+                     " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
+                     " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
+                     "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+                     &s->ins_trial);
     if (rc == SQLITE_OK)
         rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
                         " Y_cdm2, Z_cdm2,"
