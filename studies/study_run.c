@@ -366,15 +366,21 @@ static csf_status run_one(study_ctx *x, uint64_t key, const csf_study_trial *t, 
 
 /* ---- session ---------------------------------------------------------------------------------- */
 
+/* A participant code: a letter or digit, then up to 62 letters, digits, '_', '-' or '.', with no
+ * two dots in a row. It names files (one trial file per participant) and sits on command lines,
+ * so "..", "-P01" (read as an option) and a leading dot (a hidden file) are refused. */
 static int participant_ok(const char *p)
 {
     size_t n = strlen(p);
     if (n < 1 || n > 63) return 0;
+    if (!((p[0] >= 'a' && p[0] <= 'z') || (p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= '0' && p[0] <= '9')))
+        return 0;
     for (size_t i = 0; i < n; i++) {
         char ch = p[i];
         if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
               ch == '_' || ch == '-' || ch == '.'))
             return 0;
+        if (ch == '.' && p[i + 1] == '.') return 0;
     }
     return 1;
 }
@@ -752,6 +758,10 @@ static csf_status open_display(run_res *R, const csf_study_run_options *opt, int
     if (st != CSF_OK) return st;
     if (cfg->display_profile[0]) st = csf_profile_load(cfg->display_profile, &R->profile, err);
     else if (!(R->profile = csf_profile_default())) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    else if (!opt->quiet)
+        /* contrast on the screen is only as right as the luminance model: say when it is a guess */
+        fprintf(stderr, "csfcal: study run: no --profile given: using the default display model (%s); "
+                        "the contrasts shown are only as good as this guess\n", csf_profile_id(R->profile));
     if (st != CSF_OK) return st;
     csf_presenter_config pc;
     csf_presenter_config_defaults(&pc);
@@ -783,8 +793,9 @@ static csf_status check_run_options(const csf_study_run_options *opt, const char
     if (!opt->participant || !participant_ok(opt->participant)) {
         char shown[300]; /* the code as typed, escaped: it may hold terminal controls */
         csf_store_printable(opt->participant, shown, sizeof shown);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "--participant '%s': 1 to 63 letters, digits, '_', '-' "
-                             "or '.' (a pseudonymous code, not a name)", shown);
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--participant '%s': a letter or digit, then up to 62 "
+                             "letters, digits, '_', '-' or '.' (no '..'): a pseudonymous code, not a name",
+                             shown);
     }
     const char *observer = opt->observer_spec ? opt->observer_spec
                          : opt->cfg->observer[0] ? opt->cfg->observer : "sim";

@@ -34,6 +34,19 @@ case "$out" in *"shorter than one frame"*) ;; *) no "timing message: $out";; esa
 [ -e "$tmp/bad.sqlite" ] && no "a refused study created the store"
 out=$("$csfcal" study run "$ex/contrast_2afc.conf" --participant 'bad code' --store "$tmp/bad.sqlite" 2>&1); rc=$?
 [ $rc -eq 2 ] || no "bad participant code: exit $rc"
+# codes that name no file safely or read as an option: refused before anything is stored
+for code in .. -P01 .hidden 'P..1'; do
+  out=$("$csfcal" study run "$ex/contrast_2afc.conf" --participant "$code" --store "$tmp/codes.sqlite" \
+        --observer sim --headless 2>&1); rc=$?
+  [ $rc -eq 2 ] || no "participant code '$code': exit $rc"
+  case "$out" in *"a letter or digit, then up to 62"*) ;; *) no "participant code '$code': $out";; esac
+done
+[ ! -e "$tmp/codes.sqlite" ] || [ "$("$csfcal" sessions list --store "$tmp/codes.sqlite" --json)" = "[]" ] \
+  || no "a refused participant code left a session"
+# without a display profile the run says it uses the default display model
+out=$("$csfcal" study run "$ex/contrast_2afc.conf" --participant W1 --store "$tmp/warn.sqlite" \
+      --observer sim --headless 2>&1 >/dev/null) || no "run for the default-model warning failed"
+case "$out" in *"no --profile given: using the default display model"*) ;; *) no "no default-model warning: $out";; esac
 
 # ---- kill and resume: the same trials as an uninterrupted run ----
 run "$ex/contrast_2afc.conf" --participant K1 --store "$tmp/full.sqlite" >/dev/null || no "full run failed"
