@@ -348,6 +348,13 @@ static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render
         return 2;
     }
     r->simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
+    if (real && a->cli.headless) {
+        /* an offscreen patch is light no instrument can see */
+        fprintf(stderr, "csfcal: %s: --headless with a real instrument: a photometer measures the light of "
+                        "this screen, so the patches are drawn in a window on it; leave out --headless and "
+                        "run on the station's display\n", what);
+        return 2;
+    }
     pc.headless = r->simulated; /* a real instrument looks at the real screen */
     pc.refresh_hz = a->cli.cfg.refresh_hz;
     pc.framebuffer_bits = a->cli.cfg.framebuffer_bits;
@@ -570,12 +577,14 @@ static int cmd_calibrate(dargs *a)
             /* The command is pasted into a shell: its words are quoted for one. */
             char where[1024];
             csf_store_redact(store_path, where, sizeof where);
-            char *qs = csf_shell_quote(store_path), *qo = csf_shell_quote(a->out);
+            char *qs = csf_shell_quote(store_path), *qo = csf_shell_quote(a->out), *qp = csf_shell_quote(spec);
             fprintf(stderr, "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
-                            "  csfcal display calibrate --resume %lld --store %s --photometer SPEC --out %s\n",
-                    res.n_readings, (long long)sid, where, (long long)sid, qs ? qs : "?", qo ? qo : "?");
+                            "  csfcal display calibrate --resume %lld --store %s --photometer %s --out %s\n",
+                    res.n_readings, (long long)sid, where, (long long)sid, qs ? qs : "?", qp ? qp : "?",
+                    qo ? qo : "?");
             free(qs);
             free(qo);
+            free(qp);
         }
         csf_store_close(store);
         return rc;

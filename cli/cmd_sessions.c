@@ -113,10 +113,19 @@ static void print_resume_hint(FILE *out, const csf_session_info *si, const char 
     char *q = csf_shell_quote(location);
     char kind[64];
     csf_store_printable(si->kind, kind, sizeof kind);
-    if (!strcmp(si->kind, "display"))
-        fprintf(out, "  %lld (display):  csfcal display calibrate --resume %lld --store %s --photometer SPEC "
-                "--out FILE.profile\n", id, id, q ? q : "?");
-    else if (!strcmp(si->kind, "observer"))
+    if (!strcmp(si->kind, "display")) {
+        /* the photometer the session was started with, from its stored settings */
+        json_error_t je;
+        json_t *set = si->settings_json ? json_loads(si->settings_json, 0, &je) : NULL;
+        const char *ph = json_string_value(json_object_get(set, "photometer"));
+        csf_error te;
+        /* shown only when it is text a terminal can show (the row may come from another station) */
+        char *qp = ph && *ph && csf_store_check_text(ph, "photometer", &te) == CSF_OK ? csf_shell_quote(ph) : NULL;
+        fprintf(out, "  %lld (display):  csfcal display calibrate --resume %lld --store %s --photometer %s "
+                "--out FILE.profile\n", id, id, q ? q : "?", qp ? qp : "SPEC");
+        free(qp);
+        json_decref(set);
+    } else if (!strcmp(si->kind, "observer"))
         fprintf(out, "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --out FILE.csflut\n",
                 id, id, q ? q : "?");
     else

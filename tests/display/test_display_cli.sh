@@ -37,6 +37,10 @@ rc=$?
 [ "$rc" -eq 1 ] || { echo "fault exit $rc"; fail=1; }
 grep -q 'disconnected' "$t/e" || { echo "fault message: $(cat "$t/e")"; fail=1; }
 grep -q 'readings kept in session' "$t/e" || { echo "no resume hint: $(cat "$t/e")"; fail=1; }
+# the hint names the photometer that was used, not a placeholder (here, and in sessions list)
+grep -q -- '--photometer sim:display=crt,fault=unplug@30 ' "$t/e" || { echo "hint lacks the spec: $(cat "$t/e")"; fail=1; }
+"$exe" sessions list --store "$db" >"$t/l" 2>&1
+grep -q -- '--photometer sim:display=crt,fault=unplug@30 ' "$t/l" || { echo "list hint lacks the spec: $(cat "$t/l")"; fail=1; }
 [ -e "$t/crt.profile" ] && { echo "profile written despite fault"; fail=1; }
 sid=$(sed -n 's/.*--resume \([0-9]*\).*/\1/p' "$t/e" | head -1)
 "$exe" display calibrate --resume "$sid" --photometer sim:display=crt --store "$db" --out "$t/crt.profile" --quiet 2>"$t/e2" \

@@ -83,6 +83,13 @@ fi
 env -u DISPLAY -u WAYLAND_DISPLAY "$exe" display calibrate --photometer "ls100:$PORT" $common --render \
   --store "$t/y.sqlite" --out "$t/y.profile" 2>"$t/e" && { echo "no display: not refused"; fail=1; }
 grep -q "needs the patches drawn\|--render" "$t/e" || { echo "no display: $(cat "$t/e")"; fail=1; }
+# --headless with a real instrument: refused with the real reason (offscreen patches are light no
+# instrument sees), not "GLFW could not start ... use --headless"
+"$exe" display calibrate --photometer "ls100:$PORT" --headless --render --warmup-wait 0 --seed 3 --quiet \
+  --store "$t/h.sqlite" --out "$t/h.profile" 2>"$t/e" && { echo "--headless with a real meter: not refused"; fail=1; }
+grep -q "headless with a real instrument: a photometer measures the light of this screen" "$t/e" \
+  || { echo "--headless with a real meter: $(cat "$t/e")"; fail=1; }
+grep -q "use --headless" "$t/e" && { echo "--headless with a real meter still says use --headless"; fail=1; }
 stop_emu
 
 # the comparison can fail: a meter reading 5 % high is outside the stated accuracy
