@@ -1084,7 +1084,8 @@ static int alloc_core(bayes_state *s)
  * LOCAL_TEMPER) and of the correlated offsets. Returns 0 when one could not be had. */
 static int alloc_options(bayes_state *s)
 {
-    int G = s->n_grid, nc = s->n_cells, n = s->n_part;
+    /* G and n size the arrays of experiments that are off in this build */
+    int G = s->n_grid, nc = s->n_cells, n = s->n_part; // NOLINT(clang-analyzer-deadcode.DeadStores)
     if (CROSS_CELL_INFO && !BAYES_CRITERION_ENTROPY && nc <= CROSS_MAX_CELLS) {
         s->xc_mu = malloc(sizeof(double) * (size_t)N_LEVELS * nc * G);
         s->xc_den = malloc(sizeof(double) * (size_t)N_LEVELS * nc * G);
@@ -1429,7 +1430,9 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     double *info_buf = NULL;
     if (s->n_cells > (G > s->n_part ? G : s->n_part)) {
         info_buf = malloc(sizeof(double) * (size_t)s->n_cells);
-        cell_x = malloc(sizeof(int) * (size_t)s->n_cells);
+        /* zeroed, although the loop below sets every cell's entry: the analyzer loses n_cells
+         * across refresh_cache and cannot tell that the loop runs */
+        cell_x = calloc((size_t)s->n_cells, sizeof(int));
         if (!info_buf || !cell_x) {
             free(info_buf), free(cell_x);
             return CSF_E_NOMEM;

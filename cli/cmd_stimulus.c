@@ -288,6 +288,7 @@ static int cmd_check(const csf_cli *cli, const stim_args *a)
     s.mean_lum_cdm2 = a->mean_lum_cdm2;
     csf_selfcheck_result r;
     csf_selfcheck_resolution res;
+    memset(&r, 0, sizeof r); /* printed only when csf_selfcheck_stimulus filled it (status 0) */
     memset(&res, 0, sizeof res);
     if (csf_presenter_open(&pc, &p, &e) || csf_selfcheck_stimulus(p, &s, (int)a->frames, t.lum, t.lum_ctx, &r, &e)) {
         status = csf_cli_report("stimulus check", &e);

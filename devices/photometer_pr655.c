@@ -178,10 +178,11 @@ static csf_status pr_open_model(const char *name, const char *spec_name, const c
     s->path[plen] = 0;
     snprintf(s->who, sizeof s->who, "Photo Research %s on %s", name, s->path);
     if (comma) {
-        char *end;
+        char *end = NULL; /* stays NULL when the option is not timeout_s= */
+        double x = NAN;
         errno = 0;
-        double x = strncmp(comma + 1, "timeout_s=", 10) == 0 ? strtod(comma + 11, &end) : NAN;
-        if (isnan(x) || errno || *end || !(x >= 0.1 && x <= 600)) {
+        if (strncmp(comma + 1, "timeout_s=", 10) == 0) x = strtod(comma + 11, &end);
+        if (!end || isnan(x) || errno || *end || !(x >= 0.1 && x <= 600)) {
             free(s);
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s: option '%s' not understood (known: timeout_s=S, 0.1 to "
                                  "600 s)", name, comma + 1);

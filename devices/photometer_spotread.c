@@ -273,7 +273,7 @@ static csf_status start(spot_state *s, csf_error *err)
                                  "install argyll)", s->who);
         return csf_error_set(err, CSF_E_DEVICE, "%s: cannot run spotread: %s", s->who, strerror(e));
     }
-    csf_spotread_event ev;
+    csf_spotread_event ev = {0}; /* next_event fills it whenever it returns CSF_OK */
     csf_status st = next_event(s, 0, s->start_timeout_s, "start-up (instrument detection and calibration)", &ev, err);
     if (st) return st;
     if (ev.kind == CSF_SPOT_PROMPT) return CSF_OK;
@@ -371,7 +371,7 @@ static csf_status spot_measure(void *state, const csf_screen_source *src, csf_ph
     unsigned long i = s->readings++;
     csf_status st = CSF_OK;
     if (s->master < 0) st = start(s, err); /* after a failure: a fresh spotread */
-    csf_spotread_event ev;
+    csf_spotread_event ev = {0}; /* next_event fills it whenever it returns CSF_OK */
     if (!st && write(s->master, " ", 1) != 1)
         st = csf_error_set(err, CSF_E_GONE, "%s: cannot send a key to spotread: %s", s->who, strerror(errno));
     if (!st) st = next_event(s, CSF_SPOT_PROMPT, s->timeout_s, "a reading", &ev, err);

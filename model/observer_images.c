@@ -23,11 +23,11 @@ static double mean_abs_sin_pow(double p)
 }
 
 /* Separable Gaussian blur with replicated edges; tmp and out are w*h. */
-static void blur(const float *in, float *tmp, float *out, int w, int h, double sigma_px)
+static int blur(const float *in, float *tmp, float *out, int w, int h, double sigma_px)
 {
     int rad = (int)ceil(3 * sigma_px);
-    double *k = malloc((size_t)(2 * rad + 1) * sizeof *k);
-    if (!k) return;
+    double *k = calloc((size_t)rad * 2 + 1, sizeof *k); /* zeroed: the analyzer cannot tell rad >= 0 */
+    if (!k) return -1; /* out not written: the caller must not read it */
     double sum = 0;
     for (int i = -rad; i <= rad; i++) sum += k[i + rad] = exp(-0.5 * i * i / (sigma_px * sigma_px));
     for (int i = 0; i <= 2 * rad; i++) k[i] /= sum;
@@ -36,7 +36,8 @@ static void blur(const float *in, float *tmp, float *out, int w, int h, double s
             double acc = 0;
             for (int i = -rad; i <= rad; i++) {
                 int xx = x + i < 0 ? 0 : x + i >= w ? w - 1 : x + i;
-                acc += k[i + rad] * in[(size_t)y * w + xx];
+                /* xx is clamped to [0, w - 1] and in is w * h: the analyzer loses that */
+                acc += k[i + rad] * in[(size_t)y * w + xx]; // NOLINT(clang-analyzer-core.UndefinedBinaryOperatorResult)
             }
             tmp[(size_t)y * w + x] = (float)acc;
         }
@@ -45,11 +46,13 @@ static void blur(const float *in, float *tmp, float *out, int w, int h, double s
             double acc = 0;
             for (int i = -rad; i <= rad; i++) {
                 int yy = y + i < 0 ? 0 : y + i >= h ? h - 1 : y + i;
-                acc += k[i + rad] * tmp[(size_t)yy * w + x];
+                /* yy is clamped to [0, h - 1] and tmp is w * h: the analyzer loses that */
+                acc += k[i + rad] * tmp[(size_t)yy * w + x]; // NOLINT(clang-analyzer-core.UndefinedBinaryOperatorResult)
             }
             out[(size_t)y * w + x] = (float)acc;
         }
     free(k);
+    return 0;
 }
 
 int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const float *lum_b, int w,
@@ -62,7 +65,8 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
     double mean = 0;
     for (size_t i = 0; i < n; i++) mean += 0.5 * ((double)lum_a[i] + lum_b[i]);
     mean /= n;
-    float *d = malloc(n * sizeof *d), *g1 = malloc(n * sizeof *g1), *g2 = malloc(n * sizeof *g2),
+    /* n >= 1: w and h are checked >= 1 above */
+    float *d = malloc(n * sizeof *d), *g1 = malloc(n * sizeof *g1), *g2 = malloc(n * sizeof *g2), // NOLINT(clang-analyzer-optin.portability.UnixAPI)
           *tmp = malloc(n * sizeof *tmp), *avg = malloc(n * sizeof *avg), *local = malloc(n * sizeof *local);
     if (!d || !g1 || !g2 || !tmp || !avg || !local) {
         free(d), free(g1), free(g2), free(tmp), free(avg), free(local);
@@ -85,9 +89,11 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
     for (int k = 0; any && k < CSF_IMG_MAX_BANDS; k++) {
         double s = pow(2.0, k - 1); /* 0.5 px: the finest band peaks at 0.31 cycle/px */
         if (2 * s > minside / 2.0) break; /* coarser than the image */
-        blur(d, tmp, g1, w, h, s);
-        blur(d, tmp, g2, w, h, 2 * s);
-        blur(avg, tmp, local, w, h, 2 * s); /* Peli's local mean: what lies below the band */
+        if (blur(d, tmp, g1, w, h, s) || blur(d, tmp, g2, w, h, 2 * s) ||
+            blur(avg, tmp, local, w, h, 2 * s)) { /* Peli's local mean: what lies below the band */
+            free(d), free(g1), free(g2), free(tmp), free(avg), free(local);
+            return -1;
+        }
         double f_cpd = DOG_PEAK_CPP / s / px_deg;
         double cmax = 0, rmax = 0, sum_px = 0;
         for (int y = 0; y < h; y++)

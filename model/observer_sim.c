@@ -174,6 +174,9 @@ static csf_status read_table_lines(table_read *tr, const char *text, size_t len,
 static csf_status build_table(table_read *tr, csf_obs_table **out, csf_error *err)
 {
     int nf = tr->nf, ne = tr->ne;
+    /* read_table_lines refuses a table without rows, and every row puts its frequency and
+     * eccentricity on the axes: said again here, where the sizes are used. */
+    if (nf < 1 || ne < 1) return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
     qsort(tr->fax, (size_t)nf, sizeof tr->fax[0], cmp_double);
     qsort(tr->eax, (size_t)ne, sizeof tr->eax[0], cmp_double);
     csf_obs_table *t = *out = calloc(1, sizeof *t);
@@ -182,7 +185,8 @@ static csf_status build_table(table_read *tr, csf_obs_table **out, csf_error *er
         t->n_ecc = ne;
         t->freq_cpd = malloc((size_t)nf * sizeof(double));
         t->ecc_deg = malloc((size_t)ne * sizeof(double));
-        t->log10_threshold = malloc((size_t)nf * (size_t)ne * sizeof(double));
+        /* zeroed, although every cell is set to NAN below: the analyzer cannot follow that loop */
+        t->log10_threshold = calloc((size_t)nf * (size_t)ne, sizeof(double));
     }
     if (!t || !t->freq_cpd || !t->ecc_deg || !t->log10_threshold)
         return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
@@ -262,6 +266,7 @@ static int bracket(const double *axis, int n, double v, int *i0, double *w)
 double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double ecc_deg)
 {
     if (!(freq_cpd > 0) || !(ecc_deg >= 0)) return NAN;
+    if (t->n_freq < 1 || t->n_ecc < 1) return NAN; /* build_table never makes such a table */
     double lf[TABLE_MAX_AXIS];
     for (int i = 0; i < t->n_freq; i++) lf[i] = log10(t->freq_cpd[i]);
     int fi, ei;

@@ -52,7 +52,8 @@ static csf_status cache_init(lum_cache *c, csf_presenter *p, csf_pixel_lum_fn fn
     c->fn = fn;
     c->ctx = ctx;
     c->maxlevel = (1 << csf_presenter_bits(p)) - 1;
-    c->grey = malloc(sizeof(double) * (size_t)(c->maxlevel + 1));
+    /* zeroed, although the loop below fills every level: the analyzer cannot tell maxlevel >= 1 */
+    c->grey = calloc((size_t)c->maxlevel + 1, sizeof(double));
     if (!c->grey) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int k = 0; k <= c->maxlevel; k++) {
         double d = (double)k / c->maxlevel;

@@ -98,7 +98,9 @@ static void draw_curve(cairo_t *cr, const csf_study_plot_curve *c)
     frame_axes(cr, c->title, "log10 Michelson contrast", "proportion correct / yes");
     y_ticks(cr);
     char b[32];
-    for (double x = ceil(lo * 2) / 2; x <= hi; x += 0.5) {
+    /* ticks every 0.5, counted in halves: the same (exact) values as adding 0.5 each time */
+    for (int h = (int)ceil(lo * 2); h / 2.0 <= hi; h++) {
+        double x = h / 2.0;
         snprintf(b, sizeof b, "%.1f", x);
         text_at(cr, PX(x), PAGE_H - MB + 14, 9, b, 0.5);
     }

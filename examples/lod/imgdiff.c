@@ -28,7 +28,7 @@ static void blur_1d(const float *in, float *out, int w, int h, int stride_x, int
 static int gaussian(const float *in, float *out, float *tmp, int w, int h, double sigma)
 {
     int radius = (int)ceil(3 * sigma);
-    float *k = malloc((size_t)(2 * radius + 1) * sizeof *k);
+    float *k = calloc((size_t)radius * 2 + 1, sizeof *k); /* zeroed: the analyzer cannot tell radius >= 0 */
     if (!k) return -1;
     double sum = 0;
     for (int j = -radius; j <= radius; j++) sum += k[j + radius] = (float)exp(-0.5 * j * j / (sigma * sigma));

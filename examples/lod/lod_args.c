@@ -78,7 +78,7 @@ static int parse_levels(options *o, const char *opt, const char *list, int by_di
 
 int lod_parse_args(int argc, char **argv, options *o)
 {
-    double distance_mm = 0, pixel_mm = 0, v;
+    double distance_mm = 0, pixel_mm = 0, v = 0; /* read even when parse_num refused the value */
     int levels_given = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;

@@ -137,6 +137,7 @@ static int summarise(lod_vtree *t, const lod_shade *s)
 int lod_vtree_build(lod_vtree *t, const lod_mesh *m, const lod_shade *s)
 {
     memset(t, 0, sizeof *t);
+    if (m->n_vert < 1) return -1; /* build_range splits down to single vertices: it needs one */
     t->mesh = m;
     t->node = malloc((size_t)(2 * m->n_vert - 1) * sizeof *t->node);
     t->perm = malloc((size_t)m->n_vert * sizeof *t->perm);

@@ -57,6 +57,11 @@ static csf_status push_trials(csf_store *src, csf_store *dst, int64_t sid, int64
     csf_status cs = csf_store_get_trials(src, sid, &st, &ns, err);
     if (cs == CSF_OK) cs = csf_store_get_trials(dst, did, &dt, &nd, err);
     int *have = nd ? malloc(nd * sizeof *have) : NULL;
+    if (cs == CSF_OK && nd && !have) {
+        free(st);
+        free(dt);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
     for (size_t i = 0; have && i < nd; i++) have[i] = dt[i].seq;
     for (size_t i = 0; cs == CSF_OK && i < ns; i++) {
         if (has_seq(have, nd, st[i].seq)) {
@@ -86,6 +91,11 @@ static csf_status push_readings(csf_store *src, csf_store *dst, int64_t sid, int
     csf_status cs = csf_store_get_readings(src, sid, &sr, &ns, err);
     if (cs == CSF_OK) cs = csf_store_get_readings(dst, did, &dr, &nd, err);
     int *have = nd ? malloc(nd * sizeof *have) : NULL;
+    if (cs == CSF_OK && nd && !have) {
+        free(sr);
+        free(dr);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    }
     for (size_t i = 0; have && i < nd; i++) have[i] = dr[i].seq;
     for (size_t i = 0; cs == CSF_OK && i < ns; i++) {
         if (has_seq(have, nd, sr[i].seq)) {

@@ -265,5 +265,12 @@ int main(void)
         for (int i = 0; i < 3; i++) CHECK_NEAR(el[i] / (0.2 + 100 * pow(ev[i], 2.3)), 1, 0.0005);
 #undef KINK_L
     }
+    /* points that do not rise are refused, and the knots allocated before that are freed (the
+     * sanitizer's leak check at exit fails the test otherwise) */
+    {
+        double lv[] = {0, 0.5, 1}, lum[] = {50, 20, 10}, ev[1] = {0.5}, el[1], cd[2];
+        CHECK_INT_EQ(csf_profile_fit_curve(lv, lum, 3, 0, ev, el, 1, &err), CSF_E_INSUFFICIENT);
+        CHECK_INT_EQ(csf_profile_fit_corners(lv, lum, 3, 0, cd, 2, &err), 0);
+    }
     return CHECK_RESULT();
 }
