@@ -466,8 +466,9 @@ static void run_res_free(run_res *R)
 static csf_status load_images(run_res *R, study_ctx *x, csf_error *err)
 {
     const csf_study *s = R->study;
-    R->img_a = calloc((size_t)s->n_conds, sizeof *R->img_a);
-    R->img_b = calloc((size_t)s->n_conds, sizeof *R->img_b);
+    /* arrays of pointers to images, one per condition */
+    R->img_a = calloc((size_t)s->n_conds, sizeof *R->img_a); // NOLINT(bugprone-sizeof-expression)
+    R->img_b = calloc((size_t)s->n_conds, sizeof *R->img_b); // NOLINT(bugprone-sizeof-expression)
     R->pair_r = calloc((size_t)s->n_conds, sizeof *R->pair_r);
     R->dev_a = calloc((size_t)s->n_conds, sizeof *R->dev_a);
     R->dev_b = calloc((size_t)s->n_conds, sizeof *R->dev_b);
@@ -503,7 +504,7 @@ static csf_status make_procedures(run_res *R, uint64_t seed, double max_contrast
 {
     const csf_study *s = R->study;
     R->proc = calloc((size_t)s->n_conds, sizeof *R->proc);
-    R->ops = calloc((size_t)s->n_conds, sizeof *R->ops);
+    R->ops = calloc((size_t)s->n_conds, sizeof *R->ops); // NOLINT(bugprone-sizeof-expression): pointers
     if (!R->proc || !R->ops) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int i = 0; i < s->n_conds; i++) {
         const csf_study_condition *c = &s->conds[i];
