@@ -11,7 +11,8 @@ out=$(run-clang-tidy-14 -p "$build" -j "$(nproc)" -quiet \
       "^$root/(core|results|model|devices|stimuli|calib|studies|cli|examples)/.*\.(c|cpp)$" 2>&1 |
       sed -E 's/\x1b\[[0-9;]*m//g')
 rc=$?
-findings=$(printf '%s\n' "$out" | grep -E '(warning|error): .*\[[a-zA-Z0-9.,-]+\]$' | sort -u | wc -l)
+# A diagnostic may run over several lines; its last one ends with the check's name in brackets.
+findings=$(printf '%s\n' "$out" | grep -E '\[(clang-analyzer|bugprone|misc)-[a-zA-Z0-9.,-]+\]$' | sort -u | wc -l)
 if [ $rc -ne 0 ] || [ "$findings" -ne 0 ]; then
   printf '%s\n' "$out" | grep -E -A3 '(warning|error): ' | head -200
   echo "tidy: $findings finding(s)"
