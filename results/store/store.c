@@ -174,6 +174,8 @@ static void rebuild_conninfo(const PQconninfoOption *opts, char *out, size_t cap
 
 #define UNREADABLE_LOCATION "(a connection string libpq cannot read; not shown)"
 
+static int shown_has_secret(const char *shown);
+
 void csf_store_redact(const char *location, char *out, size_t cap)
 {
     if (!out || cap == 0) return;
@@ -197,6 +199,10 @@ void csf_store_redact(const char *location, char *out, size_t cap)
         csf_store_printable(location, out, cap);
     }
     PQconninfoFree(opts);
+    /* Escaping can change how libpq would read the shown text ("a\ password=x", a backslash
+     * escaping the blank, is shown with the backslash as \x5c, which no longer escapes it): a
+     * shown form that would read as holding a secret is not shown at all. */
+    if (shown_has_secret(out)) snprintf(out, cap, "%s", UNREADABLE_LOCATION);
 }
 
 /* 1 when libpq reads a secret from text (whatever csfcal takes it for). */
@@ -206,6 +212,11 @@ static int libpq_secret(const char *text)
     int has = secret_option(opts) != NULL;
     PQconninfoFree(opts);
     return has;
+}
+
+static int shown_has_secret(const char *shown)
+{
+    return csf_store_is_server(shown) && libpq_secret(shown);
 }
 
 int csf_store_has_password(const char *location)
