@@ -55,7 +55,7 @@ int main(int argc, char **argv)
     int n = 0;
     const double eccs[4] = {0, 5, 10, 20};
     for (int e = 0; e < 4; e++)
-        for (int f = 0; f < 6; f++) cells[n++] = (csf_cell){0.5 * pow(32.0, f / 5.0), eccs[e]};
+        for (int f = 0; f < 6; f++) cells[n++] = (csf_cell){0.5 * pow(32.0, f / 5.0), eccs[e], 0};
     printf("observer: %s, %d seeds, default 6 x 4 grid\n", spec, n_seeds);
     printf("| trials | fade RMS | wrong | trials used | ms/run | 2afc RMS | wrong | ms/run |\n");
     printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -29,7 +29,8 @@
 #include "model/observer_sim.h"
 #include "tests/observer/sim_loop.h"
 
-static const csf_cell CELLS[] = {{1.0, 5}, {2.0, 5}, {4.0, 5}, {8.0, 5}, {1.0, 10}, {2.0, 10}, {4.0, 10}, {8.0, 10}};
+static const csf_cell CELLS[] = {{1.0, 5, 0},  {2.0, 5, 0},  {4.0, 5, 0},  {8.0, 5, 0},
+                                 {1.0, 10, 0}, {2.0, 10, 0}, {4.0, 10, 0}, {8.0, 10, 0}};
 enum { N_CELLS = sizeof CELLS / sizeof CELLS[0] };
 static const int FOUR[N_CELLS] = {4, 4, 4, 4, 4, 4, 4, 4};
 

@@ -54,7 +54,7 @@ static void test_questplus(void)
     static const double eccs[4] = {0, 5, 10, 20};
     for (int j = 0; j < 4; j++)
         for (int i = 0; i < 6; i++) {
-            cells[n] = (csf_cell){0.5 * pow(2.0, i), eccs[j]};
+            cells[n] = (csf_cell){0.5 * pow(2.0, i), eccs[j], 0};
             n_alt[n++] = j ? 4 : 2;
         }
     /* a surface on the grid: log10 Smax 2.1, log10 fmax 0.35, 3 octaves, delta 0.25, a 0.02, b 0.025 */

@@ -1069,7 +1069,7 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
     for (size_t i = 0; i < *n_stored; i++)
         have += S->stored[i].is_practice && S->stored[i].n_alternatives == 2;
     for (int k = have; k < ANCHOR_PRACTICE && !run->who->paused && !stop_requested; k++) {
-        csf_cell pc_cell = {PRACTICE_FREQ, 0};
+        csf_cell pc_cell = {PRACTICE_FREQ, 0, 0};
         csf_trial_plan plan;
         memset(&plan, 0, sizeof plan);
         plan.task = CSF_TASK_2AFC;
@@ -1348,7 +1348,8 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
     S->est = malloc((size_t)n_cells * sizeof *S->est);
     if (!S->cells || !S->est) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int e = 0; e < set->n_eccs; e++)
-        for (int f = 0; f < set->n_freqs; f++) S->cells[e * set->n_freqs + f] = (csf_cell){set->freqs[f], set->eccs[e]};
+        for (int f = 0; f < set->n_freqs; f++)
+            S->cells[e * set->n_freqs + f] = (csf_cell){set->freqs[f], set->eccs[e], 0};
     csf_status st = csf_store_get_trials(S->store, R->sid, &S->stored, &R->n_stored, err);
     if (st != CSF_OK) return st;
     res->n_stored = (int)R->n_stored;
@@ -1428,7 +1429,7 @@ static csf_status run_practice(obs_run *R, csf_error *err)
         if (who->paused) ask_resume(who, 0, set->trials);
     }
     for (int k = (int)n_prac_stored; k < set->practice && !who->paused && !stop_requested; k++) {
-        csf_cell pc_cell = {PRACTICE_FREQ, 0};
+        csf_cell pc_cell = {PRACTICE_FREQ, 0, 0};
         csf_trial_plan plan;
         memset(&plan, 0, sizeof plan);
         plan.task = S->ops->task;

@@ -28,6 +28,11 @@ typedef struct {
     int n_freqs;                /* 0 = default: 6 log-spaced 0.5-16 cpd capped by Nyquist */
     double eccs_deg[CSF_OBS_MAX_AXIS];
     int n_eccs;                 /* 0 = default: 0, 5, 10, 20 deg capped by the screen */
+    double vels_dps[CSF_OBS_MAX_AXIS];
+    int n_vels;                 /* 0 = static gratings only (a 2-D table); else the carrier drifts
+                                   at each velocity (deg/s, 0 = static) and the table is 3-D */
+    int drift_direction;        /* 0 = each trial's drift direction drawn at random (default);
+                                   +1 / -1 = always along / against the carrier's modulation axis */
     int trials;                 /* budget of main trials (default 120) */
     int practice;               /* practice trials (default 3; -1 = default) */
     int break_every;            /* trials between breaks (default 40) */

@@ -11,8 +11,11 @@
 
 #include "core/csf_status.h"
 
+/* One place of the grid: a carrier of freq_cpd at ecc_deg drifting at velocity_dps (deg/s on the
+ * retina, which with the person fixating the mark is the speed on the screen; 0 = static). Its
+ * temporal frequency is velocity_dps * freq_cpd. */
 typedef struct {
-    double freq_cpd, ecc_deg;
+    double freq_cpd, ecc_deg, velocity_dps;
 } csf_cell;
 
 typedef enum {

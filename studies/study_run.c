@@ -513,7 +513,7 @@ static csf_status make_procedures(run_res *R, uint64_t seed, double max_contrast
         if (!R->ops[i])
             return csf_error_set(err, CSF_E_UNSUPPORTED, "%s:%d (%s): method %s is not in this build",
                                  s->conditions_path, c->line, c->label, c->method);
-        cells[i] = (csf_cell){c->freq_cpd, c->ecc_deg};
+        cells[i] = (csf_cell){c->freq_cpd, c->ecc_deg, 0};
         csf_procedure_setup setup;
         memset(&setup, 0, sizeof setup);
         setup.cells = &cells[i];

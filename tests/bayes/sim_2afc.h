@@ -243,7 +243,7 @@ static inline int sim2afc_default_grid(csf_cell *cells)
     static const double eccs[4] = {0, 5, 10, 20};
     int n = 0;
     for (int j = 0; j < 4; j++)
-        for (int i = 0; i < 6; i++) cells[n++] = (csf_cell){0.5 * pow(2.0, i), eccs[j]};
+        for (int i = 0; i < 6; i++) cells[n++] = (csf_cell){0.5 * pow(2.0, i), eccs[j], 0};
     return n;
 }
 

@@ -35,15 +35,15 @@ int main(void)
     expect_refused(s, "0.3-20");
     s = good, s.trial_budget = -5;
     expect_refused(s, "0-100000");
-    csf_cell bad_cells[2] = {{1.0, 0.0}, {-2.0, 5.0}};
+    csf_cell bad_cells[2] = {{1.0, 0.0, 0}, {-2.0, 5.0, 0}};
     s = good, s.cells = bad_cells, s.n_cells = 2;
     expect_refused(s, "frequency -2 cpd");
-    bad_cells[1] = (csf_cell){2.0, NAN};
+    bad_cells[1] = (csf_cell){2.0, NAN, 0};
     expect_refused(s, "eccentricity");
 
     /* a one-cell grid (a single foveal staircase) works: 40 trials recover its threshold */
     {
-        csf_cell one = {4.0, 0.0};
+        csf_cell one = {4.0, 0.0, 0};
         sim2afc o1;
         sim2afc_parametric(&o1, csf_model_default(), 21);
         csf_cell_estimate e1;

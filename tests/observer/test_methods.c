@@ -9,7 +9,7 @@
 #include "tests/check.h"
 #include "tests/observer/sim_loop.h"
 
-static const csf_cell cells[] = {{1.0, 0}, {4.0, 0}, {1.0, 10}, {4.0, 10}, {40.0, 20}};
+static const csf_cell cells[] = {{1.0, 0, 0}, {4.0, 0, 0}, {1.0, 10, 0}, {4.0, 10, 0}, {40.0, 20, 0}};
 #define N_CELLS 5
 #define INVISIBLE 4
 

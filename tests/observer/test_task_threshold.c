@@ -24,7 +24,8 @@
 
 /* Cells away from the fovea (four places need an eccentricity), thresholds well inside the
  * display's range. */
-static const csf_cell cells[] = {{1.0, 5}, {2.0, 5}, {4.0, 5}, {8.0, 5}, {1.0, 10}, {2.0, 10}, {4.0, 10}, {8.0, 10}};
+static const csf_cell cells[] = {{1.0, 5, 0},  {2.0, 5, 0},  {4.0, 5, 0},  {8.0, 5, 0},
+                                 {1.0, 10, 0}, {2.0, 10, 0}, {4.0, 10, 0}, {8.0, 10, 0}};
 #define N_CELLS 8
 static const int four[N_CELLS] = {4, 4, 4, 4, 4, 4, 4, 4};
 
