@@ -1,6 +1,7 @@
 #include <math.h>
 
 #include "model/csf_model.h"
+#include "model/csf_velocity.h"
 #include "tests/check.h"
 
 int main(void)
@@ -36,5 +37,23 @@ int main(void)
     csf_model_use_nasal_field(&p);
     CHECK_NEAR(p.ecc_a, 0.0114, 0);
     CHECK_NEAR(csf_model_threshold(&p, 3.0, 0) * csf_model_sensitivity(&p, 3.0, 0), 1.0, 1e-12);
+    /* Kelly-Daly velocity gain: none at rest or within fixational drift, the sign of the
+     * velocity ignored; low frequencies gain, high ones lose steeply (Kelly 1979, Fig. 9 shape). */
+    csf_velocity_params vp = csf_velocity_default();
+    CHECK_NEAR(csf_velocity_log10_gain(&vp, 4.0, 0.0), 0.0, 0);
+    CHECK_NEAR(csf_velocity_log10_gain(&vp, 4.0, 0.1), 0.0, 0);
+    CHECK_NEAR(csf_velocity_log10_gain(&vp, 4.0, -8.0), csf_velocity_log10_gain(&vp, 4.0, 8.0), 0);
+    CHECK(csf_velocity_log10_gain(&vp, 0.5, 4.0) > 0.5);
+    CHECK(csf_velocity_log10_gain(&vp, 8.0, 4.0) < -2.0);
+    CHECK(csf_velocity_log10_gain(&vp, 8.0, 12.0) < csf_velocity_log10_gain(&vp, 8.0, 4.0));
+    /* by hand from Daly's constants at 4 cpd, 8 deg/s: k(13.6) = 8.165, k(0.255) = 15.058 */
+    double hand =
+        (log(8.165 * 13.6 / (15.058 * 0.255)) - 0.67 * 4 * M_PI * 4 * (13.6 - 0.255) / 45.9) / M_LN10;
+    CHECK_NEAR(csf_velocity_log10_gain(&vp, 4.0, 8.0), hand, 0.002);
+    vp.steepness = 0.5;
+    CHECK_NEAR(csf_velocity_log10_gain(&vp, 4.0, 8.0), 0.5 * hand, 0.001);
+    CHECK(isnan(csf_velocity_log10_gain(&vp, NAN, 1.0)));
+    CHECK_NEAR(csf_velocity_temporal_hz(4.0, -3.0), 12.0, 1e-12);
+    CHECK_NEAR(csf_velocity_warp(0.0), log10(CSF_VELOCITY_WARP_V0_DPS), 1e-12);
     return CHECK_RESULT();
 }
