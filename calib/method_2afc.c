@@ -23,6 +23,7 @@
 
 #include "calib/procedure.h"
 #include "model/csf_model.h"
+#include "model/csf_velocity.h"
 #include "model/psychometric.h"
 #include "core/rng.h"
 
@@ -69,6 +70,11 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
 {
     if (!setup || setup->n_cells < 1 || !setup->cells)
         return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: no cells to measure");
+    for (int c = 0; setup->not_shown && c < setup->n_cells; c++)
+        if (setup->not_shown[c])
+            return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: cell %d (%g cpd at %g deg/s) cannot be shown and "
+                                 "this method measures each cell on its own", c, setup->cells[c].freq_cpd,
+                                 setup->cells[c].velocity_dps);
     if (!(setup->max_contrast > 0 && setup->max_contrast <= 1) ||
         !(setup->min_contrast > 0 && setup->min_contrast < setup->max_contrast))
         return csf_error_set(err, CSF_E_INVALID_ARG,
@@ -104,7 +110,10 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
      * where the population says it is hard to see. */
     csf_model_params pop = csf_model_default();
     for (int i = 0; i < n; i++) {
-        double m = log10(csf_model_threshold(&pop, a->cells[i].freq_cpd, a->cells[i].ecc_deg));
+        const csf_cell *cell = &a->cells[i];
+        csf_velocity_params vel = csf_velocity_default();
+        double m = log10(csf_model_threshold(&pop, cell->freq_cpd, cell->ecc_deg)) -
+                   csf_velocity_log10_gain(&vel, cell->freq_cpd, cell->velocity_dps);
         if (!(m < a->x_hi + 0.5)) m = a->x_hi + 0.5;
         if (m < a->x_lo) m = a->x_lo;
         int bad = 0;

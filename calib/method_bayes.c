@@ -46,10 +46,11 @@
 #include <string.h>
 
 #include "model/csf_model.h"
+#include "model/csf_velocity.h"
 #include "model/psychometric.h"
 #include "core/rng.h"
 
-enum { NPAR = 8 };
+enum { NPAR = CSF_BAYES_NPAR };
 enum { STREAM_INIT = 0x42a1, STREAM_PLAN = 0x42a2, STREAM_MOVE = 0x42a3, STREAM_RESAMPLE = 0x42a4 };
 
 /* Tunables (documented in docs/bayes-method.md). */
@@ -142,6 +143,10 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define GP_COL_LEN_OCT 0.3     /* C_column: a single frequency column ... */
 #define GP_COL_LEN_DEG 30.0    /* ... over the whole eccentricity range */
 #define GP_COL_WEIGHT 0.5      /* w */
+/* Both parts reach across velocity with this length in csf_velocity_warp units (log10(v + 0.5)):
+ * a cell's departure from the static surface is seen again when it drifts (the static misfit
+ * carries over), so 0 and 4 deg/s correlate at 0.64, 0 and 12 deg/s at 0.38. */
+#define GP_LEN_VEL 1.0
 /* Experiment, off by default: a third part, C_row, for a deviation that a whole eccentricity row
  * shares (the surface's eccentricity loss is linear in e; a person's fall-off between rings may
  * not be, and the two-interval fovea and the four-place periphery may sit apart as a whole). With
@@ -241,20 +246,30 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #ifndef FOVEA_DIP_SD
 #define FOVEA_DIP_SD 0.0
 #endif
+/* Motion (theta[8], theta[9]): the Kelly-Daly gain of model/csf_velocity.h with its velocity
+ * scale c2 = 1.7 * 10^theta[8] and its steepness theta[9] free, free only in sessions with a
+ * drifting cell. Real temporal sensitivity departs from Kelly's stabilised-image fits mostly in how
+ * far it falls at high temporal frequency (Robson 1966; Laird et al. 2006 find the fall-off varies
+ * between people), so the steepness gets a wide prior (0.2-2.5 times the published fall) and the
+ * velocity scale a moderate one (a factor of 1.8 either way at 1 sd); what neither describes is
+ * left to the per-cell offsets, correlated across velocity as across frequency (GP_LEN_VEL). */
+#define VEL_SCALE_SD 0.25
+#define VEL_STEEP_MEAN 1.0
+#define VEL_STEEP_SD 0.35
 /* Prior on theta: independent normals (truncated where physics demands). */
 #ifndef PRIOR_MEAN
-#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN, 0.0}
+#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN, 0.0, 0.0, VEL_STEEP_MEAN}
 #endif
 #ifndef PRIOR_SD
-#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD, FOVEA_DIP_SD}
+#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD, FOVEA_DIP_SD, VEL_SCALE_SD, VEL_STEEP_SD}
 #endif
 static const double prior_mean[NPAR] = PRIOR_MEAN;
 static const double prior_sd[NPAR] = PRIOR_SD;
 #ifndef PRIOR_LO
-#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0, DIP_LO}
+#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0, DIP_LO, -0.8, 0.2}
 #endif
 static const double prior_lo[NPAR] = PRIOR_LO;
-static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI, 1.0};
+static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI, 1.0, 0.8, 2.5};
 
 typedef struct {
     int n_cells;
@@ -305,6 +320,8 @@ typedef struct {
     double *weak;    /* [n_cells*n_grid] per-cell fallback prior: surface blurred by the wide sd */
     int cache_valid;
     int dip_free;    /* 0: the foveal term (theta[7]) is pinned in this session, see dip_is_free */
+    int vel_free;    /* 1: some cell drifts, so the motion terms (theta[8], theta[9]) are free */
+    unsigned char *not_shown; /* [n_cells] 1: never presented (the surface's prediction only) */
 
     /* correlated offsets (NULL corr: off) */
     double *corr;    /* [n_cells*n_cells] correlation C of the shared part */
@@ -377,7 +394,23 @@ static double dip_log_prior(double d)
  * term only where the session frees it. */
 static int par_free(const bayes_state *s, int k)
 {
+    if (k >= 8) return s->vel_free && prior_sd[k] > 0.0;
     return prior_sd[k] > 0.0 && (k != 7 || s->dip_free);
+}
+
+/* The surface's log10 threshold at cell c for parameters th: the static surface, less the motion
+ * gain where the cell drifts. */
+static double surface_log10_threshold(const bayes_state *s, const double *th, const csf_model_params *p, int c)
+{
+    const csf_cell *cell = &s->cells[c];
+    double m = -csf_model_log10_sensitivity(p, cell->freq_cpd, cell->ecc_deg);
+    if (cell->velocity_dps != 0.0) {
+        csf_velocity_params vp = csf_velocity_default();
+        vp.c2 *= pow(10.0, th[8]);
+        vp.steepness = th[9];
+        m -= csf_velocity_log10_gain(&vp, cell->freq_cpd, cell->velocity_dps);
+    }
+    return m;
 }
 
 static double log_prior(const bayes_state *s, const double *th)
@@ -433,11 +466,9 @@ static double interp_grid(const bayes_state *s, const double *tab, double v)
 static void surface_for_particle(bayes_state *s, int i)
 {
     csf_model_params p;
-    theta_to_params(&s->theta[(size_t)i * NPAR], &p);
-    for (int c = 0; c < s->n_cells; c++) {
-        double ls = csf_model_log10_sensitivity(&p, s->cells[c].freq_cpd, s->cells[c].ecc_deg);
-        s->m[(size_t)i * s->n_cells + c] = -ls;
-    }
+    const double *th = &s->theta[(size_t)i * NPAR];
+    theta_to_params(th, &p);
+    for (int c = 0; c < s->n_cells; c++) s->m[(size_t)i * s->n_cells + c] = surface_log10_threshold(s, th, &p, c);
 }
 
 /* Convolution of lin[] with a symmetric kernel of half-width kh, added (times scale) into acc[]. */
@@ -499,7 +530,7 @@ static double log_target(const bayes_state *s, const double *th, int level, doub
     csf_model_params p;
     theta_to_params(th, &p);
     for (int c = 0; c < s->n_cells; c++) {
-        double m = -csf_model_log10_sensitivity(&p, s->cells[c].freq_cpd, s->cells[c].ecc_deg);
+        double m = surface_log10_threshold(s, th, &p, c);
         m_out[c] = m;
         double lz = s->n_trials[c] ? interp_grid(s, logconv_of(s, level, c), m) : 0.0;
         logz_out[c] = lz;
@@ -968,7 +999,7 @@ static void bayes_destroy(void *state)
     free(s->ptab_eta);
     free(s->xc_mu), free(s->xc_den), free(s->xc_dirty), free(s->xc_lin), free(s->xc_wide), free(s->xc_num);
     free(s->xc_muci), free(s->xc_w), free(s->xc_sum);
-    free(s->temper_post), free(s->local_var);
+    free(s->temper_post), free(s->local_var), free(s->not_shown);
     free(s);
 }
 
@@ -977,7 +1008,12 @@ static double sq_exp_corr(const csf_cell *a, const csf_cell *b, double len_oct, 
 {
     double df = log2(a->freq_cpd / b->freq_cpd) / len_oct;
     double de = (a->ecc_deg - b->ecc_deg) / len_deg;
-    return exp(-0.5 * (df * df + de * de));
+    double q = df * df + de * de;
+    if (a->velocity_dps != b->velocity_dps) {
+        double dv = (csf_velocity_warp(a->velocity_dps) - csf_velocity_warp(b->velocity_dps)) / GP_LEN_VEL;
+        q += dv * dv;
+    }
+    return exp(-0.5 * q);
 }
 
 /* The setup's values, checked; slope and guess rates of 0 mean the defaults. */
@@ -987,13 +1023,16 @@ static csf_status check_setup(const csf_procedure_setup *setup, double *slope, d
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "bayes: the grid has %d cells; it needs 1 to 4096", setup->n_cells);
     for (int c = 0; c < setup->n_cells; c++) {
-        double f = setup->cells[c].freq_cpd, e = setup->cells[c].ecc_deg;
+        double f = setup->cells[c].freq_cpd, e = setup->cells[c].ecc_deg, v = setup->cells[c].velocity_dps;
         if (!(f >= 0.01 && f <= 200.0))
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "bayes: cell %d frequency %g cpd is outside 0.01-200 cpd", c, f);
         if (!(e >= 0.0 && e <= 120.0))
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "bayes: cell %d eccentricity %g deg is outside 0-120 deg", c, e);
+        if (!(v >= 0.0 && v <= CSF_PROC_MAX_VELOCITY_DPS))
+            return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: cell %d velocity %g deg/s is outside 0-%g deg/s", c,
+                                 v, CSF_PROC_MAX_VELOCITY_DPS);
     }
     if (!(setup->max_contrast > 0.0 && setup->max_contrast <= 1.0))
         return csf_error_set(err, CSF_E_INVALID_ARG,
@@ -1233,6 +1272,13 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
     for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
     s->dip_free = dip_is_free(s);
+    for (int c = 0; c < nc; c++) s->vel_free |= fabs(s->cells[c].velocity_dps) > csf_velocity_default().v_min_dps;
+    s->not_shown = calloc((size_t)nc, 1);
+    if (!s->not_shown) {
+        bayes_destroy(s);
+        return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+    }
+    if (setup->not_shown) memcpy(s->not_shown, setup->not_shown, (size_t)nc);
     /* The decision model only shows in four-place cells; without them the doubled grid would be
      * the same nodes twice. */
     int any_four = 0;
@@ -1441,6 +1487,9 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     }
     for (int c = 0; c < s->n_cells; c++) cell_info[c] = cell_best_trial(s, c, &cell_x[c]);
     if (s->xc_mu) cross_cell_info(s, cell_info, cell_x);
+    /* a cell the display cannot show is never chosen (below any real value) */
+    for (int c = 0; c < s->n_cells; c++)
+        if (s->not_shown[c]) cell_info[c] = -2.0;
     for (int c = 0; c < s->n_cells; c++)
         if (cell_info[c] > best_info) best_info = cell_info[c];
     int n_near = 0;
@@ -1573,7 +1622,12 @@ static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error 
         double mean, sd, p_inv;
         summarise(s, po, &mean, &sd, &p_inv);
         out[c].n_trials = s->n_trials[c];
-        if (p_inv > INVISIBLE_PROB) {
+        if (s->not_shown[c]) {
+            /* Never shown: nothing measured supports "never visible", so the prediction is kept
+             * finite (at most the display's reach) with its whole spread as the stated error. */
+            out[c].threshold = pow(10.0, fmin(mean, s->log_cmax));
+            out[c].stderr_log10 = sd;
+        } else if (p_inv > INVISIBLE_PROB) {
             out[c].threshold = INFINITY;
             out[c].stderr_log10 = NAN;
         } else {
@@ -1619,7 +1673,7 @@ double csf_bayes_effective_particles(void *state)
     return state ? ess(state) : 0.0;
 }
 
-void csf_bayes_surface_mean(void *state, double out[8])
+void csf_bayes_surface_mean(void *state, double out[CSF_BAYES_NPAR])
 {
     bayes_state *s = state;
     double mx = -INFINITY, sw = 0.0;

@@ -29,7 +29,9 @@ void csf_bayes_psychometric(void *state, double *slope, double *lapse);
 double csf_bayes_effective_particles(void *state);
 
 /* Posterior mean of the surface parameters (log10 Smax, log10 fmax, beta octaves, delta,
- * ecc_a, ecc_b, ecc_scale_per_deg, fovea_dip_log10), for reports. */
-void csf_bayes_surface_mean(void *state, double out[8]);
+ * ecc_a, ecc_b, ecc_scale_per_deg, fovea_dip_log10, log10 of the motion gain's velocity scale over
+ * Daly's, the motion gain's steepness), for reports. */
+#define CSF_BAYES_NPAR 10
+void csf_bayes_surface_mean(void *state, double out[CSF_BAYES_NPAR]);
 
 #endif

@@ -64,7 +64,16 @@ typedef struct {
      * one whose four locations do not fit apart on the screen stays two-interval); see
      * csf_afc_layout in calib/afc_layout.h. Methods that cannot use 4 treat every cell as 2. */
     const int *n_alternatives;
+    /* Cells the display cannot show (a drifting carrier whose temporal frequency would alias at
+     * this refresh rate): 1 = never presented. NULL = every cell can be shown. The joint method
+     * writes its prediction there; the per-cell methods, which have nothing to predict from,
+     * refuse such a setup. */
+    const unsigned char *not_shown;
 } csf_procedure_setup;
+
+/* Fastest drift a cell may ask for (deg/s): beyond it the eye cannot fixate a stationary mark
+ * while such motion is shown, and no display shows it without aliasing at a useful frequency. */
+#define CSF_PROC_MAX_VELOCITY_DPS 200.0
 
 typedef struct {
     int cell;               /* index into cells */

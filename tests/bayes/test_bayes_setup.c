@@ -104,7 +104,7 @@ int main(void)
         }
         CHECK_MSG(other_misfits <= 2, "%d other cells flagged", other_misfits);
         /* the surface itself still describes the rest: its mean parameters are near the truth */
-        double th[8];
+        double th[CSF_BAYES_NPAR];
         csf_bayes_surface_mean(st, th);
         printf("  surface: log10 Smax %.2f, log10 fmax %.2f, beta %.2f oct, delta %.2f, a %.4f, b %.4f; ESS %.0f\n",
                th[0], th[1], th[2], th[3], th[4], th[5], csf_bayes_effective_particles(st));
