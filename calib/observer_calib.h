@@ -85,6 +85,14 @@ typedef struct {
     int n_stored;               /* trials in the store for this session, practice included */
     int resumable;              /* failed after the session began: it was left paused (every
                                    stored trial kept) and --resume finishes it */
+    int n_vels;                 /* velocities measured (0: static gratings, a 2-D table) */
+    int n_not_shown;            /* cells whose drift would alias on this display: predicted (bayes),
+                                   never presented */
+    double expected_person_s;   /* the person's time this run was expected to take, said before the
+                                   first trial (practice, trials, answers) */
+    double person_s;            /* the person's time this run took: the session's clock from the
+                                   first trial to the last (the simulated clock in simulation,
+                                   simulated answer times included) */
     double wall_s;
     char summary[600];          /* the one-line summary */
 } csf_obs_result;

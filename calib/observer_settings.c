@@ -18,6 +18,13 @@ int csf_obs_settings_to_json(const csf_obs_settings *s, double sigma_deg, char *
                           s->observer, "trials", s->trials, "practice", s->practice, "break_every",
                           s->break_every, "afc", s->afc, "fade_anchors", share, "gabor_sigma_deg", sigma_deg,
                           "freqs_cpd", freqs, "eccs_deg", eccs, "profile_id", s->profile_id);
+    /* Static sessions store what they always stored, so their records read as before. */
+    if (o && s->n_vels > 0) {
+        json_t *vels = json_array();
+        for (int i = 0; i < s->n_vels; i++) json_array_append_new(vels, json_real(s->vels[i]));
+        json_object_set_new(o, "vels_dps", vels);
+        json_object_set_new(o, "drift_direction", json_integer(s->drift_direction));
+    }
     char *text = o ? json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(o);
     int rc = text && strlen(text) < len ? 0 : -1;
@@ -51,6 +58,9 @@ int csf_obs_settings_from_json(const char *json, csf_obs_settings *s)
     /* No anchors outside fade sessions; a fade session's anchors are two-interval (those stored
      * before that was written down kept the --afc they were given and ignored). */
     if (strcmp(s->method, "fade") != 0) s->fade_anchors = 0;
+    /* Sessions without a velocity axis stored neither key: static gratings. */
+    if (ok) ok = csf_json_get_numbers(d, "vels_dps", s->vels, CSF_OBS_MAX_AXIS, &s->n_vels, &err) >= 0;
+    if (ok) ok = csf_json_get_int(d, "drift_direction", -1, 1, &s->drift_direction, &err) >= 0;
     else s->afc = 2;
     csf_json_free(d);
     return ok ? 0 : -1;

@@ -14,6 +14,9 @@ typedef struct {
     int trials, practice;
     double freqs[CSF_OBS_MAX_AXIS], eccs[CSF_OBS_MAX_AXIS];
     int n_freqs, n_eccs;
+    double vels[CSF_OBS_MAX_AXIS]; /* drift velocities, deg/s (n_vels 0: static gratings only) */
+    int n_vels;
+    int drift_direction; /* 0 random per trial, +1 forward, -1 backward */
     int break_every;
     int afc;             /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
     double fade_anchors; /* share of a fade session's trials that are forced-choice anchors, 0-0.5;

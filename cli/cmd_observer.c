@@ -7,13 +7,28 @@
 #include "cli/cli.h"
 #include "cli/commands.h"
 #include "calib/observer_calib.h"
+#include "calib/procedure.h"
 #include "devices/responder.h"
 #include "results/store/store.h"
 
 enum {
-    OPT_OUT = CSF_OPT_FIRST_FREE, OPT_PLOT, OPT_FREQS, OPT_ECCS, OPT_TRIALS, OPT_METHOD,
-    OPT_PRACTICE, OPT_BREAK, OPT_RENDER_EVERY, OPT_RENDER_SIZE, OPT_QUIET, OPT_AFC, OPT_ALLOW_PROFILE, OPT_RESPONDER,
-    OPT_FADE_ANCHORS
+    OPT_OUT = CSF_OPT_FIRST_FREE,
+    OPT_PLOT,
+    OPT_FREQS,
+    OPT_ECCS,
+    OPT_TRIALS,
+    OPT_METHOD,
+    OPT_PRACTICE,
+    OPT_BREAK,
+    OPT_RENDER_EVERY,
+    OPT_RENDER_SIZE,
+    OPT_QUIET,
+    OPT_AFC,
+    OPT_ALLOW_PROFILE,
+    OPT_RESPONDER,
+    OPT_FADE_ANCHORS,
+    OPT_VELOCITIES,
+    OPT_DRIFT_DIRECTION
 };
 
 static void usage(FILE *f)
@@ -40,6 +55,15 @@ static void usage(FILE *f)
             "  --freqs F1,F2,...    spatial frequencies in cpd (default 6 log-spaced 0.5-16,\n"
             "                       capped by the display's Nyquist limit)\n"
             "  --eccs E1,E2,...     eccentricities in deg (default 0,5,10,20, capped by the screen)\n"
+            "  --velocities V1,...  drift velocities in deg/s (0 = static; default: static only):\n"
+            "                       the carrier drifts inside a stationary Gabor envelope while the\n"
+            "                       person fixates the mark, so retinal velocity = screen velocity,\n"
+            "                       and the table gets a velocity axis. A cell whose temporal\n"
+            "                       frequency v*f reaches half the refresh rate cannot be shown:\n"
+            "                       bayes predicts it, fade and 2afc refuse such a grid. Default\n"
+            "                       budget with velocities: 5 trials per cell shown\n"
+            "  --drift-direction D  random (default: drawn per trial), forward or backward (along\n"
+            "                       or against the carrier's modulation axis)\n"
             "  --practice N         practice trials before the measurement (default 3)\n"
             "  --break-every N      a break every N trials (default 40)\n"
             "  --render-every N     simulated sessions: rasterise every N-th frame (default 1;\n"
@@ -61,7 +85,8 @@ static void usage(FILE *f)
             "or keypad 9/7/1/3 or I/U/J/K for upper right/upper left/lower left/lower right;\n"
             "Escape pauses: R resumes, S stops\n"
             "and keeps the session for --resume). --responder SPEC: keyboard, mouse, gamepad[:N][,map=...]\n"
-            "or hid:VID:PID[,map=...] (docs/instruments.md; default: the station's responder key). Default: the station configuration's observer,\n"
+            "or hid:VID:PID[,map=...] (docs/instruments.md; default: the station's responder key). Default: "
+            "the station configuration's observer,\n"
             "else human when a display is available and sim without one.\n\n%s",
             csf_cli_common_help);
 }
@@ -103,6 +128,21 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
     case OPT_ECCS:
         o->n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o->eccs_deg, CSF_OBS_MAX_AXIS);
         if (o->n_eccs < 0) return 2;
+        break;
+    case OPT_VELOCITIES:
+        o->n_vels = csf_parse_double_list(optarg, "velocities", 0, CSF_PROC_MAX_VELOCITY_DPS, o->vels_dps,
+                                          CSF_OBS_MAX_AXIS);
+        if (o->n_vels < 0) return 2;
+        break;
+    case OPT_DRIFT_DIRECTION:
+        if (strcmp(optarg, "random") == 0) o->drift_direction = 0;
+        else if (strcmp(optarg, "forward") == 0) o->drift_direction = 1;
+        else if (strcmp(optarg, "backward") == 0) o->drift_direction = -1;
+        else {
+            fprintf(stderr, "csfcal: --drift-direction: '%s' is not allowed (random, forward, backward)\n",
+                    optarg);
+            return 2;
+        }
         break;
     case OPT_TRIALS:
         if (csf_parse_int(optarg, "trials", 1, 5000, &v) < 0) return 2;
@@ -208,6 +248,8 @@ static int parse_calibrate_options(int argc, char **argv, csf_cli *cli, csf_obs_
         {"plot", required_argument, 0, OPT_PLOT},
         {"freqs", required_argument, 0, OPT_FREQS},
         {"eccs", required_argument, 0, OPT_ECCS},
+        {"velocities", required_argument, 0, OPT_VELOCITIES},
+        {"drift-direction", required_argument, 0, OPT_DRIFT_DIRECTION},
         {"trials", required_argument, 0, OPT_TRIALS},
         {"method", required_argument, 0, OPT_METHOD},
         {"practice", required_argument, 0, OPT_PRACTICE},
