@@ -34,6 +34,9 @@ typedef struct {
     int method_psychometric;
     double method_slope, method_lapse;
     uint64_t seed;
+    /* Motion (NULL: the same threshold at every velocity): log10 threshold added at a drift of
+     * velocity_dps, a shape of the test's choosing, so the method's motion prior is not the truth. */
+    double (*motion_log10_raise)(double freq_cpd, double ecc_deg, double velocity_dps);
 } sim2afc;
 
 static inline void sim2afc_parametric(sim2afc *o, csf_model_params p, uint64_t seed)
@@ -122,12 +125,21 @@ static inline double sim2afc_log10_threshold(const sim2afc *o, double freq_cpd, 
            (1 - a) * b * t[(j + 1) * nf + i] + a * b * t[(j + 1) * nf + i + 1];
 }
 
-/* Answer to a 2AFC plan (trial number trial_index) for a cell at (freq_cpd, ecc_deg). */
-static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_trial_plan *plan,
-                                                double freq_cpd, double ecc_deg, int trial_index)
+/* The same for a grating drifting at velocity_dps. */
+static inline double sim2afc_log10_threshold_v(const sim2afc *o, const csf_cell *c)
+{
+    double t = sim2afc_log10_threshold(o, c->freq_cpd, c->ecc_deg);
+    if (o->motion_log10_raise && c->velocity_dps != 0.0)
+        t += o->motion_log10_raise(c->freq_cpd, c->ecc_deg, c->velocity_dps);
+    return t;
+}
+
+/* Answer to a 2AFC plan (trial number trial_index) for a cell (drifting or not). */
+static inline csf_trial_outcome sim2afc_respond_cell(const sim2afc *o, const csf_trial_plan *plan,
+                                                     const csf_cell *cell, int trial_index)
 {
     csf_trial_outcome out = {.response = 0, .rt_s = 0.6, .contrast_at_response = NAN, .valid = 1};
-    double t = sim2afc_log10_threshold(o, freq_cpd, ecc_deg);
+    double t = sim2afc_log10_threshold_v(o, cell);
     /* Weibull in log10 contrast: P(correct) = guess + (1 - guess - lapse)(1 - exp(-10^(slope (x - t)))) */
     double seen = 0.0;
     if (plan->contrast > 0 && t < 0.0) /* threshold >= 1: never visible */
@@ -166,6 +178,14 @@ static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_tria
     return out;
 }
 
+/* Answer to a 2AFC plan (trial number trial_index) for a static cell at (freq_cpd, ecc_deg). */
+static inline csf_trial_outcome sim2afc_respond(const sim2afc *o, const csf_trial_plan *plan, double freq_cpd,
+                                                double ecc_deg, int trial_index)
+{
+    csf_cell cell = {freq_cpd, ecc_deg, 0};
+    return sim2afc_respond_cell(o, plan, &cell, trial_index);
+}
+
 /* Runs a whole simulated session of `budget` trials through a procedure. The observer's seed is
  * o->seed, the procedure's is proc_seed. Fills est[n_cells]. Returns 0, or -1 with a message. */
 static inline int sim2afc_run_alt(const csf_procedure_ops *ops, const sim2afc *o, const csf_cell *cells,
@@ -193,8 +213,7 @@ static inline int sim2afc_run_alt(const csf_procedure_ops *ops, const sim2afc *o
             ops->destroy(st);
             return -1;
         }
-        csf_trial_outcome out = sim2afc_respond(o, &plan, cells[plan.cell].freq_cpd,
-                                                cells[plan.cell].ecc_deg, k);
+        csf_trial_outcome out = sim2afc_respond_cell(o, &plan, &cells[plan.cell], k);
         ops->update(st, k, &plan, &out);
     }
     csf_status rc = ops->estimate(st, est, &err);
@@ -223,7 +242,7 @@ static inline double sim2afc_rms(const sim2afc *o, const csf_cell *cells, int n_
     double se = 0.0;
     int n = 0, wrong = 0;
     for (int c = 0; c < n_cells; c++) {
-        double t = sim2afc_log10_threshold(o, cells[c].freq_cpd, cells[c].ecc_deg);
+        double t = sim2afc_log10_threshold_v(o, &cells[c]);
         int vis = t < log10(max_contrast);
         int est_vis = isfinite(est[c].threshold);
         if (vis != est_vis) wrong++;
