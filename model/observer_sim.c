@@ -35,12 +35,14 @@ struct csf_observer_sim {
 /* ---- CSV table ------------------------------------------------------------------------------ */
 
 #define TABLE_MAX_AXIS 64
+#define TABLE_MAX_VELOCITY_DPS 1000.0
 
 void csf_obs_table_free(csf_obs_table *t)
 {
     if (!t) return;
     free(t->freq_cpd);
     free(t->ecc_deg);
+    free(t->velocity_dps);
     free(t->log10_threshold);
     free(t);
 }
@@ -83,54 +85,136 @@ static int parse_field(const char *s, const char *e, double *out, int allow_inf)
 }
 
 typedef struct {
-    double f, e, th;
+    double f, e, v, th;
     int line;
 } table_row;
+
+/* Columns of the table, by the header's names (without a header: the three of a 2-D table). */
+enum { COL_FREQ, COL_ECC, COL_VEL, COL_TH, N_COLS };
+static const char *const col_names[N_COLS] = {"freq_cpd", "ecc_deg", "velocity_dps", "threshold"};
 
 /* The rows read so far and the distinct axis values they use. */
 typedef struct {
     table_row *rows;
     size_t n_rows, cap;
-    double fax[TABLE_MAX_AXIS], eax[TABLE_MAX_AXIS];
-    int nf, ne;
+    double fax[TABLE_MAX_AXIS], eax[TABLE_MAX_AXIS], vax[TABLE_MAX_AXIS];
+    int nf, ne, nv;
+    int n_cols;
+    int col_of[N_COLS]; /* field index of each column, -1 where absent */
 } table_read;
 
-/* One data line s..e (trimmed, without its comment): three numbers in range, on a grid of at most
+/* Splits s..e at commas: at most n_max fields, their bounds in fs/fe; -1 with more fields. */
+static int split_fields(const char *s, const char *e, const char **fs, const char **fe, int n_max)
+{
+    int n = 0;
+    for (;;) {
+        const char *c = memchr(s, ',', (size_t)(e - s));
+        if (n == n_max) return -1;
+        fs[n] = s;
+        fe[n] = c ? c : e;
+        n++;
+        if (!c) return n;
+        s = c + 1;
+    }
+}
+
+/* The header line: each known column name once, freq_cpd, ecc_deg and threshold required. */
+static csf_status read_table_header(table_read *tr, const char *s, const char *e, int line, csf_error *err)
+{
+    const char *fs[N_COLS], *fe[N_COLS];
+    int n = split_fields(s, e, fs, fe, N_COLS);
+    for (int c = 0; c < N_COLS; c++) tr->col_of[c] = -1;
+    for (int i = 0; i < n; i++) {
+        while (fs[i] < fe[i] && (*fs[i] == ' ' || *fs[i] == '\t')) fs[i]++;
+        while (fe[i] > fs[i] && (fe[i][-1] == ' ' || fe[i][-1] == '\t')) fe[i]--;
+        int c = 0;
+        while (c < N_COLS && !((size_t)(fe[i] - fs[i]) == strlen(col_names[c]) &&
+                               memcmp(fs[i], col_names[c], strlen(col_names[c])) == 0))
+            c++;
+        if (c == N_COLS || tr->col_of[c] >= 0) n = -1;
+        else tr->col_of[c] = i;
+    }
+    if (n < 0 || tr->col_of[COL_FREQ] < 0 || tr->col_of[COL_ECC] < 0 || tr->col_of[COL_TH] < 0)
+        return csf_error_set(err, CSF_E_FORMAT,
+                             "observer table line %d: header must name the columns freq_cpd, ecc_deg, "
+                             "threshold and optionally velocity_dps, each once, e.g. "
+                             "'freq_cpd,ecc_deg,threshold' or 'freq_cpd,ecc_deg,velocity_dps,threshold'",
+                             line);
+    tr->n_cols = n;
+    return CSF_OK;
+}
+
+/* The fields of one data line as numbers in range; velocity 0 where the table has none. */
+static csf_status read_row_values(const table_read *tr, const char *s, const char *e, int line,
+                                  table_row *row, csf_error *err)
+{
+    const char *fs[N_COLS], *fe[N_COLS];
+    if (split_fields(s, e, fs, fe, N_COLS) != tr->n_cols)
+        return tr->col_of[COL_VEL] < 0
+                   ? csf_error_set(err, CSF_E_FORMAT,
+                                   "observer table line %d: expected 3 comma-separated numbers "
+                                   "freq_cpd,ecc_deg,threshold (a table with a velocity_dps column needs a "
+                                   "header naming its columns)",
+                                   line)
+                   : csf_error_set(err, CSF_E_FORMAT,
+                                   "observer table line %d: expected 4 comma-separated "
+                                   "numbers, as the header names",
+                                   line);
+    double val[N_COLS] = {0};
+    for (int c = 0; c < N_COLS; c++) {
+        int i = tr->col_of[c];
+        if (i >= 0 && parse_field(fs[i], fe[i], &val[c], c == COL_TH))
+            return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
+    }
+    if (!(val[COL_FREQ] > 0 && val[COL_FREQ] <= 1000))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: freq_cpd %g outside (0, 1000]", line,
+                             val[COL_FREQ]);
+    if (!(val[COL_ECC] >= 0 && val[COL_ECC] <= 180))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: ecc_deg %g outside [0, 180]", line,
+                             val[COL_ECC]);
+    if (!(val[COL_VEL] >= 0 && val[COL_VEL] <= TABLE_MAX_VELOCITY_DPS))
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: velocity_dps %g outside [0, %g]",
+                             line, val[COL_VEL], TABLE_MAX_VELOCITY_DPS);
+    if (!(val[COL_TH] > 0))
+        return csf_error_set(err, CSF_E_FORMAT,
+                             "observer table line %d: threshold %g must be > 0 (>= 1 or inf = never visible)",
+                             line, val[COL_TH]);
+    *row = (table_row){val[COL_FREQ], val[COL_ECC], val[COL_VEL], val[COL_TH], line};
+    return CSF_OK;
+}
+
+/* One data line s..e (trimmed, without its comment): numbers in range, on a grid of at most
  * TABLE_MAX_AXIS values per axis. */
 static csf_status read_table_row(table_read *tr, const char *s, const char *e, int line, csf_error *err)
 {
-    const char *c1 = memchr(s, ',', (size_t)(e - s));
-    const char *c2 = c1 ? memchr(c1 + 1, ',', (size_t)(e - c1 - 1)) : NULL;
-    if (!c1 || !c2 || memchr(c2 + 1, ',', (size_t)(e - c2 - 1)))
+    table_row row;
+    csf_status st = read_row_values(tr, s, e, line, &row, err);
+    if (st != CSF_OK) return st;
+    if (find_or_add(tr->fax, &tr->nf, row.f) < 0 || find_or_add(tr->eax, &tr->ne, row.e) < 0 ||
+        find_or_add(tr->vax, &tr->nv, row.v) < 0)
         return csf_error_set(err, CSF_E_FORMAT,
-                             "observer table line %d: expected 3 comma-separated numbers "
-                             "freq_cpd,ecc_deg,threshold", line);
-    double f, ecc, th;
-    if (parse_field(s, c1, &f, 0) || parse_field(c1 + 1, c2, &ecc, 0) || parse_field(c2 + 1, e, &th, 1))
-        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
-    if (!(f > 0 && f <= 1000))
-        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: freq_cpd %g outside (0, 1000]", line, f);
-    if (!(ecc >= 0 && ecc <= 180))
-        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: ecc_deg %g outside [0, 180]", line, ecc);
-    if (!(th > 0))
-        return csf_error_set(err, CSF_E_FORMAT,
-                             "observer table line %d: threshold %g must be > 0 (>= 1 or inf = never visible)",
-                             line, th);
-    if (find_or_add(tr->fax, &tr->nf, f) < 0 || find_or_add(tr->eax, &tr->ne, ecc) < 0)
-        return csf_error_set(err, CSF_E_FORMAT,
-                             "observer table line %d: more than %d distinct frequencies or eccentricities", line,
-                             TABLE_MAX_AXIS);
-    if (tr->n_rows >= (size_t)TABLE_MAX_AXIS * TABLE_MAX_AXIS)
-        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: more than %d rows", line,
-                             TABLE_MAX_AXIS * TABLE_MAX_AXIS);
+                             "observer table line %d: more than %d distinct frequencies, eccentricities or "
+                             "velocities",
+                             line, TABLE_MAX_AXIS);
+    size_t max_rows =
+        (size_t)TABLE_MAX_AXIS * TABLE_MAX_AXIS * (tr->col_of[COL_VEL] >= 0 ? TABLE_MAX_AXIS : 1);
+    if (tr->n_rows >= max_rows)
+        return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: more than %zu rows", line, max_rows);
     if (tr->n_rows == tr->cap) {
         tr->cap *= 2;
         table_row *nr = realloc(tr->rows, tr->cap * sizeof *tr->rows);
         if (!nr) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
         tr->rows = nr;
     }
-    tr->rows[tr->n_rows++] = (table_row){f, ecc, th, line};
+    tr->rows[tr->n_rows++] = row;
     return CSF_OK;
+}
+
+/* A header is a line before the first row that starts with a letter (a row starts with a number;
+ * "inf" is only ever a threshold, which no header-less row has first). */
+static int is_header(const table_read *tr, const char *s)
+{
+    return tr->n_rows == 0 && ((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z'));
 }
 
 /* Every line: comments (#) and blank lines skipped, an optional header, then the rows. */
@@ -155,63 +239,100 @@ static csf_status read_table_lines(table_read *tr, const char *text, size_t len,
         while (end > start && (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r')) end--;
         if (start == end) continue;
         const char *s = text + start, *e = text + end;
-        if (tr->n_rows == 0 && (*s == 'f' || *s == 'F')) {
-            /* Header: must name the three columns in order. */
-            static const char hdr[] = "freq_cpd,ecc_deg,threshold";
-            if ((size_t)(e - s) != sizeof hdr - 1 || memcmp(s, hdr, sizeof hdr - 1) != 0)
-                return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: header must be '%s'", line, hdr);
-            continue;
-        }
-        csf_status st = read_table_row(tr, s, e, line, err);
+        csf_status st =
+            is_header(tr, s) ? read_table_header(tr, s, e, line, err) : read_table_row(tr, s, e, line, err);
         if (st != CSF_OK) return st;
     }
     if (tr->n_rows == 0) return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
     return CSF_OK;
 }
 
-/* The grid from the rows: sorted axes, every (frequency, eccentricity) node exactly once;
- * thresholds >= 1 become 1 (never visible). */
-static csf_status build_table(table_read *tr, csf_obs_table **out, csf_error *err)
+static int axis_index(const double *axis, double v)
 {
-    int nf = tr->nf, ne = tr->ne;
-    /* read_table_lines refuses a table without rows, and every row puts its frequency and
-     * eccentricity on the axes: said again here, where the sizes are used. */
-    if (nf < 1 || ne < 1) return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
-    qsort(tr->fax, (size_t)nf, sizeof tr->fax[0], cmp_double);
-    qsort(tr->eax, (size_t)ne, sizeof tr->eax[0], cmp_double);
+    int i = 0;
+    while (axis[i] != v) i++;
+    return i;
+}
+
+/* Sorted axes and the node array (NAN = no row yet), sized from the rows read. */
+static csf_status alloc_table(const table_read *tr, csf_obs_table **out, csf_error *err)
+{
+    int nf = tr->nf, ne = tr->ne, nv = tr->col_of[COL_VEL] >= 0 ? tr->nv : 0;
+    size_t nodes = (size_t)nf * (size_t)ne * (size_t)(nv > 0 ? nv : 1);
     csf_obs_table *t = *out = calloc(1, sizeof *t);
     if (t) {
         t->n_freq = nf;
         t->n_ecc = ne;
+        t->n_vel = nv;
         t->freq_cpd = malloc((size_t)nf * sizeof(double));
         t->ecc_deg = malloc((size_t)ne * sizeof(double));
+        t->velocity_dps = malloc((size_t)(nv > 0 ? nv : 1) * sizeof(double));
         /* zeroed, although every cell is set to NAN below: the analyzer cannot follow that loop */
-        t->log10_threshold = calloc((size_t)nf * (size_t)ne, sizeof(double));
+        t->log10_threshold = calloc(nodes, sizeof(double));
     }
-    if (!t || !t->freq_cpd || !t->ecc_deg || !t->log10_threshold)
+    if (!t || !t->freq_cpd || !t->ecc_deg || !t->velocity_dps || !t->log10_threshold)
         return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
     memcpy(t->freq_cpd, tr->fax, (size_t)nf * sizeof(double));
     memcpy(t->ecc_deg, tr->eax, (size_t)ne * sizeof(double));
-    for (int i = 0; i < nf * ne; i++) t->log10_threshold[i] = NAN;
-    for (size_t r = 0; r < tr->n_rows; r++) {
-        const table_row *row = &tr->rows[r];
-        int fi = 0, ei = 0;
-        while (t->freq_cpd[fi] != row->f) fi++;
-        while (t->ecc_deg[ei] != row->e) ei++;
-        double *cell = &t->log10_threshold[ei * nf + fi];
-        if (!isnan(*cell))
-            return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: duplicate row for %g cpd at %g deg",
-                                 row->line, row->f, row->e);
-        *cell = row->th >= 1 ? 1.0 : log10(row->th);
-    }
-    for (int ei = 0; ei < ne; ei++)
-        for (int fi = 0; fi < nf; fi++)
-            if (isnan(t->log10_threshold[ei * nf + fi]))
+    if (nv > 0) memcpy(t->velocity_dps, tr->vax, (size_t)nv * sizeof(double));
+    else t->velocity_dps[0] = 0;
+    for (size_t i = 0; i < nodes; i++) t->log10_threshold[i] = NAN;
+    return CSF_OK;
+}
+
+/* The first node without a row, named; CSF_OK when the grid is full. */
+static csf_status check_full(const csf_obs_table *t, csf_error *err)
+{
+    int nv = t->n_vel > 0 ? t->n_vel : 1, nf = t->n_freq, ne = t->n_ecc;
+    for (int vi = 0; vi < nv; vi++)
+        for (int ei = 0; ei < ne; ei++)
+            for (int fi = 0; fi < nf; fi++) {
+                if (!isnan(t->log10_threshold[((size_t)vi * ne + ei) * nf + fi])) continue;
+                if (t->n_vel > 0)
+                    return csf_error_set(
+                        err, CSF_E_FORMAT,
+                        "observer table: no row for %g cpd at %g deg moving at %g deg/s (the "
+                        "table must be a full frequency x eccentricity x velocity grid)",
+                        t->freq_cpd[fi], t->ecc_deg[ei], t->velocity_dps[vi]);
                 return csf_error_set(err, CSF_E_FORMAT,
                                      "observer table: no row for %g cpd at %g deg (the table "
                                      "must be a full frequency x eccentricity grid)",
                                      t->freq_cpd[fi], t->ecc_deg[ei]);
+            }
     return CSF_OK;
+}
+
+/* The grid from the rows: sorted axes, every (frequency, eccentricity[, velocity]) node exactly
+ * once; thresholds >= 1 become 1 (never visible). */
+static csf_status build_table(table_read *tr, csf_obs_table **out, csf_error *err)
+{
+    /* read_table_lines refuses a table without rows, and every row puts its values on the axes:
+     * said again here, where the sizes are used. */
+    if (tr->nf < 1 || tr->ne < 1 || tr->nv < 1)
+        return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
+    qsort(tr->fax, (size_t)tr->nf, sizeof tr->fax[0], cmp_double);
+    qsort(tr->eax, (size_t)tr->ne, sizeof tr->eax[0], cmp_double);
+    qsort(tr->vax, (size_t)tr->nv, sizeof tr->vax[0], cmp_double);
+    csf_status st = alloc_table(tr, out, err);
+    if (st != CSF_OK) return st;
+    csf_obs_table *t = *out;
+    int nf = t->n_freq, ne = t->n_ecc;
+    for (size_t r = 0; r < tr->n_rows; r++) {
+        const table_row *row = &tr->rows[r];
+        int fi = axis_index(t->freq_cpd, row->f), ei = axis_index(t->ecc_deg, row->e);
+        int vi = t->n_vel > 0 ? axis_index(t->velocity_dps, row->v) : 0;
+        double *cell = &t->log10_threshold[((size_t)vi * ne + ei) * nf + fi];
+        if (!isnan(*cell))
+            return t->n_vel > 0 ? csf_error_set(err, CSF_E_FORMAT,
+                                                "observer table line %d: duplicate row for %g cpd at "
+                                                "%g deg moving at %g deg/s",
+                                                row->line, row->f, row->e, row->v)
+                                : csf_error_set(err, CSF_E_FORMAT,
+                                                "observer table line %d: duplicate row for %g cpd at %g deg",
+                                                row->line, row->f, row->e);
+        *cell = row->th >= 1 ? 1.0 : log10(row->th);
+    }
+    return check_full(t, err);
 }
 
 csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out, csf_error *err)
@@ -220,6 +341,8 @@ csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out
     if (!text) return csf_error_set(err, CSF_E_INVALID_ARG, "observer table: no text");
     table_read tr;
     memset(&tr, 0, sizeof tr);
+    tr.n_cols = 3;
+    tr.col_of[COL_FREQ] = 0, tr.col_of[COL_ECC] = 1, tr.col_of[COL_VEL] = -1, tr.col_of[COL_TH] = 2;
     tr.cap = 64;
     tr.rows = malloc(tr.cap * sizeof *tr.rows);
     if (!tr.rows) return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
@@ -263,10 +386,9 @@ static int bracket(const double *axis, int n, double v, int *i0, double *w)
     return 0;
 }
 
-double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double ecc_deg)
+/* Bilinear in (log10 f, ecc) on log10 threshold within one velocity slice. */
+static double slice_log10(const csf_obs_table *t, int vi, double freq_cpd, double ecc_deg)
 {
-    if (!(freq_cpd > 0) || !(ecc_deg >= 0)) return NAN;
-    if (t->n_freq < 1 || t->n_ecc < 1) return NAN; /* build_table never makes such a table */
     double lf[TABLE_MAX_AXIS];
     for (int i = 0; i < t->n_freq; i++) lf[i] = log10(t->freq_cpd[i]);
     int fi, ei;
@@ -274,14 +396,38 @@ double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double e
     bracket(lf, t->n_freq, log10(freq_cpd), &fi, &wf);
     bracket(t->ecc_deg, t->n_ecc, ecc_deg, &ei, &we);
     int fi1 = t->n_freq > 1 ? fi + 1 : fi, ei1 = t->n_ecc > 1 ? ei + 1 : ei;
-    const double *v = t->log10_threshold;
     int nf = t->n_freq;
+    const double *v = t->log10_threshold + (size_t)vi * (size_t)t->n_ecc * (size_t)nf;
     double a = v[ei * nf + fi] * (1 - wf) + v[ei * nf + fi1] * wf;
     double b = v[ei1 * nf + fi] * (1 - wf) + v[ei1 * nf + fi1] * wf;
-    double x = a * (1 - we) + b * we;
+    return a * (1 - we) + b * we;
+}
+
+double csf_obs_table_threshold_v(const csf_obs_table *t, double freq_cpd, double ecc_deg, double velocity_dps)
+{
+    if (!(freq_cpd > 0) || !(ecc_deg >= 0) || isnan(velocity_dps)) return NAN;
+    if (t->n_freq < 1 || t->n_ecc < 1) return NAN; /* build_table never makes such a table */
+    double x;
+    if (t->n_vel < 1) {
+        x = slice_log10(t, 0, freq_cpd, ecc_deg);
+    } else {
+        /* Along velocity, linear in the warp log10(|v| + 0.5) (model/csf_velocity.h), where
+         * sensitivity changes by octaves of velocity and v = 0 is finite. */
+        double wax[TABLE_MAX_AXIS];
+        for (int i = 0; i < t->n_vel; i++) wax[i] = csf_velocity_warp(t->velocity_dps[i]);
+        int vi;
+        double wv;
+        bracket(wax, t->n_vel, csf_velocity_warp(velocity_dps), &vi, &wv);
+        int vi1 = t->n_vel > 1 ? vi + 1 : vi;
+        x = slice_log10(t, vi, freq_cpd, ecc_deg) * (1 - wv) + slice_log10(t, vi1, freq_cpd, ecc_deg) * wv;
+    }
     return x >= 0 ? INFINITY : pow(10.0, x);
 }
 
+double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double ecc_deg)
+{
+    return csf_obs_table_threshold_v(t, freq_cpd, ecc_deg, 0.0);
+}
 /* ---- spec parsing ---------------------------------------------------------------------------- */
 
 typedef struct {
@@ -321,6 +467,10 @@ static const param_key keys[] = {
     PK("pieron_beta", 0.1, 2, pieron_beta),
     PK("display_gamma", 1, 4, display_gamma),
     PK("frame_step", 1, 30, frame_step),
+    PK("vc1", 0.2, 2, velocity.c1),
+    PK("vc2", 0.5, 5, velocity.c2),
+    PK("vsteep", 0, 3, velocity.steepness),
+    PK("vmin", 0.05, 0.5, velocity.v_min_dps),
 };
 
 /* Per-observer draws (slope=draw, lapse=draw, k=draw), from the seed: slope log-uniform over
@@ -331,6 +481,10 @@ static const param_key keys[] = {
 #define DRAW_LAPSE_HI 0.08
 #define DRAW_K_LO 1.25
 #define DRAW_K_HI 5.0
+/* vsteep=draw: uniform over 0.5-1.5, i.e. the fall of sensitivity with speed half to one and a
+ * half times Kelly's (measured curves differ from the model by about 0.2 log10). */
+#define DRAW_VSTEEP_LO 0.5
+#define DRAW_VSTEEP_HI 1.5
 
 static void params_default(csf_observer_sim_params *p)
 {
@@ -354,6 +508,7 @@ static void params_default(csf_observer_sim_params *p)
     p->lapse_run_max = 4;
     p->pieron_beta = 0.67;
     p->frame_step = 3;
+    p->velocity = csf_velocity_default();
 }
 
 static double draw_log_uniform(uint64_t seed, uint64_t which, double lo, double hi)
@@ -390,9 +545,13 @@ static void describe(csf_observer_sim *o, const char *table_path)
         ADD(",view=frame,display=%.100s,frame_step=%g", p->display[0] ? p->display : "(profile's)",
             p->frame_step);
     if (p->display_gamma > 0) ADD(",display_gamma=%g", p->display_gamma);
-    if (p->slope_drawn || p->lapse_drawn || p->k_drawn)
-        ADD(",drawn:%s%s%s", p->slope_drawn ? "slope" : "", p->lapse_drawn ? " lapse" : "",
-            p->k_drawn ? " k" : "");
+    csf_velocity_params vd = csf_velocity_default();
+    if (memcmp(&vd, &p->velocity, sizeof vd) != 0)
+        ADD(",vc1=%g,vc2=%g,vsteep=%g,vmin=%g", p->velocity.c1, p->velocity.c2, p->velocity.steepness,
+            p->velocity.v_min_dps);
+    if (p->slope_drawn || p->lapse_drawn || p->k_drawn || p->vsteep_drawn)
+        ADD(",drawn:%s%s%s%s", p->slope_drawn ? "slope" : "", p->lapse_drawn ? " lapse" : "",
+            p->k_drawn ? " k" : "", p->vsteep_drawn ? " vsteep" : "");
 #undef ADD
     if (n > 0 && (size_t)n < sizeof o->desc)
         snprintf(o->desc + n, sizeof o->desc - (size_t)n, "%s)", extra);
@@ -424,12 +583,14 @@ static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const 
         return CSF_OK;
     }
     if (!k)
-        return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b ecc_scale "
-                             "field table decision slope lapse k criterion look guess fa anticip "
-                             "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
-                             "lapse_runs run_max click_sd click_sd_ecc click_range view display "
-                             "display_gamma frame_step)", tok);
+        return csf_error_set(
+            err, CSF_E_INVALID_ARG,
+            "--observer: unknown key '%s' (known: smax fmax beta delta ecc_a ecc_b ecc_scale "
+            "field table decision slope lapse k criterion look guess fa anticip "
+            "rt_mean rt_mu rt_sigma rt_tau pieron_k pieron_beta fatigue drift "
+            "lapse_runs run_max click_sd click_sd_ecc click_range view display "
+            "display_gamma frame_step vc1 vc2 vsteep vmin)",
+            tok);
     if (bad_num || v < k->lo || v > k->hi)
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s outside %g to %g", tok, val, k->lo, k->hi);
     int counts = k->off == offsetof(csf_observer_sim_params, lapse_run_max) ||
@@ -443,6 +604,7 @@ static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const 
     if (k->off == offsetof(csf_observer_sim_params, slope)) o->p.slope_drawn = 0;
     if (k->off == offsetof(csf_observer_sim_params, lapse)) o->p.lapse_drawn = 0;
     if (k->off == offsetof(csf_observer_sim_params, k_transducer)) o->p.k_drawn = 0;
+    if (k->off == offsetof(csf_observer_sim_params, velocity.steepness)) o->p.vsteep_drawn = 0;
     return CSF_OK;
 }
 
@@ -481,6 +643,12 @@ static csf_status parse_spec_token(csf_observer_sim *o, char *tok, uint64_t seed
         if (strcmp(val, "weibull") == 0) o->p.decision = CSF_SIM_WEIBULL;
         else if (strcmp(val, "sdt") == 0) o->p.decision = CSF_SIM_SDT;
         else return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: decision=%s: must be weibull or sdt", val);
+        return CSF_OK;
+    }
+    if (strcmp(val, "draw") == 0 && !strcmp(tok, "vsteep")) {
+        o->p.velocity.steepness =
+            DRAW_VSTEEP_LO + (DRAW_VSTEEP_HI - DRAW_VSTEEP_LO) * csf_rng_uniform(seed, ST_DRAW, 3);
+        o->p.vsteep_drawn = 1;
         return CSF_OK;
     }
     if (strcmp(val, "draw") == 0 && (!strcmp(tok, "slope") || !strcmp(tok, "lapse") || !strcmp(tok, "k"))) {
@@ -580,6 +748,37 @@ double csf_observer_sim_threshold(const csf_observer_sim *o, double freq_cpd, do
     return th >= 1 ? INFINITY : th;
 }
 
+double csf_observer_sim_threshold_v(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                    double velocity_dps)
+{
+    if (isnan(velocity_dps)) return NAN;
+    if (o->table && o->table->n_vel > 0) {
+        double th = csf_obs_table_threshold_v(o->table, freq_cpd, ecc_deg, velocity_dps);
+        return th >= 1 ? INFINITY : th;
+    }
+    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    double gain = csf_velocity_log10_gain(&o->p.velocity, freq_cpd, velocity_dps);
+    if (!isfinite(th) || gain == 0) return th; /* static (or slower than fixational drift): as is */
+    th /= pow(10.0, gain);
+    return th >= 1 ? INFINITY : th;
+}
+
+double csf_observer_sim_velocity_log10_gain(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                            double velocity_dps)
+{
+    if (!(o->table && o->table->n_vel > 0))
+        return csf_velocity_log10_gain(&o->p.velocity, freq_cpd, velocity_dps);
+    /* A 3-D table: the ratio of its own thresholds, taken before the never-visible clamp (a node
+     * stored as 1 is as far as the table knows). */
+    double t0 = csf_obs_table_threshold_v(o->table, freq_cpd, ecc_deg, 0.0);
+    double tv = csf_obs_table_threshold_v(o->table, freq_cpd, ecc_deg, velocity_dps);
+    if (isnan(t0) || isnan(tv)) return NAN;
+    if (!isfinite(t0) && !isfinite(tv)) return 0.0;
+    if (!isfinite(t0)) return log10(1.0 / tv);
+    if (!isfinite(tv)) return log10(t0);
+    return log10(t0 / tv);
+}
+
 /* ---- over a session: fatigue, criterion drift, lapse runs --------------------------------------- */
 
 static uint64_t session_trial(uint64_t trial_index)
@@ -590,7 +789,13 @@ static uint64_t session_trial(uint64_t trial_index)
 double csf_observer_sim_trial_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
                                         uint64_t trial_index)
 {
-    double th = csf_observer_sim_threshold(o, freq_cpd, ecc_deg);
+    return csf_observer_sim_trial_threshold_v(o, freq_cpd, ecc_deg, 0.0, trial_index);
+}
+
+double csf_observer_sim_trial_threshold_v(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                          double velocity_dps, uint64_t trial_index)
+{
+    double th = csf_observer_sim_threshold_v(o, freq_cpd, ecc_deg, velocity_dps);
     if (!isfinite(th) || o->p.fatigue_log10_per_100 == 0) return th;
     th *= pow(10.0, o->p.fatigue_log10_per_100 * (double)session_trial(trial_index) / 100.0);
     return th >= 1 ? INFINITY : th;
@@ -660,13 +865,21 @@ void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index
                                  double ecc_deg, double polar_deg, double onset_s,
                                  double duration_s, csf_sim_fade_trial *tr)
 {
+    csf_observer_sim_fade_begin_v(o, trial_index, freq_cpd, ecc_deg, 0.0, polar_deg, onset_s, duration_s, tr);
+}
+
+void csf_observer_sim_fade_begin_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                                   double ecc_deg, double velocity_dps, double polar_deg, double onset_s,
+                                   double duration_s, csf_sim_fade_trial *tr)
+{
     memset(tr, 0, sizeof *tr);
     uint64_t base = trial_index * FRAMES_PER_TRIAL;
     tr->trial = trial_index;
     tr->freq_cpd = freq_cpd;
     tr->ecc_deg = ecc_deg;
+    tr->velocity_dps = velocity_dps;
     tr->polar_deg = polar_deg;
-    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
+    double th = csf_observer_sim_trial_threshold_v(o, freq_cpd, ecc_deg, velocity_dps, trial_index);
     double drift = csf_observer_sim_drift_log10(o, trial_index);
     tr->t_sens_log10 = isfinite(th) ? log10(th) : INFINITY;
     /* Weibull: the latent threshold itself moves with the criterion; sdt: the criterion moves so
@@ -791,8 +1004,14 @@ static int run_guess(const csf_observer_sim *o, uint64_t trial_index, int m)
 int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                           double ecc_deg, const double contrast_shown[2], double *rt_s)
 {
+    return csf_observer_sim_2afc_v(o, trial_index, freq_cpd, ecc_deg, 0.0, contrast_shown, rt_s);
+}
+
+int csf_observer_sim_2afc_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd, double ecc_deg,
+                            double velocity_dps, const double contrast_shown[2], double *rt_s)
+{
     uint64_t base = trial_index * FRAMES_PER_TRIAL;
-    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
+    double th = csf_observer_sim_trial_threshold_v(o, freq_cpd, ecc_deg, velocity_dps, trial_index);
     double t = isfinite(th) ? log10(th) : INFINITY;
     if (rt_s) *rt_s = exp(log(0.6) + 0.3 * csf_rng_normal(o->seed, ST_2AFC_RT, base));
     int in_run = csf_observer_sim_in_lapse_run(o, trial_index);
@@ -810,10 +1029,18 @@ int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double
                          double ecc_deg, const double *contrast_shown, int n_alternatives,
                          double *rt_s)
 {
+    return csf_observer_sim_afc_v(o, trial_index, freq_cpd, ecc_deg, 0.0, contrast_shown, n_alternatives,
+                                  rt_s);
+}
+
+int csf_observer_sim_afc_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd, double ecc_deg,
+                           double velocity_dps, const double *contrast_shown, int n_alternatives,
+                           double *rt_s)
+{
     int m = n_alternatives;
     if (m < 2 || m > CSF_SIM_AFC_MAX) m = 2;
     uint64_t base = trial_index * FRAMES_PER_TRIAL;
-    double th = csf_observer_sim_trial_threshold(o, freq_cpd, ecc_deg, trial_index);
+    double th = csf_observer_sim_trial_threshold_v(o, freq_cpd, ecc_deg, velocity_dps, trial_index);
     double t = isfinite(th) ? log10(th) : INFINITY;
     if (rt_s) *rt_s = exp(log(0.7) + 0.3 * csf_rng_normal(o->seed, ST_AFC_RT, base));
     int in_run = csf_observer_sim_in_lapse_run(o, trial_index);

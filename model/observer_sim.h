@@ -4,7 +4,9 @@
  * Truth. Threshold contrast per (freq_cpd, ecc_deg) from the log-parabola x stelaCSF surface of
  * model/csf_model.h (keys smax, fmax, beta [bandwidth, octaves], delta, ecc_a, ecc_b,
  * field=nasal) or from a CSV table (table=FILE.csv, columns freq_cpd,ecc_deg,threshold; see
- * csf_obs_table_parse). A threshold >= 1 means never visible.
+ * csf_obs_table_parse). A threshold >= 1 means never visible. A grating drifting at velocity v
+ * has threshold(f, e, v) = threshold(f, e) / 10^csf_velocity_log10_gain(f, v) (Kelly 1979, Daly
+ * 1998; keys vc1, vc2, vsteep, vmin), or a 3-D table's own value (a velocity_dps column).
  *
  * Psychometric function: Weibull in log10 contrast (model/psychometric.h) with slope `slope`
  * (default 3.5) and lapse `lapse` (default 0.02). 2AFC guess rate `guess` (default 0.5).
@@ -47,26 +49,40 @@
 #include <stdint.h>
 
 #include "model/csf_model.h"
+#include "model/csf_velocity.h"
 #include "core/csf_status.h"
 
 /* ---- threshold tables (table=FILE.csv) ----------------------------------------------------- */
 
-/* A full grid of thresholds: n_freq x n_ecc, rows in any order in the file. */
+/* A full grid of thresholds: n_freq x n_ecc (2-D) or n_freq x n_ecc x n_vel (3-D), rows in any
+ * order in the file. */
 typedef struct {
     int n_freq, n_ecc;
+    int n_vel;                   /* 0: a 2-D table (no velocity_dps column) */
     double *freq_cpd, *ecc_deg;  /* ascending */
-    double *log10_threshold;     /* [ecc * n_freq + freq]; thresholds >= 1 stored as log10 = 1 */
+    double *velocity_dps;        /* ascending, n_vel entries (one entry, 0, for a 2-D table) */
+    double *log10_threshold;     /* [(vel * n_ecc + ecc) * n_freq + freq]; thresholds >= 1 stored as 1 */
 } csf_obs_table;
 
-/* Parses CSV text: optional header line "freq_cpd,ecc_deg,threshold", '#' comments, blank lines;
- * each data row three numbers; freq in (0, 1000] cpd, ecc in [0, 180] deg, threshold > 0 (or
- * "inf"); at most 64 distinct frequencies and 64 eccentricities; every (freq, ecc) combination
+/* Parses CSV text: '#' comments, blank lines, an optional header line naming the columns (any
+ * order; each once): freq_cpd, ecc_deg, threshold and optionally velocity_dps. Without a header
+ * the columns are freq_cpd,ecc_deg,threshold; a table with velocity_dps needs the header. Each
+ * data row one number per column; freq in (0, 1000] cpd, ecc in [0, 180] deg, velocity in
+ * [0, 1000] deg/s (the drift's direction does not matter, so no negative speeds), threshold > 0
+ * (or "inf"); at most 64 distinct values per axis; every (freq, ecc[, velocity]) combination
  * exactly once. Errors name the line and the broken limit. */
 csf_status csf_obs_table_parse(const char *text, size_t len, csf_obs_table **out, csf_error *err);
 csf_status csf_obs_table_load(const char *path, csf_obs_table **out, csf_error *err);
 void csf_obs_table_free(csf_obs_table *t);
-/* Bilinear in (log10 f, ecc) on log10 threshold, held constant outside the grid. Returns
- * INFINITY when the interpolated threshold is >= 1 (never visible). */
+/* Bilinear in (log10 f, ecc) on log10 threshold, held constant outside the grid; along velocity
+ * (3-D tables) linear in csf_velocity_warp(|v|), held constant outside the velocity axis. A 2-D
+ * table ignores velocity_dps here (the simulated person applies the parametric velocity gain to
+ * it: csf_observer_sim_threshold_v). Returns INFINITY when the interpolated threshold is >= 1
+ * (never visible); NAN for a NaN argument, freq_cpd <= 0 or ecc_deg < 0. The sign of
+ * velocity_dps (the drift's direction) does not matter. */
+double csf_obs_table_threshold_v(const csf_obs_table *t, double freq_cpd, double ecc_deg,
+                                 double velocity_dps);
+/* The same at velocity 0. */
 double csf_obs_table_threshold(const csf_obs_table *t, double freq_cpd, double ecc_deg);
 
 /* ---- the simulated person ------------------------------------------------------------------- */
@@ -88,8 +104,13 @@ typedef struct {
     double fatigue_log10_per_100, drift_log10, lapse_run_rate, lapse_run_max;
     /* Pieron reaction time in the fade task: extra pieron_k_s * (c / t)^-pieron_beta s. */
     double pieron_k_s, pieron_beta;
-    /* 1 where the value was drawn from the seed (slope=draw, lapse=draw, k=draw). */
+    /* 1 where the value was drawn from the seed (slope=draw, lapse=draw, k=draw, vsteep=draw). */
     int slope_drawn, lapse_drawn, k_drawn;
+    /* Sensitivity to motion (model/csf_velocity.h): keys vc1 (c1, 0.2-2), vc2 (c2, 0.5-5),
+     * vsteep (steepness, 0-3; draw: uniform over 0.5-1.5 from the seed) and vmin (fixational
+     * drift floor, 0.05-0.5 deg/s); default Kelly (1979) as scaled by Daly (1998). */
+    csf_velocity_params velocity;
+    int vsteep_drawn;
     /* What the answers are based on (docs/observer-calibration.md, "The person looks at the
      * screen"): view=plan (0, the default) takes the contrast the presenter reports; view=frame
      * (1) makes a session read the rendered frame back at the places the person could look at,
@@ -124,9 +145,22 @@ const char *csf_observer_sim_describe(const csf_observer_sim *o);
 /* The TRUE threshold (Michelson; INFINITY = never visible). For tests and benchmarks only: a
  * session never calls it. */
 double csf_observer_sim_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg);
+/* The same for a grating drifting at velocity_dps (retinal, either direction): a 3-D table's
+ * own value, otherwise the static threshold divided by 10^csf_velocity_log10_gain with the
+ * person's `velocity` parameters (a 2-D table too: its rows are static gratings). Velocity 0 is
+ * exactly csf_observer_sim_threshold. */
+double csf_observer_sim_threshold_v(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                    double velocity_dps);
+/* log10 of the person's sensitivity at velocity_dps over their static sensitivity there (0 at
+ * v = 0; what model/observer_view's motion energy weighs temporal components by). 0 where the
+ * grating is never visible static and moving alike. */
+double csf_observer_sim_velocity_log10_gain(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                            double velocity_dps);
 /* The same at a trial: raised by fatigue (fatigue * n / 100 log10 at session trial n). */
 double csf_observer_sim_trial_threshold(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
                                         uint64_t trial_index);
+double csf_observer_sim_trial_threshold_v(const csf_observer_sim *o, double freq_cpd, double ecc_deg,
+                                          double velocity_dps, uint64_t trial_index);
 /* The yes/no criterion's offset at a trial (log10 contrast; 0 without drift): a Gaussian random
  * walk with sd `drift` per trial, a pure function of (seed, n). */
 double csf_observer_sim_drift_log10(const csf_observer_sim *o, uint64_t trial_index);
@@ -137,6 +171,7 @@ int csf_observer_sim_in_lapse_run(const csf_observer_sim *o, uint64_t trial_inde
 typedef struct {
     uint64_t trial;
     double freq_cpd, ecc_deg, polar_deg; /* where the grating is drawn (if anything is drawn) */
+    double velocity_dps;                 /* how fast it drifts (0 = static) */
     double t_log10;          /* latent threshold there, fatigue and drift included (private) */
     double t_sens_log10;     /* the trial's sensitivity threshold (fatigue, no drift) */
     double criterion_dprime; /* sdt: this trial's yes/no criterion (drift included) */
@@ -155,6 +190,11 @@ typedef struct {
 void csf_observer_sim_fade_begin(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                                  double ecc_deg, double polar_deg, double onset_s,
                                  double duration_s, csf_sim_fade_trial *tr);
+/* The same for a grating drifting at velocity_dps (the threshold of csf_observer_sim_trial_threshold_v;
+ * the draws are those of csf_observer_sim_fade_begin, which is this at velocity 0). */
+void csf_observer_sim_fade_begin_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
+                                   double ecc_deg, double velocity_dps, double polar_deg, double onset_s,
+                                   double duration_s, csf_sim_fade_trial *tr);
 /* After each frame presented at t_s with the reported contrast_shown: returns 1 once the button
  * has been pressed at or before t_s, with the press time in *press_t_s. */
 int csf_observer_sim_fade_frame(const csf_observer_sim *o, csf_sim_fade_trial *tr, double t_s,
@@ -167,6 +207,9 @@ void csf_observer_sim_click(const csf_observer_sim *o, const csf_sim_fade_trial 
  * chosen interval (0 or 1); *rt_s the response time after the second interval. */
 int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                           double ecc_deg, const double contrast_shown[2], double *rt_s);
+/* The same for a grating drifting at velocity_dps (csf_observer_sim_2afc is this at 0; same draws). */
+int csf_observer_sim_2afc_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd, double ecc_deg,
+                            double velocity_dps, const double contrast_shown[2], double *rt_s);
 
 /* One m-alternative forced-choice trial (2 <= m <= CSF_SIM_AFC_MAX; four places shown at once
  * for spatial 4AFC): contrast_shown[k] = mean Michelson contrast shown at place (or interval) k,
@@ -177,5 +220,9 @@ int csf_observer_sim_2afc(const csf_observer_sim *o, uint64_t trial_index, doubl
 int csf_observer_sim_afc(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd,
                          double ecc_deg, const double *contrast_shown, int n_alternatives,
                          double *rt_s);
+/* The same for a grating drifting at velocity_dps (csf_observer_sim_afc is this at 0; same draws). */
+int csf_observer_sim_afc_v(const csf_observer_sim *o, uint64_t trial_index, double freq_cpd, double ecc_deg,
+                           double velocity_dps, const double *contrast_shown, int n_alternatives,
+                           double *rt_s);
 
 #endif
