@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "calib/afc_layout.h"
+#include "calib/motion.h"
 #include "calib/procedure.h"
 #include "calib/observer_screen.h"
 #include "calib/trial_io.h"
@@ -44,6 +45,8 @@
 #define PRACTICE_CONTRAST 0.3
 #define PRACTICE_FREQ 2.0
 #define PRACTICE_S 2.0
+#define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
+#define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
 #define FA_LIMIT 0.3            /* refuse a table when more catch trials than this were pressed */
 #define FA_MIN_CATCH 4
 #define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
@@ -79,7 +82,7 @@ void csf_obs_options_defaults(csf_obs_options *o)
 {
     memset(o, 0, sizeof *o);
     o->method = "bayes";
-    o->trials = 120;
+    o->trials = 0; /* the default: 120, or 5 per cell shown with a velocity axis */
     o->practice = -1;
     o->break_every = 40;
     o->seed = 1;
@@ -110,6 +113,7 @@ typedef struct {
     int first_frame;
     double period_s;
     int catch_trial;
+    double sim_rt_total_s; /* simulated forced-choice answers' times, which no frame clock counts */
 } person;
 
 /* Time since onset on the refresh grid: the virtual clock makes it an exact multiple of the
@@ -255,6 +259,7 @@ typedef struct {
     person *who;
     double mean_lum;
     double period_s;
+    int drift_sign; /* this trial's drift direction (+1 / -1) for cells that drift */
 } runner;
 
 static csf_status blank_frames(runner *r, double seconds, int fixation, int fade_listen,
@@ -337,6 +342,7 @@ typedef struct {
     int have_rec;
     double shown_mean, shown_max;
     int frames_planned, frames_shown, frames_missed;
+    double velocity_dps; /* the carrier's drift as shown, signed by its direction (0: static) */
 } trial_result;
 
 static void add_flag(char *flags, const char *f)
@@ -357,6 +363,17 @@ static void take_record(trial_result *tr)
     if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
 }
 
+/* The grating of a cell as a trial shows it: the carrier drifts at the cell's velocity in this
+ * trial's direction inside the stationary envelope (the person fixates the mark, so the retinal
+ * velocity is the screen velocity). */
+static void cell_stimulus(csf_stimulus *s, const runner *r, const csf_cell *c, double polar, double contrast,
+                          trial_result *tr)
+{
+    make_stimulus(s, c->freq_cpd, c->ecc_deg, polar, contrast, r->mean_lum);
+    s->drift_hz = csf_motion_drift_hz(c, r->drift_sign);
+    tr->velocity_dps = r->drift_sign * c->velocity_dps;
+}
+
 /* One fade trial: fixation, ramp (or blank frames for a catch trial), response window, click. */
 static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
                            double polar, int is_practice, trial_result *tr, csf_error *err)
@@ -373,8 +390,8 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
     p->period_s = r->period_s;
     p->catch_trial = plan->is_catch;
     if (p->sim)
-        csf_observer_sim_fade_begin(p->sim, trial_key, c->freq_cpd, c->ecc_deg, polar, 0.0,
-                                    duration + RESPONSE_WINDOW_S, &p->tr);
+        csf_observer_sim_fade_begin_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps, polar, 0.0,
+                                      duration + RESPONSE_WINDOW_S, &p->tr);
     if (p->eyes) {
         st = csf_obs_screen_look(p->eyes, c->freq_cpd, c->ecc_deg, &polar, 1, 0, err);
         if (st != CSF_OK) return st;
@@ -385,7 +402,7 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
         tr->frames_shown = tr->frames_planned;
     } else {
         csf_stimulus s;
-        make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar, plan->contrast, r->mean_lum);
+        cell_stimulus(&s, r, c, polar, plan->contrast, tr);
         csf_envelope env = {CSF_ENV_FADE_LOG, duration, 0, pow(10.0, plan->ramp_start_log10)};
         if (is_practice) env = (csf_envelope){CSF_ENV_FIXED, duration, 0, 0};
         st = csf_presenter_run_trial(r->pres, &s, &env, 1, fade_stop_cb, p, &tr->rec, err);
@@ -454,7 +471,7 @@ static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_d
                                     trial_result *tr, double *shown, csf_error *err)
 {
     csf_stimulus s;
-    make_stimulus(&s, c->freq_cpd, c->ecc_deg, polar_deg, contrast, r->mean_lum);
+    cell_stimulus(&s, r, c, polar_deg, contrast, tr);
     csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
     csf_status st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
     if (st != CSF_OK) return st;
@@ -504,10 +521,11 @@ static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, con
     tr->contrast_at_response = shown[plan->signal_interval];
     if (p->sim) {
         double rt;
-        tr->response = csf_observer_sim_2afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
-                                             p->eyes ? seen : shown, &rt);
+        tr->response = csf_observer_sim_2afc_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps,
+                                               p->eyes ? seen : shown, &rt);
         if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 2, seen, shown);
         tr->rt_s = csf_round9(rt);
+        p->sim_rt_total_s += rt;
         return CSF_OK;
     }
     csf_trial_io io = {r->pres, p->resp, &stop_requested, 0};
@@ -547,10 +565,11 @@ static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, con
     tr->contrast_at_response = shown[sig];
     if (p->sim) {
         double rt;
-        tr->response = csf_observer_sim_afc(p->sim, trial_key, c->freq_cpd, c->ecc_deg,
-                                            p->eyes ? seen : shown, 4, &rt);
+        tr->response = csf_observer_sim_afc_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps,
+                                              p->eyes ? seen : shown, 4, &rt);
         if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 4, seen, shown);
         tr->rt_s = csf_round9(rt);
+        p->sim_rt_total_s += rt;
         return CSF_OK;
     }
     double t0 = csf_responder_now();
@@ -648,6 +667,7 @@ typedef struct {
     csf_cell_estimate *est;
     csf_afc_layout *layouts;  /* per cell: four places or two intervals */
     int *n_alt;               /* per cell: 2 or 4 (the procedure setup's n_alternatives) */
+    unsigned char *not_shown; /* per cell: 1 = its drift would alias on this display (never shown) */
     csf_obs_screen *screen;   /* view=frame: the simulated person's eyes on the presenter */
 } session_res;
 
@@ -665,6 +685,7 @@ static void session_free(session_res *s)
     free(s->est);
     free(s->layouts);
     free(s->n_alt);
+    free(s->not_shown);
 }
 
 /* Commits a trial and its frame intervals in one transaction (a crash cannot leave a trial
@@ -708,6 +729,7 @@ static csf_status choose_layouts(session_res *S, const csf_geometry *g, int n_ce
             csf_stimulus st;
             csf_error e;
             make_stimulus(&st, S->cells[k].freq_cpd, S->cells[k].ecc_deg, l->polar_deg[j], 0.5, mean_lum);
+            st.drift_hz = csf_motion_drift_hz(&S->cells[k], 1);
             if (csf_presenter_validate(S->pres, &st, &e) != CSF_OK) l->n_alternatives = 2;
         }
         S->n_alt[k] = l->n_alternatives == 4 ? 4 : 2;
@@ -728,7 +750,7 @@ static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, c
     t->polar_deg = csf_round9(polar);
     t->orientation_deg = 0;
     t->sigma_deg = GABOR_SIGMA_DEG;
-    t->velocity_dps = 0;
+    t->velocity_dps = csf_round9(tr->velocity_dps);
     t->mean_lum_cdm2 = csf_round9(mean_lum);
     t->is_catch = plan->is_catch;
     t->is_practice = practice;
@@ -823,6 +845,7 @@ static csf_status check_axis(const char *opt, const char *unit, double *v, int n
                                  "increase)", opt, v[i], unit, v[i - 1], unit);
     }
     /* and what the table writer will demand of it at the end (neighbours it can tell apart) */
+    if (strcmp(unit, "deg/s") == 0) return CSF_OK; /* velocity: checked with the grid (check_settings) */
     double thr[CSF_OBS_MAX_AXIS];
     for (int i = 0; i < n; i++) thr[i] = 0.01;
     double other = 1.0;
@@ -852,6 +875,12 @@ static csf_status check_settings(session_settings *set, int sort, csf_error *err
                              set->observer);
     csf_status st = check_axis("--freqs", "cpd", set->freqs, set->n_freqs, 0.01, 200, sort, err);
     if (st == CSF_OK) st = check_axis("--eccs", "deg", set->eccs, set->n_eccs, 0, 80, sort, err);
+    if (st == CSF_OK && set->n_vels > 0)
+        st = check_axis("--velocities", "deg/s", set->vels, set->n_vels, 0, CSF_PROC_MAX_VELOCITY_DPS, sort,
+                        err);
+    if (st == CSF_OK && !(set->drift_direction >= -1 && set->drift_direction <= 1))
+        st = csf_error_set(err, CSF_E_INVALID_ARG, "--drift-direction: %d is not -1, 0 or 1",
+                           set->drift_direction);
     if (st == CSF_OK && !(set->trials >= 1 && set->trials <= 5000))
         st = csf_error_set(err, CSF_E_INVALID_ARG, "--trials: %d is out of range (allowed 1 to 5000)", set->trials);
     if (st == CSF_OK && !(set->practice >= 0 && set->practice <= 50))
@@ -1108,6 +1137,10 @@ typedef struct {
     runner run;
     int seq;                  /* the next trial's sequence number */
     int trial_index;          /* the next main trial's index */
+    int default_budget;       /* the budget is the default for this grid (set once the display is known) */
+    int n_not_shown;          /* cells whose drift this display cannot show */
+    double person_t0_s;       /* presenter clock when this run's first trial began */
+    double person_rt_s;       /* simulated response times (the virtual clock does not run for them) */
 } obs_run;
 
 /* A resumed session's settings, from the store; a session that cannot be resumed says why. */
@@ -1167,7 +1200,14 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     if (strchr(spec, '"') || strchr(spec, '\\'))
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: quotes and backslashes are not allowed");
     snprintf(set->observer, sizeof set->observer, "%s", spec);
-    set->trials = opt->trials > 0 ? opt->trials : 120;
+    /* With a velocity axis the default budget grows with the grid (5 trials per cell shown: the
+     * static default's rate); the cells a display cannot show are taken off once it is open. */
+    set->trials = opt->trials > 0 ? opt->trials : opt->n_vels > 0 ? 0 : 120;
+    set->n_vels = opt->n_vels;
+    set->drift_direction = opt->drift_direction;
+    if (opt->n_vels < 0 || opt->n_vels > CSF_OBS_MAX_AXIS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--velocities: at most %d values", CSF_OBS_MAX_AXIS);
+    memcpy(set->vels, opt->vels_dps, sizeof set->vels);
     set->practice = opt->practice >= 0 ? opt->practice : 3;
     set->break_every = opt->break_every > 0 ? opt->break_every : 40;
     set->afc = opt->afc ? opt->afc : 4;
@@ -1202,6 +1242,11 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     default_axes(&R->geom, set, opt->quiet);
     if (set->n_freqs == 0 || set->n_eccs == 0)
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
+    if (set->trials == 0) {
+        R->default_budget = 1;
+        set->trials = DEFAULT_TRIALS_PER_CELL * set->n_freqs * set->n_eccs * set->n_vels;
+        if (set->trials > 5000) set->trials = 5000;
+    }
     /* Any order is accepted and sorted (the table's axes increase); a value given twice is
      * refused. */
     return check_settings(set, 1, err);
@@ -1308,6 +1353,75 @@ static csf_status open_display_side(obs_run *R, csf_error *err)
     return CSF_OK;
 }
 
+/* Seconds of the person's time one trial takes: fixation, the stimulus, the answer (a typical
+ * response time; the fade task's press comes about half way up the ramp, then a click). */
+#define EXPECT_AFC_ANSWER_S 0.6
+#define EXPECT_FOUR_ANSWER_S 0.7
+#define EXPECT_CLICK_S 1.0
+static double expected_trial_s(const obs_run *R, int four)
+{
+    if (R->S.ops->task == CSF_TASK_FADE) {
+        double ramp_s = (log10(R->max_contrast) + 3.0) / 0.5;
+        return FIXATION_S + 0.5 * ramp_s + EXPECT_CLICK_S;
+    }
+    if (four) return FIXATION_S + AFC_INTERVAL_S + EXPECT_FOUR_ANSWER_S;
+    return FIXATION_S + 2 * AFC_INTERVAL_S + AFC_ISI_S + EXPECT_AFC_ANSWER_S;
+}
+
+/* The whole session's expected person time, share_four of its trials with four places. */
+static double expected_session_s(const obs_run *R, int trials, double share_four)
+{
+    double per = (1.0 - share_four) * expected_trial_s(R, 0) + share_four * expected_trial_s(R, 1);
+    return R->set.practice * expected_trial_s(R, 0) + trials * per;
+}
+
+/* A drifting grid on this display: the cells it cannot show (their temporal frequency would
+ * alias), refused for the per-cell methods with the limit per frequency; the default budget for
+ * the cells it can show, and a budget too small for the grid refused with the time it would need.
+ * Before anything is stored. */
+static csf_status check_motion_grid(obs_run *R, csf_error *err)
+{
+    session_settings *set = &R->set;
+    if (set->n_vels == 0) return CSF_OK;
+    double refresh_hz = csf_presenter_refresh_hz(R->S.pres);
+    int n_cells = set->n_freqs * set->n_eccs * set->n_vels, n_alias = 0;
+    for (int v = 0; v < set->n_vels; v++)
+        for (int f = 0; f < set->n_freqs; f++)
+            n_alias +=
+                csf_motion_aliases(&(csf_cell){set->freqs[f], 0, set->vels[v]}, refresh_hz) * set->n_eccs;
+    int per_cell = strcmp(set->method, "bayes") != 0;
+    char limits[700];
+    csf_motion_limits_text(set->freqs, set->n_freqs, set->vels, set->n_vels, refresh_hz, limits,
+                           sizeof limits);
+    if (n_alias > 0 && per_cell)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--velocities: %d of %d cells drift too fast for this display (a temporal "
+                             "frequency v*f at or above half the refresh rate aliases): %s. --method %s "
+                             "measures each cell on its own and cannot predict them: drop those velocities "
+                             "or frequencies, or use --method bayes, which predicts them",
+                             n_alias, n_cells, limits, set->method);
+    int n_shown = n_cells - n_alias;
+    if (n_shown == 0)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--velocities: no cell can be shown on this display: %s",
+                             limits);
+    if (R->default_budget)
+        set->trials = DEFAULT_TRIALS_PER_CELL * n_shown > 5000 ? 5000 : DEFAULT_TRIALS_PER_CELL * n_shown;
+    int need = (per_cell ? MIN_TRIALS_PER_CELL : 1) * n_shown;
+    if (set->trials < need)
+        return csf_error_set(
+            err, CSF_E_INVALID_ARG,
+            "--trials %d: the grid has %d cells this display can show and --method %s needs at "
+            "least %d trials for it (about %.0f minutes of the person's time); give --trials %d "
+            "or fewer cells",
+            set->trials, n_shown, set->method, need, expected_session_s(R, need, 0.0) / 60.0, need);
+    if (n_alias > 0 && !R->opt->quiet)
+        fprintf(stderr,
+                "csfcal: observer: %d of %d cells cannot be shown (%s); the table holds the "
+                "method's prediction there, with its stated error\n",
+                n_alias, n_cells, limits);
+    return CSF_OK;
+}
+
 /* The session's row in the store: a new one now that every check has passed, or the resumed one
  * set running again. */
 static csf_status open_session_row(obs_run *R, csf_error *err)
@@ -1343,13 +1457,20 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
     session_res *S = &R->S;
     const session_settings *set = &R->set;
     csf_obs_result *res = R->res;
-    int n_cells = R->n_cells = set->n_freqs * set->n_eccs;
+    int n_vel = set->n_vels > 0 ? set->n_vels : 1;
+    int n_cells = R->n_cells = set->n_freqs * set->n_eccs * n_vel;
     S->cells = malloc((size_t)n_cells * sizeof *S->cells);
     S->est = malloc((size_t)n_cells * sizeof *S->est);
-    if (!S->cells || !S->est) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    for (int e = 0; e < set->n_eccs; e++)
-        for (int f = 0; f < set->n_freqs; f++)
-            S->cells[e * set->n_freqs + f] = (csf_cell){set->freqs[f], set->eccs[e], 0};
+    S->not_shown = calloc((size_t)n_cells, 1);
+    if (!S->cells || !S->est || !S->not_shown) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    /* the table's node order: velocity, then eccentricity, then frequency */
+    for (int v = 0; v < n_vel; v++)
+        for (int e = 0; e < set->n_eccs; e++)
+            for (int f = 0; f < set->n_freqs; f++)
+                S->cells[(v * set->n_eccs + e) * set->n_freqs + f] =
+                    (csf_cell){set->freqs[f], set->eccs[e], set->n_vels > 0 ? set->vels[v] : 0};
+    R->n_not_shown =
+        csf_motion_mark_not_shown(S->cells, n_cells, csf_presenter_refresh_hz(S->pres), S->not_shown);
     csf_status st = csf_store_get_trials(S->store, R->sid, &S->stored, &R->n_stored, err);
     if (st != CSF_OK) return st;
     res->n_stored = (int)R->n_stored;
@@ -1380,7 +1501,7 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
     who->resp = S->resp;
     who->pres = S->pres;
     who->geom = csf_presenter_geometry(S->pres);
-    R->run = (runner){S->pres, who, R->mean_lum_cdm2, 1.0 / csf_presenter_refresh_hz(S->pres)};
+    R->run = (runner){S->pres, who, R->mean_lum_cdm2, 1.0 / csf_presenter_refresh_hz(S->pres), 1};
     return CSF_OK;
 }
 
@@ -1483,6 +1604,7 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
     setup.reaction_latency_s = isfinite(res->latency_s) ? res->latency_s : 0;
     setup.n_alternatives = res->n_cells_four_place > 0 ? S->n_alt : NULL;
     setup.fade_anchor_share = set->fade_anchors > 0 ? set->fade_anchors : -1;
+    setup.not_shown = R->n_not_shown > 0 ? S->not_shown : NULL;
     csf_status st = S->ops->create(&setup, &S->proc, err);
     if (st != CSF_OK) return st;
     R->trial_index = 0;
@@ -1604,6 +1726,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
         }
         const csf_cell *c = &S->cells[plan.cell];
         trial_result tr;
+        R->run.drift_sign = csf_motion_direction(R->seed, (uint64_t)ti, set->drift_direction);
         st = plan.task == CSF_TASK_FADE ? run_fade(&R->run, (uint64_t)ti, c, &plan, polar, 0, &tr, err)
              : four ? run_4afc(&R->run, (uint64_t)ti, c, &plan, &S->layouts[plan.cell], &tr, err)
                     : run_2afc(&R->run, (uint64_t)ti, c, &plan, polar, &tr, err);
@@ -1708,6 +1831,8 @@ static void tally_cells(obs_run *R, reliability *rel)
     const session_res *S = &R->S;
     csf_obs_result *res = R->res;
     res->n_cells = R->n_cells;
+    res->n_vels = R->set.n_vels;
+    res->n_not_shown = R->n_not_shown;
     double *ses = malloc((size_t)R->n_cells * sizeof *ses);
     int n_se = 0;
     for (int k = 0; k < R->n_cells; k++) {
@@ -1785,8 +1910,10 @@ static csf_status judge_session(obs_run *R, csf_error *err)
     csf_threshold_row *rows = calloc((size_t)R->n_cells, sizeof *rows);
     if (!rows) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int k = 0; k < R->n_cells; k++)
-        rows[k] = (csf_threshold_row){S->cells[k].freq_cpd, S->cells[k].ecc_deg, 0, csf_round9(R->mean_lum_cdm2),
-                                      S->est[k].threshold, S->est[k].stderr_log10, S->est[k].n_trials};
+        rows[k] = (csf_threshold_row){S->cells[k].freq_cpd,     S->cells[k].ecc_deg,
+                                      S->cells[k].velocity_dps, csf_round9(R->mean_lum_cdm2),
+                                      S->est[k].threshold,      S->est[k].stderr_log10,
+                                      S->est[k].n_trials};
     st = csf_store_put_thresholds(S->store, R->sid, rows, (size_t)R->n_cells, err);
     free(rows);
     if (st != CSF_OK) return st;
@@ -1839,6 +1966,8 @@ static csf_status write_table(obs_run *R, csf_error *err)
     b.n_ecc = set->n_eccs;
     b.freq_cpd = set->freqs;
     b.ecc_deg = set->eccs;
+    b.n_vel = set->n_vels;
+    b.vel_dps = set->n_vels > 0 ? set->vels : NULL;
     b.threshold = thr;
     b.stderr_log10 = se;
     b.observer = obs_desc;
@@ -1892,6 +2021,23 @@ static csf_status finish_session(obs_run *R, csf_error *err)
     return CSF_OK;
 }
 
+/* Before the first trial: how long the trials still to run should take the person. */
+static void say_expected_time(obs_run *R)
+{
+    int done = 0;
+    for (size_t i = 0; i < R->n_stored; i++) done += !R->S.stored[i].is_practice;
+    int left = R->set.trials - done;
+    if (left < 0) left = 0;
+    double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
+    R->res->expected_person_s = expected_session_s(R, left, share_four);
+    if (done > 0) R->res->expected_person_s -= R->set.practice * expected_trial_s(R, 0);
+    if (R->opt->quiet) return;
+    char cells[96] = "";
+    if (R->n_not_shown > 0) snprintf(cells, sizeof cells, ", %d of them predicted only", R->n_not_shown);
+    fprintf(stderr, "csfcal: observer: %d trials over %d cells%s: about %.1f minutes of the person's time\n",
+            left, R->n_cells, cells, R->res->expected_person_s / 60.0);
+}
+
 /* The trials and what follows them, with SIGINT/SIGTERM turned into a pause meanwhile. */
 static csf_status run_trials_and_table(obs_run *R, csf_error *err)
 {
@@ -1901,9 +2047,12 @@ static csf_status run_trials_and_table(obs_run *R, csf_error *err)
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     stop_requested = 0;
+    say_expected_time(R);
+    R->person_t0_s = csf_presenter_time(R->S.pres);
     csf_status st = run_practice(R, err);
     if (st == CSF_OK) st = replay_stored(R, err);
     if (st == CSF_OK) st = run_main_trials(R, err);
+    R->res->person_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
     if (st == CSF_OK) st = judge_session(R, err);
     if (st == CSF_OK) st = write_table(R, err);
     if (st == CSF_OK) st = finish_session(R, err);
@@ -1958,6 +2107,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
     if (st == CSF_OK) st = open_method_and_person(R, err);
     if (st == CSF_OK) st = open_display_side(R, err);
+    if (st == CSF_OK && !R->sid) st = check_motion_grid(R, err);
     if (st == CSF_OK) st = open_session_row(R, err);
     if (st == CSF_OK) st = prepare_cells(R, err);
     if (st == CSF_OK) st = run_trials_and_table(R, err);
@@ -2011,6 +2161,10 @@ void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const ch
     json_object_set_new(o, "afc", json_integer(r->afc));
     json_object_set_new(o, "four_place_cells", json_integer(r->n_cells_four_place));
     json_object_set_new(o, "four_place_trials", json_integer(r->n_four_place));
+    json_object_set_new(o, "velocities", json_integer(r->n_vels));
+    json_object_set_new(o, "cells_not_shown", json_integer(r->n_not_shown));
+    json_object_set_new(o, "expected_person_s", num_or_null(r->expected_person_s));
+    json_object_set_new(o, "person_s", num_or_null(r->person_s));
     json_object_set_new(o, "fade_anchor_trials", json_integer(r->n_fade_anchors));
     json_object_set_new(o, "fade_offset_log10", num_or_null(r->fade_offset_log10));
     json_object_set_new(o, "fade_offset_sd_log10", num_or_null(r->fade_offset_sd_log10));

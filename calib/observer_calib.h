@@ -33,7 +33,8 @@ typedef struct {
                                    at each velocity (deg/s, 0 = static) and the table is 3-D */
     int drift_direction;        /* 0 = each trial's drift direction drawn at random (default);
                                    +1 / -1 = always along / against the carrier's modulation axis */
-    int trials;                 /* budget of main trials (default 120) */
+    int trials;                 /* budget of main trials (0 = default: 120; with velocities 5 per
+                                   cell the display can show) */
     int practice;               /* practice trials (default 3; -1 = default) */
     int break_every;            /* trials between breaks (default 40) */
     uint64_t seed;

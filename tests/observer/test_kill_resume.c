@@ -27,6 +27,7 @@ static const char *csfcal;
 static char dir[] = "/tmp/csfcal-killtest-XXXXXX";
 
 static const char *afc_arg = "4";
+static const char *vel_arg = NULL; /* --velocities of the case (NULL: static gratings) */
 
 static pid_t spawn_n(const char *method, const char *store, const char *out, int resume, const char *trials)
 {
@@ -44,6 +45,10 @@ static pid_t spawn_n(const char *method, const char *store, const char *out, int
                                 "--trials", trials, "--practice", "2", "--store", store, "--out", out,
                                 "--quiet", "--headless", "--afc", afc_arg};
         int n = 25;
+        if (vel_arg) {
+            args[n++] = "--velocities";
+            args[n++] = vel_arg;
+        }
         if (resume) {
             args[n++] = "--resume";
             args[n++] = rid;
@@ -134,9 +139,9 @@ static void compare_trials(const csf_trial *a, const csf_trial *b, size_t n)
         int same = a[i].is_catch == b[i].is_catch && a[i].is_practice == b[i].is_practice &&
                    a[i].response == b[i].response && a[i].valid == b[i].valid &&
                    a[i].signal_interval == b[i].signal_interval && a[i].frames_shown == b[i].frames_shown &&
-                   a[i].n_alternatives == b[i].n_alternatives &&
-                   same_double(a[i].freq_cpd, b[i].freq_cpd) && same_double(a[i].ecc_deg, b[i].ecc_deg) &&
-                   same_double(a[i].polar_deg, b[i].polar_deg) &&
+                   a[i].n_alternatives == b[i].n_alternatives && same_double(a[i].freq_cpd, b[i].freq_cpd) &&
+                   same_double(a[i].ecc_deg, b[i].ecc_deg) && same_double(a[i].polar_deg, b[i].polar_deg) &&
+                   same_double(a[i].velocity_dps, b[i].velocity_dps) &&
                    same_double(a[i].contrast_requested, b[i].contrast_requested) &&
                    same_double(a[i].contrast_shown_max, b[i].contrast_shown_max) &&
                    same_double(a[i].rt_s, b[i].rt_s) && same_double(a[i].click_x_deg, b[i].click_x_deg) &&
@@ -176,6 +181,7 @@ static void compare_tables(const char *pa, const char *pb)
 static void run_case(const char *method, const char *afc, uint64_t seed, int n_kills, int want_four)
 {
     afc_arg = afc;
+    if (vel_arg) afc = "4v"; /* the files' names */
     char ref_store[512], ref_out[512], store[512], out[512];
     snprintf(ref_store, sizeof ref_store, "%s/ref-%s-%s.sqlite", dir, method, afc);
     snprintf(ref_out, sizeof ref_out, "%s/ref-%s-%s.csflut", dir, method, afc);
@@ -320,6 +326,10 @@ int main(int argc, char **argv)
     run_case("fade", "4", 11, 12, 0);
     run_case("2afc", "2", 12, 12, 0);
     run_case("bayes", "4", 13, 12, 1);
+    /* a drifting grid: the direction of each trial's drift and the cells the 60 Hz display cannot
+     * show (8 cpd at 6 deg/s) must come back the same after every kill */
+    vel_arg = "0,6";
+    run_case("bayes", "4", 14, 8, 1);
     if (CHECK_RESULT() == 0) {
         char cmd[600];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
