@@ -65,4 +65,29 @@ refused "fade past the refresh limit" "16 cpd allows velocities below 3.75 deg/s
 refused "2afc past the refresh limit" "use --method bayes" --method 2afc --velocities 0,12 --freqs 1,8
 refused "budget too small for the grid" "needs at least" --velocities 0,4,12 --trials 10
 refused "bad drift direction" "random, forward, backward" --velocities 0,4 --drift-direction sideways
+# 4. The static slice of a 3-D table and a static session of the same simulated person agree
+#    within their stated errors (bayes, two seeds each; cells visible in both).
+run --store "$T/s.sqlite" --freqs 1,2,4,8 --eccs 0,10 --trials 60 --seed 21 --out "$T/static.csflut" >/dev/null 2>&1
+run --store "$T/m.sqlite" --velocities 0,4 --freqs 1,2,4,8 --eccs 0,10 --seed 22 --out "$T/moving.csflut" >/dev/null 2>&1
+"$CSFCAL" lut export "$T/static.csflut" --format csv --raw > "$T/static.csv"
+"$CSFCAL" lut export "$T/moving.csflut" --format csv --raw > "$T/moving.csv"
+check "static slice agrees with a static session within the stated errors" python3 - "$T/static.csv" "$T/moving.csv" <<'PY'
+import csv, math, sys
+def rows(path):
+    return [r for r in csv.DictReader(l for l in open(path) if not l.startswith("#"))]
+s = {(float(r["freq_cpd"]), float(r["ecc_deg"])): r for r in rows(sys.argv[1])}
+m = {(float(r["freq_cpd"]), float(r["ecc_deg"])): r for r in rows(sys.argv[2]) if float(r["velocity_dps"]) == 0}
+assert len(s) == 8 and len(m) == 8, (len(s), len(m))
+n = ok = 0
+for k in s:
+    a, b = s[k], m[k]
+    ta, tb = float(a["threshold"]), float(b["threshold"])
+    if not (math.isfinite(ta) and math.isfinite(tb)):
+        continue
+    se = math.hypot(float(a["stderr_log10"]), float(b["stderr_log10"]))
+    n += 1
+    ok += abs(math.log10(ta) - math.log10(tb)) <= 2.0 * se
+    print(k, round(math.log10(ta), 3), round(math.log10(tb), 3), "se", round(se, 3))
+assert n >= 6 and ok >= n - 1, (n, ok)
+PY
 exit $fail
