@@ -47,6 +47,12 @@
 #define PRACTICE_S 2.0
 #define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
 #define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
+#define PRECISION_CAP_PER_CELL 40 /* --precision without --trials: the cap (960 over 24 cells) */
+/* The RMS stated error a session reaches with n trials per cell is about this over sqrt(n) (bayes
+ * and the per-cell methods alike, within a factor of about 1.5, from simulated sessions); only used
+ * to warn that a --precision is out of the cap's reach. */
+#define REACH_LOG10_SQRT_TRIALS 0.25
+#define PRECISION_MIN_TRIALS 10 /* no stop before this many trials: the prior alone is not a table */
 #define FA_LIMIT 0.3            /* refuse a table when more catch trials than this were pressed */
 #define FA_MIN_CATCH 4
 #define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
@@ -95,6 +101,13 @@ void csf_obs_options_defaults(csf_obs_options *o)
 /* ---- settings (stored with the session, read back on resume) --------------------------------- */
 
 typedef csf_obs_settings session_settings;
+
+/* The default budget per cell: the static default's rate, or a cap when the session stops at a
+ * precision instead. */
+static int default_trials_per_cell(const session_settings *set)
+{
+    return set->precision > 0 ? PRECISION_CAP_PER_CELL : DEFAULT_TRIALS_PER_CELL;
+}
 
 /* ---- the person: simulated or human behind the same few calls --------------------------------- */
 
@@ -1140,7 +1153,6 @@ typedef struct {
     int default_budget;       /* the budget is the default for this grid (set once the display is known) */
     int n_not_shown;          /* cells whose drift this display cannot show */
     double person_t0_s;       /* presenter clock when this run's first trial began */
-    double person_rt_s;       /* simulated response times (the virtual clock does not run for them) */
 } obs_run;
 
 /* A resumed session's settings, from the store; a session that cannot be resumed says why. */
@@ -1202,7 +1214,13 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     snprintf(set->observer, sizeof set->observer, "%s", spec);
     /* With a velocity axis the default budget grows with the grid (5 trials per cell shown: the
      * static default's rate); the cells a display cannot show are taken off once it is open. */
-    set->trials = opt->trials > 0 ? opt->trials : opt->n_vels > 0 ? 0 : 120;
+    set->trials = opt->trials > 0 ? opt->trials : (opt->n_vels > 0 || opt->precision_log10 > 0) ? 0 : 120;
+    set->precision = opt->precision_log10;
+    if (opt->precision_log10 != 0 && !(opt->precision_log10 >= 0.001 && opt->precision_log10 <= 2.0))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--precision %g: expected a predicted RMS error from 0.001 "
+                             "to 2 log10 units",
+                             opt->precision_log10);
     set->n_vels = opt->n_vels;
     set->drift_direction = opt->drift_direction;
     if (opt->n_vels < 0 || opt->n_vels > CSF_OBS_MAX_AXIS)
@@ -1244,7 +1262,8 @@ static csf_status new_settings(obs_run *R, csf_error *err)
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
     if (set->trials == 0) {
         R->default_budget = 1;
-        set->trials = DEFAULT_TRIALS_PER_CELL * set->n_freqs * set->n_eccs * set->n_vels;
+        int n_vel = set->n_vels > 0 ? set->n_vels : 1;
+        set->trials = default_trials_per_cell(set) * set->n_freqs * set->n_eccs * n_vel;
         if (set->trials > 5000) set->trials = 5000;
     }
     /* Any order is accepted and sorted (the table's axes increase); a value given twice is
@@ -1401,11 +1420,14 @@ static csf_status check_motion_grid(obs_run *R, csf_error *err)
                              "or frequencies, or use --method bayes, which predicts them",
                              n_alias, n_cells, limits, set->method);
     int n_shown = n_cells - n_alias;
+    R->n_not_shown = n_alias;
     if (n_shown == 0)
         return csf_error_set(err, CSF_E_INVALID_ARG, "--velocities: no cell can be shown on this display: %s",
                              limits);
-    if (R->default_budget)
-        set->trials = DEFAULT_TRIALS_PER_CELL * n_shown > 5000 ? 5000 : DEFAULT_TRIALS_PER_CELL * n_shown;
+    if (R->default_budget) {
+        int per = default_trials_per_cell(set);
+        set->trials = per * n_shown > 5000 ? 5000 : per * n_shown;
+    }
     int need = (per_cell ? MIN_TRIALS_PER_CELL : 1) * n_shown;
     if (set->trials < need)
         return csf_error_set(
@@ -1420,6 +1442,21 @@ static csf_status check_motion_grid(obs_run *R, csf_error *err)
                 "method's prediction there, with its stated error\n",
                 n_alias, n_cells, limits);
     return CSF_OK;
+}
+
+/* A --precision the cap cannot be expected to reach is said, with the estimate, and run anyway:
+ * the person's answers decide, and the table is written either way. */
+static void warn_precision_reach(const obs_run *R)
+{
+    const session_settings *set = &R->set;
+    int n_shown = set->n_freqs * set->n_eccs * (set->n_vels > 0 ? set->n_vels : 1) - R->n_not_shown;
+    if (set->precision <= 0 || n_shown <= 0 || R->opt->quiet) return;
+    double reach = REACH_LOG10_SQRT_TRIALS / sqrt((double)set->trials / n_shown);
+    if (set->precision < reach)
+        fprintf(stderr,
+                "csfcal: observer: --precision %g log10 is probably out of reach of the cap of %d trials "
+                "over %d cells (expect about %.2f log10 there); running to the cap\n",
+                set->precision, set->trials, n_shown, reach);
 }
 
 /* The session's row in the store: a new one now that every check has passed, or the resumed one
@@ -1694,6 +1731,41 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
     return CSF_OK;
 }
 
+/* The table's predicted RMS error: the root mean square of the method's stated errors over the
+ * cells it would write as visible and the display can show (NaN when none has one). */
+static double predicted_rms(obs_run *R)
+{
+    csf_error e;
+    if (R->S.ops->estimate(R->S.proc, R->S.est, &e) != CSF_OK) return NAN;
+    double sum = 0;
+    int n = 0;
+    for (int k = 0; k < R->n_cells; k++) {
+        const csf_cell_estimate *c = &R->S.est[k];
+        if (R->S.not_shown[k] || !isfinite(c->threshold) || !isfinite(c->stderr_log10)) continue;
+        sum += c->stderr_log10 * c->stderr_log10;
+        n++;
+    }
+    return n ? sqrt(sum / n) : NAN;
+}
+
+/* --precision: whether the predicted error has reached the target after n main trials; progress on
+ * the experimenter's terminal (people: every 10 trials; simulations: every 50). */
+static int precision_reached(obs_run *R, int n)
+{
+    double rms = predicted_rms(R);
+    int reached = n >= PRECISION_MIN_TRIALS && rms <= R->set.precision;
+    int every = R->S.sim ? 50 : 10;
+    if (!R->opt->quiet && (n % every == 0 || reached)) {
+        double spent = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+        fprintf(stderr,
+                "csfcal: observer: trial %d (cap %d): predicted error %.3f log10, target %.3f; %.1f min "
+                "so far\n",
+                n, R->set.trials, rms, R->set.precision, spent / 60.0);
+    }
+    if (reached) R->res->reached_precision = 1;
+    return reached;
+}
+
 /* The main trials, each stored (durably) before the procedure sees it and before the next is
  * shown. A pause or a signal leaves the session paused, resumable. */
 static csf_status run_main_trials(obs_run *R, csf_error *err)
@@ -1750,7 +1822,11 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
         if (four) res->n_four_place++;
         csf_trial_outcome o = outcome_of(&t, S->ops->task);
         S->ops->update(S->proc, ti, &plan, &o);
-        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0)
+        if (set->precision > 0 && precision_reached(R, ti + 1)) {
+            R->trial_index++;
+            break;
+        }
+        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0)
             fprintf(stderr, "csfcal: observer: %d of %d trials\n", ti + 1, set->trials);
     }
     if (who->paused || stop_requested) {
@@ -1895,6 +1971,8 @@ static csf_status judge_session(obs_run *R, csf_error *err)
 {
     session_res *S = &R->S;
     csf_obs_result *res = R->res;
+    res->predicted_rms_log10 = predicted_rms(R);
+    res->precision_log10 = R->set.precision;
     csf_status st = S->ops->estimate(S->proc, S->est, err);
     if (st != CSF_OK) return st;
     if (!S->ops->task_offset ||
@@ -2027,6 +2105,12 @@ static void say_expected_time(obs_run *R)
     int done = 0;
     for (size_t i = 0; i < R->n_stored; i++) done += !R->S.stored[i].is_practice;
     int left = R->set.trials - done;
+    if (R->set.precision > 0) {
+        /* the trials the precision should take (REACH_LOG10_SQRT_TRIALS), within the cap */
+        int n_shown = R->n_cells - R->n_not_shown;
+        double need = n_shown * pow(REACH_LOG10_SQRT_TRIALS / R->set.precision, 2.0);
+        if (need < left) left = (int)ceil(need) - done;
+    }
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
     R->res->expected_person_s = expected_session_s(R, left, share_four);
@@ -2034,8 +2118,11 @@ static void say_expected_time(obs_run *R)
     if (R->opt->quiet) return;
     char cells[96] = "";
     if (R->n_not_shown > 0) snprintf(cells, sizeof cells, ", %d of them predicted only", R->n_not_shown);
-    fprintf(stderr, "csfcal: observer: %d trials over %d cells%s: about %.1f minutes of the person's time\n",
-            left, R->n_cells, cells, R->res->expected_person_s / 60.0);
+    char cap[64] = "";
+    if (R->set.precision > 0) snprintf(cap, sizeof cap, " (cap %d)", R->set.trials);
+    fprintf(
+        stderr, "csfcal: observer: %s%d trials%s over %d cells%s: about %.1f minutes of the person's time\n",
+        R->set.precision > 0 ? "about " : "", left, cap, R->n_cells, cells, R->res->expected_person_s / 60.0);
 }
 
 /* The trials and what follows them, with SIGINT/SIGTERM turned into a pause meanwhile. */
@@ -2066,26 +2153,33 @@ static void summarise(const obs_run *R)
 {
     const csf_obs_result *res = R->res;
     const csf_obs_options *opt = R->opt;
-    char four_note[48] = "", offset_note[120] = "";
+    char four_note[48] = "", offset_note[120] = "", precision_note[200];
     if (res->n_cells_four_place > 0)
         snprintf(four_note, sizeof four_note, " (%d with four places)", res->n_cells_four_place);
     if (isfinite(res->fade_offset_log10))
         snprintf(offset_note, sizeof offset_note, ", yes/no - forced choice %+.3f +- %.3f log10 (%d anchors)",
                  res->fade_offset_log10, res->fade_offset_sd_log10, res->n_fade_anchors);
+    snprintf(precision_note, sizeof precision_note,
+             ", predicted RMS error %.3f log10%s, person time %.1f min", res->predicted_rms_log10,
+             res->precision_log10 > 0
+                 ? (res->reached_precision ? " (--precision reached)" : " (--precision not reached)")
+                 : "",
+             res->person_s / 60.0);
     snprintf(R->res->summary, sizeof R->res->summary,
              "observer session %lld: %s, %d trials (%d valid, %d catch with %d false alarms, %d invalid "
-             "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10%s -> %s%s%s",
+             "clicks, %d lapses), %d cells%s: %d visible, %d not visible, median se %.3f log10%s%s -> %s%s%s",
              (long long)res->session_id, res->method, res->n_trials, res->n_valid, res->n_catch,
-             res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note, res->n_visible,
-             res->n_invisible, res->median_se_log10, offset_note, opt->out_path,
-             opt->plot_path && *opt->plot_path ? ", " : "", opt->plot_path ? opt->plot_path : "");
+             res->n_false_alarms, res->n_invalid_click, res->n_lapses, res->n_cells, four_note,
+             res->n_visible, res->n_invisible, res->median_se_log10, offset_note, precision_note,
+             opt->out_path, opt->plot_path && *opt->plot_path ? ", " : "",
+             opt->plot_path ? opt->plot_path : "");
 }
 
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
 {
     memset(res, 0, sizeof *res);
     res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
-    res->fa_rate = res->latency_s = res->median_se_log10 = NAN;
+    res->fa_rate = res->latency_s = res->median_se_log10 = res->predicted_rms_log10 = NAN;
     struct timespec w0;
     clock_gettime(CLOCK_MONOTONIC, &w0);
     if (!opt->out_path || !*opt->out_path)
@@ -2108,6 +2202,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     if (st == CSF_OK) st = open_method_and_person(R, err);
     if (st == CSF_OK) st = open_display_side(R, err);
     if (st == CSF_OK && !R->sid) st = check_motion_grid(R, err);
+    if (st == CSF_OK && !R->sid) warn_precision_reach(R);
     if (st == CSF_OK) st = open_session_row(R, err);
     if (st == CSF_OK) st = prepare_cells(R, err);
     if (st == CSF_OK) st = run_trials_and_table(R, err);
@@ -2165,6 +2260,10 @@ void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const ch
     json_object_set_new(o, "cells_not_shown", json_integer(r->n_not_shown));
     json_object_set_new(o, "expected_person_s", num_or_null(r->expected_person_s));
     json_object_set_new(o, "person_s", num_or_null(r->person_s));
+    json_object_set_new(o, "precision_log10",
+                        r->precision_log10 > 0 ? json_real(r->precision_log10) : json_null());
+    json_object_set_new(o, "reached_precision", json_boolean(r->reached_precision));
+    json_object_set_new(o, "predicted_rms_log10", num_or_null(r->predicted_rms_log10));
     json_object_set_new(o, "fade_anchor_trials", json_integer(r->n_fade_anchors));
     json_object_set_new(o, "fade_offset_log10", num_or_null(r->fade_offset_log10));
     json_object_set_new(o, "fade_offset_sd_log10", num_or_null(r->fade_offset_sd_log10));

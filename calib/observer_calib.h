@@ -34,7 +34,11 @@ typedef struct {
     int drift_direction;        /* 0 = each trial's drift direction drawn at random (default);
                                    +1 / -1 = always along / against the carrier's modulation axis */
     int trials;                 /* budget of main trials (0 = default: 120; with velocities 5 per
-                                   cell the display can show) */
+                                   cell the display can show); with precision_log10 the cap
+                                   (0 = default: 40 per cell shown) */
+    double precision_log10;     /* > 0: stop once the table's predicted RMS error over its visible
+                                   cells (from the method's own per-cell errors) is at or below this
+                                   (log10 units); 0 = a fixed budget */
     int practice;               /* practice trials (default 3; -1 = default) */
     int break_every;            /* trials between breaks (default 40) */
     uint64_t seed;
@@ -82,6 +86,10 @@ typedef struct {
     double fade_offset_log10, fade_offset_sd_log10; /* fade: the person's yes/no - forced-choice
                                    threshold offset the anchors measured (NaN: no anchors planned) */
     int finished_early;         /* the procedure ran out of unstable cells before the budget */
+    int reached_precision;      /* stopped because the predicted error reached --precision */
+    double precision_log10;     /* the --precision asked for (0: a fixed budget) */
+    double predicted_rms_log10; /* the table's predicted RMS error over its visible cells shown:
+                                   the root mean square of the method's stated errors (NaN: none) */
     int table_written;
     int n_stored;               /* trials in the store for this session, practice included */
     int resumable;              /* failed after the session began: it was left paused (every

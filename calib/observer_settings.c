@@ -25,6 +25,7 @@ int csf_obs_settings_to_json(const csf_obs_settings *s, double sigma_deg, char *
         json_object_set_new(o, "vels_dps", vels);
         json_object_set_new(o, "drift_direction", json_integer(s->drift_direction));
     }
+    if (o && s->precision > 0) json_object_set_new(o, "precision_log10", json_real(s->precision));
     char *text = o ? json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(o);
     int rc = text && strlen(text) < len ? 0 : -1;
@@ -61,6 +62,8 @@ int csf_obs_settings_from_json(const char *json, csf_obs_settings *s)
     /* Sessions without a velocity axis stored neither key: static gratings. */
     if (ok) ok = csf_json_get_numbers(d, "vels_dps", s->vels, CSF_OBS_MAX_AXIS, &s->n_vels, &err) >= 0;
     if (ok) ok = csf_json_get_int(d, "drift_direction", -1, 1, &s->drift_direction, &err) >= 0;
+    /* Sessions without it ran a fixed budget. */
+    if (ok) ok = csf_json_get_number(d, "precision_log10", 0.001, 2.0, &s->precision, &err) >= 0;
     else s->afc = 2;
     csf_json_free(d);
     return ok ? 0 : -1;

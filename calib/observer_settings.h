@@ -17,6 +17,7 @@ typedef struct {
     double vels[CSF_OBS_MAX_AXIS]; /* drift velocities, deg/s (n_vels 0: static gratings only) */
     int n_vels;
     int drift_direction; /* 0 random per trial, +1 forward, -1 backward */
+    double precision;    /* > 0: the session stops at this predicted RMS error (log10); trials is the cap */
     int break_every;
     int afc;             /* 2 or 4: forced-choice layout asked for (sessions stored without it: 2) */
     double fade_anchors; /* share of a fade session's trials that are forced-choice anchors, 0-0.5;

@@ -28,7 +28,8 @@ enum {
     OPT_RESPONDER,
     OPT_FADE_ANCHORS,
     OPT_VELOCITIES,
-    OPT_DRIFT_DIRECTION
+    OPT_DRIFT_DIRECTION,
+    OPT_PRECISION
 };
 
 static void usage(FILE *f)
@@ -43,7 +44,11 @@ static void usage(FILE *f)
             "  --plot FILE          report plot (.png, .pdf or .svg)\n"
             "  --method M           bayes (default), fade (Luebke & Hallen 2001 fade-in) or 2afc\n"
             "                       (Psi per cell)\n"
-            "  --trials N           trial budget (default 120, 1 to 5000)\n"
+            "  --trials N           trial budget (default 120, 1 to 5000); with --precision the cap\n"
+            "                       (default 40 per cell)\n"
+            "  --precision SE       stop when the table's predicted RMS error over its visible cells\n"
+            "                       (the method's own stated errors) is at or below SE log10 units,\n"
+            "                       e.g. 0.10; progress and the person's time on the terminal\n"
             "  --afc 2|4            forced-choice layout of bayes and 2afc: 4 (default) shows the\n"
             "                       grating at one of four places at once wherever they fit on the\n"
             "                       screen (guess rate 1/4), two intervals at the fovea; 2 uses two\n"
@@ -128,6 +133,9 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
     case OPT_ECCS:
         o->n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o->eccs_deg, CSF_OBS_MAX_AXIS);
         if (o->n_eccs < 0) return 2;
+        break;
+    case OPT_PRECISION:
+        if (csf_parse_double(optarg, "precision", 0.001, 2.0, &o->precision_log10) < 0) return 2;
         break;
     case OPT_VELOCITIES:
         o->n_vels = csf_parse_double_list(optarg, "velocities", 0, CSF_PROC_MAX_VELOCITY_DPS, o->vels_dps,
@@ -249,6 +257,7 @@ static int parse_calibrate_options(int argc, char **argv, csf_cli *cli, csf_obs_
         {"freqs", required_argument, 0, OPT_FREQS},
         {"eccs", required_argument, 0, OPT_ECCS},
         {"velocities", required_argument, 0, OPT_VELOCITIES},
+        {"precision", required_argument, 0, OPT_PRECISION},
         {"drift-direction", required_argument, 0, OPT_DRIFT_DIRECTION},
         {"trials", required_argument, 0, OPT_TRIALS},
         {"method", required_argument, 0, OPT_METHOD},
