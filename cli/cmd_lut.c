@@ -29,8 +29,10 @@ static const char lut_help[] =
     "threshold is the peak's, and it never falls as frequency or eccentricity rises.\n"
     "  --shift K   lower the conservative view by K standard errors (0 to 10)\n"
     "  --contrast  also say whether that contrast is visible, and the highest visible frequency\n"
+    "  --velocity  deg/s (0 = static, its sign does not matter); default: the table's lowest\n"
     "CSV for import: header freq_cpd,ecc_deg[,velocity_dps][,lum_cdm2],threshold[,stderr_log10],\n"
-    "one row per grid point, 'inf' = never visible, '#' starts a comment.\n";
+    "one row per grid point, 'inf' = never visible, '#' starts a comment, '# meta.KEY: value'\n"
+    "a metadata pair.\n";
 
 enum {
     OPT_FREQ = CSF_OPT_FIRST_FREE, OPT_ECC, OPT_CONTRAST, OPT_VEL, OPT_LUM, OPT_RAW, OPT_SHIFT,
@@ -206,7 +208,10 @@ static int cmd_info(const lut_args *a)
                 if (i) printf(", ");
                 json_num(stdout, p[i]);
             }
-            printf("]}");
+            printf("]");
+            if (ax == CSFLUT_AXIS_VEL && !isnan(csflut_velocity_warp_v0(t)))
+                printf(", \"warp\": \"log(|v| + v0)\", \"warp_v0_dps\": %.17g", csflut_velocity_warp_v0(t));
+            printf("}");
             first = 0;
         }
         printf("], \"nodes\": %zu, \"never_visible_nodes\": %zu, \"has_stderr\": %s", n, n_inf,
@@ -217,7 +222,14 @@ static int cmd_info(const lut_args *a)
         json_num(stdout, peak);
         printf(", \"peak_threshold_fovea\": ");
         json_num(stdout, peak_thr);
-        printf("}\n");
+        printf(", \"meta\": {");
+        for (int k = 0; k < csflut_meta_count(t); k++) {
+            printf(k ? ", " : "");
+            json_str(stdout, csflut_meta_key(t, k));
+            printf(": ");
+            json_str(stdout, csflut_meta_value(t, k));
+        }
+        printf("}}\n");
     } else {
         printf("file:              %s\n", a->file);
         printf("format version:    %d.%d\n", csflut_version_major(t), csflut_version_minor(t));
@@ -233,8 +245,13 @@ static int cmd_info(const lut_args *a)
             int na = csflut_axis_size(t, (csflut_axis)ax);
             if (!na) continue;
             const double *p = csflut_axis_points(t, (csflut_axis)ax);
-            printf("axis %-9s    %d points, %s scale, %g to %g %s:", csflut_axis_name((csflut_axis)ax),
-                   na, csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear",
+            double v0 = ax == CSFLUT_AXIS_VEL ? csflut_velocity_warp_v0(t) : NAN;
+            char scale[48];
+            if (!isnan(v0)) snprintf(scale, sizeof scale, "warp log(|v| + %g)", v0);
+            else
+                snprintf(scale, sizeof scale, "%s scale",
+                         csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear");
+            printf("axis %-9s    %d points, %s, %g to %g %s:", csflut_axis_name((csflut_axis)ax), na, scale,
                    p[0], p[na - 1], csflut_axis_unit((csflut_axis)ax));
             for (int i = 0; i < na; i++) printf(" %g", p[i]);
             printf("\n");
@@ -244,6 +261,11 @@ static int cmd_info(const lut_args *a)
         printf("lowest threshold:  %.4g (sensitivity %.4g)\n", tmin, 1 / tmin);
         printf("fovea peak (%s): %g cpd, threshold %.4g\n", a->raw ? "raw" : "conservative",
                peak, peak_thr);
+        if (csflut_axis_size(t, CSFLUT_AXIS_VEL))
+            printf("(the fovea peak and the 2-D queries are at the lowest velocity, %g deg/s)\n",
+                   csflut_default_velocity(t));
+        for (int k = 0; k < csflut_meta_count(t); k++)
+            printf("meta %-13s %s\n", csflut_meta_key(t, k), csflut_meta_value(t, k));
     }
     csflut_close(t);
     return 0;
@@ -258,6 +280,14 @@ static int cmd_lookup(const lut_args *a)
     csflut_table *t;
     int rc = open_table(a, &t);
     if (rc) return rc;
+    if (a->have_vel && !csflut_axis_size(t, CSFLUT_AXIS_VEL)) {
+        fprintf(stderr,
+                "csfcal: lut lookup: %s has no velocity axis, so --velocity cannot apply "
+                "(csfcal lut info shows the axes)\n",
+                a->file);
+        csflut_close(t);
+        return 2;
+    }
     double vel = a->have_vel ? a->vel : csflut_default_velocity(t);
     double lum = a->have_lum ? a->lum : csflut_default_luminance(t);
     double thr = csflut_threshold4(t, a->freq, a->ecc, vel, lum);
@@ -453,8 +483,9 @@ static int cmd_import(const lut_args *a)
     if (!isnan(a->meanlum)) b->mean_lum_cdm2 = a->meanlum;
     if (a->have_trials) b->trials = (int)a->trials;
     unsigned char *blob = NULL;
-    size_t blen = 0;
-    st = csflut_write_memory_diag(b, &blob, &blen, &d);
+    size_t blen = 0, n_meta = 0;
+    const csflut_meta *meta = csflut_grid_meta(g, &n_meta); /* "# meta.KEY: value" comments */
+    st = csflut_write_memory_meta(b, meta, n_meta, &blob, &blen, &d);
     csflut_grid_free(g);
     if (st) {
         fprintf(stderr, "csfcal: lut import: %s: %s\n", a->out, d.message);

@@ -95,8 +95,22 @@ static double get_f64(const unsigned char *p)
 }
 
 /* ---- validation shared with the writer ------------------------------------------------------ */
-csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, csflut_diag *diag,
-                                size_t where)
+/* With the velocity warp, neighbouring grid points must stay apart in log2(v + v0). */
+static csflut_status check_vel_warp(int n, const double *pts, double v0, csflut_diag *diag, size_t where)
+{
+    for (int i = 1; i < n; i++)
+        if (!(csflut_vel_coord(pts[i], v0, 1) > csflut_vel_coord(pts[i - 1], v0, 1))) {
+            csflut_diag_set(diag, CSFLUT_E_NONMONOTONE, where,
+                            "velocity grid points %d and %d are too close to tell apart in the "
+                            "warp log(v + %g)",
+                            i - 1, i, v0);
+            return CSFLUT_E_NONMONOTONE;
+        }
+    return CSFLUT_OK;
+}
+
+csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, double vel_v0,
+                                csflut_diag *diag, size_t where)
 {
     const char *nm = axis_names[which];
     int required = which < 2;
@@ -139,6 +153,43 @@ csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, 
                 return CSFLUT_E_NONMONOTONE;
             }
     }
+    if (which == CSFLUT_AXIS_VEL && vel_v0 == vel_v0) return check_vel_warp(n, pts, vel_v0, diag, where);
+    return CSFLUT_OK;
+}
+
+csflut_status csflut_check_meta(const char *const *keys, const char *const *vals, size_t n, csflut_diag *diag,
+                                size_t where)
+{
+    if (n > CSFLUT_MAX_META) {
+        csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, where, "%zu metadata pairs (at most %d)", n,
+                        CSFLUT_MAX_META);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    for (size_t i = 0; i < n; i++) {
+        const char *k = keys[i], *v = vals[i];
+        size_t kl = k ? strlen(k) : 0, vl = v ? strlen(v) : 0;
+        int ok = kl >= 1 && kl <= CSFLUT_MAX_META_KEY;
+        for (size_t c = 0; c < kl && ok; c++)
+            ok = (k[c] >= 'a' && k[c] <= 'z') || (k[c] >= 'A' && k[c] <= 'Z') ||
+                 (k[c] >= '0' && k[c] <= '9') || k[c] == '_' || k[c] == '.' || k[c] == '-';
+        if (!ok) {
+            csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, where,
+                            "metadata key %zu is not 1 to %d of A-Z a-z 0-9 _ . -", i, CSFLUT_MAX_META_KEY);
+            return CSFLUT_E_BAD_METADATA;
+        }
+        if (!v || vl > CSFLUT_MAX_STRING || strpbrk(v, "\r\n")) {
+            csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, where,
+                            "metadata value of %s is missing, over %d bytes, or contains a line "
+                            "break",
+                            k, CSFLUT_MAX_STRING);
+            return CSFLUT_E_BAD_METADATA;
+        }
+        for (size_t j = 0; j < i; j++)
+            if (strcmp(keys[j], k) == 0) {
+                csflut_diag_set(diag, CSFLUT_E_BAD_METADATA, where, "metadata key %s appears twice", k);
+                return CSFLUT_E_BAD_METADATA;
+            }
+    }
     return CSFLUT_OK;
 }
 
@@ -174,14 +225,17 @@ static int bucket_of(const csflut_axis_fast *a, double x)
     return (int)((x - a->lo) * a->bucket_scale);
 }
 
-static csflut_status axis_fast_init(csflut_axis_fast *a, const double *pts, int n, int logscale)
+/* coord: 0 linear, 1 log2, 2 the velocity warp log2(v + v0) */
+static csflut_status axis_fast_init(csflut_axis_fast *a, const double *pts, int n, int coord, double v0)
 {
     a->n = n < 2 ? 2 : n;
     a->node = calloc((size_t)a->n, sizeof(double));
     a->inv_step = malloc(sizeof(double) * (size_t)(a->n - 1));
     a->next = malloc(sizeof(double) * (size_t)a->n);
     if (!a->node || !a->inv_step || !a->next) return CSFLUT_E_NOMEM;
-    for (int i = 0; i < n; i++) a->node[i] = logscale ? csflut_log2(pts[i]) : pts[i];
+    for (int i = 0; i < n; i++)
+        a->node[i] =
+            coord == 2 ? csflut_vel_coord(pts[i], v0, 1) : (coord == 1 ? csflut_log2(pts[i]) : pts[i]);
     if (n == 1) a->node[1] = a->node[0] + 1.0; /* padded node carries the same values */
     for (int i = 0; i + 1 < a->n; i++) a->inv_step[i] = 1.0 / (a->node[i + 1] - a->node[i]);
     /* On the last node the weight must be exactly 1 (edge queries return the stored value bit for
@@ -296,6 +350,13 @@ static void axis_locate(const csflut_table *t, int ax, double x, int *i0, int *i
         *i1 = *i0 + 1;
         return;
     }
+    if (ax == CSFLUT_AXIS_VEL) { /* the fast axis too: csflut_threshold3 and 4 agree */
+        double c =
+            clampd(csflut_vel_coord(x, t->vel_v0, t->scale[ax] == CSFLUT_SCALE_LOG), t->vx.lo, t->vx.hi);
+        *i0 = axis_fast_locate(&t->vx, c, w);
+        *i1 = *i0 + 1;
+        return;
+    }
     int lg = t->scale[ax] == CSFLUT_SCALE_LOG;
     double lo = p[0], hi = p[n - 1];
     double xc = x < lo ? lo : (x > hi ? hi : x);
@@ -402,6 +463,36 @@ static void compute_slice(csflut_table *t, const double *vals, double *slice)
         }
 }
 
+/* Per velocity node, the (frequency, eccentricity) slice of log2 thresholds at the default
+ * luminance, padded like the 2-D slice (a one-point velocity axis repeats its slice). */
+static void compute_slice3(csflut_table *t, const double *vals, double *slice)
+{
+    int nf = t->fx.n, ne = t->ex.n, nv = t->vx.n;
+    int l0 = 0, l1 = 0;
+    double wl = 0;
+    if (t->n[3] > 0) axis_locate(t, CSFLUT_AXIS_LUM, t->def_lum, &l0, &l1, &wl);
+    for (int v = 0; v < nv; v++)
+        for (int e = 0; e < ne; e++)
+            for (int f = 0; f < nf; f++) {
+                int fs = f < t->n[0] ? f : t->n[0] - 1, es = e < t->n[1] ? e : t->n[1] - 1;
+                int vs = v < t->n[2] ? v : t->n[2] - 1;
+                double r = to_log(t, vals[node_index(t, fs, es, vs, l0)]);
+                if (t->n[3] > 0) r = lerp(r, to_log(t, vals[node_index(t, fs, es, vs, l1)]), wl);
+                slice[((size_t)v * (size_t)ne + (size_t)e) * (size_t)nf + (size_t)f] = r;
+            }
+}
+
+/* Every derived slice of both views. */
+static void compute_slices(csflut_table *t)
+{
+    compute_slice(t, t->raw, t->slice_raw);
+    compute_slice(t, t->cons, t->slice_cons);
+    if (t->n[2] > 0) {
+        compute_slice3(t, t->raw, t->slice3_raw);
+        compute_slice3(t, t->cons, t->slice3_cons);
+    }
+}
+
 /* The cap for invisible nodes, in log2 units: at least one octave above both the highest
  * displayable Michelson contrast (1) and the highest finite threshold of the table, so it is
  * above every visible value and a blend towards it stays finite; rounded up to a power of two so
@@ -426,17 +517,26 @@ csflut_status csflut_table_finish(csflut_table *t)
     t->cons = malloc(sizeof(double) * t->n_nodes);
     if (!t->cons) return CSFLUT_E_NOMEM;
     t->cap_log2 = compute_cap_log2(t);
-    csflut_status st = axis_fast_init(&t->fx, t->pts[0], t->n[0], 1);
+    csflut_status st = axis_fast_init(&t->fx, t->pts[0], t->n[0], 1, 0);
     if (st) return st;
-    st = axis_fast_init(&t->ex, t->pts[1], t->n[1], 0);
+    st = axis_fast_init(&t->ex, t->pts[1], t->n[1], 0, 0);
     if (st) return st;
+    if (t->n[2] > 0) {
+        int coord = t->vel_v0 == t->vel_v0 ? 2 : (t->scale[2] == CSFLUT_SCALE_LOG ? 1 : 0);
+        st = axis_fast_init(&t->vx, t->pts[2], t->n[2], coord, t->vel_v0);
+        if (st) return st;
+    }
     size_t ns = (size_t)t->fx.n * (size_t)t->ex.n;
     t->slice_raw = malloc(sizeof(double) * ns);
     t->slice_cons = malloc(sizeof(double) * ns);
     if (!t->slice_raw || !t->slice_cons) return CSFLUT_E_NOMEM;
+    if (t->n[2] > 0) {
+        t->slice3_raw = malloc(sizeof(double) * ns * (size_t)t->vx.n);
+        t->slice3_cons = malloc(sizeof(double) * ns * (size_t)t->vx.n);
+        if (!t->slice3_raw || !t->slice3_cons) return CSFLUT_E_NOMEM;
+    }
     compute_conservative(t);
-    compute_slice(t, t->raw, t->slice_raw);
-    compute_slice(t, t->cons, t->slice_cons);
+    compute_slices(t);
     return CSFLUT_OK;
 }
 
@@ -448,8 +548,16 @@ void csflut_close(csflut_table *t)
     free(t->cons);
     free(t->se);
     for (int i = 0; i < CSFLUT_N_STRINGS; i++) free(t->str[i]);
-    csflut_axis_fast *ax[2] = {&t->fx, &t->ex};
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < t->n_meta; k++) {
+        free(t->meta_key[k]);
+        free(t->meta_val[k]);
+    }
+    free(t->meta_key);
+    free(t->meta_val);
+    free(t->slice3_raw);
+    free(t->slice3_cons);
+    csflut_axis_fast *ax[3] = {&t->fx, &t->ex, &t->vx};
+    for (int k = 0; k < 3; k++) {
         free(ax[k]->node);
         free(ax[k]->inv_step);
         free(ax[k]->first);
@@ -554,6 +662,83 @@ static csflut_status parse_header_fields(const unsigned char *p, csflut_table *t
     return CSFLUT_OK;
 }
 
+/* One length-prefixed string of the header extension, at most max bytes, without NUL. */
+static csflut_status ext_string(const unsigned char *p, rd *r, uint32_t max, char **out, csflut_diag *d)
+{
+    if (!rd_has(r, 4))
+        return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "metadata pair runs past the header extension");
+    uint32_t sl = get_u32(p + r->pos);
+    if (sl > max) {
+        csflut_diag_set(d, CSFLUT_E_BAD_METADATA, r->pos, "metadata key or value of %u bytes (at most %u)",
+                        (unsigned)sl, (unsigned)max);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    r->pos += 4;
+    if (!rd_has(r, sl))
+        return fail(d, CSFLUT_E_BAD_HEADER, r->pos, "metadata pair runs past the header extension");
+    if (memchr(p + r->pos, 0, sl))
+        return fail(d, CSFLUT_E_BAD_METADATA, r->pos, "metadata pair contains a NUL byte");
+    *out = malloc(sl + 1);
+    if (!*out) return CSFLUT_E_NOMEM;
+    memcpy(*out, p + r->pos, sl);
+    (*out)[sl] = 0;
+    r->pos += sl;
+    return CSFLUT_OK;
+}
+
+/* The format 1.1 header extension (bytes 64 to header_size): the velocity warp and the key/value
+ * metadata. A 1.0 file's extension bytes are skipped, as 1.0 readers did; a file of a later
+ * minor may carry more after the pairs, which this reader skips. */
+static csflut_status parse_extension(const unsigned char *p, uint32_t header_size, csflut_table *t,
+                                     csflut_diag *d)
+{
+    if (t->vmin < 1 || header_size == CSFLUT_HEADER_SIZE) return CSFLUT_OK;
+    if (header_size < CSFLUT_HEADER_SIZE + CSFLUT_EXT_FIXED) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, 12,
+                        "header extension of %u bytes is shorter than its %d fixed bytes",
+                        (unsigned)(header_size - CSFLUT_HEADER_SIZE), CSFLUT_EXT_FIXED);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    double v0 = get_f64(p + CSFLUT_HEADER_SIZE);
+    if (!(v0 != v0 || (isfinite(v0) && v0 > 0 && v0 <= 1e6))) {
+        csflut_diag_set(d, CSFLUT_E_BAD_AXIS, CSFLUT_HEADER_SIZE,
+                        "velocity warp v0 is %g deg/s (must be > 0 and at most 1e6, or NaN for "
+                        "none)",
+                        v0);
+        return CSFLUT_E_BAD_AXIS;
+    }
+    t->vel_v0 = v0;
+    uint32_t n = get_u32(p + CSFLUT_HEADER_SIZE + 8), reserved = get_u32(p + CSFLUT_HEADER_SIZE + 12);
+    if (t->vmin == 1 && reserved != 0)
+        return fail(d, CSFLUT_E_BAD_HEADER, CSFLUT_HEADER_SIZE + 12,
+                    "reserved field of the header extension is not zero");
+    if (n > CSFLUT_MAX_META) {
+        csflut_diag_set(d, CSFLUT_E_BAD_METADATA, CSFLUT_HEADER_SIZE + 8, "%u metadata pairs (at most %d)",
+                        (unsigned)n, CSFLUT_MAX_META);
+        return CSFLUT_E_BAD_METADATA;
+    }
+    t->meta_key = calloc(n ? n : 1, sizeof(char *));
+    t->meta_val = calloc(n ? n : 1, sizeof(char *));
+    if (!t->meta_key || !t->meta_val) return CSFLUT_E_NOMEM;
+    rd r = {p, header_size, CSFLUT_HEADER_SIZE + CSFLUT_EXT_FIXED};
+    for (uint32_t i = 0; i < n; i++) {
+        t->n_meta = (int)i + 1; /* so csflut_close frees what was read */
+        csflut_status st = ext_string(p, &r, CSFLUT_MAX_META_KEY, &t->meta_key[i], d);
+        if (!st) st = ext_string(p, &r, CSFLUT_MAX_STRING, &t->meta_val[i], d);
+        if (st) return st;
+    }
+    csflut_status st = csflut_check_meta((const char *const *)t->meta_key, (const char *const *)t->meta_val,
+                                         n, d, CSFLUT_HEADER_SIZE + CSFLUT_EXT_FIXED);
+    if (st) return st;
+    if (t->vmin == 1 && r.pos != header_size) {
+        csflut_diag_set(d, CSFLUT_E_BAD_HEADER, r.pos,
+                        "%zu unexplained bytes at the end of the header extension",
+                        (size_t)header_size - r.pos);
+        return CSFLUT_E_BAD_HEADER;
+    }
+    return CSFLUT_OK;
+}
+
 /* The axis records and their points: frequency and eccentricity first, then velocity and/or
  * luminance, each once, in order. */
 static csflut_status parse_axes(const unsigned char *p, rd *r, uint32_t n_axes, csflut_table *t, csflut_diag *d)
@@ -590,7 +775,7 @@ static csflut_status parse_axes(const unsigned char *p, rd *r, uint32_t n_axes, 
         t->pts[id] = malloc(sizeof(double) * n);
         if (!t->pts[id]) return CSFLUT_E_NOMEM;
         for (uint32_t i = 0; i < n; i++) t->pts[id][i] = get_f64(p + r->pos + 8 * (size_t)i);
-        csflut_status st = csflut_check_axis((int)id, (int)n, t->pts[id], (int)scale, d, r->pos);
+        csflut_status st = csflut_check_axis((int)id, (int)n, t->pts[id], (int)scale, t->vel_v0, d, r->pos);
         if (st) return st;
         r->pos += 8 * (size_t)n;
     }
@@ -665,9 +850,12 @@ static csflut_status parse_strings(const unsigned char *p, rd *r, csflut_table *
 static csflut_status parse(const unsigned char *p, size_t len, csflut_table *t, csflut_diag *d)
 {
     uint32_t header_size = 0, n_axes = 0, flags = 0;
+    t->vel_v0 = NAN;
     csflut_status st = parse_envelope(p, len, t, &header_size, d);
     if (st) return st;
     st = parse_header_fields(p, t, &n_axes, &flags, d);
+    if (st) return st;
+    st = parse_extension(p, header_size, t, d);
     if (st) return st;
     rd r = {p, len - 4, header_size};
     st = parse_axes(p, &r, n_axes, t, d);
@@ -778,7 +966,7 @@ csflut_status csflut_set_stderr_shift(csflut_table *t, double k)
     if (!t || !isfinite(k) || k < 0 || k > 10) return CSFLUT_E_ARG;
     t->k_shift = k;
     compute_conservative(t);
-    compute_slice(t, t->cons, t->slice_cons);
+    compute_slices(t);
     return CSFLUT_OK;
 }
 double csflut_get_stderr_shift(const csflut_table *t) { return t ? t->k_shift : 0; }
@@ -818,11 +1006,50 @@ double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg)
     return t ? q2(t, freq_cpd, ecc_deg) : NAN;
 }
 
+/* The 3-D fast path after the frequency's log2 and the velocity's coordinate are known: cell
+ * search on three axes, a bilinear blend in each of the two velocity slices (nested frequency,
+ * eccentricity, as the 2-D path), then the blend along velocity. */
+static inline double q3_core(const csflut_table *t, const double *vals, double u, double ecc_deg, double vc)
+{
+    u = clampd(u, t->fx.lo, t->fx.hi);
+    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi), c = clampd(vc, t->vx.lo, t->vx.hi);
+    double wf, we, wv;
+    int i = axis_fast_locate(&t->fx, u, &wf);
+    int j = axis_fast_locate(&t->ex, e, &we);
+    int k = axis_fast_locate(&t->vx, c, &wv);
+    size_t plane = (size_t)t->fx.n * (size_t)t->ex.n;
+    const double *s0 = vals + (size_t)k * plane;
+    double b0 = bilinear(s0, t->fx.n, i, j, wf, we);
+    double b1 = bilinear(s0 + plane, t->fx.n, i, j, wf, we);
+    return lerp(b0, b1, wv);
+}
+
+static inline double vel_coord_of(const csflut_table *t, double vel_dps)
+{
+    return csflut_vel_coord(vel_dps, t->vel_v0, t->scale[2] == CSFLUT_SCALE_LOG);
+}
+
+double csflut_threshold3(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps)
+{
+    if (!t) return NAN;
+    if (t->n[2] == 0) return q2(t, freq_cpd, ecc_deg);
+    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg || vel_dps != vel_dps) return NAN;
+    double r = q3_core(t, t->conservative ? t->slice3_cons : t->slice3_raw, log2_guarded(freq_cpd), ecc_deg,
+                       vel_coord_of(t, vel_dps));
+    return from_log(r, t->cap_log2);
+}
+
+int csflut_perceptible3(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
+                        double contrast)
+{
+    return contrast >= csflut_threshold3(t, freq_cpd, ecc_deg, vel_dps);
+}
+
 double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
                          double lum_cdm2)
 {
     if (!t) return NAN;
-    if (t->n[2] == 0 && t->n[3] == 0) return q2(t, freq_cpd, ecc_deg);
+    if (t->n[3] == 0) return csflut_threshold3(t, freq_cpd, ecc_deg, vel_dps);
     double r = interp_nd(t, t->conservative ? t->cons : t->raw, freq_cpd, ecc_deg, vel_dps,
                          lum_cdm2);
     return r != r ? NAN : from_log(r, t->cap_log2);
@@ -869,11 +1096,29 @@ double csflut_max_frequency(const csflut_table *t, double ecc_deg, double contra
     return invert_column(t, col, contrast);
 }
 
+/* The column of log2 thresholds at the frequency nodes for (ecc, velocity), from the 3-D slices:
+ * the same blends csflut_threshold3 makes at a frequency node (weight 0 there). */
+static double max_frequency3(const csflut_table *t, double ecc_deg, double vel_dps, double contrast)
+{
+    if (ecc_deg != ecc_deg || vel_dps != vel_dps) return NAN;
+    double col[CSFLUT_MAX_POINTS + 1];
+    double e = clampd(ecc_deg, t->ex.lo, t->ex.hi), we, wv;
+    double c = clampd(vel_coord_of(t, vel_dps), t->vx.lo, t->vx.hi);
+    int j = axis_fast_locate(&t->ex, e, &we), k = axis_fast_locate(&t->vx, c, &wv), nf = t->fx.n;
+    size_t plane = (size_t)nf * (size_t)t->ex.n;
+    const double *s0 =
+        (t->conservative ? t->slice3_cons : t->slice3_raw) + (size_t)k * plane + (size_t)j * (size_t)nf;
+    const double *s1 = s0 + plane;
+    for (int i = 0; i < nf; i++) col[i] = lerp(lerp(s0[i], s0[i + nf], we), lerp(s1[i], s1[i + nf], we), wv);
+    return invert_column(t, col, contrast);
+}
+
 double csflut_max_frequency4(const csflut_table *t, double ecc_deg, double vel_dps,
                              double lum_cdm2, double contrast)
 {
     if (!t) return NAN;
     if (t->n[2] == 0 && t->n[3] == 0) return csflut_max_frequency(t, ecc_deg, contrast);
+    if (t->n[3] == 0) return max_frequency3(t, ecc_deg, vel_dps, contrast);
     double col[CSFLUT_MAX_POINTS + 1];
     int nf = t->fx.n;
     for (int i = 0; i < nf; i++) {
@@ -975,10 +1220,80 @@ void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const
     }
 }
 
+/* One block of the 3-D batch with every axis bucketed: coordinates, clamps and bucket numbers
+ * in a loop the compiler vectorises, then the cell search and the trilinear blend; u gets the
+ * log2 results. Same arithmetic as q3_core. */
+static void batch3_block(const csflut_table *t, const double *vals, const double *f, const double *e,
+                         const double *v, size_t m, double *u)
+{
+    enum { BLOCK = 512 };
+    const csflut_axis_fast fx = t->fx, ex = t->ex, vx = t->vx;
+    const double v0 = t->vel_v0;
+    const int lg = t->scale[2] == CSFLUT_SCALE_LOG;
+    double ec[BLOCK], vc[BLOCK];
+    int bu[BLOCK], be[BLOCK], bv[BLOCK];
+    for (size_t k = 0; k < m; k++) {
+        u[k] = clampd(log2_guarded(f[k]), fx.lo, fx.hi);
+        ec[k] = clampd(e[k], ex.lo, ex.hi);
+        vc[k] = clampd(csflut_vel_coord(v[k], v0, lg), vx.lo, vx.hi);
+        bu[k] = bucket_of(&fx, u[k]);
+        be[k] = bucket_of(&ex, ec[k]);
+        bv[k] = bucket_of(&vx, vc[k]);
+    }
+    const size_t plane = (size_t)fx.n * (size_t)ex.n;
+    for (size_t k = 0; k < m; k++) {
+        int s = fx.first[bu[k]], i = s + (u[k] >= fx.next[s]);
+        int r = ex.first[be[k]], j = r + (ec[k] >= ex.next[r]);
+        int q = vx.first[bv[k]], l = q + (vc[k] >= vx.next[q]);
+        double wf = (u[k] - fx.node[i]) * fx.inv_step[i];
+        double we = (ec[k] - ex.node[j]) * ex.inv_step[j];
+        double wv = (vc[k] - vx.node[l]) * vx.inv_step[l];
+        const double *s0 = vals + (size_t)l * plane;
+        double b0 = bilinear(s0, fx.n, i, j, wf, we);
+        double b1 = bilinear(s0 + plane, fx.n, i, j, wf, we);
+        u[k] = lerp(b0, b1, wv);
+    }
+}
+
+void csflut_threshold3_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+                             const double *vel_dps, double *out, size_t n)
+{
+    if (!t || !freq_cpd || !ecc_deg || !vel_dps || !out) return;
+    if (t->n[2] == 0) {
+        csflut_threshold_batch(t, freq_cpd, ecc_deg, out, n);
+        return;
+    }
+    const double *vals = t->conservative ? t->slice3_cons : t->slice3_raw;
+    const double cap = t->cap_log2;
+    const int plain = t->fx.n_buckets && t->fx.last_exact && t->ex.n_buckets && t->ex.last_exact &&
+                      t->vx.n_buckets && t->vx.last_exact;
+    enum { BLOCK = 512 };
+    double u[BLOCK];
+    for (size_t b0 = 0; b0 < n; b0 += BLOCK) {
+        size_t m = n - b0 < BLOCK ? n - b0 : BLOCK;
+        if (plain) {
+            batch3_block(t, vals, freq_cpd + b0, ecc_deg + b0, vel_dps + b0, m, u);
+        } else {
+            for (size_t k = 0; k < m; k++)
+                u[k] = q3_core(t, vals, log2_guarded(freq_cpd[b0 + k]), ecc_deg[b0 + k],
+                               vel_coord_of(t, vel_dps[b0 + k]));
+        }
+        for (size_t k = 0; k < m; k++) { /* from_log, written so that it vectorises */
+            double f = freq_cpd[b0 + k], e = ecc_deg[b0 + k], v = vel_dps[b0 + k];
+            double x = csflut_exp2i(u[k]);
+            out[b0 + k] = (f != f || e != e || v != v) ? NAN : (u[k] >= cap ? HUGE_VAL : x);
+        }
+    }
+}
+
 void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
                              const double *vel_dps, const double *lum_cdm2, double *out, size_t n)
 {
     if (!t || !freq_cpd || !ecc_deg || !out) return;
+    if (t->n[3] == 0 && vel_dps) {
+        csflut_threshold3_batch(t, freq_cpd, ecc_deg, vel_dps, out, n);
+        return;
+    }
     for (size_t i = 0; i < n; i++)
         out[i] = csflut_threshold4(t, freq_cpd[i], ecc_deg[i], vel_dps ? vel_dps[i] : t->def_vel,
                                    lum_cdm2 ? lum_cdm2[i] : t->def_lum);
@@ -1025,3 +1340,35 @@ double csflut_mean_lum_cdm2(const csflut_table *t) { return t ? t->mean_lum : NA
 int csflut_trials(const csflut_table *t) { return t ? t->trials : 0; }
 double csflut_default_velocity(const csflut_table *t) { return t ? t->def_vel : NAN; }
 double csflut_default_luminance(const csflut_table *t) { return t ? t->def_lum : NAN; }
+double csflut_velocity_warp_v0(const csflut_table *t)
+{
+    return t && t->n[2] > 0 ? t->vel_v0 : NAN;
+}
+int csflut_meta_count(const csflut_table *t)
+{
+    return t ? t->n_meta : 0;
+}
+const char *csflut_meta_key(const csflut_table *t, int i)
+{
+    return t && i >= 0 && i < t->n_meta ? t->meta_key[i] : NULL;
+}
+const char *csflut_meta_value(const csflut_table *t, int i)
+{
+    return t && i >= 0 && i < t->n_meta ? t->meta_val[i] : NULL;
+}
+const char *csflut_meta_find(const csflut_table *t, const char *key)
+{
+    if (!t || !key) return NULL;
+    for (int i = 0; i < t->n_meta; i++)
+        if (strcmp(t->meta_key[i], key) == 0) return t->meta_val[i];
+    return NULL;
+}
+size_t csflut_table_meta(const csflut_table *t, csflut_meta *out, size_t cap)
+{
+    if (!t) return 0;
+    for (size_t i = 0; i < (size_t)t->n_meta && i < cap && out; i++) {
+        out[i].key = t->meta_key[i];
+        out[i].value = t->meta_val[i];
+    }
+    return (size_t)t->n_meta;
+}

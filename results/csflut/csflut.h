@@ -9,8 +9,9 @@
  * Argument order: every query takes the position of the pattern first, in the order frequency,
  * eccentricity (then velocity, luminance), and the contrast last.
  *
- * Interpolation: geometric (linear in log threshold), in log2 frequency, linear eccentricity, log
- * (or linear, if the file says so) velocity and log luminance, nested in that order. A geometric
+ * Interpolation: geometric (linear in log threshold), in log2 frequency, linear eccentricity,
+ * velocity in the warp log(|v| + v0) (v0 = 0.5 deg/s in the files this library writes; files of
+ * format 1.0 say log or linear) and log luminance, nested in that order. A geometric
  * blend is never above the linear one. Outside the grid every axis is clamped to its edge. With the
  * conservative view (default) both are the safe direction: the table may call something visible
  * that is not, never the other way round. A NaN argument gives a NaN threshold.
@@ -22,8 +23,9 @@
  * never visible. Grid nodes return the stored value to within a few units in the last place.
  *
  * Conservative view (default ON): each node's threshold is replaced by the lowest threshold among
- * all nodes at the same or higher frequency and the same or higher eccentricity (for each velocity
- * and luminance slice). Below the most sensitive frequency the threshold is therefore the peak's
+ * all nodes at the same or higher frequency and the same or higher eccentricity of the same
+ * velocity and luminance slice (each slice on its own: velocity is not made monotone, since
+ * motion raises sensitivity at low frequencies and lowers it at high ones; Kelly 1979). Below the most sensitive frequency the threshold is therefore the peak's
  * (the conservative clamp of D. Luebke and B. Hallen, "Perceptually Driven Simplification for
  * Interactive Rendering", Eurographics Workshop on Rendering 2001); above it thresholds never fall
  * as frequency or eccentricity rise, so measurement noise never makes one cell claim "invisible"
@@ -66,21 +68,29 @@ extern "C" {
 
 /* Two versions that change independently:
  * - the FILE FORMAT version: the .csflut layout. This library reads files of format major 1 (any
- *   minor) and writes 1.0; csflut_version_major(t) / csflut_version_minor(t) give an open file's.
+ *   minor) and writes 1.0, or 1.1 for a table with a velocity axis or extra metadata (the header
+ *   extension of docs/csflut.md); csflut_version_major(t) / csflut_version_minor(t) give an open
+ *   file's.
  * - the LIBRARY version: this API and ABI. The shared library's soname carries the major,
  *   pkg-config's Version the whole string. csflut_version() / csflut_version_number() give the
  *   version of the library actually linked, which a program built against a newer header may
  *   compare with these macros.
  *   2.0.0: every query takes (freq, ecc, ..., contrast); geometric interpolation.
  *   2.1.0: csflut_version(), csflut_version_number(); Windows DLL exports; the reserved status
- *          code CSFLUT_E_UNREACHABLE (never returned) removed, every other code unchanged. */
+ *          code CSFLUT_E_UNREACHABLE (never returned) removed, every other code unchanged.
+ *   2.2.0: velocity in the warp log(|v| + v0) (format 1.1), csflut_threshold3 and its batch and
+ *          perceptible forms, key/value metadata (csflut_write_*_meta, csflut_meta_*), the C
+ *          and GLSL exports with a velocity axis. Nothing removed or changed in layout. */
 #define CSFLUT_FORMAT_VERSION_MAJOR 1
-#define CSFLUT_FORMAT_VERSION_MINOR 0
+#define CSFLUT_FORMAT_VERSION_MINOR 1 /* the highest minor this library writes */
 #define CSFLUT_LIB_VERSION_MAJOR 2
-#define CSFLUT_LIB_VERSION_MINOR 1
+#define CSFLUT_LIB_VERSION_MINOR 2
 #define CSFLUT_LIB_VERSION_PATCH 0
-#define CSFLUT_LIB_VERSION "2.1.0"
-/* major * 10000 + minor * 100 + patch: 20100 for 2.1.0; compare with >= */
+#define CSFLUT_LIB_VERSION "2.2.0"
+/* The velocity warp v0 (deg/s) this library writes: log(|v| + v0) is finite at v = 0 (a static
+ * grating) and logarithmic where sensitivity changes by octaves of velocity. */
+#define CSFLUT_VEL_WARP_V0_DPS 0.5
+/* major * 10000 + minor * 100 + patch: 20200 for 2.2.0; compare with >= */
 #define CSFLUT_LIB_VERSION_NUMBER \
     (CSFLUT_LIB_VERSION_MAJOR * 10000 + CSFLUT_LIB_VERSION_MINOR * 100 + CSFLUT_LIB_VERSION_PATCH)
 /* Deprecated names of the file format version (they never meant the library's version). */
@@ -145,9 +155,18 @@ CSFLUT_API double csflut_get_stderr_shift(const csflut_table *t);
  * (the lowest velocity grid point; the metadata mean luminance, or the lowest luminance grid point
  * when the metadata has none). May exceed 1 or be +INFINITY (never visible). */
 CSFLUT_API double csflut_threshold(const csflut_table *t, double freq_cpd, double ecc_deg);
-/* Full query. For a table without a velocity or luminance axis that argument is ignored. */
+/* Full query. For a table without a velocity or luminance axis that argument is ignored. The
+ * sign of the velocity (drift direction) does not matter. For a table without a luminance axis it
+ * is csflut_threshold3 bit for bit. */
 CSFLUT_API double csflut_threshold4(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
                          double lum_cdm2);
+/* Threshold at (freq, ecc, velocity) at the table's default luminance: the fast path for a table
+ * with a velocity axis, and what the C and GLSL exports' PREFIX_threshold3 reproduce. At the
+ * lowest velocity grid point it equals csflut_threshold bit for bit. */
+CSFLUT_API double csflut_threshold3(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps);
+/* contrast >= csflut_threshold3(t, freq, ecc, vel); NaN gives 0. */
+CSFLUT_API int csflut_perceptible3(const csflut_table *t, double freq_cpd, double ecc_deg, double vel_dps,
+                                   double contrast);
 /* 1 if a pattern of this contrast is visible at (freq, ecc): contrast >= threshold(freq, ecc)
  * (the perceptibility test of Luebke & Hallen 2001); NaN gives 0. */
 CSFLUT_API int csflut_perceptible(const csflut_table *t, double freq_cpd, double ecc_deg, double contrast);
@@ -178,6 +197,9 @@ CSFLUT_API double csflut_min_wavelength(const csflut_table *t, double ecc_rad, d
 /* out[i] = csflut_threshold(t, freq_cpd[i], ecc_deg[i]) for i < n (bit-identical results). */
 CSFLUT_API void csflut_threshold_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
                             double *out, size_t n);
+/* out[i] = csflut_threshold3(t, freq_cpd[i], ecc_deg[i], vel_dps[i]) (bit-identical). */
+CSFLUT_API void csflut_threshold3_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
+                                        const double *vel_dps, double *out, size_t n);
 CSFLUT_API void csflut_threshold4_batch(const csflut_table *t, const double *freq_cpd, const double *ecc_deg,
                              const double *vel_dps, const double *lum_cdm2, double *out, size_t n);
 /* out[i] = csflut_perceptible(t, freq_cpd[i], ecc_deg[i], contrast[i]). */
@@ -215,6 +237,16 @@ CSFLUT_API double csflut_mean_lum_cdm2(const csflut_table *t);           /* NaN 
 CSFLUT_API int csflut_trials(const csflut_table *t);
 CSFLUT_API double csflut_default_velocity(const csflut_table *t);        /* used by the 2-D queries */
 CSFLUT_API double csflut_default_luminance(const csflut_table *t);
+/* v0 (deg/s) of the velocity warp log(|v| + v0) the table interpolates in; NaN when it has no
+ * velocity axis or is a format 1.0 file (velocity then in log, or linear, as its axis says). */
+CSFLUT_API double csflut_velocity_warp_v0(const csflut_table *t);
+/* Key/value metadata (format 1.1; none in 1.0 files): count, the i-th key and value (NULL when
+ * i is out of range), and the value of a key (NULL when absent). Keys are 1-64 of
+ * [A-Za-z0-9_.-]; values UTF-8 text of at most 4096 bytes without NUL, CR or LF. */
+CSFLUT_API int csflut_meta_count(const csflut_table *t);
+CSFLUT_API const char *csflut_meta_key(const csflut_table *t, int i);
+CSFLUT_API const char *csflut_meta_value(const csflut_table *t, int i);
+CSFLUT_API const char *csflut_meta_find(const csflut_table *t, const char *key);
 
 /* ---- writer (csflut_write.c) ------------------------------------------------------------- */
 typedef struct {
@@ -236,6 +268,22 @@ CSFLUT_API csflut_status csflut_write_memory_diag(const csflut_build *b, unsigne
 CSFLUT_API csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag);
 /* Checks a build description without writing (same rules as the reader). */
 CSFLUT_API csflut_status csflut_validate_build(const csflut_build *b, csflut_diag *diag);
+/* Key/value metadata written beside a build (format 1.1): n_meta pairs (at most 256), keys
+ * unique, 1-64 of [A-Za-z0-9_.-], values at most 4096 bytes without NUL, CR or LF. The same as
+ * the plain writers when n_meta is 0 (meta may then be NULL). A table with a velocity axis is
+ * written as format 1.1 with the warp v0 = CSFLUT_VEL_WARP_V0_DPS either way; a 2-D table
+ * without metadata pairs stays format 1.0, byte for byte as before. */
+typedef struct {
+    const char *key, *value;
+} csflut_meta;
+CSFLUT_API csflut_status csflut_write_memory_meta(const csflut_build *b, const csflut_meta *meta,
+                                                  size_t n_meta, unsigned char **out, size_t *len,
+                                                  csflut_diag *diag);
+CSFLUT_API csflut_status csflut_write_file_meta(const csflut_build *b, const csflut_meta *meta, size_t n_meta,
+                                                const char *path, csflut_diag *diag);
+/* The metadata pairs of a table, valid while t is open, for csflut_write_*_meta: fills up to
+ * cap entries of out and returns the count. */
+CSFLUT_API size_t csflut_table_meta(const csflut_table *t, csflut_meta *out, size_t cap);
 /* Fills b with pointers into t (raw values), valid while t is open. */
 CSFLUT_API void csflut_table_to_build(const csflut_table *t, csflut_build *b);
 
@@ -244,7 +292,8 @@ CSFLUT_API void csflut_table_to_build(const csflut_table *t, csflut_build *b);
  * [stderr_log10], in any order; '#' starts a comment line; "inf" = never visible, empty or "nan"
  * stderr = unknown. Every grid combination must appear exactly once. The metadata comments that
  * csflut_export writes ("# observer: ...", "# viewing_distance_mm: 600", "# trials: 240", every
- * field of csflut_build) fill the build's metadata, so export -> import keeps all of it. */
+ * field of csflut_build) fill the build's metadata, and "# meta.KEY: value" comments the
+ * key/value metadata (csflut_grid_meta), so export -> import keeps all of it. */
 typedef struct csflut_grid csflut_grid;
 CSFLUT_API csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
                                 csflut_diag *diag);
@@ -252,6 +301,8 @@ CSFLUT_API csflut_status csflut_import_csv(const char *text, size_t len, csflut_
  * caller may point metadata elsewhere (such pointers are not freed). */
 CSFLUT_API csflut_build *csflut_grid_build(csflut_grid *g);
 CSFLUT_API void csflut_grid_free(csflut_grid *g);
+/* The grid's key/value metadata (owned by the grid): *n gets the count. */
+CSFLUT_API const csflut_meta *csflut_grid_meta(const csflut_grid *g, size_t *n);
 
 /* ---- exports (csflut_export.c) ----------------------------------------------------------
  * CSV and JSON hold every axis and the raw values (+ stderr); the C header and GLSL hold the 2-D
@@ -259,6 +310,9 @@ CSFLUT_API void csflut_grid_free(csflut_grid *g);
  * view (conservative or raw), as a self-contained function named PREFIX_threshold(freq_cpd,
  * ecc_deg) that reproduces csflut_threshold (C: bit for bit, built without fused multiply-add;
  * GLSL: in float32, but a NaN argument gives a finite result there), and PREFIX_perceptible.
+ * A table with a velocity axis adds every velocity slice (at the default luminance) and
+ * PREFIX_threshold3(freq_cpd, ecc_deg, vel_dps) / PREFIX_perceptible3(..., contrast), which
+ * reproduce csflut_threshold3 the same way.
  * `prefix` (NULL = "csflut_gen") starts every generated name, so it must be a C identifier of at
  * most 64 characters that GLSL and C++ also accept: not starting with "gl_", not containing "__",
  * not ending in '_'; otherwise CSFLUT_E_ARG. *out is malloc'd and NUL-terminated. */

@@ -22,6 +22,8 @@ typedef struct {
     char *str[CSFLUT_N_STRINGS];
     double dist_mm, mean_lum;
     long trials;
+    size_t n_kv; /* "# meta.KEY: value" pairs */
+    char *kv_key[CSFLUT_MAX_META], *kv_val[CSFLUT_MAX_META];
 } csv_meta;
 
 struct csflut_grid {
@@ -29,7 +31,16 @@ struct csflut_grid {
     double *pts[4];
     double *thr, *se;
     char *meta[CSFLUT_N_STRINGS];
+    size_t n_kv;
+    char *kv_key[CSFLUT_MAX_META], *kv_val[CSFLUT_MAX_META];
+    csflut_meta kv[CSFLUT_MAX_META];
 };
+
+const csflut_meta *csflut_grid_meta(const csflut_grid *g, size_t *n)
+{
+    if (n) *n = g ? g->n_kv : 0;
+    return g ? g->kv : NULL;
+}
 
 csflut_build *csflut_grid_build(csflut_grid *g) { return g ? &g->build : NULL; }
 
@@ -40,6 +51,10 @@ void csflut_grid_free(csflut_grid *g)
     free(g->thr);
     free(g->se);
     for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(g->meta[k]);
+    for (size_t k = 0; k < g->n_kv; k++) {
+        free(g->kv_key[k]);
+        free(g->kv_val[k]);
+    }
     free(g);
 }
 
@@ -65,6 +80,46 @@ static const char *quote_field(const char *f, size_t n, char *out, size_t cap)
     return out;
 }
 
+static char *dup_n(const char *s, size_t n)
+{
+    char *d = malloc(n + 1);
+    if (!d) return NULL;
+    memcpy(d, s, n);
+    d[n] = 0;
+    return d;
+}
+
+/* "# meta.KEY: value": a key/value metadata pair, checked as the writer checks it. */
+static csflut_status parse_meta_pair(const char *k, size_t kl, const char *v, size_t vl, csv_meta *m,
+                                     char *msg, size_t msz)
+{
+    char shown[100];
+    if (m->n_kv >= CSFLUT_MAX_META) {
+        snprintf(msg, msz, "more than %d meta. pairs", CSFLUT_MAX_META);
+        return CSFLUT_E_CSV;
+    }
+    if (memchr(v, 0, vl) || memchr(k, 0, kl)) {
+        snprintf(msg, msz, "meta.%s contains a NUL byte", quote_field(k, kl, shown, sizeof shown));
+        return CSFLUT_E_CSV;
+    }
+    char *key = dup_n(k, kl), *val = dup_n(v, vl);
+    if (!key || !val) {
+        free(key);
+        free(val);
+        return CSFLUT_E_NOMEM;
+    }
+    m->kv_key[m->n_kv] = key;
+    m->kv_val[m->n_kv] = val;
+    m->n_kv++;
+    csflut_diag d;
+    if (csflut_check_meta((const char *const *)m->kv_key, (const char *const *)m->kv_val, m->n_kv, &d, 0) !=
+        CSFLUT_OK) {
+        snprintf(msg, msz, "%.150s", d.message);
+        return CSFLUT_E_CSV;
+    }
+    return CSFLUT_OK;
+}
+
 static csflut_status parse_meta(const char *q, const char *le, csv_meta *m, char *msg, size_t msz)
 {
     q++;
@@ -76,6 +131,7 @@ static csflut_status parse_meta(const char *q, const char *le, csv_meta *m, char
     while (v < ve && (*v == ' ' || *v == '\t')) v++;
     while (ve > v && (ve[-1] == ' ' || ve[-1] == '\t')) ve--;
     size_t vl = (size_t)(ve - v);
+    if (kl > 5 && memcmp(q, "meta.", 5) == 0) return parse_meta_pair(q + 5, kl - 5, v, vl, m, msg, msz);
     for (int k = 0; k < CSFLUT_N_STRINGS; k++) {
         if (strlen(meta_keys[k]) != kl || memcmp(q, meta_keys[k], kl) != 0) continue;
         if (vl > CSFLUT_MAX_STRING || memchr(v, 0, vl)) {
@@ -421,6 +477,13 @@ static void grid_build(csflut_grid *g, csv_read *cr, const int n[4])
     b->method = g->meta[2];
     b->date_utc = g->meta[3];
     b->tool_version = g->meta[4];
+    g->n_kv = cr->meta.n_kv;
+    for (size_t k = 0; k < g->n_kv; k++) {
+        g->kv_key[k] = cr->meta.kv_key[k];
+        g->kv_val[k] = cr->meta.kv_val[k];
+        g->kv[k] = (csflut_meta){g->kv_key[k], g->kv_val[k]};
+    }
+    cr->meta.n_kv = 0;
     b->viewing_distance_mm = cr->meta.dist_mm;
     b->mean_lum_cdm2 = cr->meta.mean_lum;
     b->trials = (int)cr->meta.trials;
@@ -457,6 +520,10 @@ csflut_status csflut_import_csv(const char *text, size_t len, csflut_grid **out,
     }
     free(cr.rows);
     for (int k = 0; k < CSFLUT_N_STRINGS; k++) free(cr.meta.str[k]);
+    for (size_t k = 0; k < cr.meta.n_kv; k++) {
+        free(cr.meta.kv_key[k]);
+        free(cr.meta.kv_val[k]);
+    }
     if (st) {
         if (st == CSFLUT_E_NOMEM) csflut_diag_set(diag, st, line, "out of memory");
         csflut_grid_free(g);

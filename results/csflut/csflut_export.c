@@ -111,6 +111,8 @@ static void export_csv(const csflut_table *t, sbuf *b)
     sb_printf(b, "\n# mean_lum_cdm2: ");
     sb_num(b, t->mean_lum);
     sb_printf(b, "\n# trials: %d\n", t->trials);
+    for (int k = 0; k < t->n_meta; k++) /* keys and values hold no line break (csflut_check_meta) */
+        sb_printf(b, "# meta.%s: %s\n", t->meta_key[k], t->meta_val[k]);
     for (int a = 0; a < 4; a++)
         if (t->n[a] > 0) sb_printf(b, "%s,", csv_cols[a]);
     sb_printf(b, "threshold%s\n", t->se ? ",stderr_log10" : "");
@@ -158,7 +160,14 @@ static void export_json(const csflut_table *t, sbuf *b)
     sb_json_num(b, t->dist_mm);
     sb_printf(b, ", \"mean_lum_cdm2\": ");
     sb_json_num(b, t->mean_lum);
-    sb_printf(b, ", \"trials\": %d},\n  \"axes\": [", t->trials);
+    sb_printf(b, ", \"trials\": %d},\n  \"meta\": {", t->trials);
+    for (int k = 0; k < t->n_meta; k++) {
+        sb_printf(b, k ? ", " : "");
+        sb_json_str(b, t->meta_key[k]);
+        sb_printf(b, ": ");
+        sb_json_str(b, t->meta_val[k]);
+    }
+    sb_printf(b, "},\n  \"axes\": [");
     int first = 1;
     for (int a = 0; a < 4; a++) {
         if (t->n[a] == 0) continue;
@@ -166,6 +175,10 @@ static void export_json(const csflut_table *t, sbuf *b)
                   first ? "" : ",", csflut_axis_name((csflut_axis)a),
                   csflut_axis_unit((csflut_axis)a), t->scale[a] ? "log" : "linear");
         sb_json_array(b, t->pts[a], (size_t)t->n[a]);
+        if (a == CSFLUT_AXIS_VEL && t->vel_v0 == t->vel_v0) {
+            sb_printf(b, ", \"warp\": \"log(|v| + v0)\", \"warp_v0_dps\": ");
+            sb_real(b, t->vel_v0);
+        }
         sb_printf(b, "}");
         first = 0;
     }
@@ -180,6 +193,20 @@ static void export_json(const csflut_table *t, sbuf *b)
         sb_json_array(b, t->se, t->n_nodes);
     }
     sb_printf(b, "\n}\n");
+}
+
+/* Appends tpl with every '@' replaced by the prefix (generated code names many prefixed
+ * identifiers). */
+static void sb_tpl(sbuf *b, const char *px, const char *tpl)
+{
+    for (const char *p = tpl; *p;) {
+        const char *at = strchr(p, '@');
+        size_t n = at ? (size_t)(at - p) : strlen(p);
+        sb_printf(b, "%.*s", (int)n, p);
+        if (!at) break;
+        sb_printf(b, "%s", px);
+        p = at + 1;
+    }
 }
 
 /* Decimal with 17 significant digits: reads back as the same double in C and C++ (hex-float
@@ -206,6 +233,13 @@ static void sb_c_array(sbuf *b, const char *px, const char *name, const double *
     "#if defined(__clang__) || !defined(__GNUC__)\n"                                             \
     "#pragma STDC FP_CONTRACT OFF\n"                                                              \
     "#endif\n"
+
+/* How the velocity axis is interpolated, for the generated comments. */
+static void sb_vel_coord_name(sbuf *b, const csflut_table *t)
+{
+    if (t->vel_v0 == t->vel_v0) sb_printf(b, "log2(|v| + %.17g)", t->vel_v0);
+    else sb_printf(b, "%s", t->scale[2] == CSFLUT_SCALE_LOG ? "log2 |v|" : "|v|");
+}
 
 /* The header's opening comment, include guard and the grid as constant arrays. */
 static void export_c_data(const csflut_table *t, const char *px, sbuf *b)
@@ -244,6 +278,17 @@ static void export_c_data(const csflut_table *t, const char *px, sbuf *b)
     sb_c_array(b, px, "ecc_inv_step", E->inv_step, E->n - 1, 4);
     sb_printf(b, "/* log2 threshold, [ecc][freq] */\n");
     sb_c_array(b, px, "log2_thr", v, F->n * E->n, 4);
+    if (t->n[2] > 0) {
+        const csflut_axis_fast *V = &t->vx;
+        sb_printf(b, "/* velocity in its interpolation coordinate, ");
+        sb_vel_coord_name(b, t);
+        sb_printf(b, " */\n#define %s_NV %d\n", px, V->n);
+        sb_c_array(b, px, "vel_coord", V->node, V->n, 4);
+        sb_c_array(b, px, "vel_inv_step", V->inv_step, V->n - 1, 4);
+        sb_printf(b, "/* log2 threshold, [velocity][ecc][freq] */\n");
+        sb_c_array(b, px, "log2_thr3", t->conservative ? t->slice3_cons : t->slice3_raw, V->n * E->n * F->n,
+                   4);
+    }
     sb_printf(b, "\n");
 }
 
@@ -341,10 +386,66 @@ static void export_c_lookup(const char *px, sbuf *b)
     sb_printf(b,
               "/* 1 if a pattern of this contrast at this frequency and eccentricity is visible. */\n"
               "static inline int %s_perceptible(double freq_cpd, double ecc_deg, double contrast)\n"
-              "{\n"
-              C_NO_CONTRACT
-              "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
-              "}\n\n#endif\n", px, px);
+              "{\n" C_NO_CONTRACT "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
+              "}\n\n",
+              px, px);
+}
+
+/* The velocity coordinate as the library computes it (csflut_vel_coord). */
+static void export_c_vel_coord(const csflut_table *t, const char *px, sbuf *b)
+{
+    sb_tpl(b, px,
+           "static inline double @_vel_coord_of(double vel_dps)\n{\n" C_NO_CONTRACT
+           "    double a = vel_dps < 0 ? -vel_dps : vel_dps;\n");
+    if (t->vel_v0 == t->vel_v0) {
+        sb_tpl(b, px, "    return @_log2(a + ");
+        sb_c_double(b, t->vel_v0);
+        sb_printf(b, ");\n}\n\n");
+    } else if (t->scale[2] == CSFLUT_SCALE_LOG) {
+        sb_tpl(b, px, "    return @_log2(a);\n}\n\n");
+    } else {
+        sb_printf(b, "    return a;\n}\n\n");
+    }
+}
+
+/* The trilinear blend over the velocity slices: csflut_threshold3 operation for operation. */
+static void export_c_lookup3(const csflut_table *t, const char *px, sbuf *b)
+{
+    export_c_vel_coord(t, px, b);
+    sb_tpl(b, px,
+           "/* Threshold at a velocity (deg/s; its sign does not matter), at the table's default\n"
+           " * luminance: csflut_threshold3 bit for bit. */\n"
+           "static inline double @_threshold3(double freq_cpd, double ecc_deg, double vel_dps)\n"
+           "{\n" C_NO_CONTRACT
+           "    if (freq_cpd != freq_cpd || ecc_deg != ecc_deg || vel_dps != vel_dps) return NAN;\n"
+           "    double u = @_log2(freq_cpd);\n"
+           "    u = u > @_freq_log2[0] ? u : @_freq_log2[0];\n"
+           "    u = u < @_freq_log2[@_NF - 1] ? u : @_freq_log2[@_NF - 1];\n"
+           "    double e = ecc_deg > @_ecc_deg[0] ? ecc_deg : @_ecc_deg[0];\n"
+           "    e = e < @_ecc_deg[@_NE - 1] ? e : @_ecc_deg[@_NE - 1];\n"
+           "    double c = @_vel_coord_of(vel_dps);\n"
+           "    c = c > @_vel_coord[0] ? c : @_vel_coord[0];\n"
+           "    c = c < @_vel_coord[@_NV - 1] ? c : @_vel_coord[@_NV - 1];\n"
+           "    int i = 0, j = 0, k = 0;\n"
+           "    while (i < @_NF - 2 && u >= @_freq_log2[i + 1]) i++;\n"
+           "    while (j < @_NE - 2 && e >= @_ecc_deg[j + 1]) j++;\n"
+           "    while (k < @_NV - 2 && c >= @_vel_coord[k + 1]) k++;\n"
+           "    double wf = u >= @_freq_log2[i + 1] ? 1.0 : (u - @_freq_log2[i]) * @_freq_inv_step[i];\n"
+           "    double we = e >= @_ecc_deg[j + 1] ? 1.0 : (e - @_ecc_deg[j]) * @_ecc_inv_step[j];\n"
+           "    double wv = c >= @_vel_coord[k + 1] ? 1.0 : (c - @_vel_coord[k]) * @_vel_inv_step[k];\n"
+           "    const double *v0 = @_log2_thr3 + (k * @_NE + j) * @_NF + i;\n"
+           "    const double *v1 = v0 + @_NE * @_NF;\n"
+           "    double b0 = @_lerp(@_lerp(v0[0], v0[1], wf), @_lerp(v0[@_NF], v0[@_NF + 1], wf), we);\n"
+           "    double b1 = @_lerp(@_lerp(v1[0], v1[1], wf), @_lerp(v1[@_NF], v1[@_NF + 1], wf), we);\n"
+           "    double r = @_lerp(b0, b1, wv);\n"
+           "    return r >= @_cap_log2 ? HUGE_VAL : @_exp2(r);\n"
+           "}\n\n"
+           "/* 1 if a pattern of this contrast is visible at that frequency, eccentricity and\n"
+           " * velocity. */\n"
+           "static inline int @_perceptible3(double freq_cpd, double ecc_deg, double vel_dps,\n"
+           "                                 double contrast)\n"
+           "{\n" C_NO_CONTRACT "    return contrast >= @_threshold3(freq_cpd, ecc_deg, vel_dps);\n"
+           "}\n\n");
 }
 
 static void export_c(const csflut_table *t, const char *px, sbuf *b)
@@ -352,6 +453,8 @@ static void export_c(const csflut_table *t, const char *px, sbuf *b)
     export_c_data(t, px, b);
     export_c_log2_exp2(px, b);
     export_c_lookup(px, b);
+    if (t->n[2] > 0) export_c_lookup3(t, px, b);
+    sb_printf(b, "#endif\n");
 }
 
 static void sb_glsl_array(sbuf *b, const char *px, const char *name, const double *v, int n)
@@ -362,6 +465,52 @@ static void sb_glsl_array(sbuf *b, const char *px, const char *name, const doubl
         sb_printf(b, "%.9e", v[i]);
     }
     sb_printf(b, ");\n");
+}
+
+/* The velocity slices and PREFIX_threshold3 / PREFIX_perceptible3, in float32. */
+static void export_glsl3(const csflut_table *t, const char *px, sbuf *b)
+{
+    const csflut_axis_fast *F = &t->fx, *E = &t->ex, *V = &t->vx;
+    sb_printf(b, "\n// Velocity (deg/s; its sign does not matter) in the coordinate ");
+    sb_vel_coord_name(b, t);
+    sb_printf(b,
+              ";\n// float %s_threshold3(float freq_cpd, float ecc_deg, float vel_dps) and\n"
+              "// bool %s_perceptible3(..., float contrast): csflut_threshold3 in float32.\n",
+              px, px);
+    sb_printf(b, "const int %s_NV = %d;\n", px, V->n);
+    sb_glsl_array(b, px, "vel_coord", V->node, V->n);
+    sb_printf(b, "// log2 threshold, [velocity][ecc][freq]\n");
+    sb_glsl_array(b, px, "log2_thr3", t->conservative ? t->slice3_cons : t->slice3_raw, V->n * E->n * F->n);
+    sb_tpl(b, px, "\nfloat @_vel_coord_of(float vel_dps)\n{\n");
+    if (t->vel_v0 == t->vel_v0) sb_printf(b, "    return log2(abs(vel_dps) + %.9e);\n", t->vel_v0);
+    else if (t->scale[2] == CSFLUT_SCALE_LOG) sb_printf(b, "    return log2(max(abs(vel_dps), 1e-30));\n");
+    else sb_printf(b, "    return abs(vel_dps);\n");
+    sb_tpl(b, px,
+           "}\n\n"
+           "float @_threshold3(float freq_cpd, float ecc_deg, float vel_dps)\n"
+           "{\n"
+           "    float u = clamp(log2(max(freq_cpd, 1e-30)), @_freq_log2[0], @_freq_log2[@_NF - 1]);\n"
+           "    float e = clamp(ecc_deg, @_ecc_deg[0], @_ecc_deg[@_NE - 1]);\n"
+           "    float c = clamp(@_vel_coord_of(vel_dps), @_vel_coord[0], @_vel_coord[@_NV - 1]);\n"
+           "    int i = 0, j = 0, k = 0;\n"
+           "    while (i < @_NF - 2 && u >= @_freq_log2[i + 1]) i++;\n"
+           "    while (j < @_NE - 2 && e >= @_ecc_deg[j + 1]) j++;\n"
+           "    while (k < @_NV - 2 && c >= @_vel_coord[k + 1]) k++;\n"
+           "    float wf = clamp((u - @_freq_log2[i]) / (@_freq_log2[i + 1] - @_freq_log2[i]), 0.0, 1.0);\n"
+           "    float we = clamp((e - @_ecc_deg[j]) / (@_ecc_deg[j + 1] - @_ecc_deg[j]), 0.0, 1.0);\n"
+           "    float wv = clamp((c - @_vel_coord[k]) / (@_vel_coord[k + 1] - @_vel_coord[k]), 0.0, 1.0);\n"
+           "    int a = (k * @_NE + j) * @_NF + i, p = @_NE * @_NF;\n"
+           "    float b0 = mix(mix(@_log2_thr3[a], @_log2_thr3[a + 1], wf),\n"
+           "                   mix(@_log2_thr3[a + @_NF], @_log2_thr3[a + @_NF + 1], wf), we);\n"
+           "    float b1 = mix(mix(@_log2_thr3[a + p], @_log2_thr3[a + p + 1], wf),\n"
+           "                   mix(@_log2_thr3[a + p + @_NF], @_log2_thr3[a + p + @_NF + 1], wf), we);\n"
+           "    float r = mix(b0, b1, wv);\n"
+           "    return r >= @_cap_log2 - 1e-5 ? uintBitsToFloat(0x7f800000u) : exp2(r);\n"
+           "}\n\n"
+           "bool @_perceptible3(float freq_cpd, float ecc_deg, float vel_dps, float contrast)\n"
+           "{\n"
+           "    return contrast >= @_threshold3(freq_cpd, ecc_deg, vel_dps);\n"
+           "}\n");
 }
 
 static void export_glsl(const csflut_table *t, const char *px, sbuf *b)
@@ -416,6 +565,7 @@ static void export_glsl(const csflut_table *t, const char *px, sbuf *b)
               "{\n"
               "    return contrast >= %s_threshold(freq_cpd, ecc_deg);\n"
               "}\n", px, px);
+    if (t->n[2] > 0) export_glsl3(t, px, b);
 }
 
 static int is_identifier(const char *s)

@@ -29,6 +29,11 @@
 #define CSFLUT_MAX_STRING 4096     /* per metadata string */
 #define CSFLUT_N_STRINGS 5
 #define CSFLUT_FLAG_STDERR 1u
+/* Format 1.1 header extension (bytes 64 to header_size): f64 velocity warp v0 (NaN = none), u32
+ * number of key/value pairs, u32 reserved, then the pairs (u32 length + bytes, key then value). */
+#define CSFLUT_EXT_FIXED 16
+#define CSFLUT_MAX_META 256    /* key/value pairs */
+#define CSFLUT_MAX_META_KEY 64 /* bytes per key */
 
 /* One past the highest csflut_status code: the bound for walking every code (the enum itself
  * carries no such member, so a switch over it stays exhaustive and no caller can receive it).
@@ -65,10 +70,16 @@ struct csflut_table {
     double dist_mm, mean_lum;
     int trials;
     double def_vel, def_lum;
+    double vel_v0; /* velocity warp log2(|v| + vel_v0); NaN: the axis record's scale */
+    int n_meta;
+    char **meta_key, **meta_val;
     csflut_axis_fast fx, ex;  /* frequency (log2) and eccentricity (linear) */
+    csflut_axis_fast vx;      /* velocity in its interpolation coordinate (when n[2] > 0) */
     double cap_log2;          /* log2 threshold an invisible node enters interpolation with */
     double *slice_raw, *slice_cons; /* ex.n * fx.n log2 thresholds (cap = never visible),
                                        freq fastest */
+    double *slice3_raw, *slice3_cons; /* vx.n * ex.n * fx.n, at the default luminance (velocity
+                                         axis only) */
 };
 
 void csflut_diag_set(csflut_diag *d, csflut_status code, size_t where, const char *fmt, ...)
@@ -149,12 +160,23 @@ static inline double csflut_exp2i(double r)
 
 /* Not exported: csflut_log2i as a function, for the writer's axis check. */
 double csflut_log2(double x);
+/* A velocity grid point or query in the interpolation coordinate: log2(|v| + v0) with the warp
+ * (v0 finite), else log2 |v| on a log axis or |v| on a linear one. */
+static inline double csflut_vel_coord(double v, double v0, int logscale)
+{
+    double a = v < 0 ? -v : v;
+    if (v0 == v0) return csflut_log2i(a + v0);
+    return logscale ? csflut_log2i(a) : a;
+}
+/* Checks the key/value metadata as the reader does (shared with the writer). */
+csflut_status csflut_check_meta(const char *const *keys, const char *const *vals, size_t n, csflut_diag *diag,
+                                size_t where);
 /* Creates the derived data (conservative view, 2-D slices) of a table whose axes and values are
  * filled. */
 csflut_status csflut_table_finish(csflut_table *t);
 /* Checks axes and values as the reader does (shared with the writer). */
-csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, csflut_diag *diag,
-                                size_t where);
+csflut_status csflut_check_axis(int which, int n, const double *pts, int scale, double vel_v0,
+                                csflut_diag *diag, size_t where);
 csflut_status csflut_check_values(const double *thr, const double *se, size_t n_nodes,
                                   csflut_diag *diag, size_t where_thr, size_t where_se);
 

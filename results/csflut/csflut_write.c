@@ -66,7 +66,7 @@ csflut_status csflut_validate_build(const csflut_build *b, csflut_diag *diag)
             return CSFLUT_E_ARG;
         }
         int scale = a == 1 ? CSFLUT_SCALE_LINEAR : (a == 2 ? vel_scale(b) : CSFLUT_SCALE_LOG);
-        csflut_status st = csflut_check_axis(a, n[a], p[a], scale, diag, 0);
+        csflut_status st = csflut_check_axis(a, n[a], p[a], scale, CSFLUT_VEL_WARP_V0_DPS, diag, 0);
         if (st) return st;
     }
     size_t nodes = 1;
@@ -131,8 +131,59 @@ static unsigned char *put_f64(unsigned char *o, double d)
     return put_u64(o, u);
 }
 
+/* The metadata pairs checked as the reader checks them. */
+static csflut_status check_meta_pairs(const csflut_meta *meta, size_t n_meta, csflut_diag *diag)
+{
+    if (n_meta && !meta) {
+        csflut_diag_set(diag, CSFLUT_E_ARG, 0, "%zu metadata pairs but no array", n_meta);
+        return CSFLUT_E_ARG;
+    }
+    if (n_meta > CSFLUT_MAX_META) return csflut_check_meta(NULL, NULL, n_meta, diag, 0);
+    const char *keys[CSFLUT_MAX_META], *vals[CSFLUT_MAX_META];
+    for (size_t i = 0; i < n_meta; i++) {
+        keys[i] = meta[i].key;
+        vals[i] = meta[i].value;
+    }
+    return csflut_check_meta(keys, vals, n_meta, diag, 0);
+}
+
+/* The format 1.1 header extension: the velocity warp (NaN without a velocity axis), the pairs. */
+static size_t extension_size(const csflut_meta *meta, size_t n_meta)
+{
+    size_t size = CSFLUT_EXT_FIXED;
+    for (size_t i = 0; i < n_meta; i++) size += 8 + strlen(meta[i].key) + strlen(meta[i].value);
+    return size;
+}
+
+static unsigned char *put_u32(unsigned char *o, uint32_t v);
+static unsigned char *put_f64(unsigned char *o, double d);
+
+static unsigned char *put_extension(unsigned char *o, const csflut_build *b, const csflut_meta *meta,
+                                    size_t n_meta)
+{
+    o = put_f64(o, b->n_vel > 0 ? CSFLUT_VEL_WARP_V0_DPS : NAN);
+    o = put_u32(o, (uint32_t)n_meta);
+    o = put_u32(o, 0);
+    for (size_t i = 0; i < n_meta; i++) {
+        const char *s[2] = {meta[i].key, meta[i].value};
+        for (int k = 0; k < 2; k++) {
+            size_t sl = strlen(s[k]);
+            o = put_u32(o, (uint32_t)sl);
+            memcpy(o, s[k], sl);
+            o += sl;
+        }
+    }
+    return o;
+}
+
 csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **out, size_t *len,
                                        csflut_diag *diag)
+{
+    return csflut_write_memory_meta(b, NULL, 0, out, len, diag);
+}
+
+csflut_status csflut_write_memory_meta(const csflut_build *b, const csflut_meta *meta, size_t n_meta,
+                                       unsigned char **out, size_t *len, csflut_diag *diag)
 {
     if (!out || !len) {
         csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL output pointer");
@@ -142,11 +193,17 @@ csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **ou
     *len = 0;
     csflut_status st = csflut_validate_build(b, diag);
     if (st) return st;
+    st = check_meta_pairs(meta, n_meta, diag);
+    if (st) return st;
     const int n[4] = {b->n_freq, b->n_ecc, b->n_vel, b->n_lum};
     const double *p[4] = {b->freq_cpd, b->ecc_deg, b->vel_dps, b->lum_cdm2};
     size_t nodes = build_nodes(b);
     int n_axes = 0;
-    size_t size = CSFLUT_HEADER_SIZE;
+    /* Format 1.0, byte for byte as before, unless the table needs the 1.1 extension: a velocity
+     * axis (its warp) or metadata pairs. */
+    int ext = b->n_vel > 0 || n_meta > 0;
+    size_t header_size = CSFLUT_HEADER_SIZE + (ext ? extension_size(meta, n_meta) : 0);
+    size_t size = header_size;
     for (int a = 0; a < 4; a++)
         if (n[a] > 0) {
             n_axes++;
@@ -162,9 +219,9 @@ csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **ou
     }
     unsigned char *o = buf;
     memcpy(o, CSFLUT_MAGIC, CSFLUT_MAGIC_LEN);
-    o[8] = CSFLUT_VERSION_MAJOR;
-    o[10] = CSFLUT_VERSION_MINOR;
-    put_u32(o + 12, CSFLUT_HEADER_SIZE);
+    o[8] = CSFLUT_FORMAT_VERSION_MAJOR;
+    o[10] = ext ? 1 : 0;
+    put_u32(o + 12, (uint32_t)header_size);
     put_u64(o + 16, size);
     put_u32(o + 24, (uint32_t)n_axes);
     put_u32(o + 28, b->stderr_log10 ? CSFLUT_FLAG_STDERR : 0);
@@ -174,6 +231,7 @@ csflut_status csflut_write_memory_diag(const csflut_build *b, unsigned char **ou
     put_f64(o + 40, lum);
     put_u32(o + 48, (uint32_t)b->trials);
     o += CSFLUT_HEADER_SIZE;
+    if (ext) o = put_extension(o, b, meta, n_meta);
     for (int a = 0; a < 4; a++) {
         if (n[a] == 0) continue;
         int scale = a == 1 ? CSFLUT_SCALE_LINEAR : (a == 2 ? vel_scale(b) : CSFLUT_SCALE_LOG);
@@ -330,13 +388,19 @@ static csflut_status write_atomic(const char *path, const unsigned char *buf, si
 
 csflut_status csflut_write_file_diag(const csflut_build *b, const char *path, csflut_diag *diag)
 {
+    return csflut_write_file_meta(b, NULL, 0, path, diag);
+}
+
+csflut_status csflut_write_file_meta(const csflut_build *b, const csflut_meta *meta, size_t n_meta,
+                                     const char *path, csflut_diag *diag)
+{
     if (!path) {
         csflut_diag_set(diag, CSFLUT_E_ARG, 0, "NULL path");
         return CSFLUT_E_ARG;
     }
     unsigned char *buf;
     size_t len;
-    csflut_status st = csflut_write_memory_diag(b, &buf, &len, diag);
+    csflut_status st = csflut_write_memory_meta(b, meta, n_meta, &buf, &len, diag);
     if (st) return st;
     st = write_atomic(path, buf, len, diag);
     free(buf);

@@ -169,9 +169,12 @@ static void test_4d_round_trip(void)
      * and 100 the factor is the geometric mean of 1.6 and 1.0 */
     double base = thr[((1 * 3 + 0) * 6 + 2) * 8 + 3];
     CHECK_NEAR(csflut_threshold4(t, 4, 10, 0, sqrt(1000)) / base, sqrt(1.6), 1e-12);
-    /* velocity on a linear scale: halfway between 2 and 8 deg/s the factor is the geometric
-     * mean of 1.3 and 1.6 (grid points 1 and 2) */
-    CHECK_NEAR(csflut_threshold4(t, 4, 10, 5, 100) / base, sqrt(1.3 * 1.6), 1e-12);
+    /* velocity in the warp log(v + 0.5): between 2 and 8 deg/s (grid points 1 and 2, factors
+     * 1.3 and 1.6) the weight is log(5.5 / 2.5) / log(8.5 / 2.5) at 5 deg/s */
+    CHECK(csflut_velocity_warp_v0(t) == 0.5);
+    CHECK_INT_EQ(csflut_version_minor(t), 1);
+    double wv = log(5.5 / 2.5) / log(8.5 / 2.5);
+    CHECK_NEAR(csflut_threshold4(t, 4, 10, 5, 100) / base, pow(1.3, 1 - wv) * pow(1.6, wv), 1e-12);
     /* the 2-D query uses the default velocity (lowest) and luminance (metadata mean, 50) */
     CHECK(csflut_default_velocity(t) == 0);
     CHECK(csflut_default_luminance(t) == 50);
@@ -181,6 +184,218 @@ static void test_4d_round_trip(void)
     CHECK(mf > 0.5 && mf < 32);
     CHECK(rel_diff(csflut_threshold4(t, mf, 12, 3, 30), c) < 1e-12);
     csflut_close(t);
+}
+
+/* A 2-D table is written byte for byte as before format 1.1: the bundled example (written by the
+ * 1.0 writer) read and written again gives the same bytes. */
+static void test_2d_bytes_unchanged(const char *example)
+{
+    FILE *f = fopen(example, "rb");
+    CHECK(f != NULL);
+    if (!f) return;
+    static unsigned char old[1 << 16];
+    size_t n = fread(old, 1, sizeof old, f);
+    fclose(f);
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_memory(old, n, &t), CSFLUT_OK);
+    if (!t) return;
+    CHECK_INT_EQ(csflut_version_minor(t), 0);
+    CHECK_INT_EQ(csflut_meta_count(t), 0);
+    CHECK(isnan(csflut_velocity_warp_v0(t)));
+    csflut_build b;
+    csflut_table_to_build(t, &b);
+    unsigned char *buf;
+    size_t len;
+    CHECK_INT_EQ(csflut_write_memory(&b, &buf, &len), CSFLUT_OK);
+    CHECK_INT_EQ((long)len, (long)n);
+    CHECK(len == n && memcmp(buf, old, n) == 0);
+    free(buf);
+    csflut_close(t);
+}
+
+/* A 3-D table: format 1.1, the warp and the metadata pairs in the header extension. */
+static const double v3_vel[4] = {0, 2, 8, 32};
+static double v3_thr[8 * 6 * 4], v3_se[8 * 6 * 4];
+static const csflut_meta v3_meta[2] = {
+    {"velocity_meaning", "retinal (fixation on the mark: screen velocity)"},
+    {"cells_not_shown", "f=32 cpd v=8 deg/s; f=32 cpd v=32 deg/s"}};
+
+static csflut_build v3_build(void)
+{
+    csf_model_params p = csf_model_default();
+    for (int v = 0; v < 4; v++)
+        for (int e = 0; e < 6; e++)
+            for (int f = 0; f < 8; f++) {
+                int k = (v * 6 + e) * 8 + f;
+                v3_thr[k] = csf_model_threshold(&p, fx_freq[f], fx_ecc[e]) * (1 + 0.25 * v);
+                v3_se[k] = 0.05;
+            }
+    csflut_build b = {.n_freq = 8,
+                      .n_ecc = 6,
+                      .n_vel = 4,
+                      .freq_cpd = fx_freq,
+                      .ecc_deg = fx_ecc,
+                      .vel_dps = v3_vel,
+                      .threshold = v3_thr,
+                      .stderr_log10 = v3_se,
+                      .observer = "sim",
+                      .method = "bayes"};
+    return b;
+}
+
+static void test_velocity_extension(void)
+{
+    csflut_build b = v3_build();
+    unsigned char *buf;
+    size_t len;
+    csflut_diag d;
+    CHECK_INT_EQ(csflut_write_memory_meta(&b, v3_meta, 2, &buf, &len, &d), CSFLUT_OK);
+    /* header: minor 1, header_size = 64 + 16 fixed bytes + the pairs; v0 0.5, 2 pairs */
+    size_t want_hs = 64 + 16;
+    for (int k = 0; k < 2; k++) want_hs += 8 + strlen(v3_meta[k].key) + strlen(v3_meta[k].value);
+    CHECK_INT_EQ(buf[10], 1);
+    CHECK_INT_EQ((long)(buf[12] | buf[13] << 8), (long)want_hs);
+    double v0;
+    memcpy(&v0, buf + 64, 8);
+    CHECK(v0 == 0.5);
+    CHECK_INT_EQ(buf[72], 2);
+    csflut_table *t = NULL;
+    CHECK_INT_EQ(csflut_open_memory_diag(buf, len, &t, &d), CSFLUT_OK);
+    if (!t) return;
+    CHECK_INT_EQ(csflut_meta_count(t), 2);
+    CHECK(strcmp(csflut_meta_key(t, 1), "cells_not_shown") == 0);
+    CHECK(strcmp(csflut_meta_find(t, "velocity_meaning"), v3_meta[0].value) == 0);
+    CHECK(csflut_meta_find(t, "nope") == NULL && csflut_meta_key(t, 2) == NULL);
+    CHECK(csflut_velocity_warp_v0(t) == 0.5);
+    /* table -> build + pairs -> the same bytes */
+    csflut_build b2;
+    csflut_meta m2[4];
+    csflut_table_to_build(t, &b2);
+    CHECK_INT_EQ((long)csflut_table_meta(t, m2, 4), 2);
+    unsigned char *buf2;
+    size_t len2;
+    CHECK_INT_EQ(csflut_write_memory_meta(&b2, m2, 2, &buf2, &len2, NULL), CSFLUT_OK);
+    CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
+    free(buf2);
+    csflut_close(t);
+    /* a 2-D table with pairs is 1.1 too; without velocity its warp is NaN */
+    fx_table fx;
+    fx_make(&fx, 5, 0.05, 1.0);
+    CHECK_INT_EQ(csflut_write_memory_meta(&fx.b, v3_meta, 1, &buf2, &len2, NULL), CSFLUT_OK);
+    t = NULL;
+    CHECK_INT_EQ(csflut_open_memory(buf2, len2, &t), CSFLUT_OK);
+    if (t) {
+        CHECK_INT_EQ(csflut_version_minor(t), 1);
+        CHECK(isnan(csflut_velocity_warp_v0(t)));
+        CHECK_INT_EQ(csflut_meta_count(t), 1);
+        csflut_close(t);
+    }
+    free(buf2);
+
+    /* hostile extensions (checksum fixed so the parser proper sees them) */
+    unsigned char *m = malloc(len);
+    struct {
+        size_t off;
+        int width;
+        uint64_t val;
+        csflut_status want;
+        const char *what;
+    } cases[] = {
+        {64, 8, 0xBFF0000000000000ull, CSFLUT_E_BAD_AXIS, "v0 = -1"},
+        {64, 8, 0x7FF0000000000000ull, CSFLUT_E_BAD_AXIS, "v0 = inf"},
+        {76, 4, 1, CSFLUT_E_BAD_HEADER, "reserved not zero"},
+        {72, 4, 300, CSFLUT_E_BAD_METADATA, "300 pairs"},
+        {72, 4, 3, CSFLUT_E_BAD_HEADER, "a pair past the extension"},
+        {72, 4, 1, CSFLUT_E_BAD_HEADER, "unexplained bytes in the extension"},
+        {80, 4, 65, CSFLUT_E_BAD_METADATA, "key of 65 bytes"},
+        {84, 1, ':', CSFLUT_E_BAD_METADATA, "key with a colon"},
+        {84, 1, 0, CSFLUT_E_BAD_METADATA, "key with a NUL"},
+        {12, 4, 72, CSFLUT_E_BAD_HEADER, "extension shorter than its fixed bytes"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        memcpy(m, buf, len);
+        for (int i = 0; i < cases[k].width; i++)
+            m[cases[k].off + (size_t)i] = (unsigned char)(cases[k].val >> (8 * i));
+        fix_crc(m, len);
+        open_expect(m, len, cases[k].want, cases[k].what);
+    }
+    /* a later minor may add bytes after the pairs: skipped */
+    memcpy(m, buf, len);
+    m[10] = 2;
+    put32(m + 72, 1);
+    fix_crc(m, len);
+    t = NULL;
+    CHECK_INT_EQ(csflut_open_memory(m, len, &t), CSFLUT_OK);
+    if (t) {
+        CHECK_INT_EQ(csflut_meta_count(t), 1);
+        csflut_close(t);
+    }
+    /* the same bytes as format 1.0: the extension is skipped as 1.0 readers did, no warp, and
+     * velocity is interpolated as the axis record says (linear: the grid includes 0) */
+    memcpy(m, buf, len);
+    m[10] = 0;
+    fix_crc(m, len);
+    t = NULL;
+    CHECK_INT_EQ(csflut_open_memory(m, len, &t), CSFLUT_OK);
+    if (t) {
+        CHECK(isnan(csflut_velocity_warp_v0(t)));
+        CHECK_INT_EQ(csflut_meta_count(t), 0);
+        csflut_set_conservative(t, 0);
+        double base = v3_thr[(1 * 6 + 0) * 8 + 3];
+        CHECK_NEAR(csflut_threshold3(t, 4, 0, 5) / base, sqrt(1.25 * 1.5) / 1.25, 1e-12);
+        csflut_close(t);
+    }
+    free(m);
+    free(buf);
+}
+
+static void test_meta_refused(void)
+{
+    csflut_build b = v3_build();
+    static char longval[4100];
+    memset(longval, 'x', sizeof longval - 1);
+    struct {
+        csflut_meta m[2];
+        size_t n;
+        const char *what;
+    } bad[] = {
+        {{{"a", "1"}, {"a", "2"}}, 2, "appears twice"},
+        {{{"a:b", "1"}}, 1, "A-Z a-z"},
+        {{{"", "1"}}, 1, "A-Z a-z"},
+        {{{"a b", "1"}}, 1, "A-Z a-z"},
+        {{{"a", "line\nbreak"}}, 1, "line break"},
+        {{{"a", NULL}}, 1, "missing"},
+        {{{"a", longval}}, 1, "over 4096 bytes"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        unsigned char *buf = (unsigned char *)1;
+        size_t len;
+        csflut_diag d;
+        CHECK_INT_EQ(csflut_write_memory_meta(&b, bad[k].m, bad[k].n, &buf, &len, &d), CSFLUT_E_BAD_METADATA);
+        CHECK(buf == NULL);
+        CHECK_STR_CONTAINS(d.message, bad[k].what);
+    }
+    static csflut_meta many[257];
+    static char keys[257][8];
+    for (int k = 0; k < 257; k++) {
+        snprintf(keys[k], sizeof keys[k], "k%d", k);
+        many[k] = (csflut_meta){keys[k], "v"};
+    }
+    unsigned char *buf;
+    size_t len;
+    csflut_diag d;
+    CHECK_INT_EQ(csflut_write_memory_meta(&b, many, 257, &buf, &len, &d), CSFLUT_E_BAD_METADATA);
+    CHECK_STR_CONTAINS(d.message, "at most 256");
+    CHECK_INT_EQ(csflut_write_memory_meta(&b, many, 256, &buf, &len, &d), CSFLUT_OK);
+    free(buf);
+    CHECK_INT_EQ(csflut_write_memory_meta(&b, NULL, 1, &buf, &len, &d), CSFLUT_E_ARG);
+    /* velocity grid points that the warp cannot tell apart */
+    const double vclose[2] = {0, 1e-17};
+    b.vel_dps = vclose;
+    b.n_vel = 2;
+    b.stderr_log10 = NULL;
+    CHECK_INT_EQ(csflut_write_memory_meta(&b, NULL, 0, &buf, &len, &d), CSFLUT_E_NONMONOTONE);
+    CHECK_STR_CONTAINS(d.message, "warp");
 }
 
 static void test_single_point_axes(void)
@@ -486,14 +701,22 @@ static void test_versions(void)
     csflut_table *t = fx_open(&fx.b);
     CHECK(t != NULL);
     if (t) {
+        /* a 2-D table without metadata pairs is still written as format 1.0 */
         CHECK_INT_EQ(csflut_version_major(t), CSFLUT_FORMAT_VERSION_MAJOR);
-        CHECK_INT_EQ(csflut_version_minor(t), CSFLUT_FORMAT_VERSION_MINOR);
+        CHECK_INT_EQ(csflut_version_minor(t), 0);
         csflut_close(t);
     }
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc < 2) {
+        fprintf(stderr, "usage: test_lut_format EXAMPLE.csflut\n");
+        return 2;
+    }
+    test_2d_bytes_unchanged(argv[1]);
+    test_velocity_extension();
+    test_meta_refused();
     test_versions();
     test_round_trip_memory();
     test_round_trip_file_and_absent_metadata();
