@@ -1,4 +1,5 @@
-/* The exported GLSL gives the library's numbers: the function is compiled into a fragment shader
+/* The exported GLSL gives the library's numbers (PREFIX_threshold, and PREFIX_threshold3 of a
+ * table with a velocity axis): each function is compiled into a fragment shader
  * on an EGL surfaceless context (Mesa llvmpipe on CI), evaluated for 64x64 queries read from a
  * float texture, written to a float framebuffer and read back; compared to csflut_threshold at
  * the same float inputs to 1e-5 relative (float32), never-visible as +inf. Twice: as GLSL 3.30
@@ -45,24 +46,29 @@ static GLuint compile(GLenum kind, const char *src)
 /* Renders prefix_threshold for the queries; out gets W*H floats. es: GLSL ES 3.00 on an ES
  * context, the export first after #version (nothing sets a precision before it); else GLSL 3.30
  * core. Returns 0 on success. */
-static int run_shader(const char *glsl, const char *prefix, const float *q, float *out, int es)
+static int run_shader(const char *glsl, const char *prefix, const float *q, float *out, int es, int three)
 {
     size_t n = strlen(glsl) + 1024;
-    char *fs = malloc(n), vs[512];
+    char *fs = malloc(n), vs[512], call[128];
+    /* q holds (freq, ecc, velocity, unused) per texel */
+    if (three) snprintf(call, sizeof call, "%s_threshold3(fe.x, fe.y, fe.z)", prefix);
+    else snprintf(call, sizeof call, "%s_threshold(fe.x, fe.y)", prefix);
     if (es)
         snprintf(fs, n,
                  "#version 300 es\n%s\nuniform highp sampler2D q;\nout vec4 o;\n"
                  "void main() {\n"
-                 "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
-                 "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
-                 "}\n", glsl, prefix);
+                 "    vec4 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0);\n"
+                 "    o = vec4(%s, 0.0, 0.0, 1.0);\n"
+                 "}\n",
+                 glsl, call);
     else
         snprintf(fs, n,
                  "#version 330 core\nuniform sampler2D q;\nout vec4 o;\n%s\n"
                  "void main() {\n"
-                 "    vec2 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0).xy;\n"
-                 "    o = vec4(%s_threshold(fe.x, fe.y), 0.0, 0.0, 1.0);\n"
-                 "}\n", glsl, prefix);
+                 "    vec4 fe = texelFetch(q, ivec2(gl_FragCoord.xy), 0);\n"
+                 "    o = vec4(%s, 0.0, 0.0, 1.0);\n"
+                 "}\n",
+                 glsl, call);
     snprintf(vs, sizeof vs, "%s\n%s", es ? "#version 300 es" : "#version 330 core", vs_body);
     GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
     free(fs);
@@ -77,7 +83,7 @@ static int run_shader(const char *glsl, const char *prefix, const float *q, floa
     GLuint tex[2], fbo, vao;
     glGenTextures(2, tex);
     glBindTexture(GL_TEXTURE_2D, tex[0]);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, W, H, 0, GL_RG, GL_FLOAT, q);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, W, H, 0, GL_RGBA, GL_FLOAT, q);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, tex[1]);
@@ -148,19 +154,37 @@ int main(void)
     fx_make(&fx, 81, 0.12, 1.0);
     csflut_table *t = fx_open(&fx.b);
     CHECK(t != NULL);
-    static float q[W * H * 2], out[W * H];
+    static float q[W * H * 4], out[W * H];
     csf_rng r;
     csf_rng_init(&r, 81, 1);
     for (int i = 0; i < W * H; i++) {
-        q[2 * i] = (float)(0.3 * pow(2, 7.0 * csf_rng_next_uniform(&r)));
-        q[2 * i + 1] = (float)(-2 + 47 * csf_rng_next_uniform(&r));
+        q[4 * i] = (float)(0.3 * pow(2, 7.0 * csf_rng_next_uniform(&r)));
+        q[4 * i + 1] = (float)(-2 + 47 * csf_rng_next_uniform(&r));
+        /* velocity: 0, between the nodes, negative (drift direction), beyond the grid */
+        q[4 * i + 2] = i % 9 == 0 ? 0.0f : (float)(-4 + 26 * csf_rng_next_uniform(&r));
+        q[4 * i + 3] = 0.0f;
     }
     /* a few edge cases: beyond both ends of both axes */
     q[0] = 100.0f, q[1] = 100.0f;
-    q[2] = 0.01f, q[3] = -5.0f;
+    q[4] = 0.01f, q[5] = -5.0f;
     /* NaN: the library gives NaN; GLSL leaves max/clamp of NaN undefined, so the shader's answer
      * is the driver's (reported, not compared; the generated comment and docs/csflut.md say so) */
-    q[4] = NAN, q[5] = 5.0f;
+    q[8] = NAN, q[9] = 5.0f;
+    /* the same grid with a velocity axis, never visible at high velocity and frequency */
+    static const double vel[5] = {0, 1, 4, 8, 16};
+    static double thr3[8 * 6 * 5];
+    for (int v = 0; v < 5; v++)
+        for (int k = 0; k < 48; k++) {
+            double x = fx.thr[k] * pow(1.4, v);
+            thr3[v * 48 + k] = x > 1 ? INFINITY : x;
+        }
+    csflut_build b3 = fx.b;
+    b3.n_vel = 5;
+    b3.vel_dps = vel;
+    b3.threshold = thr3;
+    b3.stderr_log10 = NULL;
+    csflut_table *t3 = fx_open(&b3);
+    CHECK(t3 != NULL);
     /* the generated comment describes both functions and what NaN does on each side */
     {
         char *glsl;
@@ -181,18 +205,21 @@ int main(void)
             if (ctx == EGL_NO_CONTEXT) break;
         }
         const char *api = es ? "GLSL ES 3.00" : "GLSL 3.30 core";
-        for (int view = 0; view < 2; view++) {
-            csflut_set_conservative(t, view);
+        for (int run = 0; run < 4; run++) {
+            int view = run & 1, three = run >> 1;
+            csflut_table *tt = three ? t3 : t;
+            csflut_set_conservative(tt, view);
             char *glsl;
-            CHECK_INT_EQ(csflut_export(t, CSFLUT_FORMAT_GLSL, "lut", &glsl, NULL), CSFLUT_OK);
-            int rc = run_shader(glsl, "lut", q, out, es);
+            CHECK_INT_EQ(csflut_export(tt, CSFLUT_FORMAT_GLSL, "lut", &glsl, NULL), CSFLUT_OK);
+            int rc = run_shader(glsl, "lut", q, out, es, three);
             free(glsl);
             CHECK_MSG(rc == 0, "%s: GL rendering failed", api);
             if (rc) break;
             double worst = 0;
             int n_inf = 0, mismatch_inf = 0;
             for (int i = 0; i < W * H; i++) {
-                double want = csflut_threshold(t, (double)q[2 * i], (double)q[2 * i + 1]);
+                double fq = (double)q[4 * i], eq = (double)q[4 * i + 1], vq = (double)q[4 * i + 2];
+                double want = three ? csflut_threshold3(tt, fq, eq, vq) : csflut_threshold(tt, fq, eq);
                 double got = (double)out[i];
                 if (i == 2) {
                     CHECK(isnan(want));
@@ -203,7 +230,7 @@ int main(void)
                 if (isinf(want) || isinf(got)) {
                     if (!(isinf(want) && isinf(got) && got > 0)) {
                         mismatch_inf++;
-                        fprintf(stderr, "query f=%g e=%g: lib %g glsl %g\n", q[2 * i], q[2 * i + 1], want, got);
+                        fprintf(stderr, "query f=%g e=%g v=%g: lib %g glsl %g\n", fq, eq, vq, want, got);
                     }
                     n_inf++;
                     continue;
@@ -211,14 +238,16 @@ int main(void)
                 double d = rel_diff(got, want);
                 if (d > worst) worst = d;
             }
-            fprintf(stderr, "%s, %s view: %d queries (%d never visible), worst rel diff %.3g\n", api,
-                    view ? "conservative" : "raw", W * H, n_inf, worst);
+            fprintf(stderr, "%s, %s view, %s: %d queries (%d never visible), worst rel diff %.3g\n", api,
+                    view ? "conservative" : "raw", three ? "threshold3 (velocity)" : "2-D", W * H, n_inf,
+                    worst);
             CHECK(n_inf > 100); /* the comparison covers infinities */
             CHECK_INT_EQ(mismatch_inf, 0);
             CHECK_MSG(worst < 1e-5, "%s: worst relative difference %g", api, worst);
         }
     }
     csflut_close(t);
+    csflut_close(t3);
     eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (ctx != EGL_NO_CONTEXT) eglDestroyContext(dpy, ctx);
     /* no eglTerminate: it unloads the driver, and LeakSanitizer could then no longer attribute
