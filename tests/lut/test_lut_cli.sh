@@ -114,6 +114,71 @@ for fmt in glsl c; do
 done
 "$CSFCAL" lut export "$T/a.csflut" --format glsl --prefix GL_lut_2 -o "$T/p.glsl" >"$T/out" 2>&1 \
     && grep -q "float GL_lut_2_threshold" "$T/p.glsl" && ok "--prefix GL_lut_2 accepted" || { bad "--prefix GL_lut_2 accepted"; cat "$T/out"; }
+# A 3-D table (freq x ecc x velocity), as the observer calibration writes it: metadata pairs in
+# "# meta.KEY: value" comments, a velocity_dps column including 0
+python3 - "$T/v.csv" <<'PY'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("# meta.velocity_meaning: retinal (fixation on the mark: screen velocity)\n")
+    f.write("# meta.cells_not_shown: f=16 cpd v=8 deg/s (tf 128 Hz >= 60 Hz)\n")
+    f.write("freq_cpd,ecc_deg,velocity_dps,threshold,stderr_log10\n")
+    for v in (0, 2, 8):
+        for e in (0, 10):
+            for fr in (1, 4, 16):
+                t = 0.004 * (fr / 4) ** 2 * (1 + e / 10) * (1 + v / 4) if fr > 1 else 0.01
+                se = 1.0 if (fr == 16 and v == 8) else 0.05
+                f.write("%g,%g,%g,%.17g,%g\n" % (fr, e, v, t, se))
+PY
+"$CSFCAL" lut import "$T/v.csv" -o "$T/v.csflut" >"$T/out" 2>&1 && ok "import 3-D" || { bad "import 3-D"; cat "$T/out"; }
+"$CSFCAL" lut info "$T/v.csflut" >"$T/out" 2>&1; expect "info: velocity axis and warp" 0 "axis velocity     3 points, warp log(|v| + 0.5), 0 to 8 deg/s" "$T/out" $?
+grep -q "meta velocity_meaning retinal (fixation on the mark: screen velocity)" "$T/out" && grep -q "format version:    1.1" "$T/out" \
+    && ok "info: metadata pairs, format 1.1" || { bad "info: metadata pairs"; cat "$T/out"; }
+"$CSFCAL" lut info "$T/v.csflut" --json >"$T/out" 2>&1
+python3 - "$T/out" <<'PY' && ok "info json: velocity axis, warp, meta" || bad "info json: velocity axis, warp, meta"
+import json, sys
+d = json.load(open(sys.argv[1]))
+v = d["axes"][2]
+assert v["name"] == "velocity" and v["points"] == [0, 2, 8] and v["warp_v0_dps"] == 0.5, v
+assert d["meta"]["cells_not_shown"].startswith("f=16 cpd"), d["meta"]
+PY
+# lookup at a node, at 0 and between nodes (the warp: at sqrt(2.5 * 8.5) - 0.5 deg/s the threshold
+# is the geometric mean of the 2 and 8 deg/s nodes)
+"$CSFCAL" lut lookup "$T/v.csflut" --freq 4 --ecc 0 --velocity 2 --raw --json >"$T/out" 2>&1
+python3 -c "import json; d=json.load(open('$T/out')); assert abs(d['threshold'] / 0.006 - 1) < 1e-14, d" \
+    && ok "lookup --velocity at a node" || { bad "lookup --velocity at a node"; cat "$T/out"; }
+"$CSFCAL" lut lookup "$T/v.csflut" --freq 4 --ecc 0 --velocity 0 --raw --json >"$T/out" 2>&1
+expect "lookup --velocity 0" 0 '"velocity_dps": 0,' "$T/out" $?
+vm=$(python3 -c "import math; print(repr(math.sqrt(2.5 * 8.5) - 0.5))")
+"$CSFCAL" lut lookup "$T/v.csflut" --freq 4 --ecc 0 --velocity "$vm" --raw --json --contrast 0.01 >"$T/out" 2>&1
+python3 - "$T/out" <<'PY' && ok "lookup between velocity nodes (warp), max frequency" || { bad "lookup between velocity nodes"; cat "$T/out"; }
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+want = math.sqrt(0.004 * 1.5 * 0.004 * 3.0)
+assert abs(d["threshold"] / want - 1) < 1e-12, d
+assert 4 < d["max_frequency_cpd"] < 16, d
+PY
+"$CSFCAL" lut lookup "$T/v.csflut" --freq 4 --ecc 0 --velocity -1 >"$T/out" 2>&1; expect "negative --velocity" 2 "allowed" "$T/out" $?
+"$CSFCAL" lut lookup "$T/a.csflut" --freq 4 --ecc 0 --velocity 2 >"$T/out" 2>&1; expect "--velocity on a 2-D table" 2 "has no velocity axis" "$T/out" $?
+# export -> import keeps the velocity axis and the pairs, line for line
+"$CSFCAL" lut export "$T/v.csflut" --format csv -o "$T/v2.csv" || bad "export 3-D csv"
+"$CSFCAL" lut import "$T/v2.csv" -o "$T/v2.csflut" >"$T/out" 2>&1 || bad "re-import 3-D"
+"$CSFCAL" lut export "$T/v2.csflut" --format csv -o "$T/v3.csv" || bad "export 3-D csv again"
+cmp -s "$T/v2.csv" "$T/v3.csv" && grep -q "^# meta.cells_not_shown: f=16" "$T/v3.csv" && ok "3-D csv round trip with metadata pairs" || { bad "3-D csv round trip"; diff "$T/v2.csv" "$T/v3.csv"; }
+for fmt in c glsl; do
+    "$CSFCAL" lut export "$T/v.csflut" --format $fmt -o "$T/v.$fmt" 2>"$T/err" && grep -q "csflut_gen_threshold3" "$T/v.$fmt" && ok "3-D export $fmt has threshold3" || bad "3-D export $fmt"
+done
+# refusals of 3-D grids name the line and the rule
+printf 'freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,-2,0.01\n' >"$T/vbad.csv"
+"$CSFCAL" lut import "$T/vbad.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "negative velocity names line 3 and the limit" 1 "line 3: velocity_dps -2 must be finite and >= 0 deg/s" "$T/out" $?
+printf 'freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,nan,0.01\n' >"$T/vbad.csv"
+"$CSFCAL" lut import "$T/vbad.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "NaN velocity names line 3" 1 "line 3: velocity_dps nan must be finite" "$T/out" $?
+printf 'freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n2,0,0,0.01\n1,0,4,0.01\n' >"$T/vbad.csv"
+"$CSFCAL" lut import "$T/vbad.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "hole in a 3-D grid named" 1 "no row for freq_cpd=2 ecc_deg=0 velocity_dps=4" "$T/out" $?
+printf 'freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,4,0.01\n1,0,4,0.02\n' >"$T/vbad.csv"
+"$CSFCAL" lut import "$T/vbad.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "duplicate in a 3-D grid names both lines" 1 "line 4: duplicate grid point (same axis values as line 3)" "$T/out" $?
+printf '# meta.a b: x\nfreq_cpd,ecc_deg,threshold\n1,0,0.01\n' >"$T/vbad.csv"
+"$CSFCAL" lut import "$T/vbad.csv" -o "$T/c.csflut" >"$T/out" 2>&1; expect "bad metadata key names line 1" 1 "line 1: metadata key" "$T/out" $?
+[ ! -e "$T/c.csflut" ] && ok "no table from a refused 3-D grid" || bad "no table from a refused 3-D grid"
 "$CSFCAL" lut frobnicate >"$T/out" 2>&1; expect "unknown subcommand" 2 "unknown subcommand" "$T/out" $?
 "$CSFCAL" lut info "$T/a.csflut" --bogus >"$T/out" 2>&1; expect "unknown option" 2 "unknown option" "$T/out" $?
 "$CSFCAL" lut lookup "$T/a.csflut" --freq 4 --ecc 0 --shift 11 >"$T/out" 2>&1; expect "shift range" 2 "allowed 0 to 10" "$T/out" $?

@@ -2,8 +2,8 @@
 # The GLSL export passes Khronos' reference compiler, glslangValidator, as a GLSL 3.30 core,
 # GLSL ES 3.00 and GLSL 4.50 fragment shader, included right after #version with nothing before
 # it (an ES fragment shader has no default float precision: the export sets highp itself, under
-# #ifdef GL_ES), with no error and no warning; the numbers themselves are checked on a GPU
-# driver by test_lut_glsl.
+# #ifdef GL_ES), with no error and no warning, for a 2-D table and for one with a velocity axis
+# (PREFIX_threshold3); the numbers themselves are checked on a GPU driver by test_lut_glsl.
 set -eu
 CSFCAL=$1
 EX=$2/example_default_observer.csflut
@@ -68,5 +68,21 @@ for p in gl_x a__b; do
         echo "FAIL: --prefix $p accepted"; exit 1
     fi
     [ ! -e "$T/refused.glsl" ] || { echo "FAIL: --prefix $p wrote a file"; exit 1; }
+done
+# a table with a velocity axis: PREFIX_threshold3 and PREFIX_perceptible3 pass too, beside the
+# 2-D functions of the same export
+{ echo "freq_cpd,ecc_deg,velocity_dps,threshold"
+  for v in 0 2 8; do for e in 0 10; do for f in 1 4 16; do echo "$f,$e,$v,0.0$f$v"; done; done; done; } >"$T/v.csv"
+"$CSFCAL" lut import "$T/v.csv" -o "$T/v.csflut" >/dev/null
+"$CSFCAL" lut export "$T/v.csflut" --format glsl --prefix lut3 -o "$T/lut3.glsl"
+for v in "330 core" "300 es" "450 core"; do
+    { echo "#version $v"; cat "$T/lut3.glsl"
+      echo 'out vec4 colour; uniform vec4 q; /* freq_cpd, ecc_deg, vel_dps, contrast */'
+      echo 'void main() { colour = vec4(lut3_threshold3(q.x, q.y, q.z) + lut3_threshold(q.x, q.y),'
+      echo '    lut3_perceptible3(q.x, q.y, q.z, q.w) ? 1.0 : 0.0, 0.0, 1.0); }'; } >"$T/v.frag"
+    if ! glslangValidator "$T/v.frag" >"$T/log" 2>&1 || grep -q WARNING "$T/log"; then
+        echo "FAIL: glslangValidator on the velocity export as GLSL $v:"; cat "$T/log"; exit 1
+    fi
+    echo "GLSL $v, velocity axis: ok"
 done
 echo ok
