@@ -88,6 +88,12 @@ for t in bayes fade; do
     put fuzz_observer_table "$t-truth.csv" "$tmp/$t-truth.csv"
   fi
 done
+# A table with a velocity axis and metadata pairs (format 1.1's header extension), from its CSV
+# seed, so the extension seed follows the format as it changes.
+if step import-velocity lut import "$src/tests/fuzz/corpus/fuzz_csflut_csv/velocity-3d-meta.csv" \
+  -o v3.csflut; then
+  put fuzz_csflut velocity-3d-meta.csflut "$tmp/v3.csflut"
+fi
 # Session exports (readings and trials) as CSV and JSON: more real CSV for the CSV parsers.
 for id in 1 2; do
   if step "sessions-export-$id" run sessions export "$id" --format csv -o "s$id.csv"; then
