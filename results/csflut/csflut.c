@@ -1235,9 +1235,19 @@ static void batch3_block(const csflut_table *t, const double *vals, const double
     for (size_t k = 0; k < m; k++) {
         u[k] = clampd(log2_guarded(f[k]), fx.lo, fx.hi);
         ec[k] = clampd(e[k], ex.lo, ex.hi);
-        vc[k] = clampd(csflut_vel_coord(v[k], v0, lg), vx.lo, vx.hi);
         bu[k] = bucket_of(&fx, u[k]);
         be[k] = bucket_of(&ex, ec[k]);
+    }
+    /* the velocity coordinate, one loop per kind of axis so each vectorises; fabs gives the
+     * same sums as csflut_vel_coord's |v| (they differ only in the sign of a zero) */
+    if (v0 == v0)
+        for (size_t k = 0; k < m; k++) vc[k] = csflut_log2i(fabs(v[k]) + v0);
+    else if (lg)
+        for (size_t k = 0; k < m; k++) vc[k] = csflut_log2i(fabs(v[k]));
+    else
+        for (size_t k = 0; k < m; k++) vc[k] = fabs(v[k]);
+    for (size_t k = 0; k < m; k++) {
+        vc[k] = clampd(vc[k], vx.lo, vx.hi);
         bv[k] = bucket_of(&vx, vc[k]);
     }
     const size_t plane = (size_t)fx.n * (size_t)ex.n;
