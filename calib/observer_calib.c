@@ -2017,6 +2017,33 @@ static void method_line(const obs_run *R, char *buf, size_t len)
         snprintf(buf, len, "%s; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
 }
 
+/* A table with a velocity axis says what its velocities are and which cells were never shown (the
+ * method's prediction stands there, with its stated error); none for a static table, whose bytes
+ * stay those of format 1.0. */
+static size_t motion_metadata(const obs_run *R, csflut_meta *meta, char *buf, size_t len)
+{
+    const session_settings *set = &R->set;
+    if (set->n_vels == 0) return 0;
+    meta[0] =
+        (csflut_meta){"velocity_meaning", "retinal velocity of the carrier drifting in a stationary "
+                                          "envelope, with the eyes on the fixation mark (= screen velocity)"};
+    if (R->n_not_shown == 0) return 1;
+    double refresh_hz = csf_presenter_refresh_hz(R->S.pres);
+    size_t used = 0;
+    for (int v = 0; v < set->n_vels && used < len; v++)
+        for (int f = 0; f < set->n_freqs && used < len; f++)
+            if (csf_motion_aliases(&(csf_cell){set->freqs[f], 0, set->vels[v]}, refresh_hz))
+                used += (size_t)snprintf(buf + used, len - used, "%s%g cpd at %g deg/s", used ? ", " : "",
+                                         set->freqs[f], set->vels[v]);
+    if (used < len)
+        snprintf(buf + used, len - used,
+                 " (every eccentricity): temporal frequency at or above half the %g Hz "
+                 "refresh rate, never shown; the %s method's prediction with its stated error",
+                 refresh_hz, set->method);
+    meta[1] = (csflut_meta){"cells_not_shown", buf};
+    return 2;
+}
+
 /* The threshold table, written and kept in the store as an artifact. */
 static csf_status write_table(obs_run *R, csf_error *err)
 {
@@ -2060,7 +2087,11 @@ static csf_status write_table(obs_run *R, csf_error *err)
     memset(&diag, 0, sizeof diag);
     unsigned char *blob = NULL;
     size_t blen = 0;
-    csflut_status ls = csflut_write_memory_diag(&b, &blob, &blen, &diag);
+    char not_shown[4096];
+    csflut_meta meta[2];
+    size_t n_meta = motion_metadata(R, meta, not_shown, sizeof not_shown);
+    csflut_status ls = n_meta ? csflut_write_memory_meta(&b, meta, n_meta, &blob, &blen, &diag)
+                              : csflut_write_memory_diag(&b, &blob, &blen, &diag);
     free(thr);
     free(se);
     if (ls != CSFLUT_OK)

@@ -26,6 +26,8 @@ check "person time measured" python3 -c 'import json,sys; d=json.loads(sys.argv[
 info=$("$CSFCAL" lut info "$T/v.csflut")
 check "table has a velocity axis 0 4 12" grep -q 'axis velocity *3 points.*0 4 12' <<<"$info"
 check "table has 24 nodes" grep -q 'nodes: *24' <<<"$info"
+check "table says what its velocities are" grep -q 'meta velocity_meaning retinal velocity' <<<"$info"
+check "table lists the cells never shown" grep -q 'meta cells_not_shown 16 cpd at 4 deg/s, 8 cpd at 12 deg/s, 16 cpd at 12 deg/s (every eccentricity)' <<<"$info"
 # the trials: every planned cell can be shown, drift in both directions (random per trial)
 "$CSFCAL" sessions export 1 --store "$T/a.sqlite" --format csv > "$T/trials.csv" 2>/dev/null
 check "trials exported" test -s "$T/trials.csv"
