@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "model/csf_velocity.h"
+#include "model/observer_images.h"
 #include "model/observer_sim.h"
 #include "model/psychometric.h"
 #include "tests/check.h"
@@ -227,8 +228,50 @@ static void test_table_3d_refused(void)
     }
 }
 
+/* The image observer of studies judges a moving pair as moving: a Gabor difference of freq_cpd
+ * (1-deg sigma) in a 128 px image of 4 deg. */
+static double image_r(const csf_observer_sim *o, double freq_cpd, double velocity_dps, int use_v)
+{
+    enum { N = 128 };
+    const double ppd = 32;
+    float *a = malloc(sizeof(float) * N * N), *b = malloc(sizeof(float) * N * N);
+    if (!a || !b) abort();
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            double dx = (x + 0.5 - N / 2.0) / ppd, dy = (y + 0.5 - N / 2.0) / ppd;
+            a[y * N + x] = 0.5f;
+            b[y * N + x] =
+                (float)(0.5 * (1 + 0.01 * exp(-(dx * dx + dy * dy) / 2) * sin(2 * M_PI * freq_cpd * dx)));
+        }
+    csf_image_pair_eval ev;
+    int rc = use_v ? csf_image_pair_evaluate_v(o, a, b, N, N, N / ppd, 2, 0, velocity_dps, &ev)
+                   : csf_image_pair_evaluate(o, a, b, N, N, N / ppd, 2, 0, &ev);
+    CHECK(rc == 0);
+    free(a);
+    free(b);
+    return ev.r;
+}
+
+static void test_image_observer(void)
+{
+    csf_observer_sim *o = make("sim", 5);
+    if (!o) return;
+    CHECK(image_r(o, 4, 0, 1) == image_r(o, 4, 0, 0)); /* static: exactly as before */
+    double r4 = image_r(o, 4, 0, 0), r4m = image_r(o, 4, 6, 1);
+    double r1 = image_r(o, 1, 0, 0), r1m = image_r(o, 1, 3, 1);
+    printf("image pairs: 4 cpd r %.3g static, %.3g at 6 deg/s; 1 cpd r %.3g static, %.3g at 3 deg/s\n", r4,
+           r4m, r1, r1m);
+    CHECK(r4 > 0 && r4m < 0.5 * r4); /* a fine difference moving fast is harder to see */
+    CHECK(r1m > 1.2 * r1);           /* a coarse one drifting a few deg/s easier */
+    float one = 0.5f;
+    csf_image_pair_eval ev;
+    CHECK(csf_image_pair_evaluate_v(o, &one, &one, 1, 1, 1, 0, 0, NAN, &ev) == -1);
+    csf_observer_sim_free(o);
+}
+
 int main(void)
 {
+    test_image_observer();
     test_static_unchanged();
     test_parametric_gain();
     test_trials_follow_velocity();
