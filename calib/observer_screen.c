@@ -35,6 +35,11 @@ struct csf_obs_screen {
     int n_look, look[CSF_OBS_SCREEN_MAX_PLACES];
     int looking, per_frame, max_frames, frame_k, frames_seen;
     double latest;
+    double ecc_deg, ref_velocity_dps, period_s;
+    int pending;          /* the last frame presented was looked at: its time on screen is open */
+    double pending_t_s;
+    csf_view_gain_fn gain;
+    void *gain_ctx;
     uint16_t *buf;
     size_t buf_px;
     csf_status hook_st;
@@ -104,6 +109,8 @@ csf_status csf_obs_screen_open(csf_presenter *pres, const csf_display_profile *p
     s->sigma_deg = sigma_deg;
     s->orientation_deg = orientation_deg;
     s->step = frame_step;
+    double hz = csf_presenter_refresh_hz(pres);
+    s->period_s = hz > 0 ? 1.0 / hz : 1.0 / 60;
     csf_status st = open_display(s, display, display_gamma, err);
     if (st == CSF_OK) {
         int maxlevel = (1 << csf_presenter_bits(pres)) - 1;
@@ -226,12 +233,38 @@ static csf_status find_place(csf_obs_screen *s, double freq, double ecc, double 
     return CSF_OK;
 }
 
+static double person_gain(void *ctx, double freq_cpd, double ecc_deg, double velocity_dps)
+{
+    return csf_observer_sim_velocity_log10_gain((const csf_observer_sim *)ctx, freq_cpd, ecc_deg, velocity_dps);
+}
+
+void csf_obs_screen_set_gain(csf_obs_screen *s, csf_view_gain_fn gain, void *ctx)
+{
+    s->gain = gain;
+    s->gain_ctx = ctx;
+}
+
+void csf_obs_screen_set_person(csf_obs_screen *s, const csf_observer_sim *o)
+{
+    if (o) csf_obs_screen_set_gain(s, person_gain, (void *)o);
+    else csf_obs_screen_set_gain(s, NULL, NULL);
+}
+
 csf_status csf_obs_screen_look(csf_obs_screen *s, double freq_cpd, double ecc_deg,
                                const double *polar_deg, int n, int max_frames, csf_error *err)
+{
+    return csf_obs_screen_look_v(s, freq_cpd, ecc_deg, 0.0, polar_deg, n, max_frames, err);
+}
+
+csf_status csf_obs_screen_look_v(csf_obs_screen *s, double freq_cpd, double ecc_deg, double ref_velocity_dps,
+                                 const double *polar_deg, int n, int max_frames, csf_error *err)
 {
     if (n < 1 || n > CSF_OBS_SCREEN_MAX_PLACES || !polar_deg || max_frames < 0)
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer screen: %d places (1 to %d)", n,
                              CSF_OBS_SCREEN_MAX_PLACES);
+    if (!isfinite(ref_velocity_dps))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer screen: reference velocity %g deg/s is not finite",
+                             ref_velocity_dps);
     for (int i = 0; i < s->n_cache; i++) s->cache[i].pinned = 0;
     s->looking = 0;
     for (int k = 0; k < n; k++) {
@@ -246,32 +279,53 @@ csf_status csf_obs_screen_look(csf_obs_screen *s, double freq_cpd, double ecc_de
     s->frame_k = 0;
     s->frames_seen = 0;
     s->latest = 0;
+    s->ecc_deg = ecc_deg;
+    s->ref_velocity_dps = ref_velocity_dps;
+    s->pending = 0;
     s->looking = 1;
     return CSF_OK;
 }
 
+static double seen(const csf_obs_screen *s, const place *p, double since_s, csf_view_motion_info *info)
+{
+    return csf_view_place_motion_contrast(p->pl, s->ecc_deg, s->ref_velocity_dps, since_s, s->period_s, s->gain,
+                                          s->gain_ctx, info);
+}
+
 static void on_frame(void *ctx, csf_presenter *pres, const csf_frame_info *fi)
 {
-    (void)fi;
     csf_obs_screen *s = ctx;
     if (!s->looking || s->hook_st != CSF_OK) return;
+    /* The frame looked at before this one stayed on screen until this one came. */
+    if (s->pending)
+        for (int i = 0; i < s->n_look; i++)
+            csf_view_place_set_duration(s->cache[s->look[i]].pl, fi->t_s - s->pending_t_s);
+    s->pending = 0;
     int k = s->frame_k++;
     if ((s->max_frames > 0 && k >= s->max_frames) || k % s->step != 0) return;
     for (int i = 0; i < s->n_look; i++) {
         place *p = &s->cache[s->look[i]];
         csf_status st = csf_presenter_readback_region(pres, p->x, p->y, p->w, p->h, s->buf, &s->hook_err);
+        if (st == CSF_OK) st = csf_view_place_add_frame_at(p->pl, &s->disp, s->buf, fi->t_s, &s->hook_err);
         if (st != CSF_OK) {
             s->hook_st = st;
             return;
         }
-        if (s->per_frame) csf_view_place_reset(p->pl);
-        csf_view_place_add_frame(p->pl, &s->disp, s->buf);
-        if (i == 0 && s->per_frame) s->latest = csf_view_place_contrast(p->pl, NULL);
+        /* the window's frames: those presented less than CSF_OBS_SCREEN_WINDOW_S before this one */
+        if (i == 0 && s->per_frame) s->latest = seen(s, p, fi->t_s - CSF_OBS_SCREEN_WINDOW_S + 1e-9, NULL);
     }
+    s->pending = 1;
+    s->pending_t_s = fi->t_s;
     s->frames_seen++;
 }
 
 csf_status csf_obs_screen_stop(csf_obs_screen *s, double *contrast, csf_error *err)
+{
+    return csf_obs_screen_stop_info(s, contrast, NULL, err);
+}
+
+csf_status csf_obs_screen_stop_info(csf_obs_screen *s, double *contrast, csf_view_motion_info *info,
+                                    csf_error *err)
 {
     s->looking = 0;
     if (s->hook_st != CSF_OK) {
@@ -280,7 +334,7 @@ csf_status csf_obs_screen_stop(csf_obs_screen *s, double *contrast, csf_error *e
         return csf_error_set(err, st, "observer screen: %s", s->hook_err.msg);
     }
     for (int i = 0; i < s->n_look && contrast; i++)
-        contrast[i] = csf_view_place_contrast(s->cache[s->look[i]].pl, NULL);
+        contrast[i] = seen(s, &s->cache[s->look[i]], -INFINITY, info ? &info[i] : NULL);
     return CSF_OK;
 }
 

@@ -59,8 +59,15 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
                             int h, double size_deg, double ecc_deg, double polar_deg,
                             csf_image_pair_eval *out)
 {
+    return csf_image_pair_evaluate_v(o, lum_a, lum_b, w, h, size_deg, ecc_deg, polar_deg, 0.0, out);
+}
+
+int csf_image_pair_evaluate_v(const csf_observer_sim *o, const float *lum_a, const float *lum_b, int w, int h,
+                              double size_deg, double ecc_deg, double polar_deg, double velocity_dps,
+                              csf_image_pair_eval *out)
+{
     memset(out, 0, sizeof *out);
-    if (!o || !lum_a || !lum_b || w < 1 || h < 1 || !(size_deg > 0)) return -1;
+    if (!o || !lum_a || !lum_b || w < 1 || h < 1 || !(size_deg > 0) || !isfinite(velocity_dps)) return -1;
     size_t n = (size_t)w * h;
     double mean = 0;
     for (size_t i = 0; i < n; i++) mean += 0.5 * ((double)lum_a[i] + lum_b[i]);
@@ -103,7 +110,7 @@ int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const
                 double c = lum_local > 0 ? fabs(g1[i] - g2[i]) / DOG_PEAK_GAIN / lum_local : 0;
                 if (c <= 0) continue;
                 double ex = cx + (x + 0.5 - 0.5 * w) * px_deg, ey = cy - (y + 0.5 - 0.5 * h) * px_deg;
-                double t = csf_observer_sim_threshold(o, f_cpd, hypot(ex, ey));
+                double t = csf_observer_sim_threshold_v(o, f_cpd, hypot(ex, ey), velocity_dps);
                 double r = isfinite(t) && t > 0 ? c / t : 0;
                 if (c > cmax) cmax = c;
                 if (r > rmax) rmax = r;

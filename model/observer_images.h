@@ -17,7 +17,12 @@
  * Decisions: a lapse (probability `lapse`) is a coin flip; otherwise a seen difference is reported
  * (same/different: "different"; 2AFC/2IFC: the altered image is picked) and an unseen one is
  * answered by guessing (same/different: "different" with probability `fa`; forced choice: 1/2).
- * Identical images have r = 0. */
+ * Identical images have r = 0.
+ * Moving images (csf_image_pair_evaluate_v): every band is judged as a grating drifting at the
+ * image's speed, threshold csf_observer_sim_threshold_v(f_k, ecc, v) (Kelly 1979, Daly 1998, or
+ * the person's 3-D table). The bands are isotropic, so this is the speed across the bars for
+ * every orientation: components whose bars lie along the motion move less across them and are
+ * judged a little too fast. The eccentricities are those at the image's starting place. */
 #ifndef CSF_OBSERVER_IMAGES_H
 #define CSF_OBSERVER_IMAGES_H
 
@@ -41,6 +46,11 @@ typedef struct {
 int csf_image_pair_evaluate(const csf_observer_sim *o, const float *lum_a, const float *lum_b, int w,
                             int h, double size_deg, double ecc_deg, double polar_deg,
                             csf_image_pair_eval *out);
+
+/* The same for the pair moving at velocity_dps (retinal, deg/s; 0 = csf_image_pair_evaluate). */
+int csf_image_pair_evaluate_v(const csf_observer_sim *o, const float *lum_a, const float *lum_b, int w, int h,
+                              double size_deg, double ecc_deg, double polar_deg, double velocity_dps,
+                              csf_image_pair_eval *out);
 
 double csf_image_pair_p_seen(const csf_observer_sim *o, double r);
 

@@ -483,8 +483,10 @@ static csf_status load_images(run_res *R, study_ctx *x, csf_error *err)
                                  c->label, e.msg);
         if (R->sim) {
             csf_image_pair_eval ev;
-            if (csf_image_pair_evaluate(R->sim, R->img_a[i]->lum, R->img_b[i]->lum, R->img_a[i]->width,
-                                        R->img_a[i]->height, c->size_deg, c->ecc_deg, c->polar_deg, &ev) != 0)
+            /* a moving image is judged as moving: with fixation held, its retinal speed is its own */
+            if (csf_image_pair_evaluate_v(R->sim, R->img_a[i]->lum, R->img_b[i]->lum, R->img_a[i]->width,
+                                          R->img_a[i]->height, c->size_deg, c->ecc_deg, c->polar_deg,
+                                          c->velocity_dps, &ev) != 0)
                 return csf_error_set(err, CSF_E_NOMEM, "out of memory evaluating image pair %s", c->label);
             R->pair_r[i] = ev.r;
         }

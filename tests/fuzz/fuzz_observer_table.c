@@ -15,13 +15,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     csf_obs_table *t = NULL;
     csf_error err;
     if (csf_obs_table_parse((const char *)data, size, &t, &err) == CSF_OK) {
-        /* Lookups anywhere, including outside the grid, must stay finite or +inf. */
-        static const double f[] = {0.01, 0.5, 3, 40, 2000}, e[] = {0, 7, 90, 200};
+        /* Lookups anywhere, including outside the grid and at any speed (either direction),
+         * must stay finite or +inf; a 2-D table's value does not depend on the speed. */
+        static const double f[] = {0.01, 0.5, 3, 40, 2000}, e[] = {0, 7, 90, 200},
+                            vel[] = {0, 0.3, -4, 17, 5000};
         for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
-            for (size_t j = 0; j < sizeof e / sizeof e[0]; j++) {
-                double v = csf_obs_table_threshold(t, f[i], e[j]);
-                if (!(v > 0)) abort();
-            }
+            for (size_t j = 0; j < sizeof e / sizeof e[0]; j++)
+                for (size_t k = 0; k < sizeof vel / sizeof vel[0]; k++) {
+                    double v = csf_obs_table_threshold_v(t, f[i], e[j], vel[k]);
+                    if (!(v > 0)) abort();
+                    if (t->n_vel == 0 && v != csf_obs_table_threshold(t, f[i], e[j])) abort();
+                }
         csf_obs_table_free(t);
     } else if (t != NULL || err.msg[0] == '\0') {
         abort(); /* failure must leave no table and must say why */
@@ -37,6 +41,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (csf_observer_sim_create(spec, 1, &o, &err) == CSF_OK) {
         double th = csf_observer_sim_threshold(o, 3, 0);
         if (!(th > 0)) abort();
+        /* whatever the velocity keys say: a threshold at any speed, exactly the static one at 0 */
+        if (!(csf_observer_sim_threshold_v(o, 3, 0, 6) > 0) || csf_observer_sim_threshold_v(o, 3, 0, 0) != th)
+            abort();
         csf_observer_sim_free(o);
     }
     return 0;
