@@ -406,7 +406,7 @@ static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, con
         csf_observer_sim_fade_begin_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps, polar, 0.0,
                                       duration + RESPONSE_WINDOW_S, &p->tr);
     if (p->eyes) {
-        st = csf_obs_screen_look(p->eyes, c->freq_cpd, c->ecc_deg, &polar, 1, 0, err);
+        st = csf_obs_screen_look_v(p->eyes, c->freq_cpd, c->ecc_deg, c->velocity_dps, &polar, 1, 0, err);
         if (st != CSF_OK) return st;
     }
     if (plan->is_catch) {
@@ -498,8 +498,8 @@ static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_d
 static csf_status eyes_look(runner *r, const csf_cell *c, const double *polar, int n, csf_error *err)
 {
     if (!r->who->eyes) return CSF_OK;
-    return csf_obs_screen_look(r->who->eyes, c->freq_cpd, c->ecc_deg, polar, n,
-                               (int)lround(AFC_INTERVAL_S / r->period_s), err);
+    return csf_obs_screen_look_v(r->who->eyes, c->freq_cpd, c->ecc_deg, c->velocity_dps, polar, n,
+                                 (int)lround(AFC_INTERVAL_S / r->period_s), err);
 }
 
 /* One 2AFC trial: place cue, two intervals, the grating in one of them; the person picks one. */
@@ -1339,9 +1339,13 @@ static csf_status open_display_side(obs_run *R, csf_error *err)
     if (st != CSF_OK) return st;
     if (S->sim && csf_observer_sim_params_get(S->sim)->view_frame) {
         const csf_observer_sim_params *sp = csf_observer_sim_params_get(S->sim);
+        /* Every frame when gratings drift: sampling every k-th frame would alias their temporal
+         * frequency above refresh / 2k for the person as it would for a camera. */
+        int step = R->set.n_vels > 0 ? 1 : (int)sp->frame_step;
         st = csf_obs_screen_open(S->pres, S->profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
-                                 (int)sp->frame_step, &S->screen, err);
+                                 step, &S->screen, err);
         if (st != CSF_OK) return st;
+        csf_obs_screen_set_person(S->screen, S->sim);
         if (!opt->quiet)
             fprintf(stderr, "csfcal: observer: the simulated person looks at the rendered frames through "
                             "the display %s\n", csf_obs_screen_display(S->screen));

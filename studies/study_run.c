@@ -282,6 +282,16 @@ static void pair_stimuli(study_ctx *x, const csf_study_condition *c, int cond, c
     have[k] = 1;
 }
 
+/* The speed at which a condition's carrier moves on the retina, with the eyes on the fixation mark:
+ * its drift (drift_hz / f) plus the part of the patch's own motion across the bars (motion along
+ * the bars does not move a grating's phase anywhere: the aperture problem, Wallach 1935). */
+static double condition_retinal_velocity(const csf_study_condition *c)
+{
+    if (!(c->freq_cpd > 0)) return 0.0;
+    double across = c->velocity_dps * cos((c->motion_dir_deg - c->orientation_deg) * M_PI / 180.0);
+    return fabs(c->drift_hz / c->freq_cpd + across);
+}
+
 /* The simulated person's yes/no answer: the fade-in observer fed the frames actually shown (a
  * constant-contrast interval is a ramp that does not rise), then blank frames for the response
  * window; a press is "yes". */
@@ -293,8 +303,8 @@ static int sim_yes_no(study_ctx *x, uint64_t key, const csf_study_condition *c, 
     int n_stim = shown && o->have_rec ? o->rec.frames_shown : (int)lround(s->stimulus_s / x->period_s);
     int n_total = n_stim + (int)lround(window / x->period_s);
     csf_sim_fade_trial tr;
-    csf_observer_sim_fade_begin(x->sim, key, c->freq_cpd, c->ecc_deg, c->polar_deg, 0,
-                                n_total * x->period_s, &tr);
+    csf_observer_sim_fade_begin_v(x->sim, key, c->freq_cpd, c->ecc_deg, condition_retinal_velocity(c),
+                                  c->polar_deg, 0, n_total * x->period_s, &tr);
     for (int i = 0; i < n_total; i++) {
         double cs = shown && i < n_stim && o->have_rec ? o->rec.contrast_per_period[i] : 0;
         double press;
@@ -324,7 +334,8 @@ static csf_status respond(study_ctx *x, uint64_t key, int cond, const csf_study_
         } else {
             double shown[2] = {0, 0};
             shown[t->target] = o->shown_target;
-            o->choice = csf_observer_sim_2afc(x->sim, key, c->freq_cpd, c->ecc_deg, shown, &rt);
+            o->choice = csf_observer_sim_2afc_v(x->sim, key, c->freq_cpd, c->ecc_deg,
+                                                condition_retinal_velocity(c), shown, &rt);
         }
         o->rt_s = csf_round9(rt);
         o->valid = 1;
