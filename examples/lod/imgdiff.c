@@ -62,8 +62,20 @@ static void plain_measures(const float *la, const float *lb, const uint8_t *a, c
     out->max_contrast = mx / mean;
 }
 
-int lod_image_diff(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s,
-                   double ppd, const double gaze_px[2], const csflut_table *t, lod_diff *out)
+/* threshold at (f, ecc) for pixel i: static, or the lower of the thresholds at the ends of the
+ * pixel's velocity range */
+static double pixel_threshold(const csflut_table *t, double f_cpd, double ecc_deg, const float *vel_lo,
+                              const float *vel_hi, size_t i)
+{
+    if (!vel_lo) return csflut_threshold(t, f_cpd, ecc_deg);
+    double lum = csflut_default_luminance(t);
+    double a = csflut_threshold4(t, f_cpd, ecc_deg, vel_lo[i], lum);
+    return vel_hi[i] == vel_lo[i] ? a : fmin(a, csflut_threshold4(t, f_cpd, ecc_deg, vel_hi[i], lum));
+}
+
+static int image_diff(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s,
+                      double ppd, const double gaze_px[2], const csflut_table *t, const float *vel_lo,
+                      const float *vel_hi, lod_diff *out)
 {
     size_t n = (size_t)width * height;
     float *buf = malloc(n * 8 * sizeof *buf);
@@ -93,7 +105,7 @@ int lod_image_diff(const uint8_t *a, const uint8_t *b, int width, int height, co
             double ca = (ga0[i] - ga1[i]) / ga1[i], cb = (gb0[i] - gb1[i]) / gb1[i];
             double d = fabs(ca - cb) / DOG_PEAK_GAIN;
             if (d == 0) continue;
-            double v = d / csflut_threshold(t, f_cpd, ecc[i]); /* +inf threshold: 0 */
+            double v = d / pixel_threshold(t, f_cpd, ecc[i], vel_lo, vel_hi, i); /* +inf threshold: 0 */
             pooled4 += v * v * v * v;
             if (v > out->peak_visibility) {
                 out->peak_visibility = v;
@@ -107,4 +119,17 @@ int lod_image_diff(const uint8_t *a, const uint8_t *b, int width, int height, co
     out->pooled_visibility = pow(pooled4, 0.25);
     free(buf);
     return rc;
+}
+
+int lod_image_diff(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s, double ppd,
+                   const double gaze_px[2], const csflut_table *t, lod_diff *out)
+{
+    return image_diff(a, b, width, height, s, ppd, gaze_px, t, NULL, NULL, out);
+}
+
+int lod_image_diff_moving(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s,
+                          double ppd, const double gaze_px[2], const csflut_table *t, const float *vel_lo,
+                          const float *vel_hi, lod_diff *out)
+{
+    return image_diff(a, b, width, height, s, ppd, gaze_px, t, vel_lo, vel_hi, out);
 }

@@ -32,4 +32,12 @@ typedef struct {
 int lod_image_diff(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s,
                    double ppd, const double gaze_px[2], const csflut_table *t, lod_diff *out);
 
+/* The same for a frame of a moving sequence: each pixel's threshold is the table's at its retinal
+ * velocity (csflut_threshold4 at the table's default luminance), the lower of those at the
+ * pixel's velocity range [vel_lo, vel_hi] (width*height each, deg/s), since a band's difference
+ * near an edge may belong to either side. A table without a velocity axis ignores it. */
+int lod_image_diff_moving(const uint8_t *a, const uint8_t *b, int width, int height, const lod_shade *s,
+                          double ppd, const double gaze_px[2], const csflut_table *t, const float *vel_lo,
+                          const float *vel_hi, lod_diff *out);
+
 #endif

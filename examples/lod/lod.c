@@ -15,21 +15,12 @@
 #include "imgdiff.h"
 #include "lod_args.h"
 #include "mesh.h"
+#include "motion.h"
 #include "outfile.h"
 #include "pngout.h"
 #include "render.h"
+#include "sequence.h"
 #include "vtree.h"
-
-/* Column-major 4x4 helpers. */
-static void mat_mul(const float a[16], const float b[16], float out[16])
-{
-    for (int c = 0; c < 4; c++)
-        for (int r = 0; r < 4; r++) {
-            float s = 0;
-            for (int k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
-            out[c * 4 + r] = s;
-        }
-}
 
 /* The camera of view i: around the model at evenly spaced azimuths, elevation alternating +-25
  * deg, at the distance where the model's bounding sphere spans object_deg. */
@@ -61,7 +52,7 @@ static void camera(const options *o, int i, double radius, double dist_px, float
     proj[10] = (float)(-(fa + n) / (fa - n));
     proj[11] = -1;
     proj[14] = (float)(-2 * fa * n / (fa - n));
-    mat_mul(proj, view, mvp);
+    lod_mat_mul(proj, view, mvp);
 }
 
 static double now_ms(void)
@@ -212,6 +203,34 @@ static int close_out(lod_outfile *f, int ok)
     return 1;
 }
 
+/* The moving sequence: view 0's camera, the object crossing the screen through its centre. */
+static int run_sequence(const run_ctx *c)
+{
+    const options *o = c->o;
+    lod_sequence q = {.o = o,
+                      .tree = c->tree,
+                      .tab = c->tab,
+                      .r = c->r,
+                      .path = {.object_dist = c->model_radius / sin(0.5 * o->object_deg * LOD_PI / 180),
+                               .velocity_dps = o->object_velocity_dps,
+                               .spin_dps = o->spin_dps,
+                               .t_mid_s = 0.5 * (o->frames - 1) / o->fps,
+                               .pursuit = o->pursuit},
+                      .screen = {.width_px = o->width_px,
+                                 .height_px = o->height_px,
+                                 .dist_px = c->dist_px,
+                                 .fixation_px = {o->gaze_px[0], o->gaze_px[1]}}};
+    camera(o, 0, c->model_radius, c->dist_px, q.path.view, q.path.mvp);
+    printf("sequence: %d frames at %g Hz, the object crossing at %g deg/s and turning at %g deg/s, eye %s; "
+           "the table "
+           "%s\n",
+           o->frames, o->fps, o->object_velocity_dps, o->spin_dps,
+           o->pursuit ? "in smooth pursuit (Daly 1998)" : "fixating",
+           csflut_axis_size(c->tab, CSFLUT_AXIS_VEL) > 0 ? "has a velocity axis"
+                                                         : "has no velocity axis (velocity ignored)");
+    return lod_run_sequence(&q);
+}
+
 static int run(const options *o, const csflut_table *tab)
 {
     lod_mesh mesh;
@@ -249,6 +268,10 @@ static int run(const options *o, const csflut_table *tab)
         goto done;
     }
     if (lod_render_set_vertices(c.r, pos, nrm, tree.n_node) != 0) { fprintf(stderr, "lod: out of memory\n"); goto done; }
+    if (o->frames) {
+        rc = run_sequence(&c);
+        goto done;
+    }
     if (open_out(o, "lod_summary.csv", &summary) != 0 || open_out(o, "conditions.csv", &conditions) != 0) goto done;
     c.summary = summary.f;
     c.conditions = conditions.f;

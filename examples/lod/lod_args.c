@@ -8,34 +8,59 @@
 
 void lod_options_defaults(options *o)
 {
-    *o = (options){.width_px = 512, .height_px = 512, .views = 4, .subdiv = 6, .ppd = 32, .object_deg = 12, .seed = 1,
+    *o = (options){.width_px = 512,
+                   .height_px = 512,
+                   .views = 4,
+                   .subdiv = 6,
+                   .ppd = 32,
+                   .object_deg = 12,
+                   .seed = 1,
                    .n_levels = 3,
+                   .fps = 60,
+                   .object_velocity_dps = 12,
+                   .coarse_factor = 4,
+                   .judge_trials = 200,
                    .levels = {{1, 1, "d1"}, {8, 1, "d8"}, {32, 1, "d32"}},
-                   .shade = {.light_dir = {0.48f, 0.64f, 0.6f}, .albedo = 0.85f, .ambient = 0.2f, .background = 0.5f,
-                             .lum_peak_cdm2 = 200, .lum_black_cdm2 = 0.5}};
+                   .shade = {.light_dir = {0.48f, 0.64f, 0.6f},
+                             .albedo = 0.85f,
+                             .ambient = 0.2f,
+                             .background = 0.5f,
+                             .lum_peak_cdm2 = 200,
+                             .lum_black_cdm2 = 0.5}};
 }
 
 
 void lod_usage(FILE *f)
 {
-    fprintf(f,
-            "usage: lod --table FILE.csflut --out DIR [options]\n"
-            "  --size WxH              image size in pixels (16..4096 each; default 512x512)\n"
-            "  --ppd P                 pixels per degree at the screen centre (2..200; default 32)\n"
-            "  --distance-mm D --pixel-mm P  the same from the viewing distance and pixel pitch\n"
-            "  --gaze X,Y              gaze point in pixels from the top left (default: the centre)\n"
-            "  --object-deg A          angular diameter of the model (1..120; default 12)\n"
-            "  --views N               viewpoints (1..64; default 4)\n"
-            "  --subdiv S              mesh detail: 20*4^S triangles (3..7; default 6)\n"
-            "  --seed N                the mesh's ridges (default 1)\n"
-            "  --distance-factors L    simplify as if the viewer were d times farther, for each d in\n"
-            "                          the comma-separated list (1..1000; default 1,8,32); d = 1 is\n"
-            "                          the imperceptible simplification, d > 1 deliberately perceptible\n"
-            "  --threshold-factors L   also simplify with every threshold k times higher, for each k\n"
-            "                          in the list (1..1000; default none)\n"
-            "  --lum-peak L --lum-black L  display luminance of white and black (cd/m2; 200, 0.5)\n"
-            "  --diff-images           also write diff_IMAGE.png: |full - simplified| x 8\n"
-            "  --help\n");
+    fprintf(f, "usage: lod --table FILE.csflut --out DIR [options]\n"
+               "  --size WxH              image size in pixels (16..4096 each; default 512x512)\n"
+               "  --ppd P                 pixels per degree at the screen centre (2..200; default 32)\n"
+               "  --distance-mm D --pixel-mm P  the same from the viewing distance and pixel pitch\n"
+               "  --gaze X,Y              gaze point in pixels from the top left (default: the centre)\n"
+               "  --object-deg A          angular diameter of the model (1..120; default 12)\n"
+               "  --views N               viewpoints (1..64; default 4)\n"
+               "  --subdiv S              mesh detail: 20*4^S triangles (3..7; default 6)\n"
+               "  --seed N                the mesh's ridges (default 1)\n"
+               "  --distance-factors L    simplify as if the viewer were d times farther, for each d in\n"
+               "                          the comma-separated list (1..1000; default 1,8,32); d = 1 is\n"
+               "                          the imperceptible simplification, d > 1 deliberately perceptible\n"
+               "  --threshold-factors L   also simplify with every threshold k times higher, for each k\n"
+               "                          in the list (1..1000; default none)\n"
+               "  --lum-peak L --lum-black L  display luminance of white and black (cd/m2; 200, 0.5)\n"
+               "  --diff-images           also write diff_IMAGE.png: |full - simplified| x 8\n"
+               "moving sequence (instead of the still views; README.md, \"Motion\"):\n"
+               "  --frames N              frames of a moving object (2..240; default none)\n"
+               "  --fps F                 frame rate (10..240 Hz; default 60)\n"
+               "  --object-velocity V     the object crosses the screen at V deg/s (0..80; default 12)\n"
+               "  --spin V                and turns about its vertical axis at V deg/s (0..720; default 0)\n"
+               "  --eye fixate|pursuit    fixate: the eye holds the gaze point, retinal = screen velocity\n"
+               "                          (default); pursuit: it follows the object (Daly 1998)\n"
+               "  --coarse-factor K       the deliberately coarser simplification: thresholds x K\n"
+               "                          (1..1000; default 4)\n"
+               "  --judge-trials N        same/different trials per pair kind for the simulated\n"
+               "                          judge (10..100000; default 200)\n"
+               "  --json FILE             also write the sequence's summary as JSON\n"
+               "  --help\n");
 }
 
 static int bad(const char *opt, const char *val, const char *why)
@@ -76,6 +101,25 @@ static int parse_levels(options *o, const char *opt, const char *list, int by_di
     return 0;
 }
 
+/* The object's path must keep it inside the image: its centre sweeps velocity * (frames - 1) / fps
+ * degrees across, centred on the screen, and the model spans object_deg around it. */
+static int check_path(const options *o)
+{
+    if (!o->frames) return 0;
+    double width_deg = 2 * atan(0.5 * o->width_px / (o->ppd * 180 / LOD_PI)) * 180 / LOD_PI;
+    double sweep_deg = o->object_velocity_dps * (o->frames - 1) / o->fps;
+    if (sweep_deg + o->object_deg > width_deg) {
+        fprintf(stderr,
+                "lod: --object-velocity %g deg/s over %d frames at %g Hz sweeps %.3g deg; with the %g deg "
+                "model that "
+                "needs %.3g deg, and the image is %.3g deg wide\n",
+                o->object_velocity_dps, o->frames, o->fps, sweep_deg, o->object_deg,
+                sweep_deg + o->object_deg, width_deg);
+        return 2;
+    }
+    return 0;
+}
+
 int lod_parse_args(int argc, char **argv, options *o)
 {
     double distance_mm = 0, pixel_mm = 0, v = 0; /* read even when parse_num refused the value */
@@ -112,7 +156,26 @@ int lod_parse_args(int argc, char **argv, options *o)
             levels_given = 1;
             rc = parse_levels(o, a, val, 1);
         } else if (!strcmp(a, "--threshold-factors")) rc = parse_levels(o, a, val, 0);
-        else if (!strcmp(a, "--lum-peak")) rc = parse_num(a, val, 1, 10000, &o->shade.lum_peak_cdm2);
+        else if (!strcmp(a, "--frames")) {
+            rc = parse_num(a, val, 2, 240, &v);
+            o->frames = (int)v;
+            if (!rc && v != floor(v)) rc = bad(a, val, "expected a whole number");
+        } else if (!strcmp(a, "--fps")) rc = parse_num(a, val, 10, 240, &o->fps);
+        else if (!strcmp(a, "--object-velocity")) rc = parse_num(a, val, 0, 80, &o->object_velocity_dps);
+        else if (!strcmp(a, "--spin")) rc = parse_num(a, val, 0, 720, &o->spin_dps);
+        else if (!strcmp(a, "--eye")) {
+            if (val && (!strcmp(val, "fixate") || !strcmp(val, "pursuit")))
+                o->pursuit = !strcmp(val, "pursuit");
+            else return bad(a, val, "expected fixate or pursuit");
+        } else if (!strcmp(a, "--coarse-factor")) rc = parse_num(a, val, 1, 1000, &o->coarse_factor);
+        else if (!strcmp(a, "--judge-trials")) {
+            rc = parse_num(a, val, 10, 100000, &v);
+            o->judge_trials = (int)v;
+            if (!rc && v != floor(v)) rc = bad(a, val, "expected a whole number");
+        } else if (!strcmp(a, "--json")) {
+            if (!val) return bad(a, val, "needs a file name");
+            o->json_path = val;
+        } else if (!strcmp(a, "--lum-peak")) rc = parse_num(a, val, 1, 10000, &o->shade.lum_peak_cdm2);
         else if (!strcmp(a, "--lum-black")) rc = parse_num(a, val, 0.001, 100, &o->shade.lum_black_cdm2);
         else { fprintf(stderr, "lod: unknown option %s (see --help)\n", a); return 2; }
         if (rc) return rc;
@@ -133,6 +196,6 @@ int lod_parse_args(int argc, char **argv, options *o)
         fprintf(stderr, "lod: --object-deg %g: the image spans only %.3g deg at %g pixels per degree\n", o->object_deg, image_deg, o->ppd);
         return 2;
     }
-    return 0;
+    return check_path(o);
 }
 

@@ -23,6 +23,10 @@ typedef struct {
     level levels[LOD_MAX_LEVELS];
     int n_levels;
     lod_shade shade;
+    /* the moving sequence (README.md, "Motion"); frames = 0: the still views instead */
+    int frames, pursuit, judge_trials;
+    double fps, object_velocity_dps, spin_dps, coarse_factor;
+    const char *json_path; /* NULL: no JSON summary */
 } options;
 
 /* The defaults README.md documents. */

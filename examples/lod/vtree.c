@@ -1,6 +1,7 @@
 #include "vtree.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -124,6 +125,7 @@ static int summarise(lod_vtree *t, const lod_shade *s)
         double lp = lod_shade_lum(s, lod_shade_intensity(s, n->normal));
         double lo = fmin(n->lum_min, lp), hi = fmax(n->lum_max, lp);
         double cmax = count > 1 ? (hi - lo) / (hi + lo) : 0;
+        n->lum_proxy = (float)lp;
         n->contrast = (float)cmax;
     }
     double bg = lod_shade_lum(s, s->background);
@@ -225,22 +227,68 @@ static double fold_contrast(const lod_vtree *t, const lod_node *n, int silhouett
     return c;
 }
 
-/* Is folding node n (sphere centre c_eye in eye space) perceptible in this view? */
-static int fold_perceptible(const lod_vtree *t, const csflut_table *tab, const lod_view *v,
-                            const lod_node *n, const float c_eye[3], int silhouette)
+/* The fold test at a retinal velocity (Reddy 2001; Kelly 1979), in the LOD runtime's form: the fold
+ * is visible when its frequency is at or below the finest frequency still visible at its contrast
+ * (csflut_max_frequency4; seed 000 5.3 stores that as a wavelength). A table without a velocity
+ * axis ignores the velocity.
+ * Luebke & Hallen's bound puts all of a fold's change at its lowest frequency 1/(2 extent), which
+ * is the worst case only while thresholds do not fall below it at coarser scales. Motion breaks
+ * that: a moving low frequency is far more visible than a still one (Kelly 1979), so the table's
+ * moving slices may put their most sensitive frequency well below a node's. The change of a fold is
+ * a blob of the node's size; a band of coarser frequency f' sees it diluted by the area ratio,
+ * at most (f' / f)^2 of its contrast, and the fold is visible if that reaches the threshold at f'. */
+static int moving_fold_perceptible(const csflut_table *tab, double freq_cpd, double ecc_deg, double vel_dps,
+                                   double contrast)
+{
+    double lum = csflut_default_luminance(tab);
+    if (!(freq_cpd > csflut_max_frequency4(tab, ecc_deg, vel_dps, lum, contrast))) return 1;
+    const double *grid_cpd = csflut_axis_points(tab, CSFLUT_AXIS_FREQ);
+    for (int i = 0, n = csflut_axis_size(tab, CSFLUT_AXIS_FREQ); i < n && grid_cpd[i] < freq_cpd; i++) {
+        double r = grid_cpd[i] / freq_cpd;
+        if (contrast * r * r >= csflut_threshold4(tab, grid_cpd[i], ecc_deg, vel_dps, lum)) return 1;
+    }
+    return 0;
+}
+
+/* Where a node's change sits for the viewer: the lowest frequency of a change confined to its
+ * sphere, 1 / (2 x angular extent), at most the display's Nyquist limit (a sub-pixel change
+ * appears there), times the distance factor; and the eccentricity of its nearest point from the
+ * gaze. 0 when the eye is inside the sphere (no angular bound: treat as visible). */
+static int node_place(const lod_view *v, const lod_node *n, const float c_eye[3], double *freq_cpd,
+                      double *ecc_deg)
 {
     double dist = sqrt(c_eye[0] * c_eye[0] + c_eye[1] * c_eye[1] + c_eye[2] * c_eye[2]);
-    if (dist <= n->radius) return 1; /* the eye is inside the region: no angular bound */
+    if (dist <= n->radius) return 0;
     double extent_deg = 2 * asin(n->radius / dist) * 180 / LOD_PI;
-    /* the display shows nothing above its Nyquist limit, so a sub-pixel change appears there */
     double ppd = v->dist_px * LOD_PI / 180, nyquist_cpd = 0.5 * ppd;
-    double freq_cpd = v->distance_factor * fmin(1 / (2 * extent_deg), nyquist_cpd);
+    *freq_cpd = v->distance_factor * fmin(1 / (2 * extent_deg), nyquist_cpd);
     double g[3] = {v->gaze_px[0] - 0.5 * v->width_px, -(v->gaze_px[1] - 0.5 * v->height_px), -v->dist_px};
     double gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
     double cosang = (g[0] * c_eye[0] + g[1] * c_eye[1] + g[2] * c_eye[2]) / (gl * dist);
-    double ecc_deg = acos(fmax(-1, fmin(1, cosang))) * 180 / LOD_PI - 0.5 * extent_deg;
-    double contrast = fold_contrast(t, n, silhouette) / v->threshold_factor;
-    return csflut_perceptible(tab, freq_cpd, ecc_deg > 0 ? ecc_deg : 0, contrast);
+    double ecc = acos(fmax(-1, fmin(1, cosang))) * 180 / LOD_PI - 0.5 * extent_deg;
+    *ecc_deg = ecc > 0 ? ecc : 0;
+    return 1;
+}
+
+/* Is a change of this contrast at node i's place visible (at both ends of its velocity range)? */
+static int change_perceptible(const csflut_table *tab, const lod_view *v, int i, double freq_cpd,
+                              double ecc_deg, double contrast)
+{
+    if (!v->vel_lo_dps) return csflut_perceptible(tab, freq_cpd, ecc_deg, contrast);
+    return moving_fold_perceptible(tab, freq_cpd, ecc_deg, v->vel_lo_dps[i], contrast) ||
+           (v->vel_hi_dps[i] != v->vel_lo_dps[i] &&
+            moving_fold_perceptible(tab, freq_cpd, ecc_deg, v->vel_hi_dps[i], contrast));
+}
+
+/* Is folding node n (sphere centre c_eye in eye space) perceptible in this view? strict > 1 makes
+ * the test stricter for a region whose folds add up to a visible change (aggregate_check). */
+static int fold_perceptible(const lod_vtree *t, const csflut_table *tab, const lod_view *v, const lod_node *n,
+                            const float c_eye[3], int silhouette, double strict)
+{
+    double freq_cpd, ecc_deg;
+    if (!node_place(v, n, c_eye, &freq_cpd, &ecc_deg)) return 1;
+    double contrast = strict * fold_contrast(t, n, silhouette) / v->threshold_factor;
+    return change_perceptible(tab, v, (int)(n - t->node), freq_cpd, ecc_deg, contrast);
 }
 
 static int emit(const lod_vtree *t, const int *active_of, uint32_t *tri_out)
@@ -258,52 +306,144 @@ static int emit(const lod_vtree *t, const int *active_of, uint32_t *tri_out)
     return n;
 }
 
-int lod_vtree_simplify(const lod_vtree *t, const csflut_table *tab, const lod_view *v,
-                       uint32_t *tri_out, lod_cut_stats *stats)
+typedef struct {
+    float *eye_pos; /* per vertex, eye space */
+    uint8_t *flag;  /* per node: facing */
+    int *stack;
+    float *stack_strict;
+    int *active_of;    /* per vertex: the node it is drawn as */
+    uint8_t *expanded; /* per node: above the cut (tested and kept) */
+    float *strict;     /* per node: how much stricter its region's folds are judged */
+    double *sum;       /* per node: luminance change and luminance summed over its vertices */
+} cut_work;
+
+/* One cut, top down (Luebke & Hallen 5.2), into w->active_of. */
+static void choose_cut(const lod_vtree *t, const csflut_table *tab, const lod_view *v, cut_work *w,
+                       lod_cut_stats *stats)
 {
-    const lod_mesh *m = t->mesh;
-    float *eye_pos = malloc((size_t)m->n_vert * 3 * sizeof *eye_pos);
-    uint8_t *flag = malloc((size_t)t->n_node);
-    int *stack = malloc((size_t)t->n_node * sizeof *stack);
-    int *active_of = malloc((size_t)m->n_vert * sizeof *active_of);
-    int result = -1;
-    if (!eye_pos || !flag || !stack || !active_of) goto done;
-    memset(stats, 0, sizeof *stats);
-    for (int i = 0; i < m->n_vert; i++) to_eye(v->view, m->pos + 3 * i, eye_pos + 3 * i);
-    facing_flags(t, eye_pos, flag);
     int top = 0;
-    stack[top++] = 0;
+    memset(stats, 0, sizeof *stats);
+    memset(w->expanded, 0, (size_t)t->n_node);
+    w->stack[top] = 0;
+    w->stack_strict[top++] = 1;
     while (top > 0) {
-        int i = stack[--top];
+        top--;
+        int i = w->stack[top];
+        double strict = w->stack_strict[top] * w->strict[i];
         const lod_node *n = &t->node[i];
         int fold = n->child[0] < 0;
         if (!fold) {
             float c_eye[3];
             to_eye(v->view, n->center, c_eye);
-            int silhouette = flag[i] == (FACES_FRONT | FACES_BACK);
-            if (outside_frustum(v, c_eye, n->radius) || flag[i] == FACES_BACK) {
+            int silhouette = w->flag[i] == (FACES_FRONT | FACES_BACK);
+            if (outside_frustum(v, c_eye, n->radius) || w->flag[i] == FACES_BACK) {
                 fold = 1;
                 stats->culled_nodes++;
-            } else if (!v->cull_only && !fold_perceptible(t, tab, v, n, c_eye, silhouette)) {
+            } else if (!v->cull_only && !fold_perceptible(t, tab, v, n, c_eye, silhouette, strict)) {
                 fold = 1;
                 stats->folded_nodes++;
                 stats->silhouette_nodes += silhouette;
             }
         }
         if (fold) {
-            for (int j = n->lo; j < n->hi; j++) active_of[t->perm[j]] = i;
+            for (int j = n->lo; j < n->hi; j++) w->active_of[t->perm[j]] = i;
         } else {
-            stack[top++] = n->child[0];
-            stack[top++] = n->child[1];
+            w->expanded[i] = 1;
+            for (int c = 0; c < 2; c++) {
+                w->stack[top] = n->child[c];
+                w->stack_strict[top++] = (float)strict;
+            }
         }
     }
-    result = emit(t, active_of, tri_out);
+}
+
+/* Luebke & Hallen bound each fold alone. Many folds side by side can add up to a change at a
+ * coarser scale (the shading of a whole region shifts when all its fine ridges go), and where a
+ * table makes coarse scales far more visible than the folds' own (a moving slice: Kelly 1979) that
+ * sum is what shows. For every node kept above the cut, the mean luminance change of its vertices
+ * (each drawn with its fold's proxy normal) over their mean luminance is a change at the node's
+ * own place; where it is visible the node's region is judged 4x stricter. Returns the number of
+ * regions made stricter. */
+static int aggregate_check(const lod_vtree *t, const csflut_table *tab, const lod_view *v, cut_work *w)
+{
+    int n_strict = 0;
+    for (int i = t->n_node - 1; i >= 0; i--) {
+        const lod_node *n = &t->node[i];
+        double *si = w->sum + 2 * i;
+        if (n->child[0] < 0) {
+            int vert = t->perm[n->lo];
+            si[0] = t->node[w->active_of[vert]].lum_proxy - n->lum_proxy;
+            si[1] = n->lum_proxy;
+            continue;
+        }
+        for (int c = 0; c < 2; c++) {
+            si[c] = w->sum[2 * n->child[0] + c] + w->sum[2 * n->child[1] + c];
+        }
+        if (!w->expanded[i] || si[0] == 0 || !(si[1] > 0)) continue;
+        float c_eye[3];
+        double freq_cpd, ecc_deg;
+        to_eye(v->view, n->center, c_eye);
+        if (!node_place(v, n, c_eye, &freq_cpd, &ecc_deg)) continue;
+        if (change_perceptible(tab, v, i, freq_cpd, ecc_deg, fabs(si[0]) / si[1] / v->threshold_factor)) {
+            w->strict[i] *= 4;
+            n_strict++;
+        }
+    }
+    return n_strict;
+}
+
+#define LOD_AGGREGATE_ROUNDS 6
+
+int lod_vtree_simplify(const lod_vtree *t, const csflut_table *tab, const lod_view *v, uint32_t *tri_out,
+                       lod_cut_stats *stats)
+{
+    const lod_mesh *m = t->mesh;
+    size_t nn = (size_t)t->n_node;
+    cut_work w = {.eye_pos = malloc((size_t)m->n_vert * 3 * sizeof *w.eye_pos),
+                  .flag = malloc(nn),
+                  .stack = malloc(nn * sizeof *w.stack),
+                  .stack_strict = malloc(nn * sizeof *w.stack_strict),
+                  .active_of = malloc((size_t)m->n_vert * sizeof *w.active_of),
+                  .expanded = malloc(nn),
+                  .strict = malloc(nn * sizeof *w.strict),
+                  .sum = malloc(nn * 2 * sizeof *w.sum)};
+    int result = -1;
+    if (!w.eye_pos || !w.flag || !w.stack || !w.stack_strict || !w.active_of || !w.expanded || !w.strict ||
+        !w.sum)
+        goto done;
+    for (int i = 0; i < m->n_vert; i++) to_eye(v->view, m->pos + 3 * i, w.eye_pos + 3 * i);
+    facing_flags(t, w.eye_pos, w.flag);
+    for (size_t i = 0; i < nn; i++) w.strict[i] = 1;
+    choose_cut(t, tab, v, &w, stats);
+    /* the still views keep Luebke & Hallen's test alone; the moving sequence adds the check */
+    for (int round = 0; v->vel_lo_dps && !v->cull_only && round < LOD_AGGREGATE_ROUNDS; round++) {
+        if (aggregate_check(t, tab, v, &w) == 0) break;
+        choose_cut(t, tab, v, &w, stats);
+    }
+    result = emit(t, w.active_of, tri_out);
 done:
-    free(eye_pos);
-    free(flag);
-    free(stack);
-    free(active_of);
+    free(w.eye_pos);
+    free(w.flag);
+    free(w.stack);
+    free(w.stack_strict);
+    free(w.active_of);
+    free(w.expanded);
+    free(w.strict);
+    free(w.sum);
     return result;
+}
+
+void lod_vtree_velocity_range(const lod_vtree *t, const float *velocity_dps, float *lo_dps, float *hi_dps)
+{
+    for (int i = t->n_node - 1; i >= 0; i--) { /* children come after their parents */
+        const lod_node *n = &t->node[i];
+        if (n->child[0] < 0) {
+            lo_dps[i] = hi_dps[i] = velocity_dps[i];
+        } else {
+            lo_dps[i] = fminf(lo_dps[n->child[0]], lo_dps[n->child[1]]);
+            hi_dps[i] = fmaxf(hi_dps[n->child[0]], hi_dps[n->child[1]]);
+        }
+    }
 }
 
 int lod_vtree_full(const lod_vtree *t, uint32_t *tri_out)

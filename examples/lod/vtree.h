@@ -26,6 +26,7 @@ typedef struct {
     float normal[3];     /* proxy normal: mean of the supported vertices' normals */
     float lum_min, lum_max;  /* luminance range of the supported vertices, cd/m2 */
     float contrast;      /* max Michelson contrast between a supported vertex and the proxy */
+    float lum_proxy;     /* luminance the folded node is drawn with (its normal's), cd/m2 */
 } lod_node;
 
 typedef struct {
@@ -51,6 +52,9 @@ typedef struct {
     double threshold_factor; /* k: treat every threshold as k times higher */
     int cull_only;           /* fold only what cannot be seen (off screen, facing away): the
                                 baseline the perceptual criterion is measured against */
+    const float *vel_lo_dps; /* per node: the lowest and highest retinal velocity (deg/s) over */
+    const float *vel_hi_dps; /* its vertices (lod_vtree_velocity_range); NULL = the still views'
+                                  test (csflut_perceptible, no velocity) */
 } lod_view;
 
 typedef struct {
@@ -64,6 +68,10 @@ typedef struct {
  * -1 when out of memory. */
 int lod_vtree_simplify(const lod_vtree *t, const csflut_table *tab, const lod_view *v,
                        uint32_t *tri_out, lod_cut_stats *stats);
+
+/* Per node, the range of the retinal velocities of the vertices it supports, from velocity_dps
+ * per node (a leaf's is its vertex's): a fold spans them all, so it is tested at both ends. */
+void lod_vtree_velocity_range(const lod_vtree *t, const float *velocity_dps, float *lo_dps, float *hi_dps);
 
 /* The full mesh as node indices (every vertex is its own leaf). */
 int lod_vtree_full(const lod_vtree *t, uint32_t *tri_out);
