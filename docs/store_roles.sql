@@ -9,8 +9,9 @@
 -- ~/.pgpass (never on a command line):
 --     CREATE ROLE booth1 LOGIN PASSWORD '...' IN ROLE csf_station;
 --     CREATE ROLE alice LOGIN PASSWORD '...' IN ROLE csf_analyst;
--- Safe to run again; run it again after a csfcal upgrade (the rules below are not part of the
--- schema migrations: a store with no station roles needs none of them).
+-- Safe to run again; run it again after a csfcal upgrade, once csfcal has migrated the store
+-- (csfcal sessions init: the rules name the current schema's columns, such as v7's person_s;
+-- they are not part of the schema migrations: a store with no station roles needs none of them).
 
 SET client_min_messages = warning;
 
@@ -31,13 +32,13 @@ GRANT USAGE ON SCHEMA public TO csf_station, csf_analyst;
 GRANT SELECT ON ALL TABLES IN SCHEMA public TO csf_analyst;
 
 -- Stations read what they resume and list, add rows, and change only what a session changes:
--- its state, a display's current profile, an artifact completed by a second record, and the
+-- its state and person time, a display's current profile, an artifact completed by a second record, and the
 -- thresholds of a session (replaced whole). No DROP, TRUNCATE, schema change or deletion of
 -- measured rows (sessions, trials, readings, frame intervals).
 GRANT SELECT ON ALL TABLES IN SCHEMA public TO csf_station;
 GRANT INSERT ON sessions, trials, readings, frame_intervals, thresholds, artifacts, displays,
   observers, studies, participants, session_participants, display_profiles TO csf_station;
-GRANT UPDATE (state, updated_utc) ON sessions TO csf_station;
+GRANT UPDATE (state, updated_utc, person_s) ON sessions TO csf_station;
 GRANT UPDATE (profile_id) ON displays TO csf_station;
 GRANT UPDATE (path, content, size_bytes) ON artifacts TO csf_station;
 GRANT DELETE ON thresholds TO csf_station;
@@ -120,7 +121,7 @@ END $$;
 
 -- A finished or aborted session is closed, for every role: nothing is added to it, changed in
 -- it or deleted from it (trials, readings, frame intervals, thresholds, participant link,
--- display profile history), and its state does not change again. One exception: a file
+-- display profile history), and its state and person time do not change again. One exception: a file
 -- written from the session after it finished (the report plot of an observer calibration) is
 -- recorded as a new artifact; an artifact already stored does not change. The database owner
 -- can lift the rule for a repair with ALTER TABLE ... DISABLE TRIGGER csf_closed.
@@ -146,6 +147,10 @@ BEGIN
     IF OLD.state IN ('finished', 'aborted') AND NEW.state IS DISTINCT FROM OLD.state THEN
       RAISE EXCEPTION 'session % is % and closed: its state does not change', OLD.id, OLD.state
         USING ERRCODE = '55000';
+    END IF;
+    IF OLD.state IN ('finished', 'aborted') AND NEW.person_s IS DISTINCT FROM OLD.person_s THEN
+      RAISE EXCEPTION 'session % is % and closed: its person time does not change', OLD.id,
+        OLD.state USING ERRCODE = '55000';
     END IF;
     RETURN NEW;
   END IF;
@@ -190,7 +195,7 @@ BEGIN
                    'FOR EACH ROW EXECUTE FUNCTION csf_closed_session()', t);
   END LOOP;
   DROP TRIGGER IF EXISTS csf_closed ON sessions;
-  CREATE TRIGGER csf_closed BEFORE UPDATE OF state ON sessions
+  CREATE TRIGGER csf_closed BEFORE UPDATE OF state, person_s ON sessions
     FOR EACH ROW EXECUTE FUNCTION csf_closed_session();
   DROP TRIGGER IF EXISTS csf_profile ON displays;
   CREATE TRIGGER csf_profile BEFORE UPDATE OF profile_id ON displays

@@ -46,6 +46,13 @@ typedef struct csf_store_ops {
     csf_status (*get_session)(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
     csf_status (*set_session_state)(csf_store *s, int64_t id, const char *state, csf_error *err);
     csf_status (*list_sessions)(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
+    /* Adds seconds (checked: finite, 0 to CSF_STORE_PERSON_S_MAX) to an open session's person
+     * time; a closed one is refused. */
+    csf_status (*add_person_time)(csf_store *s, int64_t id, double seconds, csf_error *err);
+    /* Raises an open session's person time to total_s when it has none or less (a copy from
+     * another store: push, the spool); the same or more is left as it is. A closed session is
+     * refused, unless it already has total_s or more. */
+    csf_status (*raise_person_time)(csf_store *s, int64_t id, double total_s, csf_error *err);
     csf_status (*session_times)(csf_store *s, int64_t id, char created_utc[32],
                                 char updated_utc[32], csf_error *err);
     csf_status (*add_reading)(csf_store *s, const csf_reading *r, csf_error *err);

@@ -186,4 +186,16 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
     "ALTER TABLE sessions ADD COLUMN uuid TEXT;"
     "ALTER TABLE sessions ADD COLUMN station TEXT NOT NULL DEFAULT '';"
     "CREATE UNIQUE INDEX sessions_uuid ON sessions (uuid);",
+
+    /* -> v7: the participant's time in a session (person_s, seconds, the runs of a resumed
+     * session added up), NULL where unknown: every session stored before. The server's form
+     * (below) differs only in the type. */
+    "ALTER TABLE sessions ADD COLUMN person_s REAL CHECK (person_s IS NULL OR person_s >= 0);",
+};
+
+/* A step whose server form differs: PostgreSQL's REAL is 4 bytes and would round every value,
+ * so a REAL column is DOUBLE PRECISION there (as in results/store/pg_schema.c). */
+const char *const csf_store_migrations_pg[CSF_STORE_SCHEMA_VERSION] = {
+    [6] = "ALTER TABLE sessions ADD COLUMN person_s DOUBLE PRECISION"
+          "  CHECK (person_s IS NULL OR person_s >= 0);",
 };

@@ -8,5 +8,8 @@
 /* SQL of each schema migration step: index v gives the script that takes version v to v + 1
  * (index 0 creates version 1). */
 extern const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION];
+/* The PostgreSQL form of step v where it differs from the portable script (a REAL column is
+ * DOUBLE PRECISION there); NULL where the same SQL runs on both. */
+extern const char *const csf_store_migrations_pg[CSF_STORE_SCHEMA_VERSION];
 
 #endif

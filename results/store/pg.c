@@ -567,12 +567,15 @@ static csf_status create_or_migrate(pg_store *p, schema_state *ss, csf_error *er
     if (cs == CSF_OK) cs = read_schema_state(p, ss, err);
     if (cs == CSF_OK && !ss->has) cs = run_cmd(p, csf_store_pg_schema_v5, NULL, what, err);
     if (cs == CSF_OK && !ss->has) ss->version = 5;
-    /* The portable migrations after version 5, the same SQL as on SQLite. */
+    /* The migrations after version 5: the same SQL as on SQLite, or its server form where the
+     * types differ. */
     while (cs == CSF_OK && ss->version >= 5 && ss->version < CSF_STORE_SCHEMA_VERSION) {
         char upd[80];
         snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %lld",
                  (long long)ss->version + 1);
-        cs = run_cmd(p, csf_store_migrations[ss->version], NULL, "migrating the schema", err);
+        const char *step = csf_store_migrations_pg[ss->version] ? csf_store_migrations_pg[ss->version]
+                                                                : csf_store_migrations[ss->version];
+        cs = run_cmd(p, step, NULL, "migrating the schema", err);
         if (cs == CSF_OK) cs = run_cmd(p, upd, NULL, "migrating the schema", err);
         ss->version++;
     }
@@ -1211,6 +1214,128 @@ static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *sta
     return write_or_spool(p, &w, err);
 }
 
+/* ---- person time ---------------------------------------------------------------------------
+ * Sent as the total the session has after the write, not as the amount added: a repeat after a
+ * dropped connection whose first COMMIT got through finds the total there and adds nothing, and
+ * the spool keeps the same total. The total is the server's value (while it is away: the one
+ * this station last knew) plus the addition; the station holds the session's claim, so no other
+ * station changes it in between. */
+
+/* Why an update of session id's person time to total_s changed no row: the session is missing,
+ * closed, another station's (row-level security hides it from this login's UPDATE), or already
+ * at total_s (or past it, for a copy's raise: exact 0). */
+static csf_status person_unchanged(pg_store *p, int64_t id, double total_s, int exact, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT state, person_s FROM sessions WHERE id = $1", &a);
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) {
+        csf_status cs = fail(p, r, "reading a session's person time", err);
+        PQclear(r);
+        return cs;
+    }
+    int found = PQntuples(r) == 1;
+    char state[16] = "";
+    double have_s = found ? g_dbl(r, 0, 1) : NAN;
+    if (found) g_txt(r, 0, 0, state, sizeof state);
+    PQclear(r);
+    if (!found)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path, (long long)id);
+    /* Read back as text: equal to the last bits only where the server writes floats exactly
+     * (extra_float_digits >= 1, PostgreSQL 12's default), so a rounding's width is allowed. */
+    if (fabs(have_s - total_s) <= 1e-12 * fmax(1.0, total_s) || (!exact && have_s > total_s)) return CSF_OK;
+    if (!strcmp(state, "finished") || !strcmp(state, "aborted"))
+        return csf_store_person_time_closed(err, p->base.path, id, state);
+    if (have_s > total_s)
+        return csf_error_set(err, CSF_E_STORE,
+                             "store %s: session %lld has %.17g s of person time "
+                             "on the server, not the %.17g s this station expected after its "
+                             "addition: another connection changed it; nothing was added",
+                             p->base.path, (long long)id, have_s, total_s);
+    return state_unchanged(p, id, err);
+}
+
+static csf_status person_once(pg_store *p, int64_t id, double total_s, int exact, csf_error *err)
+{
+    pgargs a = {0};
+    a_dbl(&a, total_s);
+    a_i64(&a, id);
+    PGresult *r = run(p,
+                      "UPDATE sessions SET person_s = $1 WHERE id = $2"
+                      " AND state IN ('running', 'paused')"
+                      " AND (person_s IS NULL OR person_s < $1)",
+                      &a);
+    csf_status cs = CSF_OK;
+    if (!ok(r)) cs = fail(p, r, "storing a session's person time", err);
+    else if (!strcmp(PQcmdTuples(r), "0")) cs = person_unchanged(p, id, total_s, exact, err);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status read_person_once(pg_store *p, int64_t id, double *have_s, csf_error *err)
+{
+    pgargs a = {0};
+    a_i64(&a, id);
+    PGresult *r = run(p, "SELECT person_s FROM sessions WHERE id = $1", &a);
+    csf_status cs = CSF_OK;
+    if (PQresultStatus(r) != PGRES_TUPLES_OK) cs = fail(p, r, "reading a session's person time", err);
+    else if (PQntuples(r) == 0)
+        cs = csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", p->base.path, (long long)id);
+    else *have_s = g_dbl(r, 0, 0);
+    PQclear(r);
+    return cs;
+}
+
+static csf_status read_person(pg_store *p, int64_t id, double *have_s, csf_error *err)
+{
+    RETRY(p, err, read_person_once(p, id, have_s, err));
+}
+
+static csf_session_info *known_mut(pg_store *p, int64_t id)
+{
+    for (size_t i = 0; i < p->n_known; i++)
+        if (p->known[i].id == id) return &p->known[i];
+    return NULL;
+}
+
+/* The session's person time before an addition: the server's while it answers and holds all
+ * this station wrote (this station holds the claim, so it stays so until the addition), else
+ * what this station last knew of a session it runs (the spool may hold the newer total). */
+static csf_status person_before(pg_store *p, int64_t id, double *have_s, csf_error *err)
+{
+    const csf_session_info *k = known(p, id);
+    if (!k) return read_person(p, id, have_s, err);
+    csf_error e2;
+    if (p->spool.spooling || lost(p) || read_person_once(p, id, have_s, &e2) != CSF_OK) *have_s = k->person_s;
+    return CSF_OK;
+}
+
+static csf_status pg_add_person_time(csf_store *b, int64_t id, double seconds, csf_error *err)
+{
+    pg_store *p = pg(b);
+    double have_s = NAN;
+    csf_status cs = person_before(p, id, &have_s, err);
+    if (cs != CSF_OK) return cs;
+    write_op w = {.kind = CSF_SPOOL_PERSON,
+                  .sid = id,
+                  .person_exact = 1,
+                  .person_s = (isnan(have_s) ? 0.0 : have_s) + seconds};
+    cs = write_or_spool(p, &w, err);
+    csf_session_info *km = known_mut(p, id);
+    if (cs == CSF_OK && km) km->person_s = w.person_s;
+    return cs;
+}
+
+static csf_status pg_raise_person_time(csf_store *b, int64_t id, double total_s, csf_error *err)
+{
+    pg_store *p = pg(b);
+    write_op w = {.kind = CSF_SPOOL_PERSON, .sid = id, .person_s = total_s};
+    csf_status cs = write_or_spool(p, &w, err);
+    csf_session_info *km = known_mut(p, id);
+    if (cs == CSF_OK && km && !(km->person_s >= total_s)) km->person_s = total_s;
+    return cs;
+}
+
 /* ---- readings ------------------------------------------------------------------------------ */
 
 static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error *err)
@@ -1399,6 +1524,7 @@ static csf_status to_server(pg_store *p, const write_op *w, csf_error *err)
     case CSF_SPOOL_THRESHOLDS: return put_thresholds_once(p, w->sid, w->rows, w->n_rows, err);
     case CSF_SPOOL_ARTIFACT: return add_artifact_once(p, w->sid, w->art_kind, w->path, w->blob, w->len, err);
     case CSF_SPOOL_LINK: return link_once(p, w->sid, w->participant_id, err);
+    case CSF_SPOOL_PERSON: return person_once(p, w->sid, w->person_s, w->person_exact, err);
     default: return set_state_once(p, w->sid, w->state, err);
     }
 }
@@ -1958,6 +2084,8 @@ static const csf_store_ops pg_ops = {
     .get_session = pg_get_session,
     .set_session_state = pg_set_session_state,
     .list_sessions = pg_list_sessions,
+    .add_person_time = pg_add_person_time,
+    .raise_person_time = pg_raise_person_time,
     .session_times = pg_session_times,
     .add_reading = pg_add_reading,
     .get_readings = pg_get_readings,

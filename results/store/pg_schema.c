@@ -3,8 +3,8 @@
  * column, as SQLite's INTEGER PRIMARY KEY gives them), REAL -> DOUBLE PRECISION (PostgreSQL's
  * REAL is 4 bytes and would round every value), BLOB -> BYTEA. Columns, names, keys, CHECKs and
  * indexes are the same, so the same SQL reads both. No PostgreSQL store older than version 5
- * exists (the backend came with it), so a server store starts at 5; migrations after 5 are
- * portable SQL run on both backends. */
+ * exists (the backend came with it), so a server store starts at 5; migrations after 5 are the
+ * SQL both backends run, or its server form where a type differs (csf_store_migrations_pg). */
 #include "results/store/pg_schema.h"
 
 const char *const csf_store_pg_schema_v5 =

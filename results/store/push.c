@@ -5,6 +5,7 @@
  * works between any two backends. */
 #include "results/store/push.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,6 +172,21 @@ static csf_status push_participant(csf_store *src, csf_store *dst, int64_t sid, 
     return cs;
 }
 
+/* The source's person time, which only grows, raises the copy's to it (a second push changes
+ * nothing); a copy already finished or aborted keeps its own, as it keeps its state. */
+static csf_status push_person_time(const csf_session_info *si, csf_store *dst, int64_t did, csf_error *err)
+{
+    if (isnan(si->person_s)) return CSF_OK;
+    csf_session_info di;
+    csf_status cs = csf_store_get_session(dst, did, &di, err);
+    if (cs != CSF_OK) return cs;
+    int over = !strcmp(di.state, "finished") || !strcmp(di.state, "aborted");
+    int has = di.person_s >= si->person_s;
+    csf_session_info_free(&di);
+    if (over || has) return CSF_OK;
+    return dst->ops->raise_person_time(dst, did, si->person_s, err);
+}
+
 static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int keep_state,
                        csf_push_counts *c, csf_error *err)
 {
@@ -202,6 +218,7 @@ static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int k
     if (cs == CSF_OK) cs = push_readings(src, dst, session_id, did, c, err);
     if (cs == CSF_OK) cs = push_participant(src, dst, session_id, did, c, err);
     if (cs == CSF_OK) cs = push_results(src, dst, session_id, did, c, err);
+    if (cs == CSF_OK) cs = push_person_time(&si, dst, did, err);
     /* The copy takes the source's state once it has everything (and lets go of the claim a
      * new server session was made with), unless the destination's copy is already over. */
     csf_session_info di;

@@ -5,7 +5,8 @@
  * has, adds only what is missing. Trials go with their frame intervals; the thresholds are
  * replaced by the source's; every artifact the destination lacks (same kind, path and bytes) is
  * copied; the study participant the session is linked to is linked on the destination too (study
- * and participant made there by name and code when missing); the destination session takes the
+ * and participant made there by name and code when missing); the destination's person time is
+ * raised to the source's (never lowered, never added twice); the destination session takes the
  * source's state. A session aborted before any trial or reading is not made on a destination
  * that lacks it (skipped_empty). */
 #ifndef CSF_STORE_PUSH_H

@@ -35,7 +35,17 @@ int csf_store_row_session(const csf_store_cols *c, csf_session_info *o)
     o->n_readings = int_col(c, 10);
     text(c, 11, o->profile_id, sizeof o->profile_id);
     text(c, 12, o->uuid, sizeof o->uuid);
+    o->person_s = c->dbl(c, 13); /* NULL (unknown) reads NaN */
     return o->settings_json ? 0 : -1;
+}
+
+csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id, const char *state)
+{
+    return csf_error_set(err, CSF_E_STORE,
+                         "store %s: session %lld is %s and closed: its person "
+                         "time does not change (a run adds its person time before it finishes "
+                         "or aborts the session)",
+                         path, (long long)id, state);
 }
 
 void csf_store_row_trial(const csf_store_cols *c, int64_t session_id, csf_trial *t)

@@ -21,12 +21,12 @@ typedef struct csf_store_cols {
 } csf_store_cols;
 
 /* A session with its trial and reading counts; the caller adds WHERE / ORDER BY. */
-#define CSF_STORE_SESSION_SELECT                                                             \
-    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"          \
-    " s.tool_version, s.created_utc,"                                                        \
-    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                            \
-    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid"     \
-    " FROM sessions s"
+#define CSF_STORE_SESSION_SELECT                                                                             \
+    "SELECT s.id, s.kind, s.state, s.observer, s.display, s.settings_json, s.seed,"                          \
+    " s.tool_version, s.created_utc,"                                                                        \
+    " (SELECT COUNT(*) FROM trials t WHERE t.session_id = s.id),"                                            \
+    " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid,"                    \
+    " s.person_s FROM sessions s"
 
 #define CSF_STORE_TRIAL_COLS                                                                 \
     "seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps,"   \
@@ -45,6 +45,10 @@ int csf_store_row_session(const csf_store_cols *c, csf_session_info *o);
 void csf_store_row_trial(const csf_store_cols *c, int64_t session_id, csf_trial *t);
 void csf_store_row_reading(const csf_store_cols *c, int64_t session_id, csf_reading *r);
 void csf_store_row_threshold(const csf_store_cols *c, csf_threshold_row *t);
+
+/* The refusal of a change to the person time of session id, which is state (finished or
+ * aborted) and so closed; both backends give it in the same words. */
+csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id, const char *state);
 
 /* Unix seconds to ISO 8601 UTC; 0 with "" for a value that is no time of this era (a damaged
  * row: converting an out-of-range double to time_t is undefined). */

@@ -1,7 +1,7 @@
 /* The PostgreSQL store's local spool (see results/store/spool.h).
  *
- * When the server cannot be reached within spool_after_s, a trial, reading, frame timing or
- * state change of a session this station runs goes into a local SQLite store (the spool) under
+ * When the server cannot be reached within spool_after_s, a trial, reading, frame timing, person
+ * time or state change of a session this station runs goes into a local SQLite store (the spool) under
  * the session's uuid, durably, and the procedure goes on. Each later write first tries the
  * server again (at most every 5 s); once it answers, the spooled rows are sent with
  * csf_store_push_session (matched by uuid and seq: nothing doubled) before the new one. What is
@@ -101,6 +101,8 @@ csf_status csf_spool_put(csf_spool *sp, int64_t lsid, const csf_spool_write *w, 
         cs = st->ops->add_artifact(st, lsid, w->art_kind, w->path, w->blob, w->len, err);
     } else if (w->kind == CSF_SPOOL_LINK) {
         cs = st->ops->link_named(st, lsid, w->study, NULL, w->code, err);
+    } else if (w->kind == CSF_SPOOL_PERSON) {
+        cs = st->ops->raise_person_time(st, lsid, w->person_s, err);
     } else {
         cs = st->ops->set_session_state(st, lsid, w->state, err);
     }

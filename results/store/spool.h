@@ -27,7 +27,8 @@ typedef enum {
     CSF_SPOOL_STATE,
     CSF_SPOOL_THRESHOLDS,
     CSF_SPOOL_ARTIFACT,
-    CSF_SPOOL_LINK
+    CSF_SPOOL_LINK,
+    CSF_SPOOL_PERSON
 } csf_spool_kind;
 
 typedef struct {
@@ -45,6 +46,11 @@ typedef struct {
     size_t len;
     int64_t participant_id;   /* CSF_SPOOL_LINK */
     const char *study, *code; /* CSF_SPOOL_LINK in the spool: the names the server's ids stand for */
+    /* CSF_SPOOL_PERSON: the session's person time after this write, seconds (a total, not the
+     * amount added, so a repeat or a second send changes nothing); exact: the server must hold
+     * just this total after it (an addition), not more (a copy's raise). */
+    double person_s;
+    int person_exact;
 } csf_spool_write;
 
 /* Sets the spool's path (CSF_STORE_SPOOL, else $XDG_DATA_HOME/csfcal/spool.sqlite, else

@@ -1124,6 +1124,70 @@ static csf_status sq_set_session_state(csf_store *base, int64_t id, const char *
     return cs;
 }
 
+/* ---- person time -------------------------------------------------------------------------
+ * A session's person time only grows: each run adds its own, and a copy from another store
+ * raises it to the copy's total, so a second push adds nothing. A finished or aborted session is
+ * closed: its person time stays as it is, as its rows do on a lab's server. */
+
+/* Why an update of session id's person time changed no row: the session is missing or closed,
+ * or it already has total_s or more (a raise with nothing to do; total_s NaN for an addition). */
+static csf_status person_unchanged(sq_store *s, int64_t id, double total_s, csf_error *err)
+{
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s, "SELECT state, person_s FROM sessions WHERE id = ?", &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, "reading a session's person time");
+    sqlite3_bind_int64(st, 1, id);
+    rc = step(s, st);
+    char state[16] = "";
+    double have_s = NAN;
+    if (rc == SQLITE_ROW) {
+        col_text(st, 0, state, sizeof state);
+        have_s = col_real(st, 1);
+    }
+    sqlite3_finalize(st);
+    if (rc == SQLITE_DONE)
+        return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path, (long long)id);
+    if (rc != SQLITE_ROW) return fail(s, err, rc, "reading a session's person time");
+    if (have_s >= total_s) return CSF_OK;
+    if (!strcmp(state, "finished") || !strcmp(state, "aborted"))
+        return csf_store_person_time_closed(err, s->path, id, state);
+    return csf_error_set(err, CSF_E_STORE,
+                         "store %s: the person time of session %lld did not "
+                         "change",
+                         s->path, (long long)id);
+}
+
+/* total_s NaN: add seconds; else raise to total_s. */
+static csf_status sq_person_time(sq_store *s, int64_t id, double seconds, double total_s, csf_error *err)
+{
+    const char *what = "storing a session's person time";
+    int add = isnan(total_s);
+    sqlite3_stmt *st = NULL;
+    int rc = prepare(s,
+                     add ? "UPDATE sessions SET person_s = COALESCE(person_s, 0) + ?1"
+                           " WHERE id = ?2 AND state IN ('running', 'paused')"
+                         : "UPDATE sessions SET person_s = ?1 WHERE id = ?2"
+                           " AND state IN ('running', 'paused')"
+                           " AND (person_s IS NULL OR person_s < ?1)",
+                     &st);
+    if (rc != SQLITE_OK) return fail(s, err, rc, what);
+    sqlite3_bind_double(st, 1, add ? seconds : total_s);
+    sqlite3_bind_int64(st, 2, id);
+    csf_status cs = run_simple(s, st, what, err);
+    if (cs == CSF_OK && sqlite3_changes(s->db) == 0) cs = person_unchanged(s, id, total_s, err);
+    return cs;
+}
+
+static csf_status sq_add_person_time(csf_store *base, int64_t id, double seconds, csf_error *err)
+{
+    return sq_person_time(sq(base), id, seconds, NAN, err);
+}
+
+static csf_status sq_raise_person_time(csf_store *base, int64_t id, double total_s, csf_error *err)
+{
+    return sq_person_time(sq(base), id, 0.0, total_s, err);
+}
+
 static int session_row(sqlite3_stmt *st, void *elem, int64_t session_id)
 {
     (void)session_id;
@@ -1936,6 +2000,8 @@ static const csf_store_ops sqlite_ops = {
     .get_session = sq_get_session,
     .set_session_state = sq_set_session_state,
     .list_sessions = sq_list_sessions,
+    .add_person_time = sq_add_person_time,
+    .raise_person_time = sq_raise_person_time,
     .session_times = sq_session_times,
     .add_reading = sq_add_reading,
     .get_readings = sq_get_readings,

@@ -460,6 +460,25 @@ csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t 
     return s->ops->list_sessions(s, out, n, err);
 }
 
+csf_status csf_store_add_person_time(csf_store *s, int64_t session_id, double seconds, csf_error *err)
+{
+    csf_error_clear(err);
+    if (!s) return not_open(err);
+    if (!isfinite(seconds))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "store: person time of session %lld is %g, "
+                             "not a number of seconds (a run adds 0 to %g s)",
+                             (long long)session_id, seconds, CSF_STORE_PERSON_S_MAX);
+    if (seconds < 0.0 || seconds > CSF_STORE_PERSON_S_MAX)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "store: person time %g s for session %lld "
+                             "is %s (a run adds 0 to %g s, 11.6 days)",
+                             seconds, (long long)session_id, seconds < 0.0 ? "negative" : "past the limit",
+                             CSF_STORE_PERSON_S_MAX);
+    if (s->readonly) return read_only(s, "person time", err);
+    return s->ops->add_person_time(s, session_id, seconds, err);
+}
+
 void csf_session_info_free(csf_session_info *s)
 {
     if (!s) return;

@@ -38,7 +38,7 @@ typedef struct csf_store csf_store;
 
 /* Newest schema version this build writes (older stores are migrated forward on open; a newer
  * one is refused rather than misread). */
-#define CSF_STORE_SCHEMA_VERSION 6
+#define CSF_STORE_SCHEMA_VERSION 7
 
 /* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
  * written (a probe write inside a transaction that is rolled back). */
@@ -108,6 +108,9 @@ typedef struct {
     int n_trials, n_readings;
     char uuid[40];        /* random, given at the start; "" for a session stored before schema
                              v6 that was never pushed */
+    double person_s;      /* the participant's time in the session, seconds, every run of it
+                             added up (csf_store_add_person_time); NaN = unknown (a session
+                             stored before schema v7, or whose runs never said) */
 } csf_session_info;
 
 void csf_session_info_free(csf_session_info *s); /* frees settings_json */
@@ -132,6 +135,20 @@ csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *sta
 csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
 /* Free a list from csf_store_list_sessions. */
 void csf_session_list_free(csf_session_info *list, size_t n);
+
+/* The most one run may add to a session's person time: 1e6 s is 11.6 days, far past any
+ * sitting; a larger value is a clock read wrong (a difference of two unrelated clocks). */
+#define CSF_STORE_PERSON_S_MAX 1e6
+
+/* Adds seconds to the session's person time (the time the participant spent in it: stimuli,
+ * responses, breaks and instructions, on the session's clock), so the runs of a resumed session
+ * add up; a session with none stored (NULL) starts at 0. seconds must be finite, >= 0 and at
+ * most CSF_STORE_PERSON_S_MAX (else CSF_E_INVALID_ARG naming the value and the limit). A
+ * finished or aborted session is closed: refused with CSF_E_STORE (as its trials are on a lab's
+ * server). CSF_E_NOT_FOUND for a session the store lacks. On a server the addition is sent
+ * once: a repeat after a dropped connection does not add it twice, and while the server is away
+ * it is spooled with the session's other writes. */
+csf_status csf_store_add_person_time(csf_store *s, int64_t session_id, double seconds, csf_error *err);
 
 /* Timestamps (ISO 8601 UTC) of a session: created, last updated (state change or any row added). */
 csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32],

@@ -322,9 +322,10 @@ static void test_closed(void)
                             .n_trials = 3};
     CHECK_INT_EQ(csf_store_put_thresholds(s1, sid, &th, 1, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s1, sid, "csflut", "t.csflut", "table", 5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s1, sid, 42.5, &err), CSF_OK); /* the station's grant */
     CHECK_INT_EQ(csf_store_set_session_state(s1, sid, "finished", &err), CSF_OK);
 
-    char sql[512];
+    char sql[512], q[256];
     snprintf(sql, sizeof sql, "INSERT INTO trials SELECT session_id, 50, method, freq_cpd, ecc_deg,"
              " polar_deg, orientation_deg, sigma_deg, mean_lum_cdm2, is_catch, is_practice,"
              " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
@@ -347,8 +348,16 @@ static void test_closed(void)
     CHECK_STR_CONTAINS(err.msg, "closed");
     /* The owner is held to it too (a repair disables the trigger on purpose). */
     CHECK(try_as("csfcal_owner", sql) != 0);
+    /* Its person time too: through csfcal, and by hand past it (the trigger). */
+    CHECK_INT_EQ(csf_store_add_person_time(s1, sid, 10.0, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "finished and closed");
+    snprintf(sql, sizeof sql, "UPDATE sessions SET person_s = 9999 WHERE id = %lld", (long long)sid);
+    CHECK(try_as("booth1", sql) != 0);
+    CHECK(try_as("csfcal_owner", sql) != 0);
+    snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE id = %lld AND person_s = 42.5",
+             (long long)sid);
+    CHECK_INT_EQ(admin_int(q), 1);
 
-    char q[256];
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM trials WHERE session_id = %lld", (long long)sid);
     CHECK_INT_EQ(admin_int(q), 3);
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM frame_intervals WHERE session_id = %lld", (long long)sid);
@@ -390,6 +399,15 @@ static void test_others_session(int64_t sid1)
     csf_trial t = make_trial(sid1, 40, 1);
     CHECK(csf_store_add_trial(s2, &t, &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "another station");
+    /* nor its person time, through csfcal or by hand */
+    CHECK_INT_EQ(csf_store_add_person_time(s2, sid1, 30.0, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "belongs to another station");
+    char sql[160];
+    snprintf(sql, sizeof sql, "UPDATE sessions SET person_s = 30 WHERE id = %lld", (long long)sid1);
+    CHECK(try_as("booth2", sql) != 0); /* row-level security: it changes no row */
+    snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE id = %lld AND person_s IS NULL",
+             (long long)sid1);
+    CHECK_INT_EQ(admin_int(q), 1);
     csf_store_close(s2);
 }
 

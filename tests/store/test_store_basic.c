@@ -1,5 +1,6 @@
 /* Store round trips: every field of every entity comes back as written, after closing and
- * reopening; ordering by seq; refusals (duplicate seq, unknown session, bad kind/state/channel). */
+ * reopening; ordering by seq; refusals (duplicate seq, unknown session, bad kind/state/channel);
+ * a session's person time added up over its runs and refused when bad or closed. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -298,6 +299,88 @@ static void test_sessions_trials(const char *path)
     csf_store_close(s);
 }
 
+/* Person time: the runs of a session add up, on either backend and after reopening; bad values
+ * are refused naming the value and the limit, and leave the stored time as it was; a finished
+ * or aborted session is closed to it; a session nobody gave any reads NaN. */
+static double person_of(csf_store *s, int64_t id)
+{
+    csf_error err;
+    csf_session_info si;
+    if (csf_store_get_session(s, id, &si, &err) != CSF_OK) return -1.0;
+    double v = si.person_s;
+    csf_session_info_free(&si);
+    return v;
+}
+
+static void test_person_time(const char *path)
+{
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) return;
+    int64_t a = 0, b = 0, c = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "pt", "lcd", NULL, 11, &a, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, "study", "P3", "lcd", NULL, 12, &b, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "pt2", "lcd", NULL, 13, &c, &err), CSF_OK);
+    CHECK(isnan(person_of(s, a)));
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, 90.25, &err), CSF_OK);
+    CHECK_NEAR(person_of(s, a), 90.25, 0);
+    /* a second run of the session (paused, then resumed) adds its own */
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, 167.5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, "running", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, 0.0, &err), CSF_OK);
+    CHECK_NEAR(person_of(s, a), 257.75, 0);
+    CHECK(isnan(person_of(s, b)));
+
+    /* bad values: refused with the value and the limit, nothing stored */
+    const double bad[] = {NAN, INFINITY, -INFINITY, -0.5, CSF_STORE_PERSON_S_MAX * 1.0001};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        CHECK_INT_EQ(csf_store_add_person_time(s, a, bad[i], &err), CSF_E_INVALID_ARG);
+        CHECK_STR_CONTAINS(err.msg, "1e+06 s");
+    }
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, -0.5, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "negative");
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, 2e6, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "past the limit");
+    CHECK_NEAR(person_of(s, a), 257.75, 0);
+    CHECK_INT_EQ(csf_store_add_person_time(s, b, CSF_STORE_PERSON_S_MAX, &err),
+                 CSF_OK); /* the limit itself */
+    CHECK_NEAR(person_of(s, b), CSF_STORE_PERSON_S_MAX, 0);
+    CHECK_INT_EQ(csf_store_add_person_time(s, 999999, 5.0, &err), CSF_E_NOT_FOUND);
+    CHECK_INT_EQ(csf_store_add_person_time(NULL, a, 5.0, &err), CSF_E_INVALID_ARG);
+
+    /* closed sessions keep what they have */
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, a, 10.0, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "finished and closed");
+    CHECK_NEAR(person_of(s, a), 257.75, 0);
+    CHECK_INT_EQ(csf_store_set_session_state(s, c, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, c, 10.0, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "aborted and closed");
+    CHECK(isnan(person_of(s, c)));
+    csf_store_close(s);
+
+    /* kept, and listed, after reopening; a read-only store refuses to add */
+    s = NULL;
+    CHECK_INT_EQ(csf_store_open_readonly(path, &s, &err), CSF_OK);
+    if (!s) return;
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+    int seen = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (list[i].id == a) seen += list[i].person_s == 257.75;
+        if (list[i].id == b) seen += list[i].person_s == CSF_STORE_PERSON_S_MAX;
+        if (list[i].id == c) seen += isnan(list[i].person_s);
+    }
+    CHECK_INT_EQ(seen, 3);
+    csf_session_list_free(list, n);
+    CHECK_INT_EQ(csf_store_add_person_time(s, b, 1.0, &err), CSF_E_STORE);
+    CHECK_STR_CONTAINS(err.msg, "read-only");
+    csf_store_close(s);
+}
+
 /* The server's refusals: a database without a store is not one to read, and a read-only store
  * refuses writes with the same words as a read-only file. */
 static void test_pg_open(const char *path)
@@ -333,6 +416,9 @@ int main(void)
     if (tmp_dir(dir, sizeof dir, "basic") < 0) return 1;
     if (test_store_location(dir, "store.sqlite", path, sizeof path) < 0) return 1;
     test_sessions_trials(path);
+    char person[1024];
+    if (test_store_location(dir, "person.sqlite", person, sizeof person) < 0) return 1;
+    test_person_time(person);
     if (test_pg()) {
         test_pg_open(path);
         rm_rf(dir);

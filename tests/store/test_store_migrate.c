@@ -1,11 +1,13 @@
 /* Schema migration: a store written by schema version 1 (fixture SQL script) is opened by this
- * build, migrated forward, keeps every old row, and takes the new fields. A newer schema and a
+ * build, migrated forward, keeps every old row, and takes the new fields; so does one of the
+ * previous version (6), whose sessions read an unknown person time. A newer schema and a
  * foreign SQLite database are refused; a failing migration step leaves the old version intact. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "results/store/store.h"
 #include "results/store/internal.h"
+#include "results/store/migrations.h"
 #include "store_test_util.h"
 #include "tests/check.h"
 
@@ -22,6 +24,54 @@ static int raw_version(const char *path)
     }
     sqlite3_close(db);
     return v;
+}
+
+/* The previous schema (v6), made as a v6 csfcal made it: the v1 fixture taken through the real
+ * migration steps 1 to 5, plus a session a v6 build stored (with a uuid). Opening it adds
+ * person_s, NULL for every session stored before; the new column takes what the runs add and
+ * refuses a negative value written past csfcal. */
+static void test_from_v6(const char *dir, const char *v1_sql)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/v6.sqlite", dir);
+    CHECK_INT_EQ(test_sqlite_exec(path, v1_sql), 0);
+    for (int v = 1; v < 6; v++) {
+        char upd[64];
+        snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %d", v + 1);
+        CHECK_INT_EQ(test_sqlite_exec(path, csf_store_migrations[v]), 0);
+        CHECK_INT_EQ(test_sqlite_exec(path, upd), 0);
+    }
+    CHECK_INT_EQ(test_sqlite_exec(path, "INSERT INTO sessions (id, kind, state, observer, display,"
+                                        " settings_json, seed, tool_version, created_utc, updated_utc, uuid)"
+                                        " VALUES (3, 'study', 'running', 'P1', 'lab-crt', '{}', 5, '0.6.0',"
+                                        " '2026-11-01T10:00:00Z', '2026-11-01T10:20:00Z',"
+                                        " '0b7f5e52-3c1e-4a51-9d2f-6f0e8c1d2a3b')"),
+                 0);
+    CHECK_INT_EQ(raw_version(path), 6);
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) return;
+    CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+    CHECK_INT_EQ(test_query_int(s, path, "SELECT COUNT(*) FROM sessions WHERE person_s IS NULL"), 3);
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ(n, 3);
+    for (size_t i = 0; i < n; i++) CHECK(isnan(list[i].person_s));
+    if (n == 3) CHECK(!strcmp(list[2].uuid, "0b7f5e52-3c1e-4a51-9d2f-6f0e8c1d2a3b"));
+    csf_session_list_free(list, n);
+    /* the paused v1 session and the running v6 one take person time; the finished one does not */
+    CHECK_INT_EQ(csf_store_add_person_time(s, 2, 30.5, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, 3, 600.0, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, 3, 45.0, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(s, 1, 1.0, &err), CSF_E_STORE);
+    CHECK_INT_EQ(test_query_int(s, path, "SELECT CAST(person_s * 100 AS INTEGER) FROM sessions WHERE id = 3"),
+                 64500);
+    CHECK_INT_EQ(test_query_int(s, path, "SELECT COUNT(*) FROM sessions WHERE person_s IS NULL"), 1);
+    csf_store_close(s);
+    CHECK_INT_EQ(raw_version(path), CSF_STORE_SCHEMA_VERSION);
+    CHECK(test_sqlite_exec(path, "UPDATE sessions SET person_s = -1 WHERE id = 2") != SQLITE_OK);
 }
 
 int main(void)
@@ -60,6 +110,7 @@ int main(void)
         CHECK_INT_EQ(list[0].n_readings, 3);
         CHECK_INT_EQ(list[1].n_trials, 3);
         CHECK(!strcmp(list[1].settings_json, "{\"method\":\"fade\"}"));
+        CHECK(isnan(list[0].person_s) && isnan(list[1].person_s)); /* added in v7: unknown */
     }
     csf_session_list_free(list, n);
 
@@ -212,6 +263,7 @@ int main(void)
         CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
         csf_store_close(s);
     }
+    test_from_v6(dir, sql);
     free(sql);
     rm_rf(dir);
     return CHECK_RESULT();

@@ -1,7 +1,8 @@
 /* csfcal sessions push: a station ran on its own SQLite file and sends its
  * sessions to the lab store later (a server under CSF_TEST_BACKEND=postgresql, another SQLite
  * file otherwise). Everything arrives as stored (trials with their frame intervals, readings,
- * thresholds, artifacts, state); pushing again sends nothing; a session that grew sends only the
+ * thresholds, artifacts, person time, state); pushing again sends nothing (the person time is
+ * raised to the source's, never added twice); a session that grew sends only the
  * new trials; a session from before schema v6 (no uuid) gets one and is not doubled either. */
 #include <stdlib.h>
 #include <string.h>
@@ -53,6 +54,16 @@ static int64_t push(csf_store *src, csf_store *dst, int64_t sid, int sent, int p
     return c.dest_id;
 }
 
+static double person_of(csf_store *s, int64_t id)
+{
+    csf_error err;
+    csf_session_info si;
+    if (csf_store_get_session(s, id, &si, &err) != CSF_OK) return -1.0;
+    double v = si.person_s;
+    csf_session_info_free(&si);
+    return v;
+}
+
 int main(void)
 {
     test_pg_require();
@@ -76,6 +87,7 @@ int main(void)
                                  {32.0, 0.0, 0.0, 50.0, INFINITY, NAN, 12}};
     CHECK_INT_EQ(csf_store_put_thresholds(src, sid, rows, 2, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(src, sid, "csflut", "/tmp/p7.csflut", "LUTBYTES", 8, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_add_person_time(src, sid, 600.5, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_set_session_state(src, sid, "paused", &err), CSF_OK);
     CHECK_INT_EQ(csf_store_begin_session(src, "display", NULL, "booth-lcd", NULL, 5, &disp, &err), CSF_OK);
     for (int k = 0; k < 4; k++) {
@@ -112,6 +124,7 @@ int main(void)
     CHECK(!strcmp(a.uuid, b.uuid) && strlen(a.uuid) == 36);
     CHECK(!strcmp(b.state, "paused") && !strcmp(b.observer, "p7") && b.seed == 42);
     CHECK(!strcmp(a.created_utc, b.created_utc) && !strcmp(b.settings_json, "{\"a\":1}"));
+    CHECK_NEAR(b.person_s, 600.5, 0);
     csf_session_info_free(&a);
     csf_session_info_free(&b);
     csf_threshold_row *th = NULL;
@@ -146,17 +159,23 @@ int main(void)
     CHECK_INT_EQ(test_query_int(dst, lab, "SELECT COUNT(*) FROM session_participants"), 1);
     CHECK_INT_EQ(csf_store_count_participants(dst, lab_study, &np, &err), CSF_OK);
     CHECK_INT_EQ(np, 2);
+    CHECK_NEAR(person_of(dst, did), 600.5, 0); /* raised to the source's, not added again */
     CHECK_INT_EQ(csf_store_set_session_state(src, sid, "running", &err), CSF_OK);
     add_trials(src, sid, 30, 45, 42);
+    CHECK_INT_EQ(csf_store_add_person_time(src, sid, 120.25, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);
     CHECK_INT_EQ(push(src, dst, sid, 15, 30), did);
     check_copy(dst, did, 45, 42);
+    CHECK_NEAR(person_of(dst, did), 720.75, 0);    /* the second run's time arrives before the finish */
+    CHECK_INT_EQ(push(src, dst, sid, 0, 45), did); /* a finished copy that has it: nothing to do */
+    CHECK_NEAR(person_of(dst, did), 720.75, 0);
     csf_push_counts c;
     CHECK_INT_EQ(csf_store_push_session(src, dst, disp, &c, &err), CSF_OK);
     CHECK_INT_EQ(c.readings_sent, 4);
     CHECK_INT_EQ(csf_store_push_session(src, dst, disp, &c, &err), CSF_OK);
     CHECK_INT_EQ(c.readings_sent, 0);
     CHECK_INT_EQ(c.readings_present, 4);
+    CHECK(isnan(person_of(dst, c.dest_id))); /* none given: none made up */
 
     /* A session stored before v6 has no uuid: it gets one on the first push, kept after. */
     int64_t old = 0;

@@ -123,7 +123,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check(sql(old, "PRAGMA foreign_key_check") == "", "v4 fixture itself is consistent")
     run("sessions", "list", "--store", old)
     sound(old, "migrating a schema-4 store")
-    check(sql(old, "SELECT MAX(version) FROM schema_version") == "6", "migrated to 6")
+    check(sql(old, "SELECT MAX(version) FROM schema_version") == "7", "migrated to 7")
+    check(sql(old, "SELECT COUNT(*) FROM sessions WHERE person_s IS NOT NULL") == "0",
+          "sessions stored before v7 have an unknown person time")
 
     # Writing commands refuse someone else's SQLite file without changing a byte (it used to be
     # switched to WAL first), and name /dev/null for what it is.

@@ -214,6 +214,7 @@ static void test_server_restart(const char *loc)
         if (write_trials(s, sid, 0, 5, 91, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6); /* some trials in */
         if (write_trials(s, sid, 5, TRIALS, 91, 30000) < 0) _exit(5);
+        if (csf_store_add_person_time(s, sid, 75.5, &err) != CSF_OK) _exit(8);
         if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
@@ -234,6 +235,7 @@ static void test_server_restart(const char *loc)
     csf_error err;
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
     CHECK(!strcmp(si.state, "finished"));
+    CHECK_NEAR(si.person_s, 75.5, 0);
     csf_session_info_free(&si);
     csf_store_close(s);
 }
@@ -425,8 +427,8 @@ static void test_crash_while_away(const char *loc)
 }
 
 /* Everything a session writes while the server is away goes to the spool, not only trials:
- * thresholds, artifacts (two of one kind, and a path-only record completed by its bytes) and
- * the study participant link. Once the server is back (here: at close) all of it arrives, once;
+ * thresholds, artifacts (two of one kind, and a path-only record completed by its bytes), person
+ * time and the study participant link. Once the server is back (here: at close) all of it arrives, once;
  * the next open, which sends the spool again, adds nothing. */
 static void test_away_results(const char *loc)
 {
@@ -438,7 +440,9 @@ static void test_away_results(const char *loc)
     CHECK_INT_EQ(csf_store_add_participant(s, study, "A1", &part, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_begin_session(s, "study", "A1", "lcd", NULL, 98, &sid, &err), CSF_OK);
     CHECK_INT_EQ(write_trials(s, sid, 0, 3, 98, 0), 0);
+    CHECK_INT_EQ(csf_store_add_person_time(s, sid, 100.0, &err), CSF_OK); /* on the server */
     run_pg("stop");
+    CHECK_INT_EQ(csf_store_add_person_time(s, sid, 50.5, &err), CSF_OK); /* spooled */
     CHECK_INT_EQ(csf_store_link_session_participant(s, sid, part, &err), CSF_OK);
     CHECK_INT_EQ(write_trials(s, sid, 3, 6, 98, 0), 0);
     csf_threshold_row rows[2] = {{4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
@@ -470,6 +474,7 @@ static void test_away_results(const char *loc)
         csf_session_info si;
         CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
         CHECK(!strcmp(si.state, "finished"));
+        CHECK_NEAR(si.person_s, 150.5, 0); /* both runs' parts, the spooled one sent once */
         csf_session_info_free(&si);
         csf_store_close(s);
     }
