@@ -3,6 +3,7 @@
  * export writes tidy CSV/JSON (one row per trial, reading or threshold) for pandas and R. */
 #include <errno.h>
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +27,9 @@ static const char sessions_help[] =
     "       csfcal sessions abort ID [--store PATH]\n"
     "       csfcal sessions push [ID...] --to LOCATION [--store PATH]\n"
     "       csfcal sessions init [--store PATH]\n\n"
-    "list    every session in the store: id, kind, state, observer, display, trials, readings;\n"
+    "list    every session in the store: id, kind, state, observer, display, trials, readings,\n"
+    "        person time (the participant's minutes in the session, every run added up; - when\n"
+    "        unknown; --json: person_s in seconds, null when unknown);\n"
     "        --kind display|observer|study and --state running|paused|finished|aborted filter.\n"
     "        Sessions in state running or paused can be continued with the --resume ID option\n"
     "        of the command that started them.\n"
@@ -87,6 +90,8 @@ static json_t *session_json(const csf_session_info *si, int with_settings)
     json_object_set_new(o, "created_utc", json_text(si->created_utc));
     json_object_set_new(o, "n_trials", json_integer(si->n_trials));
     json_object_set_new(o, "n_readings", json_integer(si->n_readings));
+    /* seconds; null where unknown (sessions stored before person time was kept) */
+    json_object_set_new(o, "person_s", isfinite(si->person_s) ? json_real(si->person_s) : json_null());
     /* Stored as text by the procedures; a string, so the output stays valid whatever it holds. */
     if (with_settings)
         json_object_set_new(o, "settings_json", json_text(si->settings_json ? si->settings_json : "{}"));
@@ -155,6 +160,13 @@ static void print_cell(const char *text, int width)
     printf("%*s ", width - shown, "");
 }
 
+/* The person time in minutes with one decimal, "-" when unknown. */
+static void person_minutes(const csf_session_info *si, char *out, size_t cap)
+{
+    if (isfinite(si->person_s)) snprintf(out, cap, "%.1f", si->person_s / 60.0);
+    else snprintf(out, cap, "-");
+}
+
 static int unfinished(const csf_session_info *si)
 {
     return !strcmp(si->state, "running") || !strcmp(si->state, "paused");
@@ -218,8 +230,8 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
     } else if (n == 0) {
         printf("No %ssessions in %s\n", kind || state ? "matching " : "", csf_store_path(s));
     } else {
-        printf("%-5s %-8s %-9s %-14s %-18s %7s %8s  %s\n", "ID", "KIND", "STATE", "OBSERVER",
-               "DISPLAY", "TRIALS", "READINGS", "CREATED (UTC)");
+        printf("%-5s %-8s %-9s %-14s %-18s %7s %8s %10s  %s\n", "ID", "KIND", "STATE", "OBSERVER", "DISPLAY",
+               "TRIALS", "READINGS", "PERSON MIN", "CREATED (UTC)");
         int n_open = 0;
         for (size_t i = 0; i < n; i++) {
             const csf_session_info *si = &list[i];
@@ -230,7 +242,9 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
             print_cell(si->display, 18);
             char created[64];
             csf_store_printable(si->created_utc, created, sizeof created);
-            printf("%7d %8d  %s\n", si->n_trials, si->n_readings, created);
+            char person[32];
+            person_minutes(si, person, sizeof person);
+            printf("%7d %8d %10s  %s\n", si->n_trials, si->n_readings, person, created);
             n_open += unfinished(si);
         }
         if (n_open) {
@@ -261,6 +275,8 @@ static void print_show(const csf_session_info *si, const char *created, const ch
     printf("created      %s\n", buf);
     csf_store_printable(updated, buf, sizeof buf);
     printf("last write   %s\ntrials       %d\nreadings     %d\n", buf, si->n_trials, si->n_readings);
+    if (isfinite(si->person_s)) printf("person time  %.1f min (%.0f s)\n", si->person_s / 60.0, si->person_s);
+    else printf("person time  -\n");
     size_t n = si->settings_json ? strlen(si->settings_json) : 0;
     char *settings = malloc(4 * n + 1);
     if (settings) csf_store_printable(si->settings_json ? si->settings_json : "", settings, 4 * n + 1);

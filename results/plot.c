@@ -508,16 +508,29 @@ static double draw_facts(cairo_t *cr, const report_data *d, const session_counts
     const csf_session_info *si = &d->info;
     double dur_s = iso_to_unix(d->updated) - iso_to_unix(d->created);
     const char *lines[][2] = {
-        {"Kind / state", NULL}, {"Observer", si->observer[0] ? si->observer : "-"},
-        {"Display", si->display[0] ? si->display : "-"}, {"Started (UTC)", d->created},
-        {"Last write (UTC)", d->updated}, {"Duration (wall clock)", NULL}, {"Seed", NULL},
-        {"Tool version", si->tool_version}, {"Trials", NULL}, {"Frames", NULL},
-        {"Photometer readings", NULL}, {"Thresholds", NULL},
+        {"Kind / state", NULL},
+        {"Observer", si->observer[0] ? si->observer : "-"},
+        {"Display", si->display[0] ? si->display : "-"},
+        {"Started (UTC)", d->created},
+        {"Last write (UTC)", d->updated},
+        {"Duration (wall clock)", NULL},
+        {"Person time", NULL},
+        {"Seed", NULL},
+        {"Tool version", si->tool_version},
+        {"Trials", NULL},
+        {"Frames", NULL},
+        {"Photometer readings", NULL},
+        {"Thresholds", NULL},
     };
-    char v_state[64], v_dur[64], v_seed[32], v_trials[160], v_frames[128], v_read[160], v_th[96];
+    char v_state[64], v_dur[64], v_person[64], v_seed[32], v_trials[160], v_frames[128];
+    char v_read[160], v_th[96];
     snprintf(v_state, sizeof v_state, "%s / %s", si->kind, si->state);
     if (isfinite(dur_s)) snprintf(v_dur, sizeof v_dur, "%.0f min %02.0f s", floor(dur_s / 60), fmod(dur_s, 60));
     else snprintf(v_dur, sizeof v_dur, "unknown");
+    /* The participant's own time in the session (every run added up), which the wall clock
+     * from start to last write overstates when the session was paused between runs. */
+    if (isfinite(si->person_s)) snprintf(v_person, sizeof v_person, "%.1f min", si->person_s / 60.0);
+    else snprintf(v_person, sizeof v_person, "unknown");
     snprintf(v_seed, sizeof v_seed, "%llu", (unsigned long long)si->seed);
     snprintf(v_trials, sizeof v_trials, "%zu (%d valid, %d invalid; %d practice, %d catch of which %d responded)",
              d->n_trials, k->valid, k->invalid, k->practice, k->catch_n, k->catch_resp);
@@ -534,20 +547,22 @@ static double draw_facts(cairo_t *cr, const report_data *d, const session_counts
     snprintf(v_th, sizeof v_th, "%zu (%d never visible)", d->n_th, k->th_inf);
     lines[0][1] = v_state;
     lines[5][1] = v_dur;
-    lines[6][1] = v_seed;
-    lines[8][1] = v_trials;
-    lines[9][1] = v_frames;
-    lines[10][1] = v_read;
-    lines[11][1] = v_th;
+    lines[6][1] = v_person;
+    lines[7][1] = v_seed;
+    lines[9][1] = v_trials;
+    lines[10][1] = v_frames;
+    lines[11][1] = v_read;
+    lines[12][1] = v_th;
     double y = 72;
     /* A display session has no trials, an observer session no readings: rows that would only
      * say "0" are left out (a count that is not 0 is always shown). */
     int is_display = !strcmp(si->kind, "display");
     int skip[sizeof lines / sizeof lines[0]] = {0};
     skip[1] = is_display && !si->observer[0];
-    skip[8] = skip[9] = is_display && !d->n_trials && !k->planned;
-    skip[10] = !is_display && !d->n_readings;
-    skip[11] = is_display && !d->n_th;
+    skip[6] = is_display && !isfinite(si->person_s); /* a display session has no participant */
+    skip[9] = skip[10] = is_display && !d->n_trials && !k->planned;
+    skip[11] = !is_display && !d->n_readings;
+    skip[12] = is_display && !d->n_th;
     for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++) {
         if (skip[i]) continue;
         cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);

@@ -1,6 +1,7 @@
 /* A realistic sample store for the report and export tests: an observer session whose thresholds
- * come from the log-parabola x stelaCSF model with measurement noise, and a display session with
- * noisy gamma-curve readings and the display profile built from them. */
+ * come from the log-parabola x stelaCSF model with measurement noise (and whose person time is
+ * its instructions, frames and answers), and a display session with noisy gamma-curve readings
+ * and the display profile built from them. */
 #ifndef CSF_STORE_SAMPLE_H
 #define CSF_STORE_SAMPLE_H
 
@@ -20,6 +21,7 @@ static const double sample_eccs[] = {0, 5, 10, 20};
 #define SAMPLE_NE 4
 #define SAMPLE_TRIALS 240
 #define SAMPLE_FRAMES 30
+#define SAMPLE_INSTRUCTIONS_S 30.0
 
 /* Frames per trial at 60 Hz with jitter; trial seq % 40 == 7 misses one frame (a 2-frame gap). */
 static inline void sample_intervals(uint64_t seed, int seq, double *iv)
@@ -51,6 +53,8 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
     ok &= csf_store_begin_session(s, "observer", "sim-observer", "sim-lcd",
                                   "{\"method\":\"fade\",\"freqs_cpd\":[0.5,1,2,4,8,16,24],"
                                   "\"eccs_deg\":[0,5,10,20]}", seed, obs_id, &err) == CSF_OK;
+    /* The person's time: a 30 s instruction screen, then each trial's frames and answer. */
+    double person_s = SAMPLE_INSTRUCTIONS_S;
     for (int i = 0; ok && i < SAMPLE_TRIALS; i++) {
         csf_trial t = make_trial(*obs_id, i, seed);
         t.freq_cpd = sample_freqs[i % SAMPLE_NF];
@@ -59,7 +63,10 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
         double iv[SAMPLE_FRAMES];
         sample_intervals(seed, i, iv);
         ok &= csf_store_add_frame_intervals(s, *obs_id, i, iv, SAMPLE_FRAMES, &err) == CSF_OK;
+        for (int k = 0; k < SAMPLE_FRAMES; k++) person_s += iv[k];
+        if (isfinite(t.rt_s)) person_s += t.rt_s;
     }
+    ok &= csf_store_add_person_time(s, *obs_id, person_s, &err) == CSF_OK;
     csf_model_params mp = csf_model_default();
     csf_threshold_row rows[SAMPLE_NF * SAMPLE_NE];
     int n = 0;

@@ -3,6 +3,8 @@
 
 - pdfinfo: the PDF has a Title; pdftotext: the text is extractable and carries the summary's key
   fields, and each setting value is whole (not wrapped inside a word or a number list).
+- The header's person time is the store's (sessions list --json) in minutes, "unknown" where the
+  store has none, and left out of a display session's report.
 - SVG: no filled dot path starts with a line from elsewhere (the stray hairline from the end of the
   previous text to each "At a glance" dot: a path with both a line-to and the arc's curve-tos).
 - Display report: the plot legend names and counts the same readings, failed ones included, as
@@ -82,11 +84,28 @@ with tempfile.TemporaryDirectory() as tmp:
     for line in text.splitlines():
         if "freqs_cpd" in line:
             check("[0.5,1,2,4,8,16,24]" in line, f"settings line: {line}")
+    # The person time in the header, as the store has it (minutes, one decimal).
+    import json
+    person_s = json.loads(run("sessions", "list", "--json", *S).stdout)[0]["person_s"]
+    check(isinstance(person_s, float) and person_s > 0, f"sample person time {person_s}")
+    want = f"{person_s / 60:.1f} min" if isinstance(person_s, float) else "?"
+    check(re.search(r"Person time\s+" + re.escape(want), text) is not None,
+          f"report header: 'Person time {want}' missing")
+    ustore = copy_store(store, os.path.join(tmp, "unknown-person.sqlite"))
+    db = sqlite3.connect(ustore)
+    db.execute("UPDATE sessions SET person_s = NULL WHERE id = ?", (obs,))
+    db.commit()
+    db.close()
+    updf = os.path.join(tmp, "u.pdf")
+    run("report", obs, "-o", updf, "--store", ustore)
+    utext = tool("pdftotext", "-layout", updf, "-").stdout
+    check(re.search(r"Person time\s+unknown", utext) is not None, "report header: unknown person time")
     dpdf = os.path.join(tmp, "d.pdf")
     run("report", disp, "-o", dpdf, *S)
     dtext = tool("pdftotext", "-layout", dpdf, "-").stdout
     check("display calibration report" in dtext and "Photometer readings" in dtext and "grey" in dtext,
           "display report text")
+    check("Person time" not in dtext, "display report: no person time row (no participant)")
     check("No frame intervals" not in dtext, "display report has no empty frame-timing page")
 
     # --- display plot legend against the readings table and the stored readings ---
@@ -98,7 +117,6 @@ with tempfile.TemporaryDirectory() as tmp:
                "(SELECT MIN(seq) FROM readings WHERE session_id = ? AND channel = 'r')", (disp, disp))
     db.commit()
     db.close()
-    import json
     rows = json.loads(run("sessions", "export", disp, "--format", "json", "--table", "readings",
                           "--store", lstore).stdout)
     rows = rows["readings"] if isinstance(rows, dict) else rows

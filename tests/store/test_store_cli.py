@@ -56,6 +56,26 @@ with tempfile.TemporaryDirectory() as tmp:
     info = json.loads(p.stdout)
     check(json.loads(info["settings_json"])["method"] == "fade", "show settings")
 
+    # --- person time: the sample's is its 30 s of instructions plus every frame and answer ---
+    frames = list(csv.DictReader(io.StringIO(run("sessions", "export", obs, "--format", "csv",
+                                                 "--table", "frames", *S).stdout)))
+    trials = list(csv.DictReader(io.StringIO(run("sessions", "export", obs, "--format", "csv", *S).stdout)))
+    want_s = 30.0 + sum(float(r["interval_s"]) for r in frames) + sum(float(r["rt_s"]) for r in trials if r["rt_s"])
+    check(len(frames) == 240 * 30 and want_s > 300, f"person time inputs: {len(frames)} frames, {want_s} s")
+    check(isinstance(lst[0]["person_s"], float) and abs(lst[0]["person_s"] - want_s) < 1e-6,
+          f"json person_s {lst[0].get('person_s')} != {want_s}")
+    check("person_s" in lst[1] and lst[1]["person_s"] is None, f"display session person_s: {lst[1]}")
+    check(info["person_s"] == lst[0]["person_s"], "show --json person_s")
+    p = run("sessions", *S)
+    check(p.stdout.splitlines()[0].split()[7:9] == ["PERSON", "MIN"], f"person column header: {p.stdout.splitlines()[0]}")
+    rows = {l.split()[0]: l.split() for l in p.stdout.splitlines()[1:] if l.split() and l.split()[0].isdigit()}
+    check(rows.get(obs, [""] * 9)[7] == f"{want_s / 60:.1f}", f"person minutes: {rows.get(obs)}")
+    check(rows.get(disp, [""] * 9)[7] == "-", f"unknown person time: {rows.get(disp)}")
+    p = run("sessions", "show", obs, *S)
+    check(f"person time  {want_s / 60:.1f} min ({want_s:.0f} s)" in p.stdout, f"show person time: {p.stdout}")
+    p = run("sessions", "show", disp, *S)
+    check("person time  -" in p.stdout, "show unknown person time")
+
     # --- CSV export of trials ---
     p = run("sessions", "export", obs, "--format", "csv", *S)
     rows = list(csv.DictReader(io.StringIO(p.stdout)))
