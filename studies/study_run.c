@@ -941,7 +941,15 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     if (!opt->quiet)
         fprintf(stderr, "csfcal: study %s: participant %s, session %lld, %s%d of %d trials stored\n", s->name,
                 opt->participant, (long long)sid, res->resumed ? "resuming: " : "", (int)n_stored, n_plan);
+    /* The participant's time in this run, on the session's clock (the presenter's: virtual
+     * when simulated), instructions and pauses included; added to the session's before it ends. */
+    double t0_s = csf_presenter_time(R.pres);
     st = run_with_signals(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
+    csf_error pe;
+    if (csf_store_add_person_time(R.store, sid, fmax(0.0, csf_presenter_time(R.pres) - t0_s), &pe) !=
+            CSF_OK &&
+        st == CSF_OK)
+        st = csf_error_set(err, pe.code, "%s", pe.msg);
     st = end_session(&R, sid, n_plan, st, res, err);
 out:
     run_res_free(&R);
