@@ -44,6 +44,7 @@ typedef struct {
     double *pair_r;             /* per condition: the simulated observer's detectability */
     double max_contrast;
     double period_s;
+    double sim_answer_s; /* simulated answers' times, which no frame clock counts */
 } study_ctx;
 
 typedef struct {
@@ -339,6 +340,11 @@ static csf_status respond(study_ctx *x, uint64_t key, int cond, const csf_study_
         }
         o->rt_s = csf_round9(rt);
         o->valid = 1;
+        /* the simulated person's answer (a yes/no "no" waits out the window) is person time */
+        x->sim_answer_s += isfinite(rt) ? rt
+                           : s->design == CSF_DESIGN_YES_NO
+                               ? (s->response_window_s > 0 ? s->response_window_s : 1.0)
+                               : 0.0;
         return CSF_OK;
     }
     csf_status st = csf_trial_io_wait_choice(&x->io, csf_responder_now(), s->response_window_s, &o->choice,
@@ -942,13 +948,13 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
         fprintf(stderr, "csfcal: study %s: participant %s, session %lld, %s%d of %d trials stored\n", s->name,
                 opt->participant, (long long)sid, res->resumed ? "resuming: " : "", (int)n_stored, n_plan);
     /* The participant's time in this run, on the session's clock (the presenter's: virtual
-     * when simulated), instructions and pauses included; added to the session's before it ends. */
+     * when simulated, plus the simulated answers), instructions and pauses included; added to
+     * the session's before it ends. */
     double t0_s = csf_presenter_time(R.pres);
     st = run_with_signals(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
+    double person_s = csf_presenter_time(R.pres) - t0_s + x.sim_answer_s;
     csf_error pe;
-    if (csf_store_add_person_time(R.store, sid, fmax(0.0, csf_presenter_time(R.pres) - t0_s), &pe) !=
-            CSF_OK &&
-        st == CSF_OK)
+    if (csf_store_add_person_time(R.store, sid, fmax(0.0, person_s), &pe) != CSF_OK && st == CSF_OK)
         st = csf_error_set(err, pe.code, "%s", pe.msg);
     st = end_session(&R, sid, n_plan, st, res, err);
 out:
