@@ -1153,6 +1153,8 @@ typedef struct {
     int default_budget;       /* the budget is the default for this grid (set once the display is known) */
     int n_not_shown;          /* cells whose drift this display cannot show */
     double person_t0_s;       /* presenter clock when this run's first trial began */
+    int person_started;       /* person_t0_s is set: the first screen was shown */
+    int person_recorded;      /* this run's person time is in the store */
 } obs_run;
 
 /* A resumed session's settings, from the store; a session that cannot be resumed says why. */
@@ -1770,6 +1772,18 @@ static int precision_reached(obs_run *R, int n)
     return reached;
 }
 
+/* The person's time in this run (the session's clock from the first screen to the last answer,
+ * simulated answer times added: the virtual clock does not run for them), into the result and
+ * added to the session's in the store, once per run, before the session is paused or finished. */
+static csf_status record_person_time(obs_run *R, csf_error *err)
+{
+    if (R->person_recorded) return CSF_OK;
+    R->person_recorded = 1;
+    R->res->person_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+    csf_error e;
+    return csf_store_add_person_time(R->S.store, R->sid, R->res->person_s, err ? err : &e);
+}
+
 /* The main trials, each stored (durably) before the procedure sees it and before the next is
  * shown. A pause or a signal leaves the session paused, resumable. */
 static csf_status run_main_trials(obs_run *R, csf_error *err)
@@ -1834,6 +1848,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
             fprintf(stderr, "csfcal: observer: %d of %d trials\n", ti + 1, set->trials);
     }
     if (who->paused || stop_requested) {
+        record_person_time(R, NULL);
         csf_store_set_session_state(S->store, R->sid, "paused", NULL);
         R->said_paused = 1;
         return csf_error_set(err, CSF_E_ABORTED, "session %lld paused after %d trials; continue with --resume %lld",
@@ -2171,10 +2186,11 @@ static csf_status run_trials_and_table(obs_run *R, csf_error *err)
     stop_requested = 0;
     say_expected_time(R);
     R->person_t0_s = csf_presenter_time(R->S.pres);
+    R->person_started = 1;
     csf_status st = run_practice(R, err);
     if (st == CSF_OK) st = replay_stored(R, err);
     if (st == CSF_OK) st = run_main_trials(R, err);
-    R->res->person_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+    if (st == CSF_OK) st = record_person_time(R, err);
     if (st == CSF_OK) st = judge_session(R, err);
     if (st == CSF_OK) st = write_table(R, err);
     if (st == CSF_OK) st = finish_session(R, err);
@@ -2248,6 +2264,7 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
      * (aborted) end it. */
     if (st != CSF_OK && !R->said_paused && st != CSF_E_INSUFFICIENT && res->session_id) {
         csf_error e2;
+        if (R->person_started) record_person_time(R, NULL);
         csf_store_set_session_state(R->S.store, res->session_id, "paused", &e2);
         res->resumable = 1;
     }
