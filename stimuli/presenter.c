@@ -466,7 +466,8 @@ static csf_status window_open(csf_presenter *p, csf_error *err)
     csf_glfw_context c = {.monitor = p->cfg.monitor,
                           .width_px = p->geom.width_px,
                           .height_px = p->geom.height_px,
-                          .bits = p->bits};
+                          .bits = p->bits,
+                          .windowed = p->cfg.windowed};
     csf_status st = csf_context_glfw_open(&c, err);
     p->win = c.win;
     p->glfw_inited = c.glfw_inited;

@@ -111,6 +111,9 @@ typedef struct {
     int render_every;           /* 0/1 every frame, N every N-th, -1 never (see PERFORMANCE) */
     int dither;                 /* CSF_DITHER_* */
     const char *monitor;        /* windowed: index ("0", "1") or name substring; NULL = primary */
+    int windowed;               /* not headless: an ordinary window of the configured pixel size
+                                   on the desktop instead of fullscreen on the monitor (a preview;
+                                   the monitor's gamma ramp is guarded the same) */
     uint64_t seed;              /* per-run dither offset and miss-rate draws */
     /* Injected faults for tests of what reads the screen (a simulated person, a self-check): every
      * stimulus is drawn fault_polar_offset_deg of polar angle away from where it was asked for,

@@ -376,6 +376,7 @@ struct csf_phase_meter {
     roi_t r;
     lum_cache lc;
     double *ec, *es; /* envelope x cos and x sin of the carrier at phase 0, per ROI pixel */
+    unsigned char *keep; /* 0 for pixels under the fixation mark, left out of the fit */
     double A[3][3];  /* normal matrix of the fit (the same for every frame) */
     uint16_t *buf;   /* read-back pixels: the whole frame, or the ROI (from_region) */
     size_t buf_px;
@@ -388,17 +389,26 @@ void csf_phase_meter_close(csf_phase_meter *m)
     free(m->lc.grey);
     free(m->ec);
     free(m->es);
+    free(m->keep);
     free(m->buf);
     free(m);
 }
 
-/* The carrier at phase 0 under the envelope, and the fit's normal matrix. */
+/* The carrier at phase 0 under the envelope, and the fit's normal matrix. Pixels within
+ * CSF_PHASE_METER_FIX_EXCLUDE_DEG of the fixation direction are left out: a session's fixation
+ * mark (dark, at the screen's foot of the normal) is not part of the grating, and over a foveal
+ * patch's peak it would read as a loss of contrast. */
 static void meter_basis(csf_phase_meter *m)
 {
     const csf_stimulus *s = &m->s;
+    const csf_geometry *g = csf_presenter_geometry(m->p);
     double co = cos(s->orientation_deg * DEG), so = sin(s->orientation_deg * DEG);
     memset(m->A, 0, sizeof m->A);
     for (size_t k = 0; k < (size_t)m->r.w * m->r.h; k++) {
+        double ecc, polar;
+        csf_geometry_mm_to_deg(g, m->r.xmm[k], m->r.ymm[k], &ecc, &polar);
+        m->keep[k] = !(ecc < CSF_PHASE_METER_FIX_EXCLUDE_DEG);
+        if (!m->keep[k]) continue;
         double e = envelope(s, m->r.u[k], m->r.v[k]);
         double ph = 2 * M_PI * s->freq_cpd * (m->r.u[k] * co + m->r.v[k] * so);
         m->ec[k] = e * cos(ph);
@@ -440,8 +450,9 @@ csf_status csf_phase_meter_open(csf_presenter *p, const csf_stimulus *s, int fro
     m->buf_px = from_region ? n : (size_t)fw * fh;
     m->ec = malloc(sizeof(double) * n);
     m->es = malloc(sizeof(double) * n);
+    m->keep = malloc(n);
     m->buf = malloc(sizeof(uint16_t) * 3 * m->buf_px);
-    if (!m->ec || !m->es || !m->buf) {
+    if (!m->ec || !m->es || !m->keep || !m->buf) {
         csf_phase_meter_close(m);
         return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     }
@@ -475,6 +486,7 @@ csf_status csf_phase_meter_read(csf_phase_meter *m, csf_phase_reading *out, csf_
     if (st) return st;
     double y[3] = {0, 0, 0}, A[3][3], sol[3];
     for (size_t k = 0; k < (size_t)m->r.w * m->r.h; k++) {
+        if (!m->keep[k]) continue;
         double L = m->r.lum[k];
         y[0] += L;
         y[1] += L * m->ec[k];

@@ -48,8 +48,11 @@ csf_status csf_selfcheck_resolution_run(csf_presenter *p, int levels, int frames
  * L = m + a env cos(2 pi f w) + b env sin(2 pi f w) at the stimulus' own frequency, orientation
  * and envelope (w the position along the modulation direction, angle space), which gives the
  * mean m, the contrast hypot(a, b) / m and the carrier phase atan2(-b, a) at the patch centre
- * (the convention of csf_stimulus.phase_deg, in radians). from_region = 1 reads the region with
+ * (the convention of csf_stimulus.phase_deg, in radians). Pixels within
+ * CSF_PHASE_METER_FIX_EXCLUDE_DEG of the fixation point (the fixation mark's place) are not
+ * fitted. from_region = 1 reads the region with
  * csf_presenter_readback_region (full resolution, without a caption) instead of the frame. */
+#define CSF_PHASE_METER_FIX_EXCLUDE_DEG 0.25
 typedef struct csf_phase_meter csf_phase_meter;
 typedef struct {
     double phase_rad; /* (-pi, pi] */
