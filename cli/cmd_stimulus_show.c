@@ -233,9 +233,13 @@ static int show_png(show_state *st, csf_error *err)
         if (folder) snprintf(path, sizeof path, "%sframe_%04ld.png", st->a.png, k);
         else snprintf(path, sizeof path, "%s", st->a.png);
         if (k == 0) rc = csf_check_output_path(path, "PNG frame", err);
-        if (!rc && k == 0 && !st->clean) { /* measure and caption, then the clock starts again */
+        if (!rc && k == 0 && !st->clean) {
+            /* measure and caption; then the same frame number again, so that the written frame
+             * has the dither a --clean one has */
+            long first = csf_presenter_frame_index(st->p);
             rc = draw_one(st, err);
             st->frames = 0;
+            csf_presenter_set_frame_index(st->p, first);
         }
         if (!rc) rc = draw_one(st, err);
         if (!rc) rc = write_png(st->p, path, err);
