@@ -29,7 +29,7 @@ typedef struct {
     csf_stimulus s;
     double onset_s;    /* presenter time of the first frame: the drift's phase origin */
     double measured_c; /* Michelson contrast fitted on the frame (NAN until measured) */
-    int need_measure, quit, clean, json;
+    int need_measure, need_caption, quit, clean, json;
     long frames;
     char note[300];      /* why the last key's step was refused ("" when none) */
     int keyq[SHOW_KEYQ]; /* key presses from the window, as the --keys letters */
@@ -81,6 +81,7 @@ static void apply_key(show_state *st, int key)
     char why[300];
     if (settings_ok(st->p, &next, why, sizeof why)) {
         snprintf(st->note, sizeof st->note, "refused: %.280s", why);
+        st->need_caption = 1;
         return;
     }
     st->a = next;
@@ -260,8 +261,9 @@ static int show_window(show_state *st, csf_error *err)
         if (st->a.quit_after_frames > 0 && st->frames >= st->a.quit_after_frames) break;
         if (*script) apply_key(st, *script++);
         for (int i = 0; i < st->nkeys; i++) apply_key(st, st->keyq[i]);
-        if (st->nkeys && !st->need_measure) rc = update_caption(st, err); /* a refusal's note */
         st->nkeys = 0;
+        if (st->need_caption && !st->need_measure) rc = update_caption(st, err); /* a refusal's note */
+        st->need_caption = 0;
         if (!rc && !st->quit) rc = draw_one(st, err); /* polls the window's events */
         if (rc) break;
     }
