@@ -283,7 +283,11 @@ csf_status csf_selfcheck_stimulus(csf_presenter *p, const csf_stimulus *s, int f
         return st;
     }
     double m, a, b;
-    fit_linear(&r, s, s->freq_cpd, s->orientation_deg, 0, &m, &a, &b);
+    if (fit_linear(&r, s, s->freq_cpd, s->orientation_deg, 0, &m, &a, &b)) {
+        free(lc.grey);
+        roi_free(&r);
+        return csf_error_set(err, CSF_E_INSUFFICIENT, "the patch's pixels do not determine a carrier");
+    }
     double f = maximise(&r, s, m, s->freq_cpd, s->orientation_deg, 0, 0.85 * s->freq_cpd, 1.15 * s->freq_cpd);
     double o = maximise(&r, s, m, f, s->orientation_deg, 1, s->orientation_deg - 10, s->orientation_deg + 10);
     f = maximise(&r, s, m, s->freq_cpd, o, 0, 0.85 * s->freq_cpd, 1.15 * s->freq_cpd);
