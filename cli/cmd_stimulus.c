@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "calib/motion.h"
 #include "cli/cmd_stimulus.h"
 #include "cli/commands.h"
 
@@ -303,12 +304,14 @@ void stim_from_args(const stim_args *a, csf_stimulus *s)
 
 int stim_check_aliasing(const stim_args *a, double refresh_hz, char *msg, size_t len)
 {
-    double tf = fabs(a->velocity_dps) * a->freq_cpd, nyq = 0.5 * refresh_hz;
-    if (tf < nyq) return 0;
+    /* the sessions' own limit (calib/motion.h): v f at or above half the refresh rate aliases */
+    double vmax = csf_motion_max_velocity_dps(a->freq_cpd, refresh_hz);
+    if (fabs(a->velocity_dps) < vmax) return 0;
     snprintf(msg, len,
              "--velocity %g deg/s at %g cpd drifts at %g Hz, at or above half the refresh rate "
              "(%g Hz): the carrier would alias; at %g cpd the velocity must stay below %.4g deg/s",
-             a->velocity_dps, a->freq_cpd, tf, nyq, a->freq_cpd, nyq / a->freq_cpd);
+             a->velocity_dps, a->freq_cpd, fabs(a->velocity_dps) * a->freq_cpd, 0.5 * refresh_hz, a->freq_cpd,
+             vmax);
     return -1;
 }
 
