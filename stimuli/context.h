@@ -20,12 +20,13 @@ void csf_context_pin_driver(void);
 csf_status csf_context_egl_open(EGLDisplay *dpy, EGLContext *ctx, csf_error *err);
 void csf_context_egl_close(EGLDisplay dpy, EGLContext ctx);
 
-/* A fullscreen window with an OpenGL 3.3 core context through EGL. The fields after the inputs
+/* A fullscreen (or, windowed, a desktop) window with an OpenGL 3.3 core context through EGL. The fields after the inputs
  * are set even on failure as far as the open got, for csf_context_glfw_close. */
 typedef struct {
     const char *monitor;     /* --monitor: an index or part of a name; NULL or "": the primary */
     int width_px, height_px; /* the configured size: the window's when the monitor has no mode */
     int bits;                /* 8 or 10 asked; 8 when a 10-bit window was refused */
+    int windowed;            /* a desktop window of width_px x height_px, not fullscreen */
     GLFWwindow *win;
     int glfw_inited;
     int fb_w, fb_h;        /* the framebuffer's size */

@@ -60,20 +60,25 @@ csf_status csf_context_glfw_open(csf_glfw_context *c, csf_error *err)
     glfwWindowHint(GLFW_REFRESH_RATE, mode ? mode->refreshRate : GLFW_DONT_CARE);
     glfwWindowHint(GLFW_AUTO_ICONIFY, GLFW_FALSE);
     int w = mode ? mode->width : c->width_px, h = mode ? mode->height : c->height_px;
-    c->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
+    GLFWmonitor *full = mon;
+    if (c->windowed) { /* a preview on the desktop: the configured size, no monitor takeover */
+        w = c->width_px;
+        h = c->height_px;
+        full = NULL;
+    }
+    c->win = glfwCreateWindow(w, h, "csfcal", full, NULL);
     if (!c->win && c->bits == 10) { /* 10-bit refused: fall back to 8 and say so via bits */
         c->bits = 8;
         glfwWindowHint(GLFW_RED_BITS, 8);
         glfwWindowHint(GLFW_GREEN_BITS, 8);
         glfwWindowHint(GLFW_BLUE_BITS, 8);
-        c->win = glfwCreateWindow(w, h, "csfcal", mon, NULL);
+        c->win = glfwCreateWindow(w, h, "csfcal", full, NULL);
     }
     if (!c->win) {
         const char *d = NULL;
         glfwGetError(&d);
-        return csf_error_set(err, CSF_E_UNSUPPORTED,
-                             "cannot open a fullscreen OpenGL 3.3 window through EGL (%s)",
-                             d ? d : "unknown");
+        return csf_error_set(err, CSF_E_UNSUPPORTED, "cannot open a %s OpenGL 3.3 window through EGL (%s)",
+                             c->windowed ? "desktop" : "fullscreen", d ? d : "unknown");
     }
     glfwMakeContextCurrent(c->win);
     csf_context_pin_driver();

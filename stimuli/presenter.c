@@ -24,8 +24,16 @@
 #define RNG_STREAM_MISS 0x6d697373ULL /* "miss" */
 #define MAX_INJECT 64
 
-enum { MODE_BLANK = 0, MODE_GABOR = 1, MODE_GRATING = 2, MODE_IMAGE = 3, MODE_DISC = 4, MODE_TEXT = 5,
-       MODE_PATCH = 6 };
+enum {
+    MODE_BLANK = 0,
+    MODE_GABOR = 1,
+    MODE_GRATING = 2,
+    MODE_IMAGE = 3,
+    MODE_DISC = 4,
+    MODE_TEXT = 5,
+    MODE_PATCH = 6,
+    MODE_CAPTION = 7
+};
 
 struct csf_presenter {
     csf_presenter_config cfg;
@@ -81,6 +89,10 @@ struct csf_presenter {
     int region_w, region_h;
     csf_frame_hook frame_hook;
     void *frame_hook_ctx;
+    /* caption line over stimulus and blank frames (csf_presenter_set_caption): its own coverage
+     * texture, so that a text screen does not overwrite it */
+    GLuint caption_tex;
+    int caption_on;
 };
 
 /* Where a frame is rasterised: the main render target, or a region of the full-resolution
@@ -186,6 +198,12 @@ static const char *const fs_src =
     "  } else if (u_mode == 5) {\n"
     "    float cov = texture(u_text, vec2(fc.x / u_render.x, 1.0 - fc.y / u_render.y)).r;\n"
     "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
+    /* caption pass over a drawn frame: only the text's own pixels are written, the rest of the
+     * frame (stimulus, marks, fixation) stays as the first pass drew it */
+    "  } else if (u_mode == 7) {\n"
+    "    float cov = texture(u_text, vec2(fc.x / u_render.x, 1.0 - fc.y / u_render.y)).r;\n"
+    "    if (cov <= 0.0) discard;\n"
+    "    L = mix(u_mean, u_lumrange.x + 0.05 * (u_lumrange.y - u_lumrange.x), cov);\n"
     "  }\n"
     /* place marks: thin dark rings of radius u_markr (angular distance from each place's centre
      * direction, exact), half-width u_markhw but at least 1 px (so every cross-section of the
@@ -218,7 +236,8 @@ static const char *const fs_src =
      * (no loops: llvmpipe runs divergent loops slowly) */
     "  float lk = texelFetch(u_fwd, ivec2(k, 0), 0).r, lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r;\n"
     "  if (ln < lk && k > 0) { k -= 1; lk1 = lk; lk = texelFetch(u_fwd, ivec2(k, 0), 0).r; }\n"
-    "  else if (ln > lk1 && k < u_maxlevel - 1) { k += 1; lk = lk1; lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), 0).r; }\n"
+    "  else if (ln > lk1 && k < u_maxlevel - 1) { k += 1; lk = lk1; lk1 = texelFetch(u_fwd, ivec2(k + 1, 0), "
+    "0).r; }\n"
     "  float p = clamp((ln - lk) / max(lk1 - lk, 1e-9), 0.0, 1.0);\n"
     /* R2 low-discrepancy mask in 32-bit integer arithmetic (exact fract), golden-ratio step per frame */
     "  uvec2 q = uvec2(fc);\n"
@@ -436,6 +455,7 @@ static csf_status gl_setup(csf_presenter *p, csf_error *err)
     free(ch);
     glGenTextures(1, &p->img_tex);
     glGenTextures(1, &p->text_tex);
+    glGenTextures(1, &p->caption_tex);
     if (glGetError() != GL_NO_ERROR)
         return csf_error_set(err, CSF_E_UNSUPPORTED, "OpenGL setup failed (float textures?)");
     return CSF_OK;
@@ -446,7 +466,8 @@ static csf_status window_open(csf_presenter *p, csf_error *err)
     csf_glfw_context c = {.monitor = p->cfg.monitor,
                           .width_px = p->geom.width_px,
                           .height_px = p->geom.height_px,
-                          .bits = p->bits};
+                          .bits = p->bits,
+                          .windowed = p->cfg.windowed};
     csf_status st = csf_context_glfw_open(&c, err);
     p->win = c.win;
     p->glfw_inited = c.glfw_inited;
@@ -525,8 +546,9 @@ void csf_presenter_close(csf_presenter *p)
         glDeleteProgram(p->prog_marks);
         glDeleteVertexArrays(1, &p->vao);
         glDeleteFramebuffers(1, &p->fbo);
-        GLuint t[6] = {p->color_tex, p->inv_tex, p->fwd_tex, p->img_tex, p->text_tex, p->chan_tex};
-        glDeleteTextures(6, t);
+        GLuint t[7] = {p->color_tex, p->inv_tex,  p->fwd_tex,    p->img_tex,
+                       p->text_tex,  p->chan_tex, p->caption_tex};
+        glDeleteTextures(7, t);
         if (p->region_fbo) glDeleteFramebuffers(1, &p->region_fbo);
         if (p->region_tex) glDeleteTextures(1, &p->region_tex);
     }
@@ -622,10 +644,13 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
                              s->radius_deg, s->edge_deg);
     if (s->kind == CSF_STIM_IMAGE && (!s->image || !s->image->lum))
         return csf_error_set(err, CSF_E_INVALID_ARG, "image stimulus without an image");
-    if (fabs(s->drift_hz) > 0.5 * p->refresh_hz)
+    /* at half the refresh rate the carrier steps half a cycle per frame: a counterphase flicker
+     * with no direction of motion, so the limit itself is refused too */
+    if (fabs(s->drift_hz) >= 0.5 * p->refresh_hz)
         return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "drift %g Hz exceeds the temporal Nyquist limit %g Hz (half the "
-                             "refresh rate)", s->drift_hz, 0.5 * p->refresh_hz);
+                             "drift %g Hz is at or above the temporal Nyquist limit %g Hz (half the "
+                             "refresh rate); the carrier would alias",
+                             s->drift_hz, 0.5 * p->refresh_hz);
     if (fabs(s->velocity_dps) > 1000)
         return csf_error_set(err, CSF_E_INVALID_ARG, "velocity %g deg/s is outside +-1000 deg/s",
                              s->velocity_dps);
@@ -804,10 +829,25 @@ static void render_to(csf_presenter *p, const csf_stimulus *s, int fixation, int
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+/* The caption's text pixels over the frame just drawn in t (plain program: no marks, no
+ * fixation), through the same luminance mapping and dither as the frame. */
+static void render_caption(csf_presenter *p, const csf_stimulus *s, const target *t)
+{
+    set_common_uniforms(p, 0, t);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, p->caption_tex);
+    glUniform1f(p->u[U_MEAN], (float)mean_lum_of(p, s));
+    glUniform1i(p->u[U_MODE], MODE_CAPTION);
+    glUniform1i(p->u[U_FIX], 0);
+    glUniform1i(p->u[U_NMARKS], 0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
 static void render(csf_presenter *p, const csf_stimulus *s, int fixation, int text_mode)
 {
     target t = main_target(p);
     render_to(p, s, fixation, text_mode, p->n_marks, &t);
+    if (p->caption_on && !text_mode) render_caption(p, s, &t);
 }
 
 static int injected_periods(csf_presenter *p, long frame)
@@ -827,6 +867,16 @@ static double next_frame_time(csf_presenter *p)
     if (!p->have_frame) return 0.0;
     if (p->headless) return p->t_last + (1 + injected_periods(p, p->frame_index)) / p->refresh_hz;
     return p->t_last + 1.0 / p->refresh_hz;
+}
+
+double csf_presenter_next_frame_time(csf_presenter *p)
+{
+    return p ? next_frame_time(p) : 0.0;
+}
+
+long csf_presenter_frame_index(const csf_presenter *p)
+{
+    return p ? p->frame_index : 0;
 }
 
 /* Presents the rendered frame (or only the clock when nothing was rendered) and fills fi. */
@@ -1432,23 +1482,53 @@ void csf_presenter_show_cursor(csf_presenter *p, int show)
         glfwSetInputMode(p->win, GLFW_CURSOR, show ? GLFW_CURSOR_NORMAL : GLFW_CURSOR_HIDDEN);
 }
 
+/* A cairo A8 surface of the render size with a context set up for black text of the given size
+ * (sans-serif); NULL when cairo cannot make one. */
+static cairo_t *text_canvas(const csf_presenter *p, double size, cairo_surface_t **surf)
+{
+    *surf = cairo_image_surface_create(CAIRO_FORMAT_A8, p->rw, p->rh);
+    if (cairo_surface_status(*surf) != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(*surf);
+        *surf = NULL;
+        return NULL;
+    }
+    cairo_t *cr = cairo_create(*surf);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_set_source_rgba(cr, 0, 0, 0, 1);
+    return cr;
+}
+
+/* The surface's coverage as the R8 texture tex (nearest sampling); destroys cr and surf. */
+static void upload_coverage(csf_presenter *p, GLuint tex, cairo_t *cr, cairo_surface_t *surf)
+{
+    cairo_destroy(cr);
+    cairo_surface_flush(surf);
+    int stride = cairo_image_surface_get_stride(surf);
+    const unsigned char *data = cairo_image_surface_get_data(surf);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, stride);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, p->rw, p->rh, 0, GL_RED, GL_UNSIGNED_BYTE, data);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    cairo_surface_destroy(surf);
+}
+
 csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_error *err)
 {
     if (!p || !text) return csf_error_set(err, CSF_E_INVALID_ARG, "text screen: NULL argument");
     /* Callers wait on text screens for a key: a closed window must end the wait as draw does. */
     if (!p->headless && glfwWindowShouldClose(p->win))
         return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
-    cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_A8, p->rw, p->rh);
-    if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
-        cairo_surface_destroy(surf);
-        return csf_error_set(err, CSF_E_NOMEM, "cairo could not create a %dx%d text surface", p->rw, p->rh);
-    }
-    cairo_t *cr = cairo_create(surf);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     double size = p->rh / 30.0;
     if (size < 8) size = 8;
-    cairo_set_font_size(cr, size);
-    cairo_set_source_rgba(cr, 0, 0, 0, 1);
+    cairo_surface_t *surf;
+    cairo_t *cr = text_canvas(p, size, &surf);
+    if (!cr)
+        return csf_error_set(err, CSF_E_NOMEM, "cairo could not create a %dx%d text surface", p->rw, p->rh);
     /* count lines, then draw each centred */
     int nlines = 1;
     for (const char *c = text; *c; c++) nlines += *c == '\n';
@@ -1467,24 +1547,39 @@ csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_err
         cairo_show_text(cr, buf);
         line = nl ? nl + 1 : line + len;
     }
-    cairo_destroy(cr);
-    cairo_surface_flush(surf);
-    int stride = cairo_image_surface_get_stride(surf);
-    const unsigned char *data = cairo_image_surface_get_data(surf);
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, p->text_tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, stride);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, p->rw, p->rh, 0, GL_RED, GL_UNSIGNED_BYTE, data);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    cairo_surface_destroy(surf);
+    upload_coverage(p, p->text_tex, cr, surf);
     render(p, NULL, 0, 1);
     p->last_kind = 0;
     csf_frame_info fi;
     present(p, 1, &fi);
     if (glGetError() != GL_NO_ERROR)
         return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error drawing the text screen");
+    return CSF_OK;
+}
+
+csf_status csf_presenter_set_caption(csf_presenter *p, const char *text, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "caption: NULL presenter");
+    if (!text || !text[0]) {
+        p->caption_on = 0;
+        return CSF_OK;
+    }
+    if (strlen(text) > CSF_CAPTION_MAX_CHARS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "caption of %zu characters is longer than %d",
+                             strlen(text), CSF_CAPTION_MAX_CHARS);
+    if (strchr(text, '\n'))
+        return csf_error_set(err, CSF_E_INVALID_ARG, "a caption is one line (no newline)");
+    double size = fmax(8.0, p->rh / 45.0);
+    cairo_surface_t *surf;
+    cairo_t *cr = text_canvas(p, size, &surf);
+    if (!cr)
+        return csf_error_set(err, CSF_E_NOMEM, "cairo could not create a %dx%d caption surface", p->rw,
+                             p->rh);
+    cairo_move_to(cr, 0.5 * size, 1.2 * size);
+    cairo_show_text(cr, text);
+    upload_coverage(p, p->caption_tex, cr, surf);
+    p->caption_on = 1;
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error setting the caption");
     return CSF_OK;
 }

@@ -57,7 +57,14 @@ enum {
  *  contrast         Michelson, fraction (0..1); the envelope multiplies it.
  *  mean_lum_cdm2    background and patch mean; <= 0 means the display's mid luminance
  *                   (black + max)/2.
- *  drift_hz         carrier drift (temporal frequency), phase advances 360*drift_hz*time_s.
+ *  drift_hz         carrier drift (temporal frequency), phase advances 360*drift_hz*time_s; a
+ *                   carrier drifting at v deg/s at freq_cpd has drift_hz = v * freq_cpd (Kelly
+ *                   1979). Refused at or above half the refresh rate (it would alias).
+ *                   csf_presenter_run_trial sets time_s from each frame's PREDICTED presentation
+ *                   time, never a frame count, so a missed frame does not slow the grating: the
+ *                   frame after it is drawn at the phase real time says (the phase step over the
+ *                   held frame is 2*pi*drift_hz*interval). Headless, the prediction is exact
+ *                   (injected misses included); in a window it is one refresh after the last swap.
  *  velocity_dps     patch moves along motion_dir_deg at this speed (deg/s of eccentricity space,
  *                   i.e. the centre direction rotates), from (ecc, polar) at time_s = 0.
  *  time_s           seconds since stimulus onset; csf_presenter_run_trial sets it per frame. */
@@ -104,6 +111,9 @@ typedef struct {
     int render_every;           /* 0/1 every frame, N every N-th, -1 never (see PERFORMANCE) */
     int dither;                 /* CSF_DITHER_* */
     const char *monitor;        /* windowed: index ("0", "1") or name substring; NULL = primary */
+    int windowed;               /* not headless: an ordinary window of the configured pixel size
+                                   on the desktop instead of fullscreen on the monitor (a preview;
+                                   the monitor's gamma ramp is guarded the same) */
     uint64_t seed;              /* per-run dither offset and miss-rate draws */
     /* Injected faults for tests of what reads the screen (a simulated person, a self-check): every
      * stimulus is drawn fault_polar_offset_deg of polar angle away from where it was asked for,
@@ -288,5 +298,20 @@ void csf_presenter_show_cursor(csf_presenter *p, int show);
 /* Text screen (instructions, breaks, progress) drawn with cairo, centred, on the mean-grey field;
  * presented as one frame. Lines separated by '\n'. */
 csf_status csf_presenter_text_screen(csf_presenter *p, const char *text, csf_error *err);
+
+/* A one-line caption (cairo, dark, top-left corner) drawn over every later stimulus and blank
+ * frame of csf_presenter_draw / run_trial until cleared (NULL or ""), through the same luminance
+ * mapping and dither; only the text's own pixels change. Never on text screens or patches, and
+ * not in csf_presenter_readback_region (which shows the stimulus without it). Refused: longer
+ * than CSF_CAPTION_MAX_CHARS or holding a newline. */
+#define CSF_CAPTION_MAX_CHARS 400
+csf_status csf_presenter_set_caption(csf_presenter *p, const char *text, csf_error *err);
+
+/* When the next frame will be on screen, on the presenter's clock: what run_trial draws a
+ * frame's drift phase for (exact on the headless virtual clock, injected misses included; one
+ * refresh after the last frame in a window). 0 before the first frame. */
+double csf_presenter_next_frame_time(csf_presenter *p);
+/* Number the next frame will have (what csf_presenter_inject_missed keys on). */
+long csf_presenter_frame_index(const csf_presenter *p);
 
 #endif
