@@ -74,7 +74,7 @@
 #define CUE_GAP_S (FIXATION_S - CUE_S)
 #define CUE_RADIUS_DEG (CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG)
 
-enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE };
+enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE, ST_DEMO };
 
 static volatile sig_atomic_t stop_requested;
 
@@ -1492,6 +1492,22 @@ static csf_status open_session_row(obs_run *R, csf_error *err)
     return st;
 }
 
+/* The person the trials are run with, on the session's presenter. */
+static void init_person(obs_run *R)
+{
+    session_res *S = &R->S;
+    person *who = &R->who;
+    memset(who, 0, sizeof *who);
+    who->sim = S->sim;
+    who->eyes = S->screen;
+    who->seen_hook = R->opt->seen_hook;
+    who->seen_hook_ctx = R->opt->seen_hook_ctx;
+    who->resp = S->resp;
+    who->pres = S->pres;
+    who->geom = csf_presenter_geometry(S->pres);
+    R->run = (runner){S->pres, who, R->mean_lum_cdm2, 1.0 / csf_presenter_refresh_hz(S->pres), 1};
+}
+
 /* The cells, the trials already stored (resume), each cell's layout, and the layout of the
  * four-place practice grating: at the smallest eccentricity that has four places, checked like
  * the cells'. Then the person the trials will be run with. */
@@ -1535,16 +1551,7 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
                       R->mean_lum_cdm2);
         if (csf_presenter_validate(S->pres, &ps, &e) != CSF_OK) R->prac_layout.n_alternatives = 2;
     }
-    person *who = &R->who;
-    memset(who, 0, sizeof *who);
-    who->sim = S->sim;
-    who->eyes = S->screen;
-    who->seen_hook = R->opt->seen_hook;
-    who->seen_hook_ctx = R->opt->seen_hook_ctx;
-    who->resp = S->resp;
-    who->pres = S->pres;
-    who->geom = csf_presenter_geometry(S->pres);
-    R->run = (runner){S->pres, who, R->mean_lum_cdm2, 1.0 / csf_presenter_refresh_hz(S->pres), 1};
+    init_person(R);
     return CSF_OK;
 }
 
@@ -2226,6 +2233,67 @@ static void summarise(const obs_run *R)
              opt->plot_path ? opt->plot_path : "");
 }
 
+/* --demo: the task shown to a participant before the session, the practice grating at falling
+ * contrasts (drifting at the session's highest velocity every other trial when it has a velocity
+ * axis), each answer followed by what was right. Nothing is stored or written. */
+#define DEMO_TRIALS 6
+static csf_status run_demo(obs_run *R, csf_error *err)
+{
+    static const double contrast[DEMO_TRIALS] = {0.3, 0.1, 0.03, 0.3, 0.1, 0.03};
+    person *who = &R->who;
+    csf_status st = person_screen(who, instructions(R), err);
+    for (int k = 0; k < DEMO_TRIALS && st == CSF_OK && !who->paused && !stop_requested; k++) {
+        double v = R->set.n_vels > 0 && k % 2 ? R->set.vels[R->set.n_vels - 1] : 0.0;
+        csf_cell cell = {PRACTICE_FREQ, 0,
+                         csf_motion_aliases(&(csf_cell){PRACTICE_FREQ, 0, v}, 1.0 / R->run.period_s) ? 0.0
+                                                                                                     : v};
+        csf_trial_plan plan;
+        memset(&plan, 0, sizeof plan);
+        plan.task = R->S.ops->task;
+        plan.contrast = contrast[k];
+        plan.n_alternatives = plan.task == CSF_TASK_2AFC ? 2 : 0;
+        plan.signal_interval = (int)(csf_rng_u64(R->seed, ST_DEMO, (uint64_t)k) & 1);
+        plan.ramp_start_log10 = -3.0;
+        plan.ramp_s = 4.0;
+        trial_result tr;
+        R->run.drift_sign = csf_motion_direction(R->seed, 3000000u + (uint64_t)k, 0);
+        st = plan.task == CSF_TASK_FADE
+                 ? run_fade(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, 1, &tr, err)
+                 : run_2afc(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, &tr, err);
+        if (tr.have_rec) csf_trial_record_free(&tr.rec);
+        if (st != CSF_OK || who->paused) break;
+        int right = plan.task == CSF_TASK_FADE ? tr.response == 1 : tr.response == plan.signal_interval;
+        R->res->n_practice++;
+        R->res->n_valid += right;
+        char msg[200];
+        if (plan.task == CSF_TASK_FADE)
+            snprintf(msg, sizeof msg,
+                     "%s A pattern of contrast %.0f %% was there.\nPress a key for the next one.",
+                     right ? "Seen." : "Missed.", 100 * contrast[k]);
+        else
+            snprintf(msg, sizeof msg,
+                     "%s The pattern was in interval %d (contrast %.0f %%).\nPress a key for the "
+                     "next one.",
+                     right ? "Right." : "Not this time.", plan.signal_interval + 1, 100 * contrast[k]);
+        st = person_screen(who, msg, err);
+    }
+    snprintf(R->res->summary, sizeof R->res->summary,
+             "demo: %d practice trials with feedback, %d right; nothing was stored or written",
+             R->res->n_practice, R->res->n_valid);
+    return st;
+}
+
+/* --demo from the options: settings, method, person and display as a session would have them. */
+static csf_status observer_demo(obs_run *R, csf_error *err)
+{
+    csf_status st = new_settings(R, err);
+    if (st == CSF_OK) st = open_method_and_person(R, err);
+    if (st == CSF_OK) st = open_display_side(R, err);
+    if (st != CSF_OK) return st;
+    init_person(R);
+    return run_demo(R, err);
+}
+
 csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
 {
     memset(res, 0, sizeof *res);
@@ -2233,9 +2301,9 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     res->fa_rate = res->latency_s = res->median_se_log10 = res->predicted_rms_log10 = NAN;
     struct timespec w0;
     clock_gettime(CLOCK_MONOTONIC, &w0);
-    if (!opt->out_path || !*opt->out_path)
+    if (!opt->demo && (!opt->out_path || !*opt->out_path))
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
-    csf_status st = check_outputs(opt, err);
+    csf_status st = opt->demo ? CSF_OK : check_outputs(opt, err);
     if (st != CSF_OK) return st;
     obs_run *R = calloc(1, sizeof *R);
     if (!R) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
@@ -2246,6 +2314,12 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     R->seed = opt->seed;
     st = csf_geometry_init(&R->geom, CSF_GEOMETRY_FROM_CONFIG(*R->cfg), err);
     if (st != CSF_OK) {
+        free(R);
+        return st;
+    }
+    if (opt->demo) {
+        st = observer_demo(R, err);
+        session_free(&R->S);
         free(R);
         return st;
     }

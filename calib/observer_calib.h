@@ -55,6 +55,8 @@ typedef struct {
     double fade_anchor_share;   /* --fade-anchors: share of a fade session's trials that are
                                    forced-choice anchors; 0 = default (0.25), negative = none.
                                    Stored with the session. */
+    int demo;                   /* --demo: practice trials with feedback to show a participant the
+                                   task; nothing is stored or written (out_path not needed) */
     int allow_profile_change;   /* --resume with a display profile other than the session's: refused
                                    unless set; then the change is recorded in the session (a
                                    "profile_change" artifact) and the table names every profile */

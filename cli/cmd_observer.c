@@ -29,7 +29,8 @@ enum {
     OPT_FADE_ANCHORS,
     OPT_VELOCITIES,
     OPT_DRIFT_DIRECTION,
-    OPT_PRECISION
+    OPT_PRECISION,
+    OPT_DEMO
 };
 
 static void usage(FILE *f)
@@ -70,6 +71,9 @@ static void usage(FILE *f)
             "  --drift-direction D  random (default: drawn per trial), forward or backward (along\n"
             "                       or against the carrier's modulation axis)\n"
             "  --practice N         practice trials before the measurement (default 3)\n"
+            "  --demo               show the task to a participant: six practice trials at falling\n"
+            "                       contrast, each followed by what was right; nothing is stored\n"
+            "                       or written (no --out needed)\n"
             "  --break-every N      a break every N trials (default 40)\n"
             "  --render-every N     simulated sessions: rasterise every N-th frame (default 1;\n"
             "                       -1 = no rasterisation, timing and contrast bookkeeping only;\n"
@@ -134,6 +138,7 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
         o->n_eccs = csf_parse_double_list(optarg, "eccs", 0, 80, o->eccs_deg, CSF_OBS_MAX_AXIS);
         if (o->n_eccs < 0) return 2;
         break;
+    case OPT_DEMO: o->demo = 1; break;
     case OPT_PRECISION:
         if (csf_parse_double(optarg, "precision", 0.001, 2.0, &o->precision_log10) < 0) return 2;
         break;
@@ -231,7 +236,7 @@ static int check_calibrate_options(int argc, char **argv, csf_cli *cli, const cs
         fprintf(stderr, "csfcal: observer calibrate: unexpected argument '%s'\n", argv[optind]);
         return 2;
     }
-    if (!o->out_path) {
+    if (!o->out_path && !o->demo) {
         fprintf(stderr, "csfcal: observer calibrate: --out FILE.csflut is required\n");
         return 2;
     }
@@ -258,6 +263,7 @@ static int parse_calibrate_options(int argc, char **argv, csf_cli *cli, csf_obs_
         {"eccs", required_argument, 0, OPT_ECCS},
         {"velocities", required_argument, 0, OPT_VELOCITIES},
         {"precision", required_argument, 0, OPT_PRECISION},
+        {"demo", no_argument, 0, OPT_DEMO},
         {"drift-direction", required_argument, 0, OPT_DRIFT_DIRECTION},
         {"trials", required_argument, 0, OPT_TRIALS},
         {"method", required_argument, 0, OPT_METHOD},
@@ -310,6 +316,9 @@ static int run_calibrate(csf_cli *cli, csf_obs_options *o)
     csf_error err;
     csf_error_clear(&err);
     csf_status st = csf_observer_calibrate(o, &res, &err);
+    if (cli->json && o->demo && st == CSF_OK)
+        printf("{\"demo\":true,\"practice\":%d,\"right\":%d,\"status\":\"ok\"}\n", res.n_practice,
+               res.n_valid);
     if (cli->json && res.session_id) {
         char buf[8192];
         csf_obs_result_json(&res, st == CSF_OK ? o->out_path : NULL, st == CSF_OK ? o->plot_path : NULL, buf,

@@ -92,4 +92,9 @@ for k in s:
     print(k, round(math.log10(ta), 3), round(math.log10(tb), 3), "se", round(se, 3))
 assert n >= 6 and ok >= n - 1, (n, ok)
 PY
+# 5. --demo: practice trials with feedback, nothing stored or written
+mkdir "$T/demo"
+out=$(cd "$T/demo" && "$CSFCAL" observer calibrate --headless --observer sim --demo --velocities 0,4 --store "$T/demo/d.sqlite" --json)
+check "demo runs six practice trials" python3 -c 'import json,sys; d=json.loads(sys.argv[1]); assert d["demo"] and d["practice"]==6 and 0<=d["right"]<=6, d' "$out"
+check "demo stores and writes nothing" test -z "$(ls -A "$T/demo")"
 exit $fail
