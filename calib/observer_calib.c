@@ -1154,6 +1154,7 @@ typedef struct {
     int n_not_shown;          /* cells whose drift this display cannot show */
     double person_t0_s;       /* presenter clock when this run's first trial began */
     int person_started;       /* person_t0_s is set: the first screen was shown */
+    int resume_done;          /* main trials stored before this run (a resume) */
     int person_recorded;      /* this run's person time is in the store */
 } obs_run;
 
@@ -1673,6 +1674,7 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
         S->ops->update(S->proc, R->trial_index, &plan, &o);
         R->trial_index++;
     }
+    R->resume_done = R->trial_index;
     return CSF_OK;
 }
 
@@ -1851,8 +1853,14 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
             R->trial_index++;
             break;
         }
-        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0)
-            fprintf(stderr, "csfcal: observer: %d of %d trials\n", ti + 1, set->trials);
+        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0) {
+            /* time left at this run's own pace so far */
+            double spent = csf_presenter_time(S->pres) - R->person_t0_s;
+            int run_done = ti + 1 - R->resume_done;
+            double left_s = run_done > 0 ? spent / run_done * (set->trials - ti - 1) : NAN;
+            fprintf(stderr, "csfcal: observer: %d of %d trials, about %.1f min left\n", ti + 1, set->trials,
+                    left_s / 60.0);
+        }
     }
     if (who->paused || stop_requested) {
         record_person_time(R, NULL);
