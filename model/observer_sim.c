@@ -508,9 +508,6 @@ static void params_default(csf_observer_sim_params *p)
     p->lapse_run_max = 4;
     p->pieron_beta = 0.67;
     p->frame_step = 3;
-    /* The default person looks at the screen: what is drawn, not what was planned, reaches the
-     * answers (a profile error, a frozen or juddering drift, a grating at the wrong place). */
-    p->view_frame = 1;
     p->velocity = csf_velocity_default();
 }
 

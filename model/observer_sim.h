@@ -112,8 +112,8 @@ typedef struct {
     csf_velocity_params velocity;
     int vsteep_drawn;
     /* What the answers are based on (docs/observer-calibration.md, "The person looks at the
-     * screen"): view=plan (0) takes the contrast the presenter reports; view=frame (1, the
-     * default) makes a session read the rendered frame back at the places the person could look at,
+     * screen"): view=plan (0, the default) takes the contrast the presenter reports; view=frame
+     * (1) makes a session read the rendered frame back at the places the person could look at,
      * turn it into light through the simulated display `display` and measure the Gabor's
      * contrast there (model/observer_view.h); the decision models then get those contrasts.
      * display: "crt", "lcd", "oled", "profile" (the profile in use is the truth), "file=PATH.csv"
