@@ -12,7 +12,7 @@ PACKAGES=(
   libusb-1.0-0-dev libhidapi-dev
   xvfb xauth x11-xserver-utils xdotool libx11-dev
   python3 poppler-utils argyll glslang-tools libjansson-dev
-  libpq-dev postgresql
+  libpq-dev postgresql libssl-dev python3-pandas
 )
 # Optional, for the benchmarks' cross-checks only (bench/anchors, bench/quest): `setup.sh --bench`.
 BENCH_PACKAGES=(octave)

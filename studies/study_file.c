@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/file_read.h"
 #include "results/store/store.h"
@@ -499,29 +500,54 @@ static csf_status parse_row(csf_study *s, csf_study_condition *c, const int *col
     return CSF_OK;
 }
 
-/* The header row: every column known and given once, label and ecc_deg among them; col[k] is
- * the field of column k, -1 where absent. */
+/* A column of the user's own (PsychoPy's corrAns, notes, ...): carried through to the trial
+ * export as text. Its name is an identifier, not one the export writes itself, and not a known
+ * column in other letter case (a mistyped "Contrast" would otherwise be carried along unused). */
+static csf_status check_extra_column(const char *name, const char *where, int line, csf_error *err)
+{
+    size_t n = strlen(name);
+    int ok = n >= 1 && n <= 63 && !(name[0] >= '0' && name[0] <= '9');
+    for (size_t i = 0; ok && i < n; i++) {
+        char ch = name[i];
+        ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_' ||
+             ch == '.';
+    }
+    if (!ok)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s:%d: column '%.40s': a column of your own is named by a "
+                             "letter or '_', then up to 62 letters, digits, '_' or '.'",
+                             where, line, name);
+    for (int k = 0; k < N_COLS; k++)
+        if (!strcasecmp(name, col_names[k]))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s:%d: column '%s': did you mean '%s'? (column names "
+                                 "are lower case)",
+                                 where, line, name, col_names[k]);
+    for (int k = 0; csf_study_export_columns[k]; k++)
+        if (!strcasecmp(name, csf_study_export_columns[k]))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s:%d: column '%s' is one the trial export writes "
+                                 "itself (docs/studies.md): rename it",
+                                 where, line, name);
+    return CSF_OK;
+}
+
+/* The header row: every column given once, label and ecc_deg among them; col[k] is the field of
+ * known column k, -1 where absent; other columns are the user's own. */
 static csf_status parse_header(char (*fields)[CSV_FIELD_MAX], int nf, int *col, const char *where, int line,
                                csf_error *err)
 {
     csf_status st;
     for (int i = 0; i < nf; i++) {
+        for (int j = 0; j < i; j++)
+            if (!strcmp(fields[i], fields[j]))
+                return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%.40s' appears twice", where,
+                                     line, fields[i]);
         int k = 0;
         while (k < N_COLS && strcmp(fields[i], col_names[k])) k++;
         if (k == N_COLS) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "%s:%d: unknown column '%.40s' (known: label, "
-                               "stimulus, freq_cpd, contrast, method, ecc_deg, polar_deg, "
-                               "orientation_deg, phase_deg, sigma_deg, radius_deg, drift_hz, "
-                               "velocity_dps, motion_dir_deg, mean_lum_cdm2, image_a, image_b, "
-                               "size_deg, curve)",
-                               where, line, fields[i]);
-            return st;
-        }
-        if (col[k] >= 0) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: column '%s' appears twice", where, line,
-                               col_names[k]);
-            return st;
+            if ((st = check_extra_column(fields[i], where, line, err)) != CSF_OK) return st;
+            continue;
         }
         col[k] = i;
     }
@@ -789,6 +815,25 @@ csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
     return st;
 }
 
+/* A participant code: a letter or digit, then up to 62 letters, digits, '_', '-' or '.', with no
+ * two dots in a row. It names files (one trial file per participant) and sits on command lines,
+ * so "..", "-P01" (read as an option) and a leading dot (a hidden file) are refused. */
+int csf_study_participant_ok(const char *p)
+{
+    size_t n = strlen(p);
+    if (n < 1 || n > 63) return 0;
+    if (!((p[0] >= 'a' && p[0] <= 'z') || (p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= '0' && p[0] <= '9')))
+        return 0;
+    for (size_t i = 0; i < n; i++) {
+        char ch = p[i];
+        if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_' ||
+              ch == '-' || ch == '.'))
+            return 0;
+        if (ch == '.' && p[i + 1] == '.') return 0;
+    }
+    return 1;
+}
+
 void csf_study_free(csf_study *s)
 {
     if (!s) return;
@@ -796,4 +841,66 @@ void csf_study_free(csf_study *s)
     free(s->settings_text);
     free(s->conditions_text);
     free(s);
+}
+
+void csf_study_table_free(csf_study_table *t)
+{
+    if (!t) return;
+    free(t->names);
+    free(t->cells);
+    memset(t, 0, sizeof *t);
+}
+
+/* The next header or data line of a conditions text (comments and blank lines skipped), split. */
+static int next_row(const char *text, size_t len, size_t *pos, char *buf, char (*fields)[CSV_FIELD_MAX])
+{
+    while (*pos < len) {
+        const char *nl = memchr(text + *pos, '\n', len - *pos);
+        size_t n = nl ? (size_t)(nl - (text + *pos)) : len - *pos;
+        int first = *pos == 0;
+        if (n >= 8192) return -1;
+        memcpy(buf, text + *pos, n);
+        buf[n] = '\0';
+        *pos += n + (nl ? 1 : 0);
+        char *l = buf;
+        if (first && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB &&
+            (unsigned char)l[2] == 0xBF)
+            l += 3;
+        l = trim(l);
+        if (!*l || l[0] == '#') continue;
+        const char *why;
+        return csv_split(l, fields, CSV_MAX_COLUMNS, &why);
+    }
+    return 0;
+}
+
+csf_status csf_study_conditions_table(const csf_study *s, csf_study_table *t, csf_error *err)
+{
+    memset(t, 0, sizeof *t);
+    const char *text = s->conditions_text ? s->conditions_text : "";
+    size_t len = strlen(text), pos = 0;
+    char(*fields)[CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
+    char *buf = malloc(8192);
+    t->names = calloc(CSV_MAX_COLUMNS, sizeof *t->names);
+    t->cells = calloc((size_t)CSV_MAX_COLUMNS * (s->n_conds + 1), sizeof *t->cells);
+    csf_status st = CSF_OK;
+    if (!fields || !buf || !t->names || !t->cells) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    int nf = st == CSF_OK ? next_row(text, len, &pos, buf, fields) : -1;
+    if (st == CSF_OK && nf <= 0)
+        st = csf_error_set(err, CSF_E_FORMAT, "%s: no header row", s->conditions_path);
+    for (int i = 0; st == CSF_OK && i < nf; i++) snprintf(t->names[i], sizeof t->names[i], "%s", fields[i]);
+    t->n_columns = st == CSF_OK ? nf : 0;
+    for (int r = 0; st == CSF_OK && r < s->n_conds; r++) {
+        if (next_row(text, len, &pos, buf, fields) != t->n_columns) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s: row %d does not match its header", s->conditions_path,
+                               r + 1);
+            break;
+        }
+        for (int i = 0; i < t->n_columns; i++)
+            snprintf(t->cells[(size_t)r * CSV_MAX_COLUMNS + i], CSV_FIELD_MAX, "%s", fields[i]);
+    }
+    free(fields);
+    free(buf);
+    if (st != CSF_OK) csf_study_table_free(t);
+    return st;
 }

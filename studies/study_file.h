@@ -97,6 +97,26 @@ csf_status csf_study_from_texts(const char *settings, const char *conditions, co
                                 csf_error *err);
 void csf_study_free(csf_study *s);
 
+/* A participant code (docs/studies.md): a letter or digit, then up to 62 letters, digits, '_',
+ * '-' or '.', no two dots in a row. 1 when p is one. */
+int csf_study_participant_ok(const char *p);
+
+/* The conditions file as written: its column names (the known ones and the user's own) and every
+ * condition's cells as text, for the trial export. names[i] and cell(t, cond, i). */
+#define CSF_STUDY_TABLE_MAX_COLUMNS 32
+typedef struct {
+    char (*names)[64];
+    char (*cells)[1024]; /* CSF_STUDY_TABLE_MAX_COLUMNS per condition */
+    int n_columns;
+} csf_study_table;
+#define CSF_STUDY_CELL(t, cond, col) ((t)->cells[(size_t)(cond)*CSF_STUDY_TABLE_MAX_COLUMNS + (col)])
+csf_status csf_study_conditions_table(const csf_study *s, csf_study_table *t, csf_error *err);
+void csf_study_table_free(csf_study_table *t);
+
+/* The columns the trial export writes itself (NULL-terminated; studies/study_export.c): a
+ * conditions file's own columns may not take these names. */
+extern const char *const csf_study_export_columns[];
+
 uint64_t csf_fnv1a64(const void *data, size_t len, uint64_t h);
 #define CSF_FNV1A64_INIT 0xcbf29ce484222325ULL
 

@@ -12,6 +12,7 @@
 #include "core/json_read.h"
 #include "results/store/store.h"
 #include "studies/study_plot.h"
+#include "studies/study_sessions.h"
 
 #define MAX_SCOPES 257 /* pooled + participants */
 
@@ -24,6 +25,8 @@ typedef struct {
     size_t n_trials;
     char participant[64];
     int finished;
+    int64_t id;
+    int version;
 } session_data;
 
 static void session_data_free(session_data *d)
@@ -31,26 +34,6 @@ static void session_data_free(session_data *d)
     csf_study_free(d->study);
     free(d->plan);
     free(d->trials);
-}
-
-static csf_status study_name_of(const char *study, char *name, size_t cap, csf_error *err)
-{
-    char *text = NULL;
-    size_t len = 0;
-    csf_error e;
-    if (csf_read_file(study, "study settings", 1u << 20, &text, &len, &e) != CSF_OK) {
-        /* not a readable file: a study name */
-        if (strchr(study, '/') || strstr(study, ".conf"))
-            return csf_error_set(err, CSF_E_NOT_FOUND, "study report: %s", e.msg);
-        snprintf(name, cap, "%s", study);
-        return CSF_OK;
-    }
-    csf_study s;
-    memset(&s, 0, sizeof s);
-    csf_status st = csf_study_parse_settings(&s, text, len, study, err);
-    free(text);
-    if (st == CSF_OK) snprintf(name, cap, "%s", s.name);
-    return st;
 }
 
 /* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
@@ -279,50 +262,24 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
     return CSF_OK;
 }
 
-csf_status csf_study_report_build(const char *store_path, const char *study, int n_boot,
-                                  csf_study_report **out, csf_error *err)
+/* The selected sessions' material; sessions without stored study files (a start cut short) are
+ * left out with a note. */
+static csf_status load_selected(csf_store *store, const csf_study_selection *sel, session_data *ds, int *nd,
+                                csf_error *err)
 {
-    *out = NULL;
-    char name[128];
-    csf_status st = study_name_of(study, name, sizeof name, err);
-    if (st != CSF_OK) return st;
-    csf_store *store = NULL;
-    st = csf_store_open_readonly(store_path, &store, err);
-    if (st != CSF_OK) return st;
-    csf_session_info *list = NULL;
-    size_t n = 0;
-    session_data *ds = NULL;
-    int nd = 0;
-    csf_study_report *r = calloc(1, sizeof *r);
-    if (!r) {
-        csf_store_close(store);
-        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    }
-    snprintf(r->name, sizeof r->name, "%s", name);
-    st = csf_store_list_sessions(store, &list, &n, err);
-    if (st == CSF_OK && !(ds = calloc(n ? n : 1, sizeof *ds))) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    for (size_t i = 0; st == CSF_OK && i < n; i++) {
-        if (strcmp(list[i].kind, "study")) continue;
+    csf_status st = CSF_OK;
+    for (int i = 0; st == CSF_OK && i < sel->n_sel; i++) {
+        const csf_study_session *x = &sel->all[sel->sel[i]];
         csf_session_info info;
         memset(&info, 0, sizeof info);
-        csf_error e;
-        if (csf_store_get_session(store, list[i].id, &info, &e) != CSF_OK) continue;
-        csf_json_doc *doc = NULL;
-        char sname[128] = "";
-        if (info.settings_json && csf_json_parse_object(info.settings_json, "settings", &doc, &e) == CSF_OK) {
-            csf_json_get_string(doc, "study", sname, sizeof sname, &e);
-            csf_json_free(doc);
-        }
-        if (strcmp(sname, name)) {
-            csf_session_info_free(&info);
-            continue;
-        }
-        st = load_session(store, &info, &ds[nd], err);
+        if ((st = csf_store_get_session(store, x->id, &info, err)) != CSF_OK) break;
+        st = load_session(store, &info, &ds[*nd], err);
         csf_session_info_free(&info);
+        ds[*nd].id = x->id;
+        ds[*nd].version = x->version;
         if (st == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
-            fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)list[i].id,
-                    err->msg);
-            session_data_free(&ds[nd]);
+            fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)x->id, err->msg);
+            session_data_free(&ds[*nd]);
             csf_error_clear(err);
             st = CSF_OK;
             continue;
@@ -330,38 +287,78 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
         if (st != CSF_OK) {
             char m[sizeof err->msg];
             snprintf(m, sizeof m, "%s", err->msg);
-            csf_error_set(err, st, "study report: session %lld: %s", (long long)list[i].id, m);
-            session_data_free(&ds[nd]);
+            csf_error_set(err, st, "study report: session %lld: %s", (long long)x->id, m);
+            session_data_free(&ds[*nd]);
             break;
         }
-        /* sessions of another version of the study files are not pooled with this one */
-        if (nd > 0 && ds[nd].study->hash != ds[0].study->hash) {
-            fprintf(stderr, "csfcal: study report: session %lld ran other study files (hash %016llx, not "
-                            "%016llx): left out\n", (long long)list[i].id,
-                    (unsigned long long)ds[nd].study->hash, (unsigned long long)ds[0].study->hash);
-            session_data_free(&ds[nd]);
-            continue;
-        }
-        nd++;
+        (*nd)++;
+    }
+    return st;
+}
+
+/* Per session: who, which version, whether it finished; and the versions not analysed. */
+static csf_status note_sessions(csf_study_report *r, const csf_study_selection *sel, const session_data *ds,
+                                int nd, csf_error *err)
+{
+    r->version = sel->version;
+    snprintf(r->sha256, sizeof r->sha256, "%s", sel->key);
+    r->legacy = sel->legacy;
+    csf_study_versions_text(sel->all, sel->n_all, sel->key, r->other_versions, sizeof r->other_versions);
+    r->sessions = calloc((size_t)nd + 1, sizeof *r->sessions);
+    if (!r->sessions) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (int i = 0; i < nd; i++) {
+        csf_study_session_row *w = &r->sessions[i];
+        w->id = ds[i].id;
+        w->version = ds[i].version;
+        w->finished = ds[i].finished;
+        w->n_trials = (int)ds[i].n_trials;
+        snprintf(w->participant, sizeof w->participant, "%s", ds[i].participant);
+    }
+    r->n_session_rows = nd;
+    return CSF_OK;
+}
+
+csf_status csf_study_report_build(const char *store_path, const char *study, int version, int n_boot,
+                                  csf_study_report **out, csf_error *err)
+{
+    *out = NULL;
+    csf_store *store = NULL;
+    csf_status st = csf_store_open_readonly(store_path, &store, err);
+    if (st != CSF_OK) return st;
+    csf_study_selection sel;
+    st = csf_study_select(store, study, version, &sel, err);
+    if (st != CSF_OK) {
+        csf_store_close(store);
+        return st;
+    }
+    session_data *ds = calloc((size_t)sel.n_sel, sizeof *ds);
+    int nd = 0;
+    csf_study_report *r = calloc(1, sizeof *r);
+    if (!r || !ds) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    if (st == CSF_OK) {
+        snprintf(r->name, sizeof r->name, "%s", sel.name);
+        st = load_selected(store, &sel, ds, &nd, err);
     }
     if (st == CSF_OK && nd == 0)
-        st = csf_error_set(err, CSF_E_NOT_FOUND, "study report: the store %s holds no session of study '%s'",
-                           store_path, name);
-    int cap = 0;
+        st = csf_error_set(err, CSF_E_NOT_FOUND,
+                           "study report: the store %s holds no complete session of study "
+                           "'%s'",
+                           store_path, sel.name);
+    if (st == CSF_OK) st = note_sessions(r, &sel, ds, nd, err);
     if (st == CSF_OK) {
         const csf_study *s = ds[0].study;
         r->design = s->design;
         r->sd_differencing = s->sd_differencing;
         r->hash = s->hash;
         r->n_sessions = nd;
-        cap = 2 * s->n_conds * (nd + 1);
+        int cap = 2 * s->n_conds * (nd + 1);
         r->rows = calloc((size_t)cap, sizeof *r->rows);
         if (!r->rows) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
         else st = analyse(r, ds, nd, cap, n_boot >= 0 ? n_boot : s->bootstrap, err);
     }
     for (int i = 0; i < nd; i++) session_data_free(&ds[i]);
     free(ds);
-    csf_session_list_free(list, n);
+    csf_study_selection_free(&sel);
     csf_store_close(store);
     if (st != CSF_OK) {
         csf_study_report_free(r);
@@ -375,6 +372,7 @@ void csf_study_report_free(csf_study_report *r)
 {
     if (!r) return;
     free(r->rows);
+    free(r->sessions);
     free(r);
 }
 
@@ -391,6 +389,14 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
     fprintf(fp, "study %s (%s): %d session(s), %d finished; participants %s; %d trials scored, %d invalid left "
                 "out\n", r->name, csf_study_design_name(r->design), r->n_sessions, r->n_finished, r->participants,
             r->n_trials, r->n_excluded);
+    fprintf(fp, "version %d, %s %s\n", r->version, r->legacy ? "files hash" : "sha256", r->sha256);
+    for (int i = 0; i < r->n_session_rows; i++) {
+        const csf_study_session_row *x = &r->sessions[i];
+        fprintf(fp, "  session %lld: participant %s, version %d, %d trials, %s\n", (long long)x->id,
+                x->participant, x->version, x->n_trials, x->finished ? "finished" : "NOT finished");
+    }
+    if (r->other_versions[0])
+        fprintf(fp, "other versions in the store (not analysed): %s\n", r->other_versions);
     if (r->design == CSF_DESIGN_YES_NO || r->design == CSF_DESIGN_SAME_DIFF) fprintf(fp, "d': %s\n", sd_model_name(r));
     if (by_hits(r->design))
         fputs("p(H>F): Fisher's exact test of hits against false alarms (one-sided)\n", fp);
@@ -439,6 +445,17 @@ char *csf_study_report_json(const csf_study_report *r)
     json_object_set_new(root, "study", json_string(r->name));
     json_object_set_new(root, "design", json_string(csf_study_design_name(r->design)));
     json_object_set_new(root, "hash", json_string(hash));
+    json_object_set_new(root, "version", json_integer(r->version));
+    json_object_set_new(root, r->legacy ? "files_hash" : "sha256", json_string(r->sha256));
+    json_t *sl = json_array();
+    for (int i = 0; i < r->n_session_rows; i++) {
+        const csf_study_session_row *x = &r->sessions[i];
+        json_array_append_new(sl, json_pack("{s:I,s:s,s:i,s:b,s:i}", "session", (json_int_t)x->id,
+                                            "participant", x->participant, "version", x->version, "finished",
+                                            x->finished, "trials", x->n_trials));
+    }
+    json_object_set_new(root, "session_list", sl);
+    json_object_set_new(root, "other_versions", json_string(r->other_versions));
     json_object_set_new(root, "dprime_model", json_string(sd_model_name(r)));
     json_object_set_new(root, "sessions", json_integer(r->n_sessions));
     json_object_set_new(root, "sessions_finished", json_integer(r->n_finished));
@@ -513,19 +530,36 @@ static void csv_num(FILE *fp, double v)
     else fputs(",NA", fp);
 }
 
+/* A participant's session (a participant has one per version); NULL for the pooled scope. */
+static const csf_study_session_row *session_of(const csf_study_report *r, const char *scope)
+{
+    for (int i = 0; i < r->n_session_rows; i++)
+        if (!strcmp(r->sessions[i].participant, scope)) return &r->sessions[i];
+    return NULL;
+}
+
 csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf_error *err)
 {
     csf_atomic_file af = {0};
     csf_status st = csf_atomic_open(&af, path, "study report CSV", err);
     if (st != CSF_OK) return st;
     FILE *fp = af.fp;
-    fputs("study,design,scope,kind,name,freq_cpd,ecc_deg,n,correct,p_correct,ci_lo,ci_hi,p_above_chance,"
+    fputs("study,version,session,finished,design,scope,kind,name,freq_cpd,ecc_deg,n,correct,p_correct,ci_lo,"
+          "ci_hi,p_above_chance,"
           "p_two_sided,hits,n_signal,false_alarms,n_noise,hit_rate,fa_rate,dprime,t_log10,t_lo,t_hi,beta,"
-          "beta_lo,beta_hi,lapse,guess,dprime_lo,dprime_hi\n", fp);
+          "beta_lo,beta_hi,lapse,guess,dprime_lo,dprime_hi\n",
+          fp);
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
-        fprintf(fp, "%s,%s,%s,%s,%s", r->name, csf_study_design_name(r->design), w->scope,
-                w->is_curve == 1 ? "curve" : w->is_curve == 2 ? "group" : "condition", w->name);
+        const csf_study_session_row *x = session_of(r, w->scope);
+        fprintf(fp, "%s,%d", r->name, r->version);
+        if (x) fprintf(fp, ",%lld,%d", (long long)x->id, x->finished);
+        else fputs(",NA,NA", fp);
+        fprintf(fp, ",%s,%s,%s,%s", csf_study_design_name(r->design), w->scope,
+                w->is_curve == 1   ? "curve"
+                : w->is_curve == 2 ? "group"
+                                   : "condition",
+                w->name);
         csv_num(fp, w->freq_cpd);
         csv_num(fp, w->ecc_deg);
         if (w->is_curve == 1) fputs(",NA,NA,NA,NA,NA,NA,NA", fp);
@@ -602,7 +636,8 @@ csf_status csf_study_report_plot(const csf_study_report *r, const char *path, cs
         }
     }
     char title[200];
-    snprintf(title, sizeof title, "%s (%s): proportion correct, pooled", r->name, csf_study_design_name(r->design));
+    snprintf(title, sizeof title, "%s v%d (%s): proportion correct, pooled", r->name, r->version,
+             csf_study_design_name(r->design));
     csf_status st = csf_study_plot_write(path, title, cv, nc, bars, nb, "proportion correct (95% exact CI)", err);
     free(cv);
     free(bars);

@@ -52,8 +52,23 @@ typedef struct {
     int n_boot_ok;
 } csf_study_row;
 
+/* One analysed session: who, which version, whether it ran to its end. */
+typedef struct {
+    int64_t id;
+    char participant[64];
+    int version;
+    int finished;
+    int n_trials;
+} csf_study_session_row;
+
 typedef struct {
     char name[128];
+    int version;     /* the version analysed */
+    char sha256[65]; /* its identity (legacy: the 16-hex hash of its two files) */
+    int legacy;
+    char other_versions[2048]; /* the versions the store holds besides ("" when none) */
+    csf_study_session_row *sessions;
+    int n_session_rows;
     csf_study_design design;
     int sd_differencing;
     int n_sessions, n_finished, n_trials, n_excluded;
@@ -63,9 +78,11 @@ typedef struct {
     int n_rows;
 } csf_study_report;
 
-/* study: a settings file (its name is read from it) or a study name. n_boot < 0: the study's
- * bootstrap setting. CSF_E_NOT_FOUND when the store holds no session of the study. */
-csf_status csf_study_report_build(const char *store_path, const char *study, int n_boot,
+/* study: a settings file (exactly the sessions that ran these files, byte for byte, images
+ * included) or a study name with version (0: the one version held); studies/study_sessions.h.
+ * n_boot < 0: the study's bootstrap setting. CSF_E_NOT_FOUND when the store holds no such
+ * session (the message lists the versions it holds). */
+csf_status csf_study_report_build(const char *store_path, const char *study, int version, int n_boot,
                                   csf_study_report **out, csf_error *err);
 void csf_study_report_free(csf_study_report *r);
 

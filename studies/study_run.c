@@ -12,6 +12,7 @@
 
 #include "calib/procedure.h"
 #include "studies/study_plan.h"
+#include "studies/study_sessions.h"
 #include "calib/trial_io.h"
 #include "model/observer_images.h"
 #include "model/observer_sim.h"
@@ -383,62 +384,6 @@ static csf_status run_one(study_ctx *x, uint64_t key, const csf_study_trial *t, 
 
 /* ---- session ---------------------------------------------------------------------------------- */
 
-/* A participant code: a letter or digit, then up to 62 letters, digits, '_', '-' or '.', with no
- * two dots in a row. It names files (one trial file per participant) and sits on command lines,
- * so "..", "-P01" (read as an option) and a leading dot (a hidden file) are refused. */
-static int participant_ok(const char *p)
-{
-    size_t n = strlen(p);
-    if (n < 1 || n > 63) return 0;
-    if (!((p[0] >= 'a' && p[0] <= 'z') || (p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= '0' && p[0] <= '9')))
-        return 0;
-    for (size_t i = 0; i < n; i++) {
-        char ch = p[i];
-        if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
-              ch == '_' || ch == '-' || ch == '.'))
-            return 0;
-        if (ch == '.' && p[i + 1] == '.') return 0;
-    }
-    return 1;
-}
-
-/* The participant's newest session of this study: *sid 0 when none; its state and stored hash. */
-static csf_status find_session(csf_store *store, const char *study, const char *participant, int64_t *sid,
-                               char state[16], char hash[32], csf_error *err)
-{
-    *sid = 0;
-    csf_session_info *list = NULL;
-    size_t n = 0;
-    csf_status st = csf_store_list_sessions(store, &list, &n, err);
-    if (st != CSF_OK) return st;
-    for (size_t i = 0; i < n; i++) {
-        if (strcmp(list[i].kind, "study")) continue;
-        /* the list carries no settings: read each study session */
-        csf_session_info info;
-        memset(&info, 0, sizeof info);
-        csf_error e;
-        if (csf_store_get_session(store, list[i].id, &info, &e) != CSF_OK) continue;
-        csf_json_doc *d = NULL;
-        int ok = info.settings_json &&
-                 csf_json_parse_object(info.settings_json, "study session settings", &d, &e) == CSF_OK;
-        char name[128] = "", part[64] = "", h[32] = "";
-        if (ok) {
-            csf_json_get_string(d, "study", name, sizeof name, &e);
-            csf_json_get_string(d, "participant", part, sizeof part, &e);
-            csf_json_get_string(d, "hash", h, sizeof h, &e);
-            csf_json_free(d);
-        }
-        if (ok && !strcmp(name, study) && !strcmp(part, participant)) {
-            *sid = info.id;
-            snprintf(state, 16, "%s", info.state);
-            snprintf(hash, 32, "%s", h);
-        }
-        csf_session_info_free(&info);
-    }
-    csf_session_list_free(list, n);
-    return CSF_OK;
-}
-
 typedef struct {
     csf_study *study;
     csf_store *store;
@@ -453,6 +398,7 @@ typedef struct {
     csf_image **img_a, **img_b;
     double *dev_a, *dev_b;
     double *pair_r;
+    csf_study_identity identity; /* the files as they are now, images' bytes kept to be stored */
 } run_res;
 
 static void run_res_free(run_res *R)
@@ -478,6 +424,7 @@ static void run_res_free(run_res *R)
     csf_profile_free(R->profile);
     csf_store_close(R->store);
     csf_study_free(R->study);
+    csf_study_identity_free(&R->identity);
 }
 
 static csf_status load_images(run_res *R, study_ctx *x, csf_error *err)
@@ -660,47 +607,136 @@ static csf_status not_json(const csf_study *s, csf_error *err)
                          "(names, codes and the observer must be UTF-8 text)", s->name);
 }
 
+/* Whether this version's sessions ran the files as they are now: refused, naming what changed
+ * and how to go on, when one did not. A participant's own session is checked first (resume). */
+static csf_status check_version(const run_res *R, const csf_study_run_options *opt, int version,
+                                const csf_study_session *list, int n, const csf_study_session *mine,
+                                csf_error *err)
+{
+    const csf_study *s = R->study;
+    const csf_study_session *ref = mine;
+    for (int i = 0; !ref && i < n; i++)
+        if (list[i].version == version) ref = &list[i];
+    if (!ref || !strcmp(ref->key, R->identity.sha256)) return CSF_OK;
+    char what[1500];
+    if (ref->legacy) {
+        char fnv[32];
+        snprintf(fnv, sizeof fnv, "%016llx", (unsigned long long)s->hash);
+        /* recorded before image hashes: its two files' hash is all there is to compare */
+        if (!strcmp(fnv, ref->key) && !mine) return CSF_OK;
+        snprintf(what, sizeof what, "%s",
+                 strcmp(fnv, ref->key) ? "the settings or conditions file changed"
+                                       : "its images were not recorded");
+    } else {
+        csf_study_identity_diff(&ref->identity, &R->identity, what, sizeof what);
+    }
+    char shown[300];
+    csf_store_printable(opt->participant, shown, sizeof shown);
+    int next = csf_study_versions_max(list, n) + 1;
+    if (mine)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "study %s version %d: participant %s's session %lld began "
+                             "with other files: %s. Resume it with the files it began with; to run these "
+                             "files, start a new version (--version %d) or give the study a new name",
+                             s->name, version, shown, (long long)mine->id, what, next);
+    return csf_error_set(err, CSF_E_INVALID_ARG,
+                         "study %s version %d was run with other files (session %lld, "
+                         "participant %s): %s. Its participants are not pooled with other files: to run "
+                         "these, start a new version (--version %d) or give the study a new name",
+                         s->name, version, (long long)ref->id, ref->participant, what, next);
+}
+
+/* The participant's session of this version (newest), or NULL. */
+static const csf_study_session *find_mine(const csf_study_session *list, int n, const char *participant,
+                                          int version)
+{
+    const csf_study_session *m = NULL;
+    for (int i = 0; i < n; i++)
+        if (list[i].version == version && !strcmp(list[i].participant, participant)) m = &list[i];
+    return m;
+}
+
+static csf_status resume_session(run_res *R, const csf_study_run_options *opt, int version,
+                                 const csf_study_session *mine, int64_t *sid, int *resumed,
+                                 csf_study_run_result *res, csf_error *err)
+{
+    const csf_study *s = R->study;
+    char shown[300];
+    csf_store_printable(opt->participant, shown, sizeof shown);
+    *sid = mine->id;
+    if (!strcmp(mine->state, "finished"))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "study %s version %d: participant %s has already "
+                             "finished it (session %lld); use another participant code",
+                             s->name, version, shown, (long long)*sid);
+    if (!strcmp(mine->state, "aborted"))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "study %s version %d: participant %s's session %lld was "
+                             "aborted; use another participant code",
+                             s->name, version, shown, (long long)*sid);
+    *resumed = 1;
+    char sname[160];
+    csf_study_store_name(s->name, version, sname, sizeof sname);
+    csf_store_find_study(R->store, sname, &res->study_id, NULL);
+    return csf_store_set_session_state(R->store, *sid, "running", err);
+}
+
+/* The study files and every image, stored with the session so the store alone holds what the
+ * participant saw (an image's bytes under the name the conditions file gives it). */
+static csf_status store_files(run_res *R, int64_t sid, csf_error *err)
+{
+    const csf_study *s = R->study;
+    csf_status st = csf_store_add_artifact(R->store, sid, "study", s->path, s->settings_text,
+                                           strlen(s->settings_text), err);
+    if (st == CSF_OK)
+        st = csf_store_add_artifact(R->store, sid, "conditions", s->conditions_path, s->conditions_text,
+                                    strlen(s->conditions_text), err);
+    for (int i = 0; st == CSF_OK && i < R->identity.n_images; i++) {
+        const csf_study_image *im = &R->identity.images[i];
+        st = csf_store_add_artifact(R->store, sid, "image", im->name, im->bytes, im->len, err);
+    }
+    return st;
+}
+
+/* The settings a new session starts with: who, which files (their identity) and version. */
+static char *session_json(const run_res *R, const csf_study_run_options *opt, const char *observer,
+                          uint64_t seed, int version)
+{
+    const csf_study *s = R->study;
+    char fnv[32];
+    snprintf(fnv, sizeof fnv, "%016llx", (unsigned long long)s->hash);
+    /* Seeds are below 2^53 (csf_study_participant_seed; a study file's seed): JSON integers. */
+    return to_json(json_pack("{s:s,s:s,s:i,s:s,s:s,s:s,s:s,s:I,s:I,s:i,s:o}", "study", s->name, "participant",
+                             opt->participant, "version", version, "sha256", R->identity.sha256, "hash", fnv,
+                             "design", csf_study_design_name(s->design), "observer", observer, "study_seed",
+                             (json_int_t)s->seed, "seed", (json_int_t)seed, "n_conditions", s->n_conds,
+                             "identity", csf_study_identity_to_json(&R->identity)));
+}
+
 static csf_status open_session(run_res *R, const csf_study_run_options *opt, const char *observer,
                                uint64_t seed, int64_t *sid, int *resumed, csf_study_run_result *res,
                                csf_error *err)
 {
     const csf_study *s = R->study;
-    char state[16] = "", hash[32] = "", want[32];
-    snprintf(want, sizeof want, "%016llx", (unsigned long long)s->hash);
-    csf_status st = find_session(R->store, s->name, opt->participant, sid, state, hash, err);
-    if (st != CSF_OK) return st;
-    if (*sid) {
-        if (!strcmp(state, "finished"))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "study %s: participant %s has already finished it "
-                                 "(session %lld); use another participant code", s->name, opt->participant,
-                                 (long long)*sid);
-        if (strcmp(hash, want))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "study %s: the study files changed since participant "
-                                 "%s began (session %lld, hash %s; now %s): resume with the files it began "
-                                 "with, or use another participant code", s->name, opt->participant,
-                                 (long long)*sid, hash, want);
-        if (!strcmp(state, "aborted"))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "study %s: participant %s's session %lld was "
-                                 "aborted; use another participant code", s->name, opt->participant,
-                                 (long long)*sid);
-        *resumed = 1;
-        csf_store_find_study(R->store, s->name, &res->study_id, NULL);
-        return csf_store_set_session_state(R->store, *sid, "running", err);
-    }
-    if (csf_store_find_study(R->store, s->name, &res->study_id, NULL) != CSF_OK) {
-        char *design = to_json(json_pack("{s:s,s:s}", "design", csf_study_design_name(s->design),
-                                         "hash", want));
-        st = design ? csf_store_create_study(R->store, s->name, design, &res->study_id, err)
-                    : not_json(s, err);
+    int version = opt->version > 0 ? opt->version : 1;
+    csf_study_session *list = NULL;
+    int n = 0;
+    csf_status st = csf_study_sessions_list(R->store, s->name, &list, &n, err);
+    const csf_study_session *mine = st == CSF_OK ? find_mine(list, n, opt->participant, version) : NULL;
+    if (st == CSF_OK) st = check_version(R, opt, version, list, n, mine, err);
+    if (st == CSF_OK && mine) st = resume_session(R, opt, version, mine, sid, resumed, res, err);
+    csf_study_sessions_free(list, n);
+    if (st != CSF_OK || *resumed) return st;
+    char sname[160];
+    csf_study_store_name(s->name, version, sname, sizeof sname);
+    if (csf_store_find_study(R->store, sname, &res->study_id, NULL) != CSF_OK) {
+        char *design = to_json(json_pack("{s:s,s:s,s:i}", "design", csf_study_design_name(s->design),
+                                         "sha256", R->identity.sha256, "version", version));
+        st = design ? csf_store_create_study(R->store, sname, design, &res->study_id, err) : not_json(s, err);
         free(design);
         if (st != CSF_OK) return st;
     }
-    /* Seeds are below 2^53 (csf_study_participant_seed; a study file's seed): JSON integers. */
-    char *json = to_json(json_pack("{s:s,s:s,s:s,s:s,s:s,s:I,s:I,s:i}", "study", s->name,
-                                   "participant", opt->participant, "hash", want, "design",
-                                   csf_study_design_name(s->design), "observer", observer,
-                                   "study_seed", (json_int_t)s->seed, "seed", (json_int_t)seed,
-                                   "n_conditions", s->n_conds));
+    char *json = session_json(R, opt, observer, seed, version);
     st = json ? csf_store_begin_session_profile(R->store, "study", opt->participant,
                                                 csf_profile_display(R->profile), csf_profile_id(R->profile),
                                                 json, seed, sid, err)
@@ -709,15 +745,12 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
     if (st != CSF_OK) return st;
     /* The session comes first: on a server a station may add a participant only to a study
      * session of its own that has none yet (docs/store_roles.sql), so a code cannot be taken
-     * without a session. find_session above refuses a code another session has; a code taken
-     * any other way is refused here, and the session just begun is closed as aborted so the lab
-     * never sees a running session without its participant and study files. */
+     * without a session. find_mine above refuses a code another session of this version has; a
+     * code taken any other way is refused here, and the session just begun is closed as aborted
+     * so the lab never sees a running session without its participant and study files. */
     st = csf_store_add_participant(R->store, res->study_id, opt->participant, &res->participant_id, err);
     if (st == CSF_OK) st = csf_store_link_session_participant(R->store, *sid, res->participant_id, err);
-    if (st == CSF_OK) st = csf_store_add_artifact(R->store, *sid, "study", s->path, s->settings_text,
-                                                  strlen(s->settings_text), err);
-    if (st == CSF_OK) st = csf_store_add_artifact(R->store, *sid, "conditions", s->conditions_path,
-                                                  s->conditions_text, strlen(s->conditions_text), err);
+    if (st == CSF_OK) st = store_files(R, *sid, err);
     if (st != CSF_OK) abort_unstarted(R->store, *sid, err);
     return st;
 }
@@ -810,7 +843,7 @@ static csf_status open_display(run_res *R, const csf_study_run_options *opt, int
 static csf_status check_run_options(const csf_study_run_options *opt, const char **observer_out,
                                     int *is_sim_out, csf_error *err)
 {
-    if (!opt->participant || !participant_ok(opt->participant)) {
+    if (!opt->participant || !csf_study_participant_ok(opt->participant)) {
         char shown[300]; /* the code as typed, escaped: it may hold terminal controls */
         csf_store_printable(opt->participant, shown, sizeof shown);
         return csf_error_set(err, CSF_E_INVALID_ARG, "--participant '%s': a letter or digit, then up to 62 "
@@ -907,6 +940,9 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     uint64_t seed = csf_study_participant_seed(s, opt->participant);
     res->seed = seed;
     res->hash = s->hash;
+    res->version = opt->version > 0 ? opt->version : 1;
+    if ((st = csf_study_identity_compute(s, 1, &R.identity, err)) != CSF_OK) goto out;
+    memcpy(res->sha256, R.identity.sha256, sizeof res->sha256);
     if (is_sim && (st = csf_observer_sim_create(observer, seed, &R.sim, err)) != CSF_OK) goto out;
     if ((st = open_display(&R, opt, is_sim, seed, err)) != CSF_OK) goto out;
     if ((st = csf_study_check_display(s, R.pres, err)) != CSF_OK) goto out;

@@ -20,6 +20,7 @@ typedef struct {
     const char *participant;     /* 1-63 characters of [A-Za-z0-9_.-] */
     const char *observer_spec;   /* "sim[:key=value,...]" or "human"; NULL = cfg->observer, else sim */
     const char *store_path;
+    int version; /* the study version (docs/studies.md); 0 = 1 */
     int headless;
     int quiet;
 } csf_study_run_options;
@@ -29,10 +30,13 @@ typedef struct {
     int n_planned, n_stored, n_run_now;
     int resumed, finished;
     uint64_t seed, hash;
+    int version;
+    char sha256[65]; /* the study's identity (studies/study_identity.h) */
 } csf_study_run_result;
 
 /* CSF_E_INVALID_ARG / CSF_E_FORMAT / CSF_E_NOT_FOUND: the study or the options were refused
- * before any trial (nothing stored). CSF_E_ABORTED: paused (Escape, SIGINT/SIGTERM); the same
+ * before any trial (nothing stored), among them files that differ from those the version's
+ * sessions ran (or the participant's session began with), named in the message. CSF_E_ABORTED: paused (Escape, SIGINT/SIGTERM); the same
  * command resumes. */
 csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result *res, csf_error *err);
 

@@ -27,6 +27,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         csf_study_trial *t = NULL;
         int n = 0;
         if (csf_study_make_plan(&s, 7, &t, &n, &err) == CSF_OK) free(t);
+        /* the export's view of the same text: every condition's cells, the user's columns too */
+        char *text = malloc(size);
+        if (!text) abort();
+        memcpy(text, data + 1, size - 1);
+        text[size - 1] = '\0';
+        s.conditions_text = text;
+        csf_study_table tab;
+        if (csf_study_conditions_table(&s, &tab, &err) != CSF_OK) abort();
+        csf_study_table_free(&tab);
+        free(text);
     }
     free(s.conds);
     return 0;

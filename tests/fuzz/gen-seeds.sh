@@ -213,6 +213,11 @@ for conf in "$src"/examples/studies/*.conf; do
   [ -f "$csv" ] && { printf "$d"; cat "$csv"; } >"$tmp/$b.csv.bin" && put fuzz_study_conditions "$b.bin" "$tmp/$b.csv.bin"
 done
 
+# A study session's identity: the manifest of hashes a run keeps with each session.
+h=$(printf '%064d' 0)
+printf '{"identity":{"sha256":"%s","settings_sha256":"%s","conditions_sha256":"%s","images":[{"name":"images/a.png","sha256":"%s","bytes":4364}]}}' \
+  "$h" "$h" "$h" "$h" >"$tmp/identity.json" && put fuzz_study_identity identity.json "$tmp/identity.json"
+
 n=$(find "$out" -type f -name 'gen-*' | wc -l)
 echo "gen-seeds: $n fresh seeds in $out"
 exit $failed

@@ -487,7 +487,7 @@ static void test_studies(void)
     char uri[1024];
     loc_as("alice", uri, sizeof uri);
     csf_study_report *r = NULL;
-    st = csf_study_report_build(uri, "tiny", 0, &r, &e);
+    st = csf_study_report_build(uri, "tiny", 0, 0, &r, &e);
     CHECK_MSG(st == CSF_OK, "study report: %s", e.msg);
     if (r) CHECK_INT_EQ(r->n_sessions, 2);
     csf_study_report_free(r);

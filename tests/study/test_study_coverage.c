@@ -161,7 +161,7 @@ static void same_as_runner(const char *examples, const char *file, const csf_stu
     csf_error e;
     CHECK_MSG(csf_study_run(&o, &res, &e) == CSF_OK, "%s: %s", file, e.msg);
     csf_study_report *r = NULL;
-    CHECK_MSG(csf_study_report_build(store, path, 0, &r, &e) == CSF_OK, "%s: %s", file, e.msg);
+    CHECK_MSG(csf_study_report_build(store, path, 0, 0, &r, &e) == CSF_OK, "%s: %s", file, e.msg);
     csf_study_row *mine = NULL;
     int n_mine = 0, cov = 0, tot = 0, matched = 0;
     participant(s, 0, &cov, &tot, &mine, &n_mine);

@@ -68,9 +68,22 @@ static void test_conditions(void)
     CHECK_STR_CONTAINS(e.msg, "c.csv:2 (a): gabor conditions need the columns freq_cpd and contrast");
     CHECK(conds(good_settings, "label,freq_cpd,contrast\na,2,0.1\n", &s, &e) != CSF_OK);
     CHECK_STR_CONTAINS(e.msg, "c.csv:1: missing column 'ecc_deg'");
-    /* unknown column, bad value, duplicate label, wrong field count */
+    /* a column of the user's own is carried (a gabor still needs freq_cpd); a known column in
+     * other letter case, one the export writes itself and a name that is no identifier are
+     * refused; bad value, duplicate label, wrong field count */
     CHECK(conds(good_settings, "label,freq,contrast,ecc_deg\na,2,0.1,5\n", &s, &e) != CSF_OK);
-    CHECK_STR_CONTAINS(e.msg, "unknown column 'freq'");
+    CHECK_STR_CONTAINS(e.msg, "c.csv:2 (a): gabor conditions need the columns freq_cpd and contrast");
+    CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg,corrAns,my.note\na,2,0.1,5,left,x\n", &s,
+                &e) == CSF_OK);
+    free(s.conds);
+    CHECK(conds(good_settings, "label,freq_cpd,Contrast,ecc_deg\na,2,0.1,5\n", &s, &e) != CSF_OK);
+    CHECK_STR_CONTAINS(e.msg, "c.csv:1: column 'Contrast': did you mean 'contrast'?");
+    CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg,rt_s\na,2,0.1,5,1\n", &s, &e) != CSF_OK);
+    CHECK_STR_CONTAINS(e.msg, "column 'rt_s' is one the trial export writes itself");
+    CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg,2nd\na,2,0.1,5,1\n", &s, &e) != CSF_OK);
+    CHECK_STR_CONTAINS(e.msg, "column '2nd': a column of your own");
+    CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg,x,x\na,2,0.1,5,1,2\n", &s, &e) != CSF_OK);
+    CHECK_STR_CONTAINS(e.msg, "column 'x' appears twice");
     CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg\na,2,1.5,5\n", &s, &e) != CSF_OK);
     CHECK_STR_CONTAINS(e.msg, "c.csv:2 (a): contrast = '1.5'");
     CHECK(conds(good_settings, "label,freq_cpd,contrast,ecc_deg\na,2,0.1,5\n\na,3,0.1,5\n", &s, &e) != CSF_OK);

@@ -88,7 +88,7 @@ int main(int argc, char **argv)
     const char *ps[] = {"P1", "P2", "P3", "P4", "P5", "P6"};
     for (int i = 0; i < 6; i++) run(argv[1], "contrast_2afc.conf", store, ps[i]);
     csf_study_report *r = NULL;
-    CHECK(csf_study_report_build(store, "contrast_2afc", 200, &r, &e) == CSF_OK);
+    CHECK(csf_study_report_build(store, "contrast_2afc", 0, 200, &r, &e) == CSF_OK);
     if (r) {
         int cov = 0, tot = 0;
         coverage(r, NULL, &cov, &tot);
@@ -103,7 +103,7 @@ int main(int argc, char **argv)
     snprintf(store, sizeof store, "%s/b.sqlite", dir);
     for (int i = 0; i < 3; i++) run(argv[1], "adaptive_2ifc.conf", store, ps[i]);
     r = NULL;
-    CHECK(csf_study_report_build(store, "adaptive_2ifc", 200, &r, &e) == CSF_OK);
+    CHECK(csf_study_report_build(store, "adaptive_2ifc", 0, 200, &r, &e) == CSF_OK);
     if (r) {
         int cov = 0, tot = 0;
         coverage(r, "pooled", &cov, &tot);
@@ -116,7 +116,7 @@ int main(int argc, char **argv)
     snprintf(store, sizeof store, "%s/c.sqlite", dir);
     for (int i = 0; i < 2; i++) run(argv[1], "same_different.conf", store, ps[i]);
     r = NULL;
-    CHECK(csf_study_report_build(store, "same_different", 0, &r, &e) == CSF_OK);
+    CHECK(csf_study_report_build(store, "same_different", 0, 0, &r, &e) == CSF_OK);
     if (r) {
         int groups = 0;
         for (int i = 0; i < r->n_rows; i++) {
