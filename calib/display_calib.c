@@ -573,8 +573,8 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
 }
 
 /* Leave-one-out error estimate per interval. est has m-1 entries. Returns max. */
-static double interval_errors(const double *dv, const double *dl, const int *cnt, size_t m, int is_channel,
-                              double noise_rel, double noise_abs, double *est, double *knot_err)
+static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel,
+                              const double *sd_rel, double *est, double *knot_err)
 {
     double peak = dl[m - 1];
     for (size_t i = 0; i + 1 < m; i++) est[i] = 0;
@@ -625,12 +625,14 @@ static double interval_errors(const double *dv, const double *dl, const int *cnt
         if (csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e)) continue;
         double denom = fmax(dl[k], 0.1 * peak);
         double ek = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
-        /* the part of the miss that the instrument's noise explains (the knot's mean and the
-         * prediction from its neighbours' means both carry it) is not model error: splitting
-         * there would chase noise; repeats handle it */
-        double sk = sqrt(noise_rel * noise_rel + pow(noise_abs / fmax(dl[k], 1e-9), 2));
-        ek -= sqrt(2.0) * sk / sqrt(cnt ? (double)(cnt[k] > 0 ? cnt[k] : 1) : 1.0);
-        if (ek < 0) ek = 0;
+        /* The miss carries the noise of the knot's mean and of the prediction (a cubic through
+         * the neighbours weighs the two nearest by about 9/16 each, so about 0.32 of each one's
+         * variance): taken off in quadrature, what is left estimates the model's own error
+         * (E[d^2] = bias^2 + var), unbiased, where subtracting a multiple of the sd would hide a
+         * bias of the size of the noise. */
+        double var =
+            sd_rel[k] * sd_rel[k] + 0.32 * (sd_rel[k - 1] * sd_rel[k - 1] + sd_rel[k + 1] * sd_rel[k + 1]);
+        ek = sqrt(fmax(ek * ek - var, 0));
         if (knot_err) knot_err[k] = ek;
         /* The left-out knot saw the merged interval's error at its own position t, which is
          * small near an end even when the interval is bad: scale to the middle (a cubic's error
@@ -996,12 +998,20 @@ static void levels_free(levels *L)
     free(L->cnt);
 }
 
-/* The standard deviation of a level's mean luminance, relative, from cnt readings: the
- * instrument's relative noise (or the white drift, if larger) and its absolute noise at lum. */
-static double level_mean_sd(const ctx *c, double lum, int cnt)
+/* The drive where the grey curve (less black) reaches frac of its peak, by bisection (1 when the
+ * grey curve cannot be evaluated). */
+static double grey_drive_at(const ctx *c, double frac)
 {
-    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
-    return sqrt((nr * nr + pow(c->noise_abs / lum, 2)) / cnt);
+    double v1 = 1, g1;
+    if (grey_incr(c, &v1, &g1, 1) || !(g1 > 0)) return 1;
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 30; it++) {
+        double mid = 0.5 * (lo + hi), g;
+        if (grey_incr(c, &mid, &g, 1)) return 1;
+        if (g < frac * g1) lo = mid;
+        else hi = mid;
+    }
+    return hi;
 }
 
 /* The fixed levels of a sweep after full drive: a channel's full drive again when its share
@@ -1033,30 +1043,12 @@ static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, cons
         st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
-    return CSF_OK;
-}
-
-/* A channel whose readings its ratio to grey explains needs no adaptive levels: the rest of its
- * share repeats the level whose mean is noisiest (a dim channel's low end, where the absolute
- * noise counts), until every level above 5 % of the channel's peak is known to target/6. */
-static csf_status repeat_noisiest_channel_level(ctx *c, int ch, int budget, int start, double peak, csf_error *err)
-{
-    while (c->n_sweep - start < budget) {
-        levels L;
-        levels_read(c, ch, &L);
-        double worst = 0, at = NAN;
-        for (size_t i = 0; i < L.m; i++) {
-            if (!(L.v[i] > 0) || !(L.lum[i] >= 0.05 * peak)) continue;
-            double sd = level_mean_sd(c, L.lum[i], L.cnt[i]);
-            if (sd > worst) {
-                worst = sd;
-                at = L.v[i];
-            }
-        }
-        levels_free(&L);
-        if (isnan(at) || worst < c->o->target_rel / 6) break;
-        rd x;
-        csf_status st = take(c, ROLE_SWEEP, ch, at, 0, &x, err);
+    /* the low end of the range the target covers: where grey is at 10 % of its peak, unless the
+     * grid reaches it; without it a channel's model there would be extrapolated, and neither
+     * its readings nor its stated error could see how wrong */
+    double d10 = ch < 3 ? grey_drive_at(c, 0.1) : 1;
+    if (d10 < 0.3 && c->n_sweep - start < budget) {
+        st = measure_level(c, ch, snap(c, d10), peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     return CSF_OK;
@@ -1088,88 +1080,250 @@ static double split_point(const ctx *c, const levels *L, size_t wi)
     return q;
 }
 
-/* Adaptive levels: the interval whose interpolation error is estimated worst is split, while it
- * is above target/4 and the display can show a level inside it. *last_est: the last estimate. */
-static csf_status split_worst_intervals(ctx *c, int ch, int budget, int start, double peak, double *last_est,
-                                        csf_error *err)
+/* ---- the stated error ----
+ * What the profile says about itself is the maximum relative error above 10 % of the curve's
+ * peak, the quantity the target is stated for (docs/display-profile.md, "How wrong the profile
+ * is"). Two parts, added in quadrature:
+ *  - noise: the profile runs through the means of the readings, so each knot is off by its mean's
+ *    own error, e_k ~ N(0, s_k^2), s_k from the instrument's repeatability (pooled_noise_rel) and
+ *    the repeat count. The worst of K independent knots is what a max-error measure sees: the
+ *    median of max_k |e_k| solves prod_k (2 Phi(m / s_k) - 1) = 1/2, about 2.0 s for 15 knots.
+ *  - model: the interpolant's own error between knots, from leave-one-out at the scale of the gaps
+ *    (interval_errors): the miss of a left-out knot, its noise removed in quadrature, scaled from
+ *    the merged interval to each half. The largest over the intervals above 10 % of peak.
+ * Leave-one-out alone understated the error by 2-7x at ordinary noise: it took the noise off and
+ * never added it back, and an RMS-like miss is not the worst case over the range. */
+
+/* Relative sd of one reading above 10 % of a curve's peak, pooled over every level read more than
+ * once (grey, channels, and the white references at drive 1 after drift correction, which also
+ * carries what the drift model misses): the instrument's repeatability with many more degrees of
+ * freedom than the first six references alone. Their absolute noise part is taken off. */
+static double pooled_noise_rel(const ctx *c)
 {
-    *last_est = INFINITY;
+    double ss = 0;
+    int dof = 0;
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++) {
+        double *pv, *pl;
+        size_t k = curve_points(c, ch, &pv, &pl);
+        double top = 0;
+        for (size_t i = 0; i < k; i++) top = fmax(top, pl[i]);
+        for (size_t i = 0; i < k; i++) {
+            if (!(pv[i] > 0) || pv[i] < 0 || !(pl[i] >= 0.1 * top)) continue;
+            int first = 1, n = 0;
+            double mean = 0;
+            for (size_t j = 0; j < k; j++)
+                if (pv[j] == pv[i]) {
+                    if (j < i) first = 0;
+                    mean += pl[j];
+                    n++;
+                }
+            if (!first || n < 2) continue;
+            mean /= n;
+            for (size_t j = 0; j < k; j++)
+                if (pv[j] == pv[i]) ss += pow(pl[j] / mean - 1, 2) - pow(c->noise_abs / mean, 2);
+            dof += n - 1;
+        }
+        free(pv);
+        free(pl);
+    }
+    if (dof < 5 || !(ss > 0)) return fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+    return sqrt(ss / dof);
+}
+
+/* Median of max_k |e_k| for independent e_k ~ N(0, sd_k^2) (see above). */
+static double max_noise_median(const double *sd, size_t n)
+{
+    double hi = 0;
+    for (size_t i = 0; i < n; i++) hi = fmax(hi, sd[i]);
+    if (!(hi > 0)) return 0;
+    double lo = 0;
+    hi *= 10;
+    for (int it = 0; it < 60; it++) {
+        double mid = 0.5 * (lo + hi), f = 0;
+        for (size_t i = 0; i < n; i++)
+            if (sd[i] > 0) f += log(erf(mid / (sd[i] * sqrt(2.0))));
+        if (f < log(0.5)) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+typedef struct {
+    double noise, model, total; /* the two parts and sqrt(noise^2 + model^2), relative */
+} statement;
+
+/* Relative sd of each level's mean (sd[] has L->m entries). */
+static void level_sds(const ctx *c, const levels *L, double nr, double *sd)
+{
+    for (size_t i = 0; i < L->m; i++) {
+        double lum = fmax(L->lum[i], 1e-12);
+        sd[i] = sqrt((nr * nr + pow(c->noise_abs / lum, 2)) / (L->cnt[i] > 0 ? L->cnt[i] : 1));
+    }
+}
+
+/* The stated error of a curve modelled through its own levels; est (L->m entries, may be NULL)
+ * gets the per-interval model error for placing levels. */
+static statement curve_statement(const ctx *c, int ch, const levels *L, double *est)
+{
+    statement out = {INFINITY, INFINITY, INFINITY};
+    size_t m = L->m;
+    if (m < 3) return out;
+    double *sd = malloc(m * sizeof(double)), *e = est ? est : malloc(m * sizeof(double)),
+           *top = malloc(m * sizeof(double));
+    if (!sd || !e || !top) goto done;
+    level_sds(c, L, pooled_noise_rel(c), sd);
+    interval_errors(L->v, L->lum, m, ch < 3, sd, e, NULL);
+    double peak = L->lum[m - 1];
+    size_t k = 0;
+    out.model = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (i + 1 < m && L->lum[i + 1] >= 0.1 * peak) out.model = fmax(out.model, e[i]);
+        if (L->v[i] > 0 && L->lum[i] >= 0.1 * peak) top[k++] = sd[i];
+    }
+    out.noise = max_noise_median(top, k);
+    out.total = sqrt(out.noise * out.noise + out.model * out.model);
+done:
+    free(sd);
+    free(top);
+    if (!est) free(e);
+    return out;
+}
+
+static double curve_statement_grey(const ctx *c)
+{
+    levels L;
+    levels_read(c, CSF_CH_GREY, &L);
+    double t = curve_statement(c, CSF_CH_GREY, &L, NULL).total;
+    levels_free(&L);
+    return t;
+}
+
+/* The level to split next: the worst interval of est that still has a drive level inside it
+ * (NAN when none has); *worst gets its estimate. */
+static double pick_split(const ctx *c, const levels *L, double *est, double *worst)
+{
+    size_t m = L->m;
+    for (;;) {
+        size_t wi = 0;
+        for (size_t i = 0; i + 1 < m; i++)
+            if (est[i] > est[wi]) wi = i;
+        if (m < 2 || !(est[wi] >= 0)) return NAN;
+        double width = L->v[wi + 1] - L->v[wi];
+        double q = split_point(c, L, wi);
+        if (q > L->v[wi] && q < L->v[wi + 1] && width >= 1.0 / 4096) {
+            *worst = est[wi];
+            return q;
+        }
+        est[wi] = -1; /* no level left inside: the display cannot show anything between */
+    }
+}
+
+/* The level whose mean is noisiest above lo_frac of the peak (among equals the one with the widest
+ * neighbouring intervals: its error spreads furthest); NAN when none. */
+static double noisiest_level(const ctx *c, const levels *L, double lo_frac)
+{
+    double nr = pooled_noise_rel(c), worst = 0, wid = 0, at = NAN, peak = L->lum[L->m - 1];
+    for (size_t i = 0; i < L->m; i++) {
+        if (!(L->v[i] > 0) || !(L->lum[i] >= lo_frac * peak)) continue;
+        double sd = sqrt((nr * nr + pow(c->noise_abs / L->lum[i], 2)) / L->cnt[i]);
+        double w = (i + 1 < L->m ? L->v[i + 1] : 1) - (i > 0 ? L->v[i - 1] : 0);
+        if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
+            worst = sd;
+            wid = w;
+            at = L->v[i];
+        }
+    }
+    return at;
+}
+
+/* Spends the curve's share until its stated error meets the target: where the model part
+ * dominates a new level splits the worst interval, where the noise part does the noisiest level
+ * above 10 % of peak is read again (the part each reading reduces most). */
+static csf_status refine_curve(ctx *c, int ch, int budget, int start, double peak, csf_error *err)
+{
+    /* a channel modelled through grey inherits grey's error and adds its own fit's: with channels,
+     * grey aims at target/sqrt(2) so that they can meet the target too */
+    double aim = ch == CSF_CH_GREY && c->o->channels ? c->o->target_rel / sqrt(2.0) : c->o->target_rel;
     while (c->n_sweep - start < budget) {
         levels L;
         levels_read(c, ch, &L);
-        size_t m = L.m;
-        double *est = calloc(m + 1, sizeof(double));
-        double worst = m >= 3 ? interval_errors(L.v, L.lum, L.cnt, m, ch < 3, c->noise_rel, c->noise_abs, est, NULL)
-                              : INFINITY;
-        if (m < 3)
-            for (size_t i = 0; i + 1 < m; i++) est[i] = INFINITY; /* too few levels to judge: split */
-        *last_est = worst;
-        /* the worst interval that still has a drive level inside it to measure */
-        double mid = NAN;
-        for (;;) {
-            size_t wi = 0;
-            for (size_t i = 0; i + 1 < m; i++)
-                if (est[i] > est[wi]) wi = i;
-            if (m < 2 || !(est[wi] >= 0)) break;
-            double width = L.v[wi + 1] - L.v[wi];
-            double q = split_point(c, &L, wi);
-            if (q > L.v[wi] && q < L.v[wi + 1] && width >= 1.0 / 4096) {
-                mid = q;
-                worst = est[wi];
-                break;
-            }
-            est[wi] = -1; /* no level left inside: the display cannot show anything between */
+        double *est = calloc(L.m + 1, sizeof(double));
+        if (!est) {
+            levels_free(&L);
+            return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+        }
+        statement s = curve_statement(c, ch, &L, est);
+        if (L.m < 3)
+            for (size_t i = 0; i + 1 < L.m; i++) est[i] = INFINITY; /* too few levels to judge: split */
+        double worst = 0, next = NAN;
+        if (!(s.total <= aim)) {
+            if (!(s.model < s.noise)) next = pick_split(c, &L, est, &worst);
+            if (isnan(next)) next = noisiest_level(c, &L, 0.1);
         }
         levels_free(&L);
         free(est);
-        if (isnan(mid) || worst < c->o->target_rel / 4) break;
-        csf_status st = measure_level(c, ch, mid, peak, budget - (c->n_sweep - start), err);
+        if (isnan(next)) break;
+        csf_status st = measure_level(c, ch, next, peak, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
     return CSF_OK;
 }
 
-/* Grey's model is good enough where it is: the rest of its share averages the noise of the levels
- * above 10 % of peak (the range the target covers), the noisiest mean first and, among equals,
- * the one whose neighbouring intervals are widest (its error spreads furthest), until each mean
- * is known to target/6. */
-static csf_status average_grey_noise(ctx *c, int budget, int start, double peak, csf_error *err)
+/* The stated error of channel ch modelled through grey (ratio model rm): the grey curve's own
+ * stated error (the channel inherits its shape and its knots' noise), the fit's uncertainty at
+ * the levels (about sd * sqrt(parameters / levels), doubled for the worst level), and a bias the
+ * model leaves: the largest residual of a level mean less its noise, in quadrature. */
+static statement channel_grey_statement(const ctx *c, int ch, const ratio_model *rm, double grey_total)
 {
-    while (c->n_sweep - start < budget) {
-        levels L;
-        levels_read(c, CSF_CH_GREY, &L);
-        double worst = 0, wid = 0, at = NAN;
-        for (size_t i = 1; i + 1 < L.m; i++) {
-            if (!(L.lum[i] >= 0.1 * peak)) continue;
-            double sd = level_mean_sd(c, L.lum[i], L.cnt[i]);
-            double w = L.v[i + 1] - L.v[i - 1];
-            if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
-                worst = sd;
-                wid = w;
-                at = L.v[i];
-            }
-        }
-        levels_free(&L);
-        if (isnan(at) || worst < c->o->target_rel / 6) break;
-        rd x;
-        csf_status st = take(c, ROLE_SWEEP, CSF_CH_GREY, at, 0, &x, err);
-        if (st) return st;
-    }
-    return CSF_OK;
-}
-
-/* The indicator the stopping rule uses after the last reading (noise allowance included); an
- * upper-side estimate: it is scaled to interval middles and counts kinks pessimistically. */
-static double sweep_estimate(const ctx *c, int ch, double last_est)
-{
+    statement out = {INFINITY, INFINITY, INFINITY};
     levels L;
     levels_read(c, ch, &L);
-    double *est = calloc(L.m + 1, sizeof(double));
-    double e = L.m >= 3 ? interval_errors(L.v, L.lum, L.cnt, L.m, ch < 3, c->noise_rel, c->noise_abs, est, NULL)
-                        : last_est;
-    free(est);
+    double *g = malloc((L.m + 1) * sizeof(double));
+    if (g && L.m >= 2 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
+        double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0;
+        int n = 0;
+        for (size_t i = 0; i < L.m; i++) {
+            if (!(L.v[i] > 0) || !(L.lum[i] >= 0.1 * peak)) continue;
+            double x = g[i] / g[L.m - 1], pred = rm->lc1 * x * ratio_eval(rm, L.v[i], x);
+            double sd2 = (nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i];
+            double r = L.lum[i] / pred - 1;
+            bias2 = fmax(bias2, r * r - sd2);
+            ss += sd2;
+            n++;
+        }
+        if (n > 0) {
+            double fit = 2 * sqrt(ss / n * fmin(1.0, (double)rm->nb / n));
+            out.noise = sqrt(grey_total * grey_total + fit * fit);
+            out.model = sqrt(fmax(bias2, 0));
+            out.total = sqrt(out.noise * out.noise + out.model * out.model);
+        }
+    }
+    free(g);
     levels_free(&L);
-    return e;
+    return out;
+}
+
+/* A channel whose ratio to grey explains its readings: the rest of its share repeats its noisiest
+ * level until the channel's stated error meets the target. */
+static csf_status refine_channel_via_grey(ctx *c, int ch, int budget, int start, double grey_total,
+                                          csf_error *err)
+{
+    while (c->n_sweep - start < budget) {
+        ratio_model rm;
+        fit_ratio(c, ch, &rm);
+        if (!rm.ok) return CSF_OK; /* the caller goes on with levels of its own */
+        statement s = channel_grey_statement(c, ch, &rm, grey_total);
+        if (s.total <= c->o->target_rel) return CSF_OK;
+        levels L;
+        levels_read(c, ch, &L);
+        double at = L.m >= 2 ? noisiest_level(c, &L, 0.05) : NAN;
+        levels_free(&L);
+        if (isnan(at)) return CSF_OK;
+        rd x;
+        csf_status st = take(c, ROLE_SWEEP, ch, at, 0, &x, err);
+        if (st) return st;
+    }
+    return CSF_OK;
 }
 
 static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_extra, double *est_out,
@@ -1192,19 +1346,20 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
         ratio_model rm;
         fit_ratio(c, ch, &rm);
         if (rm.ok) {
-            st = repeat_noisiest_channel_level(c, ch, budget, start, peak, err);
+            st = refine_channel_via_grey(c, ch, budget, start, *est_out, err);
             if (st) return st;
-            budget = c->n_sweep - start;
+            fit_ratio(c, ch, &rm);
+            if (rm.ok) return CSF_OK;
         }
     }
-    double last_est;
-    st = split_worst_intervals(c, ch, budget, start, peak, &last_est, err);
+    st = refine_curve(c, ch, budget, start, peak, err);
     if (st) return st;
     if (ch == CSF_CH_GREY) {
-        st = average_grey_noise(c, budget, start, peak, err);
-        if (st) return st;
+        levels L;
+        levels_read(c, ch, &L);
+        *est_out = curve_statement(c, ch, &L, NULL).total;
+        levels_free(&L);
     }
-    if (est_out) *est_out = sweep_estimate(c, ch, last_est);
     return CSF_OK;
 }
 
@@ -1390,7 +1545,8 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
             int left = budget - c->n_sweep;
             int b = left / (3 - ch);
             if (b < 2) b = 2;
-            st = sweep_ref(c, ch, b, corners, nc, &res->est_error_rel[ch], err);
+            double grey_total = res->est_error_rel[CSF_CH_GREY]; /* what a channel through grey inherits */
+            st = sweep_ref(c, ch, b, corners, nc, &grey_total, err);
             if (st) return st;
         }
     }
@@ -1547,6 +1703,30 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
     return CSF_OK;
 }
 
+/* Every curve's stated error from all the readings (the references after the last sweep
+ * included), for the model the profile holds: grey and channels through their own levels, or a
+ * channel through grey (channel_grey_statement). target_met: all at or below the target. */
+static void stated_errors(const ctx *c, const csf_display_calib_opts *o, csf_display_calib_result *res)
+{
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++) res->est_error_rel[ch] = NAN;
+    levels L;
+    res->est_error_rel[CSF_CH_GREY] = curve_statement_grey(c);
+    res->target_met = res->est_error_rel[CSF_CH_GREY] <= o->target_rel;
+    for (int ch = 0; o->channels && ch < 3; ch++) {
+        if (res->channel_via_grey[ch]) {
+            ratio_model rm;
+            fit_ratio(c, ch, &rm);
+            res->est_error_rel[ch] =
+                channel_grey_statement(c, ch, &rm, res->est_error_rel[CSF_CH_GREY]).total;
+        } else {
+            levels_read(c, ch, &L);
+            res->est_error_rel[ch] = curve_statement(c, ch, &L, NULL).total;
+            levels_free(&L);
+        }
+        res->target_met &= res->est_error_rel[ch] <= o->target_rel;
+    }
+}
+
 /* The profile from a run that ended well: the checks, the profile and the channels taken from the
  * grey curve where their own readings are too few. *out is NULL when it fails. */
 static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_display_profile **out,
@@ -1568,9 +1748,20 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
          * levels of the channel's own (a short budget) */
         const double *kv;
         int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
+        if (rm.valid) {
+            /* of the two models the readings allow, the one whose stated error is smaller */
+            levels L;
+            levels_read(c, ch, &L);
+            double own = curve_statement(c, ch, &L, NULL).total;
+            levels_free(&L);
+            double grey = curve_statement_grey(c);
+            use = channel_grey_statement(c, ch, &rm, grey).total <= own;
+        }
         res->channel_via_grey[ch] = use;
         if (use) st = channel_from_grey(c, ch, &rm, *out, err);
     }
+    stated_errors(c, o, res);
+    if (!st) csf_profile_set_statement(*out, o->target_rel, res->est_error_rel, res->target_met);
     if (st) {
         csf_profile_free(*out);
         *out = NULL;
@@ -1634,6 +1825,7 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     res->n_sweep = c.n_sweep;
     res->n_warmup = c.n_warmup;
     res->n_profile = (int)c.n - c.n_warmup;
+
     if (!st) {
         st = finish_profile(&c, &o, out, res, err);
     }
@@ -1677,6 +1869,29 @@ static csf_status verify_read(vctx *v, const double rgb[3], csf_photometer_readi
         return csf_error_set(err, CSF_E_PROTOCOL, "photometer %.120s, verification reading %llu: %s",
                              csf_photometer_spec(v->ph), (unsigned long long)(v->index - 1), why);
     return CSF_OK;
+}
+
+/* Does the deviation verify saw agree with the error the profile states? A verification reading
+ * differs from the profile by the profile's own error plus that reading's noise, so a profile as
+ * good as stated shows at most about stated + 3 sd of one reading (sd from the settled warm-up
+ * whites: the last six, or all when fewer). */
+static void verify_against_statement(const csf_display_profile *p, const csf_display_verify_opts *o,
+                                     const double *w, int n, csf_display_verify_result *res)
+{
+    double target, stated[CSF_CH_COUNT];
+    res->profile_target_met = csf_profile_statement(p, &target, stated);
+    res->profile_stated_rel = NAN;
+    res->allowed_dev_rel = NAN;
+    res->within_stated = -1;
+    int k = n < 6 ? n : 6;
+    res->reading_noise_rel = k >= 2 ? sd3(w + n - k, k) / w[n - 1] : NAN;
+    if (res->profile_target_met < 0) return;
+    double worst = 0;
+    for (int c = o->channels ? 0 : CSF_CH_GREY; c < CSF_CH_COUNT; c++)
+        if (!isnan(stated[c])) worst = fmax(worst, stated[c]);
+    res->profile_stated_rel = worst;
+    res->allowed_dev_rel = worst + 3 * (isfinite(res->reading_noise_rel) ? res->reading_noise_rel : 0);
+    res->within_stated = res->max_dev_rel <= res->allowed_dev_rel;
 }
 
 csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
@@ -1750,6 +1965,7 @@ csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile 
     for (int c = 0; c < CSF_CH_COUNT; c++)
         if (isfinite(res->dev_rel[c]) && res->dev_rel[c] > res->max_dev_rel) res->max_dev_rel = res->dev_rel[c];
     res->n_readings = (int)v.index;
+    verify_against_statement(p, o, w, n, res);
     return CSF_OK;
 }
 

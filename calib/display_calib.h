@@ -59,6 +59,8 @@ typedef struct {
                                 noise); 0: its own curve through its readings */
     int n_profile;         /* readings the profile is built from: sweeps + dark + white references
                               (n_readings less warm-up) */
+    int target_met;        /* 1: every curve's stated error is at or below target_rel; 0: the budget
+                              ended first (said on stderr by the CLI, in --json, in the profile) */
 } csf_display_calib_result;
 
 /* Runs (or resumes, when session_id > 0 and the store holds its readings) a calibration.
@@ -99,6 +101,14 @@ typedef struct {
     double dev_rel[CSF_CH_COUNT]; /* the same per curve (r, g, b, grey); NAN when not checked */
     int n_checked[CSF_CH_COUNT];  /* levels compared per curve */
     int n_readings;        /* every reading, warm-up included */
+    /* Agreement with what the profile states about itself (csf_profile_statement): */
+    int profile_target_met;    /* 1 met, 0 the calibration's budget ended first, -1 not stated */
+    double profile_stated_rel; /* the largest stated error of the curves checked (NAN: not stated) */
+    double reading_noise_rel;  /* relative sd of one reading, from the settled warm-up whites */
+    double allowed_dev_rel;    /* what a profile as good as stated can show here: stated + 3 sd of
+                                  one verification reading (NAN: not stated) */
+    int within_stated;         /* 1: max_dev_rel <= allowed_dev_rel; 0: the profile is worse than it
+                                  says (or the display changed); -1: not stated */
 } csf_display_verify_result;
 
 /* Checks warm-up as calibrate does, then re-measures white and n_levels levels of grey (and of

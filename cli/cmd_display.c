@@ -418,6 +418,7 @@ typedef struct {
     const csf_display_profile *p;
     const csf_display_calib_result *res;
     double target_rel, wall_s;
+    int budget;
     int64_t sid;
     int simulated, rendered;
 } calib_report;
@@ -447,7 +448,8 @@ static void print_calibration_json(const calib_report *r)
         printf("%s\"%s\": ", k ? ", " : "", chn[c]);
         json_num(stdout, res->est_error_rel[c]);
     }
-    printf("}, \"noise_rel\": ");
+    printf("}, \"target_met\": %s, \"budget\": %d, \"noise_rel\": ", res->target_met ? "true" : "false",
+           r->budget);
     json_num(stdout, res->noise_rel);
     printf(", \"drift_rel\": ");
     json_num(stdout, res->drift_rel);
@@ -468,8 +470,8 @@ static void print_calibration_text(const calib_report *r)
     printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(r->p), csf_profile_lum_max(r->p));
     printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res->n_sweep,
            res->n_readings, res->n_warmup, res->warmup_stable ? "" : ", white never settled");
-    printf("  error indicator (leave-one-out, pessimistic; stopping rule aims below %.3f %%): grey %.3f %%",
-           100 * r->target_rel / 4, 100 * res->est_error_rel[CSF_CH_GREY]);
+    printf("  stated max error above 10 %% of peak (noise + model; target %.3f %%, %s): grey %.3f %%",
+           100 * r->target_rel, res->target_met ? "met" : "NOT MET", 100 * res->est_error_rel[CSF_CH_GREY]);
     if (has_ch)
         printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res->est_error_rel[0], 100 * res->est_error_rel[1],
                100 * res->est_error_rel[2]);
@@ -599,13 +601,23 @@ static int cmd_calibrate(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display calibrate", &err);
     }
-    calib_report r = {spec, a->out, rinfo, p, &res, o.target_rel, t_cal, sid, simulated, ro == 0};
+    calib_report r = {spec, a->out, rinfo, p, &res, o.target_rel, t_cal, o.budget, sid, simulated, ro == 0};
     if (a->cli.json) print_calibration_json(&r);
     else if (!a->quiet) print_calibration_text(&r);
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
     if (!res.warmup_stable)
         fprintf(stderr, "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+    if (!res.target_met) {
+        double worst = 0;
+        for (int c = 0; c < CSF_CH_COUNT; c++)
+            if (!isnan(res.est_error_rel[c])) worst = fmax(worst, res.est_error_rel[c]);
+        fprintf(stderr,
+                "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
+                "error of %.3f %% against the target %.3f %% (the profile records it); a larger --budget "
+                "or a quieter instrument would meet it\n",
+                o.budget, 100 * worst, 100 * o.target_rel);
+    }
     csf_profile_free(p);
     return 0;
 }
@@ -700,7 +712,16 @@ static int cmd_verify(dargs *a)
             printf(", \"levels\": %d}", vr.n_checked[c]);
             first = 0;
         }
-        printf("}, \"readings\": %d}\n", vr.n_readings);
+        printf("}, \"readings\": %d, \"profile_target_met\": %s, \"profile_stated_rel\": ", vr.n_readings,
+               vr.profile_target_met < 0 ? "null"
+               : vr.profile_target_met   ? "true"
+                                         : "false");
+        json_num(stdout, vr.profile_stated_rel);
+        printf(", \"allowed_dev_rel\": ");
+        json_num(stdout, vr.allowed_dev_rel);
+        printf(", \"within_stated\": %s}\n", vr.within_stated < 0 ? "null"
+                                             : vr.within_stated   ? "true"
+                                                                  : "false");
     } else {
         if (!vr.warm)
             printf("profile %s: the monitor is NOT WARM YET: white still changed by %.2f %% between the last "
@@ -712,7 +733,17 @@ static int cmd_verify(dargs *a)
             printf(" [grey %.2f %%, r %.2f %%, g %.2f %%, b %.2f %%]", 100 * vr.dev_rel[CSF_CH_GREY],
                    100 * vr.dev_rel[0], 100 * vr.dev_rel[1], 100 * vr.dev_rel[2]);
         printf(": %s\n", !vr.warm ? "NOT WARM, not verified" : drifted ? "DRIFTED, recalibrate" : "ok");
+        if (vr.within_stated >= 0)
+            printf("  the profile states %.3f %% (target %s); a profile that good shows up to %.3f %% here: "
+                   "%s\n",
+                   100 * vr.profile_stated_rel, vr.profile_target_met ? "met" : "NOT met",
+                   100 * vr.allowed_dev_rel, vr.within_stated ? "agrees" : "WORSE THAN STATED");
     }
+    if (vr.profile_target_met == 0)
+        fprintf(stderr,
+                "csfcal: warning: profile %s states that its calibration's budget ended before the target "
+                "(stated %.3f %%)\n",
+                csf_profile_id(p), 100 * vr.profile_stated_rel);
     csf_profile_free(p);
     return vr.warm && !drifted ? 0 : 1;
 }

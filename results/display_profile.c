@@ -46,6 +46,11 @@ struct csf_display_profile {
     char created_utc[32];
     char tool_version[32];
     double additivity_error;
+    /* what the calibration states about the profile (NAN / -1 when not stated: older files, the
+     * default display): max relative error above 10 % of peak per curve, the target, met or not */
+    double stated_error_rel[CSF_CH_COUNT];
+    double target_rel;
+    int target_met;
     int has_channels;
     int has_primaries;
     double rgbw_xyz[4][3];
@@ -361,6 +366,30 @@ int csf_profile_primaries_xyz(const csf_display_profile *p, double rgbw_xyz[4][3
     return 1;
 }
 double csf_profile_additivity_error(const csf_display_profile *p) { return p->additivity_error; }
+
+static void statement_unknown(csf_display_profile *p)
+{
+    for (int c = 0; c < CSF_CH_COUNT; c++) p->stated_error_rel[c] = NAN;
+    p->target_rel = NAN;
+    p->target_met = -1;
+}
+
+void csf_profile_set_statement(csf_display_profile *p, double target_rel,
+                               const double stated_error_rel[CSF_CH_COUNT], int target_met)
+{
+    p->target_rel = target_rel;
+    for (int c = 0; c < CSF_CH_COUNT; c++) p->stated_error_rel[c] = stated_error_rel[c];
+    p->target_met = target_met ? 1 : 0;
+}
+
+int csf_profile_statement(const csf_display_profile *p, double *target_rel,
+                          double stated_error_rel[CSF_CH_COUNT])
+{
+    if (target_rel) *target_rel = p->target_rel;
+    if (stated_error_rel)
+        for (int c = 0; c < CSF_CH_COUNT; c++) stated_error_rel[c] = p->stated_error_rel[c];
+    return p->target_met;
+}
 const char *csf_profile_instrument(const csf_display_profile *p) { return p->instrument; }
 const char *csf_profile_created_utc(const csf_display_profile *p) { return p->created_utc; }
 
@@ -483,6 +512,7 @@ csf_display_profile *csf_profile_default(void)
 {
     csf_display_profile *p = calloc(1, sizeof *p);
     if (!p) return NULL;
+    statement_unknown(p);
     copy_str(p->display, sizeof p->display, "default");
     copy_str(p->instrument, sizeof p->instrument, "none (documented default display)");
     copy_str(p->created_utc, sizeof p->created_utc, "2026-01-01T00:00:00Z");
@@ -756,6 +786,7 @@ csf_status csf_profile_build(const csf_profile_reading *readings, size_t n,
         return csf_error_set(err, CSF_E_INVALID_ARG, "%zu readings (limit %d)", n, MAX_READINGS);
     csf_display_profile *p = calloc(1, sizeof *p);
     if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    statement_unknown(p);
     copy_str(p->display, sizeof p->display, meta && meta->display_name ? meta->display_name : "display");
     copy_str(p->instrument, sizeof p->instrument, meta && meta->instrument ? meta->instrument : "unknown");
     if (meta && meta->created_utc) copy_str(p->created_utc, sizeof p->created_utc, meta->created_utc);
@@ -947,6 +978,16 @@ csf_status csf_profile_to_text(const csf_display_profile *p, char **out, csf_err
     sb_num(&b, csf_profile_lum_max(p));
     sb_printf(&b, "\nadditivity_error = ");
     sb_num(&b, p->additivity_error);
+    if (p->target_met >= 0) {
+        sb_printf(&b, "\ntarget_rel = ");
+        sb_num(&b, p->target_rel);
+        sb_printf(&b, "\ntarget_met = %d", p->target_met);
+        for (int c = 0; c < CSF_CH_COUNT; c++) {
+            if (isnan(p->stated_error_rel[c])) continue;
+            sb_printf(&b, "\nstated_error_%s = ", ch_names[c]);
+            sb_num(&b, p->stated_error_rel[c]);
+        }
+    }
     sb_printf(&b, "\nhas_channels = %d\n", p->has_channels);
     if (p->has_primaries) {
         static const char *pn[4] = {"primary_r_xyz", "primary_g_xyz", "primary_b_xyz", "white_xyz"};
@@ -1156,6 +1197,21 @@ static csf_status parse_header_key(profile_parse *pp, char *s)
         if (parse_dbl(v, &x) < 0 || (isfinite(x) && fabs(x) > 10))
             return perr(pc, "additivity_error must be a number in -10..10 or nan");
         p->additivity_error = x;
+    } else if (strcmp(k, "target_rel") == 0) {
+        if (parse_dbl(v, &x) < 0 || !(x > 0 && x <= 0.5))
+            return perr(pc, "target_rel must be a number in (0, 0.5]");
+        p->target_rel = x;
+    } else if (strcmp(k, "target_met") == 0) {
+        if (strcmp(v, "0") && strcmp(v, "1")) return perr(pc, "target_met must be 0 or 1");
+        p->target_met = v[0] - '0';
+    } else if (strncmp(k, "stated_error_", 13) == 0) {
+        int c = -1;
+        for (int j = 0; j < CSF_CH_COUNT; j++)
+            if (strcmp(k + 13, ch_names[j]) == 0) c = j;
+        if (c < 0) return CSF_OK; /* an unknown key, ignored as any */
+        if (parse_dbl(v, &x) < 0 || !(x >= 0))
+            return perr(pc, "%s must be a relative error, 0 or more (inf: unknown)", k);
+        p->stated_error_rel[c] = x;
     } else if (strcmp(k, "has_channels") == 0) {
         if (strcmp(v, "0") && strcmp(v, "1")) return perr(pc, "has_channels must be 0 or 1");
         pp->declared_channels = v[0] - '0';
@@ -1308,6 +1364,7 @@ static csf_status parse_named(const char *text, size_t len, const char *name,
     profile_parse pp = {.pc = {name, 0, err}, .section = -1, .declared_channels = -1};
     csf_display_profile *p = pp.p = calloc(1, sizeof *p);
     if (!p) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    statement_unknown(p);
     p->additivity_error = NAN;
     csf_status st = CSF_OK;
     char line[1024];

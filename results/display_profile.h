@@ -120,6 +120,15 @@ size_t csf_profile_readings(const csf_display_profile *p, const csf_profile_read
 /* Primaries (and white) XYZ at full drive, black subtracted; returns 0 when unknown. */
 int csf_profile_primaries_xyz(const csf_display_profile *p, double rgbw_xyz[4][3]);
 double csf_profile_additivity_error(const csf_display_profile *p); /* NAN if unknown */
+/* What the calibration stated about the profile (docs/display-profile.md, "How wrong the profile
+ * is"): the target (max relative error above 10 % of peak), each curve's stated error (NAN when
+ * not measured, inf when it could not be estimated) and whether all met the target. Returns 1
+ * (met), 0 (the budget ended first), or -1 when the profile states nothing (an older file, the
+ * default display). */
+int csf_profile_statement(const csf_display_profile *p, double *target_rel,
+                          double stated_error_rel[CSF_CH_COUNT]);
+void csf_profile_set_statement(csf_display_profile *p, double target_rel,
+                               const double stated_error_rel[CSF_CH_COUNT], int target_met);
 const char *csf_profile_instrument(const csf_display_profile *p);
 const char *csf_profile_created_utc(const csf_display_profile *p);
 

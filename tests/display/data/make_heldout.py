@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""Writes the held-out display truths (level,r_cdm2,g_cdm2,b_cdm2, black excluded) that the
+display profile's error statement is checked on and never tuned on (docs/display-profile.md,
+"How wrong the profile is"). Shapes unlike the built-in crt/lcd/oled models and kink.csv:
+  heldout_scurve.csv   a measured-looking S-curve: slow dark start, steep middle, soft shoulder
+                       near white, per-channel different midpoints
+  heldout_bt1886.csv   BT.1886-style (black lift folded into the curve) with channel gammas
+                       2.0 / 2.4 / 2.7 and a compressive top (channel ratio far from constant)
+  heldout_lutwiggle.csv a power law through a coarse 17-point LUT with a small ripple (a
+                       driver's calibration LUT interpolated linearly: slope steps every 1/16)
+Run: python3 make_heldout.py (writes beside itself)."""
+import math, os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+W = (0.2126, 0.7152, 0.0722)
+
+
+def write(name, lmax, f, comment):
+    rows = [[max(0.0, f(c, lv / 255.0)) for c in range(3)] for lv in range(256)]
+    for c in range(3):
+        top = rows[255][c]
+        for lv in range(256):
+            rows[lv][c] = lmax * W[c] * rows[lv][c] / top
+        for lv in range(1, 256):  # never decreasing
+            rows[lv][c] = max(rows[lv][c], rows[lv - 1][c])
+    with open(os.path.join(HERE, name), "w") as fh:
+        fh.write("# level,r_cdm2,g_cdm2,b_cdm2 (black excluded): %s\n" % comment)
+        fh.write("level,r_cdm2,g_cdm2,b_cdm2\n")
+        for lv, r in enumerate(rows):
+            fh.write("%d,%.6f,%.6f,%.6f\n" % (lv, r[0], r[1], r[2]))
+
+
+def scurve(c, v):
+    mid = (0.58, 0.55, 0.52)[c]
+    wid = (0.17, 0.16, 0.18)[c]
+    s = lambda x: 1 / (1 + math.exp(-(x - mid) / wid))
+    return ((s(v) - s(0)) / (s(1) - s(0))) ** 1.6 * (0.15 + 0.85 * v)
+
+
+def bt1886(c, v):
+    g = (2.0, 2.4, 2.7)[c]
+    lw, lb = 1.0, 0.004
+    a = (lw ** (1 / g) - lb ** (1 / g)) ** g
+    b = lb ** (1 / g) / (lw ** (1 / g) - lb ** (1 / g))
+    y = a * max(v + b, 0) ** g - lb
+    return y / (1 + 0.35 * y)  # compressive top
+
+
+def lutwiggle(c, v):
+    g = (2.3, 2.2, 2.4)[c]
+    knots = [((k / 16) ** g) * (1 + 0.004 * math.sin(2.3 * k + c)) for k in range(17)]
+    knots[0] = 0.0
+    x = v * 16
+    i = min(int(x), 15)
+    return knots[i] + (x - i) * (knots[i + 1] - knots[i])
+
+
+write("heldout_scurve.csv", 160.0, scurve, "measured-looking S-curve, soft shoulder, channel midpoints differ")
+write("heldout_bt1886.csv", 220.0, bt1886, "BT.1886-like, channel gammas 2.0/2.4/2.7, compressive top")
+write("heldout_lutwiggle.csv", 140.0, lutwiggle, "power law through a 17-point LUT with a 0.4 % ripple")
