@@ -1748,15 +1748,6 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
          * levels of the channel's own (a short budget) */
         const double *kv;
         int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
-        if (rm.valid) {
-            /* of the two models the readings allow, the one whose stated error is smaller */
-            levels L;
-            levels_read(c, ch, &L);
-            double own = curve_statement(c, ch, &L, NULL).total;
-            levels_free(&L);
-            double grey = curve_statement_grey(c);
-            use = channel_grey_statement(c, ch, &rm, grey).total <= own;
-        }
         res->channel_via_grey[ch] = use;
         if (use) st = channel_from_grey(c, ch, &rm, *out, err);
     }

@@ -985,7 +985,8 @@ csf_status csf_profile_to_text(const csf_display_profile *p, char **out, csf_err
         for (int c = 0; c < CSF_CH_COUNT; c++) {
             if (isnan(p->stated_error_rel[c])) continue;
             sb_printf(&b, "\nstated_error_%s = ", ch_names[c]);
-            sb_num(&b, p->stated_error_rel[c]);
+            /* one that could not be estimated (too few levels) is written as 100: "useless" */
+            sb_num(&b, fmin(p->stated_error_rel[c], 100));
         }
     }
     sb_printf(&b, "\nhas_channels = %d\n", p->has_channels);
@@ -1209,8 +1210,8 @@ static csf_status parse_header_key(profile_parse *pp, char *s)
         for (int j = 0; j < CSF_CH_COUNT; j++)
             if (strcmp(k + 13, ch_names[j]) == 0) c = j;
         if (c < 0) return CSF_OK; /* an unknown key, ignored as any */
-        if (parse_dbl(v, &x) < 0 || !(x >= 0))
-            return perr(pc, "%s must be a relative error, 0 or more (inf: unknown)", k);
+        if (parse_dbl(v, &x) < 0 || !(x >= 0 && x <= 100))
+            return perr(pc, "%s must be a relative error from 0 to 100", k);
         p->stated_error_rel[c] = x;
     } else if (strcmp(k, "has_channels") == 0) {
         if (strcmp(v, "0") && strcmp(v, "1")) return perr(pc, "has_channels must be 0 or 1");
