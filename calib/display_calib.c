@@ -574,10 +574,14 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
 
 /* Leave-one-out error estimate per interval. est has m-1 entries. Returns max. */
 static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel,
-                              const double *sd_rel, double *est, double *knot_err)
+                              const double *sd_rel, double *est, double *est_min)
 {
     double peak = dl[m - 1];
     for (size_t i = 0; i + 1 < m; i++) est[i] = 0;
+    /* wit[2i]: interval i's estimate from knot i (left out), wit[2i+1]: from knot i+1 */
+    double *wit = malloc(2 * m * sizeof(double));
+    for (size_t i = 0; wit && i < 2 * m; i++) wit[i] = NAN;
+    if (!wit) est_min = NULL;
     double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double));
     double worst = 0;
     /* a knot the model already treats as a corner is not re-tested: leaving it out would always
@@ -609,6 +613,13 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
                 double ys = dl[a1] + s1 * (xs - dv[a1]);
                 double lin = dl[a1] + (dl[b0] - dl[a1]) * (xs - dv[a1]) / (dv[b0] - dv[a1]);
                 double e = fabs(ys - lin) / fmax(ys, 0.1 * peak_c);
+                /* ys - lin = (r + f) L[a1] - r L[a0] - f L[b0] with r, f the crossing's distance
+                 * over the two spans: its noise taken off as for a left-out knot */
+                double r = (xs - dv[a1]) / (dv[a1] - dv[a0]), f = (xs - dv[a1]) / (dv[b0] - dv[a1]);
+                double var = (pow((r + f) * sd_rel[a1] * dl[a1], 2) + pow(r * sd_rel[a0] * dl[a0], 2) +
+                              pow(f * sd_rel[b0] * dl[b0], 2)) /
+                             pow(fmax(ys, 0.1 * peak_c), 2);
+                e = e * e > 4 * var ? sqrt(e * e - var) : 0;
                 size_t iv = a1; /* interval index [a1, b0] */
                 if (e > est[iv]) est[iv] = e;
             }
@@ -632,8 +643,11 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
          * bias of the size of the noise. */
         double var =
             sd_rel[k] * sd_rel[k] + 0.32 * (sd_rel[k - 1] * sd_rel[k - 1] + sd_rel[k + 1] * sd_rel[k + 1]);
-        ek = sqrt(fmax(ek * ek - var, 0));
-        if (knot_err) knot_err[k] = ek;
+        /* a miss within two sd of its noise is no evidence of model error (the noise part of the
+         * statement covers it); amplified below up to 32x, a noise residual would otherwise
+         * become a large spurious model error */
+        ek = ek * ek > 4 * var ? sqrt(ek * ek - var) : 0;
+
         /* The left-out knot saw the merged interval's error at its own position t, which is
          * small near an end even when the interval is bad: scale to the middle (a cubic's error
          * goes ~ t^2 (1-t)^2, amplification capped at 16), then to each half by (h/H)^3
@@ -645,7 +659,22 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         double sl = 2 * ek * amp * hl * hl * hl, sr = 2 * ek * amp * hr * hr * hr;
         if (sl > est[k - 1]) est[k - 1] = sl;
         if (sr > est[k]) est[k] = sr;
+        if (est_min) {
+            wit[2 * (k - 1) + 1] = sl;
+            wit[2 * k] = sr;
+        }
     }
+    /* An interval has two witnesses, the knots at its ends, each left out in turn. Placing levels
+     * takes the larger (est); the statement the smaller (est_min): leaving out a knot beside a
+     * kink loses the kink, and its large miss says nothing about the interval on its other side,
+     * which the other witness sees as it is. */
+    for (size_t i = 0; est_min && i + 1 < m; i++) {
+        double a = wit[2 * i], b = wit[2 * i + 1];
+        est_min[i] = isnan(a) && isnan(b) ? est[i] : isnan(a) ? b : isnan(b) ? a : sqrt(a * b);
+        /* a corner's own estimate (set above) stands */
+        if (est[i] > fmax(isnan(a) ? 0 : a, isnan(b) ? 0 : b)) est_min[i] = est[i];
+    }
+    free(wit);
     /* intervals entirely below 10 % of peak matter less (the accuracy target is stated above it,
      * and contrast there is set by the black level more than by the curve): lower priority */
     for (size_t i = 0; i + 1 < m; i++) {
@@ -1027,7 +1056,7 @@ static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, cons
     const double *grid = ch == CSF_CH_GREY ? grid_grey : grid_ch;
     int ng = ch == CSF_CH_GREY ? 7 : 4;
     csf_status st;
-    if (ch < 3 && budget >= 7 && c->n_sweep - start < budget) {
+    if (ch < 3 && budget >= 7 && c->n_sweep - start == 1) {
         st = measure_level(c, ch, 1.0, INFINITY, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
@@ -1040,7 +1069,10 @@ static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, cons
         if (st) return st;
     }
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
-        st = measure_level(c, ch, snap(c, grid[i]), peak, budget - (c->n_sweep - start), err);
+        /* at most two readings each here: with a noisy instrument the grid's spread (what the
+         * model and its stated error need) comes before averaging, which the refinement does */
+        int left = budget - (c->n_sweep - start);
+        st = measure_level(c, ch, snap(c, grid[i]), peak, ch < 3 && left > 2 ? 2 : left, err);
         if (st) return st;
     }
     /* the low end of the range the target covers: where grey is at 10 % of its peak, unless the
@@ -1094,21 +1126,18 @@ static double split_point(const ctx *c, const levels *L, size_t wi)
  * Leave-one-out alone understated the error by 2-7x at ordinary noise: it took the noise off and
  * never added it back, and an RMS-like miss is not the worst case over the range. */
 
-/* Relative sd of one reading above 10 % of a curve's peak, pooled over every level read more than
- * once (grey, channels, and the white references at drive 1 after drift correction, which also
- * carries what the drift model misses): the instrument's repeatability with many more degrees of
- * freedom than the first six references alone. Their absolute noise part is taken off. */
-static double pooled_noise_rel(const ctx *c)
+/* Sum of squared relative deviations from their level's mean, and degrees of freedom, over every
+ * level above 10 % of its curve's peak read more than once; with_white: grey's drive 1 too. */
+static void pool_scatter(const ctx *c, int with_white, double *ss, int *dof)
 {
-    double ss = 0;
-    int dof = 0;
     for (int ch = 0; ch < CSF_CH_COUNT; ch++) {
         double *pv, *pl;
         size_t k = curve_points(c, ch, &pv, &pl);
         double top = 0;
         for (size_t i = 0; i < k; i++) top = fmax(top, pl[i]);
         for (size_t i = 0; i < k; i++) {
-            if (!(pv[i] > 0) || pv[i] < 0 || !(pl[i] >= 0.1 * top)) continue;
+            if (!(pv[i] > 0) || !(pl[i] >= 0.1 * top)) continue;
+            if (!with_white && ch == CSF_CH_GREY && pv[i] == 1) continue;
             int first = 1, n = 0;
             double mean = 0;
             for (size_t j = 0; j < k; j++)
@@ -1120,11 +1149,28 @@ static double pooled_noise_rel(const ctx *c)
             if (!first || n < 2) continue;
             mean /= n;
             for (size_t j = 0; j < k; j++)
-                if (pv[j] == pv[i]) ss += pow(pl[j] / mean - 1, 2) - pow(c->noise_abs / mean, 2);
-            dof += n - 1;
+                if (pv[j] == pv[i]) *ss += pow(pl[j] / mean - 1, 2) - pow(c->noise_abs / mean, 2);
+            *dof += n - 1;
         }
         free(pv);
         free(pl);
+    }
+}
+
+/* Relative sd of one reading above 10 % of a curve's peak, pooled over every level read more than
+ * once: the instrument's repeatability with many more degrees of freedom than the first six
+ * references alone (their absolute noise part taken off). The white references at drive 1 count
+ * only when the sweep levels give fewer than 5 degrees of freedom: after drift correction their
+ * scatter also holds what the drift curve misses over the session, not only a reading's noise. */
+static double pooled_noise_rel(const ctx *c)
+{
+    double ss = 0;
+    int dof = 0;
+    pool_scatter(c, 0, &ss, &dof);
+    if (dof < 5) {
+        ss = 0;
+        dof = 0;
+        pool_scatter(c, 1, &ss, &dof);
     }
     if (dof < 5 || !(ss > 0)) return fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
     return sqrt(ss / dof);
@@ -1169,22 +1215,29 @@ static statement curve_statement(const ctx *c, int ch, const levels *L, double *
     size_t m = L->m;
     if (m < 3) return out;
     double *sd = malloc(m * sizeof(double)), *e = est ? est : malloc(m * sizeof(double)),
-           *top = malloc(m * sizeof(double));
-    if (!sd || !e || !top) goto done;
+           *top = malloc(m * sizeof(double)), *emin = malloc(m * sizeof(double));
+    if (!sd || !e || !top || !emin) goto done;
     level_sds(c, L, pooled_noise_rel(c), sd);
-    interval_errors(L->v, L->lum, m, ch < 3, sd, e, NULL);
+    interval_errors(L->v, L->lum, m, ch < 3, sd, e, emin);
     double peak = L->lum[m - 1];
     size_t k = 0;
     out.model = 0;
     for (size_t i = 0; i < m; i++) {
-        if (i + 1 < m && L->lum[i + 1] >= 0.1 * peak) out.model = fmax(out.model, e[i]);
-        if (L->v[i] > 0 && L->lum[i] >= 0.1 * peak) top[k++] = sd[i];
+        if (i + 1 < m && L->lum[i + 1] >= 0.1 * peak) out.model = fmax(out.model, emin[i]);
+        /* the knots in the range, and the one below its low end: the interval across the 10 %
+         * line carries that knot's error into the range */
+        if (L->v[i] > 0 && (L->lum[i] >= 0.1 * peak || (i + 1 < m && L->lum[i + 1] >= 0.1 * peak)))
+            top[k++] = sd[i];
     }
     out.noise = max_noise_median(top, k);
+    /* leave-one-out needs two levels inside the range besides full drive to say anything about
+     * the model there: with fewer the model's error is unknown, and so is the statement */
+    if (k < 3) out.model = INFINITY;
     out.total = sqrt(out.noise * out.noise + out.model * out.model);
 done:
     free(sd);
     free(top);
+    free(emin);
     if (!est) free(e);
     return out;
 }
@@ -1224,7 +1277,8 @@ static double noisiest_level(const ctx *c, const levels *L, double lo_frac)
 {
     double nr = pooled_noise_rel(c), worst = 0, wid = 0, at = NAN, peak = L->lum[L->m - 1];
     for (size_t i = 0; i < L->m; i++) {
-        if (!(L->v[i] > 0) || !(L->lum[i] >= lo_frac * peak)) continue;
+        int in = L->lum[i] >= lo_frac * peak || (i + 1 < L->m && L->lum[i + 1] >= lo_frac * peak);
+        if (!(L->v[i] > 0) || !in) continue;
         double sd = sqrt((nr * nr + pow(c->noise_abs / L->lum[i], 2)) / L->cnt[i]);
         double w = (i + 1 < L->m ? L->v[i + 1] : 1) - (i > 0 ? L->v[i - 1] : 0);
         if (sd > worst * 1.000001 || (sd > worst * 0.999999 && w > wid)) {
@@ -1305,14 +1359,14 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
 
 /* A channel whose ratio to grey explains its readings: the rest of its share repeats its noisiest
  * level until the channel's stated error meets the target. */
-static csf_status refine_channel_via_grey(ctx *c, int ch, int budget, int start, double grey_total,
-                                          csf_error *err)
+static csf_status refine_channel_via_grey(ctx *c, int ch, int budget, int start, csf_error *err)
 {
     while (c->n_sweep - start < budget) {
         ratio_model rm;
         fit_ratio(c, ch, &rm);
         if (!rm.ok) return CSF_OK; /* the caller goes on with levels of its own */
-        statement s = channel_grey_statement(c, ch, &rm, grey_total);
+        /* grey's statement as it is now (the pooled noise moves as readings come) */
+        statement s = channel_grey_statement(c, ch, &rm, curve_statement_grey(c));
         if (s.total <= c->o->target_rel) return CSF_OK;
         levels L;
         levels_read(c, ch, &L);
@@ -1333,7 +1387,9 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
     csf_status st;
     /* full drive first: it sets the curve's peak */
     if (ch < 3) {
-        st = measure_level(c, ch, 1.0, INFINITY, budget, err);
+        /* at most two readings: a noisy instrument would otherwise spend a short channel share
+         * on full drive alone and leave too few levels to model the channel or state its error */
+        st = measure_level(c, ch, 1.0, INFINITY, budget > 2 ? 2 : budget, err);
         if (st) return st;
     }
     double peak = predict(c, ch, 1.0);
@@ -1346,7 +1402,7 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
         ratio_model rm;
         fit_ratio(c, ch, &rm);
         if (rm.ok) {
-            st = refine_channel_via_grey(c, ch, budget, start, *est_out, err);
+            st = refine_channel_via_grey(c, ch, budget, start, err);
             if (st) return st;
             fit_ratio(c, ch, &rm);
             if (rm.ok) return CSF_OK;
@@ -1493,6 +1549,63 @@ static csf_status confirm_dark(ctx *c, csf_error *err)
     return CSF_OK;
 }
 
+/* Which model channel ch gets (1: through grey, rm filled), and its stated error: through grey when
+ * the ratio explains the readings within their noise (the sweep then spends the channel's share
+ * on repeats), else the channel's own levels (the sweep then adds levels), unless a sane ratio
+ * fit still states less than they do (a short budget). */
+static int channel_via_grey(const ctx *c, int ch, ratio_model *rm, double *stated)
+{
+    fit_ratio(c, ch, rm);
+    double g = rm->valid ? channel_grey_statement(c, ch, rm, curve_statement_grey(c)).total : INFINITY;
+    levels L;
+    levels_read(c, ch, &L);
+    double own = curve_statement(c, ch, &L, NULL).total;
+    levels_free(&L);
+    int use = rm->ok || (rm->valid && g < own);
+    *stated = use ? g : own;
+    return use;
+}
+
+/* After the sweeps: while a curve's stated error is above the target and sweep readings are
+ * left, one more step on the worst curve (its statement moves as readings come: the pooled noise,
+ * grey's error that channels inherit), then a white reference. What is left unmet when the
+ * budget ends is reported as such (target_met). */
+static csf_status top_up(ctx *c, csf_error *err)
+{
+    while (c->n_sweep < c->o->budget) {
+        int worst_ch = CSF_CH_GREY;
+        double worst = curve_statement_grey(c), st_ch;
+        for (int ch = 0; c->o->channels && ch < 3; ch++) {
+            ratio_model rm;
+            channel_via_grey(c, ch, &rm, &st_ch);
+            if (st_ch > worst) {
+                worst = st_ch;
+                worst_ch = ch;
+            }
+        }
+        if (!(worst > c->o->target_rel)) return CSF_OK;
+        int before = c->n_sweep;
+        ratio_model rm;
+        csf_status st;
+        if (worst_ch < 3 && channel_via_grey(c, worst_ch, &rm, &st_ch)) {
+            levels L;
+            levels_read(c, worst_ch, &L);
+            double at = L.m >= 2 ? noisiest_level(c, &L, 0.05) : NAN;
+            levels_free(&L);
+            rd x;
+            st = isnan(at) ? CSF_OK : take(c, ROLE_SWEEP, worst_ch, at, 0, &x, err);
+        } else {
+            double peak = predict(c, worst_ch, 1.0);
+            st = refine_curve(c, worst_ch, 1, c->n_sweep, peak, err);
+        }
+        if (st) return st;
+        if (c->n_sweep == before) return CSF_OK; /* nothing left to measure there */
+        int redo = 0;
+        if ((st = reference(c, &redo, err))) return st;
+    }
+    return CSF_OK;
+}
+
 static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
 {
     csf_status st = warmup(c, res, err);
@@ -1550,6 +1663,7 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
             if (st) return st;
         }
     }
+    if ((st = top_up(c, err))) return st;
     update_black(c);
     return CSF_OK;
 }
@@ -1709,20 +1823,11 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
 static void stated_errors(const ctx *c, const csf_display_calib_opts *o, csf_display_calib_result *res)
 {
     for (int ch = 0; ch < CSF_CH_COUNT; ch++) res->est_error_rel[ch] = NAN;
-    levels L;
     res->est_error_rel[CSF_CH_GREY] = curve_statement_grey(c);
     res->target_met = res->est_error_rel[CSF_CH_GREY] <= o->target_rel;
     for (int ch = 0; o->channels && ch < 3; ch++) {
-        if (res->channel_via_grey[ch]) {
-            ratio_model rm;
-            fit_ratio(c, ch, &rm);
-            res->est_error_rel[ch] =
-                channel_grey_statement(c, ch, &rm, res->est_error_rel[CSF_CH_GREY]).total;
-        } else {
-            levels_read(c, ch, &L);
-            res->est_error_rel[ch] = curve_statement(c, ch, &L, NULL).total;
-            levels_free(&L);
-        }
+        ratio_model rm;
+        channel_via_grey(c, ch, &rm, &res->est_error_rel[ch]);
         res->target_met &= res->est_error_rel[ch] <= o->target_rel;
     }
 }
@@ -1743,11 +1848,8 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
     st = build_profile(c, dn, ident, res->additivity_error, out, err);
     for (int ch = 0; !st && o->channels && ch < 3; ch++) {
         ratio_model rm;
-        fit_ratio(c, ch, &rm);
-        /* not within noise but sane: still better than a Hermite through fewer than 8
-         * levels of the channel's own (a short budget) */
-        const double *kv;
-        int use = rm.ok || (rm.valid && csf_profile_knots(*out, ch, &kv, NULL) < 8);
+        double stated;
+        int use = channel_via_grey(c, ch, &rm, &stated);
         res->channel_via_grey[ch] = use;
         if (use) st = channel_from_grey(c, ch, &rm, *out, err);
     }
