@@ -3,7 +3,8 @@
  * procedure beside two baselines measured with the same simulated instrument after the same
  * warm-up: a Pelli–Zhang power law L = a + (b + kV)^g fitted to 8 grey readings (what PsychoPy
  * does), and a full 256-level grey sweep with linear interpolation (a measured LUT).
- * Usage: bench_display [SEEDS [SIM_OPTIONS]] (default 10 seeds). SIM_OPTIONS is appended to every
+ * Usage: bench_display [SEEDS [SIM_OPTIONS]] (default 10 seeds); bench_display stated [SEEDS
+ * [all|tuned]] prints the stated against the true error instead (see honest_main). SIM_OPTIONS is appended to every
  * simulated photometer spec, e.g. ",noise=0,abs_noise=0" to separate model error from noise.
  * Prints a markdown table. Readings are reported three ways: the sweeps (what the budget of 48
  * counts), everything the profile is built from (sweeps plus the dark and white reference
@@ -188,9 +189,15 @@ static double maxv(const double *x, int n)
 
 /* ---- stated against true error ---- */
 
+/* The displays the statement is checked on, by role: TUNED, the ones its constants were chosen
+ * on; DEV, held out from tuning but looked at while the estimator was developed (their failures
+ * led to structural changes: the channel level at grey's 10 % point, the top-up stage); HELD_OUT,
+ * made after the estimator was finished and run only for the final figures. */
+enum { TUNED, DEV, HELD_OUT };
+
 typedef struct {
     const char *name, *spec; /* display part of the simulated photometer spec */
-    int held_out;
+    int role;
 } honest_display;
 
 typedef struct {
@@ -242,13 +249,13 @@ static int honest_run(const honest_display *d, const char *data, double noise_re
     for (int c = 0; c < 3; c++) sc = fmax(sc, res.est_error_rel[c]);
     char what[160];
     snprintf(what, sizeof what, "%s, noise %g %%, seed %d, grey", d->name, 100 * noise_rel, seed);
-    if (d->held_out) honest_note(sum, sg / tg, what);
+    if (d->role != TUNED) honest_note(&sum[d->role], sg / tg, what);
     snprintf(what, sizeof what, "%s, noise %g %%, seed %d, channels", d->name, 100 * noise_rel, seed);
-    if (d->held_out) honest_note(sum, sc / tc, what);
-    sum->unmet += d->held_out && !res.target_met;
+    if (d->role != TUNED) honest_note(&sum[d->role], sc / tc, what);
+    sum[d->role].unmet += !res.target_met;
     printf("| %s%s | %.2f %% | %d | %.3f %% | %.3f %% | %.2f | %.3f %% | %.3f %% | %.2f | %d | %s |\n",
-           d->name, d->held_out ? "" : " (tuned)", 100 * noise_rel, seed, 100 * sg, 100 * tg, sg / tg,
-           100 * sc, 100 * tc, sc / tc, res.n_sweep, res.target_met ? "yes" : "**no**");
+           d->name, (const char *[]){" (tuned)", " (dev)", ""}[d->role], 100 * noise_rel, seed, 100 * sg,
+           100 * tg, sg / tg, 100 * sc, 100 * tc, sc / tc, res.n_sweep, res.target_met ? "yes" : "**no**");
     fflush(stdout);
     csf_profile_free(p);
     csf_photometer_close(ph);
@@ -257,21 +264,25 @@ static int honest_run(const honest_display *d, const char *data, double noise_re
 }
 
 /* bench_display stated [SEEDS [all|tuned]]: the stated error (est_error_rel) against the true max
- * error above 10 % of peak on the held-out displays (with "all" also, with "tuned" only, the
- * displays the estimator was tuned on; the summary line counts held-out runs only). */
+ * error above 10 % of peak, on the held-out and dev displays (with "all" also, with "tuned" only,
+ * the displays the estimator was tuned on); one summary line per role, tuned displays not counted. */
 static int honest_main(int seeds, int all)
 {
     const char *data = getenv("CSF_DISPLAY_DATA");
     if (!data) data = "tests/display/data";
     static const honest_display displays[] = {
-        {"S-curve csv", "file=heldout_scurve.csv", 1},
-        {"BT.1886 csv", "file=heldout_bt1886.csv", 1},
-        {"LUT ripple csv", "file=heldout_lutwiggle.csv", 1},
-        {"lcd gamma 2.6, interaction 8 %, black 1", "lcd,gamma=2.6,interaction=0.08,black=1", 1},
-        {"crt", "crt", 0},
-        {"lcd", "lcd", 0},
-        {"oled", "oled", 0},
-        {"csv with kink", "file=kink.csv", 0},
+        {"tone-mapped csv", "file=heldout2_tone.csv", HELD_OUT},
+        {"sRGB with bump csv", "file=heldout2_bump.csv", HELD_OUT},
+        {"oled gamma 2.0, 400 cd/m2", "oled,gamma=2.0,lmax=400", HELD_OUT},
+        {"crt gamma 2.8, black 0.5", "crt,gamma=2.8,black=0.5", HELD_OUT},
+        {"S-curve csv", "file=heldout_scurve.csv", DEV},
+        {"BT.1886 csv", "file=heldout_bt1886.csv", DEV},
+        {"LUT ripple csv", "file=heldout_lutwiggle.csv", DEV},
+        {"lcd gamma 2.6, interaction 8 %, black 1", "lcd,gamma=2.6,interaction=0.08,black=1", DEV},
+        {"crt", "crt", TUNED},
+        {"lcd", "lcd", TUNED},
+        {"oled", "oled", TUNED},
+        {"csv with kink", "file=kink.csv", TUNED},
     };
     static const double noises[] = {0.0002, 0.0005, 0.001, 0.002, 0.005};
     printf(
@@ -280,17 +291,22 @@ static int honest_main(int seeds, int all)
     printf("| display | noise | seed | grey stated | grey true | ratio | channels stated | channels true | "
            "ratio | "
            "sweeps | target met |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
-    honest_summary sum = {0, INFINITY, "", "", 0, 0, 0};
+    honest_summary sum[3];
+    for (int r = 0; r < 3; r++) sum[r] = (honest_summary){0, INFINITY, "", "", 0, 0, 0};
     for (size_t d = 0; d < sizeof displays / sizeof displays[0]; d++) {
-        if ((!displays[d].held_out && all == 0) || (displays[d].held_out && all == 2)) continue;
+        if ((displays[d].role == TUNED && all == 0) || (displays[d].role != TUNED && all == 2)) continue;
         for (size_t k = 0; k < sizeof noises / sizeof noises[0]; k++)
             for (int s = 1; s <= seeds; s++)
-                if (honest_run(&displays[d], data, noises[k], s, &sum)) return 1;
+                if (honest_run(&displays[d], data, noises[k], s, sum)) return 1;
     }
-    printf(
-        "\nheld-out: %d stated/true ratios, %d outside [1/1.5, 1.5]; largest %.2f (%s), smallest %.2f (%s); "
-        "target not met (and said so) in %d runs\n",
-        sum.runs, sum.outside, sum.worst_hi, sum.hi_at, sum.worst_lo, sum.lo_at, sum.unmet);
+    static const char *label[] = {"", "dev (held out from tuning, seen in development)", "held-out (final)"};
+    for (int r = HELD_OUT; r >= DEV; r--)
+        if (sum[r].runs)
+            printf("\n%s: %d stated/true ratios, %d outside [1/1.5, 1.5]; largest %.2f (%s), smallest %.2f "
+                   "(%s); "
+                   "target not met (and said so) in %d of %d runs\n",
+                   label[r], sum[r].runs, sum[r].outside, sum[r].worst_hi, sum[r].hi_at, sum[r].worst_lo,
+                   sum[r].lo_at, sum[r].unmet, sum[r].runs / 2);
     return 0;
 }
 

@@ -8,6 +8,10 @@ display profile's error statement is checked on and never tuned on (docs/display
                        2.0 / 2.4 / 2.7 and a compressive top (channel ratio far from constant)
   heldout_lutwiggle.csv a power law through a coarse 17-point LUT with a small ripple (a
                        driver's calibration LUT interpolated linearly: slope steps every 1/16)
+A second set, made after the estimator was finished and looked at only for the final figures:
+  heldout2_tone.csv    a lifted toe and a Reinhard-like shoulder, channel gammas 2.3 / 2.4 / 2.5
+  heldout2_bump.csv    the sRGB curve (linear segment below 0.04045) with a 0.5 % bump at drive
+                       0.6 on green only (a panel's overdrive table), red and blue plain
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -58,3 +62,20 @@ def lutwiggle(c, v):
 write("heldout_scurve.csv", 160.0, scurve, "measured-looking S-curve, soft shoulder, channel midpoints differ")
 write("heldout_bt1886.csv", 220.0, bt1886, "BT.1886-like, channel gammas 2.0/2.4/2.7, compressive top")
 write("heldout_lutwiggle.csv", 140.0, lutwiggle, "power law through a 17-point LUT with a 0.4 % ripple")
+
+
+def tone(c, v):
+    g = (2.3, 2.4, 2.5)[c]
+    y = ((v + 0.03) / 1.03) ** g - (0.03 / 1.03) ** g
+    return y / (1 + 0.6 * y)
+
+
+def bump(c, v):
+    y = v / 12.92 if v <= 0.04045 else ((v + 0.055) / 1.055) ** 2.4
+    if c == 1:
+        y *= 1 + 0.005 * math.exp(-((v - 0.6) / 0.05) ** 2)
+    return y
+
+
+write("heldout2_tone.csv", 300.0, tone, "lifted toe, Reinhard-like shoulder, channel gammas 2.3/2.4/2.5")
+write("heldout2_bump.csv", 120.0, bump, "sRGB curve, 0.5 % bump at drive 0.6 on green only")
