@@ -1,13 +1,12 @@
 /* Photometric calibration procedure (see calib/display_calib.h for the contract).
  *
- * Grey: a coarse grid, then adaptive levels. Repeatedly, every interior knot is predicted from a
- * model fitted without it (leave-one-out). That prediction error, weighted by 1/max(L, 10 % of
- * peak) because relative accuracy matters where luminance is high, is charged to the two
- * intervals beside the knot; the worst interval is split (where its neighbours' secants cross: at
- * a kink that is the break). Where the curve is nearly a power law the model already fits and no
- * readings are spent; where it bends (an LCD toe, a kink) they concentrate. What the placement
- * leaves of grey's share repeats the noisiest levels above 10 % of peak: with the default
- * instrument the error left is its noise, not the model (see docs/display-profile.md).
+ * Grey: a coarse grid, then one step at a time while the curve's stated error (see "the stated
+ * error" below: the knots' noise plus the model's own error, as a maximum over the range) is above
+ * its aim. Where the model part dominates, the interval with the largest leave-one-out estimate
+ * is split (where its neighbours' secants cross: at a kink that is the break); where the noise
+ * part does, the noisiest level above 10 % of peak is read again. Where the curve is nearly a
+ * power law the model already fits and readings go to averaging; where it bends (an LCD toe, a
+ * kink) they go to new levels.
  *
  * Channels: fitted through the grey curve (a smooth channel-to-grey ratio with two to four
  * parameters, see fit_ratio), so a handful of readings per channel average their noise instead
@@ -572,7 +571,43 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
     return m;
 }
 
-/* Leave-one-out error estimate per interval. est has m-1 entries. Returns max. */
+/* A knot the model keeps as a corner: is the kink really at it? Extend the secants on both sides;
+ * where they cross inside a neighbouring interval, the break lies there, and the gap between the
+ * crossing and the straight model (its noise taken off) is that interval's error, into est. */
+static void corner_estimates(const double *dv, const double *dl, size_t m, size_t k, const double *sd_rel,
+                             double *est)
+{
+    double peak_c = dl[m - 1];
+    for (int side = 0; side < 2; side++) {
+        /* side 0: lines (k-1,k) and (k+1,k+2) meet in [k,k+1]; side 1: (k-2,k-1) and (k,k+1) in [k-1,k] */
+        size_t a0 = side ? k - 2 : k - 1, a1 = side ? k - 1 : k, b0 = side ? k : k + 1,
+               b1 = side ? k + 1 : k + 2;
+        if ((side && k < 2) || b1 >= m) continue;
+        /* lines over at least 0.03 of drive where knots allow: a secant over two close
+         * knots is mostly instrument noise */
+        while (a0 > 0 && dv[a1] - dv[a0] < 0.03) a0--;
+        while (b1 + 1 < m && dv[b1] - dv[b0] < 0.03) b1++;
+        double s1 = (dl[a1] - dl[a0]) / (dv[a1] - dv[a0]), s2 = (dl[b1] - dl[b0]) / (dv[b1] - dv[b0]);
+        if (!(fabs(s1 - s2) > 0)) continue;
+        double xs = (dl[b0] - dl[a1] + s1 * dv[a1] - s2 * dv[b0]) / (s1 - s2);
+        if (!(xs > dv[a1] && xs < dv[b0])) continue;
+        double ys = dl[a1] + s1 * (xs - dv[a1]);
+        double lin = dl[a1] + (dl[b0] - dl[a1]) * (xs - dv[a1]) / (dv[b0] - dv[a1]);
+        double e = fabs(ys - lin) / fmax(ys, 0.1 * peak_c);
+        /* ys - lin = (r + f) L[a1] - r L[a0] - f L[b0] with r, f the crossing's distance over the
+         * two spans: its noise taken off as for a left-out knot */
+        double r = (xs - dv[a1]) / (dv[a1] - dv[a0]), f = (xs - dv[a1]) / (dv[b0] - dv[a1]);
+        double var = (pow((r + f) * sd_rel[a1] * dl[a1], 2) + pow(r * sd_rel[a0] * dl[a0], 2) +
+                      pow(f * sd_rel[b0] * dl[b0], 2)) /
+                     pow(fmax(ys, 0.1 * peak_c), 2);
+        e = e * e > 4 * var ? sqrt(e * e - var) : 0;
+        if (e > est[a1]) est[a1] = e; /* interval [a1, b0] */
+    }
+}
+
+/* Leave-one-out error estimate per interval (noise taken off; see "the stated error"): est (m-1
+ * entries) the larger of each interval's two witnesses, for placing levels; est_min (may be NULL)
+ * their geometric mean, for the statement. Returns the largest est. */
 static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel,
                               const double *sd_rel, double *est, double *est_min)
 {
@@ -594,35 +629,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         for (size_t j = 0; j < nc; j++)
             if (corners[j] == dv[k]) skip = 1;
         if (skip) {
-            /* Instead: is the kink really at this knot? Extend the secants on both sides; where
-             * they cross inside a neighbouring interval, the break lies there, and the gap between
-             * the crossing and the straight model is that interval's error. */
-            double peak_c = dl[m - 1];
-            for (int side = 0; side < 2; side++) {
-                /* side 0: lines (k-1,k) and (k+1,k+2) meet in [k,k+1]; side 1: (k-2,k-1) and (k,k+1) in [k-1,k] */
-                size_t a0 = side ? k - 2 : k - 1, a1 = side ? k - 1 : k, b0 = side ? k : k + 1, b1 = side ? k + 1 : k + 2;
-                if ((side && k < 2) || b1 >= m) continue;
-                /* lines over at least 0.03 of drive where knots allow: a secant over two close
-                 * knots is mostly instrument noise */
-                while (a0 > 0 && dv[a1] - dv[a0] < 0.03) a0--;
-                while (b1 + 1 < m && dv[b1] - dv[b0] < 0.03) b1++;
-                double s1 = (dl[a1] - dl[a0]) / (dv[a1] - dv[a0]), s2 = (dl[b1] - dl[b0]) / (dv[b1] - dv[b0]);
-                if (!(fabs(s1 - s2) > 0)) continue;
-                double xs = (dl[b0] - dl[a1] + s1 * dv[a1] - s2 * dv[b0]) / (s1 - s2);
-                if (!(xs > dv[a1] && xs < dv[b0])) continue;
-                double ys = dl[a1] + s1 * (xs - dv[a1]);
-                double lin = dl[a1] + (dl[b0] - dl[a1]) * (xs - dv[a1]) / (dv[b0] - dv[a1]);
-                double e = fabs(ys - lin) / fmax(ys, 0.1 * peak_c);
-                /* ys - lin = (r + f) L[a1] - r L[a0] - f L[b0] with r, f the crossing's distance
-                 * over the two spans: its noise taken off as for a left-out knot */
-                double r = (xs - dv[a1]) / (dv[a1] - dv[a0]), f = (xs - dv[a1]) / (dv[b0] - dv[a1]);
-                double var = (pow((r + f) * sd_rel[a1] * dl[a1], 2) + pow(r * sd_rel[a0] * dl[a0], 2) +
-                              pow(f * sd_rel[b0] * dl[b0], 2)) /
-                             pow(fmax(ys, 0.1 * peak_c), 2);
-                e = e * e > 4 * var ? sqrt(e * e - var) : 0;
-                size_t iv = a1; /* interval index [a1, b0] */
-                if (e > est[iv]) est[iv] = e;
-            }
+            corner_estimates(dv, dl, m, k, sd_rel, est);
             continue;
         }
         size_t j = 0;

@@ -50,8 +50,12 @@ typedef struct {
     int warmup_stable;     /* 1: white settled within the tolerance; 0: gave up after warmup_max */
     double noise_rel;      /* instrument noise estimated from white references */
     double drift_rel;      /* white change from first to last reference */
-    double est_error_rel[CSF_CH_COUNT]; /* leave-one-out error indicator per curve (what the
-                                           stopping rule sees; pessimistic, not a measured error) */
+    double est_error_rel[CSF_CH_COUNT]; /* stated max relative error above 10 % of each curve's
+                                           peak: the knots' noise (median of the worst knot error,
+                                           from the measured repeatability) and the model's error
+                                           (leave-one-out at the gaps' scale), in quadrature; what
+                                           the stopping rule and target_met use; inf when the
+                                           levels are too few to say (docs/display-profile.md) */
     double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
     int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
     char monotonic_msg[256];
