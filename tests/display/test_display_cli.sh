@@ -117,7 +117,7 @@ for key, want in (("0.1", 0.1), ("0.5", 0.5), ("0.9", 0.9)):
     assert abs(y - want) < 2e-4, (key, y, n)
 PY
 # a --no-channels session resumed without the option is reported as what it is (grey only)
-"$exe" display calibrate --photometer sim:display=lcd,fault=unplug@40 --no-channels --no-render --store "$t/nc.sqlite" \
+"$exe" display calibrate --photometer sim:display=lcd,fault=unplug@30 --no-channels --no-render --store "$t/nc.sqlite" \
   --out "$t/nc.profile" --quiet 2>/dev/null
 "$exe" display calibrate --photometer sim:display=lcd --resume 1 --no-render --store "$t/nc.sqlite" --out "$t/nc.profile" \
   --json >"$t/j" 2>/dev/null || { echo "no-channels resume failed"; fail=1; }
