@@ -29,7 +29,6 @@
 #include "quest_cell.h"
 #include "questplus_v.h"
 #include "results/csflut/csflut.h"
-#include "results/store/store.h"
 #include "tests/bayes/sim_2afc.h"
 
 enum { N_F = 6, N_E = 4, N_V = 3, MAX_CELLS = N_F * N_E * N_V, MAX_BUDGETS = 4, MAX_SEEDS = 64 };
@@ -111,26 +110,6 @@ static double rms_error(const csf_observer_sim *o, const csf_cell *cells, int n,
 
 /* ---- bayes: a whole session ------------------------------------------------------------------ */
 
-/* Stimulus plus response time of every stored trial (practice included): a lower bound of the
- * person's time (fixation, intervals and breaks come on top). */
-static double person_time_s(const char *store_path, int64_t session_id, double refresh_hz)
-{
-    csf_store *s = NULL;
-    csf_error err;
-    if (csf_store_open(store_path, &s, &err) != CSF_OK) return NAN;
-    csf_trial *tr = NULL;
-    size_t n = 0;
-    double t = NAN;
-    if (csf_store_get_trials(s, session_id, &tr, &n, &err) == CSF_OK) {
-        t = 0.0;
-        for (size_t i = 0; i < n; i++)
-            t += tr[i].frames_shown / refresh_hz + (isfinite(tr[i].rt_s) ? tr[i].rt_s : 0.0);
-    }
-    free(tr);
-    csf_store_close(s);
-    return t;
-}
-
 static int read_table(const char *path, const csf_cell *cells, int n, double *est_log10)
 {
     csflut_table *t = NULL;
@@ -181,7 +160,7 @@ static int run_bayes(const char *spec, uint64_t seed, int trials, double refresh
                 err.msg);
     for (int c = 0; c < n; c++) est_log10[c] = INFINITY;
     if (rc == 0 && read_table(out, cells, n, est_log10)) rc = -1;
-    *person_s = rc >= 0 ? person_time_s(store, res.session_id, refresh_hz) : NAN;
+    *person_s = rc >= 0 ? res.person_s : NAN; /* the session's clock, first trial to last */
     *wall_s = res.wall_s;
     remove(out), remove(store);
     char side[300];
@@ -523,10 +502,11 @@ static void print_summary(const run_result (*res)[MAX_SEEDS], const bench_opts *
     static const char *const sd_name[3] = {", sd 0.3", ", sd 0.5", ", sd 1"};
     best_quest_sd(res, b, qsd);
     group_figures(res, b, qsd, g, gmed);
-    printf("\nper person: median over seeds %d-%d of the RMS log10 error over the visible, showable cells; "
-           "QUEST at its best prior sd per budget; person s = stimulus + response time of the bayes session "
-           "(a lower bound; - when no session ran)\n\n",
-           b->first_seed, b->first_seed + b->n_seeds - 1);
+    printf(
+        "\nper person: median over seeds %d-%d of the RMS log10 error over the visible, showable cells; "
+        "QUEST at its best prior sd per budget; person s = the bayes session's own clock from first trial to "
+        "last (simulated answer times included; - when no session ran)\n\n",
+        b->first_seed, b->first_seed + b->n_seeds - 1);
     print_person_table(res, b, qsd, floor_rms);
     printf("\n| method | trials | RMS over people x seeds | median of per-person medians "
            "|\n|---|---|---|---|\n");
