@@ -160,10 +160,12 @@ int main(int argc, char **argv)
     for (int i = 0; i < N_PEOPLE; i++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/velocity/observer_v_%s.csv", argv[1], PEOPLE[i]);
-        CHECK_MSG(load(path, 4, &t) == 0, "%s: unreadable or bad rows", path);
+        int ok = load(path, 4, &t) == 0;
+        CHECK_MSG(ok, "%s: unreadable or bad rows", path);
         snprintf(path, sizeof path, "%s/observer_%s.csv", argv[1], PEOPLE[i]);
-        CHECK_MSG(load(path, 3, &st) == 0, "%s: unreadable or bad rows", path);
-        if (check_failures_) continue;
+        int ok_static = load(path, 3, &st) == 0;
+        CHECK_MSG(ok_static, "%s: unreadable or bad rows", path);
+        if (!ok || !ok_static) continue;
         check_complete(PEOPLE[i], &t);
         check_static_slice(PEOPLE[i], &t, &st);
         check_not_prior(PEOPLE[i], &t);
