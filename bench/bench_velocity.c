@@ -486,8 +486,13 @@ static void print_person_table(const run_result (*res)[MAX_SEEDS], const bench_o
                 ps[s] = res[ob][s].person_s[bi];
                 fails += res[ob][s].bayes_failed[bi];
             }
-            printf(" %.3f / %.3f / %.3f%s | ", median(v[mb], b->n_seeds), median(v[M_QUEST], b->n_seeds),
-                   median(v[M_QPLUS], b->n_seeds), fails ? " (bayes: no table on some seeds)" : "");
+            int shown[3] = {mb, M_QUEST, M_QPLUS};
+            for (int k = 0; k < 3; k++) {
+                if (b->use_method[shown[k]])
+                    printf("%s%.3f", k ? " / " : " ", median(v[shown[k]], b->n_seeds));
+                else printf("%s-", k ? " / " : " ");
+            }
+            printf("%s | ", fails ? " (bayes: no table on some seeds)" : "");
             if (b->use_method[M_BAYES]) printf("%.0f |", median(ps, b->n_seeds));
             else printf("- |");
         }
@@ -514,6 +519,12 @@ static void print_summary(const run_result (*res)[MAX_SEEDS], const bench_opts *
         for (int bi = 0; bi < b->n_budgets && b->use_method[m]; bi++)
             printf("| %s%s | %d | %.3f | %.3f |\n", METHOD_NAMES[m], m == M_QUEST ? sd_name[qsd[bi]] : "",
                    b->budgets[bi], g[m][bi], gmed[m][bi]);
+    if (!b->use_method[M_QUEST] || !b->use_method[M_QPLUS] ||
+        !(b->use_method[M_BAYES] || b->use_method[M_BAYESP])) {
+        printf("summary: bayes and both anchors were not all run; no comparison (pool the raw lines of the "
+               "runs)\n");
+        return;
+    }
     for (int bi = 0; bi < b->n_budgets; bi++) {
         int ahead = g[mb][bi] < g[M_QUEST][bi] && g[mb][bi] < g[M_QPLUS][bi];
         printf("summary %d trials: %s %.3f, QUEST %.3f, QUEST+ %.3f (bayes %s both anchors)", b->budgets[bi],
