@@ -400,8 +400,9 @@ static int run_one(int ob, int s, const bench_opts *b, const csf_cell *cells, in
         run_quest(o, pseed, cells, n, n_alt, QUEST_SDS[k], b, r->rms[M_QUEST][k]);
     if (rc >= 0 && b->use_method[M_QPLUS]) rc = run_qplus(o, pseed, cells, n, n_alt, b, r->rms[M_QPLUS][0]);
     csf_observer_sim_free(o);
-    /* one line per figure on stderr, so that runs split over processes can be pooled */
-    for (int m = 0; m < N_METHODS; m++)
+    /* one line per figure on stderr, so that runs split over processes can be pooled (none from a
+     * run that failed or was interrupted: its figures are not measurements) */
+    for (int m = 0; m < N_METHODS && rc >= 0; m++)
         for (int k = 0; k < (m == M_QUEST ? 3 : 1) && b->use_method[m]; k++)
             for (int bi = 0; bi < b->n_budgets; bi++)
                 fprintf(stderr, "raw observer %d seed %d method %d sd %d trials %d rms %.5f person_s %.1f\n",
