@@ -42,6 +42,9 @@ static int read_session(const csf_session_info *info, const char *study, csf_stu
             const char *h = json_string_value(json_object_get(j, "hash"));
             o->legacy = 1;
             snprintf(o->key, sizeof o->key, "%.16s", h ? h : "?");
+            /* a session that names no files at all (the phantom an interrupted older csfcal could
+             * leave before it stored any) belongs to no version and holds nothing to analyse */
+            if (!h) ok = 0;
         }
     }
     json_decref(j);
