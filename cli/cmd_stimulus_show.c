@@ -47,7 +47,7 @@ static int settings_ok(csf_presenter *p, const stim_args *a, char *why, size_t l
     stim_from_args(a, &s);
     csf_error e;
     if (csf_presenter_validate(p, &s, &e) == CSF_OK) return 0;
-    snprintf(why, len, "%.300s", e.msg);
+    snprintf(why, len, "%.*s", len > 1 ? (int)len - 1 : 0, e.msg);
     return -1;
 }
 

@@ -227,7 +227,7 @@ csf_status csf_study_select(csf_store *store, const char *study, int version, cs
     } else if (st == CSF_OK && !by_file) {
         st = only_version(o, err);
     }
-    if (st == CSF_OK && !(o->sel = calloc((size_t)o->n_all, sizeof *o->sel)))
+    if (st == CSF_OK && !(o->sel = calloc(o->n_all > 0 ? (size_t)o->n_all : 1, sizeof *o->sel)))
         st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int i = 0; st == CSF_OK && i < o->n_all; i++)
         if (selected(o, &o->all[i], by_file, fnv)) {
