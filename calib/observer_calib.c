@@ -1440,7 +1440,7 @@ static csf_status check_motion_grid(obs_run *R, csf_error *err)
         return csf_error_set(
             err, CSF_E_INVALID_ARG,
             "--trials %d: the grid has %d cells this display can show and --method %s needs at "
-            "least %d trials for it (about %.0f minutes of the person's time); give --trials %d "
+            "least %d trials for it (about %.1f minutes of the person's time); give --trials %d "
             "or fewer cells",
             set->trials, n_shown, set->method, need, expected_session_s(R, need, 0.0) / 60.0, need);
     if (n_alias > 0 && !R->opt->quiet)

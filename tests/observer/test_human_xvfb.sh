@@ -329,5 +329,24 @@ else
     echo "skip: window-close case (x_close_window not built: no X11 development files)"
 fi
 
+# ---- 9. drifting gratings (bayes over a velocity axis), answered with Right ----------------------
+# Its own store, so its session is number 1 whatever ran before. At 20 Hz, 2 cpd at 4 deg/s (8 Hz)
+# can be shown, 2 cpd at 6 deg/s (12 Hz) cannot: bayes predicts that cell, never shows it.
+VSTORE="$T/v.sqlite"
+start vel --method bayes --afc 2 --trials 6 --freqs 1,2 --eccs 0 --velocities 0,4,6 --screen-px ${W}x${H} \
+    --out "$T/vel.csflut" --seed 19 --store "$VSTORE"
+wait_window
+wait_until 15 bash -c "\"$CSFCAL\" sessions --store '$VSTORE' 2>/dev/null | grep -q '^1 '" || die "vel: no session in the store"
+xdotool key space
+vtrials() { "$CSFCAL" sessions export 1 --format json --store "$VSTORE" 2>/dev/null | grep -c '"seq"'; }
+end=$((SECONDS + 45))
+while [ "$(vtrials)" -lt 6 ] && alive && [ $SECONDS -lt $end ]; do xdotool key Right; sleep 0.5; done
+finish
+check "velocity: exit 0 (rc $RC)" test "$RC" -eq 0
+check "velocity: a 3-D table" bash -c "\"\$0\" lut info \"\$1\" | grep -q 'axis velocity *3 points'" "$CSFCAL" "$T/vel.csflut"
+VJ=$("$CSFCAL" sessions export 1 --format json --store "$VSTORE")
+check "velocity: no trial at 2 cpd and 6 deg/s (12 Hz at a 20 Hz refresh)" \
+    bash -c '! grep "\"freq_cpd\": 2[,.]" <<<"$0" | grep -q "\"velocity_dps\": -\?6[,.]"' "$VJ"
+
 [ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
 exit $fail
