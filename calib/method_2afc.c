@@ -31,6 +31,12 @@
 #define AFC_X_CANDIDATES 31
 #define AFC_SD_STABLE 0.05
 #define AFC_PRIOR_SD 0.7
+/* Data-alone odds for "never visible" (posterior odds of a threshold above the display's reach
+ * over the prior odds) a cell needs before it is written never visible (invisible_odds). One
+ * wrong answer at the top contrast is at most 0.5 / 0.04 = 12.5 times likelier from an invisible
+ * cell than from a plainly visible one (two intervals, lapse 0.08, the grid's highest; four places
+ * the same), so odds above that are evidence that survives a lapse. */
+#define AFC_INVISIBLE_BF 20.0
 
 enum { ST_INTERVAL = 0x2afc1, ST_POLAR, ST_ROTATE };
 
@@ -49,6 +55,7 @@ typedef struct {
     double *mix;    /* [AFC_GRID_N] scratch: a cell's mixed posterior */
     int *n_trials;
     int *n_alt;     /* per cell: 2 or 4 */
+    double *prior_above; /* per cell: the prior's mass above the display's highest contrast */
     double x_lo, x_hi;
 } afc_state;
 
@@ -63,8 +70,12 @@ static void afc_destroy(void *state)
     free(a->cells);
     free(a->n_trials);
     free(a->n_alt);
+    free(a->prior_above);
     free(a);
 }
+
+static void cell_mix(afc_state *a, int i);
+static void mix_moments(const afc_state *a, int i, double *mean, double *sd, double *p_above);
 
 static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf_error *err)
 {
@@ -97,7 +108,9 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     a->mix = malloc(AFC_GRID_N * sizeof *a->mix);
     a->n_trials = calloc((size_t)n, sizeof *a->n_trials);
     a->n_alt = malloc((size_t)n * sizeof *a->n_alt);
-    if (!a->cells || !a->grid || !a->n_trials || !a->n_alt || !a->log_ev || !a->eta_w || !a->mix) {
+    a->prior_above = malloc((size_t)n * sizeof *a->prior_above);
+    if (!a->cells || !a->grid || !a->n_trials || !a->n_alt || !a->log_ev || !a->eta_w || !a->mix ||
+        !a->prior_above) {
         afc_destroy(a);
         return csf_error_set(err, CSF_E_NOMEM, "2afc: out of memory");
     }
@@ -134,6 +147,10 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         }
     }
     for (int e = 0; e < a->n_eta; e++) a->eta_w[e] = 1.0 / a->n_eta;
+    for (int i = 0; i < n; i++) {
+        cell_mix(a, i);
+        mix_moments(a, i, NULL, NULL, &a->prior_above[i]);
+    }
     *state = a;
     return CSF_OK;
 }
@@ -273,6 +290,34 @@ static void afc_update(void *state, int trial_index, const csf_trial_plan *plan,
     a->n_trials[plan->cell]++;
 }
 
+/* How much more the cell's own trials support "never visible" than the prior did: posterior odds
+ * of a threshold above the display's reach over the prior odds. A cell with a few trials keeps
+ * most of its prior, and the population prior puts a high-frequency peripheral cell near the
+ * reach; "never visible" is written only when the answers themselves say so (the renderer drops
+ * what the table calls never visible, the one error it cannot afford). */
+static double invisible_odds(const afc_state *a, int i, double p_above)
+{
+    double q = a->prior_above[i];
+    if (!(q > 1e-12 && q < 1 - 1e-12)) return p_above >= 1 ? INFINITY : 0;
+    return (p_above / fmax(1 - p_above, 1e-12)) / (q / (1 - q));
+}
+
+/* Mean and sd of the cell's threshold given that it is visible (a->mix must hold the cell's
+ * posterior): what the table says for a cell not shown to be never visible. */
+static void visible_part(const afc_state *a, int i, double *mean, double *sd)
+{
+    const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta];
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    for (int k = 0; k < g->n; k++) {
+        double t = g->t_lo + k * g->t_step;
+        if (t > a->x_hi) break;
+        s0 += a->mix[k], s1 += a->mix[k] * t, s2 += a->mix[k] * t * t;
+    }
+    double m = s0 > 1e-12 ? s1 / s0 : a->x_hi;
+    *mean = m;
+    *sd = s0 > 1e-12 ? sqrt(fmax(s2 / s0 - m * m, 0.0)) : NAN;
+}
+
 static csf_status afc_estimate(void *state, csf_cell_estimate *out, csf_error *err)
 {
     afc_state *a = state;
@@ -285,9 +330,13 @@ static csf_status afc_estimate(void *state, csf_cell_estimate *out, csf_error *e
         if (a->n_trials[i] == 0) {
             out[i].threshold = NAN;
             out[i].stderr_log10 = NAN;
-        } else if (p_above > 0.5) {
+        } else if (p_above > 0.5 && invisible_odds(a, i, p_above) >= AFC_INVISIBLE_BF) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;
+        } else if (p_above > 0.5) {
+            visible_part(a, i, &m, &sd);
+            out[i].threshold = pow(10.0, m);
+            out[i].stderr_log10 = sd;
         } else {
             out[i].threshold = pow(10.0, m);
             out[i].stderr_log10 = sd;

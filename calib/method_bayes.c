@@ -125,6 +125,9 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef MISFIT_LOG10_BF
 #define MISFIT_LOG10_BF 0.5    /* about 3:1 for the per-cell model over the surface */
 #endif
+#ifndef MISFIT_WIDEN_PRIOR
+#define MISFIT_WIDEN_PRIOR 0.05 /* prior probability that the surface misses a cell (widened_sd); 0: off */
+#endif
 #ifndef MISFIT_MIN_TRIALS
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
 #endif
@@ -1608,19 +1611,58 @@ static void cell_evidence(bayes_state *s, int c, double *log10_bf, double *weak_
         for (int g = 0; g < G; g++) weak_post[g] /= ev_w;
 }
 
+/* The log10 Bayes factor of each cell's row (its eccentricity and velocity): the sum of its cells'
+ * own factors, into row_bf[n_cells]. A row the surface describes badly (a fovea poorer than the
+ * rings predict) shows as many cells each leaning to the weak prior, none clearly. */
+static void row_evidence(bayes_state *s, double *cell_bf, double *row_bf)
+{
+    for (int c = 0; c < s->n_cells; c++) {
+        cell_evidence(s, c, &cell_bf[c], NULL);
+        if (!s->n_trials[c]) cell_bf[c] = 0.0;
+    }
+    for (int c = 0; c < s->n_cells; c++) {
+        double sum = 0.0;
+        for (int d = 0; d < s->n_cells; d++)
+            if (fabs(s->cells[d].ecc_deg - s->cells[c].ecc_deg) < 1e-9 &&
+                fabs(s->cells[d].velocity_dps - s->cells[c].velocity_dps) < 1e-9)
+                sum += cell_bf[d];
+        row_bf[c] = sum;
+    }
+}
+
+/* Widens a cell's stated error by what the surface may be missing there, without moving its
+ * estimate: with probability p_w (prior MISFIT_WIDEN_PRIOR, updated by the cell's row evidence)
+ * the weak per-cell model is the right one, and then the error of the surface-based estimate is
+ * the weak posterior's spread plus the gap between the two means (Bayesian model averaging's
+ * mean squared error about the reported value). */
+static double widened_sd(const bayes_state *s, const double *weak, double mean, double sd,
+                         double row_log10_bf)
+{
+    if (!(MISFIT_WIDEN_PRIOR > 0)) return sd;
+    double wm, wsd, wpi,
+        odds = MISFIT_WIDEN_PRIOR / (1 - MISFIT_WIDEN_PRIOR) * pow(10.0, fmin(row_log10_bf, 6.0));
+    summarise(s, weak, &wm, &wsd, &wpi);
+    double pw = odds / (1 + odds);
+    return sqrt((1 - pw) * sd * sd + pw * (wsd * wsd + (wm - mean) * (wm - mean)));
+}
+
 static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error *err)
 {
     bayes_state *s = state;
     if (!s || !out) return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: estimate without state");
     refresh_cache(s);
     double *weak = s->scratch_b;
+    double *row_bf = MISFIT_WIDEN_PRIOR > 0 ? malloc(2 * (size_t)s->n_cells * sizeof *row_bf) : NULL;
+    if (row_bf) row_evidence(s, row_bf + s->n_cells, row_bf);
     for (int c = 0; c < s->n_cells; c++) {
         const double *po = &s->post[(size_t)c * s->n_grid];
         double bf;
         cell_evidence(s, c, &bf, weak);
-        if (bf > MISFIT_LOG10_BF && s->n_trials[c] >= MISFIT_MIN_TRIALS) po = weak;
+        int fallback = bf > MISFIT_LOG10_BF && s->n_trials[c] >= MISFIT_MIN_TRIALS;
+        if (fallback) po = weak;
         double mean, sd, p_inv;
         summarise(s, po, &mean, &sd, &p_inv);
+        if (!fallback && row_bf) sd = widened_sd(s, weak, mean, sd, row_bf[c]);
         out[c].n_trials = s->n_trials[c];
         if (s->not_shown[c]) {
             /* Never shown: nothing measured supports "never visible", so the prediction is kept
@@ -1635,6 +1677,7 @@ static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error 
             out[c].stderr_log10 = sd;
         }
     }
+    free(row_bf);
     return CSF_OK;
 }
 

@@ -64,6 +64,7 @@
 #define FADE_BELOW 0.8
 #define FADE_ABOVE 0.6
 #define FADE_INVISIBLE_AFTER 2
+#define FADE_RETEST_EXTRA 1 /* more unanswered ramps where a neighbour was seen */
 
 enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
 
@@ -297,9 +298,41 @@ static double cell_estimate_log10(const fade_state *f, const fade_cell *c)
     return m;
 }
 
-static int cell_stable(const fade_state *f, const fade_cell *c)
+/* Whether a neighbour of cell i (one octave or less away at the same eccentricity ring, or the
+ * next ring out to 10 deg away at the same frequency, same velocity) was seen: a detection and a
+ * posterior mostly below the display's reach. */
+static int neighbour_visible(const fade_state *f, int i, double *lowest_log10)
 {
-    if (c->n_det == 0) return c->n_cens_full >= FADE_INVISIBLE_AFTER;
+    const csf_cell *a = &f->cells[i];
+    int seen = 0;
+    for (int j = 0; j < f->s.n_cells; j++) {
+        const csf_cell *b = &f->cells[j];
+        if (j == i || f->st[j].n_det < 1 || fabs(b->velocity_dps - a->velocity_dps) > 1e-9) continue;
+        if (fabs(log2(b->freq_cpd / a->freq_cpd)) > 1.05 || fabs(b->ecc_deg - a->ecc_deg) > 10.5) continue;
+        double m, above;
+        cell_moments(f, &f->st[j], &m, NULL, &above);
+        if (!(above < 0.5)) continue;
+        if (lowest_log10 && (!seen || m < *lowest_log10)) *lowest_log10 = m;
+        seen = 1;
+    }
+    return seen;
+}
+
+/* Unanswered full-range ramps (and nothing detected) it takes to call cell i never visible. Each
+ * such ramp is a lapse with probability lapse (up to 0.08 on the method's grid), so two of them
+ * are a lapse pair with probability up to 0.0064 per cell; over a 24-cell session that happens,
+ * and a visible cell written never visible is the one error a renderer cannot afford. Where a
+ * neighbour was seen the CSF's smoothness makes the lapse the likelier reading, so the cell needs
+ * FADE_RETEST_EXTRA more ramps: lapse^3 <= 5e-4. */
+static int invisible_needs(const fade_state *f, int i)
+{
+    return FADE_INVISIBLE_AFTER + (neighbour_visible(f, i, NULL) ? FADE_RETEST_EXTRA : 0);
+}
+
+static int cell_stable(const fade_state *f, int i)
+{
+    const fade_cell *c = &f->st[i];
+    if (c->n_det == 0) return c->n_cens_full >= invisible_needs(f, i);
     double sd;
     cell_moments(f, c, NULL, &sd, NULL);
     return c->n_det >= 4 && sd <= f->sd_stable;
@@ -469,7 +502,7 @@ static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
     int rot = (int)(csf_rng_u64(f->s.seed, ST_ROTATE, (uint64_t)trial_index) % (uint64_t)n);
     for (int k = 0; k < n; k++) {
         int i = (k + rot) % n;
-        if (cell_stable(f, &f->st[i])) continue;
+        if (cell_stable(f, i)) continue;
         if (best < 0 || f->st[i].n_trials < f->st[best].n_trials) best = i;
     }
     /* The anchor block: the end of the budget, or earlier when every cell is measured. Once the
@@ -562,6 +595,7 @@ static void add_trial(fade_state *f, const fade_trial *t)
         return;
     }
     c->n_trials++;
+    double x_det;
     switch (t->kind) {
     case TR_CENSORED:
         c->n_cens++;
@@ -570,7 +604,11 @@ static void add_trial(fade_state *f, const fade_trial *t)
         break;
     case TR_DETECT:
         c->n_det++;
-        cell_add(f, c, detection_x(f, t), TR_DETECT, t->range);
+        /* Detected at the ramp's onset: the grating was above threshold as it appeared (a ramp
+         * planned from an estimate that was too high), so the press says F(x_start), seen at a
+         * fixed contrast, not the density of a first crossing there (which is ~0 far above t). */
+        x_det = detection_x(f, t);
+        cell_add(f, c, x_det, x_det <= t->start + 1e-9 ? TR_PROBE_YES : TR_DETECT, t->range);
         break;
     default:
         cell_add(f, c, t->x_end, t->kind, t->range);
@@ -646,6 +684,28 @@ static void fade_update(void *state, int trial_index, const csf_trial_plan *plan
     }
 }
 
+/* A cell whose evidence for "never visible" is too few unanswered ramps (the budget ended before
+ * its re-test): not called never visible on evidence a lapse explains. Its own data, given that it is visible,
+ * put the threshold near the top of the ramp; a seen neighbour puts it lower. The table gets the
+ * cell's own reading (in the table's forced-choice terms) with a stated error wide enough that
+ * the 95 % interval reaches the neighbour's level, so neither reading is hidden. */
+static void unresolved_estimate(fade_state *f, int i, csf_cell_estimate *out)
+{
+    double p[FADE_GRID_N], s0 = 0, s1 = 0, s2 = 0, off = 0, off_sd = 0, nb = NAN;
+    fade_marginal(f, &f->st[i], p);
+    for (int k = 0; k < FADE_GRID_N; k++) {
+        double t = f->t_lo + k * f->t_step;
+        if (t > f->x_hi) break;
+        s0 += p[k], s1 += p[k] * t, s2 += p[k] * t * t;
+    }
+    double m = s0 > 1e-12 ? s1 / s0 : f->x_hi, v = s0 > 1e-12 ? s2 / s0 - m * m : 0;
+    if (f->n_anchor_plan > 0) offset_moments(f, &off, &off_sd);
+    double sd = sqrt((v > 0 ? v : 0) + off_sd * off_sd);
+    if (neighbour_visible(f, i, &nb) && nb < m) sd = hypot(sd, (m - nb) / 1.96);
+    out->threshold = pow(10.0, fmin(m - off, f->x_hi));
+    out->stderr_log10 = sd;
+}
+
 static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *err)
 {
     fade_state *f = state;
@@ -662,6 +722,13 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
         /* the table's threshold is the forced-choice one, visibility included */
         if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd, &above);
         else cell_moments(f, c, &m, &sd, &above);
+        /* never visible only on unanswered full ramps that lapses do not explain, one more for
+         * every press located on the grating (a press at a contrast where neighbours are seen is
+         * likelier a detection between lapses than a guess) */
+        if (above > 0.5 && c->n_cens_full < invisible_needs(f, i) + c->n_det) {
+            unresolved_estimate(f, i, &out[i]);
+            continue;
+        }
         if (above > 0.5) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;
