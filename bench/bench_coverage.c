@@ -40,6 +40,7 @@ typedef struct {
     long n_vis, covered, called_inv, inv_wrong, vis_nan;
     long fail_open[N_SHIFTS];
     double pred_sq, ach_sq, ratio_sum; /* sums over sessions */
+    double matched_sq;                 /* stated variance over the cells in ach_sq, summed RMS^2 */
     int n_sess, n_ratio;
     long trials;
     double cell_err_sq[N_CELLS], cell_se_sq[N_CELLS];
@@ -177,7 +178,7 @@ static void conservative(const session_out *so, double k, double *cons)
 
 static void tally_session(tally *t, const session_out *so, int per_cell)
 {
-    double lc = log10(CMAX), pred = 0, ach = 0;
+    double lc = log10(CMAX), pred = 0, ach = 0, matched = 0;
     int np = 0, na = 0;
     for (int c = 0; c < N_CELLS; c++) {
         int vis = so->truth[c] < lc, est_vis = so->est[c] < INFINITY, ok = isfinite(so->est[c]) && isfinite(so->se[c]);
@@ -193,7 +194,7 @@ static void tally_session(tally *t, const session_out *so, int per_cell)
         double d = so->est[c] - so->truth[c];
         int cov = fabs(d) <= 1.96 * so->se[c];
         t->covered += cov;
-        ach += d * d, na++;
+        ach += d * d, matched += so->se[c] * so->se[c], na++;
         if (per_cell) {
             t->cell_err_sq[c] += d * d, t->cell_se_sq[c] += so->se[c] * so->se[c];
             t->cell_cov[c] += cov, t->cell_n[c]++;
@@ -206,7 +207,7 @@ static void tally_session(tally *t, const session_out *so, int per_cell)
     }
     if (np && na) {
         pred = sqrt(pred / np), ach = sqrt(ach / na);
-        t->pred_sq += pred * pred, t->ach_sq += ach * ach;
+        t->pred_sq += pred * pred, t->ach_sq += ach * ach, t->matched_sq += matched / na;
         if (ach > 0) t->ratio_sum += pred / ach, t->n_ratio++;
     }
     t->n_sess++;
@@ -222,11 +223,14 @@ static void print_row(const char *set, const char *method, const tally *t)
             snprintf(kbest, sizeof kbest, "%.2f", SHIFTS[j]);
             break;
         }
-    printf("| %s | %s | %d | %.0f | %.1f %% | %.3f | %.3f | %.2f (%.2f) | %.1f %% | %.1f %% | %s | %ld/%ld | %ld |\n",
+    printf("| %s | %s | %d | %.0f | %.1f %% | %.3f | %.3f | %.2f (%.2f) | %.2f | %.1f %% | %.1f %% | %s | "
+           "%ld/%ld | %ld "
+           "|\n",
            set, method, t->n_sess, t->trials / ns, 100.0 * t->covered / nv, sqrt(t->pred_sq / ns),
            sqrt(t->ach_sq / ns), sqrt(t->pred_sq / (t->ach_sq > 0 ? t->ach_sq : 1)),
-           t->n_ratio ? t->ratio_sum / t->n_ratio : NAN, 100.0 * t->fail_open[0] / nv, 100.0 * t->fail_open[6] / nv,
-           kbest, t->inv_wrong, t->called_inv, t->vis_nan);
+           sqrt(t->matched_sq / (t->ach_sq > 0 ? t->ach_sq : 1)),
+           t->n_ratio ? t->ratio_sum / t->n_ratio : NAN, 100.0 * t->fail_open[0] / nv,
+           100.0 * t->fail_open[6] / nv, kbest, t->inv_wrong, t->called_inv, t->vis_nan);
 }
 
 static void print_shifts(const char *set, const char *method, const tally *t)
@@ -334,9 +338,11 @@ int main(int argc, char **argv)
     else printf("budget: %d trials", op.trials);
     printf(", layout %d, seeds %d-%d (person s, method 1000 + s)\n\n", op.layout, op.first_seed,
            op.first_seed + op.seeds - 1);
-    printf("| people | method | sessions | trials | coverage 95 %% | predicted RMS | achieved RMS | pred/ach "
-           "(mean per session) | fail-open K=0 | K=2 | K for <= 2.5 %% | never-visible wrong/called | visible "
-           "with no estimate |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    printf(
+        "| people | method | sessions | trials | coverage 95 %% | predicted RMS | achieved RMS | pred/ach "
+        "(mean per session) | pred/ach, same cells | fail-open K=0 | K=2 | K for <= 2.5 %% | never-visible "
+        "wrong/called | visible with no estimate "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int m = 0; m < op.n_methods; m++) {
         if (op.n_specs && run_group(&op, op.methods[m], op.specs, op.n_specs, "--sim", cells, n_alt)) return 1;
         for (int k = 0; k < op.n_sets; k++) {
