@@ -11,7 +11,10 @@
  *                       [--cells]
  * --sets: held-out sets of bench/data/README.md (their held-out people only); --sim: people given
  * by spec instead (for tuning on the tuned-on truths: "sim:slope=2,lapse=0.06,table=..."). Person
- * seed s, method seed 1000 + s, as bench_observer. Default: 120 trials; --precision stops a session
+ * seed s, method seed 1000 + s, as bench_observer. pred/ach: the session's predicted RMS (every
+ * cell it reports visible) over the achieved RMS (the truly visible cells among them), as root
+ * mean squares over the sessions; in brackets the stated RMS over the same cells as the achieved
+ * one (a cell truly invisible but written finite has a stated error and no error to compare). Default: 120 trials; --precision stops a session
  * when its predicted RMS reaches SE (checked after every trial from the 10th, as the session does;
  * cap 40 trials per cell). Run from the source root. Figures: BENCHMARKS.md. */
 #include <math.h>
@@ -340,7 +343,7 @@ int main(int argc, char **argv)
            op.first_seed + op.seeds - 1);
     printf(
         "| people | method | sessions | trials | coverage 95 %% | predicted RMS | achieved RMS | pred/ach "
-        "(mean per session) | pred/ach, same cells | fail-open K=0 | K=2 | K for <= 2.5 %% | never-visible "
+        "(same cells) | pred/ach, mean per session | fail-open K=0 | K=2 | K for <= 2.5 %% | never-visible "
         "wrong/called | visible with no estimate "
         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int m = 0; m < op.n_methods; m++) {
