@@ -2051,17 +2051,27 @@ static void method_line(const obs_run *R, char *buf, size_t len)
         snprintf(buf, len, "%s; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
 }
 
-/* A table with a velocity axis says what its velocities are and which cells were never shown (the
- * method's prediction stands there, with its stated error); none for a static table, whose bytes
- * stay those of format 1.0. */
-static size_t motion_metadata(const obs_run *R, csflut_meta *meta, char *buf, size_t len)
+/* The shift (standard errors, csflut's conservative view lowered by K stderr) at which a method's
+ * table fails open in at most 2.5 % of visible cells on held-out people at the default budget
+ * (bench/bench_coverage over held-out sets 5-14, confirmed on set 15): 2.0 for bayes and fade, 2.5
+ * for 2afc, whose per-cell errors are the least even (docs/observer-calibration.md). */
+static const char *recommended_shift(const char *method)
+{
+    return strcmp(method, "2afc") == 0 ? "2.5" : "2.0";
+}
+
+/* Every table names its recommended conservative shift; a table with a velocity axis also says
+ * what its velocities are and which cells were never shown (the method's prediction stands there,
+ * with its stated error). */
+static size_t table_metadata(const obs_run *R, csflut_meta *meta, char *buf, size_t len)
 {
     const session_settings *set = &R->set;
-    if (set->n_vels == 0) return 0;
-    meta[0] =
+    meta[0] = (csflut_meta){"recommended_shift_se", recommended_shift(set->method)};
+    if (set->n_vels == 0) return 1;
+    meta[1] =
         (csflut_meta){"velocity_meaning", "retinal velocity of the carrier drifting in a stationary "
                                           "envelope, with the eyes on the fixation mark (= screen velocity)"};
-    if (R->n_not_shown == 0) return 1;
+    if (R->n_not_shown == 0) return 2;
     double refresh_hz = csf_presenter_refresh_hz(R->S.pres);
     size_t used = 0;
     for (int v = 0; v < set->n_vels && used < len; v++)
@@ -2074,8 +2084,8 @@ static size_t motion_metadata(const obs_run *R, csflut_meta *meta, char *buf, si
                  " (every eccentricity): temporal frequency at or above half the %g Hz "
                  "refresh rate, never shown; the %s method's prediction with its stated error",
                  refresh_hz, set->method);
-    meta[1] = (csflut_meta){"cells_not_shown", buf};
-    return 2;
+    meta[2] = (csflut_meta){"cells_not_shown", buf};
+    return 3;
 }
 
 /* The threshold table, written and kept in the store as an artifact. */
@@ -2122,8 +2132,8 @@ static csf_status write_table(obs_run *R, csf_error *err)
     unsigned char *blob = NULL;
     size_t blen = 0;
     char not_shown[4096];
-    csflut_meta meta[2];
-    size_t n_meta = motion_metadata(R, meta, not_shown, sizeof not_shown);
+    csflut_meta meta[3];
+    size_t n_meta = table_metadata(R, meta, not_shown, sizeof not_shown);
     csflut_status ls = n_meta ? csflut_write_memory_meta(&b, meta, n_meta, &blob, &blen, &diag)
                               : csflut_write_memory_diag(&b, &blob, &blen, &diag);
     free(thr);
