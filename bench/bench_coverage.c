@@ -59,13 +59,14 @@ static double now_s(void)
 
 /* One fade trial against the simulated person, frame by frame at 60 Hz on the planned ramp
  * (tests/observer/sim_loop.h does the same; here a trial at a time, for the precision stop). */
-static void fade_trial(csf_observer_sim *o, int i, const csf_cell *c, const csf_trial_plan *plan, double *clock_s,
-                       csf_trial_outcome *out)
+static void fade_trial(csf_observer_sim *o, int i, const csf_cell *c, const csf_trial_plan *plan,
+                       double *clock_s, csf_trial_outcome *out)
 {
     const double dt = 1.0 / 60;
     csf_sim_fade_trial tr;
     double window = plan->ramp_s + 1.5;
-    csf_observer_sim_fade_begin(o, (uint64_t)i, c->freq_cpd, c->ecc_deg, plan->polar_deg, *clock_s, window, &tr);
+    csf_observer_sim_fade_begin(o, (uint64_t)i, c->freq_cpd, c->ecc_deg, plan->polar_deg, *clock_s, window,
+                                &tr);
     double xe = log10(plan->contrast), rate = (xe - plan->ramp_start_log10) / plan->ramp_s;
     double shown = 0;
     int nf = (int)ceil(window / dt);
@@ -113,7 +114,8 @@ static double predicted_rms(const csf_cell_estimate *e, int n)
     double sum = 0;
     int k = 0;
     for (int c = 0; c < n; c++)
-        if (isfinite(e[c].threshold) && isfinite(e[c].stderr_log10)) sum += e[c].stderr_log10 * e[c].stderr_log10, k++;
+        if (isfinite(e[c].threshold) && isfinite(e[c].stderr_log10))
+            sum += e[c].stderr_log10 * e[c].stderr_log10, k++;
     return k ? sqrt(sum / k) : NAN;
 }
 
@@ -128,10 +130,20 @@ static int run_session(const csf_procedure_ops *ops, const char *spec, int seed,
     }
     int fade = ops->task == CSF_TASK_FADE;
     int cap = precision > 0 ? PRECISION_CAP_PER_CELL * N_CELLS : trials;
-    csf_procedure_setup s = {.cells = cells, .n_cells = N_CELLS, .trial_budget = cap, .seed = 1000 + (uint64_t)seed,
-                             .max_contrast = CMAX, .min_contrast = 0.0005, .slope_beta = 3.5, .lapse = 0.02,
-                             .guess = fade ? 0.02 : 0.5, .ramp_start_log10 = -3.0, .ramp_end_log10 = 0.0,
-                             .ramp_s = 6.0, .reaction_latency_s = 0.37, .n_alternatives = fade ? NULL : n_alt};
+    csf_procedure_setup s = {.cells = cells,
+                             .n_cells = N_CELLS,
+                             .trial_budget = cap,
+                             .seed = 1000 + (uint64_t)seed,
+                             .max_contrast = CMAX,
+                             .min_contrast = 0.0005,
+                             .slope_beta = 3.5,
+                             .lapse = 0.02,
+                             .guess = fade ? 0.02 : 0.5,
+                             .ramp_start_log10 = -3.0,
+                             .ramp_end_log10 = 0.0,
+                             .ramp_s = 6.0,
+                             .reaction_latency_s = 0.37,
+                             .n_alternatives = fade ? NULL : n_alt};
     void *st = NULL;
     csf_cell_estimate est[N_CELLS];
     if (ops->create(&s, &st, &err) != CSF_OK) {
@@ -184,7 +196,8 @@ static void tally_session(tally *t, const session_out *so, int per_cell)
     double lc = log10(CMAX), pred = 0, ach = 0, matched = 0;
     int np = 0, na = 0;
     for (int c = 0; c < N_CELLS; c++) {
-        int vis = so->truth[c] < lc, est_vis = so->est[c] < INFINITY, ok = isfinite(so->est[c]) && isfinite(so->se[c]);
+        int vis = so->truth[c] < lc, est_vis = so->est[c] < INFINITY,
+            ok = isfinite(so->est[c]) && isfinite(so->se[c]);
         if (so->est[c] == INFINITY) t->called_inv++, t->inv_wrong += vis;
         if (ok) pred += so->se[c] * so->se[c], np++;
         if (!vis) continue;
@@ -206,7 +219,8 @@ static void tally_session(tally *t, const session_out *so, int per_cell)
     for (int j = 0; j < N_SHIFTS; j++) {
         double cons[N_CELLS];
         conservative(so, SHIFTS[j], cons);
-        for (int c = 0; c < N_CELLS; c++) t->fail_open[j] += so->truth[c] < lc && cons[c] > so->truth[c] + 1e-12;
+        for (int c = 0; c < N_CELLS; c++)
+            t->fail_open[j] += so->truth[c] < lc && cons[c] > so->truth[c] + 1e-12;
     }
     if (np && na) {
         pred = sqrt(pred / np), ach = sqrt(ach / na);
@@ -275,7 +289,10 @@ static int parse_args(int argc, char **argv, options *op)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--cells")) { op->per_cell = 1; continue; }
+        if (!strcmp(a, "--cells")) {
+            op->per_cell = 1;
+            continue;
+        }
         if (!v) return -1;
         i++;
         if (!strcmp(a, "--sets")) op->n_sets = parse_list(v, op->sets, MAX_SETS);
@@ -295,7 +312,9 @@ static int parse_args(int argc, char **argv, options *op)
     }
     for (int k = 0; k < op->n_sets; k++)
         if (op->sets[k] < 1 || op->sets[k] > N_HONEST_SETS) return -1;
-    return op->seeds >= 1 && op->trials >= 1 && (op->layout == 2 || op->layout == 4) && op->precision >= 0 ? 0 : -1;
+    return op->seeds >= 1 && op->trials >= 1 && (op->layout == 2 || op->layout == 4) && op->precision >= 0
+               ? 0
+               : -1;
 }
 
 /* One group of people (a held-out set, or the --sim specs) through one method. */
@@ -312,8 +331,8 @@ static int run_group(const options *op, const csf_procedure_ops *ops, const char
             tally_session(&t, &so, op->per_cell);
             for (int c = 0; op->per_cell && c < N_CELLS; c++)
                 if (so.est[c] == INFINITY && so.truth[c] < log10(CMAX))
-                    printf("    never visible but visible: %s seed %d, %g cpd %g deg, truth %.3f log10\n", specs[p], s,
-                           cells[c].freq_cpd, cells[c].ecc_deg, so.truth[c]);
+                    printf("    never visible but visible: %s seed %d, %g cpd %g deg, truth %.3f log10\n",
+                           specs[p], s, cells[c].freq_cpd, cells[c].ecc_deg, so.truth[c]);
         }
     print_row(label, ops->name, &t);
     print_shifts(label, ops->name, &t);
@@ -330,14 +349,17 @@ int main(int argc, char **argv)
     op.methods[2] = &csf_procedure_fade, op.n_methods = op.methods[0] ? 3 : 2;
     if (!op.methods[0]) op.methods[0] = &csf_procedure_2afc, op.methods[1] = &csf_procedure_fade;
     if (parse_args(argc, argv, &op)) {
-        fprintf(stderr, "usage: bench_coverage [--sets 1,2,...] [--sim SPEC ...] [--methods bayes,2afc,fade] "
-                        "[--seeds N] [--first-seed S] [--trials N] [--precision SE] [--layout 4|2] [--cells]\n");
+        fprintf(stderr,
+                "usage: bench_coverage [--sets 1,2,...] [--sim SPEC ...] [--methods bayes,2afc,fade] "
+                "[--seeds N] [--first-seed S] [--trials N] [--precision SE] [--layout 4|2] [--cells]\n");
         return 2;
     }
     csf_cell cells[N_CELLS];
     int n_alt[N_CELLS];
-    if (sim2afc_default_grid(cells) != N_CELLS || sim2afc_default_layouts(cells, N_CELLS, op.layout, n_alt)) return 1;
-    if (op.precision > 0) printf("budget: --precision %.3f (cap %d)", op.precision, PRECISION_CAP_PER_CELL * N_CELLS);
+    if (sim2afc_default_grid(cells) != N_CELLS || sim2afc_default_layouts(cells, N_CELLS, op.layout, n_alt))
+        return 1;
+    if (op.precision > 0)
+        printf("budget: --precision %.3f (cap %d)", op.precision, PRECISION_CAP_PER_CELL * N_CELLS);
     else printf("budget: %d trials", op.trials);
     printf(", layout %d, seeds %d-%d (person s, method 1000 + s)\n\n", op.layout, op.first_seed,
            op.first_seed + op.seeds - 1);
@@ -347,13 +369,15 @@ int main(int argc, char **argv)
         "wrong/called | visible with no estimate "
         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int m = 0; m < op.n_methods; m++) {
-        if (op.n_specs && run_group(&op, op.methods[m], op.specs, op.n_specs, "--sim", cells, n_alt)) return 1;
+        if (op.n_specs && run_group(&op, op.methods[m], op.specs, op.n_specs, "--sim", cells, n_alt))
+            return 1;
         for (int k = 0; k < op.n_sets; k++) {
             const char *specs[MAX_HONEST_OBS];
             int n = 0;
             char label[32];
             for (int p = 0; p < HONEST_SETS[op.sets[k] - 1].n; p++)
-                if (HONEST_SETS[op.sets[k] - 1].obs[p].held_out) specs[n++] = HONEST_SETS[op.sets[k] - 1].obs[p].spec;
+                if (HONEST_SETS[op.sets[k] - 1].obs[p].held_out)
+                    specs[n++] = HONEST_SETS[op.sets[k] - 1].obs[p].spec;
             snprintf(label, sizeof label, "set %d", op.sets[k]);
             if (run_group(&op, op.methods[m], specs, n, label, cells, n_alt)) return 1;
         }

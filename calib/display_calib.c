@@ -1222,7 +1222,7 @@ static statement curve_statement(const ctx *c, int ch, const levels *L, double *
     size_t m = L->m;
     if (m < 3) return out;
     double *sd = malloc(m * sizeof(double)), *e = est ? est : malloc(m * sizeof(double)),
-           *top = malloc(m * sizeof(double)), *emin = malloc(m * sizeof(double));
+           *top = malloc(m * sizeof(double)), *emin = calloc(m, sizeof(double));
     if (!sd || !e || !top || !emin) goto done;
     level_sds(c, L, pooled_noise_rel(c), sd);
     interval_errors(L->v, L->lum, m, ch < 3, sd, e, emin);

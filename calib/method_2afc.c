@@ -83,9 +83,10 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: no cells to measure");
     for (int c = 0; setup->not_shown && c < setup->n_cells; c++)
         if (setup->not_shown[c])
-            return csf_error_set(err, CSF_E_INVALID_ARG, "2afc: cell %d (%g cpd at %g deg/s) cannot be shown and "
-                                 "this method measures each cell on its own", c, setup->cells[c].freq_cpd,
-                                 setup->cells[c].velocity_dps);
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "2afc: cell %d (%g cpd at %g deg/s) cannot be shown and "
+                                 "this method measures each cell on its own",
+                                 c, setup->cells[c].freq_cpd, setup->cells[c].velocity_dps);
     if (!(setup->max_contrast > 0 && setup->max_contrast <= 1) ||
         !(setup->min_contrast > 0 && setup->min_contrast < setup->max_contrast))
         return csf_error_set(err, CSF_E_INVALID_ARG,

@@ -269,15 +269,24 @@ enum { N_ETA_SLOPE = sizeof eta_slopes / sizeof eta_slopes[0],
 #define VEL_STEEP_SD 0.35
 /* Prior on theta: independent normals (truncated where physics demands). */
 #ifndef PRIOR_MEAN
-#define PRIOR_MEAN {2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN, 0.0, 0.0, VEL_STEEP_MEAN}
+#define PRIOR_MEAN                                                                                           \
+    {                                                                                                        \
+        2.25, 0.45, 0.477, 0.5, 0.03, 0.02, ECC_SCALE_MEAN, 0.0, 0.0, VEL_STEEP_MEAN                         \
+    }
 #endif
 #ifndef PRIOR_SD
-#define PRIOR_SD {0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD, FOVEA_DIP_SD, VEL_SCALE_SD, VEL_STEEP_SD}
+#define PRIOR_SD                                                                                             \
+    {                                                                                                        \
+        0.35, 0.25, 0.15, 0.3, 0.02, 0.01, ECC_SCALE_SD, FOVEA_DIP_SD, VEL_SCALE_SD, VEL_STEEP_SD            \
+    }
 #endif
 static const double prior_mean[NPAR] = PRIOR_MEAN;
 static const double prior_sd[NPAR] = PRIOR_SD;
 #ifndef PRIOR_LO
-#define PRIOR_LO {0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0, DIP_LO, -0.8, 0.2}
+#define PRIOR_LO                                                                                             \
+    {                                                                                                        \
+        0.5, -0.7, 0.0, 0.0, 0.0, 0.0, 0.0, DIP_LO, -0.8, 0.2                                                \
+    }
 #endif
 static const double prior_lo[NPAR] = PRIOR_LO;
 static const double prior_hi[NPAR] = {3.6, 1.5, 1.2, 2.0, 0.2, 0.1, ECC_SCALE_HI, 1.0, 0.8, 2.5};
@@ -411,7 +420,8 @@ static int par_free(const bayes_state *s, int k)
 
 /* The surface's log10 threshold at cell c for parameters th: the static surface, less the motion
  * gain where the cell drifts. */
-static double surface_log10_threshold(const bayes_state *s, const double *th, const csf_model_params *p, int c)
+static double surface_log10_threshold(const bayes_state *s, const double *th, const csf_model_params *p,
+                                      int c)
 {
     const csf_cell *cell = &s->cells[c];
     double m = -csf_model_log10_sensitivity(p, cell->freq_cpd, cell->ecc_deg);
@@ -479,7 +489,8 @@ static void surface_for_particle(bayes_state *s, int i)
     csf_model_params p;
     const double *th = &s->theta[(size_t)i * NPAR];
     theta_to_params(th, &p);
-    for (int c = 0; c < s->n_cells; c++) s->m[(size_t)i * s->n_cells + c] = surface_log10_threshold(s, th, &p, c);
+    for (int c = 0; c < s->n_cells; c++)
+        s->m[(size_t)i * s->n_cells + c] = surface_log10_threshold(s, th, &p, c);
 }
 
 /* Convolution of lin[] with a symmetric kernel of half-width kh, added (times scale) into acc[]. */
@@ -1042,8 +1053,9 @@ static csf_status check_setup(const csf_procedure_setup *setup, double *slope, d
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "bayes: cell %d eccentricity %g deg is outside 0-120 deg", c, e);
         if (!(v >= 0.0 && v <= CSF_PROC_MAX_VELOCITY_DPS))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "bayes: cell %d velocity %g deg/s is outside 0-%g deg/s", c,
-                                 v, CSF_PROC_MAX_VELOCITY_DPS);
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "bayes: cell %d velocity %g deg/s is outside 0-%g deg/s", c, v,
+                                 CSF_PROC_MAX_VELOCITY_DPS);
     }
     if (!(setup->max_contrast > 0.0 && setup->max_contrast <= 1.0))
         return csf_error_set(err, CSF_E_INVALID_ARG,
@@ -1283,7 +1295,8 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
     for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
     s->dip_free = dip_is_free(s);
-    for (int c = 0; c < nc; c++) s->vel_free |= fabs(s->cells[c].velocity_dps) > csf_velocity_default().v_min_dps;
+    for (int c = 0; c < nc; c++)
+        s->vel_free |= fabs(s->cells[c].velocity_dps) > csf_velocity_default().v_min_dps;
     s->not_shown = calloc((size_t)nc, 1);
     if (!s->not_shown) {
         bayes_destroy(s);

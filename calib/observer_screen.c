@@ -36,7 +36,7 @@ struct csf_obs_screen {
     int looking, per_frame, max_frames, frame_k, frames_seen;
     double latest;
     double ecc_deg, ref_velocity_dps, period_s;
-    int pending;          /* the last frame presented was looked at: its time on screen is open */
+    int pending; /* the last frame presented was looked at: its time on screen is open */
     double pending_t_s;
     csf_view_gain_fn gain;
     void *gain_ctx;
@@ -235,7 +235,8 @@ static csf_status find_place(csf_obs_screen *s, double freq, double ecc, double 
 
 static double person_gain(void *ctx, double freq_cpd, double ecc_deg, double velocity_dps)
 {
-    return csf_observer_sim_velocity_log10_gain((const csf_observer_sim *)ctx, freq_cpd, ecc_deg, velocity_dps);
+    return csf_observer_sim_velocity_log10_gain((const csf_observer_sim *)ctx, freq_cpd, ecc_deg,
+                                                velocity_dps);
 }
 
 void csf_obs_screen_set_gain(csf_obs_screen *s, csf_view_gain_fn gain, void *ctx)
@@ -263,8 +264,8 @@ csf_status csf_obs_screen_look_v(csf_obs_screen *s, double freq_cpd, double ecc_
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer screen: %d places (1 to %d)", n,
                              CSF_OBS_SCREEN_MAX_PLACES);
     if (!isfinite(ref_velocity_dps))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "observer screen: reference velocity %g deg/s is not finite",
-                             ref_velocity_dps);
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "observer screen: reference velocity %g deg/s is not finite", ref_velocity_dps);
     for (int i = 0; i < s->n_cache; i++) s->cache[i].pinned = 0;
     s->looking = 0;
     for (int k = 0; k < n; k++) {
@@ -288,8 +289,8 @@ csf_status csf_obs_screen_look_v(csf_obs_screen *s, double freq_cpd, double ecc_
 
 static double seen(const csf_obs_screen *s, const place *p, double since_s, csf_view_motion_info *info)
 {
-    return csf_view_place_motion_contrast(p->pl, s->ecc_deg, s->ref_velocity_dps, since_s, s->period_s, s->gain,
-                                          s->gain_ctx, info);
+    return csf_view_place_motion_contrast(p->pl, s->ecc_deg, s->ref_velocity_dps, since_s, s->period_s,
+                                          s->gain, s->gain_ctx, info);
 }
 
 static void on_frame(void *ctx, csf_presenter *pres, const csf_frame_info *fi)

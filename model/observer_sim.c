@@ -546,7 +546,8 @@ static void describe(csf_observer_sim *o, const char *table_path)
             p->frame_step);
     if (p->display_gamma > 0) ADD(",display_gamma=%g", p->display_gamma);
     csf_velocity_params vd = csf_velocity_default();
-    if (memcmp(&vd, &p->velocity, sizeof vd) != 0)
+    if (vd.c1 != p->velocity.c1 || vd.c2 != p->velocity.c2 || vd.steepness != p->velocity.steepness ||
+        vd.v_min_dps != p->velocity.v_min_dps)
         ADD(",vc1=%g,vc2=%g,vsteep=%g,vmin=%g", p->velocity.c1, p->velocity.c2, p->velocity.steepness,
             p->velocity.v_min_dps);
     if (p->slope_drawn || p->lapse_drawn || p->k_drawn || p->vsteep_drawn)

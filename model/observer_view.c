@@ -23,7 +23,7 @@ struct csf_view_place {
     double acc[3];     /* sum over frames of sum_i L_i * basis_k(i) */
     int frames;
     double freq_cpd;
-    view_sample *smp;  /* frames added with a time */
+    view_sample *smp; /* frames added with a time */
     int n_smp, cap_smp;
 };
 
@@ -302,7 +302,8 @@ double csf_view_place_motion_contrast(const csf_view_place *pl, double ecc_deg, 
         for (int j = 1; j <= n_bank; j++)
             for (int sign = -1; sign <= 1; sign += 2) {
                 double tf = sign * j * step;
-                double e = cabs(moving_component(&w, tf)) * weight(gain, gain_ctx, f, ecc_deg, fabs(tf) / f, gain_ref);
+                double e = cabs(moving_component(&w, tf)) *
+                           weight(gain, gain_ctx, f, ecc_deg, fabs(tf) / f, gain_ref);
                 if (e > best) best = e, best_tf = tf;
             }
     }

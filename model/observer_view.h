@@ -108,10 +108,10 @@ csf_status csf_view_place_add_frame_at(csf_view_place *pl, const csf_view_displa
 void csf_view_place_set_duration(csf_view_place *pl, double duration_s);
 
 typedef struct {
-    double static_contrast;  /* |Z0| / L0: what the fit of the mean light sees */
-    double tf_hz;            /* the deciding component (0: the sustained one; sign = direction) */
-    double velocity_dps;     /* tf_hz / f: the speed it was seen at */
-    int n_frames;            /* frames in the window */
+    double static_contrast; /* |Z0| / L0: what the fit of the mean light sees */
+    double tf_hz;           /* the deciding component (0: the sustained one; sign = direction) */
+    double velocity_dps;    /* tf_hz / f: the speed it was seen at */
+    int n_frames;           /* frames in the window */
 } csf_view_motion_info;
 
 /* The equivalent contrast, at reference velocity ref_velocity_dps, of what was shown over the

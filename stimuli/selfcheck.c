@@ -379,10 +379,10 @@ struct csf_phase_meter {
     int from_region;
     roi_t r;
     lum_cache lc;
-    double *ec, *es; /* envelope x cos and x sin of the carrier at phase 0, per ROI pixel */
+    double *ec, *es;     /* envelope x cos and x sin of the carrier at phase 0, per ROI pixel */
     unsigned char *keep; /* 0 for pixels under the fixation mark, left out of the fit */
-    double A[3][3];  /* normal matrix of the fit (the same for every frame) */
-    uint16_t *buf;   /* read-back pixels: the whole frame, or the ROI (from_region) */
+    double A[3][3];      /* normal matrix of the fit (the same for every frame) */
+    uint16_t *buf;       /* read-back pixels: the whole frame, or the ROI (from_region) */
     size_t buf_px;
 };
 

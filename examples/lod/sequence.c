@@ -114,7 +114,7 @@ static void frame_velocity_stats(seq_state *s, double *lo, double *med, double *
         *lo = fmin(*lo, x);
         *hi = fmax(*hi, x);
     }
-    float *mine = malloc((size_t)(s->n_all_vel - base) * sizeof *mine);
+    float *mine = malloc((size_t)(s->n_all_vel - base + 1) * sizeof *mine); /* + 1: never a 0-byte request */
     *med = NAN;
     if (mine) {
         memcpy(mine, s->all_vel + base, (size_t)(s->n_all_vel - base) * sizeof *mine);

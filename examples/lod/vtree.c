@@ -402,10 +402,10 @@ int lod_vtree_simplify(const lod_vtree *t, const csflut_table *tab, const lod_vi
     cut_work w = {.eye_pos = malloc((size_t)m->n_vert * 3 * sizeof *w.eye_pos),
                   .flag = malloc(nn),
                   .stack = malloc(nn * sizeof *w.stack),
-                  .stack_strict = malloc(nn * sizeof *w.stack_strict),
+                  .stack_strict = calloc(nn, sizeof *w.stack_strict),
                   .active_of = malloc((size_t)m->n_vert * sizeof *w.active_of),
                   .expanded = malloc(nn),
-                  .strict = malloc(nn * sizeof *w.strict),
+                  .strict = calloc(nn, sizeof *w.strict),
                   .sum = malloc(nn * 2 * sizeof *w.sum)};
     int result = -1;
     if (!w.eye_pos || !w.flag || !w.stack || !w.stack_strict || !w.active_of || !w.expanded || !w.strict ||

@@ -195,7 +195,8 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
 
 /* A step whose server form differs: PostgreSQL's REAL is 4 bytes and would round every value,
  * so a REAL column is DOUBLE PRECISION there (as in results/store/pg_schema.c). */
+static const char pg_v7_person_s[] =
+    "ALTER TABLE sessions ADD COLUMN person_s DOUBLE PRECISION CHECK (person_s IS NULL OR person_s >= 0);";
 const char *const csf_store_migrations_pg[CSF_STORE_SCHEMA_VERSION] = {
-    [6] = "ALTER TABLE sessions ADD COLUMN person_s DOUBLE PRECISION"
-          "  CHECK (person_s IS NULL OR person_s >= 0);",
+    [6] = pg_v7_person_s,
 };

@@ -50,9 +50,16 @@ static int run(const csf_procedure_ops *ops, const sim2afc *o, const csf_cell *c
                const unsigned char *not_shown, int budget, uint64_t seed, csf_cell_estimate *est,
                int *n_bad_plans, double *theta)
 {
-    csf_procedure_setup setup = {.cells = cells, .n_cells = n, .trial_budget = budget, .seed = seed,
-                                 .max_contrast = 0.95, .min_contrast = 0.0005, .slope_beta = 3.5,
-                                 .lapse = 0.02, .guess = 0.5, .not_shown = not_shown};
+    csf_procedure_setup setup = {.cells = cells,
+                                 .n_cells = n,
+                                 .trial_budget = budget,
+                                 .seed = seed,
+                                 .max_contrast = 0.95,
+                                 .min_contrast = 0.0005,
+                                 .slope_beta = 3.5,
+                                 .lapse = 0.02,
+                                 .guess = 0.5,
+                                 .not_shown = not_shown};
     csf_error err = {0};
     void *st = NULL;
     if (ops->create(&setup, &st, &err) != CSF_OK) {
@@ -125,7 +132,8 @@ int main(void)
                           cells[c].velocity_dps, est[c].threshold, est[c].n_trials, est[c].stderr_log10);
             }
         int dummy = 0;
-        CHECK(run(&csf_procedure_2afc, &o, shown, n_shown, NULL, 360, 700 + seed, est_afc, &dummy, NULL) == 0);
+        CHECK(run(&csf_procedure_2afc, &o, shown, n_shown, NULL, 360, 700 + seed, est_afc, &dummy, NULL) ==
+              0);
         double rb = rms_shown(&o, cells, n, not_shown, est), r0 = rms_shown(&o, cells, n, not_shown, est0);
         double ra = rms_shown(&o, shown, n_shown, NULL, est_afc);
         printf("seed %llu: bayes %.3f, prior only %.3f, 2afc per cell %.3f (log10 RMS, %d shown cells)\n",
@@ -152,16 +160,25 @@ int main(void)
     CHECK_NEAR(th[9], 1.0, 0);
 
     /* refusals: per-cell methods with a cell they cannot show; a negative or NaN velocity */
-    csf_procedure_setup setup = {.cells = cells, .n_cells = n, .trial_budget = 10, .seed = 1,
-                                 .max_contrast = 0.95, .min_contrast = 0.0005, .not_shown = not_shown};
+    csf_procedure_setup setup = {.cells = cells,
+                                 .n_cells = n,
+                                 .trial_budget = 10,
+                                 .seed = 1,
+                                 .max_contrast = 0.95,
+                                 .min_contrast = 0.0005,
+                                 .not_shown = not_shown};
     csf_error err = {0};
     void *st = NULL;
     CHECK(csf_procedure_fade.create(&setup, &st, &err) == CSF_E_INVALID_ARG);
     CHECK(strstr(err.msg, "cannot be shown") != NULL);
     CHECK(csf_procedure_2afc.create(&setup, &st, &err) == CSF_E_INVALID_ARG);
     csf_cell bad_cell[1] = {{2.0, 0.0, -3.0}};
-    csf_procedure_setup bs = {.cells = bad_cell, .n_cells = 1, .trial_budget = 10, .seed = 1,
-                              .max_contrast = 0.95, .min_contrast = 0.0005};
+    csf_procedure_setup bs = {.cells = bad_cell,
+                              .n_cells = 1,
+                              .trial_budget = 10,
+                              .seed = 1,
+                              .max_contrast = 0.95,
+                              .min_contrast = 0.0005};
     CHECK(csf_procedure_bayes.create(&bs, &st, &err) == CSF_E_INVALID_ARG);
     CHECK(strstr(err.msg, "velocity") != NULL);
     bad_cell[0].velocity_dps = NAN;

@@ -344,7 +344,10 @@ int main(void)
 
     /* faults: each ends with its status and a message, readings kept in the store, the session
      * paused; --resume with a working instrument finishes it and meets the target */
-    struct { const char *fault; csf_status code; const char *msg;
+    struct {
+        const char *fault;
+        csf_status code;
+        const char *msg;
     } faults[] = {
         {"unplug@5", CSF_E_GONE, "disconnected"}, /* during the warm-up check */
         {"unplug@30", CSF_E_GONE, "disconnected"},

@@ -59,10 +59,13 @@ static void run(double noise_rel, uint64_t seed)
         double tg = true_grey_err(m, p), tc = true_channel_err(m, p);
         double sg = res.est_error_rel[CSF_CH_GREY], sc = 0;
         for (int c = 0; c < 3; c++) sc = fmax(sc, res.est_error_rel[c]);
-        printf("noise %g %%: grey stated %.3f %% true %.3f %% (%.2f); channels stated %.3f %% true %.3f %% (%.2f)\n",
+        printf("noise %g %%: grey stated %.3f %% true %.3f %% (%.2f); channels stated %.3f %% true %.3f %% "
+               "(%.2f)\n",
                100 * noise_rel, 100 * sg, 100 * tg, sg / tg, 100 * sc, 100 * tc, sc / tc);
-        CHECK_MSG(sg / tg >= 1 / 1.5 && sg / tg <= 1.5, "grey stated/true %.3f at noise %g", sg / tg, noise_rel);
-        CHECK_MSG(sc / tc >= 1 / 1.5 && sc / tc <= 1.5, "channels stated/true %.3f at noise %g", sc / tc, noise_rel);
+        CHECK_MSG(sg / tg >= 1 / 1.5 && sg / tg <= 1.5, "grey stated/true %.3f at noise %g", sg / tg,
+                  noise_rel);
+        CHECK_MSG(sc / tc >= 1 / 1.5 && sc / tc <= 1.5, "channels stated/true %.3f at noise %g", sc / tc,
+                  noise_rel);
         double target, stated[CSF_CH_COUNT];
         int met = csf_profile_statement(p, &target, stated);
         CHECK(met == res.target_met);

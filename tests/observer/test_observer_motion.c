@@ -144,7 +144,8 @@ static void test_model_drift(void)
     double fast = csf_view_place_motion_contrast(s.pl, 0, 3, -INFINITY, 1 / 60.0, NULL, NULL, &info);
     double sh = log10(sin(M_PI * 16 / 60.0) / (M_PI * 16 / 60.0)); /* the hold's loss at 16 Hz */
     CHECK_NEAR(log10(fast / c), kd_gain(f, 8) - kd_gain(f, 3) + sh, 0.03);
-    printf("2 cpd asked at 3 deg/s: right %.4g frozen %.4g 8 deg/s %.4g (drawn %.3g)\n", right, frozen, fast, c);
+    printf("2 cpd asked at 3 deg/s: right %.4g frozen %.4g 8 deg/s %.4g (drawn %.3g)\n", right, frozen, fast,
+           c);
     CHECK(kd_gain(f, 8) < kd_gain(f, 3) - 0.3 && fast < 0.6 * right); /* faster is harder to see at 2 cpd */
     /* a juddering drift: every other frame held three periods (the same phase law, from the
      * frames' times): its energy leaves the drift's temporal frequency */
@@ -228,8 +229,14 @@ static double look_trial(csf_presenter *p, csf_obs_screen *eyes, long base, doub
     csf_presenter_set_frame_index(p, base);
     for (int k = 0; late && k < N_FRAMES; k++)
         if (late[k]) CHECK(csf_presenter_inject_missed(p, base + k, late[k], &e) == CSF_OK);
-    csf_stimulus s = {.kind = CSF_STIM_GABOR, .freq_cpd = freq, .sigma_deg = 1.0, .ecc_deg = 5, .polar_deg = 0,
-                      .contrast = 0.05, .mean_lum_cdm2 = 50, .drift_hz = drift_hz};
+    csf_stimulus s = {.kind = CSF_STIM_GABOR,
+                      .freq_cpd = freq,
+                      .sigma_deg = 1.0,
+                      .ecc_deg = 5,
+                      .polar_deg = 0,
+                      .contrast = 0.05,
+                      .mean_lum_cdm2 = 50,
+                      .drift_hz = drift_hz};
     csf_envelope env = {CSF_ENV_FIXED, 3.0, 0, 0};
     const double polar = 0;
     CHECK(csf_obs_screen_look_v(eyes, freq, 5, ref_v, &polar, 1, N_FRAMES, &e) == CSF_OK);

@@ -37,9 +37,11 @@ static void test_static_unchanged(void)
             same += csf_observer_sim_trial_threshold_v(o, f, e, 0, (uint64_t)i) ==
                     csf_observer_sim_trial_threshold(o, f, e, (uint64_t)i);
             same += csf_observer_sim_2afc_v(o, (uint64_t)i, f, e, 0, c2, &rt1) ==
-                        csf_observer_sim_2afc(o, (uint64_t)i, f, e, c2, &rt2) && rt1 == rt2;
+                        csf_observer_sim_2afc(o, (uint64_t)i, f, e, c2, &rt2) &&
+                    rt1 == rt2;
             same += csf_observer_sim_afc_v(o, (uint64_t)i, f, e, 0, c4, 4, &rt1) ==
-                        csf_observer_sim_afc(o, (uint64_t)i, f, e, c4, 4, &rt2) && rt1 == rt2;
+                        csf_observer_sim_afc(o, (uint64_t)i, f, e, c4, 4, &rt2) &&
+                    rt1 == rt2;
             csf_sim_fade_trial a, b;
             csf_observer_sim_fade_begin_v(o, (uint64_t)i, f, e, 0, 30, 0, 4, &a);
             csf_observer_sim_fade_begin(o, (uint64_t)i, f, e, 30, 0, 4, &b);
@@ -93,8 +95,10 @@ static void test_parametric_gain(void)
     }
     CHECK(lo >= 0.5 && hi <= 1.5 && hi - lo > 0.5);
 
-    struct { const char *spec, *msg; } bad[] = {
-        {"sim:vc1=5", "vc1=5 outside 0.2 to 2"},   {"sim:vc2=0.1", "vc2=0.1 outside 0.5 to 5"},
+    struct {
+        const char *spec, *msg;
+    } bad[] = {
+        {"sim:vc1=5", "vc1=5 outside 0.2 to 2"},       {"sim:vc2=0.1", "vc2=0.1 outside 0.5 to 5"},
         {"sim:vsteep=-1", "vsteep=-1 outside 0 to 3"}, {"sim:vmin=1", "vmin=1 outside 0.05 to 0.5"},
         {"sim:vc1=draw", "vc1=draw outside"},
     };
@@ -194,8 +198,8 @@ static void test_table_3d(void)
     if (o) {
         csf_velocity_params vp = csf_velocity_default();
         vp.steepness = 1.2;
-        CHECK_NEAR(csf_observer_sim_threshold_v(o, 4, 0, 6), 0.005 / pow(10.0, csf_velocity_log10_gain(&vp, 4, 6)),
-                   1e-12);
+        CHECK_NEAR(csf_observer_sim_threshold_v(o, 4, 0, 6),
+                   0.005 / pow(10.0, csf_velocity_log10_gain(&vp, 4, 6)), 1e-12);
         CHECK(csf_observer_sim_threshold_v(o, 4, 0, 0) == csf_observer_sim_threshold(o, 4, 0));
         CHECK_NEAR(csf_observer_sim_threshold(o, 4, 0), 0.005, 1e-12);
         csf_observer_sim_free(o);
@@ -206,12 +210,17 @@ static void test_table_3d(void)
 static void test_table_3d_refused(void)
 {
     char many[4096] = "freq_cpd,ecc_deg,velocity_dps,threshold\n";
-    for (int i = 0; i < 65; i++) snprintf(many + strlen(many), sizeof many - strlen(many), "1,0,%d,0.01\n", i);
-    struct { const char *text, *msg; } bad[] = {
+    for (int i = 0; i < 65; i++)
+        snprintf(many + strlen(many), sizeof many - strlen(many), "1,0,%d,0.01\n", i);
+    struct {
+        const char *text, *msg;
+    } bad[] = {
         {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,2,0.02\n4,0,0,0.01\n",
          "no row for 4 cpd at 0 deg moving at 2 deg/s"},
-        {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,0,0.02\n", "line 3: duplicate row for 1 cpd at 0 deg moving at 0"},
-        {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,-2,0.01\n", "line 2: velocity_dps -2 outside [0, 1000]"},
+        {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,0,0.01\n1,0,0,0.02\n",
+         "line 3: duplicate row for 1 cpd at 0 deg moving at 0"},
+        {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,-2,0.01\n",
+         "line 2: velocity_dps -2 outside [0, 1000]"},
         {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,nan,0.01\n", "line 2: not a number"},
         {"freq_cpd,ecc_deg,velocity_dps,threshold\n1,0,2\n", "line 2: expected 4"},
         {"1,0,2,0.01\n", "needs a header"},
@@ -222,7 +231,8 @@ static void test_table_3d_refused(void)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         csf_obs_table *t = NULL;
         csf_error e = {0};
-        CHECK_MSG(csf_obs_table_parse(bad[i].text, strlen(bad[i].text), &t, &e) == CSF_E_FORMAT, "case %zu", i);
+        CHECK_MSG(csf_obs_table_parse(bad[i].text, strlen(bad[i].text), &t, &e) == CSF_E_FORMAT, "case %zu",
+                  i);
         CHECK(t == NULL);
         CHECK_STR_CONTAINS(e.msg, bad[i].msg);
     }
