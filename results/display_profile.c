@@ -1328,6 +1328,10 @@ static csf_status finish_profile(profile_parse *pp)
     if (pp->declared_channels >= 0 && pp->declared_channels != (chans == 3))
         return csf_error_set(err, CSF_E_FORMAT, "%s: has_channels = %d but %d channel curves given", name,
                              pp->declared_channels, chans);
+    /* a statement is a target and whether it was met: one without the other cannot be checked or
+     * written back */
+    if ((p->target_met >= 0) != !isnan(p->target_rel))
+        return csf_error_set(err, CSF_E_FORMAT, "%s: target_met and target_rel must be given together", name);
     for (int c = 0; st == CSF_OK && c < CSF_CH_COUNT; c++) {
         if (!pp->seen_curve[c]) continue;
         curve *cv = &p->c[c];
