@@ -1748,10 +1748,8 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
 
 /* The table's predicted RMS error: the root mean square of the method's stated errors over the
  * cells it would write as visible and the display can show (NaN when none has one). */
-static double predicted_rms(obs_run *R)
+static double rms_of_estimates(const obs_run *R)
 {
-    csf_error e;
-    if (R->S.ops->estimate(R->S.proc, R->S.est, &e) != CSF_OK) return NAN;
     double sum = 0;
     int n = 0;
     for (int k = 0; k < R->n_cells; k++) {
@@ -1761,6 +1759,14 @@ static double predicted_rms(obs_run *R)
         n++;
     }
     return n ? sqrt(sum / n) : NAN;
+}
+
+/* The same from a fresh estimate. */
+static double predicted_rms(obs_run *R)
+{
+    csf_error e;
+    if (R->S.ops->estimate(R->S.proc, R->S.est, &e) != CSF_OK) return NAN;
+    return rms_of_estimates(R);
 }
 
 /* --precision: whether the predicted error has reached the target after n main trials; progress on
@@ -2005,10 +2011,10 @@ static csf_status judge_session(obs_run *R, csf_error *err)
 {
     session_res *S = &R->S;
     csf_obs_result *res = R->res;
-    res->predicted_rms_log10 = predicted_rms(R);
     res->precision_log10 = R->set.precision;
     csf_status st = S->ops->estimate(S->proc, S->est, err);
     if (st != CSF_OK) return st;
+    res->predicted_rms_log10 = rms_of_estimates(R);
     if (!S->ops->task_offset ||
         !S->ops->task_offset(S->proc, &res->n_fade_anchors, &res->fade_offset_log10, &res->fade_offset_sd_log10))
         res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
