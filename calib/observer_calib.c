@@ -1,6 +1,7 @@
 /* Per-user CSF calibration session (see observer_calib.h). */
 #include "calib/observer_calib.h"
 #include "calib/observer_settings.h"
+#include "calib/observer_session.h"
 #include "calib/observer_checks.h"
 #include "calib/observer_person.h"
 #include "calib/observer_trials.h"
@@ -98,6 +99,8 @@ static void now_utc(char *buf, size_t len)
     strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm);
 }
 
+/* What a session works with: the resources its command lent it (store, presenter, profile, the
+ * person's side; never closed here) and what it made itself (the method, cells, layouts). */
 typedef struct {
     csf_store *store;
     csf_presenter *pres;
@@ -118,12 +121,6 @@ typedef struct {
 static void session_free(session_res *s)
 {
     if (s->proc) s->ops->destroy(s->proc);
-    csf_responder_close(s->resp);
-    csf_observer_sim_free(s->sim);
-    csf_obs_screen_close(s->screen);
-    csf_presenter_close(s->pres);
-    csf_profile_free(s->profile);
-    csf_store_close(s->store);
     free(s->stored);
     free(s->cells);
     free(s->est);
@@ -237,9 +234,9 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
 
 /* ---- one observer session, in phases -------------------------------------------------------- */
 
-/* Everything one session holds while it runs: what it was asked, what it opened, its settings and
- * where it stands. Each phase below takes it; csf_observer_calibrate calls them in order. */
-typedef struct {
+/* Everything one session holds while it runs: what it was asked, what it was lent, its settings
+ * and where it stands. Each phase below takes it; observer_session.h's calls run them in order. */
+struct csf_obs_session {
     const csf_obs_options *opt;
     const csf_config *cfg;
     csf_obs_result *res;
@@ -266,20 +263,18 @@ typedef struct {
     int person_started;       /* person_t0_s is set: the first screen was shown */
     int resume_done;          /* main trials stored before this run (a resume) */
     int person_recorded;      /* this run's person time is in the store */
-} obs_run;
+    struct timespec wall0;    /* when the session began, for the wall time of the result */
+};
+typedef struct csf_obs_session obs_run;
 
 /* A resumed session's settings, from the store; a session that cannot be resumed says why. */
 static csf_status resumed_settings(obs_run *R, csf_error *err)
 {
     session_settings *set = &R->set;
     int64_t sid = R->sid;
-    /* A new session opens the store only once every check has passed (nothing is written for a
-     * refused one); a resumed one needs its settings first. */
-    csf_status st = csf_store_open(R->opt->store_path, &R->S.store, err);
-    if (st != CSF_OK) return st;
     csf_session_info info;
     memset(&info, 0, sizeof info);
-    st = csf_store_get_session(R->S.store, sid, &info, err);
+    csf_status st = csf_store_get_session(R->S.store, sid, &info, err);
     if (st != CSF_OK) return st;
     int wrong = strcmp(info.kind, "observer") != 0 ||
                 !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
@@ -384,8 +379,9 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     return obs_check_settings(set, 1, err);
 }
 
-/* The method and the person: a simulated one is made here, a human one needs a window. */
-static csf_status open_method_and_person(obs_run *R, csf_error *err)
+/* The method, and which person answers: a simulated one (its resources give it) or a human, who
+ * needs a window. */
+static csf_status choose_method_and_person(obs_run *R, csf_error *err)
 {
     const session_settings *set = &R->set;
     R->S.ops = csf_procedure_find(set->method);
@@ -402,78 +398,42 @@ static csf_status open_method_and_person(obs_run *R, csf_error *err)
     if (!R->is_sim && !R->is_human)
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human",
                              set->observer);
-    if (R->is_sim) return csf_observer_sim_create(set->observer, R->seed, &R->S.sim, err);
-    if (R->opt->headless)
+    if (R->is_human && R->opt->headless)
         return csf_error_set(err, CSF_E_UNSUPPORTED,
                              "--observer human needs a display: no window can be opened headless "
                              "(use --observer sim for a simulated session)");
     return CSF_OK;
 }
 
-/* The display side: its profile (the luminance the presenter maps through), the presenter, the
- * simulated person's eyes on it, the responder, and the checks that this screen can show the
- * session's grid (and, resumed, with the profile it began with). */
-static csf_status open_display_side(obs_run *R, csf_error *err)
+/* The lent resources into the session: a simulated person needs its own, a human a responder. */
+static csf_status take_resources(obs_run *R, const csf_obs_resources *r, csf_error *err)
 {
-    const csf_obs_options *opt = R->opt;
-    const csf_config *cfg = R->cfg;
     session_res *S = &R->S;
-    csf_status st;
-    if (cfg->display_profile[0]) {
-        st = csf_profile_load(cfg->display_profile, &S->profile, err);
-        if (st != CSF_OK) return st;
-    } else {
-        S->profile = csf_profile_default();
-        if (!S->profile) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        if (!opt->quiet && !opt->resume_id)
-            fprintf(stderr, "csfcal: observer: no --profile given: using the default display model "
-                            "(%s); thresholds are only as good as this guess\n", csf_profile_id(S->profile));
-    }
-    csf_presenter_config pc;
-    csf_presenter_config_defaults(&pc);
-    pc.headless = R->is_sim ? 1 : 0;
-    pc.geometry = R->geom;
-    pc.refresh_hz = cfg->refresh_hz;
-    pc.profile = S->profile;
-    pc.framebuffer_bits = cfg->framebuffer_bits;
-    pc.monitor = cfg->monitor[0] ? cfg->monitor : NULL;
-    pc.seed = R->seed;
-    if (R->is_sim) {
-        pc.render_width_px = opt->render_w > 0 ? opt->render_w : 64;
-        pc.render_height_px = opt->render_h > 0 ? opt->render_h : 36;
-        pc.render_every = opt->render_every ? opt->render_every : 1;
-        /* view=frame: the person's regions are rasterised at full resolution on their own; the
-         * small session frame has no one to look at it unless --render-every asks for it */
-        if (!opt->render_every && csf_observer_sim_params_get(S->sim)->view_frame) pc.render_every = -1;
-        pc.fault_polar_offset_deg = opt->fault_polar_offset_deg;
-        pc.fault_blank = opt->fault_blank;
-    }
-    st = csf_presenter_open(&pc, &S->pres, err);
-    if (st != CSF_OK) return st;
-    if (S->sim && csf_observer_sim_params_get(S->sim)->view_frame) {
-        const csf_observer_sim_params *sp = csf_observer_sim_params_get(S->sim);
-        /* Every frame when gratings drift: sampling every k-th frame would alias their temporal
-         * frequency above refresh / 2k for the person as it would for a camera. */
-        int step = R->set.n_vels > 0 ? 1 : (int)sp->frame_step;
-        st = csf_obs_screen_open(S->pres, S->profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
-                                 step, &S->screen, err);
-        if (st != CSF_OK) return st;
-        csf_obs_screen_set_person(S->screen, S->sim);
-        if (!opt->quiet)
-            fprintf(stderr, "csfcal: observer: the simulated person looks at the rendered frames through "
-                            "the display %s\n", csf_obs_screen_display(S->screen));
-    }
-    if (R->is_human) {
-        st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S->pres),
-                                &S->resp, err);
-        if (st != CSF_OK) return st;
-    }
+    if (!r->pres || !r->profile || (R->is_sim ? !r->sim : !r->resp))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "observer session: a presenter, a display profile and %s "
+                             "are needed",
+                             R->is_sim ? "the simulated person" : "a responder");
+    if (r->store) S->store = r->store;
+    S->pres = r->pres;
+    S->profile = r->profile;
+    S->sim = r->sim;
+    S->resp = r->resp;
+    S->screen = r->eyes;
     double lb, lm;
     csf_presenter_lum_range(S->pres, &lb, &lm);
     R->mean_lum_cdm2 = 0.5 * (lb + lm);
     R->max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
+    return CSF_OK;
+}
 
-    st = obs_check_grid_on_screen(S->pres, cfg, &R->set, R->set.practice, R->mean_lum_cdm2, err);
+/* This screen can show the session's grid (and, resumed, with the profile it began with). */
+static csf_status check_display_side(obs_run *R, csf_error *err)
+{
+    const csf_obs_options *opt = R->opt;
+    session_res *S = &R->S;
+    csf_status st =
+        obs_check_grid_on_screen(S->pres, R->cfg, &R->set, R->set.practice, R->mean_lum_cdm2, err);
     if (st != CSF_OK) {
         if (R->sid) {
             char m[sizeof err->msg];
@@ -484,8 +444,8 @@ static csf_status open_display_side(obs_run *R, csf_error *err)
         return st;
     }
     if (R->sid)
-        return obs_check_profile_on_resume(S->store, R->sid, R->set.profile_id, R->resume_n_stored, S->profile, cfg,
-                                       opt->allow_profile_change, opt->quiet, err);
+        return obs_check_profile_on_resume(S->store, R->sid, R->set.profile_id, R->resume_n_stored,
+                                           S->profile, R->cfg, opt->allow_profile_change, opt->quiet, err);
     return CSF_OK;
 }
 
@@ -589,8 +549,8 @@ static csf_status open_session_row(obs_run *R, csf_error *err)
         return st;
     }
     snprintf(set->profile_id, sizeof set->profile_id, "%s", csf_profile_id(S->profile));
-    st = csf_store_open(R->opt->store_path, &S->store, err);
-    if (st != CSF_OK) return st;
+    if (!S->store)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer session: no results store was given");
     char json[4096];
     if (csf_obs_settings_to_json(set, GABOR_SIGMA_DEG, json, sizeof json) != 0)
         return csf_error_set(err, CSF_E_NOMEM, "observer: the session's settings do not fit in %zu bytes", sizeof json);
@@ -1417,52 +1377,72 @@ static csf_status run_demo(obs_run *R, csf_error *err)
     return st;
 }
 
-/* --demo from the options: settings, method, person and display as a session would have them. */
-static csf_status observer_demo(obs_run *R, csf_error *err)
+csf_status csf_obs_session_begin(const csf_obs_options *opt, csf_store *store, csf_obs_result *res,
+                                 csf_obs_session **out, csf_error *err)
 {
-    csf_status st = new_settings(R, err);
-    if (st == CSF_OK) st = open_method_and_person(R, err);
-    if (st == CSF_OK) st = open_display_side(R, err);
-    if (st != CSF_OK) return st;
-    init_person(R);
-    return run_demo(R, err);
-}
-
-csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
-{
+    *out = NULL;
     memset(res, 0, sizeof *res);
     res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
     res->fa_rate = res->latency_s = res->median_se_log10 = res->predicted_rms_log10 = NAN;
-    struct timespec w0;
-    clock_gettime(CLOCK_MONOTONIC, &w0);
     if (!opt->demo && (!opt->out_path || !*opt->out_path))
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
+    if (opt->resume_id && !store)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--resume %lld: the session's store is needed",
+                             (long long)opt->resume_id);
     csf_status st = opt->demo ? CSF_OK : obs_check_outputs(opt, err);
     if (st != CSF_OK) return st;
     obs_run *R = calloc(1, sizeof *R);
     if (!R) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    clock_gettime(CLOCK_MONOTONIC, &R->wall0);
     R->opt = opt;
     R->cfg = opt->cfg;
     R->res = res;
-    R->sid = opt->resume_id;
+    R->sid = opt->demo ? 0 : opt->resume_id;
     R->seed = opt->seed;
+    R->S.store = store;
     st = csf_geometry_init(&R->geom, CSF_GEOMETRY_FROM_CONFIG(*R->cfg), err);
+    if (st == CSF_OK) st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
+    if (st == CSF_OK) st = choose_method_and_person(R, err);
     if (st != CSF_OK) {
         free(R);
         return st;
     }
-    if (opt->demo) {
-        st = observer_demo(R, err);
-        session_free(&R->S);
-        free(R);
-        return st;
-    }
-    st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
-    if (st == CSF_OK) st = open_method_and_person(R, err);
-    if (st == CSF_OK) st = open_display_side(R, err);
-    if (st == CSF_OK && !R->sid) st = check_motion_grid(R, err);
-    if (st == CSF_OK && !R->sid) warn_precision_reach(R);
-    if (st == CSF_OK) st = open_session_row(R, err);
+    *out = R;
+    return CSF_OK;
+}
+
+const csf_obs_settings *csf_obs_session_settings(const csf_obs_session *R, uint64_t *seed, int *is_sim)
+{
+    if (seed) *seed = R->seed;
+    if (is_sim) *is_sim = R->is_sim;
+    return &R->set;
+}
+
+const csf_geometry *csf_obs_session_geometry(const csf_obs_session *R)
+{
+    return &R->geom;
+}
+
+csf_status csf_obs_session_check(csf_obs_session *R, const csf_obs_resources *r, csf_error *err)
+{
+    csf_status st = take_resources(R, r, err);
+    if (st == CSF_OK) st = check_display_side(R, err);
+    if (st == CSF_OK && !R->sid && !R->opt->demo) st = check_motion_grid(R, err);
+    if (st == CSF_OK && !R->sid && !R->opt->demo) warn_precision_reach(R);
+    return st;
+}
+
+csf_status csf_obs_session_demo(csf_obs_session *R, csf_error *err)
+{
+    init_person(R);
+    return run_demo(R, err);
+}
+
+csf_status csf_obs_session_run(csf_obs_session *R, csf_store *store, csf_error *err)
+{
+    csf_obs_result *res = R->res;
+    if (store) R->S.store = store;
+    csf_status st = open_session_row(R, err);
     if (st == CSF_OK) st = prepare_cells(R, err);
     if (st == CSF_OK) st = run_trials_and_table(R, err);
     /* A failure after the session began (the store or the disk refused a write, the table or the
@@ -1478,11 +1458,16 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
     struct timespec w1;
     clock_gettime(CLOCK_MONOTONIC, &w1);
-    res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    res->wall_s = (double)(w1.tv_sec - R->wall0.tv_sec) + (w1.tv_nsec - R->wall0.tv_nsec) * 1e-9;
     if (st == CSF_OK) summarise(R);
+    return st;
+}
+
+void csf_obs_session_free(csf_obs_session *R)
+{
+    if (!R) return;
     session_free(&R->S);
     free(R);
-    return st;
 }
 
 /* A number, or null where it is not finite (NaN: not measured). */
