@@ -1,50 +1,33 @@
-/* Per-user CSF calibration session (see observer_calib.h). */
+/* Per-user CSF calibration session (see observer_calib.h and observer_session.h). */
 #include "calib/observer_calib.h"
-#include "calib/observer_settings.h"
 
-#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
-#include <sys/stat.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "calib/afc_layout.h"
 #include "calib/motion.h"
-#include "calib/procedure.h"
+#include "calib/observer_checks.h"
+#include "calib/observer_person.h"
+#include "calib/observer_run.h"
 #include "calib/observer_screen.h"
+#include "calib/observer_session.h"
+#include "calib/observer_settings.h"
+#include "calib/observer_trials.h"
+#include "calib/procedure.h"
 #include "calib/trial_io.h"
-#include "model/observer_sim.h"
-#include "devices/responder.h"
-#include "core/file_read.h"
-#include "results/csflut/csflut.h"
-#include "results/display_profile.h"
-#include "core/file_write.h"
-#include "core/json_read.h"
-#include "results/plot.h"
-#include "model/psychometric.h"
 #include "core/rng.h"
+#include "devices/responder.h"
+#include "model/observer_sim.h"
+#include "results/display_profile.h"
 #include "results/store/store.h"
 #include "stimuli/geometry.h"
 #include "stimuli/presenter.h"
 
-/* Tables and plots are copied into the store as artifacts; anything larger is not ours. */
-#define ARTIFACT_MAX_BYTES ((size_t)64 << 20)
-
-#define GABOR_SIGMA_DEG 1.0     /* the CSF parameters are for Gabors of sigma ~1 deg (model/csf_model.h) */
-#define FIXATION_S 0.3          /* fixation before each trial */
-#define RESPONSE_WINDOW_S 1.0   /* presses still accepted after the ramp ends */
-#define ANTICIPATION_S 0.15     /* presses sooner than this after onset are anticipations */
-#define AFC_INTERVAL_S 0.5
-#define AFC_ISI_S 0.5
-#define PRACTICE_CONTRAST 0.3
-#define PRACTICE_FREQ 2.0
-#define PRACTICE_S 2.0
 #define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
 #define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
 #define PRECISION_CAP_PER_CELL 40 /* --precision without --trials: the cap (960 over 24 cells) */
@@ -53,35 +36,13 @@
  * to warn that a --precision is out of the cap's reach. */
 #define REACH_LOG10_SQRT_TRIALS 0.25
 #define PRECISION_MIN_TRIALS 10 /* no stop before this many trials: the prior alone is not a table */
-#define FA_LIMIT 0.3            /* refuse a table when more catch trials than this were pressed */
-#define FA_MIN_CATCH 4
-#define INVALID_LIMIT 0.5       /* refuse when more than half the trials were invalid */
-#define UNRELATED_LIMIT 0.2     /* refuse when > 20 % of presses were not caused by a grating */
-/* Refuse when the wrong answers at 4x the estimated threshold say the person guessed on more than
- * half of those trials: > 25 % wrong with two intervals, > 37.5 % with four places. */
-#define AFC_GUESS_LIMIT 0.5
-/* Place cues (placeholders) before a forced-choice trial: rings around the places where the
- * grating can appear (the four places, or the one place of both intervals), so that the person
- * knows where to attend; spatial uncertainty would raise a human's threshold above the detection
- * threshold the table must hold. The rings are on for the first CUE_S of the fixation period and
- * are removed CUE_GAP_S before the grating appears, so that they cannot mask it and their offset
- * is over by its onset (cue onset to grating onset = FIXATION_S, a usual pre-cue lead); the
- * fixation period keeps its length, so the trials' frame counts and timing are unchanged. Their
- * radius is the patch radius (3 sigma, CSF_AFC_PATCH_RADIUS_SIGMAS), outside the visible Gabor;
- * the four places are at least two patch radii apart, so their rings do not overlap. Not used by
- * the fade method, whose grating appears at an unknown place on purpose. */
-#define CUE_S 0.2
-#define CUE_GAP_S (FIXATION_S - CUE_S)
-#define CUE_RADIUS_DEG (CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG)
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE, ST_DEMO };
-
-static volatile sig_atomic_t stop_requested;
 
 static void on_signal(int sig)
 {
     (void)sig;
-    stop_requested = 1;
+    obs_stop_requested = 1;
 }
 
 void csf_obs_options_defaults(csf_obs_options *o)
@@ -100,8 +61,6 @@ void csf_obs_options_defaults(csf_obs_options *o)
 
 /* ---- settings (stored with the session, read back on resume) --------------------------------- */
 
-typedef csf_obs_settings session_settings;
-
 /* The default budget per cell: the static default's rate, or a cap when the session stops at a
  * precision instead. */
 static int default_trials_per_cell(const session_settings *set)
@@ -109,551 +68,9 @@ static int default_trials_per_cell(const session_settings *set)
     return set->precision > 0 ? PRECISION_CAP_PER_CELL : DEFAULT_TRIALS_PER_CELL;
 }
 
-/* ---- the person: simulated or human behind the same few calls --------------------------------- */
-
-typedef struct {
-    csf_observer_sim *sim;
-    csf_obs_screen *eyes;       /* view=frame: contrasts are measured from the frames */
-    void (*seen_hook)(void *ctx, int n, const double *seen, const double *reported);
-    void *seen_hook_ctx;
-    csf_responder *resp;
-    csf_presenter *pres;
-    const csf_geometry *geom;
-    /* fade trial in progress */
-    csf_sim_fade_trial tr;
-    int pressed, paused;
-    double onset_s, press_rel_s, contrast_at_press;
-    int first_frame;
-    double period_s;
-    int catch_trial;
-    double sim_rt_total_s; /* simulated forced-choice answers' times, which no frame clock counts */
-} person;
-
-/* Time since onset on the refresh grid: the virtual clock makes it an exact multiple of the
- * period; rounding keeps a resumed run identical to an uninterrupted one. */
-static double rel_time(const person *p, double t_s)
-{
-    return p->period_s * floor((t_s - p->onset_s) / p->period_s + 0.5);
-}
-
-/* Called for every frame of a fade trial (presenter callback or our own blank frames). */
-static int person_fade_frame(person *p, double t_s, double contrast_shown)
-{
-    if (p->first_frame) {
-        p->onset_s = t_s;
-        p->first_frame = 0;
-    }
-    double rel = rel_time(p, t_s);
-    if (p->sim) {
-        double press, seen = p->eyes ? csf_obs_screen_latest(p->eyes) : contrast_shown;
-        if (csf_observer_sim_fade_frame(p->sim, &p->tr, rel, csf_round9(seen), &press)) {
-            p->pressed = 1;
-            p->press_rel_s = press;
-            p->contrast_at_press = contrast_shown;
-            return 1;
-        }
-        return 0;
-    }
-    csf_response ev;
-    if (stop_requested) { /* SIGINT/SIGTERM: pause as Escape + stop would */
-        p->paused = 1;
-        return 1;
-    }
-    while (p->resp && csf_responder_poll(p->resp, &ev)) {
-        if (ev.kind == CSF_RESP_ESCAPE) {
-            p->paused = 1;
-            return 1;
-        }
-        if (ev.kind == CSF_RESP_PRESS || ev.kind == CSF_RESP_CLICK) {
-            p->pressed = 1;
-            /* Events are stamped on raw CLOCK_MONOTONIC, frames on the presenter's clock (zero
-             * at its first frame): move the event onto the presenter's clock first. */
-            double offset = csf_responder_now() - csf_presenter_time(p->pres);
-            p->press_rel_s = (ev.t_s - offset) - p->onset_s;
-            p->contrast_at_press = contrast_shown;
-            return 1;
-        }
-    }
-    return 0;
-}
-
-static int fade_stop_cb(void *ctx, const csf_frame_info *f)
-{
-    return person_fade_frame(ctx, f->t_s, f->contrast_shown);
-}
-
-/* The direction (eccentricity, polar angle) of a click from the line of sight. */
-static void click_direction(const person *p, const csf_response *ev, double *ecc, double *polar)
-{
-    double xm, ym;
-    /* The click is in window framebuffer pixels; the geometry is in the configured resolution,
-     * which the window may not have (the presenter then draws the configured screen scaled to
-     * the window). */
-    int rw, rh;
-    csf_presenter_render_size(p->pres, &rw, &rh);
-    double sx = rw > 0 ? (double)p->geom->width_px / rw : 1.0;
-    double sy = rh > 0 ? (double)p->geom->height_px / rh : 1.0;
-    csf_geometry_px_to_mm(p->geom, ev->x_px * sx, ev->y_px * sy, &xm, &ym);
-    csf_geometry_mm_to_deg(p->geom, xm, ym, ecc, polar);
-}
-
-/* Waits for the click that says where the grating was; returns visual-angle x, y. */
-static csf_status person_click(person *p, double *x_deg, double *y_deg, csf_error *err)
-{
-    if (p->sim) {
-        csf_observer_sim_click(p->sim, &p->tr, x_deg, y_deg);
-        return CSF_OK;
-    }
-    csf_presenter_show_cursor(p->pres, 1);
-    csf_response ev;
-    for (;;) {
-        csf_frame_info fi;
-        csf_status st = csf_presenter_draw(p->pres, NULL, 1, &fi, err);
-        if (st != CSF_OK) return st;
-        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
-        else if (!csf_responder_poll(p->resp, &ev)) continue;
-        if (ev.kind == CSF_RESP_ESCAPE) {
-            p->paused = 1;
-            *x_deg = *y_deg = NAN;
-            break;
-        }
-        if (ev.kind == CSF_RESP_CLICK) {
-            double ecc, polar;
-            click_direction(p, &ev, &ecc, &polar);
-            *x_deg = ecc * cos(polar * M_PI / 180);
-            *y_deg = ecc * sin(polar * M_PI / 180);
-            break;
-        }
-    }
-    csf_presenter_show_cursor(p->pres, 0);
-    return CSF_OK;
-}
-
-/* Text screen; a human reads it and presses a key (Escape = pause), a simulation moves on. */
-static csf_status person_screen(person *p, const char *text, csf_error *err)
-{
-    /* A simulated person reads nothing: skip the screen (and cairo's font machinery). */
-    if (p->sim) return CSF_OK;
-    csf_trial_io io = {p->pres, p->resp, &stop_requested, 0};
-    csf_status st = csf_trial_io_screen(&io, text, err);
-    if (io.paused) p->paused = 1;
-    return st;
-}
-
-/* Escape during a human session: offer to resume or stop (data kept either way). Returns 1 to
- * resume (the interrupted trial is shown again), 0 to stop (the session is stored as paused). */
-static int ask_resume(person *p, int done, int total)
-{
-    if (p->sim || !p->resp) return 0;
-    char msg[200];
-    snprintf(msg, sizeof msg, "Paused after %d of %d trials; everything so far is saved.\n"
-                              "R: resume now.  S or Escape: stop (continue later with --resume).",
-             done, total);
-    csf_error e;
-    for (;;) {
-        if (stop_requested) return 0;
-        if (csf_presenter_text_screen(p->pres, msg, &e) != CSF_OK) return 0;
-        csf_response ev;
-        while (csf_responder_poll(p->resp, &ev)) {
-            if (ev.kind == CSF_RESP_ESCAPE) return 0;
-            if (ev.kind == CSF_RESP_KEY && (ev.key == 'S' || ev.key == 's')) return 0;
-            if (ev.kind == CSF_RESP_KEY && (ev.key == 'R' || ev.key == 'r')) {
-                p->paused = 0;
-                return 1;
-            }
-        }
-    }
-}
-
-/* ---- trial execution ---------------------------------------------------------------------- */
-
-typedef struct {
-    csf_presenter *pres;
-    person *who;
-    double mean_lum;
-    double period_s;
-    int drift_sign; /* this trial's drift direction (+1 / -1) for cells that drift */
-} runner;
-
-static csf_status blank_frames(runner *r, double seconds, int fixation, int fade_listen,
-                               csf_error *err)
-{
-    int n = (int)lround(seconds / r->period_s);
-    for (int i = 0; i < n; i++) {
-        csf_frame_info fi;
-        csf_status st = csf_presenter_draw(r->pres, NULL, fixation, &fi, err);
-        if (st != CSF_OK) return st;
-        if (fade_listen && person_fade_frame(r->who, fi.t_s, 0.0)) break;
-        if (!fade_listen && r->who->sim == NULL && r->who->resp) {
-            csf_response ev;
-            while (csf_responder_poll(r->who->resp, &ev))
-                if (ev.kind == CSF_RESP_ESCAPE) r->who->paused = 1;
-        }
-        if (r->who->paused) break;
-    }
-    return CSF_OK;
-}
-
-static void make_stimulus(csf_stimulus *s, double freq, double ecc, double polar, double contrast,
-                          double mean_lum)
-{
-    memset(s, 0, sizeof *s);
-    s->kind = CSF_STIM_GABOR;
-    s->freq_cpd = freq;
-    s->orientation_deg = 0;
-    s->sigma_deg = GABOR_SIGMA_DEG;
-    s->ecc_deg = ecc;
-    s->polar_deg = polar;
-    s->contrast = contrast;
-    s->mean_lum_cdm2 = mean_lum;
-}
-
-/* 1 when a Gabor of freq at ecc fits on screen, below the Nyquist limit there, at some whole-degree
- * polar angle (the first one into *polar if not NULL); else 0, with the presenter's reason for
- * polar angle 0 in *why (if not NULL). */
-static int cell_fits(csf_presenter *pres, double freq, double ecc, double mean_lum, double *polar,
-                     csf_error *why)
-{
-    csf_error e;
-    for (int a = 0; a < 360; a++) {
-        csf_stimulus s;
-        make_stimulus(&s, freq, ecc, a, 0.5, mean_lum);
-        if (csf_presenter_validate(pres, &s, a == 0 && why ? why : &e) == CSF_OK) {
-            if (polar) *polar = a;
-            return 1;
-        }
-    }
-    return 0;
-}
-
-/* A polar angle on the cell's eccentricity ring where the whole patch fits on screen: the plan's
- * own if it fits, else the nearest of 24 rotations that does (deterministic, so resume agrees). */
-static int fit_polar(csf_presenter *pres, double freq, double ecc, double polar, double mean_lum,
-                     double *out)
-{
-    csf_error e;
-    for (int j = 0; j < 24; j++) {
-        double cand = fmod(polar + (j % 2 ? 1 : -1) * 15.0 * ((j + 1) / 2) + 720.0, 360.0);
-        csf_stimulus s;
-        make_stimulus(&s, freq, ecc, cand, 0.5, mean_lum);
-        if (csf_presenter_validate(pres, &s, &e) == CSF_OK) {
-            *out = cand;
-            return 0;
-        }
-    }
-    /* Where only a narrow arc of the ring fits, every whole degree: the same search the checks
-     * before the first trial make (cell_fits), so a grid they accept can always be shown. */
-    return cell_fits(pres, freq, ecc, mean_lum, out, NULL) ? 0 : -1;
-}
-
-typedef struct {
-    int response;
-    double rt_s, contrast_at_response, click_x, click_y;
-    int valid;
-    char flags[64];
-    csf_trial_record rec;
-    int have_rec;
-    double shown_mean, shown_max;
-    int frames_planned, frames_shown, frames_missed;
-    double velocity_dps; /* the carrier's drift as shown, signed by its direction (0: static) */
-} trial_result;
-
-static void add_flag(char *flags, const char *f)
-{
-    size_t n = strlen(flags);
-    snprintf(flags + n, 64 - n, "%s%s", n ? "," : "", f);
-}
-
-/* The presenter's record of the trial's stimulus frames (tr->rec, just filled) into the result. */
-static void take_record(trial_result *tr)
-{
-    tr->have_rec = 1;
-    tr->shown_mean = tr->rec.contrast_shown_mean;
-    tr->shown_max = tr->rec.contrast_shown_max;
-    tr->frames_planned = tr->rec.frames_planned;
-    tr->frames_shown = tr->rec.frames_shown;
-    tr->frames_missed = tr->rec.frames_missed;
-    if (tr->rec.flags[0]) add_flag(tr->flags, tr->rec.flags);
-}
-
-/* The grating of a cell as a trial shows it: the carrier drifts at the cell's velocity in this
- * trial's direction inside the stationary envelope (the person fixates the mark, so the retinal
- * velocity is the screen velocity). */
-static void cell_stimulus(csf_stimulus *s, const runner *r, const csf_cell *c, double polar, double contrast,
-                          trial_result *tr)
-{
-    make_stimulus(s, c->freq_cpd, c->ecc_deg, polar, contrast, r->mean_lum);
-    s->drift_hz = csf_motion_drift_hz(c, r->drift_sign);
-    tr->velocity_dps = r->drift_sign * c->velocity_dps;
-}
-
-/* One fade trial: fixation, ramp (or blank frames for a catch trial), response window, click. */
-static csf_status run_fade(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
-                           double polar, int is_practice, trial_result *tr, csf_error *err)
-{
-    person *p = r->who;
-    memset(tr, 0, sizeof *tr);
-    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
-    csf_status st = blank_frames(r, FIXATION_S, 1, 0, err);
-    if (st != CSF_OK || p->paused) return st;
-    double duration = is_practice ? PRACTICE_S : plan->ramp_s;
-    p->pressed = 0;
-    p->contrast_at_press = 0;
-    p->first_frame = 1;
-    p->period_s = r->period_s;
-    p->catch_trial = plan->is_catch;
-    if (p->sim)
-        csf_observer_sim_fade_begin_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps, polar, 0.0,
-                                      duration + RESPONSE_WINDOW_S, &p->tr);
-    if (p->eyes) {
-        st = csf_obs_screen_look_v(p->eyes, c->freq_cpd, c->ecc_deg, c->velocity_dps, &polar, 1, 0, err);
-        if (st != CSF_OK) return st;
-    }
-    if (plan->is_catch) {
-        tr->frames_planned = (int)lround(duration / r->period_s);
-        st = blank_frames(r, duration, 1, 1, err);
-        tr->frames_shown = tr->frames_planned;
-    } else {
-        csf_stimulus s;
-        cell_stimulus(&s, r, c, polar, plan->contrast, tr);
-        csf_envelope env = {CSF_ENV_FADE_LOG, duration, 0, pow(10.0, plan->ramp_start_log10)};
-        if (is_practice) env = (csf_envelope){CSF_ENV_FIXED, duration, 0, 0};
-        st = csf_presenter_run_trial(r->pres, &s, &env, 1, fade_stop_cb, p, &tr->rec, err);
-        if (st != CSF_OK) return st;
-        take_record(tr);
-        if (!p->pressed && !p->paused) p->contrast_at_press = tr->rec.contrast_shown_last;
-    }
-    if (st != CSF_OK || p->paused) return st;
-    if (!p->pressed) {
-        double keep = p->contrast_at_press;
-        st = blank_frames(r, RESPONSE_WINDOW_S, 1, 1, err);
-        if (st != CSF_OK || p->paused) return st;
-        if (p->pressed) p->contrast_at_press = keep; /* pressed after the ramp: its last contrast */
-    }
-    if (p->eyes) {
-        st = csf_obs_screen_stop(p->eyes, NULL, err);
-        if (st != CSF_OK) return st;
-    }
-    tr->valid = 1;
-    if (p->pressed) {
-        tr->response = 1;
-        tr->rt_s = csf_round9(p->press_rel_s);
-        tr->contrast_at_response = csf_round9(p->contrast_at_press);
-        st = person_click(p, &tr->click_x, &tr->click_y, err);
-        if (st != CSF_OK || p->paused) return st;
-        tr->click_x = csf_round9(tr->click_x);
-        tr->click_y = csf_round9(tr->click_y);
-        if (tr->rt_s < ANTICIPATION_S) {
-            tr->valid = 0;
-            add_flag(tr->flags, "anticipation");
-        }
-        if (plan->is_catch) {
-            add_flag(tr->flags, "false_alarm");
-        } else {
-            double a = polar * M_PI / 180;
-            double dx = tr->click_x - c->ecc_deg * cos(a), dy = tr->click_y - c->ecc_deg * sin(a);
-            /* Tolerance grows with eccentricity: pointing without looking is coarse out there. */
-            if (hypot(dx, dy) > 2.0 + 0.3 * c->ecc_deg) {
-                tr->valid = 0;
-                add_flag(tr->flags, "click_far");
-            }
-        }
-    }
-    if (tr->frames_missed > 0) tr->valid = 0; /* the ramp was not the planned ramp */
-    return CSF_OK;
-}
-
-/* The fixation period of a forced-choice trial with its place cues: rings at the n places for
- * CUE_S, then fixation alone for CUE_GAP_S. The rings are removed on every way out (a pause
- * included), so they are never on during a grating, the answer or a pause screen. */
-static csf_status cued_fixation(runner *r, int n, double ecc, const double *polar, csf_error *err)
-{
-    double eccs[4] = {ecc, ecc, ecc, ecc};
-    csf_status st = csf_presenter_set_marks(r->pres, n, eccs, polar, CUE_RADIUS_DEG, err);
-    if (st != CSF_OK) return st;
-    st = blank_frames(r, CUE_S, 1, 0, err);
-    csf_error e;
-    csf_presenter_set_marks(r->pres, 0, NULL, NULL, 0, &e); /* clearing cannot fail */
-    if (st != CSF_OK || r->who->paused) return st;
-    return blank_frames(r, CUE_GAP_S, 1, 0, err);
-}
-
-/* One forced-choice interval with the grating at polar_deg: its frames go into tr, and *shown is
- * the mean contrast the presenter actually put on screen (what the person could see). */
-static csf_status show_afc_interval(runner *r, const csf_cell *c, double polar_deg, double contrast,
-                                    trial_result *tr, double *shown, csf_error *err)
-{
-    csf_stimulus s;
-    cell_stimulus(&s, r, c, polar_deg, contrast, tr);
-    csf_envelope env = {CSF_ENV_FIXED, AFC_INTERVAL_S, 0, 0};
-    csf_status st = csf_presenter_run_trial(r->pres, &s, &env, 1, NULL, NULL, &tr->rec, err);
-    if (st != CSF_OK) return st;
-    take_record(tr);
-    *shown = csf_round9(tr->rec.contrast_shown_mean);
-    return CSF_OK;
-}
-
-/* view=frame: the person looks at the n places for the next forced-choice interval (it knows
- * where the places are and how long an interval lasts, not where the grating will be). */
-static csf_status eyes_look(runner *r, const csf_cell *c, const double *polar, int n, csf_error *err)
-{
-    if (!r->who->eyes) return CSF_OK;
-    return csf_obs_screen_look_v(r->who->eyes, c->freq_cpd, c->ecc_deg, c->velocity_dps, polar, n,
-                                 (int)lround(AFC_INTERVAL_S / r->period_s), err);
-}
-
-/* One 2AFC trial: place cue, two intervals, the grating in one of them; the person picks one. */
-static csf_status run_2afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
-                           double polar, trial_result *tr, csf_error *err)
-{
-    person *p = r->who;
-    memset(tr, 0, sizeof *tr);
-    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
-    /* one ring: the grating appears at the same place in both intervals */
-    csf_status st = cued_fixation(r, 1, c->ecc_deg, &polar, err);
-    if (st != CSF_OK || p->paused) return st;
-    double shown[2] = {0, 0}, seen[2] = {0, 0};
-    for (int k = 0; k < 2; k++) {
-        if (k == 1) {
-            st = blank_frames(r, AFC_ISI_S, 1, 0, err);
-            if (st != CSF_OK || p->paused) return st;
-        }
-        st = eyes_look(r, c, &polar, 1, err);
-        if (st != CSF_OK) return st;
-        if (k != plan->signal_interval) {
-            st = blank_frames(r, AFC_INTERVAL_S, 1, 0, err);
-            if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, &seen[k], err);
-            if (st != CSF_OK || p->paused) return st;
-            continue;
-        }
-        st = show_afc_interval(r, c, polar, plan->contrast, tr, &shown[k], err);
-        if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, &seen[k], err);
-        if (st != CSF_OK) return st;
-    }
-    tr->valid = 1;
-    tr->contrast_at_response = shown[plan->signal_interval];
-    if (p->sim) {
-        double rt;
-        tr->response = csf_observer_sim_2afc_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps,
-                                               p->eyes ? seen : shown, &rt);
-        if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 2, seen, shown);
-        tr->rt_s = csf_round9(rt);
-        p->sim_rt_total_s += rt;
-        return CSF_OK;
-    }
-    csf_trial_io io = {r->pres, p->resp, &stop_requested, 0};
-    int choice;
-    double rt;
-    st = csf_trial_io_wait_choice(&io, csf_responder_now(), 0, &choice, &rt, err);
-    if (io.paused) p->paused = 1;
-    if (st != CSF_OK || p->paused) return st;
-    tr->response = choice;
-    tr->rt_s = rt;
-    return CSF_OK;
-}
-
-/* One four-place trial (spatial 4AFC): fixation with the four places cued, then one interval as
- * long as a 2AFC interval with the grating at place plan->signal_interval of the layout (the
- * plan's polar_deg is not used), then the answer: a click (the nearest place) or a place key. */
-static csf_status run_4afc(runner *r, uint64_t trial_key, const csf_cell *c, const csf_trial_plan *plan,
-                           const csf_afc_layout *lay, trial_result *tr, csf_error *err)
-{
-    person *p = r->who;
-    memset(tr, 0, sizeof *tr);
-    tr->rt_s = tr->contrast_at_response = tr->click_x = tr->click_y = NAN;
-    if (lay->n_alternatives != 4 || plan->signal_interval < 0 || plan->signal_interval > 3)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "four-place trial at %g cpd, %g deg: place %d of "
-                             "a %d-alternative layout", c->freq_cpd, c->ecc_deg, plan->signal_interval,
-                             lay->n_alternatives);
-    csf_status st = cued_fixation(r, 4, c->ecc_deg, lay->polar_deg, err);
-    if (st != CSF_OK || p->paused) return st;
-    double shown[4] = {0, 0, 0, 0}, seen[4] = {0, 0, 0, 0};
-    int sig = plan->signal_interval;
-    st = eyes_look(r, c, lay->polar_deg, 4, err);
-    if (st != CSF_OK) return st;
-    st = show_afc_interval(r, c, lay->polar_deg[sig], plan->contrast, tr, &shown[sig], err);
-    if (st == CSF_OK && p->eyes) st = csf_obs_screen_stop(p->eyes, seen, err);
-    if (st != CSF_OK) return st;
-    tr->valid = 1;
-    tr->contrast_at_response = shown[sig];
-    if (p->sim) {
-        double rt;
-        tr->response = csf_observer_sim_afc_v(p->sim, trial_key, c->freq_cpd, c->ecc_deg, c->velocity_dps,
-                                              p->eyes ? seen : shown, 4, &rt);
-        if (p->eyes && p->seen_hook) p->seen_hook(p->seen_hook_ctx, 4, seen, shown);
-        tr->rt_s = csf_round9(rt);
-        p->sim_rt_total_s += rt;
-        return CSF_OK;
-    }
-    double t0 = csf_responder_now();
-    csf_presenter_show_cursor(p->pres, 1);
-    for (;;) {
-        csf_frame_info fi;
-        st = csf_presenter_draw(r->pres, NULL, 1, &fi, err);
-        if (st != CSF_OK) break;
-        csf_response ev;
-        if (stop_requested) ev.kind = CSF_RESP_ESCAPE;
-        else if (!csf_responder_poll(p->resp, &ev)) continue;
-        if (ev.kind == CSF_RESP_ESCAPE) {
-            p->paused = 1;
-            break;
-        }
-        /* As in run_2afc, answers count from the end of the interval. */
-        if (ev.t_s < t0) continue;
-        if (ev.kind == CSF_RESP_CLICK) {
-            double ecc, polar;
-            click_direction(p, &ev, &ecc, &polar);
-            tr->click_x = csf_round9(ecc * cos(polar * M_PI / 180));
-            tr->click_y = csf_round9(ecc * sin(polar * M_PI / 180));
-            tr->response = csf_afc_nearest_place(lay, ecc, polar, c->ecc_deg);
-            tr->rt_s = ev.t_s - t0;
-            break;
-        }
-        if (ev.kind == CSF_RESP_CHOICE && ev.places == 4 && ev.choice >= 0 && ev.choice <= 3) {
-            tr->response = ev.choice;
-            tr->rt_s = ev.t_s - t0;
-            break;
-        }
-    }
-    csf_presenter_show_cursor(p->pres, 0);
-    return st;
-}
-
 /* ---- session -------------------------------------------------------------------------------- */
 
-static void default_axes(const csf_geometry *g, session_settings *s, int quiet)
-{
-    if (s->n_freqs == 0) {
-        /* Frequencies are constant in angle space; on a flat screen pixels per degree are lowest
-         * at the centre, so the centre's Nyquist limit caps every position. */
-        double nyq = csf_geometry_nyquist_cpd_any(g, 0, 0);
-        for (int i = 0; i < 6; i++) {
-            double f = 0.5 * pow(32.0, i / 5.0);
-            f = csf_round9(f);
-            if (f <= nyq) s->freqs[s->n_freqs++] = f;
-            else if (!quiet)
-                fprintf(stderr, "csfcal: observer: %.3g cpd dropped: above the display's Nyquist "
-                                "limit of %.3g cpd\n", f, nyq);
-        }
-    }
-    if (s->n_eccs == 0) {
-        static const double e[] = {0, 5, 10, 20};
-        double reach = 0;
-        for (int a = 0; a < 360; a += 5) {
-            double m = csf_geometry_max_ecc(g, a);
-            if (m > reach) reach = m;
-        }
-        for (int i = 0; i < 4; i++) {
-            if (e[i] + 3 * GABOR_SIGMA_DEG <= reach) s->eccs[s->n_eccs++] = e[i];
-            else if (!quiet)
-                fprintf(stderr, "csfcal: observer: %g deg dropped: the screen reaches %.3g deg "
-                                "(a patch needs %g deg beyond its centre)\n",
-                        e[i], reach, 3 * GABOR_SIGMA_DEG);
-        }
-    }
-}
-
-static void now_utc(char *buf, size_t len)
+void obs_now_utc(char *buf, size_t len)
 {
     time_t t = time(NULL);
     struct tm tm;
@@ -661,38 +78,9 @@ static void now_utc(char *buf, size_t len)
     strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm);
 }
 
-static int cmp_d(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-typedef struct {
-    csf_store *store;
-    csf_presenter *pres;
-    csf_display_profile *profile;
-    csf_observer_sim *sim;
-    csf_responder *resp;
-    const csf_procedure_ops *ops;
-    void *proc;
-    csf_trial *stored;
-    csf_cell *cells;
-    csf_cell_estimate *est;
-    csf_afc_layout *layouts;  /* per cell: four places or two intervals */
-    int *n_alt;               /* per cell: 2 or 4 (the procedure setup's n_alternatives) */
-    unsigned char *not_shown; /* per cell: 1 = its drift would alias on this display (never shown) */
-    csf_obs_screen *screen;   /* view=frame: the simulated person's eyes on the presenter */
-} session_res;
-
 static void session_free(session_res *s)
 {
     if (s->proc) s->ops->destroy(s->proc);
-    csf_responder_close(s->resp);
-    csf_observer_sim_free(s->sim);
-    csf_obs_screen_close(s->screen);
-    csf_presenter_close(s->pres);
-    csf_profile_free(s->profile);
-    csf_store_close(s->store);
     free(s->stored);
     free(s->cells);
     free(s->est);
@@ -716,13 +104,6 @@ static csf_status store_trial(session_res *S, size_t *n_stored, const csf_trial 
     return CSF_OK;
 }
 
-/* How many alternatives a planned trial has: 2 or 4 for forced choice, 0 for fade. */
-static int plan_alternatives(const csf_trial_plan *plan)
-{
-    if (plan->task != CSF_TASK_2AFC) return 0;
-    return plan->n_alternatives == 4 ? 4 : 2;
-}
-
 /* The forced-choice layout of every cell: four places (spatial 4AFC) when the session asks for
  * them, the method is a forced-choice one, csf_afc_choose_layout finds four places apart on the
  * screen, and the presenter accepts the cell's Gabor at each of them (on screen, below the
@@ -741,63 +122,13 @@ static csf_status choose_layouts(session_res *S, const csf_geometry *g, int n_ce
         for (int j = 0; j < 4 && l->n_alternatives == 4; j++) {
             csf_stimulus st;
             csf_error e;
-            make_stimulus(&st, S->cells[k].freq_cpd, S->cells[k].ecc_deg, l->polar_deg[j], 0.5, mean_lum);
+            obs_make_stimulus(&st, S->cells[k].freq_cpd, S->cells[k].ecc_deg, l->polar_deg[j], 0.5, mean_lum);
             st.drift_hz = csf_motion_drift_hz(&S->cells[k], 1);
             if (csf_presenter_validate(S->pres, &st, &e) != CSF_OK) l->n_alternatives = 2;
         }
         S->n_alt[k] = l->n_alternatives == 4 ? 4 : 2;
     }
     return CSF_OK;
-}
-
-static void fill_trial(csf_trial *t, int64_t sid, int seq, const char *method, const csf_cell *c,
-                       double polar, double mean_lum, const csf_trial_plan *plan, int practice,
-                       const trial_result *tr)
-{
-    memset(t, 0, sizeof *t);
-    t->session_id = sid;
-    t->seq = seq;
-    snprintf(t->method, sizeof t->method, "%s", method);
-    t->freq_cpd = c->freq_cpd;
-    t->ecc_deg = c->ecc_deg;
-    t->polar_deg = csf_round9(polar);
-    t->orientation_deg = 0;
-    t->sigma_deg = GABOR_SIGMA_DEG;
-    t->velocity_dps = csf_round9(tr->velocity_dps);
-    t->mean_lum_cdm2 = csf_round9(mean_lum);
-    t->is_catch = plan->is_catch;
-    t->is_practice = practice;
-    t->contrast_requested = csf_round9(plan->contrast);
-    t->contrast_shown_mean = csf_round9(tr->shown_mean);
-    /* For fade trials contrast_shown_max holds the contrast on screen at the press: what the
-     * procedure's update() needs back on resume (the highest contrast shown up to the press). */
-    t->contrast_shown_max = plan->task == CSF_TASK_FADE ? tr->contrast_at_response : csf_round9(tr->shown_max);
-    if (plan->task == CSF_TASK_2AFC) t->contrast_shown_max = tr->contrast_at_response;
-    t->frames_planned = tr->frames_planned;
-    t->frames_shown = tr->frames_shown;
-    t->frames_missed = tr->frames_missed;
-    t->signal_interval = plan->task == CSF_TASK_2AFC ? plan->signal_interval + 1 : 0;
-    t->n_alternatives = plan_alternatives(plan);
-    t->response = plan->task == CSF_TASK_2AFC ? tr->response + 1 : tr->response;
-    t->rt_s = tr->rt_s;
-    t->click_x_deg = tr->click_x;
-    t->click_y_deg = tr->click_y;
-    t->valid = tr->valid;
-    snprintf(t->flags, sizeof t->flags, "%s", tr->flags);
-}
-
-/* The outcome update() saw, rebuilt from a stored trial (the resume path and the live path use
- * this same function, so they cannot disagree). */
-static csf_trial_outcome outcome_of(const csf_trial *t, csf_task task)
-{
-    csf_trial_outcome o;
-    /* A fade session's forced-choice anchors are stored with their alternatives (2). */
-    if (t->n_alternatives > 0) task = CSF_TASK_2AFC;
-    o.response = task == CSF_TASK_2AFC ? t->response - 1 : t->response;
-    o.rt_s = t->rt_s;
-    o.contrast_at_response = t->contrast_shown_max;
-    o.valid = t->valid;
-    return o;
 }
 
 static double practice_latency(const csf_trial *t, size_t n)
@@ -812,270 +143,6 @@ static double practice_latency(const csf_trial *t, size_t n)
     return k ? sum / k : NAN;
 }
 
-/* ---- checks before the first trial ---------------------------------------------------------- */
-
-/* Output paths, before anything is measured: a session that cannot write its table at the end
- * would have cost the person the whole session. Usage errors (exit status 2). */
-static csf_status check_outputs(const csf_obs_options *opt, csf_error *err)
-{
-    csf_status st = csf_check_output_path(opt->out_path, "threshold table", err);
-    if (st == CSF_OK && opt->plot_path) {
-        const char *ext = strrchr(opt->plot_path, '.');
-        if (!ext || (strcasecmp(ext, ".png") && strcasecmp(ext, ".pdf") && strcasecmp(ext, ".svg")))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "--plot %s: unknown plot format '%s' (allowed "
-                                 ".png, .pdf, .svg)", opt->plot_path, ext ? ext : "(none)");
-        if (strcmp(opt->plot_path, opt->out_path) == 0)
-            return csf_error_set(err, CSF_E_INVALID_ARG, "--plot and --out are both %s: give two files",
-                                 opt->out_path);
-        st = csf_check_output_path(opt->plot_path, "report plot", err);
-    }
-    if (st != CSF_OK && st != CSF_E_NOMEM) {
-        err->code = CSF_E_INVALID_ARG;
-        return CSF_E_INVALID_ARG;
-    }
-    return st;
-}
-
-/* One grid axis: values in range and strictly increasing (the table format's rule; equal values
- * would measure one cell twice and leave the table unwritable). A new session's values are sorted
- * first (sort = 1); a stored session's must already be in order. */
-static csf_status check_axis(const char *opt, const char *unit, double *v, int n, double lo, double hi,
-                             int sort, csf_error *err)
-{
-    if (n < 1 || n > CSF_OBS_MAX_AXIS)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %d values (allowed 1 to %d)", opt, n, CSF_OBS_MAX_AXIS);
-    for (int i = 0; i < n; i++)
-        if (!(v[i] >= lo && v[i] <= hi))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s is out of range (allowed %g to %g %s)",
-                                 opt, v[i], unit, lo, hi, unit);
-    if (sort) qsort(v, (size_t)n, sizeof *v, cmp_d);
-    for (int i = 1; i < n; i++) {
-        if (v[i] == v[i - 1])
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s is given twice (each value once)", opt,
-                                 v[i], unit);
-        if (!(v[i] > v[i - 1]))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %g %s comes after %g %s (values must "
-                                 "increase)", opt, v[i], unit, v[i - 1], unit);
-    }
-    /* and what the table writer will demand of it at the end (neighbours it can tell apart) */
-    if (strcmp(unit, "deg/s") == 0) return CSF_OK; /* velocity: checked with the grid (check_settings) */
-    double thr[CSF_OBS_MAX_AXIS];
-    for (int i = 0; i < n; i++) thr[i] = 0.01;
-    double other = 1.0;
-    csflut_build b;
-    memset(&b, 0, sizeof b);
-    int is_freq = strcmp(unit, "cpd") == 0;
-    b.n_freq = is_freq ? n : 1;
-    b.n_ecc = is_freq ? 1 : n;
-    b.freq_cpd = is_freq ? v : &other;
-    b.ecc_deg = is_freq ? &other : v;
-    b.threshold = thr;
-    csflut_diag d;
-    memset(&d, 0, sizeof d);
-    if (csflut_validate_build(&b, &d) != CSFLUT_OK)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s", opt, d.message);
-    return CSF_OK;
-}
-
-static csf_status check_settings(session_settings *set, int sort, csf_error *err)
-{
-    if (strcmp(set->method, "bayes") && strcmp(set->method, "fade") && strcmp(set->method, "2afc"))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "--method %s: unknown (bayes, fade, 2afc)", set->method);
-    int sim = strncmp(set->observer, "sim", 3) == 0 && (set->observer[3] == '\0' || set->observer[3] == ':');
-    int human = strncmp(set->observer, "human", 5) == 0 && (set->observer[5] == '\0' || set->observer[5] == ':');
-    if (!sim && !human)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human[:NAME]",
-                             set->observer);
-    csf_status st = check_axis("--freqs", "cpd", set->freqs, set->n_freqs, 0.01, 200, sort, err);
-    if (st == CSF_OK) st = check_axis("--eccs", "deg", set->eccs, set->n_eccs, 0, 80, sort, err);
-    if (st == CSF_OK && set->n_vels > 0)
-        st = check_axis("--velocities", "deg/s", set->vels, set->n_vels, 0, CSF_PROC_MAX_VELOCITY_DPS, sort,
-                        err);
-    if (st == CSF_OK && !(set->drift_direction >= -1 && set->drift_direction <= 1))
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--drift-direction: %d is not -1, 0 or 1",
-                           set->drift_direction);
-    if (st == CSF_OK && !(set->trials >= 1 && set->trials <= 5000))
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--trials: %d is out of range (allowed 1 to 5000)", set->trials);
-    if (st == CSF_OK && !(set->practice >= 0 && set->practice <= 50))
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--practice: %d is out of range (allowed 0 to 50)", set->practice);
-    if (st == CSF_OK && !(set->break_every >= 1 && set->break_every <= 5000))
-        st = csf_error_set(err, CSF_E_INVALID_ARG, "--break-every: %d is out of range (allowed 1 to 5000)",
-                           set->break_every);
-    return st;
-}
-
-/* Every cell of the grid, and the practice grating, can be drawn on this screen: checked before
- * the first trial, so a session never stops at a cell it cannot show. The messages name the
- * limit: how far the screen reaches, or the local Nyquist limit. */
-static csf_status check_grid_on_screen(csf_presenter *pres, const csf_config *cfg, const session_settings *set,
-                                       int practice_left, double mean_lum, csf_error *err)
-{
-    const csf_geometry *g = csf_presenter_geometry(pres);
-    const double low_cpd = 0.05; /* far below any Nyquist limit: only the place decides */
-    csf_error why;
-    csf_error_clear(&why);
-    if (!cell_fits(pres, low_cpd, 0, mean_lum, NULL, &why))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "this display cannot show the test gratings: %s", why.msg);
-    double reach = 0, reach_polar = 0;
-    for (int a = 0; a < 360; a++) {
-        double m = csf_geometry_max_ecc(g, a);
-        if (m > reach) {
-            reach = m;
-            reach_polar = a;
-        }
-    }
-    const double patch_deg = CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG;
-    for (int e = 0; e < set->n_eccs; e++) {
-        double ecc = set->eccs[e];
-        if (cell_fits(pres, low_cpd, ecc, mean_lum, NULL, NULL)) continue;
-        /* the largest eccentricity where a patch fits somewhere: bisection (fitting shrinks with
-         * eccentricity) */
-        double lo = 0, hi = ecc;
-        for (int i = 0; i < 30; i++) {
-            double mid = 0.5 * (lo + hi);
-            if (cell_fits(pres, low_cpd, mid, mean_lum, NULL, NULL)) lo = mid;
-            else hi = mid;
-        }
-        return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "--eccs: %g deg does not fit on this screen: it reaches %.3g deg from the "
-                             "fixation mark at most (towards polar angle %g deg; %g x %g mm seen from %g mm), "
-                             "a Gabor patch needs %g deg around its centre, so the largest eccentricity "
-                             "is %.3g deg", ecc, reach, reach_polar, cfg->screen_width_mm, cfg->screen_height_mm,
-                             cfg->viewing_distance_mm, patch_deg, floor(lo * 100) / 100);
-    }
-    for (int e = 0; e < set->n_eccs; e++)
-        for (int f = 0; f < set->n_freqs; f++) {
-            double ecc = set->eccs[e], freq = set->freqs[f];
-            if (cell_fits(pres, freq, ecc, mean_lum, NULL, NULL)) continue;
-            double lo = low_cpd, hi = freq;
-            for (int i = 0; i < 30; i++) {
-                double mid = sqrt(lo * hi);
-                if (cell_fits(pres, mid, ecc, mean_lum, NULL, NULL)) lo = mid;
-                else hi = mid;
-            }
-            return csf_error_set(err, CSF_E_INVALID_ARG,
-                                 "--freqs: %g cpd at %g deg is above the local Nyquist limit of %.3g cpd "
-                                 "there (0.5 cycle/pixel; %d x %d px over %g x %g mm seen from %g mm): "
-                                 "lower the frequency or increase the viewing distance",
-                                 freq, ecc, floor(lo * 1000) / 1000, cfg->screen_width_px, cfg->screen_height_px,
-                                 cfg->screen_width_mm, cfg->screen_height_mm, cfg->viewing_distance_mm);
-        }
-    if (practice_left > 0) {
-        csf_stimulus ps;
-        make_stimulus(&ps, PRACTICE_FREQ, 0, 0, PRACTICE_CONTRAST, mean_lum);
-        if (csf_presenter_validate(pres, &ps, &why) != CSF_OK)
-            return csf_error_set(err, CSF_E_INVALID_ARG, "--practice: practice trials show %g cpd at the "
-                                 "fixation mark, which this display cannot: %s; give --practice 0",
-                                 PRACTICE_FREQ, why.msg);
-    }
-    return CSF_OK;
-}
-
-/* ---- display profile across --resume --------------------------------------------------------- */
-
-/* The session's profile history, kept as a "profile_change" artifact whose newest copy holds all
- * of it: one line per profile, "TRIAL PROFILE_ID" (the stored trial count from which it was
- * used). Absent when the profile never changed. */
-#define PROFILE_HISTORY_KIND "profile_change"
-
-static char *profile_history(csf_store *store, int64_t sid)
-{
-    void *blob = NULL;
-    size_t len = 0;
-    csf_error e;
-    if (csf_store_get_artifact(store, sid, PROFILE_HISTORY_KIND, &blob, &len, NULL, 0, &e) != CSF_OK) return NULL;
-    return blob; /* NUL-terminated by the store */
-}
-
-/* The profile id the session used last: the history's last line, else the one it began with. */
-static void last_profile(const char *history, const char *began, char *out, size_t len)
-{
-    snprintf(out, len, "%s", began);
-    if (!history) return;
-    const char *line = history;
-    while (*line) {
-        const char *nl = strchr(line, '\n');
-        size_t n = nl ? (size_t)(nl - line) : strlen(line);
-        const char *sp = memchr(line, ' ', n);
-        if (sp && n > (size_t)(sp + 1 - line))
-            snprintf(out, len, "%.*s", (int)(n - (size_t)(sp + 1 - line)), sp + 1);
-        if (!nl) break;
-        line = nl + 1;
-    }
-}
-
-/* On --resume: the profile this run has must be the one the session used last, unless the user
- * said --allow-profile-change; then the change is added to the history. */
-static csf_status check_profile_on_resume(csf_store *store, int64_t sid, const char *began, int n_stored,
-                                          const csf_display_profile *now, const csf_config *cfg,
-                                          int allow, int quiet, csf_error *err)
-{
-    char *hist = profile_history(store, sid);
-    char last[256];
-    last_profile(hist, began, last, sizeof last);
-    const char *id = csf_profile_id(now);
-    csf_status st = CSF_OK;
-    /* Sessions stored before the settings kept the profile id have only the session row's
-     * profile_id, cut at 127 characters. */
-    size_t cmp_len = !hist && strlen(last) == sizeof ((csf_session_info *)0)->profile_id - 1 ? strlen(last) : sizeof last;
-    if (strncmp(last, id, cmp_len) == 0) goto done;
-    if (!allow) {
-        st = csf_error_set(err, CSF_E_INVALID_ARG,
-                           "--resume %lld: the session was measured with display profile '%s', this run "
-                           "has '%s' (%s): one table would mix two displays. Resume with --profile FILE of "
-                           "'%s', or give --allow-profile-change to go on with '%s' (recorded in the "
-                           "session and the table)", (long long)sid, last, id,
-                           cfg->display_profile[0] ? cfg->display_profile : "the default display model, no --profile",
-                           last, id);
-        goto done;
-    }
-    char entry[400];
-    snprintf(entry, sizeof entry, "%d %s\n", n_stored, id);
-    size_t hl = hist ? strlen(hist) : 0;
-    char first[300] = "";
-    if (!hist) snprintf(first, sizeof first, "0 %s\n", began);
-    size_t total = strlen(first) + hl + strlen(entry) + 1;
-    char *blob = malloc(total);
-    if (!blob) {
-        st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        goto done;
-    }
-    snprintf(blob, total, "%s%s%s", first, hist ? hist : "", entry);
-    st = csf_store_add_artifact(store, sid, PROFILE_HISTORY_KIND, "", blob, strlen(blob), err);
-    free(blob);
-    if (st == CSF_OK && !quiet)
-        fprintf(stderr, "csfcal: observer: session %lld goes on with display profile '%s' from trial %d (it "
-                        "was measured with '%s'): --allow-profile-change, recorded in the session and the "
-                        "table\n", (long long)sid, id, n_stored, last);
-done:
-    free(hist);
-    return st;
-}
-
-/* The table's display_profile_id: the one profile, or every profile with the trial it began at. */
-static void table_profile_id(csf_store *store, int64_t sid, const char *id, char *out, size_t len)
-{
-    char *hist = profile_history(store, sid);
-    if (!hist) {
-        snprintf(out, len, "%s", id);
-        return;
-    }
-    size_t n = 0;
-    out[0] = '\0';
-    for (const char *line = hist; *line && n < len;) {
-        const char *nl = strchr(line, '\n');
-        size_t l = nl ? (size_t)(nl - line) : strlen(line);
-        const char *sp = memchr(line, ' ', l);
-        if (sp)
-            n += (size_t)snprintf(out + n, len - n, "%s%.*s from trial %.*s", n ? ", " : "",
-                                  (int)(l - (size_t)(sp + 1 - line)), sp + 1, (int)(sp - line), line);
-        if (!nl) break;
-        line = nl + 1;
-    }
-    if (n < len) snprintf(out + n, len - n, " (--allow-profile-change)");
-    free(hist);
-}
-
 /* One practice trial, shown and stored as practice (the procedure never sees it). When the person
  * pauses nothing is stored and the caller looks at who->paused. */
 static csf_status practice_trial(session_res *S, runner *run, int64_t sid, const char *method, uint64_t key,
@@ -1084,16 +151,16 @@ static csf_status practice_trial(session_res *S, runner *run, int64_t sid, const
 {
     int four = plan->n_alternatives == 4;
     trial_result tr;
-    csf_status st = plan->task == CSF_TASK_FADE ? run_fade(run, key, cell, plan, 0, 1, &tr, err)
-                    : four                     ? run_4afc(run, key, cell, plan, layout, &tr, err)
-                                               : run_2afc(run, key, cell, plan, 0, &tr, err);
+    csf_status st = plan->task == CSF_TASK_FADE ? obs_run_fade(run, key, cell, plan, 0, 1, &tr, err)
+                    : four                     ? obs_run_4afc(run, key, cell, plan, layout, &tr, err)
+                                               : obs_run_2afc(run, key, cell, plan, 0, &tr, err);
     if (st != CSF_OK) return st;
     if (run->who->paused) {
         if (tr.have_rec) csf_trial_record_free(&tr.rec);
         return CSF_OK;
     }
     csf_trial t;
-    fill_trial(&t, sid, *seq, method, cell, four ? layout->polar_deg[plan->signal_interval] : 0, mean_lum, plan, 1,
+    obs_fill_trial(&t, sid, *seq, method, cell, four ? layout->polar_deg[plan->signal_interval] : 0, mean_lum, plan, 1,
                &tr);
     st = store_trial(S, n_stored, &t, &tr, err);
     if (st == CSF_OK) (*seq)++;
@@ -1110,7 +177,7 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
     int have = 0;
     for (size_t i = 0; i < *n_stored; i++)
         have += S->stored[i].is_practice && S->stored[i].n_alternatives == 2;
-    for (int k = have; k < ANCHOR_PRACTICE && !run->who->paused && !stop_requested; k++) {
+    for (int k = have; k < ANCHOR_PRACTICE && !run->who->paused && !obs_stop_requested; k++) {
         csf_cell pc_cell = {PRACTICE_FREQ, 0, 0};
         csf_trial_plan plan;
         memset(&plan, 0, sizeof plan);
@@ -1127,49 +194,14 @@ static csf_status anchor_practice(session_res *S, runner *run, int64_t sid, cons
 
 /* ---- one observer session, in phases -------------------------------------------------------- */
 
-/* Everything one session holds while it runs: what it was asked, what it opened, its settings and
- * where it stands. Each phase below takes it; csf_observer_calibrate calls them in order. */
-typedef struct {
-    const csf_obs_options *opt;
-    const csf_config *cfg;
-    csf_obs_result *res;
-    session_res S;
-    session_settings set;
-    csf_geometry geom;
-    int64_t sid;              /* 0 until the store has the session (a new one) */
-    uint64_t seed;
-    int resume_n_stored;      /* trials the store held when a resumed session began */
-    int said_paused;          /* the pause message already names --resume */
-    int is_sim, is_human;
-    double mean_lum_cdm2, max_contrast;
-    int n_cells;
-    size_t n_stored;          /* trials in S.stored, practice included */
-    csf_afc_layout prac_layout; /* the four-place practice grating's places (2: none) */
-    double prac_ecc_deg;
-    person who;
-    runner run;
-    int seq;                  /* the next trial's sequence number */
-    int trial_index;          /* the next main trial's index */
-    int default_budget;       /* the budget is the default for this grid (set once the display is known) */
-    int n_not_shown;          /* cells whose drift this display cannot show */
-    double person_t0_s;       /* presenter clock when this run's first trial began */
-    int person_started;       /* person_t0_s is set: the first screen was shown */
-    int resume_done;          /* main trials stored before this run (a resume) */
-    int person_recorded;      /* this run's person time is in the store */
-} obs_run;
-
 /* A resumed session's settings, from the store; a session that cannot be resumed says why. */
 static csf_status resumed_settings(obs_run *R, csf_error *err)
 {
     session_settings *set = &R->set;
     int64_t sid = R->sid;
-    /* A new session opens the store only once every check has passed (nothing is written for a
-     * refused one); a resumed one needs its settings first. */
-    csf_status st = csf_store_open(R->opt->store_path, &R->S.store, err);
-    if (st != CSF_OK) return st;
     csf_session_info info;
     memset(&info, 0, sizeof info);
-    st = csf_store_get_session(R->S.store, sid, &info, err);
+    csf_status st = csf_store_get_session(R->S.store, sid, &info, err);
     if (st != CSF_OK) return st;
     int wrong = strcmp(info.kind, "observer") != 0 ||
                 !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
@@ -1181,7 +213,7 @@ static csf_status resumed_settings(obs_run *R, csf_error *err)
     int unreadable = !wrong && csf_obs_settings_from_json(info.settings_json, set) != 0;
     csf_error why;
     csf_error_clear(&why);
-    int invalid = !wrong && !unreadable && check_settings(set, 0, &why) != CSF_OK;
+    int invalid = !wrong && !unreadable && obs_check_settings(set, 0, &why) != CSF_OK;
     /* Sessions stored before the settings carried the profile id: the store's profile_id
      * (schema 5 moved it there from the display column). */
     if (!wrong && !set->profile_id[0]) snprintf(set->profile_id, sizeof set->profile_id, "%s", info.profile_id);
@@ -1260,7 +292,7 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     memcpy(set->eccs, opt->eccs_deg, sizeof set->eccs);
     set->n_freqs = opt->n_freqs;
     set->n_eccs = opt->n_eccs;
-    default_axes(&R->geom, set, opt->quiet);
+    obs_default_axes(&R->geom, set, opt->quiet);
     if (set->n_freqs == 0 || set->n_eccs == 0)
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer: no frequency or eccentricity fits this display");
     if (set->trials == 0) {
@@ -1271,11 +303,12 @@ static csf_status new_settings(obs_run *R, csf_error *err)
     }
     /* Any order is accepted and sorted (the table's axes increase); a value given twice is
      * refused. */
-    return check_settings(set, 1, err);
+    return obs_check_settings(set, 1, err);
 }
 
-/* The method and the person: a simulated one is made here, a human one needs a window. */
-static csf_status open_method_and_person(obs_run *R, csf_error *err)
+/* The method, and which person answers: a simulated one (its resources give it) or a human, who
+ * needs a window. */
+static csf_status choose_method_and_person(obs_run *R, csf_error *err)
 {
     const session_settings *set = &R->set;
     R->S.ops = csf_procedure_find(set->method);
@@ -1292,78 +325,42 @@ static csf_status open_method_and_person(obs_run *R, csf_error *err)
     if (!R->is_sim && !R->is_human)
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer %s: expected sim[:key=value,...] or human",
                              set->observer);
-    if (R->is_sim) return csf_observer_sim_create(set->observer, R->seed, &R->S.sim, err);
-    if (R->opt->headless)
+    if (R->is_human && R->opt->headless)
         return csf_error_set(err, CSF_E_UNSUPPORTED,
                              "--observer human needs a display: no window can be opened headless "
                              "(use --observer sim for a simulated session)");
     return CSF_OK;
 }
 
-/* The display side: its profile (the luminance the presenter maps through), the presenter, the
- * simulated person's eyes on it, the responder, and the checks that this screen can show the
- * session's grid (and, resumed, with the profile it began with). */
-static csf_status open_display_side(obs_run *R, csf_error *err)
+/* The lent resources into the session: a simulated person needs its own, a human a responder. */
+static csf_status take_resources(obs_run *R, const csf_obs_resources *r, csf_error *err)
 {
-    const csf_obs_options *opt = R->opt;
-    const csf_config *cfg = R->cfg;
     session_res *S = &R->S;
-    csf_status st;
-    if (cfg->display_profile[0]) {
-        st = csf_profile_load(cfg->display_profile, &S->profile, err);
-        if (st != CSF_OK) return st;
-    } else {
-        S->profile = csf_profile_default();
-        if (!S->profile) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-        if (!opt->quiet && !opt->resume_id)
-            fprintf(stderr, "csfcal: observer: no --profile given: using the default display model "
-                            "(%s); thresholds are only as good as this guess\n", csf_profile_id(S->profile));
-    }
-    csf_presenter_config pc;
-    csf_presenter_config_defaults(&pc);
-    pc.headless = R->is_sim ? 1 : 0;
-    pc.geometry = R->geom;
-    pc.refresh_hz = cfg->refresh_hz;
-    pc.profile = S->profile;
-    pc.framebuffer_bits = cfg->framebuffer_bits;
-    pc.monitor = cfg->monitor[0] ? cfg->monitor : NULL;
-    pc.seed = R->seed;
-    if (R->is_sim) {
-        pc.render_width_px = opt->render_w > 0 ? opt->render_w : 64;
-        pc.render_height_px = opt->render_h > 0 ? opt->render_h : 36;
-        pc.render_every = opt->render_every ? opt->render_every : 1;
-        /* view=frame: the person's regions are rasterised at full resolution on their own; the
-         * small session frame has no one to look at it unless --render-every asks for it */
-        if (!opt->render_every && csf_observer_sim_params_get(S->sim)->view_frame) pc.render_every = -1;
-        pc.fault_polar_offset_deg = opt->fault_polar_offset_deg;
-        pc.fault_blank = opt->fault_blank;
-    }
-    st = csf_presenter_open(&pc, &S->pres, err);
-    if (st != CSF_OK) return st;
-    if (S->sim && csf_observer_sim_params_get(S->sim)->view_frame) {
-        const csf_observer_sim_params *sp = csf_observer_sim_params_get(S->sim);
-        /* Every frame when gratings drift: sampling every k-th frame would alias their temporal
-         * frequency above refresh / 2k for the person as it would for a camera. */
-        int step = R->set.n_vels > 0 ? 1 : (int)sp->frame_step;
-        st = csf_obs_screen_open(S->pres, S->profile, sp->display, sp->display_gamma, GABOR_SIGMA_DEG, 0.0,
-                                 step, &S->screen, err);
-        if (st != CSF_OK) return st;
-        csf_obs_screen_set_person(S->screen, S->sim);
-        if (!opt->quiet)
-            fprintf(stderr, "csfcal: observer: the simulated person looks at the rendered frames through "
-                            "the display %s\n", csf_obs_screen_display(S->screen));
-    }
-    if (R->is_human) {
-        st = csf_responder_open(cfg->responder[0] ? cfg->responder : "keyboard", csf_presenter_window(S->pres),
-                                &S->resp, err);
-        if (st != CSF_OK) return st;
-    }
+    if (!r->pres || !r->profile || (R->is_sim ? !r->sim : !r->resp))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "observer session: a presenter, a display profile and %s "
+                             "are needed",
+                             R->is_sim ? "the simulated person" : "a responder");
+    if (r->store) S->store = r->store;
+    S->pres = r->pres;
+    S->profile = r->profile;
+    S->sim = r->sim;
+    S->resp = r->resp;
+    S->screen = r->eyes;
     double lb, lm;
     csf_presenter_lum_range(S->pres, &lb, &lm);
     R->mean_lum_cdm2 = 0.5 * (lb + lm);
     R->max_contrast = floor(0.98 * (lm - lb) / (lm + lb) * 1000) / 1000;
+    return CSF_OK;
+}
 
-    st = check_grid_on_screen(S->pres, cfg, &R->set, R->set.practice, R->mean_lum_cdm2, err);
+/* This screen can show the session's grid (and, resumed, with the profile it began with). */
+static csf_status check_display_side(obs_run *R, csf_error *err)
+{
+    const csf_obs_options *opt = R->opt;
+    session_res *S = &R->S;
+    csf_status st =
+        obs_check_grid_on_screen(S->pres, R->cfg, &R->set, R->set.practice, R->mean_lum_cdm2, err);
     if (st != CSF_OK) {
         if (R->sid) {
             char m[sizeof err->msg];
@@ -1374,8 +371,8 @@ static csf_status open_display_side(obs_run *R, csf_error *err)
         return st;
     }
     if (R->sid)
-        return check_profile_on_resume(S->store, R->sid, R->set.profile_id, R->resume_n_stored, S->profile, cfg,
-                                       opt->allow_profile_change, opt->quiet, err);
+        return obs_check_profile_on_resume(S->store, R->sid, R->set.profile_id, R->resume_n_stored,
+                                           S->profile, R->cfg, opt->allow_profile_change, opt->quiet, err);
     return CSF_OK;
 }
 
@@ -1479,8 +476,8 @@ static csf_status open_session_row(obs_run *R, csf_error *err)
         return st;
     }
     snprintf(set->profile_id, sizeof set->profile_id, "%s", csf_profile_id(S->profile));
-    st = csf_store_open(R->opt->store_path, &S->store, err);
-    if (st != CSF_OK) return st;
+    if (!S->store)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "observer session: no results store was given");
     char json[4096];
     if (csf_obs_settings_to_json(set, GABOR_SIGMA_DEG, json, sizeof json) != 0)
         return csf_error_set(err, CSF_E_NOMEM, "observer: the session's settings do not fit in %zu bytes", sizeof json);
@@ -1548,7 +545,7 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
     for (int j = 0; j < 4 && R->prac_layout.n_alternatives == 4; j++) {
         csf_stimulus ps;
         csf_error e;
-        make_stimulus(&ps, PRACTICE_FREQ, R->prac_ecc_deg, R->prac_layout.polar_deg[j], PRACTICE_CONTRAST,
+        obs_make_stimulus(&ps, PRACTICE_FREQ, R->prac_ecc_deg, R->prac_layout.polar_deg[j], PRACTICE_CONTRAST,
                       R->mean_lum_cdm2);
         if (csf_presenter_validate(S->pres, &ps, &e) != CSF_OK) R->prac_layout.n_alternatives = 2;
     }
@@ -1596,11 +593,11 @@ static csf_status run_practice(obs_run *R, csf_error *err)
     }
     csf_status st;
     if (!R->opt->resume_id || R->n_stored == 0) {
-        st = person_screen(who, instructions(R), err);
+        st = obs_person_screen(who, instructions(R), err);
         if (st != CSF_OK) return st;
-        if (who->paused) ask_resume(who, 0, set->trials);
+        if (who->paused) obs_ask_resume(who, 0, set->trials);
     }
-    for (int k = (int)n_prac_stored; k < set->practice && !who->paused && !stop_requested; k++) {
+    for (int k = (int)n_prac_stored; k < set->practice && !who->paused && !obs_stop_requested; k++) {
         csf_cell pc_cell = {PRACTICE_FREQ, 0, 0};
         csf_trial_plan plan;
         memset(&plan, 0, sizeof plan);
@@ -1620,7 +617,7 @@ static csf_status run_practice(obs_run *R, csf_error *err)
                             R->mean_lum_cdm2, &R->seq, &R->n_stored, err);
         if (st != CSF_OK) return st;
         if (who->paused) {
-            if (ask_resume(who, 0, set->trials)) {
+            if (obs_ask_resume(who, 0, set->trials)) {
                 k--; /* the practice trial again */
                 continue;
             }
@@ -1663,14 +660,14 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
         if (S->stored[i].is_practice) continue;
         csf_trial_plan plan;
         if (S->ops->next(S->proc, R->trial_index, &plan) != CSF_OK) break;
-        if (S->stored[i].n_alternatives != plan_alternatives(&plan))
+        if (S->stored[i].n_alternatives != obs_plan_alternatives(&plan))
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "--resume %lld: stored trial %d had %d alternatives, the replayed plan "
                                  "has %d (the display or the layout rule changed since the session "
                                  "started); start a new session", (long long)R->sid, S->stored[i].seq,
-                                 S->stored[i].n_alternatives, plan_alternatives(&plan));
-        if (plan_alternatives(&plan) == 4) res->n_four_place++;
-        csf_trial_outcome o = outcome_of(&S->stored[i], S->ops->task);
+                                 S->stored[i].n_alternatives, obs_plan_alternatives(&plan));
+        if (obs_plan_alternatives(&plan) == 4) res->n_four_place++;
+        csf_trial_outcome o = obs_outcome_of(&S->stored[i], S->ops->task);
         S->ops->update(S->proc, R->trial_index, &plan, &o);
         R->trial_index++;
     }
@@ -1687,7 +684,7 @@ static csf_status place_trial(obs_run *R, const csf_trial_plan *plan, int *four,
     if (plan->cell < 0 || plan->cell >= R->n_cells)
         return csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned cell %d of %d", method, plan->cell, R->n_cells);
     const csf_cell *c = &S->cells[plan->cell];
-    *four = plan_alternatives(plan) == 4;
+    *four = obs_plan_alternatives(plan) == 4;
     if (*four && S->n_alt[plan->cell] != 4)
         return csf_error_set(err, CSF_E_INVALID_ARG, "%s: planned four places for %g cpd at %g deg, "
                              "which has two intervals", method, c->freq_cpd, c->ecc_deg);
@@ -1697,7 +694,7 @@ static csf_status place_trial(obs_run *R, const csf_trial_plan *plan, int *four,
         *polar = S->layouts[plan->cell].polar_deg[plan->signal_interval];
         return CSF_OK;
     }
-    if (fit_polar(S->pres, c->freq_cpd, c->ecc_deg, plan->polar_deg, R->mean_lum_cdm2, polar) != 0)
+    if (obs_fit_polar(S->pres, c->freq_cpd, c->ecc_deg, plan->polar_deg, R->mean_lum_cdm2, polar) != 0)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "%g cpd at %g deg cannot be shown anywhere on this screen", c->freq_cpd, c->ecc_deg);
     return CSF_OK;
@@ -1718,25 +715,25 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
     if (set->break_every > 0 && ti > 0 && ti % set->break_every == 0 && !R->S.sim) {
         char msg[160];
         snprintf(msg, sizeof msg, "Break. %d of %d trials done.\nPress a key to go on.", ti, set->trials);
-        st = person_screen(who, msg, err);
+        st = obs_person_screen(who, msg, err);
         if (st != CSF_OK) return st;
-        if (who->paused && !ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
+        if (who->paused && !obs_ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
     }
     if (R->S.ops->task != CSF_TASK_FADE || plan->task != CSF_TASK_2AFC || *told_anchors) return CSF_OK;
     /* The fade method's forced-choice anchors: a new task, so the person is told. */
     *told_anchors = 1;
-    st = person_screen(who, "Last part: the pattern now appears in one of two intervals,\n"
+    st = obs_person_screen(who, "Last part: the pattern now appears in one of two intervals,\n"
                             "at the place a ring marks just before.\n"
                             "Press 1 or Left for the first interval, 2 or Right for the second.\n"
                             "Two easy practice trials first. When unsure, guess.\n"
                             "Escape pauses. Press a key to go on.", err);
     if (st != CSF_OK) return st;
-    if (who->paused && !ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
+    if (who->paused && !obs_ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
     st = anchor_practice(&R->S, &R->run, R->sid, set->method, R->seed, R->mean_lum_cdm2, &R->seq, &R->n_stored, err);
     if (st != CSF_OK) return st;
     R->res->n_stored = (int)R->n_stored;
     if (who->paused) {
-        if (ask_resume(who, ti, set->trials)) {
+        if (obs_ask_resume(who, ti, set->trials)) {
             *told_anchors = 0; /* the screen and the rest of the practice again */
             *again = 1;
         } else {
@@ -1748,7 +745,7 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
 
 /* The table's predicted RMS error: the root mean square of the method's stated errors over the
  * cells it would write as visible and the display can show (NaN when none has one). */
-static double rms_of_estimates(const obs_run *R)
+double obs_rms_of_estimates(const obs_run *R)
 {
     double sum = 0;
     int n = 0;
@@ -1766,7 +763,7 @@ static double predicted_rms(obs_run *R)
 {
     csf_error e;
     if (R->S.ops->estimate(R->S.proc, R->S.est, &e) != CSF_OK) return NAN;
-    return rms_of_estimates(R);
+    return obs_rms_of_estimates(R);
 }
 
 /* --precision: whether the predicted error has reached the target after n main trials; progress on
@@ -1809,7 +806,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
     person *who = &R->who;
     int told_anchors = 0;
     csf_status st;
-    for (; R->trial_index < set->trials && !who->paused && !stop_requested; R->trial_index++) {
+    for (; R->trial_index < set->trials && !who->paused && !obs_stop_requested; R->trial_index++) {
         int ti = R->trial_index;
         csf_trial_plan plan;
         csf_status nst = S->ops->next(S->proc, ti, &plan);
@@ -1832,28 +829,28 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
         const csf_cell *c = &S->cells[plan.cell];
         trial_result tr;
         R->run.drift_sign = csf_motion_direction(R->seed, (uint64_t)ti, set->drift_direction);
-        st = plan.task == CSF_TASK_FADE ? run_fade(&R->run, (uint64_t)ti, c, &plan, polar, 0, &tr, err)
-             : four ? run_4afc(&R->run, (uint64_t)ti, c, &plan, &S->layouts[plan.cell], &tr, err)
-                    : run_2afc(&R->run, (uint64_t)ti, c, &plan, polar, &tr, err);
+        st = plan.task == CSF_TASK_FADE ? obs_run_fade(&R->run, (uint64_t)ti, c, &plan, polar, 0, &tr, err)
+             : four ? obs_run_4afc(&R->run, (uint64_t)ti, c, &plan, &S->layouts[plan.cell], &tr, err)
+                    : obs_run_2afc(&R->run, (uint64_t)ti, c, &plan, polar, &tr, err);
         if (st != CSF_OK) return st;
         if (who->paused) {
             if (tr.have_rec) csf_trial_record_free(&tr.rec);
             /* The interrupted trial is not stored: it is shown again, now or on --resume
              * (next() is a function of the state and the index, so it plans the same trial). */
-            if (ask_resume(who, ti, set->trials)) {
+            if (obs_ask_resume(who, ti, set->trials)) {
                 R->trial_index--;
                 continue;
             }
             break;
         }
         csf_trial t;
-        fill_trial(&t, R->sid, R->seq, set->method, c, polar, R->mean_lum_cdm2, &plan, 0, &tr);
+        obs_fill_trial(&t, R->sid, R->seq, set->method, c, polar, R->mean_lum_cdm2, &plan, 0, &tr);
         st = store_trial(S, &R->n_stored, &t, &tr, err);
         if (st != CSF_OK) return st;
         res->n_stored = (int)R->n_stored;
         R->seq++;
         if (four) res->n_four_place++;
-        csf_trial_outcome o = outcome_of(&t, S->ops->task);
+        csf_trial_outcome o = obs_outcome_of(&t, S->ops->task);
         S->ops->update(S->proc, ti, &plan, &o);
         if (set->precision > 0 && precision_reached(R, ti + 1)) {
             R->trial_index++;
@@ -1868,315 +865,13 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
                     left_s / 60.0);
         }
     }
-    if (who->paused || stop_requested) {
+    if (who->paused || obs_stop_requested) {
         record_person_time(R, NULL);
         csf_store_set_session_state(S->store, R->sid, "paused", NULL);
         R->said_paused = 1;
         return csf_error_set(err, CSF_E_ABORTED, "session %lld paused after %d trials; continue with --resume %lld",
                              (long long)R->sid, R->trial_index, (long long)R->sid);
     }
-    return CSF_OK;
-}
-
-/* The person's reliability, from the stored trials and the estimated thresholds. */
-typedef struct {
-    int n_afc_hi, n_afc_hi_wrong; /* clearly visible forced-choice trials, and the wrong ones */
-    double afc_guesses;           /* guesses those wrong answers stand for */
-    int n_unrelated;              /* presses the stimulus did not cause */
-    int n_unknown;                /* cells without usable data */
-    char unknown[256];            /* which */
-} reliability;
-
-/* Counts every main trial into the result and rel. Forced choice: wrong answers on clearly
- * visible trials (4x the estimated threshold, where a person who looks answers right but for
- * lapses). A person who guesses on a share g of them answers wrongly on g (1 - 1/m) of the
- * m-alternative ones: each wrong answer counts 1 / (1 - 1/m) guesses (2 with two intervals, 4/3
- * with four places). */
-static void tally_trials(obs_run *R, reliability *rel)
-{
-    const session_res *S = &R->S;
-    csf_obs_result *res = R->res;
-    for (size_t i = 0; i < R->n_stored; i++) {
-        const csf_trial *t = &S->stored[i];
-        if (t->is_practice) {
-            res->n_practice++;
-            continue;
-        }
-        res->n_trials++;
-        if (t->valid) res->n_valid++;
-        if (t->frames_missed > 0) res->n_missed_frame_trials++;
-        if (strstr(t->flags, "anticipation")) res->n_anticipations++;
-        if (t->is_catch) {
-            res->n_catch++;
-            if (t->response == 1) res->n_false_alarms++;
-            continue;
-        }
-        if (strstr(t->flags, "click_far")) res->n_invalid_click++;
-        int cell = -1;
-        for (int k = 0; k < R->n_cells; k++)
-            if (S->cells[k].freq_cpd == t->freq_cpd && S->cells[k].ecc_deg == t->ecc_deg) cell = k;
-        if (cell < 0 || !isfinite(S->est[cell].threshold)) continue;
-        double th = S->est[cell].threshold;
-        if (S->ops->task == CSF_TASK_FADE && t->n_alternatives == 0) {
-            /* A lapse: a ramp that climbed well past the person's threshold without a press. */
-            if (t->response == 0 && t->valid && t->contrast_requested > th * pow(10.0, 0.5)) res->n_lapses++;
-        } else if (t->valid && t->contrast_shown_max >= 4 * th) {
-            rel->n_afc_hi++;
-            if (t->response != t->signal_interval) {
-                int m = t->n_alternatives >= 2 ? t->n_alternatives : 2;
-                rel->n_afc_hi_wrong++;
-                rel->afc_guesses += 1.0 / (1.0 - 1.0 / m);
-            }
-        }
-    }
-    res->n_lapses += rel->n_afc_hi_wrong;
-    res->fa_rate = res->n_catch ? (double)res->n_false_alarms / res->n_catch : NAN;
-    /* Presses the stimulus did not cause: catch-trial presses, clicks far from the grating,
-     * anticipations (an anticipation that also clicked far is counted once). */
-    rel->n_unrelated = res->n_false_alarms;
-    for (size_t i = 0; i < R->n_stored; i++)
-        if (!S->stored[i].is_practice && !S->stored[i].is_catch &&
-            (strstr(S->stored[i].flags, "click_far") || strstr(S->stored[i].flags, "anticipation")))
-            rel->n_unrelated++;
-}
-
-/* Counts the cells by what was found (visible, never visible, no usable data) and the median
- * standard error of the visible ones. */
-static void tally_cells(obs_run *R, reliability *rel)
-{
-    const session_res *S = &R->S;
-    csf_obs_result *res = R->res;
-    res->n_cells = R->n_cells;
-    res->n_vels = R->set.n_vels;
-    res->n_not_shown = R->n_not_shown;
-    double *ses = malloc((size_t)R->n_cells * sizeof *ses);
-    int n_se = 0;
-    for (int k = 0; k < R->n_cells; k++) {
-        if (isinf(S->est[k].threshold)) res->n_invisible++;
-        else if (isfinite(S->est[k].threshold)) {
-            res->n_visible++;
-            if (ses && isfinite(S->est[k].stderr_log10)) ses[n_se++] = S->est[k].stderr_log10;
-        } else {
-            rel->n_unknown++;
-            size_t l = strlen(rel->unknown);
-            if (l < sizeof rel->unknown - 40)
-                snprintf(rel->unknown + l, sizeof rel->unknown - l, "%s%g cpd/%g deg", l ? ", " : "",
-                         S->cells[k].freq_cpd, S->cells[k].ecc_deg);
-        }
-    }
-    if (ses && n_se) {
-        qsort(ses, (size_t)n_se, sizeof *ses, cmp_d);
-        res->median_se_log10 = ses[n_se / 2];
-    }
-    free(ses);
-}
-
-/* Why the data do not support a table (NULL: they do), written into buf. */
-static const char *table_refusal(const obs_run *R, const reliability *rel, char *buf, size_t len)
-{
-    const csf_obs_result *res = R->res;
-    if (res->n_catch >= FA_MIN_CATCH && res->fa_rate > FA_LIMIT)
-        snprintf(buf, len,
-                 "the observer pressed on %d of %d catch trials (%.0f %%, limit %.0f %%): responses "
-                 "do not follow the stimulus", res->n_false_alarms, res->n_catch, 100 * res->fa_rate, 100 * FA_LIMIT);
-    else if (res->n_trials >= 10 && rel->n_unrelated > UNRELATED_LIMIT * res->n_trials)
-        snprintf(buf, len,
-                 "%d of %d presses were not caused by a grating (%d on catch trials, %d clicks far "
-                 "from it, %d anticipations; limit %.0f %% of trials): the observer is guessing",
-                 rel->n_unrelated, res->n_trials, res->n_false_alarms, res->n_invalid_click,
-                 res->n_anticipations, 100 * UNRELATED_LIMIT);
-    else if (res->n_trials > 0 &&
-             (res->n_trials - res->n_valid - res->n_catch) > INVALID_LIMIT * (res->n_trials - res->n_catch))
-        snprintf(buf, len, "%d of %d trials were invalid (clicks far from the grating, "
-                 "anticipations, missed frames; limit %.0f %%)", res->n_trials - res->n_valid - res->n_catch,
-                 res->n_trials - res->n_catch, 100 * INVALID_LIMIT);
-    else if (rel->n_afc_hi >= 8 && rel->afc_guesses > AFC_GUESS_LIMIT * rel->n_afc_hi)
-        snprintf(buf, len, "%d of %d clearly visible forced-choice trials were answered "
-                 "wrongly, as if guessed on %.0f %% of them (limit %.0f %%; a guess is wrong on 1/2 of "
-                 "two-interval and 3/4 of four-place trials): inconsistent responses", rel->n_afc_hi_wrong,
-                 rel->n_afc_hi, 100 * rel->afc_guesses / rel->n_afc_hi, 100 * AFC_GUESS_LIMIT);
-    else if (rel->n_unknown > 0)
-        snprintf(buf, len, "%d of %d cells have no usable data (%s); give more --trials "
-                 "(now %d) or fewer --freqs/--eccs", rel->n_unknown, R->n_cells, rel->unknown, R->set.trials);
-    else if (res->n_visible == 0)
-        snprintf(buf, len, "no cell was visible at any contrast the display can show");
-    else
-        return NULL;
-    return buf;
-}
-
-/* The estimates, the person's reliability, and the thresholds into the store in every case (they
- * are the session's data); a refusal of the data ends the session aborted. */
-static csf_status judge_session(obs_run *R, csf_error *err)
-{
-    session_res *S = &R->S;
-    csf_obs_result *res = R->res;
-    res->precision_log10 = R->set.precision;
-    csf_status st = S->ops->estimate(S->proc, S->est, err);
-    if (st != CSF_OK) return st;
-    res->predicted_rms_log10 = rms_of_estimates(R);
-    if (!S->ops->task_offset ||
-        !S->ops->task_offset(S->proc, &res->n_fade_anchors, &res->fade_offset_log10, &res->fade_offset_sd_log10))
-        res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
-    reliability rel;
-    memset(&rel, 0, sizeof rel);
-    tally_trials(R, &rel);
-    tally_cells(R, &rel);
-    char whybuf[400];
-    const char *why = table_refusal(R, &rel, whybuf, sizeof whybuf);
-
-    csf_threshold_row *rows = calloc((size_t)R->n_cells, sizeof *rows);
-    if (!rows) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    for (int k = 0; k < R->n_cells; k++)
-        rows[k] = (csf_threshold_row){S->cells[k].freq_cpd,     S->cells[k].ecc_deg,
-                                      S->cells[k].velocity_dps, csf_round9(R->mean_lum_cdm2),
-                                      S->est[k].threshold,      S->est[k].stderr_log10,
-                                      S->est[k].n_trials};
-    st = csf_store_put_thresholds(S->store, R->sid, rows, (size_t)R->n_cells, err);
-    free(rows);
-    if (st != CSF_OK) return st;
-    if (why) {
-        csf_store_set_session_state(S->store, R->sid, "aborted", NULL);
-        return csf_error_set(err, CSF_E_INSUFFICIENT, "session %lld: no table written: %s", (long long)R->sid, why);
-    }
-    return CSF_OK;
-}
-
-/* The table's method line: the method and the threshold's task-independent definition; for fade also
- * how the yes/no thresholds were tied to that definition, and by how much. */
-static void method_line(const obs_run *R, char *buf, size_t len)
-{
-    const csf_obs_result *res = R->res;
-    const char *method = R->set.method;
-    if (R->S.ops->task == CSF_TASK_FADE && isfinite(res->fade_offset_log10))
-        snprintf(buf, len, "%s; anchored by %d two-interval trials, yes/no offset %+.3f log10; %s", method,
-                 res->n_fade_anchors, res->fade_offset_log10, CSF_PSY_THRESHOLD_DEFINITION);
-    else if (R->S.ops->task == CSF_TASK_FADE)
-        snprintf(buf, len, "%s; yes/no only, the criterion not measured; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
-    else
-        snprintf(buf, len, "%s; %s", method, CSF_PSY_THRESHOLD_DEFINITION);
-}
-
-/* The shift (standard errors, csflut's conservative view lowered by K stderr) at which a method's
- * table fails open in at most 2.5 % of visible cells on held-out people at the default budget
- * (bench/bench_coverage over held-out sets 5-14, confirmed on set 15): 2.0 for bayes and fade, 2.5
- * for 2afc, whose per-cell errors are the least even (docs/observer-calibration.md). */
-static const char *recommended_shift(const char *method)
-{
-    return strcmp(method, "2afc") == 0 ? "2.5" : "2.0";
-}
-
-/* Every table names its recommended conservative shift; a table with a velocity axis also says
- * what its velocities are and which cells were never shown (the method's prediction stands there,
- * with its stated error). */
-static size_t table_metadata(const obs_run *R, csflut_meta *meta, char *buf, size_t len)
-{
-    const session_settings *set = &R->set;
-    meta[0] = (csflut_meta){"recommended_shift_se", recommended_shift(set->method)};
-    if (set->n_vels == 0) return 1;
-    meta[1] =
-        (csflut_meta){"velocity_meaning", "retinal velocity of the carrier drifting in a stationary "
-                                          "envelope, with the eyes on the fixation mark (= screen velocity)"};
-    if (R->n_not_shown == 0) return 2;
-    double refresh_hz = csf_presenter_refresh_hz(R->S.pres);
-    size_t used = 0;
-    for (int v = 0; v < set->n_vels && used < len; v++)
-        for (int f = 0; f < set->n_freqs && used < len; f++)
-            if (csf_motion_aliases(&(csf_cell){set->freqs[f], 0, set->vels[v]}, refresh_hz))
-                used += (size_t)snprintf(buf + used, len - used, "%s%g cpd at %g deg/s", used ? ", " : "",
-                                         set->freqs[f], set->vels[v]);
-    if (used < len)
-        snprintf(buf + used, len - used,
-                 " (every eccentricity): temporal frequency at or above half the %g Hz "
-                 "refresh rate, never shown; the %s method's prediction with its stated error",
-                 refresh_hz, set->method);
-    meta[2] = (csflut_meta){"cells_not_shown", buf};
-    return 3;
-}
-
-/* The threshold table, written and kept in the store as an artifact. */
-static csf_status write_table(obs_run *R, csf_error *err)
-{
-    session_res *S = &R->S;
-    const session_settings *set = &R->set;
-    int n_cells = R->n_cells;
-    double *thr = malloc((size_t)n_cells * sizeof *thr), *se = malloc((size_t)n_cells * sizeof *se);
-    if (!thr || !se) {
-        free(thr);
-        free(se);
-        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    }
-    for (int k = 0; k < n_cells; k++) {
-        thr[k] = S->est[k].threshold;
-        se[k] = S->est[k].stderr_log10;
-    }
-    char date[32], obs_desc[300], profile_ids[1024], method_desc[256];
-    now_utc(date, sizeof date);
-    snprintf(obs_desc, sizeof obs_desc, "%s", S->sim ? csf_observer_sim_describe(S->sim) : set->observer);
-    table_profile_id(S->store, R->sid, csf_profile_id(S->profile), profile_ids, sizeof profile_ids);
-    method_line(R, method_desc, sizeof method_desc);
-    csflut_build b;
-    memset(&b, 0, sizeof b);
-    b.n_freq = set->n_freqs;
-    b.n_ecc = set->n_eccs;
-    b.freq_cpd = set->freqs;
-    b.ecc_deg = set->eccs;
-    b.n_vel = set->n_vels;
-    b.vel_dps = set->n_vels > 0 ? set->vels : NULL;
-    b.threshold = thr;
-    b.stderr_log10 = se;
-    b.observer = obs_desc;
-    b.display_profile_id = profile_ids;
-    b.method = method_desc;
-    b.date_utc = date;
-    b.tool_version = CSF_VERSION;
-    b.viewing_distance_mm = R->cfg->viewing_distance_mm;
-    b.mean_lum_cdm2 = csf_round9(R->mean_lum_cdm2);
-    b.trials = R->res->n_trials;
-    csflut_diag diag;
-    memset(&diag, 0, sizeof diag);
-    unsigned char *blob = NULL;
-    size_t blen = 0;
-    char not_shown[4096];
-    csflut_meta meta[3];
-    size_t n_meta = table_metadata(R, meta, not_shown, sizeof not_shown);
-    csflut_status ls = n_meta ? csflut_write_memory_meta(&b, meta, n_meta, &blob, &blen, &diag)
-                              : csflut_write_memory_diag(&b, &blob, &blen, &diag);
-    free(thr);
-    free(se);
-    if (ls != CSFLUT_OK)
-        return csf_error_set(err, ls == CSFLUT_E_NOMEM ? CSF_E_NOMEM : CSF_E_IO, "writing the threshold table %s: %s",
-                             R->opt->out_path, diag.message[0] ? diag.message : csflut_strerror(ls));
-    /* The store keeps the bytes that were written, not a read-back of the path: the path may be a
-     * FIFO or a device that gives nothing back. */
-    csf_error werr;
-    csf_status st = csf_write_file_atomic(R->opt->out_path, "threshold table", blob, blen, &werr);
-    if (st != CSF_OK)
-        st = csf_error_set(err, st, "writing the threshold table %s: %s", R->opt->out_path, werr.msg);
-    else {
-        R->res->table_written = 1;
-        st = csf_store_add_artifact(S->store, R->sid, "csflut", R->opt->out_path, blob, blen, err);
-    }
-    free(blob);
-    return st;
-}
-
-/* The session finished; its plot, when asked for, written and kept as an artifact. */
-static csf_status finish_session(obs_run *R, csf_error *err)
-{
-    const csf_obs_options *opt = R->opt;
-    csf_status st = csf_store_set_session_state(R->S.store, R->sid, "finished", err);
-    if (st != CSF_OK || !opt->plot_path || !*opt->plot_path) return st;
-    st = csf_report_write(R->S.store, R->sid, opt->plot_path, err);
-    if (st != CSF_OK) return st;
-    /* Kept only when it went to a file: a FIFO or a device at the path gives nothing back. */
-    struct stat sb;
-    if (stat(opt->plot_path, &sb) != 0 || !S_ISREG(sb.st_mode)) return CSF_OK;
-    char *blob = NULL;
-    size_t blen = 0;
-    if (csf_read_file(opt->plot_path, "report plot", ARTIFACT_MAX_BYTES, &blob, &blen, NULL) == CSF_OK)
-        csf_store_add_artifact(R->S.store, R->sid, "plot", opt->plot_path, blob, blen, NULL);
-    free(blob);
     return CSF_OK;
 }
 
@@ -2214,7 +909,7 @@ static csf_status run_trials_and_table(obs_run *R, csf_error *err)
     sa.sa_handler = on_signal;
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
-    stop_requested = 0;
+    obs_stop_requested = 0;
     say_expected_time(R);
     R->person_t0_s = csf_presenter_time(R->S.pres);
     R->person_started = 1;
@@ -2222,9 +917,9 @@ static csf_status run_trials_and_table(obs_run *R, csf_error *err)
     if (st == CSF_OK) st = replay_stored(R, err);
     if (st == CSF_OK) st = run_main_trials(R, err);
     if (st == CSF_OK) st = record_person_time(R, err);
-    if (st == CSF_OK) st = judge_session(R, err);
-    if (st == CSF_OK) st = write_table(R, err);
-    if (st == CSF_OK) st = finish_session(R, err);
+    if (st == CSF_OK) st = obs_judge_session(R, err);
+    if (st == CSF_OK) st = obs_write_table(R, err);
+    if (st == CSF_OK) st = obs_finish_session(R, err);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
     return st;
@@ -2265,8 +960,8 @@ static csf_status run_demo(obs_run *R, csf_error *err)
 {
     static const double contrast[DEMO_TRIALS] = {0.3, 0.1, 0.03, 0.3, 0.1, 0.03};
     person *who = &R->who;
-    csf_status st = person_screen(who, instructions(R), err);
-    for (int k = 0; k < DEMO_TRIALS && st == CSF_OK && !who->paused && !stop_requested; k++) {
+    csf_status st = obs_person_screen(who, instructions(R), err);
+    for (int k = 0; k < DEMO_TRIALS && st == CSF_OK && !who->paused && !obs_stop_requested; k++) {
         double v = R->set.n_vels > 0 && k % 2 ? R->set.vels[R->set.n_vels - 1] : 0.0;
         csf_cell cell = {PRACTICE_FREQ, 0,
                          csf_motion_aliases(&(csf_cell){PRACTICE_FREQ, 0, v}, 1.0 / R->run.period_s) ? 0.0
@@ -2282,8 +977,8 @@ static csf_status run_demo(obs_run *R, csf_error *err)
         trial_result tr;
         R->run.drift_sign = csf_motion_direction(R->seed, 3000000u + (uint64_t)k, 0);
         st = plan.task == CSF_TASK_FADE
-                 ? run_fade(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, 1, &tr, err)
-                 : run_2afc(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, &tr, err);
+                 ? obs_run_fade(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, 1, &tr, err)
+                 : obs_run_2afc(&R->run, 3000000u + (uint64_t)k, &cell, &plan, 0, &tr, err);
         if (tr.have_rec) csf_trial_record_free(&tr.rec);
         if (st != CSF_OK || who->paused) break;
         int right = plan.task == CSF_TASK_FADE ? tr.response == 1 : tr.response == plan.signal_interval;
@@ -2299,7 +994,7 @@ static csf_status run_demo(obs_run *R, csf_error *err)
                      "%s The pattern was in interval %d (contrast %.0f %%).\nPress a key for the "
                      "next one.",
                      right ? "Right." : "Not this time.", plan.signal_interval + 1, 100 * contrast[k]);
-        st = person_screen(who, msg, err);
+        st = obs_person_screen(who, msg, err);
     }
     snprintf(R->res->summary, sizeof R->res->summary,
              "demo: %d practice trials with feedback, %d right; nothing was stored or written",
@@ -2307,52 +1002,72 @@ static csf_status run_demo(obs_run *R, csf_error *err)
     return st;
 }
 
-/* --demo from the options: settings, method, person and display as a session would have them. */
-static csf_status observer_demo(obs_run *R, csf_error *err)
+csf_status csf_obs_session_begin(const csf_obs_options *opt, csf_store *store, csf_obs_result *res,
+                                 csf_obs_session **out, csf_error *err)
 {
-    csf_status st = new_settings(R, err);
-    if (st == CSF_OK) st = open_method_and_person(R, err);
-    if (st == CSF_OK) st = open_display_side(R, err);
-    if (st != CSF_OK) return st;
-    init_person(R);
-    return run_demo(R, err);
-}
-
-csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *res, csf_error *err)
-{
+    *out = NULL;
     memset(res, 0, sizeof *res);
     res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
     res->fa_rate = res->latency_s = res->median_se_log10 = res->predicted_rms_log10 = NAN;
-    struct timespec w0;
-    clock_gettime(CLOCK_MONOTONIC, &w0);
     if (!opt->demo && (!opt->out_path || !*opt->out_path))
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
-    csf_status st = opt->demo ? CSF_OK : check_outputs(opt, err);
+    if (opt->resume_id && !store)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--resume %lld: the session's store is needed",
+                             (long long)opt->resume_id);
+    csf_status st = opt->demo ? CSF_OK : obs_check_outputs(opt, err);
     if (st != CSF_OK) return st;
     obs_run *R = calloc(1, sizeof *R);
     if (!R) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    clock_gettime(CLOCK_MONOTONIC, &R->wall0);
     R->opt = opt;
     R->cfg = opt->cfg;
     R->res = res;
-    R->sid = opt->resume_id;
+    R->sid = opt->demo ? 0 : opt->resume_id;
     R->seed = opt->seed;
+    R->S.store = store;
     st = csf_geometry_init(&R->geom, CSF_GEOMETRY_FROM_CONFIG(*R->cfg), err);
+    if (st == CSF_OK) st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
+    if (st == CSF_OK) st = choose_method_and_person(R, err);
     if (st != CSF_OK) {
         free(R);
         return st;
     }
-    if (opt->demo) {
-        st = observer_demo(R, err);
-        session_free(&R->S);
-        free(R);
-        return st;
-    }
-    st = R->sid ? resumed_settings(R, err) : new_settings(R, err);
-    if (st == CSF_OK) st = open_method_and_person(R, err);
-    if (st == CSF_OK) st = open_display_side(R, err);
-    if (st == CSF_OK && !R->sid) st = check_motion_grid(R, err);
-    if (st == CSF_OK && !R->sid) warn_precision_reach(R);
-    if (st == CSF_OK) st = open_session_row(R, err);
+    *out = R;
+    return CSF_OK;
+}
+
+const csf_obs_settings *csf_obs_session_settings(const csf_obs_session *R, uint64_t *seed, int *is_sim)
+{
+    if (seed) *seed = R->seed;
+    if (is_sim) *is_sim = R->is_sim;
+    return &R->set;
+}
+
+const csf_geometry *csf_obs_session_geometry(const csf_obs_session *R)
+{
+    return &R->geom;
+}
+
+csf_status csf_obs_session_check(csf_obs_session *R, const csf_obs_resources *r, csf_error *err)
+{
+    csf_status st = take_resources(R, r, err);
+    if (st == CSF_OK) st = check_display_side(R, err);
+    if (st == CSF_OK && !R->sid && !R->opt->demo) st = check_motion_grid(R, err);
+    if (st == CSF_OK && !R->sid && !R->opt->demo) warn_precision_reach(R);
+    return st;
+}
+
+csf_status csf_obs_session_demo(csf_obs_session *R, csf_error *err)
+{
+    init_person(R);
+    return run_demo(R, err);
+}
+
+csf_status csf_obs_session_run(csf_obs_session *R, csf_store *store, csf_error *err)
+{
+    csf_obs_result *res = R->res;
+    if (store) R->S.store = store;
+    csf_status st = open_session_row(R, err);
     if (st == CSF_OK) st = prepare_cells(R, err);
     if (st == CSF_OK) st = run_trials_and_table(R, err);
     /* A failure after the session began (the store or the disk refused a write, the table or the
@@ -2368,11 +1083,16 @@ csf_status csf_observer_calibrate(const csf_obs_options *opt, csf_obs_result *re
     }
     struct timespec w1;
     clock_gettime(CLOCK_MONOTONIC, &w1);
-    res->wall_s = (double)(w1.tv_sec - w0.tv_sec) + (w1.tv_nsec - w0.tv_nsec) * 1e-9;
+    res->wall_s = (double)(w1.tv_sec - R->wall0.tv_sec) + (w1.tv_nsec - R->wall0.tv_nsec) * 1e-9;
     if (st == CSF_OK) summarise(R);
+    return st;
+}
+
+void csf_obs_session_free(csf_obs_session *R)
+{
+    if (!R) return;
     session_free(&R->S);
     free(R);
-    return st;
 }
 
 /* A number, or null where it is not finite (NaN: not measured). */

@@ -110,7 +110,9 @@ typedef struct {
 
 void csf_obs_options_defaults(csf_obs_options *o);
 
-/* Runs (or resumes) a session. Every option, the output paths, the grid on this screen (reach and
+/* Runs (or resumes) a session: opens its resources (calib/observer_resources.c: the store, the
+ * display profile, the presenter, the simulated person or a human's responder) and lends them to
+ * the session's steps (calib/observer_session.h), which open nothing themselves. Every option, the output paths, the grid on this screen (reach and
  * local Nyquist limit) and, on resume, the stored settings and the display profile are checked
  * before the first trial; a refused new session writes nothing (CSF_E_INVALID_ARG).
  * CSF_E_INSUFFICIENT: the data cannot support a table (the message

@@ -165,108 +165,135 @@ static void json_num(FILE *f, double v)
     else fputs("null", f);
 }
 
+/* What `lut info` says of a table besides its axes and metadata. */
+typedef struct {
+    size_t n, n_inf;
+    double tmin, peak, peak_thr;
+    const char *mk[5], *mv[5];
+} info_facts;
+
+static void info_facts_of(const csflut_table *t, info_facts *f)
+{
+    f->n = csflut_node_count(t);
+    f->n_inf = 0;
+    const double *raw = csflut_raw_thresholds(t);
+    f->tmin = HUGE_VAL;
+    for (size_t i = 0; i < f->n; i++) {
+        if (isinf(raw[i])) f->n_inf++;
+        if (raw[i] < f->tmin) f->tmin = raw[i];
+    }
+    f->peak = csflut_peak_frequency(t, 0);
+    f->peak_thr = csflut_threshold(t, f->peak, 0);
+    const char *mk[5] = {"observer", "display_profile_id", "method", "date_utc", "tool_version"};
+    const char *mv[5] = {csflut_observer(t), csflut_display_profile_id(t), csflut_method(t),
+                         csflut_date_utc(t), csflut_tool_version(t)};
+    memcpy(f->mk, mk, sizeof mk);
+    memcpy(f->mv, mv, sizeof mv);
+}
+
+static void print_info_json(const lut_args *a, const csflut_table *t, const info_facts *f)
+{
+    size_t n = f->n, n_inf = f->n_inf;
+    double tmin = f->tmin, peak = f->peak, peak_thr = f->peak_thr;
+    const char *const *mk = f->mk, *const *mv = f->mv;
+    printf("{\"file\": ");
+    json_str(stdout, a->file);
+    printf(", \"version\": \"%d.%d\"", csflut_version_major(t), csflut_version_minor(t));
+    for (int k = 0; k < 5; k++) {
+        printf(", \"%s\": ", mk[k]);
+        json_str(stdout, mv[k]);
+    }
+    printf(", \"viewing_distance_mm\": ");
+    json_num(stdout, csflut_viewing_distance_mm(t));
+    printf(", \"mean_lum_cdm2\": ");
+    json_num(stdout, csflut_mean_lum_cdm2(t));
+    printf(", \"trials\": %d, \"axes\": [", csflut_trials(t));
+    int first = 1;
+    for (int ax = 0; ax < 4; ax++) {
+        int na = csflut_axis_size(t, (csflut_axis)ax);
+        if (!na) continue;
+        const double *p = csflut_axis_points(t, (csflut_axis)ax);
+        printf("%s{\"name\": \"%s\", \"unit\": \"%s\", \"scale\": \"%s\", \"points\": [", first ? "" : ", ",
+               csflut_axis_name((csflut_axis)ax), csflut_axis_unit((csflut_axis)ax),
+               csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear");
+        for (int i = 0; i < na; i++) {
+            if (i) printf(", ");
+            json_num(stdout, p[i]);
+        }
+        printf("]");
+        if (ax == CSFLUT_AXIS_VEL && !isnan(csflut_velocity_warp_v0(t)))
+            printf(", \"warp\": \"log(|v| + v0)\", \"warp_v0_dps\": %.17g", csflut_velocity_warp_v0(t));
+        printf("}");
+        first = 0;
+    }
+    printf("], \"nodes\": %zu, \"never_visible_nodes\": %zu, \"has_stderr\": %s", n, n_inf,
+           csflut_stderr_log10(t) ? "true" : "false");
+    printf(", \"view\": \"%s\", \"min_threshold\": ", a->raw ? "raw" : "conservative");
+    json_num(stdout, tmin);
+    printf(", \"peak_freq_cpd_fovea\": ");
+    json_num(stdout, peak);
+    printf(", \"peak_threshold_fovea\": ");
+    json_num(stdout, peak_thr);
+    printf(", \"meta\": {");
+    for (int k = 0; k < csflut_meta_count(t); k++) {
+        printf(k ? ", " : "");
+        json_str(stdout, csflut_meta_key(t, k));
+        printf(": ");
+        json_str(stdout, csflut_meta_value(t, k));
+    }
+    printf("}}\n");
+}
+
+static void print_info_text(const lut_args *a, const csflut_table *t, const info_facts *f)
+{
+    size_t n = f->n, n_inf = f->n_inf;
+    double tmin = f->tmin, peak = f->peak, peak_thr = f->peak_thr;
+    const char *const *mk = f->mk, *const *mv = f->mv;
+    printf("file:              %s\n", a->file);
+    printf("format version:    %d.%d\n", csflut_version_major(t), csflut_version_minor(t));
+    for (int k = 0; k < 5; k++) printf("%-18s %s\n", mk[k], *mv[k] ? mv[k] : "(not recorded)");
+    printf("viewing distance:  ");
+    if (isfinite(csflut_viewing_distance_mm(t))) printf("%g mm\n", csflut_viewing_distance_mm(t));
+    else printf("(not recorded)\n");
+    printf("mean luminance:    ");
+    if (isfinite(csflut_mean_lum_cdm2(t))) printf("%g cd/m2\n", csflut_mean_lum_cdm2(t));
+    else printf("(not recorded)\n");
+    printf("trials:            %d\n", csflut_trials(t));
+    for (int ax = 0; ax < 4; ax++) {
+        int na = csflut_axis_size(t, (csflut_axis)ax);
+        if (!na) continue;
+        const double *p = csflut_axis_points(t, (csflut_axis)ax);
+        double v0 = ax == CSFLUT_AXIS_VEL ? csflut_velocity_warp_v0(t) : NAN;
+        char scale[48];
+        if (!isnan(v0)) snprintf(scale, sizeof scale, "warp log(|v| + %g)", v0);
+        else
+            snprintf(scale, sizeof scale, "%s scale",
+                     csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear");
+        printf("axis %-9s    %d points, %s, %g to %g %s:", csflut_axis_name((csflut_axis)ax), na, scale, p[0],
+               p[na - 1], csflut_axis_unit((csflut_axis)ax));
+        for (int i = 0; i < na; i++) printf(" %g", p[i]);
+        printf("\n");
+    }
+    printf("nodes:             %zu (%zu never visible), stderr %s\n", n, n_inf,
+           csflut_stderr_log10(t) ? "present" : "absent");
+    printf("lowest threshold:  %.4g (sensitivity %.4g)\n", tmin, 1 / tmin);
+    printf("fovea peak (%s): %g cpd, threshold %.4g\n", a->raw ? "raw" : "conservative", peak, peak_thr);
+    if (csflut_axis_size(t, CSFLUT_AXIS_VEL))
+        printf("(the fovea peak and the 2-D queries are at the lowest velocity, %g deg/s)\n",
+               csflut_default_velocity(t));
+    for (int k = 0; k < csflut_meta_count(t); k++)
+        printf("meta %-13s %s\n", csflut_meta_key(t, k), csflut_meta_value(t, k));
+}
+
 static int cmd_info(const lut_args *a)
 {
     csflut_table *t;
     int rc = open_table(a, &t);
     if (rc) return rc;
-    size_t n = csflut_node_count(t), n_inf = 0;
-    const double *raw = csflut_raw_thresholds(t);
-    double tmin = HUGE_VAL;
-    for (size_t i = 0; i < n; i++) {
-        if (isinf(raw[i])) n_inf++;
-        if (raw[i] < tmin) tmin = raw[i];
-    }
-    double peak = csflut_peak_frequency(t, 0);
-    double peak_thr = csflut_threshold(t, peak, 0);
-    const char *mk[5] = {"observer", "display_profile_id", "method", "date_utc", "tool_version"};
-    const char *mv[5] = {csflut_observer(t), csflut_display_profile_id(t), csflut_method(t),
-                         csflut_date_utc(t), csflut_tool_version(t)};
-    if (a->json) {
-        printf("{\"file\": ");
-        json_str(stdout, a->file);
-        printf(", \"version\": \"%d.%d\"", csflut_version_major(t), csflut_version_minor(t));
-        for (int k = 0; k < 5; k++) {
-            printf(", \"%s\": ", mk[k]);
-            json_str(stdout, mv[k]);
-        }
-        printf(", \"viewing_distance_mm\": ");
-        json_num(stdout, csflut_viewing_distance_mm(t));
-        printf(", \"mean_lum_cdm2\": ");
-        json_num(stdout, csflut_mean_lum_cdm2(t));
-        printf(", \"trials\": %d, \"axes\": [", csflut_trials(t));
-        int first = 1;
-        for (int ax = 0; ax < 4; ax++) {
-            int na = csflut_axis_size(t, (csflut_axis)ax);
-            if (!na) continue;
-            const double *p = csflut_axis_points(t, (csflut_axis)ax);
-            printf("%s{\"name\": \"%s\", \"unit\": \"%s\", \"scale\": \"%s\", \"points\": [",
-                   first ? "" : ", ", csflut_axis_name((csflut_axis)ax),
-                   csflut_axis_unit((csflut_axis)ax),
-                   csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear");
-            for (int i = 0; i < na; i++) {
-                if (i) printf(", ");
-                json_num(stdout, p[i]);
-            }
-            printf("]");
-            if (ax == CSFLUT_AXIS_VEL && !isnan(csflut_velocity_warp_v0(t)))
-                printf(", \"warp\": \"log(|v| + v0)\", \"warp_v0_dps\": %.17g", csflut_velocity_warp_v0(t));
-            printf("}");
-            first = 0;
-        }
-        printf("], \"nodes\": %zu, \"never_visible_nodes\": %zu, \"has_stderr\": %s", n, n_inf,
-               csflut_stderr_log10(t) ? "true" : "false");
-        printf(", \"view\": \"%s\", \"min_threshold\": ", a->raw ? "raw" : "conservative");
-        json_num(stdout, tmin);
-        printf(", \"peak_freq_cpd_fovea\": ");
-        json_num(stdout, peak);
-        printf(", \"peak_threshold_fovea\": ");
-        json_num(stdout, peak_thr);
-        printf(", \"meta\": {");
-        for (int k = 0; k < csflut_meta_count(t); k++) {
-            printf(k ? ", " : "");
-            json_str(stdout, csflut_meta_key(t, k));
-            printf(": ");
-            json_str(stdout, csflut_meta_value(t, k));
-        }
-        printf("}}\n");
-    } else {
-        printf("file:              %s\n", a->file);
-        printf("format version:    %d.%d\n", csflut_version_major(t), csflut_version_minor(t));
-        for (int k = 0; k < 5; k++) printf("%-18s %s\n", mk[k], *mv[k] ? mv[k] : "(not recorded)");
-        printf("viewing distance:  ");
-        if (isfinite(csflut_viewing_distance_mm(t))) printf("%g mm\n", csflut_viewing_distance_mm(t));
-        else printf("(not recorded)\n");
-        printf("mean luminance:    ");
-        if (isfinite(csflut_mean_lum_cdm2(t))) printf("%g cd/m2\n", csflut_mean_lum_cdm2(t));
-        else printf("(not recorded)\n");
-        printf("trials:            %d\n", csflut_trials(t));
-        for (int ax = 0; ax < 4; ax++) {
-            int na = csflut_axis_size(t, (csflut_axis)ax);
-            if (!na) continue;
-            const double *p = csflut_axis_points(t, (csflut_axis)ax);
-            double v0 = ax == CSFLUT_AXIS_VEL ? csflut_velocity_warp_v0(t) : NAN;
-            char scale[48];
-            if (!isnan(v0)) snprintf(scale, sizeof scale, "warp log(|v| + %g)", v0);
-            else
-                snprintf(scale, sizeof scale, "%s scale",
-                         csflut_axis_scale(t, (csflut_axis)ax) == CSFLUT_SCALE_LOG ? "log" : "linear");
-            printf("axis %-9s    %d points, %s, %g to %g %s:", csflut_axis_name((csflut_axis)ax), na, scale,
-                   p[0], p[na - 1], csflut_axis_unit((csflut_axis)ax));
-            for (int i = 0; i < na; i++) printf(" %g", p[i]);
-            printf("\n");
-        }
-        printf("nodes:             %zu (%zu never visible), stderr %s\n", n, n_inf,
-               csflut_stderr_log10(t) ? "present" : "absent");
-        printf("lowest threshold:  %.4g (sensitivity %.4g)\n", tmin, 1 / tmin);
-        printf("fovea peak (%s): %g cpd, threshold %.4g\n", a->raw ? "raw" : "conservative",
-               peak, peak_thr);
-        if (csflut_axis_size(t, CSFLUT_AXIS_VEL))
-            printf("(the fovea peak and the 2-D queries are at the lowest velocity, %g deg/s)\n",
-                   csflut_default_velocity(t));
-        for (int k = 0; k < csflut_meta_count(t); k++)
-            printf("meta %-13s %s\n", csflut_meta_key(t, k), csflut_meta_value(t, k));
-    }
+    info_facts f;
+    info_facts_of(t, &f);
+    if (a->json) print_info_json(a, t, &f);
+    else print_info_text(a, t, &f);
     csflut_close(t);
     return 0;
 }

@@ -57,6 +57,19 @@ for id in 1 2 3 4 5; do
   run report_$id report $id --store $S -o report_$id.svg
 done
 run sessions_missing sessions show 999 --store $S
+# the observer session's newer paths, in a store of their own (the ids above stay as they were)
+S2=store2.sqlite
+run observer_velocity observer calibrate --observer sim --seed 9 --velocities 0,4 --freqs 1,4 --eccs 0,10 --store $S2 --profile lcd.profile --out vel.csflut --json
+run observer_velocity_fade observer calibrate --method fade --observer sim --seed 9 --velocities 0,4 --freqs 1,4 --eccs 0,10 --trials 32 --store $S2 --profile lcd.profile --out velf.csflut
+run observer_precision observer calibrate --observer sim --seed 10 --precision 0.2 --freqs 1,4 --eccs 0,10 --store $S2 --profile lcd.profile --out prec.csflut --json
+run observer_view_frame observer calibrate --observer sim:view=frame --seed 11 --trials 24 --freqs 2,8 --eccs 0,5 --store $S2 --profile lcd.profile --out view.csflut
+run observer_demo observer calibrate --demo --observer sim --seed 12 --profile lcd.profile
+run observer_no_profile observer calibrate --observer sim --seed 13 --trials 12 --freqs 2 --eccs 0 --store $S2 --out noprof.csflut
+run observer_bad_precision observer calibrate --observer sim --precision -1 --store $S2 --out x.csflut
+run observer_human_headless observer calibrate --observer human --headless --store $S2 --out x.csflut
+run observer_resume_done observer calibrate --resume 1 --store $S2 --out x.csflut
+run sessions_list2 sessions list --store $S2 --json
+for id in 1 2 3 4; do run sessions_export2_$id sessions export $id --format csv --table trials --store $S2; done
 run help --help
 for t in fade 2afc reimported; do [ -f $t.csflut ] && run lut_info_$t lut info $t.csflut --json; done
 # What the commands left behind, as text with the times blanked. Tables are compared through
@@ -76,6 +89,8 @@ sqlite3 $S .dump | sed -E -e "s/^(INSERT INTO artifacts VALUES\([0-9]+,[0-9]+,'[
 for t in trials readings frames; do
   sqlite3 -header -csv $S "SELECT * FROM $t" 2>/dev/null | sed -E "s/,1[0-9]{9}\.[0-9]+/,UNIXTIME/g" | blank >"$OUT/store_$t.csv"
 done
+sqlite3 $S2 .dump | sed -E -e "s/^(INSERT INTO artifacts VALUES\([0-9]+,[0-9]+,'[a-z]+','[^']*'),[0-9]+,X'[0-9a-f]+'/\1,SIZE,X'BLOB'/" \
+  -e 's/,1[0-9]{9}\.[0-9]+/,UNIXTIME/g' | blank >"$OUT/store2.sql"
 [ -n "$BENCH" ] && "$BENCH" >"$OUT/bench.out" 2>&1
 rm -rf "$OUT/work"
 echo "snapshot: $n commands in $OUT"

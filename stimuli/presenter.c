@@ -613,9 +613,10 @@ static void image_lum_range(const csf_stimulus *s, double mean, double *lo, doub
     *hi = mean * (1 + s->contrast * dmax);
 }
 
-csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_error *err)
+/* The stimulus's own parameters: finite, in range, an image where one is drawn, a drift below the
+ * temporal Nyquist limit. */
+static csf_status validate_parameters(const csf_presenter *p, const csf_stimulus *s, csf_error *err)
 {
-    if (!p || !s) return csf_error_set(err, CSF_E_INVALID_ARG, "validate: NULL argument");
     if (s->kind < CSF_STIM_GABOR || s->kind > CSF_STIM_DISC)
         return csf_error_set(err, CSF_E_INVALID_ARG, "stimulus kind %d is unknown (1 to 4)", s->kind);
     const double nums[] = {s->freq_cpd, s->orientation_deg, s->phase_deg, s->sigma_deg, s->ecc_deg,
@@ -654,6 +655,12 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
     if (fabs(s->velocity_dps) > 1000)
         return csf_error_set(err, CSF_E_INVALID_ARG, "velocity %g deg/s is outside +-1000 deg/s",
                              s->velocity_dps);
+    return CSF_OK;
+}
+
+/* The luminances the stimulus needs lie within the display's range. */
+static csf_status validate_luminance(const csf_presenter *p, const csf_stimulus *s, csf_error *err)
+{
     double mean = mean_lum_of(p, s);
     double lo = mean * (1 - s->contrast), hi = mean * (1 + s->contrast);
     if (s->kind == CSF_STIM_DISC) lo = mean;
@@ -665,7 +672,14 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
                              lo, hi, mean, s->contrast,
                              s->kind == CSF_STIM_IMAGE ? ", the image's own pixel range" : "",
                              p->lum_black, p->lum_max);
+    return CSF_OK;
+}
 
+/* The patch's centre and a ring of points at its extent are on screen; *ecc, *polar get the
+ * centre and *extent the patch's radius. */
+static csf_status validate_placement(const csf_presenter *p, const csf_stimulus *s, double *ecc_out,
+                                     double *polar_out, double *extent_out, csf_error *err)
+{
     double ecc, polar;
     stim_centre(p, s, &ecc, &polar);
     if (!(ecc < 89.0))
@@ -691,6 +705,17 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
                                  "there is about %.3g deg",
                                  ecc, polar, extent, reach, fmax(0.0, reach - extent));
     }
+    *ecc_out = ecc;
+    *polar_out = polar;
+    *extent_out = extent;
+    return CSF_OK;
+}
+
+/* A grating's frequency is below the local Nyquist limit everywhere inside its patch. */
+static csf_status validate_nyquist(const csf_presenter *p, const csf_stimulus *s, double ecc, double polar,
+                                   double extent, csf_error *err)
+{
+    const int nring = 24;
     if (s->kind == CSF_STIM_GABOR || s->kind == CSF_STIM_GRATING) {
         double worst = INFINITY, worst_ecc = ecc;
         for (int ring = 0; ring <= 2; ring++) {
@@ -715,6 +740,17 @@ csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_e
                                  s->freq_cpd, worst, s->orientation_deg, worst_ecc);
     }
     return CSF_OK;
+}
+
+csf_status csf_presenter_validate(csf_presenter *p, const csf_stimulus *s, csf_error *err)
+{
+    if (!p || !s) return csf_error_set(err, CSF_E_INVALID_ARG, "validate: NULL argument");
+    double ecc = 0, polar = 0, extent = 0;
+    csf_status st = validate_parameters(p, s, err);
+    if (st == CSF_OK) st = validate_luminance(p, s, err);
+    if (st == CSF_OK) st = validate_placement(p, s, &ecc, &polar, &extent, err);
+    if (st == CSF_OK) st = validate_nyquist(p, s, ecc, polar, extent, err);
+    return st;
 }
 
 /* ---------------- drawing ---------------- */
