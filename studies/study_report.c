@@ -38,7 +38,8 @@ static void session_data_free(session_data *d)
 
 /* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
  * storing them): the caller leaves such a session out instead of failing the whole study. */
-static csf_status load_session(csf_store *store, const csf_session_info *info, session_data *d, csf_error *err)
+static csf_status load_session(csf_store *store, const csf_session_info *info, int participant_index,
+                               session_data *d, csf_error *err)
 {
     memset(d, 0, sizeof *d);
     csf_json_doc *doc = NULL;
@@ -61,7 +62,8 @@ static csf_status load_session(csf_store *store, const csf_session_info *info, s
     free(sb);
     free(cb);
     /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK) st = csf_study_make_plan(d->study, info->seed, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK)
+        st = csf_study_make_plan(d->study, info->seed, participant_index, &d->plan, &d->n_plan, err);
     if (st == CSF_OK) st = csf_store_get_trials(store, info->id, &d->trials, &d->n_trials, err);
     d->finished = !strcmp(info->state, "finished");
     return st;
@@ -273,7 +275,7 @@ static csf_status load_selected(csf_store *store, const csf_study_selection *sel
         csf_session_info info;
         memset(&info, 0, sizeof info);
         if ((st = csf_store_get_session(store, x->id, &info, err)) != CSF_OK) break;
-        st = load_session(store, &info, &ds[*nd], err);
+        st = load_session(store, &info, x->participant_index, &ds[*nd], err);
         csf_session_info_free(&info);
         ds[*nd].id = x->id;
         ds[*nd].version = x->version;

@@ -21,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (csf_study_parse_conditions(&s, csv, sizeof csv - 1, "fuzz.csv", "", &err) == CSF_OK) {
         csf_study_trial *t = NULL;
         int n = 0;
-        if (csf_study_make_plan(&s, 1, &t, &n, &err) == CSF_OK) free(t);
+        if (csf_study_make_plan(&s, 1, 1, &t, &n, &err) == CSF_OK) free(t);
     }
     free(s.conds);
     return 0;
