@@ -1009,7 +1009,8 @@ csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
     else
         st = csf_study_from_texts(settings, conditions, path, cpath, 1, out, err);
     if (st == CSF_OK && (*out)->instructions_file[0]) st = load_instructions(*out, dir, err);
-    if (st == CSF_OK && (st = check_new_study(*out, err)) != CSF_OK) {
+    if (st == CSF_OK) st = check_new_study(*out, err);
+    if (st != CSF_OK) {
         csf_study_free(*out);
         *out = NULL;
     }

@@ -663,6 +663,11 @@ static csf_status same_meta(const char *key, const char *given, const char *stor
                             csf_error *err)
 {
     if (!given || !strcmp(given, stored)) return CSF_OK;
+    if (!*stored)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--set %s: session %lld began without %s; a session "
+                             "keeps the metadata it began with: resume without --set %s",
+                             key, (long long)sid, key, key);
     return csf_error_set(err, CSF_E_INVALID_ARG,
                          "--set %s: session %lld began with %s = '%s'; a session "
                          "keeps the metadata it began with: resume without --set %s or with the same "
