@@ -21,8 +21,8 @@ const char *const csf_study_export_columns[] = {
     "stim_kind", "stim_freq_cpd", "stim_ecc_deg", "stim_polar_deg", "stim_orientation_deg", "stim_sigma_deg",
     "stim_velocity_dps", "stim_mean_lum_cdm2", "contrast_requested", "contrast_shown_mean",
     "contrast_shown_max", "frames_planned", "frames_shown", "frames_missed", "target", "image_first",
-    "image_first_sha256", "image_second", "image_second_sha256", "response", "correct", "rt_s", "valid",
-    "flags", NULL};
+    "image_first_sha256", "image_second", "image_second_sha256", "response", "correct", "rt_s", "onset_s",
+    "valid", "flags", NULL};
 #define N_LEAD 14 /* columns before the conditions file's */
 
 /* One session's material. */
@@ -190,6 +190,7 @@ static void put_trial(FILE *fp, const char *study, const sess *d, const csf_tria
     if (t->valid) fprintf(fp, ",%d", correct);
     else fputc(',', fp);
     put_num(fp, t->rt_s);
+    put_num(fp, t->has_onset ? t->onset_s : NAN);
     fprintf(fp, ",%d", t->valid);
     put_text(fp, t->flags);
     fputc('\n', fp);

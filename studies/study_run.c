@@ -47,6 +47,8 @@ typedef struct {
     double max_contrast;
     double period_s;
     double sim_answer_s; /* simulated answers' times, which no frame clock counts */
+    double t0_s;         /* the presenter's time when this run's trials began */
+    double clock_base_s; /* the session's clock then: the time its earlier runs took */
 } study_ctx;
 
 typedef struct {
@@ -59,6 +61,7 @@ typedef struct {
     int frames_planned, frames_shown, frames_missed;
     csf_trial_record rec;       /* the last stimulus interval's frames */
     int have_rec;
+    double onset_s; /* the first interval's onset on the session's clock; NaN before */
 } study_outcome;
 
 static void add_flag(char *flags, const char *f)
@@ -221,17 +224,30 @@ static void take_record(study_outcome *o, int is_target)
     }
 }
 
-/* One interval: the stimulus for stimulus_s (NULL: blank with fixation). */
+/* A presenter time on the session's clock: the earlier runs' time, then this run's, the
+ * simulated answers included (the virtual frame clock does not run while they are given), so
+ * onsets keep rising over a resumed session as person time does. */
+static double session_clock_s(const study_ctx *x, double presenter_s)
+{
+    return csf_round9(fmax(0.0, x->clock_base_s + (presenter_s - x->t0_s) + x->sim_answer_s));
+}
+
+/* One interval: the stimulus for stimulus_s (NULL: blank with fixation). The trial's onset is its
+ * first interval's: the stimulus's first frame, or the start of the blank that stands for it. */
 static csf_status show_interval(study_ctx *x, const csf_stimulus *s, int is_target, study_outcome *o,
                                 csf_error *err)
 {
-    if (!s) return csf_trial_io_blank(&x->io, x->study->stimulus_s, 1, err);
+    if (!s) {
+        if (isnan(o->onset_s)) o->onset_s = session_clock_s(x, csf_presenter_time(x->pres));
+        return csf_trial_io_blank(&x->io, x->study->stimulus_s, 1, err);
+    }
     if (o->have_rec) csf_trial_record_free(&o->rec);
     o->have_rec = 0;
     csf_envelope env = {CSF_ENV_FIXED, x->study->stimulus_s, 0, 0};
     csf_status st = csf_presenter_run_trial(x->pres, s, &env, 1, NULL, NULL, &o->rec, err);
     if (st != CSF_OK) return st;
     o->have_rec = 1;
+    if (isnan(o->onset_s)) o->onset_s = session_clock_s(x, o->rec.t_onset_s);
     take_record(o, is_target);
     return CSF_OK;
 }
@@ -361,7 +377,7 @@ static csf_status run_one(study_ctx *x, uint64_t key, const csf_study_trial *t, 
 {
     memset(o, 0, sizeof *o);
     o->choice = -1;
-    o->rt_s = o->shown_target = o->shown_max = NAN;
+    o->rt_s = o->shown_target = o->shown_max = o->onset_s = NAN;
     const csf_study *s = x->study;
     int cond = t->cond;
     const csf_study_condition *c = &s->conds[cond];
@@ -557,6 +573,8 @@ static void fill_trial(csf_trial *tr, const run_res *R, int64_t sid, int seq, co
     tr->click_x_deg = tr->click_y_deg = NAN;
     tr->valid = o->valid;
     snprintf(tr->flags, sizeof tr->flags, "%s", o->flags);
+    tr->has_onset = isfinite(o->onset_s);
+    tr->onset_s = tr->has_onset ? o->onset_s : 0.0;
 }
 
 /* What an adaptive procedure saw, from a stored trial (replay and live use this one function). */
@@ -809,6 +827,28 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
     if (st == CSF_OK) st = store_files(R, *sid, err);
     if (st != CSF_OK) abort_unstarted(R->store, *sid, err);
     return st;
+}
+
+/* Where the session's clock stands when a run begins: the person time of its earlier runs, or,
+ * after a run that was killed before it could add its time, the end of the last stored trial
+ * (its onset, presentation and answer time: a lower bound, the rest of that run is lost). */
+static double clock_base(run_res *R, int64_t sid, size_t n_stored)
+{
+    const csf_study *s = R->study;
+    int two = s->design == CSF_DESIGN_2IFC || s->design == CSF_DESIGN_SAME_DIFF;
+    double shown_s = two ? 2 * s->stimulus_s + s->isi_s : s->stimulus_s;
+    double base = 0;
+    csf_session_info info;
+    memset(&info, 0, sizeof info);
+    csf_error e;
+    if (csf_store_get_session(R->store, sid, &info, &e) == CSF_OK && isfinite(info.person_s))
+        base = info.person_s;
+    csf_session_info_free(&info);
+    for (size_t i = 0; i < n_stored; i++)
+        if (R->stored[i].has_onset)
+            base = fmax(base, R->stored[i].onset_s + shown_s +
+                                  (isfinite(R->stored[i].rt_s) ? R->stored[i].rt_s : 0.0));
+    return base;
 }
 
 /* Test aid (documented in docs/studies.md): CSFCAL_TEST_KILL_AFTER=N kills the process with
@@ -1087,6 +1127,8 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
      * when simulated, plus the simulated answers), instructions and pauses included; added to
      * the session's before it ends. */
     double t0_s = csf_presenter_time(R.pres);
+    x.t0_s = t0_s;
+    x.clock_base_s = clock_base(&R, sid, n_stored);
     st = run_with_signals(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
     double person_s = csf_presenter_time(R.pres) - t0_s + x.sim_answer_s;
     csf_error pe;

@@ -2,8 +2,9 @@
 # Study designs from the command line (examples/studies/counterbalanced.conf, docs/studies.md
 # "Designs"): the blocks' order follows each participant's Latin-square row, the row and the
 # participant's index are kept with the session (resume keeps them) and reach the report and the
-# export with the session metadata (--set experimenter=, notes=), refused metadata exits 2 with
-# nothing stored, and a simulated person's reading of the instructions counts as person time.
+# export with the session metadata (--set experimenter=, notes=) and each trial's onset on the
+# session's clock, refused metadata exits 2 with nothing stored, and a simulated person's reading
+# of the instructions counts as person time.
 #   usage: test_study_designs.sh CSFCAL EXAMPLES_DIR
 set -u
 csfcal=$1
@@ -47,6 +48,13 @@ assert {r["session_experimenter"] for r in by["P01"]} == {"AB"}
 assert {r["session_notes"] for r in by["P01"]} == {"pilot, room 2"}
 assert {r["session_notes"] for r in by["P02"]} == {""}
 assert {r["level"] for r in rows} == {"1", "2", "3", "4"}
+# onsets on the session's clock: rising by at least iti + fixation + stimulus (1.2 s) from trial
+# to trial, P02's too across its kill and resume after trial 30
+for p, rs in by.items():
+    on = [float(r["onset_s"]) for r in sorted(rs, key=lambda r: int(r["trial"]))]
+    assert on[0] >= 1.0, (p, on[0])
+    gaps = [b - a for a, b in zip(on, on[1:])]
+    assert min(gaps) >= 1.2 - 1e-6, (p, min(gaps), gaps.index(min(gaps)))
 PY
 "$csfcal" study report "$ex/counterbalanced.conf" --store "$st" --json --bootstrap 10 > "$tmp/r.json" \
   || no "report failed"
