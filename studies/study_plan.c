@@ -92,6 +92,7 @@ static void plan_practice(const csf_study *s, csf_study_trial *t, uint64_t seed,
         if (s->conds[c].practice_pool) pool[n_pool++] = c;
     if (!n_pool) /* a study assembled in memory without its pool resolved: every condition */
         for (int c = 0; c < s->n_conds; c++) pool[n_pool++] = c;
+    if (!n_pool) return; /* no conditions: nothing to practise (a parsed study has some) */
     for (int i = 0; i < s->practice_trials; i++) {
         t[i].cond = pool[csf_rng_u64(seed, ST_PRACTICE, (uint64_t)i) % (uint64_t)n_pool];
         t[i].block = -1;

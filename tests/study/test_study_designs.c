@@ -67,7 +67,7 @@ static void test_sequential(void)
     CHECK_MSG(study("name = t\nconditions = c.csv\ntrials_per_condition = 3\norder = sequential\n"
                     "practice_trials = 0\n", four, &s, &e) == CSF_OK, "%s", e.msg);
     csf_study_trial *t = NULL;
-    int n = 0, c[64];
+    int n = 0, c[64] = {0};
     CHECK(csf_study_make_plan(s, 9, 0, &t, &n, &e) == CSF_OK);
     CHECK_INT_EQ(mains(t, n, c), 12);
     for (int i = 0; i < 12; i++) CHECK_MSG(c[i] == i % 4, "trial %d: condition %d", i, c[i]);
