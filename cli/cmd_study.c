@@ -71,6 +71,18 @@ static int exit_for(const csf_error *err, int started)
     return 1;
 }
 
+/* study run needs a participant and takes none of the report's or the export's options; 0 (the
+ * message printed) when the command line is wrong. */
+static int run_usage_ok(const char *participant, int report_option, int export_option)
+{
+    const char *why = !participant    ? "--participant ID is required"
+                      : report_option ? "-o and --csv belong to study report"
+                      : export_option ? "--per-participant belongs to study export"
+                                      : NULL;
+    if (why) fprintf(stderr, "csfcal: study run: %s\n", why);
+    return why == NULL;
+}
+
 /* Session metadata given with --set KEY=VALUE (the other keys are station settings). */
 typedef struct {
     const char *experimenter, *notes;
@@ -256,21 +268,10 @@ int csf_cmd_study(int argc, char **argv)
         return 2;
     }
     const char *study = argv[optind];
-    if (!strcmp(sub, "run")) {
-        if (!participant) {
-            fprintf(stderr, "csfcal: study run: --participant ID is required\n");
-            return 2;
-        }
-        if (out || csv) {
-            fprintf(stderr, "csfcal: study run: -o and --csv belong to study report\n");
-            return 2;
-        }
-        if (per_dir) {
-            fprintf(stderr, "csfcal: study run: --per-participant belongs to study export\n");
-            return 2;
-        }
-        return cmd_run(&cli, study, participant, version, quiet, &meta);
-    }
+    if (!strcmp(sub, "run"))
+        return run_usage_ok(participant, out || csv, per_dir != NULL)
+                   ? cmd_run(&cli, study, participant, version, quiet, &meta)
+                   : 2;
     if (participant) {
         fprintf(stderr,
                 "csfcal: study %s: --participant belongs to study run (the %s covers every "
