@@ -48,6 +48,10 @@ assert {r["session_experimenter"] for r in by["P01"]} == {"AB"}
 assert {r["session_notes"] for r in by["P01"]} == {"pilot, room 2"}
 assert {r["session_notes"] for r in by["P02"]} == {""}
 assert {r["level"] for r in rows} == {"1", "2", "3", "4"}
+# the plan the export rebuilds from the stored index is the one that ran: the stored stimulus
+# is the condition's (8 cpd in the high_sf block), at its level outside practice
+assert all(float(r["stim_freq_cpd"]) == float(r["freq_cpd"]) for r in rows)
+assert all(float(r["contrast_requested"]) == float(r["contrast"]) for r in rows if r["practice"] == "0")
 # onsets on the session's clock: rising by at least iti + fixation + stimulus (1.2 s) from trial
 # to trial, P02's too across its kill and resume after trial 30
 for p, rs in by.items():
