@@ -36,6 +36,9 @@ static void usage(FILE *f)
         "  --observer sim[:...] simulated observer (docs/observer-calibration.md keys) or human\n"
         "                       (window, keyboard and mouse: 1/Left = first interval or left place,\n"
         "                       same, no; 2/Right = second or right, different, yes)\n"
+        "  --set experimenter=NAME, --set notes=TEXT\n"
+        "                       session metadata, kept with the session and shown by sessions show,\n"
+        "                       the report and the export (printable text, at most 255 bytes)\n"
         "  --quiet              no progress on stderr\n\n"
         "report: proportion correct with exact (Clopper-Pearson) 95%% intervals per condition;\n"
         "forced choice: an exact binomial test against chance (0.5); yes/no and same/different:\n"
@@ -68,10 +71,50 @@ static int exit_for(const csf_error *err, int started)
     return 1;
 }
 
-static int cmd_run(csf_cli *cli, const char *study, const char *participant, int version, int quiet)
+/* study run needs a participant and takes none of the report's or the export's options; 0 (the
+ * message printed) when the command line is wrong. */
+static int run_usage_ok(const char *participant, int report_option, int export_option)
+{
+    const char *why = !participant    ? "--participant ID is required"
+                      : report_option ? "-o and --csv belong to study report"
+                      : export_option ? "--per-participant belongs to study export"
+                                      : NULL;
+    if (why) fprintf(stderr, "csfcal: study run: %s\n", why);
+    return why == NULL;
+}
+
+/* Session metadata given with --set KEY=VALUE (the other keys are station settings). */
+typedef struct {
+    const char *experimenter, *notes;
+} run_meta;
+
+/* 1 when arg is a metadata key=value (taken into m), 0 when it is a station setting, -1 (message
+ * printed) when its value is refused. */
+static int take_meta(const char *arg, run_meta *m)
+{
+    static const char *const keys[] = {"experimenter", "notes"};
+    for (int i = 0; i < 2; i++) {
+        size_t n = strlen(keys[i]);
+        if (strncmp(arg, keys[i], n) || arg[n] != '=') continue;
+        csf_error err;
+        if (csf_study_check_meta(keys[i], arg + n + 1, &err) != CSF_OK) {
+            csf_cli_report("study run", &err);
+            return -1;
+        }
+        if (i == 0) m->experimenter = arg + n + 1;
+        else m->notes = arg + n + 1;
+        return 1;
+    }
+    return 0;
+}
+
+static int cmd_run(csf_cli *cli, const char *study, const char *participant, int version, int quiet,
+                   const run_meta *meta)
 {
     csf_study_run_options o;
     memset(&o, 0, sizeof o);
+    o.experimenter = meta->experimenter;
+    o.notes = meta->notes;
     o.cfg = &cli->cfg;
     o.study_path = study;
     o.participant = participant;
@@ -188,6 +231,7 @@ int csf_cmd_study(int argc, char **argv)
     };
     const char *participant = NULL, *csv = NULL, *out = NULL, *per_dir = NULL;
     int quiet = 0, n_boot = -1, version = 0;
+    run_meta meta = {NULL, NULL};
     optind = 1;
     opterr = 0;
     int c;
@@ -209,6 +253,10 @@ int csf_cmd_study(int argc, char **argv)
             break;
         case OPT_PER_PARTICIPANT: per_dir = optarg; break;
         default: {
+            /* --set experimenter= and notes= are the session's; other keys the station's */
+            int m = c == CSF_OPT_SET && !strcmp(sub, "run") ? take_meta(optarg, &meta) : 0;
+            if (m < 0) return 2;
+            if (m > 0) break;
             int r = csf_cli_option_default(&cli, "study", "", c, argv);
             if (r >= 0) return r;
         }
@@ -220,21 +268,10 @@ int csf_cmd_study(int argc, char **argv)
         return 2;
     }
     const char *study = argv[optind];
-    if (!strcmp(sub, "run")) {
-        if (!participant) {
-            fprintf(stderr, "csfcal: study run: --participant ID is required\n");
-            return 2;
-        }
-        if (out || csv) {
-            fprintf(stderr, "csfcal: study run: -o and --csv belong to study report\n");
-            return 2;
-        }
-        if (per_dir) {
-            fprintf(stderr, "csfcal: study run: --per-participant belongs to study export\n");
-            return 2;
-        }
-        return cmd_run(&cli, study, participant, version, quiet);
-    }
+    if (!strcmp(sub, "run"))
+        return run_usage_ok(participant, out || csv, per_dir != NULL)
+                   ? cmd_run(&cli, study, participant, version, quiet, &meta)
+                   : 2;
     if (participant) {
         fprintf(stderr,
                 "csfcal: study %s: --participant belongs to study run (the %s covers every "

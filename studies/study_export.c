@@ -15,15 +15,15 @@
 
 /* Every column this export writes besides the conditions file's own, in order. */
 const char *const csf_study_export_columns[] = {
-    "study", "version", "study_sha256", "participant", "session", "session_finished", "trial", "block",
-    "practice", "condition",
+    "study", "version", "study_sha256", "participant", "session", "session_finished", "participant_index",
+    "counterbalance_row", "session_experimenter", "session_notes", "trial", "block", "practice", "condition",
     /* the conditions file's columns go here */
     "stim_kind", "stim_freq_cpd", "stim_ecc_deg", "stim_polar_deg", "stim_orientation_deg", "stim_sigma_deg",
     "stim_velocity_dps", "stim_mean_lum_cdm2", "contrast_requested", "contrast_shown_mean",
     "contrast_shown_max", "frames_planned", "frames_shown", "frames_missed", "target", "image_first",
-    "image_first_sha256", "image_second", "image_second_sha256", "response", "correct", "rt_s", "valid",
-    "flags", NULL};
-#define N_LEAD 10 /* columns before the conditions file's */
+    "image_first_sha256", "image_second", "image_second_sha256", "response", "correct", "rt_s", "onset_s",
+    "valid", "flags", NULL};
+#define N_LEAD 14 /* columns before the conditions file's */
 
 /* One session's material. */
 typedef struct {
@@ -58,7 +58,8 @@ static csf_status sess_load(csf_store *store, const csf_study_session *x, sess *
     if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "conditions", &cb, &cl, cp, sizeof cp, err);
     if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
     /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK) st = csf_study_make_plan(d->study, info.seed, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK)
+        st = csf_study_make_plan(d->study, info.seed, x->participant_index, &d->plan, &d->n_plan, err);
     if (st == CSF_OK) st = csf_store_get_trials(store, x->id, &d->trials, &d->n_trials, err);
     if (st == CSF_OK) st = csf_study_conditions_table(d->study, &d->table, err);
     csf_session_info_free(&info);
@@ -162,8 +163,12 @@ static void put_trial(FILE *fp, const char *study, const sess *d, const csf_tria
     fprintf(fp, ",%d", d->x->version);
     put_text(fp, d->x->key);
     put_text(fp, d->x->participant);
-    fprintf(fp, ",%lld,%d,%d,%d,%d", (long long)d->x->id, !strcmp(d->x->state, "finished"), t->seq,
-            pt->practice ? 0 : pt->block + 1, pt->practice);
+    fprintf(fp, ",%lld,%d,%d,", (long long)d->x->id, !strcmp(d->x->state, "finished"),
+            d->x->participant_index);
+    if (s->latin) fprintf(fp, "%d", csf_study_latin_row(s, d->x->participant_index, NULL));
+    put_text(fp, d->x->experimenter);
+    put_text(fp, d->x->notes);
+    fprintf(fp, ",%d,%d,%d", t->seq, pt->practice ? 0 : pt->block + 1, pt->practice);
     put_text(fp, c->label);
     for (int i = 0; i < d->table.n_columns; i++) put_text(fp, CSF_STUDY_CELL(&d->table, pt->cond, i));
     put_text(fp, kind_name(c->kind));
@@ -185,6 +190,7 @@ static void put_trial(FILE *fp, const char *study, const sess *d, const csf_tria
     if (t->valid) fprintf(fp, ",%d", correct);
     else fputc(',', fp);
     put_num(fp, t->rt_s);
+    put_num(fp, t->has_onset ? t->onset_s : NAN);
     fprintf(fp, ",%d", t->valid);
     put_text(fp, t->flags);
     fputc('\n', fp);

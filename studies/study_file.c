@@ -15,6 +15,7 @@
 
 #define SETTINGS_MAX_BYTES (1u << 20)
 #define CONDITIONS_MAX_BYTES (4u << 20)
+#define INSTRUCTIONS_MAX_BYTES (64u << 10)
 #define CSV_MAX_COLUMNS 32
 #define CSV_FIELD_MAX 1024
 
@@ -118,6 +119,107 @@ static const num_key num_keys[] = {
     NK("adaptive_max_contrast", adaptive_max_contrast, 0.001, 1, "Michelson"),
 };
 
+/* A word from a list: its index, or -1. */
+static int pick(const char *v, const char *const *words)
+{
+    for (int i = 0; words[i]; i++)
+        if (!strcmp(v, words[i])) return i;
+    return -1;
+}
+
+/* counterbalance: yes/no balance the target place or interval within each condition and block
+ * (as before); none is no; latin_blocks and latin_conditions balance the targets too and order
+ * blocks or conditions by a balanced Latin square across participants. */
+static csf_status set_counterbalance(csf_study *s, const char *v, const char *where, int line, csf_error *err)
+{
+    static const char *const latin[] = {"none", "latin_blocks", "latin_conditions", NULL};
+    int b, k = pick(v, latin);
+    if (k >= 0) {
+        s->counterbalance = k != 0;
+        s->latin = (csf_study_latin)k;
+    } else if (!parse_bool(v, &b)) {
+        s->counterbalance = b;
+        s->latin = CSF_LATIN_NONE;
+    } else {
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s:%d: counterbalance = '%s': expected yes, no, none, "
+                             "latin_blocks or latin_conditions",
+                             where, line, v);
+    }
+    return CSF_OK;
+}
+
+/* instructions: one line, "\n" a line break (the text screen's), printable text only. */
+static csf_status set_instructions(csf_study *s, const char *v, const char *where, int line, csf_error *err)
+{
+    size_t k = 0;
+    for (const char *p = v; *p; p++) {
+        if (k + 1 >= sizeof s->instructions)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: instructions: at most %zu characters", where,
+                                 line, sizeof s->instructions - 1);
+        if (p[0] == '\\' && p[1] == 'n') {
+            s->instructions[k++] = '\n';
+            p++;
+        } else {
+            s->instructions[k++] = *p;
+        }
+    }
+    s->instructions[k] = '\0';
+    return CSF_OK;
+}
+
+/* A text value that must fit its field. */
+static csf_status set_text(char *dst, size_t cap, const char *key, const char *v, const char *where, int line,
+                           csf_error *err)
+{
+    if (!*v || strlen(v) >= cap)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: %s: 1 to %zu characters", where, line, key,
+                             cap - 1);
+    snprintf(dst, cap, "%s", v);
+    return CSF_OK;
+}
+
+/* The keys of a design's order, counterbalancing, instructions, feedback and practice
+ * (docs/studies.md, "Designs"). */
+static csf_status set_design_key(csf_study *s, const char *key, const char *v, const char *where, int line,
+                                 csf_error *err)
+{
+    static const char *const orders[] = {"random", "sequential", NULL};
+    static const char *const feedbacks[] = {"none", "all", "practice", NULL};
+    if (!strcmp(key, "counterbalance")) return set_counterbalance(s, v, where, line, err);
+    if (!strcmp(key, "instructions")) return set_instructions(s, v, where, line, err);
+    if (!strcmp(key, "instructions_file"))
+        return set_text(s->instructions_file, sizeof s->instructions_file, key, v, where, line, err);
+    if (!strcmp(key, "blocked_by"))
+        return set_text(s->blocked_by, sizeof s->blocked_by, key, v, where, line, err);
+    if (!strcmp(key, "practice_conditions")) {
+        s->practice_line = line;
+        return set_text(s->practice_labels, sizeof s->practice_labels, key, v, where, line, err);
+    }
+    if (!strcmp(key, "order")) {
+        int k = pick(v, orders);
+        if (k < 0)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s:%d: order = '%s': expected random or sequential "
+                                 "(blocks by a column: blocked_by = COLUMN)",
+                                 where, line, v);
+        s->order = (csf_study_order)k;
+        return CSF_OK;
+    }
+    if (!strcmp(key, "feedback")) {
+        int b = 0, k = pick(v, feedbacks);
+        if (k < 0 && parse_bool(v, &b))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s:%d: feedback = '%s': expected none, practice "
+                                 "or all (yes = all, no = none)",
+                                 where, line, v);
+        s->feedback = k >= 0 ? (csf_study_feedback)k : b ? CSF_FEEDBACK_ALL : CSF_FEEDBACK_NONE;
+        return CSF_OK;
+    }
+    return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown key '%s' (see docs/studies.md)", where, line,
+                         key);
+}
+
 static csf_status set_key(csf_study *s, const char *key, const char *v, const char *where, int line,
                           csf_error *err)
 {
@@ -156,13 +258,6 @@ static csf_status set_key(csf_study *s, const char *key, const char *v, const ch
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: seed = '%s': expected a whole number "
                                  "from 0 to 2^53-1", where, line, v);
         s->seed = (uint64_t)d;
-    } else if (!strcmp(key, "feedback") || !strcmp(key, "counterbalance")) {
-        int b;
-        if (parse_bool(v, &b))
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: %s = '%s': expected yes or no", where,
-                                 line, key, v);
-        if (!strcmp(key, "feedback")) s->feedback = b;
-        else s->counterbalance = b;
     } else if (!strcmp(key, "sd_model")) {
         if (!strcmp(v, "differencing")) s->sd_differencing = 1;
         else if (!strcmp(v, "independent")) s->sd_differencing = 0;
@@ -174,8 +269,7 @@ static csf_status set_key(csf_study *s, const char *key, const char *v, const ch
                                  where, line, sizeof s->break_text - 1);
         snprintf(s->break_text, sizeof s->break_text, "%s", v);
     } else {
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s:%d: unknown key '%s' (see docs/studies.md)",
-                             where, line, key);
+        return set_design_key(s, key, v, where, line, err);
     }
     return CSF_OK;
 }
@@ -197,6 +291,23 @@ static csf_status check_settings(const csf_study *s, const char *where, csf_erro
     if (s->response_window_s > 0 && s->response_window_s < 0.2)
         return csf_error_set(err, CSF_E_INVALID_ARG, "%s: response_window_s = %g s: nobody answers that "
                              "fast (0 = no limit, else at least 0.2 s)", where, s->response_window_s);
+    if (s->blocked_by[0] && s->blocks != 1)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s: blocked_by = %s makes one block per value of "
+                             "that column: blocks = %d cannot be given with it",
+                             where, s->blocked_by, s->blocks);
+    if (s->latin == CSF_LATIN_BLOCKS && !s->blocked_by[0])
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s: counterbalance = latin_blocks orders blocks that "
+                             "differ: it needs blocked_by = COLUMN (without it every block holds the "
+                             "same trials)",
+                             where);
+    if (s->latin == CSF_LATIN_CONDITIONS && s->order != CSF_ORDER_SEQUENTIAL)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "%s: counterbalance = latin_conditions orders the "
+                             "conditions: it needs order = sequential (in random order they are "
+                             "shuffled anyway)",
+                             where);
     if (s->design == CSF_DESIGN_YES_NO && !(s->catch_fraction > 0))
         return csf_error_set(err, CSF_E_INVALID_ARG, "%s: a yes_no design needs catch trials "
                              "(catch_fraction > 0): without them no false-alarm rate can be measured",
@@ -591,6 +702,54 @@ static csf_status add_condition(csf_study *s, const int *col, char (*fields)[CSV
     return CSF_OK;
 }
 
+/* blocked_by: the header field holding the column, or -1 with the error set. */
+static int blocked_column(const csf_study *s, char (*fields)[CSV_FIELD_MAX], int nf, const char *where,
+                          csf_error *err)
+{
+    for (int i = 0; i < nf; i++)
+        if (!strcmp(fields[i], s->blocked_by)) return i;
+    csf_error_set(err, CSF_E_INVALID_ARG, "%s: blocked_by = %s: %s has no column of that name", s->path,
+                  s->blocked_by, where);
+    return -1;
+}
+
+/* The block of the condition just added: its blocked_by value's, a new one for a value not met
+ * before (blocks come in the order the file first gives their values). */
+static void assign_group(csf_study *s, char (*values)[CSV_FIELD_MAX], const char *value)
+{
+    csf_study_condition *c = &s->conds[s->n_conds - 1];
+    snprintf(values[s->n_conds - 1], CSV_FIELD_MAX, "%s", value);
+    for (int i = 0; i < s->n_conds - 1; i++)
+        if (!strcmp(values[i], value)) {
+            c->group = s->conds[i].group;
+            return;
+        }
+    c->group = s->n_groups++;
+}
+
+/* practice_conditions: each label named must be a condition's; those conditions alone are drawn
+ * for practice. Without it every condition is. */
+static csf_status resolve_practice(csf_study *s, const char *where, csf_error *err)
+{
+    for (int i = 0; i < s->n_conds; i++) s->conds[i].practice_pool = !s->practice_labels[0];
+    if (!s->practice_labels[0]) return CSF_OK;
+    char list[sizeof s->practice_labels];
+    snprintf(list, sizeof list, "%s", s->practice_labels);
+    char *save = NULL;
+    for (char *tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        const char *label = trim(tok);
+        int found = 0;
+        for (int i = 0; i < s->n_conds; i++)
+            if (!strcmp(s->conds[i].label, label)) found = s->conds[i].practice_pool = 1;
+        if (!found)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s:%d: practice_conditions: no condition of %s is "
+                                 "labelled '%.64s'",
+                                 s->path, s->practice_line, where, label);
+    }
+    return CSF_OK;
+}
+
 csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len, const char *where,
                                       const char *base_dir, csf_error *err)
 {
@@ -604,14 +763,17 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
     char (*fields)[CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
     char *buf = malloc(8192);
     s->conds = calloc(CSF_STUDY_MAX_CONDITIONS, sizeof *s->conds);
+    s->n_groups = s->blocked_by[0] ? 0 : 1;
+    char(*values)[CSV_FIELD_MAX] =
+        s->blocked_by[0] ? malloc(CSF_STUDY_MAX_CONDITIONS * sizeof *values) : NULL;
     csf_status st = CSF_OK;
-    if (!fields || !buf || !s->conds) {
+    if (!fields || !buf || !s->conds || (s->blocked_by[0] && !values)) {
         st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
         goto out;
     }
     int col[N_COLS];
     for (int i = 0; i < N_COLS; i++) col[i] = -1;
-    int n_header = 0, line = 0;
+    int n_header = 0, line = 0, group_col = -1;
     size_t pos = 0;
     while (pos < len) {
         line++;
@@ -638,16 +800,23 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
         }
         if (!n_header) {
             if ((st = parse_header(fields, nf, col, where, line, err)) != CSF_OK) goto out;
+            if (s->blocked_by[0] && (group_col = blocked_column(s, fields, nf, where, err)) < 0) {
+                st = CSF_E_INVALID_ARG;
+                goto out;
+            }
             n_header = nf;
             continue;
         }
         if ((st = add_condition(s, col, fields, nf, n_header, base_dir, where, line, err)) != CSF_OK)
             goto out;
+        if (group_col >= 0) assign_group(s, values, fields[group_col]);
     }
     if (!n_header) st = csf_error_set(err, CSF_E_FORMAT, "%s: empty (no header row)", where);
     else if (!s->n_conds) st = csf_error_set(err, CSF_E_INVALID_ARG, "%s: no conditions after the header", where);
+    else st = resolve_practice(s, where, err);
 out:
     free(fields);
+    free(values);
     free(buf);
     if (st != CSF_OK) {
         free(s->conds);
@@ -773,6 +942,39 @@ static csf_status check_new_study(const csf_study *s, csf_error *err)
     return st;
 }
 
+/* instructions_file, relative to the settings file's folder: printable text, each line checked as
+ * the study files' are (it is shown to every participant and stored with every session). Its
+ * bytes join the files' 64-bit hash. */
+static csf_status load_instructions(csf_study *s, const char *dir, csf_error *err)
+{
+    char path[2048];
+    if (s->instructions_file[0] == '/') snprintf(path, sizeof path, "%s", s->instructions_file);
+    else snprintf(path, sizeof path, "%s/%s", dir, s->instructions_file);
+    size_t len = 0;
+    csf_error e;
+    csf_status st =
+        csf_read_file(path, "study instructions", INSTRUCTIONS_MAX_BYTES, &s->instructions_text, &len, &e);
+    if (st != CSF_OK)
+        return csf_error_set(err, st, "%s: instructions_file = %s: %s", s->path, s->instructions_file, e.msg);
+    if (memchr(s->instructions_text, '\0', len))
+        return csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a text file)", path);
+    char line[8192];
+    int n = 0;
+    for (const char *p = s->instructions_text; *p && st == CSF_OK;) {
+        const char *nl = strchr(p, '\n');
+        size_t k = nl ? (size_t)(nl - p) : strlen(p);
+        if (k >= sizeof line)
+            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than %zu characters", path, n + 1,
+                                 sizeof line - 1);
+        memcpy(line, p, k);
+        line[k] = '\0';
+        st = check_line(line, path, ++n, err);
+        p += k + (nl ? 1 : 0);
+    }
+    s->hash = csf_fnv1a64(s->instructions_text, len, csf_fnv1a64("\n--\n", 4, s->hash));
+    return st;
+}
+
 csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
 {
     *out = NULL;
@@ -806,7 +1008,9 @@ csf_status csf_study_load(const char *path, csf_study **out, csf_error *err)
                            memchr(settings, '\0', len) ? path : cpath);
     else
         st = csf_study_from_texts(settings, conditions, path, cpath, 1, out, err);
-    if (st == CSF_OK && (st = check_new_study(*out, err)) != CSF_OK) {
+    if (st == CSF_OK && (*out)->instructions_file[0]) st = load_instructions(*out, dir, err);
+    if (st == CSF_OK) st = check_new_study(*out, err);
+    if (st != CSF_OK) {
         csf_study_free(*out);
         *out = NULL;
     }
@@ -838,6 +1042,7 @@ void csf_study_free(csf_study *s)
 {
     if (!s) return;
     free(s->conds);
+    free(s->instructions_text);
     free(s->settings_text);
     free(s->conditions_text);
     free(s);

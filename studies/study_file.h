@@ -42,7 +42,26 @@ typedef struct {
     double size_deg;
     char curve[CSF_STUDY_LABEL_MAX];/* conditions with the same curve name are fitted together
                                        (default: the label) */
+    int group;                      /* blocked_by: the block of this condition's value (0-based, in
+                                       the order the file first gives the values); else 0 */
+    int practice_pool;              /* named in practice_conditions (all are when none is named) */
 } csf_study_condition;
+
+/* Condition order within a block (docs/studies.md, "Designs"). */
+typedef enum {
+    CSF_ORDER_RANDOM = 0,     /* shuffled within each block */
+    CSF_ORDER_SEQUENTIAL = 1, /* the conditions in order, each pass once (PsychoPy's sequential) */
+} csf_study_order;
+
+/* Counterbalancing across participants: a balanced Latin square (Williams 1949) whose row is
+ * chosen by the participant's index in the study. */
+typedef enum { CSF_LATIN_NONE = 0, CSF_LATIN_BLOCKS = 1, CSF_LATIN_CONDITIONS = 2 } csf_study_latin;
+
+/* Which trials show "Correct"/"Wrong" (people only). */
+typedef enum { CSF_FEEDBACK_NONE = 0, CSF_FEEDBACK_ALL = 1, CSF_FEEDBACK_PRACTICE = 2 } csf_study_feedback;
+
+#define CSF_STUDY_INSTRUCTIONS_MAX 4096
+#define CSF_STUDY_META_MAX 256 /* a session's experimenter or notes (study run --set), with the NUL */
 
 typedef struct {
     char name[128];
@@ -51,10 +70,19 @@ typedef struct {
     csf_study_design design;
     int trials_per_condition, practice_trials, blocks;
     double stimulus_s, isi_s, response_window_s, iti_s, fixation_s, feedback_s;
-    int feedback;                  /* show right/wrong after each answer */
+    csf_study_feedback feedback; /* which answers get right/wrong shown */
     uint64_t seed;
     int counterbalance;            /* balance target place/interval (or pair order) within
                                       each condition and block */
+    csf_study_latin latin;         /* counterbalance = latin_blocks|latin_conditions */
+    csf_study_order order;
+    char blocked_by[64];                           /* a conditions column: one block per value; "" = none */
+    int n_groups;                                  /* blocked_by: the number of values (blocks) */
+    char practice_labels[1024];                    /* practice_conditions as written; "" = every condition */
+    int practice_line;                             /* its line in the settings file */
+    char instructions[CSF_STUDY_INSTRUCTIONS_MAX]; /* "\n" in the file is a line break */
+    char instructions_file[1024];                  /* as written; resolved and read by csf_study_load */
+    char *instructions_text;                       /* the file's bytes (NULL without instructions_file) */
     double catch_fraction;         /* yes/no: share of each condition's trials without target */
     double same_fraction;          /* same/different: share of same pairs */
     int sd_differencing;           /* same/different d' model: 1 differencing (roving), 0 IO */
@@ -65,7 +93,8 @@ typedef struct {
     csf_study_condition *conds;    /* malloc'd */
     int n_conds;
     char *settings_text, *conditions_text; /* the bytes read (stored with each session) */
-    uint64_t hash;                 /* FNV-1a 64 of both files' bytes: the study's identity */
+    uint64_t hash;                         /* FNV-1a 64 of both files' bytes (and the instructions
+                                      file's, when there is one): the study's identity */
     /* the first key given twice in the settings, for csf_study_load to refuse (a stored copy
        from an older csfcal is still read, last value winning as it did) */
     char dup_key[32];

@@ -35,6 +35,8 @@ static csf_status seal(csf_study_identity *id, csf_error *err)
     if (!m) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     n += (size_t)snprintf(m + n, cap - n, "settings %s\nconditions %s\n", id->settings_sha256,
                           id->conditions_sha256);
+    if (id->instructions_sha256[0])
+        n += (size_t)snprintf(m + n, cap - n, "instructions %s\n", id->instructions_sha256);
     for (int i = 0; i < id->n_images; i++)
         n += (size_t)snprintf(m + n, cap - n, "image %s %s\n", id->images[i].sha256, id->images[i].name);
     csf_sha256_hex(m, n, id->sha256);
@@ -81,6 +83,8 @@ csf_status csf_study_identity_compute(const csf_study *s, int keep_bytes, csf_st
     memset(id, 0, sizeof *id);
     csf_sha256_hex(s->settings_text, strlen(s->settings_text), id->settings_sha256);
     csf_sha256_hex(s->conditions_text, strlen(s->conditions_text), id->conditions_sha256);
+    if (s->instructions_text)
+        csf_sha256_hex(s->instructions_text, strlen(s->instructions_text), id->instructions_sha256);
     id->images = calloc(2 * (size_t)s->n_conds + 1, sizeof *id->images);
     if (!id->images) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     csf_status st = CSF_OK;
@@ -101,8 +105,13 @@ json_t *csf_study_identity_to_json(const csf_study_identity *id)
     for (int i = 0; imgs && i < id->n_images; i++)
         json_array_append_new(imgs, json_pack("{s:s,s:s,s:I}", "name", id->images[i].name, "sha256",
                                               id->images[i].sha256, "bytes", (json_int_t)id->images[i].len));
-    return json_pack("{s:s,s:s,s:s,s:o}", "sha256", id->sha256, "settings_sha256", id->settings_sha256,
-                     "conditions_sha256", id->conditions_sha256, "images", imgs);
+    json_t *j = json_pack("{s:s,s:s,s:s}", "sha256", id->sha256, "settings_sha256", id->settings_sha256,
+                          "conditions_sha256", id->conditions_sha256);
+    if (j && id->instructions_sha256[0])
+        json_object_set_new(j, "instructions_sha256", json_string(id->instructions_sha256));
+    if (j) json_object_set_new(j, "images", imgs);
+    else json_decref(imgs);
+    return j;
 }
 
 static int is_hex64(const char *h)
@@ -129,6 +138,8 @@ csf_status csf_study_identity_from_json(const json_t *j, csf_study_identity *id,
     csf_status st = get_hash(j, "sha256", id->sha256, err);
     if (st == CSF_OK) st = get_hash(j, "settings_sha256", id->settings_sha256, err);
     if (st == CSF_OK) st = get_hash(j, "conditions_sha256", id->conditions_sha256, err);
+    if (st == CSF_OK && json_object_get(j, "instructions_sha256"))
+        st = get_hash(j, "instructions_sha256", id->instructions_sha256, err);
     const json_t *imgs = json_object_get(j, "images");
     if (st == CSF_OK && (!json_is_array(imgs) || json_array_size(imgs) > 2 * CSF_STUDY_MAX_CONDITIONS))
         st = csf_error_set(err, CSF_E_FORMAT, "study identity: images is not a list of at most %d",
@@ -178,6 +189,11 @@ int csf_study_identity_diff(const csf_study_identity *was, const csf_study_ident
     if (strcmp(was->settings_sha256, now->settings_sha256)) say(out, cap, &n, "the settings file changed");
     if (strcmp(was->conditions_sha256, now->conditions_sha256))
         say(out, cap, &n, "the conditions file changed");
+    if (strcmp(was->instructions_sha256, now->instructions_sha256))
+        say(out, cap, &n,
+            !was->instructions_sha256[0]   ? "an instructions file was added"
+            : !now->instructions_sha256[0] ? "the instructions file is no longer used"
+                                           : "the instructions file changed");
     for (int i = 0; i < now->n_images; i++) {
         const csf_study_image *w = find_image(was, now->images[i].name);
         if (!w) snprintf(m, sizeof m, "image %s was added", now->images[i].name);

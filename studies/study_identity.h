@@ -1,8 +1,9 @@
 /* A study's identity (docs/studies.md, "Versions"): the content of everything a participant was
  * shown or run by: the settings file, the conditions file and every image they name. Each is
  * hashed with SHA-256 (OpenSSL libcrypto), and the identity is the SHA-256 of a manifest that
- * lists those hashes ("settings HEX", "conditions HEX", then "image HEX NAME" per image in the
- * order the conditions first name them), so two runs share an identity exactly when every byte
+ * lists those hashes ("settings HEX", "conditions HEX", "instructions HEX" when the settings name
+ * an instructions file, then "image HEX NAME" per image in the order the conditions first name
+ * them), so two runs share an identity exactly when every byte
  * they used is the same, and a difference can be named (settings, conditions, which image).
  *
  * Every study session keeps its identity in its settings JSON (key "identity", with "version"
@@ -34,6 +35,7 @@ typedef struct {
     char sha256[CSF_SHA256_HEX]; /* the manifest's: the study's identity */
     char settings_sha256[CSF_SHA256_HEX];
     char conditions_sha256[CSF_SHA256_HEX];
+    char instructions_sha256[CSF_SHA256_HEX]; /* the instructions file's; "" without one */
     csf_study_image *images; /* malloc'd */
     int n_images;
 } csf_study_identity;
@@ -53,7 +55,7 @@ csf_status csf_study_identity_compute(const csf_study *s, int keep_bytes, csf_st
 void csf_study_identity_free(csf_study_identity *id);
 
 /* As JSON (new reference) for a session's settings: sha256, settings_sha256, conditions_sha256,
- * images [{name, sha256, bytes}]. */
+ * instructions_sha256 (only with an instructions file), images [{name, sha256, bytes}]. */
 json_t *csf_study_identity_to_json(const csf_study_identity *id);
 /* From that JSON (outside input: every hash must be 64 hex digits, names printable text);
  * CSF_E_FORMAT naming what is wrong. */

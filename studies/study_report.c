@@ -27,6 +27,7 @@ typedef struct {
     int finished;
     int64_t id;
     int version;
+    const csf_study_session *x; /* its entry in the selection */
 } session_data;
 
 static void session_data_free(session_data *d)
@@ -38,7 +39,8 @@ static void session_data_free(session_data *d)
 
 /* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
  * storing them): the caller leaves such a session out instead of failing the whole study. */
-static csf_status load_session(csf_store *store, const csf_session_info *info, session_data *d, csf_error *err)
+static csf_status load_session(csf_store *store, const csf_session_info *info, int participant_index,
+                               session_data *d, csf_error *err)
 {
     memset(d, 0, sizeof *d);
     csf_json_doc *doc = NULL;
@@ -61,7 +63,8 @@ static csf_status load_session(csf_store *store, const csf_session_info *info, s
     free(sb);
     free(cb);
     /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK) st = csf_study_make_plan(d->study, info->seed, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK)
+        st = csf_study_make_plan(d->study, info->seed, participant_index, &d->plan, &d->n_plan, err);
     if (st == CSF_OK) st = csf_store_get_trials(store, info->id, &d->trials, &d->n_trials, err);
     d->finished = !strcmp(info->state, "finished");
     return st;
@@ -273,10 +276,11 @@ static csf_status load_selected(csf_store *store, const csf_study_selection *sel
         csf_session_info info;
         memset(&info, 0, sizeof info);
         if ((st = csf_store_get_session(store, x->id, &info, err)) != CSF_OK) break;
-        st = load_session(store, &info, &ds[*nd], err);
+        st = load_session(store, &info, x->participant_index, &ds[*nd], err);
         csf_session_info_free(&info);
         ds[*nd].id = x->id;
         ds[*nd].version = x->version;
+        ds[*nd].x = x;
         if (st == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
             fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)x->id, err->msg);
             session_data_free(&ds[*nd]);
@@ -313,6 +317,10 @@ static csf_status note_sessions(csf_study_report *r, const csf_study_selection *
         w->finished = ds[i].finished;
         w->n_trials = (int)ds[i].n_trials;
         snprintf(w->participant, sizeof w->participant, "%s", ds[i].participant);
+        w->participant_index = ds[i].x->participant_index;
+        w->latin_row = ds[i].study->latin ? csf_study_latin_row(ds[i].study, w->participant_index, NULL) : -1;
+        snprintf(w->experimenter, sizeof w->experimenter, "%s", ds[i].x->experimenter);
+        snprintf(w->notes, sizeof w->notes, "%s", ds[i].x->notes);
     }
     r->n_session_rows = nd;
     return CSF_OK;
@@ -384,6 +392,33 @@ static const char *sd_model_name(const csf_study_report *r)
     return "";
 }
 
+/* A session's counterbalancing row and metadata, when it has them (stored text: escaped). */
+static void print_session_extras(const csf_study_session_row *x, FILE *fp)
+{
+    char shown[800];
+    if (x->latin_row >= 0)
+        fprintf(fp, ", Latin-square row %d (participant index %d)", x->latin_row, x->participant_index);
+    if (x->experimenter[0]) {
+        csf_store_printable(x->experimenter, shown, sizeof shown);
+        fprintf(fp, ", experimenter %s", shown);
+    }
+    if (x->notes[0]) {
+        csf_store_printable(x->notes, shown, sizeof shown);
+        fprintf(fp, ", notes: %s", shown);
+    }
+}
+
+/* The same in a session's JSON entry (only what it has: older reports read the same). */
+static void json_session_extras(const csf_study_session_row *x, json_t *o)
+{
+    if (x->latin_row >= 0) {
+        json_object_set_new(o, "participant_index", json_integer(x->participant_index));
+        json_object_set_new(o, "counterbalance_row", json_integer(x->latin_row));
+    }
+    if (x->experimenter[0]) json_object_set_new(o, "experimenter", json_string(x->experimenter));
+    if (x->notes[0]) json_object_set_new(o, "notes", json_string(x->notes));
+}
+
 void csf_study_report_print(const csf_study_report *r, FILE *fp)
 {
     fprintf(fp, "study %s (%s): %d session(s), %d finished; participants %s; %d trials scored, %d invalid left "
@@ -392,8 +427,10 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
     fprintf(fp, "version %d, %s %s\n", r->version, r->legacy ? "files hash" : "sha256", r->sha256);
     for (int i = 0; i < r->n_session_rows; i++) {
         const csf_study_session_row *x = &r->sessions[i];
-        fprintf(fp, "  session %lld: participant %s, version %d, %d trials, %s\n", (long long)x->id,
+        fprintf(fp, "  session %lld: participant %s, version %d, %d trials, %s", (long long)x->id,
                 x->participant, x->version, x->n_trials, x->finished ? "finished" : "NOT finished");
+        print_session_extras(x, fp);
+        fputc('\n', fp);
     }
     if (r->other_versions[0])
         fprintf(fp, "other versions in the store (not analysed): %s\n", r->other_versions);
@@ -450,9 +487,11 @@ char *csf_study_report_json(const csf_study_report *r)
     json_t *sl = json_array();
     for (int i = 0; i < r->n_session_rows; i++) {
         const csf_study_session_row *x = &r->sessions[i];
-        json_array_append_new(sl, json_pack("{s:I,s:s,s:i,s:b,s:i}", "session", (json_int_t)x->id,
-                                            "participant", x->participant, "version", x->version, "finished",
-                                            x->finished, "trials", x->n_trials));
+        json_t *o =
+            json_pack("{s:I,s:s,s:i,s:b,s:i}", "session", (json_int_t)x->id, "participant", x->participant,
+                      "version", x->version, "finished", x->finished, "trials", x->n_trials);
+        if (o) json_session_extras(x, o);
+        json_array_append_new(sl, o);
     }
     json_object_set_new(root, "session_list", sl);
     json_object_set_new(root, "other_versions", json_string(r->other_versions));

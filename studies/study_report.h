@@ -59,6 +59,9 @@ typedef struct {
     int version;
     int finished;
     int n_trials;
+    int participant_index;              /* its place in the version; with latin_row >= 0 it picked that row */
+    int latin_row;                      /* the Latin-square row of a counterbalanced study; -1 without one */
+    char experimenter[256], notes[256]; /* study run --set; "" when not given */
 } csf_study_session_row;
 
 typedef struct {

@@ -19,6 +19,7 @@
 #include "devices/responder.h"
 #include "results/display_profile.h"
 #include "core/json_read.h"
+#include "core/rng.h"
 #include "results/store/store.h"
 #include "stimuli/geometry.h"
 #include "stimuli/image.h"
@@ -46,6 +47,8 @@ typedef struct {
     double max_contrast;
     double period_s;
     double sim_answer_s; /* simulated answers' times, which no frame clock counts */
+    double t0_s;         /* the presenter's time when this run's trials began */
+    double clock_base_s; /* the session's clock then: the time its earlier runs took */
 } study_ctx;
 
 typedef struct {
@@ -58,6 +61,7 @@ typedef struct {
     int frames_planned, frames_shown, frames_missed;
     csf_trial_record rec;       /* the last stimulus interval's frames */
     int have_rec;
+    double onset_s; /* the first interval's onset on the session's clock; NaN before */
 } study_outcome;
 
 static void add_flag(char *flags, const char *f)
@@ -220,17 +224,30 @@ static void take_record(study_outcome *o, int is_target)
     }
 }
 
-/* One interval: the stimulus for stimulus_s (NULL: blank with fixation). */
+/* A presenter time on the session's clock: the earlier runs' time, then this run's, the
+ * simulated answers included (the virtual frame clock does not run while they are given), so
+ * onsets keep rising over a resumed session as person time does. */
+static double session_clock_s(const study_ctx *x, double presenter_s)
+{
+    return csf_round9(fmax(0.0, x->clock_base_s + (presenter_s - x->t0_s) + x->sim_answer_s));
+}
+
+/* One interval: the stimulus for stimulus_s (NULL: blank with fixation). The trial's onset is its
+ * first interval's: the stimulus's first frame, or the start of the blank that stands for it. */
 static csf_status show_interval(study_ctx *x, const csf_stimulus *s, int is_target, study_outcome *o,
                                 csf_error *err)
 {
-    if (!s) return csf_trial_io_blank(&x->io, x->study->stimulus_s, 1, err);
+    if (!s) {
+        if (isnan(o->onset_s)) o->onset_s = session_clock_s(x, csf_presenter_time(x->pres));
+        return csf_trial_io_blank(&x->io, x->study->stimulus_s, 1, err);
+    }
     if (o->have_rec) csf_trial_record_free(&o->rec);
     o->have_rec = 0;
     csf_envelope env = {CSF_ENV_FIXED, x->study->stimulus_s, 0, 0};
     csf_status st = csf_presenter_run_trial(x->pres, s, &env, 1, NULL, NULL, &o->rec, err);
     if (st != CSF_OK) return st;
     o->have_rec = 1;
+    if (isnan(o->onset_s)) o->onset_s = session_clock_s(x, o->rec.t_onset_s);
     take_record(o, is_target);
     return CSF_OK;
 }
@@ -360,7 +377,7 @@ static csf_status run_one(study_ctx *x, uint64_t key, const csf_study_trial *t, 
 {
     memset(o, 0, sizeof *o);
     o->choice = -1;
-    o->rt_s = o->shown_target = o->shown_max = NAN;
+    o->rt_s = o->shown_target = o->shown_max = o->onset_s = NAN;
     const csf_study *s = x->study;
     int cond = t->cond;
     const csf_study_condition *c = &s->conds[cond];
@@ -399,6 +416,7 @@ typedef struct {
     double *dev_a, *dev_b;
     double *pair_r;
     csf_study_identity identity; /* the files as they are now, images' bytes kept to be stored */
+    int participant_index;       /* the session's (new: counted from the version's sessions) */
 } run_res;
 
 static void run_res_free(run_res *R)
@@ -555,6 +573,8 @@ static void fill_trial(csf_trial *tr, const run_res *R, int64_t sid, int seq, co
     tr->click_x_deg = tr->click_y_deg = NAN;
     tr->valid = o->valid;
     snprintf(tr->flags, sizeof tr->flags, "%s", o->flags);
+    tr->has_onset = isfinite(o->onset_s);
+    tr->onset_s = tr->has_onset ? o->onset_s : 0.0;
 }
 
 /* What an adaptive procedure saw, from a stored trial (replay and live use this one function). */
@@ -572,7 +592,8 @@ static csf_trial_outcome outcome_of(const csf_trial *t)
 static void feedback(study_ctx *x, const csf_trial *t)
 {
     const csf_study *s = x->study;
-    if (!s->feedback || x->sim || !t->valid || s->feedback_s <= 0) return;
+    int shown = s->feedback == CSF_FEEDBACK_ALL || (s->feedback == CSF_FEEDBACK_PRACTICE && t->is_practice);
+    if (!shown || x->sim || !t->valid || s->feedback_s <= 0) return;
     int correct = t->signal_interval ? t->response == t->signal_interval : t->response == !t->is_catch;
     int n = (int)lround(s->feedback_s / x->period_s);
     csf_error e;
@@ -646,6 +667,32 @@ static csf_status check_version(const run_res *R, const csf_study_run_options *o
                          s->name, version, (long long)ref->id, ref->participant, what, next);
 }
 
+/* A participant's index in a version: the number of its sessions begun before, aborted starts
+ * (which ran no trial) not counted. */
+static int participant_index(const csf_study_session *list, int n, int version)
+{
+    int k = 0;
+    for (int i = 0; i < n; i++) k += list[i].version == version && strcmp(list[i].state, "aborted") != 0;
+    return k;
+}
+
+/* Metadata given again on resume must be what the session began with (it is kept once). */
+static csf_status same_meta(const char *key, const char *given, const char *stored, int64_t sid,
+                            csf_error *err)
+{
+    if (!given || !strcmp(given, stored)) return CSF_OK;
+    if (!*stored)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "--set %s: session %lld began without %s; a session "
+                             "keeps the metadata it began with: resume without --set %s",
+                             key, (long long)sid, key, key);
+    return csf_error_set(err, CSF_E_INVALID_ARG,
+                         "--set %s: session %lld began with %s = '%s'; a session "
+                         "keeps the metadata it began with: resume without --set %s or with the same "
+                         "value",
+                         key, (long long)sid, key, stored, key);
+}
+
 /* The participant's session of this version (newest), or NULL. */
 static const csf_study_session *find_mine(const csf_study_session *list, int n, const char *participant,
                                           int version)
@@ -674,6 +721,10 @@ static csf_status resume_session(run_res *R, const csf_study_run_options *opt, i
                              "study %s version %d: participant %s's session %lld was "
                              "aborted; use another participant code",
                              s->name, version, shown, (long long)*sid);
+    csf_status st = same_meta("experimenter", opt->experimenter, mine->experimenter, *sid, err);
+    if (st == CSF_OK) st = same_meta("notes", opt->notes, mine->notes, *sid, err);
+    if (st != CSF_OK) return st;
+    R->participant_index = mine->participant_index;
     *resumed = 1;
     char sname[160];
     csf_study_store_name(s->name, version, sname, sizeof sname);
@@ -691,6 +742,9 @@ static csf_status store_files(run_res *R, int64_t sid, csf_error *err)
     if (st == CSF_OK)
         st = csf_store_add_artifact(R->store, sid, "conditions", s->conditions_path, s->conditions_text,
                                     strlen(s->conditions_text), err);
+    if (st == CSF_OK && s->instructions_text)
+        st = csf_store_add_artifact(R->store, sid, "instructions", s->instructions_file, s->instructions_text,
+                                    strlen(s->instructions_text), err);
     for (int i = 0; st == CSF_OK && i < R->identity.n_images; i++) {
         const csf_study_image *im = &R->identity.images[i];
         st = csf_store_add_artifact(R->store, sid, "image", im->name, im->bytes, im->len, err);
@@ -706,11 +760,30 @@ static char *session_json(const run_res *R, const csf_study_run_options *opt, co
     char fnv[32];
     snprintf(fnv, sizeof fnv, "%016llx", (unsigned long long)s->hash);
     /* Seeds are below 2^53 (csf_study_participant_seed; a study file's seed): JSON integers. */
-    return to_json(json_pack("{s:s,s:s,s:i,s:s,s:s,s:s,s:s,s:I,s:I,s:i,s:o}", "study", s->name, "participant",
-                             opt->participant, "version", version, "sha256", R->identity.sha256, "hash", fnv,
-                             "design", csf_study_design_name(s->design), "observer", observer, "study_seed",
-                             (json_int_t)s->seed, "seed", (json_int_t)seed, "n_conditions", s->n_conds,
-                             "identity", csf_study_identity_to_json(&R->identity)));
+    json_t *j = json_pack("{s:s,s:s,s:i,s:s,s:s,s:s,s:s,s:I,s:I,s:i,s:o}", "study", s->name, "participant",
+                          opt->participant, "version", version, "sha256", R->identity.sha256, "hash", fnv,
+                          "design", csf_study_design_name(s->design), "observer", observer, "study_seed",
+                          (json_int_t)s->seed, "seed", (json_int_t)seed, "n_conditions", s->n_conds,
+                          "identity", csf_study_identity_to_json(&R->identity));
+    /* the plan is rebuilt from the participant's index: it is kept with the seed */
+    if (j) json_object_set_new(j, "participant_index", json_integer(R->participant_index));
+    if (j && s->latin != CSF_LATIN_NONE)
+        json_object_set_new(j, "counterbalance_row",
+                            json_integer(csf_study_latin_row(s, R->participant_index, NULL)));
+    if (j && opt->experimenter) json_object_set_new(j, "experimenter", json_string(opt->experimenter));
+    if (j && opt->notes) json_object_set_new(j, "notes", json_string(opt->notes));
+    return to_json(j);
+}
+
+csf_status csf_study_check_meta(const char *key, const char *value, csf_error *err)
+{
+    char what[64];
+    snprintf(what, sizeof what, "--set %s", key);
+    if (strlen(value) >= CSF_STUDY_META_MAX)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--set %s: %zu bytes; at most %d", key, strlen(value),
+                             CSF_STUDY_META_MAX - 1);
+    if (!*value) return csf_error_set(err, CSF_E_INVALID_ARG, "--set %s: empty (leave it out instead)", key);
+    return csf_store_check_text(value, what, err);
 }
 
 static csf_status open_session(run_res *R, const csf_study_run_options *opt, const char *observer,
@@ -725,6 +798,7 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
     const csf_study_session *mine = st == CSF_OK ? find_mine(list, n, opt->participant, version) : NULL;
     if (st == CSF_OK) st = check_version(R, opt, version, list, n, mine, err);
     if (st == CSF_OK && mine) st = resume_session(R, opt, version, mine, sid, resumed, res, err);
+    if (st == CSF_OK && !mine) R->participant_index = participant_index(list, n, version);
     csf_study_sessions_free(list, n);
     if (st != CSF_OK || *resumed) return st;
     char sname[160];
@@ -753,6 +827,28 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
     if (st == CSF_OK) st = store_files(R, *sid, err);
     if (st != CSF_OK) abort_unstarted(R->store, *sid, err);
     return st;
+}
+
+/* Where the session's clock stands when a run begins: the person time of its earlier runs, or,
+ * after a run that was killed before it could add its time, the end of the last stored trial
+ * (its onset, presentation and answer time: a lower bound, the rest of that run is lost). */
+static double clock_base(run_res *R, int64_t sid, size_t n_stored)
+{
+    const csf_study *s = R->study;
+    int two = s->design == CSF_DESIGN_2IFC || s->design == CSF_DESIGN_SAME_DIFF;
+    double shown_s = two ? 2 * s->stimulus_s + s->isi_s : s->stimulus_s;
+    double base = 0;
+    csf_session_info info;
+    memset(&info, 0, sizeof info);
+    csf_error e;
+    if (csf_store_get_session(R->store, sid, &info, &e) == CSF_OK && isfinite(info.person_s))
+        base = info.person_s;
+    csf_session_info_free(&info);
+    for (size_t i = 0; i < n_stored; i++)
+        if (R->stored[i].has_onset)
+            base = fmax(base, R->stored[i].onset_s + shown_s +
+                                  (isfinite(R->stored[i].rt_s) ? R->stored[i].rt_s : 0.0));
+    return base;
 }
 
 /* Test aid (documented in docs/studies.md): CSFCAL_TEST_KILL_AFTER=N kills the process with
@@ -863,7 +959,9 @@ static csf_status check_run_options(const csf_study_run_options *opt, const char
     if (!is_sim && opt->headless)
         return csf_error_set(err, CSF_E_UNSUPPORTED, "--observer human needs a display: no window can be "
                              "opened headless (use --observer sim)");
-    return CSF_OK;
+    csf_status st = opt->experimenter ? csf_study_check_meta("experimenter", opt->experimenter, err) : CSF_OK;
+    if (st == CSF_OK && opt->notes) st = csf_study_check_meta("notes", opt->notes, err);
+    return st;
 }
 
 /* Adaptive procedures: the stored answers replayed into them, so each goes on where it stopped. */
@@ -880,6 +978,46 @@ static void replay_stored(run_res *R, size_t n_stored, double max_contrast)
     }
 }
 
+/* Silent reading of instructions: 238 words a minute (Brysbaert 2019, non-fiction), varied
+ * between people by a factor of about 1.3 (log-normal, keyed by the participant's seed). */
+#define READING_WPM 238.0
+#define READING_LOG_SD 0.25
+
+static double reading_time_s(const char *text, uint64_t seed)
+{
+    int words = 0;
+    for (const char *p = text; *p; p++)
+        words += (p == text || p[-1] == ' ' || p[-1] == '\n') && *p != ' ' && *p != '\n';
+    double wpm = READING_WPM * exp(READING_LOG_SD * csf_rng_normal(seed, 0x1257, 0));
+    return 60.0 * words / wpm;
+}
+
+/* The instruction screen before practice: the study's instructions (settings text, then the
+ * instructions file), or a default line. A person reads and presses a key; a simulated one
+ * spends its reading time, counted as person time. */
+static csf_status instructions(study_ctx *x, csf_error *err)
+{
+    const csf_study *s = x->study;
+    if (!s->instructions[0] && !s->instructions_text) {
+        if (x->sim) return CSF_OK;
+        return csf_trial_io_screen(&x->io,
+                                   "Fixate the central mark. After each trial answer with the keys for "
+                                   "first/left or second/right.\nPress any key to begin.",
+                                   err);
+    }
+    size_t cap = strlen(s->instructions) + (s->instructions_text ? strlen(s->instructions_text) : 0) + 64;
+    char *text = malloc(cap);
+    if (!text) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    snprintf(text, cap, "%s%s%s\nPress Space to begin.", s->instructions,
+             s->instructions[0] && s->instructions_text ? "\n\n" : "",
+             s->instructions_text ? s->instructions_text : "");
+    csf_status st = CSF_OK;
+    if (x->sim) x->sim_answer_s += reading_time_s(text, x->sim_seed);
+    else st = csf_trial_io_screen(&x->io, text, err);
+    free(text);
+    return st;
+}
+
 /* The trials, with SIGINT and SIGTERM asking for a pause between them (their handlers as
  * before once the trials stop); a new human session starts with the instructions. */
 static csf_status run_with_signals(run_res *R, study_ctx *x, int64_t sid, int n_plan, size_t n_stored,
@@ -892,12 +1030,7 @@ static csf_status run_with_signals(run_res *R, study_ctx *x, int64_t sid, int n_
     stop_requested = 0;
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
-    if (!res->resumed && !x->sim) {
-        st = csf_trial_io_screen(&x->io,
-                                 "Fixate the central mark. After each trial answer with the keys for "
-                                 "first/left or second/right.\nPress any key to begin.",
-                                 err);
-    }
+    if (!res->resumed) st = instructions(x, err);
     if (st == CSF_OK) st = run_trials(R, x, sid, n_plan, n_stored, max_contrast, res, err);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
@@ -947,7 +1080,9 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     if ((st = open_display(&R, opt, is_sim, seed, err)) != CSF_OK) goto out;
     if ((st = csf_study_check_display(s, R.pres, err)) != CSF_OK) goto out;
     int n_plan;
-    if ((st = csf_study_make_plan(s, seed, &R.plan, &n_plan, err)) != CSF_OK) goto out;
+    /* the plan of the first row, to refuse an impossible one before anything is stored; the
+     * participant's own row is planned once the session tells its index */
+    if ((st = csf_study_make_plan(s, seed, 0, &R.plan, &n_plan, err)) != CSF_OK) goto out;
     res->n_planned = n_plan;
     double lb, lm;
     csf_presenter_lum_range(R.pres, &lb, &lm);
@@ -971,6 +1106,11 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
     int64_t sid = 0;
     if ((st = open_session(&R, opt, observer, seed, &sid, &res->resumed, res, err)) != CSF_OK) goto out;
     res->session_id = sid;
+    res->participant_index = R.participant_index;
+    res->latin_row = csf_study_latin_row(s, R.participant_index, NULL);
+    free(R.plan);
+    R.plan = NULL;
+    if ((st = csf_study_make_plan(s, seed, R.participant_index, &R.plan, &n_plan, err)) != CSF_OK) goto out;
     size_t n_stored = 0;
     if ((st = csf_store_get_trials(R.store, sid, &R.stored, &n_stored, err)) != CSF_OK) goto out;
     if (n_stored > (size_t)n_plan) {
@@ -987,6 +1127,8 @@ csf_status csf_study_run(const csf_study_run_options *opt, csf_study_run_result 
      * when simulated, plus the simulated answers), instructions and pauses included; added to
      * the session's before it ends. */
     double t0_s = csf_presenter_time(R.pres);
+    x.t0_s = t0_s;
+    x.clock_base_s = clock_base(&R, sid, n_stored);
     st = run_with_signals(&R, &x, sid, n_plan, n_stored, max_contrast, res, err);
     double person_s = csf_presenter_time(R.pres) - t0_s + x.sim_answer_s;
     csf_error pe;

@@ -21,6 +21,8 @@ typedef struct {
     const char *observer_spec;   /* "sim[:key=value,...]" or "human"; NULL = cfg->observer, else sim */
     const char *store_path;
     int version; /* the study version (docs/studies.md); 0 = 1 */
+    const char *experimenter; /* session metadata (study run --set); NULL = not given */
+    const char *notes;
     int headless;
     int quiet;
 } csf_study_run_options;
@@ -32,7 +34,13 @@ typedef struct {
     uint64_t seed, hash;
     int version;
     char sha256[65]; /* the study's identity (studies/study_identity.h) */
+    int participant_index; /* the participant's place in the version (docs/studies.md) */
+    int latin_row;         /* the Latin-square row it picked (0 without counterbalance = latin_*) */
 } csf_study_run_result;
+
+/* A session's metadata value (--set experimenter=..., notes=...): printable text of at most
+ * CSF_STUDY_META_MAX - 1 bytes. CSF_E_INVALID_ARG naming the key, the problem and the limit. */
+csf_status csf_study_check_meta(const char *key, const char *value, csf_error *err);
 
 /* CSF_E_INVALID_ARG / CSF_E_FORMAT / CSF_E_NOT_FOUND: the study or the options were refused
  * before any trial (nothing stored), among them files that differ from those the version's

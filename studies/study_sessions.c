@@ -19,6 +19,17 @@ void csf_study_sessions_free(csf_study_session *list, int n)
     free(list);
 }
 
+/* A metadata text of a session's settings (outside input): kept when it fits and is printable
+ * text, else left empty. */
+static void read_meta(const json_t *j, const char *key, char out[CSF_STUDY_META_MAX])
+{
+    const char *v = json_string_value(json_object_get(j, key));
+    csf_error e;
+    out[0] = '\0';
+    if (v && strlen(v) < CSF_STUDY_META_MAX && csf_store_check_text(v, key, &e) == CSF_OK)
+        snprintf(out, CSF_STUDY_META_MAX, "%s", v);
+}
+
 /* One session's study fields from its settings JSON; 0 when it is not a session of study. */
 static int read_session(const csf_session_info *info, const char *study, csf_study_session *o)
 {
@@ -35,6 +46,10 @@ static int read_session(const csf_session_info *info, const char *study, csf_stu
         json_int_t v = json_integer_value(json_object_get(j, "version"));
         o->version = v >= 1 && v <= 1000000 ? (int)v : 1;
         o->n_trials = info->n_trials;
+        json_int_t pi = json_integer_value(json_object_get(j, "participant_index"));
+        o->participant_index = pi >= 0 && pi <= 1000000 ? (int)pi : 0;
+        read_meta(j, "experimenter", o->experimenter);
+        read_meta(j, "notes", o->notes);
         csf_error e;
         if (csf_study_identity_from_json(json_object_get(j, "identity"), &o->identity, &e) == CSF_OK) {
             memcpy(o->key, o->identity.sha256, sizeof o->key);

@@ -22,6 +22,9 @@ typedef struct {
     int legacy;
     csf_study_identity identity; /* parsed when !legacy */
     int n_trials;
+    int participant_index; /* place in the order of the version's first sessions (0-based; 0 when
+                              the session names none): picks the Latin-square row */
+    char experimenter[CSF_STUDY_META_MAX], notes[CSF_STUDY_META_MAX]; /* --set; "" when not given */
 } csf_study_session;
 
 /* Every session of the study named, oldest first; *out malloc'd (free with

@@ -191,12 +191,20 @@ const char *const csf_store_migrations[CSF_STORE_SCHEMA_VERSION] = {
      * session added up), NULL where unknown: every session stored before. The server's form
      * (below) differs only in the type. */
     "ALTER TABLE sessions ADD COLUMN person_s REAL CHECK (person_s IS NULL OR person_s >= 0);",
+
+    /* -> v8: when each trial was shown (onset_s, seconds on the session's clock, the runs of a
+     * resumed session following each other), NULL where not recorded: every trial stored before
+     * and trials of procedures that keep no onset. The server's form differs only in the type. */
+    "ALTER TABLE trials ADD COLUMN onset_s REAL CHECK (onset_s IS NULL OR onset_s >= 0);",
 };
 
 /* A step whose server form differs: PostgreSQL's REAL is 4 bytes and would round every value,
  * so a REAL column is DOUBLE PRECISION there (as in results/store/pg_schema.c). */
 static const char pg_v7_person_s[] =
     "ALTER TABLE sessions ADD COLUMN person_s DOUBLE PRECISION CHECK (person_s IS NULL OR person_s >= 0);";
+static const char pg_v8_onset_s[] =
+    "ALTER TABLE trials ADD COLUMN onset_s DOUBLE PRECISION CHECK (onset_s IS NULL OR onset_s >= 0);";
 const char *const csf_store_migrations_pg[CSF_STORE_SCHEMA_VERSION] = {
     [6] = pg_v7_person_s,
+    [7] = pg_v8_onset_s,
 };

@@ -1420,6 +1420,7 @@ static void trial_args(pgargs *a, const csf_trial *t)
     a_txt(a, t->flags);
     a_dbl(a, csf_store_unix_now_s());
     a_i64(a, t->n_alternatives);
+    a_dbl(a, t->has_onset ? t->onset_s : NAN);
 }
 
 /* Frame intervals of one trial in one statement (one round trip however many frames). */
@@ -1460,12 +1461,17 @@ static csf_status add_trial_once(pg_store *p, const csf_trial *t, const double *
     csf_status cs = n > 0 ? run_cmd(p, "BEGIN", NULL, "storing a trial", err) : CSF_OK;
     pgargs a = {0};
     trial_args(&a, t);
-    PGresult *r = cs == CSF_OK ? run(p, "INSERT INTO trials (session_id, seq, method, freq_cpd,"
-        " ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch,"
-        " is_practice, contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
-        " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
-        " valid, flags, stored_s, n_alternatives) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,"
-        "$13,$14,$15,$16,$17,$18,$19,$20,$21,$22,$23,$24,$25,$26,$27)", &a) : NULL;
+    PGresult *r =
+        cs == CSF_OK
+            ? run(p,
+                  "INSERT INTO trials (session_id, seq, method, freq_cpd,"
+                  " ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch,"
+                  " is_practice, contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
+                  " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg, click_y_deg,"
+                  " valid, flags, stored_s, n_alternatives, onset_s) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,"
+                  "$11,$12,$13,$14,$15,$16,$17,$18,$19,$20,$21,$22,$23,$24,$25,$26,$27,$28)",
+                  &a)
+            : NULL;
     int repeat_done = r && p->retrying && duplicate(r);
     if (cs == CSF_OK && !ok(r) && !repeat_done)
         cs = constraint(r)

@@ -77,6 +77,9 @@ void csf_store_row_trial(const csf_store_cols *c, int64_t session_id, csf_trial 
     t->valid = int_col(c, k++);
     text(c, k++, t->flags, sizeof t->flags);
     t->n_alternatives = int_col(c, k++);
+    t->has_onset = !c->is_null(c, k);
+    t->onset_s = t->has_onset ? c->dbl(c, k) : 0.0;
+    k++;
 }
 
 void csf_store_row_reading(const csf_store_cols *c, int64_t session_id, csf_reading *r)

@@ -28,11 +28,11 @@ typedef struct csf_store_cols {
     " (SELECT COUNT(*) FROM readings r WHERE r.session_id = s.id), s.profile_id, s.uuid,"                    \
     " s.person_s FROM sessions s"
 
-#define CSF_STORE_TRIAL_COLS                                                                 \
-    "seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps,"   \
-    " mean_lum_cdm2, is_catch, is_practice, contrast_requested, contrast_shown_mean,"        \
-    " contrast_shown_max, frames_planned, frames_shown, frames_missed, signal_interval,"     \
-    " response, rt_s, click_x_deg, click_y_deg, valid, flags, n_alternatives"
+#define CSF_STORE_TRIAL_COLS                                                                                 \
+    "seq, method, freq_cpd, ecc_deg, polar_deg, orientation_deg, sigma_deg, velocity_dps,"                   \
+    " mean_lum_cdm2, is_catch, is_practice, contrast_requested, contrast_shown_mean,"                        \
+    " contrast_shown_max, frames_planned, frames_shown, frames_missed, signal_interval,"                     \
+    " response, rt_s, click_x_deg, click_y_deg, valid, flags, n_alternatives, onset_s"
 
 #define CSF_STORE_READING_COLS "seq, channel, drive01, lum_cdm2, X_cdm2, Y_cdm2, Z_cdm2, t_s, status"
 

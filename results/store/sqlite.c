@@ -533,8 +533,8 @@ static csf_status sq_prepare_inserts(sq_store *s, csf_error *err)
                      " orientation_deg, sigma_deg, velocity_dps, mean_lum_cdm2, is_catch, is_practice,"
                      " contrast_requested, contrast_shown_mean, contrast_shown_max, frames_planned,"
                      " frames_shown, frames_missed, signal_interval, response, rt_s, click_x_deg,"
-                     " click_y_deg, valid, flags, stored_s, n_alternatives) VALUES (?,?,?,?,?,?,?,?,?,?,"
-                     "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+                     " click_y_deg, valid, flags, stored_s, n_alternatives, onset_s) VALUES (?,?,?,?,?,?,"
+                     "?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
                      &s->ins_trial);
     if (rc == SQLITE_OK)
         rc = prepare(s, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
@@ -1337,6 +1337,7 @@ static int insert_trial(sq_store *s, const csf_trial *t)
     sqlite3_bind_text(st, i++, t->flags, -1, SQLITE_TRANSIENT);
     sqlite3_bind_double(st, i++, csf_store_unix_now_s());
     sqlite3_bind_int(st, i++, t->n_alternatives);
+    bind_real(st, i++, t->has_onset ? t->onset_s : NAN);
     int rc = step(s, st);
     sqlite3_reset(st);
     return rc == SQLITE_DONE ? SQLITE_OK : rc;

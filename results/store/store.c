@@ -355,6 +355,11 @@ static csf_status check_trial(const csf_store *s, const csf_trial *t, csf_error 
     if (t->n_alternatives != 0 && (t->n_alternatives < 2 || t->n_alternatives > 16))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: trial %d has %d alternatives (0 = not "
                              "forced choice, else 2-16)", t->seq, t->n_alternatives);
+    if (t->has_onset && !(isfinite(t->onset_s) && t->onset_s >= 0))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "store: trial %d has onset %g s (a time on the "
+                             "session's clock: finite, 0 or later)",
+                             t->seq, t->onset_s);
     if (s->readonly) return read_only(s, "a trial", err);
     return CSF_OK;
 }

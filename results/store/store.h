@@ -38,7 +38,7 @@ typedef struct csf_store csf_store;
 
 /* Newest schema version this build writes (older stores are migrated forward on open; a newer
  * one is refused rather than misread). */
-#define CSF_STORE_SCHEMA_VERSION 7
+#define CSF_STORE_SCHEMA_VERSION 8
 
 /* Creates the file if missing, migrates it to CSF_STORE_SCHEMA_VERSION, and checks it can be
  * written (a probe write inside a transaction that is rolled back). */
@@ -195,6 +195,10 @@ typedef struct {
     int n_alternatives;           /* forced choice: 2 (two intervals) or 4 (four places shown at
                                      once); 0 = not a forced-choice trial (schema v4; rows stored
                                      earlier read 2 when signal_interval > 0, else 0) */
+    int has_onset;                /* onset_s recorded (schema v8; rows stored earlier have none) */
+    double onset_s;               /* the trial's first presentation (stimulus or, without one, its
+                                     blank interval) on the session's clock, seconds; 0 when
+                                     has_onset is 0 */
 } csf_trial;
 
 csf_status csf_store_add_trial(csf_store *s, const csf_trial *t, csf_error *err);

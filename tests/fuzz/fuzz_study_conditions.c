@@ -26,7 +26,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         CSF_OK) {
         csf_study_trial *t = NULL;
         int n = 0;
-        if (csf_study_make_plan(&s, 7, &t, &n, &err) == CSF_OK) free(t);
+        if (csf_study_make_plan(&s, 7, 3, &t, &n, &err) == CSF_OK) free(t);
         /* the export's view of the same text: every condition's cells, the user's columns too */
         char *text = malloc(size);
         if (!text) abort();

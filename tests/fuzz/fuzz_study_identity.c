@@ -28,7 +28,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         json_t *back = csf_study_identity_to_json(&id);
         csf_study_identity again;
         if (!back || csf_study_identity_from_json(back, &again, &err) != CSF_OK) abort();
-        if (strcmp(again.sha256, id.sha256) || again.n_images != id.n_images) abort();
+        if (strcmp(again.sha256, id.sha256) || again.n_images != id.n_images ||
+            strcmp(again.instructions_sha256, id.instructions_sha256))
+            abort();
         csf_study_identity_free(&again);
         json_decref(back);
         csf_study_identity_free(&id);

@@ -16,12 +16,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&s, 0, sizeof s);
     csf_error err;
     if (csf_study_parse_settings(&s, (const char *)data, size, "fuzz.conf", &err) != CSF_OK) return 0;
-    static const char csv[] = "label,freq_cpd,contrast,ecc_deg\na,2,0.05,5\nb,4,0.05,5\n";
+    /* grp: a column for blocked_by = grp */
+    static const char csv[] = "label,freq_cpd,contrast,ecc_deg,grp\na,2,0.05,5,x\nb,4,0.05,5,y\n";
     if (s.trials_per_condition * 2 + s.practice_trials > 4000) return 0; /* keep the plan small */
     if (csf_study_parse_conditions(&s, csv, sizeof csv - 1, "fuzz.csv", "", &err) == CSF_OK) {
         csf_study_trial *t = NULL;
         int n = 0;
-        if (csf_study_make_plan(&s, 1, &t, &n, &err) == CSF_OK) free(t);
+        if (csf_study_make_plan(&s, 1, 1, &t, &n, &err) == CSF_OK) free(t);
     }
     free(s.conds);
     return 0;

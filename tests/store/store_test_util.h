@@ -177,6 +177,8 @@ static inline csf_trial make_trial(int64_t session_id, int seq, uint64_t seed)
     t.click_y_deg = seq % 4 == 0 ? NAN : 10.0 * csf_rng_normal(seed, 10, (uint64_t)seq);
     t.valid = t.frames_missed == 0;
     snprintf(t.flags, sizeof t.flags, "%s", t.frames_missed ? "missed_frames,late" : "");
+    t.has_onset = seq % 5 != 1; /* some trials keep no onset (stored NULL) */
+    t.onset_s = t.has_onset ? 2.5 * seq + csf_rng_uniform(seed, 11, (uint64_t)seq) : 0.0;
     return t;
 }
 
@@ -189,20 +191,18 @@ static inline int trials_equal(const csf_trial *a, const csf_trial *b)
 {
     return a->session_id == b->session_id && a->seq == b->seq && !strcmp(a->method, b->method) &&
            same_double(a->freq_cpd, b->freq_cpd) && same_double(a->ecc_deg, b->ecc_deg) &&
-           same_double(a->polar_deg, b->polar_deg) &&
-           same_double(a->orientation_deg, b->orientation_deg) &&
+           same_double(a->polar_deg, b->polar_deg) && same_double(a->orientation_deg, b->orientation_deg) &&
            same_double(a->sigma_deg, b->sigma_deg) && same_double(a->velocity_dps, b->velocity_dps) &&
            same_double(a->mean_lum_cdm2, b->mean_lum_cdm2) && a->is_catch == b->is_catch &&
-           a->is_practice == b->is_practice &&
-           same_double(a->contrast_requested, b->contrast_requested) &&
+           a->is_practice == b->is_practice && same_double(a->contrast_requested, b->contrast_requested) &&
            same_double(a->contrast_shown_mean, b->contrast_shown_mean) &&
            same_double(a->contrast_shown_max, b->contrast_shown_max) &&
            a->frames_planned == b->frames_planned && a->frames_shown == b->frames_shown &&
            a->frames_missed == b->frames_missed && a->signal_interval == b->signal_interval &&
            a->response == b->response && same_double(a->rt_s, b->rt_s) &&
-           same_double(a->click_x_deg, b->click_x_deg) &&
-           same_double(a->click_y_deg, b->click_y_deg) && a->valid == b->valid &&
-           !strcmp(a->flags, b->flags);
+           same_double(a->click_x_deg, b->click_x_deg) && same_double(a->click_y_deg, b->click_y_deg) &&
+           a->valid == b->valid && !strcmp(a->flags, b->flags) && a->has_onset == b->has_onset &&
+           same_double(a->onset_s, b->onset_s);
 }
 
 #endif

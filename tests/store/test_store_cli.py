@@ -192,7 +192,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check("--to" in p.stderr, "push without --to")
     fresh = os.path.join(tmp, "fresh.sqlite")
     p = run("sessions", "init", "--store", fresh)
-    check(os.path.exists(fresh) and "sqlite, schema version 7" in p.stdout, f"init: {p.stdout}")
+    check(os.path.exists(fresh) and "sqlite, schema version 8" in p.stdout, f"init: {p.stdout}")
     p = run("sessions", "init", "extra", "--store", fresh, expect=2)
 
 # --- secrets, names and pasted commands: each attack must fail ---

@@ -26,6 +26,51 @@ static int raw_version(const char *path)
     return v;
 }
 
+/* Schema v7 (the v1 fixture through the real steps 1 to 6): opening it adds trials.onset_s,
+ * NULL (no onset recorded) for every trial stored before; a new trial's onset reads back, and
+ * one that is no time on the session's clock is refused. */
+static void test_from_v7(const char *dir, const char *v1_sql)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/v7.sqlite", dir);
+    CHECK_INT_EQ(test_sqlite_exec(path, v1_sql), 0);
+    for (int v = 1; v < 7; v++) {
+        char upd[64];
+        snprintf(upd, sizeof upd, "UPDATE schema_version SET version = %d", v + 1);
+        CHECK_INT_EQ(test_sqlite_exec(path, csf_store_migrations[v]), 0);
+        CHECK_INT_EQ(test_sqlite_exec(path, upd), 0);
+    }
+    CHECK_INT_EQ(raw_version(path), 7);
+    csf_error err;
+    csf_store *s = NULL;
+    CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
+    if (!s) return;
+    CHECK_INT_EQ(csf_store_schema_version(s), CSF_STORE_SCHEMA_VERSION);
+    int old = test_query_int(s, path, "SELECT COUNT(*) FROM trials");
+    CHECK(old > 0);
+    CHECK_INT_EQ(test_query_int(s, path, "SELECT COUNT(*) FROM trials WHERE onset_s IS NULL"), old);
+    csf_trial *t = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_get_trials(s, 2, &t, &n, &err), CSF_OK);
+    for (size_t k = 0; k < n; k++) CHECK(!t[k].has_onset && t[k].onset_s == 0);
+    free(t);
+    csf_trial a = make_trial(2, 90, 3);
+    a.has_onset = 1;
+    a.onset_s = 12.5;
+    CHECK_INT_EQ(csf_store_add_trial(s, &a, &err), CSF_OK);
+    a.seq = 91;
+    a.onset_s = -1;
+    CHECK_INT_EQ(csf_store_add_trial(s, &a, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "trial 91 has onset -1 s");
+    CHECK_INT_EQ(csf_store_get_trials(s, 2, &t, &n, &err), CSF_OK);
+    int found = 0;
+    for (size_t k = 0; k < n; k++)
+        if (t[k].seq == 90) found = t[k].has_onset && t[k].onset_s == 12.5;
+    CHECK(found);
+    free(t);
+    csf_store_close(s);
+}
+
 /* The previous schema (v6), made as a v6 csfcal made it: the v1 fixture taken through the real
  * migration steps 1 to 5, plus a session a v6 build stored (with a uuid). Opening it adds
  * person_s, NULL for every session stored before; the new column takes what the runs add and
@@ -264,6 +309,7 @@ int main(void)
         csf_store_close(s);
     }
     test_from_v6(dir, sql);
+    test_from_v7(dir, sql);
     free(sql);
     rm_rf(dir);
     return CHECK_RESULT();

@@ -123,7 +123,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check(sql(old, "PRAGMA foreign_key_check") == "", "v4 fixture itself is consistent")
     run("sessions", "list", "--store", old)
     sound(old, "migrating a schema-4 store")
-    check(sql(old, "SELECT MAX(version) FROM schema_version") == "7", "migrated to 7")
+    check(sql(old, "SELECT MAX(version) FROM schema_version") == "8", "migrated to 8")
     check(sql(old, "SELECT COUNT(*) FROM sessions WHERE person_s IS NOT NULL") == "0",
           "sessions stored before v7 have an unknown person time")
 

@@ -70,7 +70,7 @@ static void participant(const csf_study *s, int p, int *covered, int *total, csf
     csf_study_trial *plan = NULL;
     int n = 0;
     csf_error e;
-    CHECK(csf_study_make_plan(s, seed, &plan, &n, &e) == CSF_OK);
+    CHECK(csf_study_make_plan(s, seed, 0, &plan, &n, &e) == CSF_OK);
     csf_observer_sim *o = NULL;
     CHECK(csf_observer_sim_create("sim", seed, &o, &e) == CSF_OK);
     if (!plan || !o) {

@@ -199,8 +199,8 @@ static void test_plan(void)
                 "label,freq_cpd,contrast,ecc_deg\na,2,0.01,5\nb,4,0.02,5\n", &s, &e) == CSF_OK);
     csf_study_trial *t1 = NULL, *t2 = NULL;
     int n1, n2;
-    CHECK(csf_study_make_plan(&s, 5, &t1, &n1, &e) == CSF_OK);
-    CHECK(csf_study_make_plan(&s, 5, &t2, &n2, &e) == CSF_OK);
+    CHECK(csf_study_make_plan(&s, 5, 0, &t1, &n1, &e) == CSF_OK);
+    CHECK(csf_study_make_plan(&s, 5, 0, &t2, &n2, &e) == CSF_OK);
     CHECK_INT_EQ(n1, 43);
     CHECK(n1 == n2 && !memcmp(t1, t2, (size_t)n1 * sizeof *t1));
     int per[2][2] = {{0, 0}, {0, 0}}, prac = 0;
