@@ -248,15 +248,15 @@ static double sd_diff_profile(double s, double h, double f, int n_signal, int n_
     const double k_max = 12;
     int best = 1;
     double best_ll = -INFINITY;
-    for (int i = 1; i <= 48; i++) {
-        double ll = sd_diff_loglik(s, k_max * i / 48, h, f, n_signal, n_noise);
+    for (int i = 1; i <= 24; i++) {
+        double ll = sd_diff_loglik(s, k_max * i / 24, h, f, n_signal, n_noise);
         if (ll > best_ll) {
             best_ll = ll;
             best = i;
         }
     }
-    double a = k_max * (best - 1) / 48, b = k_max * (best + 1) / 48, g = 0.5 * (sqrt(5.0) - 1);
-    for (int i = 0; i < 60; i++) {
+    double a = k_max * (best - 1) / 24, b = k_max * (best + 1) / 24, g = 0.5 * (sqrt(5.0) - 1);
+    for (int i = 0; i < 40; i++) { /* the bracket shrinks to 1e-9 */
         double c = b - g * (b - a), d = a + g * (b - a);
         if (sd_diff_loglik(s, c, h, f, n_signal, n_noise) > sd_diff_loglik(s, d, h, f, n_signal, n_noise))
             b = d;
@@ -271,7 +271,7 @@ static double sd_diff_end(double s_in, double s_out, double sat, double cut, dou
                           int nn)
 {
     if (sat - sd_diff_profile(s_out, h, f, ns, nn) <= cut) return s_out;
-    for (int i = 0; i < 60; i++) {
+    for (int i = 0; i < 40; i++) { /* to 1e-11 of the limits' span */
         double mid = 0.5 * (s_in + s_out);
         if (sat - sd_diff_profile(mid, h, f, ns, nn) <= cut) s_in = mid;
         else s_out = mid;
