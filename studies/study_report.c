@@ -287,7 +287,7 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
                            "'%s'",
                            store_path, sel.name);
     if (st == CSF_OK) st = note_sessions(r, &sel, ds, nd, err);
-    if (st == CSF_OK) {
+    if (st == CSF_OK && nd > 0) {
         const csf_study *s = ds[0].m->study;
         r->design = s->design;
         r->sd_differencing = s->sd_differencing;
