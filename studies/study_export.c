@@ -25,48 +25,8 @@ const char *const csf_study_export_columns[] = {
     "valid", "flags", NULL};
 #define N_LEAD 14 /* columns before the conditions file's */
 
-/* One session's material. */
-typedef struct {
-    const csf_study_session *x;
-    csf_study *study;
-    csf_study_trial *plan;
-    int n_plan;
-    csf_trial *trials;
-    size_t n_trials;
-    csf_study_table table;
-} sess;
-
-static void sess_free(sess *d)
-{
-    csf_study_free(d->study);
-    free(d->plan);
-    free(d->trials);
-    csf_study_table_free(&d->table);
-}
-
-static csf_status sess_load(csf_store *store, const csf_study_session *x, sess *d, csf_error *err)
-{
-    memset(d, 0, sizeof *d);
-    d->x = x;
-    void *sb = NULL, *cb = NULL;
-    size_t sl = 0, cl = 0;
-    char sp[1024] = "", cp[1024] = "";
-    csf_session_info info;
-    memset(&info, 0, sizeof info);
-    csf_status st = csf_store_get_session(store, x->id, &info, err);
-    if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "study", &sb, &sl, sp, sizeof sp, err);
-    if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "conditions", &cb, &cl, cp, sizeof cp, err);
-    if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
-    /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK)
-        st = csf_study_make_plan(d->study, info.seed, x->participant_index, &d->plan, &d->n_plan, err);
-    if (st == CSF_OK) st = csf_store_get_trials(store, x->id, &d->trials, &d->n_trials, err);
-    if (st == CSF_OK) st = csf_study_conditions_table(d->study, &d->table, err);
-    csf_session_info_free(&info);
-    free(sb);
-    free(cb);
-    return st;
-}
+/* One session's material, as the report's walk loads it (studies/study_sessions.h). */
+typedef csf_study_session_data sess;
 
 /* A text cell, quoted only when it holds a comma, a quote or a line end. */
 static void put_cell(FILE *fp, const char *s)
@@ -271,27 +231,15 @@ csf_status csf_study_export(const char *store_path, const char *study, int versi
         csf_store_close(store);
         return st;
     }
-    sess *d = calloc((size_t)sel.n_sel, sizeof *d);
+    sess *d = NULL;
     int n = 0;
-    if (!d) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    for (int i = 0; st == CSF_OK && i < sel.n_sel; i++) {
-        csf_error e;
-        const csf_study_session *x = &sel.all[sel.sel[i]];
-        csf_status ls = sess_load(store, x, &d[n], &e);
-        if (ls == CSF_E_NOT_FOUND) { /* a start cut short: no study files, no trials */
-            sess_free(&d[n]);
-            continue;
-        }
-        if (ls != CSF_OK) st = csf_error_set(err, ls, "session %lld: %s", (long long)x->id, e.msg);
-        n++;
-    }
+    st = csf_study_sessions_load(store, &sel, 1, NULL, &d, &n, err);
     if (st == CSF_OK && !n)
         st = csf_error_set(err, CSF_E_NOT_FOUND, "study %s: no session holds its study files", sel.name);
     if (st == CSF_OK) st = same_columns(d, n, err);
     if (st == CSF_OK) st = write_csv(out, sel.name, d, n, NULL, n_rows, err);
     if (st == CSF_OK && per_participant_dir) st = per_participant(per_participant_dir, sel.name, d, n, err);
-    for (int i = 0; d && i < n; i++) sess_free(&d[i]);
-    free(d);
+    csf_study_session_data_free(d, n);
     csf_study_selection_free(&sel);
     csf_store_close(store);
     return st;

@@ -16,59 +16,13 @@
 
 #define MAX_SCOPES 257 /* pooled + participants */
 
-/* One session's material: its study copy, plan and trials. */
+/* One session's material (studies/study_sessions.h) with who ran it, shown escaped: a stored
+ * code is outside input by now and never shown as raw bytes. */
 typedef struct {
-    csf_study *study;
-    csf_study_trial *plan;
-    int n_plan;
-    csf_trial *trials;
-    size_t n_trials;
+    const csf_study_session_data *m;
     char participant[64];
     int finished;
-    int64_t id;
-    int version;
-    const csf_study_session *x; /* its entry in the selection */
 } session_data;
-
-static void session_data_free(session_data *d)
-{
-    csf_study_free(d->study);
-    free(d->plan);
-    free(d->trials);
-}
-
-/* CSF_E_NOT_FOUND only when the session has no stored study files (a start that stopped before
- * storing them): the caller leaves such a session out instead of failing the whole study. */
-static csf_status load_session(csf_store *store, const csf_session_info *info, int participant_index,
-                               session_data *d, csf_error *err)
-{
-    memset(d, 0, sizeof *d);
-    csf_json_doc *doc = NULL;
-    csf_status st = csf_json_parse_object(info->settings_json, "study session settings", &doc, err);
-    if (st != CSF_OK) return st;
-    double seed = 0;
-    char code[sizeof d->participant] = "";
-    csf_json_get_string(doc, "participant", code, sizeof code, err);
-    /* Stored settings are outside input by now: a code is shown escaped, never as raw bytes. */
-    csf_store_printable(code, d->participant, sizeof d->participant);
-    int got = csf_json_get_number(doc, "seed", 0, 1.8446744073709552e19, &seed, err);
-    csf_json_free(doc);
-    (void)got;
-    void *sb = NULL, *cb = NULL;
-    size_t sl = 0, cl = 0;
-    char sp[1024] = "", cp[1024] = "";
-    st = csf_store_get_artifact(store, info->id, "study", &sb, &sl, sp, sizeof sp, err);
-    if (st == CSF_OK) st = csf_store_get_artifact(store, info->id, "conditions", &cb, &cl, cp, sizeof cp, err);
-    if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
-    free(sb);
-    free(cb);
-    /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK)
-        st = csf_study_make_plan(d->study, info->seed, participant_index, &d->plan, &d->n_plan, err);
-    if (st == CSF_OK) st = csf_store_get_trials(store, info->id, &d->trials, &d->n_trials, err);
-    d->finished = !strcmp(info->state, "finished");
-    return st;
-}
 
 /* Row lookup/creation: (scope, is_curve, name). */
 static csf_study_row *row_for(csf_study_report *r, int cap, const char *scope, int is_curve, const char *name,
@@ -188,6 +142,8 @@ void csf_study_row_finish(csf_study_row *w, const csf_study *s, int n_boot, uint
             csf_stats_dprime_yesno_ci(h, f, w->n_signal, w->n_noise, 0.95, &w->dprime_lo, &w->dprime_hi);
         } else if (s->design == CSF_DESIGN_SAME_DIFF) {
             w->dprime = sd_dprime(s, h, f);
+            csf_stats_dprime_sd_ci(h, f, w->n_signal, w->n_noise, s->sd_differencing, 0.95, &w->dprime_lo,
+                                   &w->dprime_hi);
         }
     }
     w->t_lo = w->t_hi = w->beta_lo = w->beta_hi = NAN;
@@ -217,7 +173,7 @@ static void add_participant(csf_study_report *r, const char *p)
 
 static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap, int n_boot, csf_error *err)
 {
-    const csf_study *s = ds[0].study;
+    const csf_study *s = ds[0].m->study;
     /* rows in a fixed order: pooled, then each participant; conditions in file order, then curves */
     for (int i = -1; i < nd; i++) {
         const char *scope = i < 0 ? "pooled" : ds[i].participant;
@@ -230,13 +186,14 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
                 return csf_error_set(err, CSF_E_NOMEM, "study report: too many rows");
     }
     for (int i = 0; i < nd; i++) {
-        session_data *d = &ds[i];
+        const session_data *d = &ds[i];
+        const csf_study_session_data *m = d->m;
         add_participant(r, d->participant);
         r->n_finished += d->finished;
-        for (size_t j = 0; j < d->n_trials; j++) {
-            const csf_trial *t = &d->trials[j];
-            if (t->seq < 0 || t->seq >= d->n_plan) continue;
-            const csf_study_trial *pt = &d->plan[t->seq];
+        for (size_t j = 0; j < m->n_trials; j++) {
+            const csf_trial *t = &m->trials[j];
+            if (t->seq < 0 || t->seq >= m->n_plan) continue;
+            const csf_study_trial *pt = &m->plan[t->seq];
             if (t->is_practice || pt->practice) continue;
             if (!t->valid) {
                 r->n_excluded++;
@@ -265,39 +222,12 @@ static csf_status analyse(csf_study_report *r, session_data *ds, int nd, int cap
     return CSF_OK;
 }
 
-/* The selected sessions' material; sessions without stored study files (a start cut short) are
- * left out with a note. */
-static csf_status load_selected(csf_store *store, const csf_study_selection *sel, session_data *ds, int *nd,
-                                csf_error *err)
+/* err's message behind "who: " (the walk names the session; the report names itself). */
+static void prefix_error(csf_error *err, csf_status st, const char *who)
 {
-    csf_status st = CSF_OK;
-    for (int i = 0; st == CSF_OK && i < sel->n_sel; i++) {
-        const csf_study_session *x = &sel->all[sel->sel[i]];
-        csf_session_info info;
-        memset(&info, 0, sizeof info);
-        if ((st = csf_store_get_session(store, x->id, &info, err)) != CSF_OK) break;
-        st = load_session(store, &info, x->participant_index, &ds[*nd], err);
-        csf_session_info_free(&info);
-        ds[*nd].id = x->id;
-        ds[*nd].version = x->version;
-        ds[*nd].x = x;
-        if (st == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
-            fprintf(stderr, "csfcal: study report: session %lld left out: %s\n", (long long)x->id, err->msg);
-            session_data_free(&ds[*nd]);
-            csf_error_clear(err);
-            st = CSF_OK;
-            continue;
-        }
-        if (st != CSF_OK) {
-            char m[sizeof err->msg];
-            snprintf(m, sizeof m, "%s", err->msg);
-            csf_error_set(err, st, "study report: session %lld: %s", (long long)x->id, m);
-            session_data_free(&ds[*nd]);
-            break;
-        }
-        (*nd)++;
-    }
-    return st;
+    char m[sizeof err->msg];
+    snprintf(m, sizeof m, "%s", err->msg);
+    csf_error_set(err, st, "%s: %s", who, m);
 }
 
 /* Per session: who, which version, whether it finished; and the versions not analysed. */
@@ -312,15 +242,15 @@ static csf_status note_sessions(csf_study_report *r, const csf_study_selection *
     if (!r->sessions) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (int i = 0; i < nd; i++) {
         csf_study_session_row *w = &r->sessions[i];
-        w->id = ds[i].id;
-        w->version = ds[i].version;
+        w->id = ds[i].m->x->id;
+        w->version = ds[i].m->x->version;
         w->finished = ds[i].finished;
-        w->n_trials = (int)ds[i].n_trials;
+        w->n_trials = (int)ds[i].m->n_trials;
         snprintf(w->participant, sizeof w->participant, "%s", ds[i].participant);
-        w->participant_index = ds[i].x->participant_index;
-        w->latin_row = ds[i].study->latin ? csf_study_latin_row(ds[i].study, w->participant_index, NULL) : -1;
-        snprintf(w->experimenter, sizeof w->experimenter, "%s", ds[i].x->experimenter);
-        snprintf(w->notes, sizeof w->notes, "%s", ds[i].x->notes);
+        w->participant_index = ds[i].m->x->participant_index;
+        w->latin_row = ds[i].m->study->latin ? csf_study_latin_row(ds[i].m->study, w->participant_index, NULL) : -1;
+        snprintf(w->experimenter, sizeof w->experimenter, "%s", ds[i].m->x->experimenter);
+        snprintf(w->notes, sizeof w->notes, "%s", ds[i].m->x->notes);
     }
     r->n_session_rows = nd;
     return CSF_OK;
@@ -339,13 +269,21 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
         csf_store_close(store);
         return st;
     }
-    session_data *ds = calloc((size_t)sel.n_sel, sizeof *ds);
+    csf_study_session_data *loaded = NULL;
     int nd = 0;
     csf_study_report *r = calloc(1, sizeof *r);
-    if (!r || !ds) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    if (!r) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
     if (st == CSF_OK) {
         snprintf(r->name, sizeof r->name, "%s", sel.name);
-        st = load_selected(store, &sel, ds, &nd, err);
+        st = csf_study_sessions_load(store, &sel, 0, "study report", &loaded, &nd, err);
+        if (st != CSF_OK) prefix_error(err, st, "study report");
+    }
+    session_data *ds = st == CSF_OK ? calloc(nd > 0 ? (size_t)nd : 1, sizeof *ds) : NULL;
+    if (st == CSF_OK && !ds) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    for (int i = 0; st == CSF_OK && i < nd; i++) {
+        ds[i].m = &loaded[i];
+        csf_store_printable(loaded[i].x->participant, ds[i].participant, sizeof ds[i].participant);
+        ds[i].finished = !strcmp(loaded[i].x->state, "finished");
     }
     if (st == CSF_OK && nd == 0)
         st = csf_error_set(err, CSF_E_NOT_FOUND,
@@ -353,8 +291,8 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
                            "'%s'",
                            store_path, sel.name);
     if (st == CSF_OK) st = note_sessions(r, &sel, ds, nd, err);
-    if (st == CSF_OK) {
-        const csf_study *s = ds[0].study;
+    if (st == CSF_OK && nd > 0) {
+        const csf_study *s = ds[0].m->study;
         r->design = s->design;
         r->sd_differencing = s->sd_differencing;
         r->hash = s->hash;
@@ -364,8 +302,8 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
         if (!r->rows) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
         else st = analyse(r, ds, nd, cap, n_boot >= 0 ? n_boot : s->bootstrap, err);
     }
-    for (int i = 0; i < nd; i++) session_data_free(&ds[i]);
     free(ds);
+    csf_study_session_data_free(loaded, nd);
     csf_study_selection_free(&sel);
     csf_store_close(store);
     if (st != CSF_OK) {
@@ -440,7 +378,7 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
     fprintf(fp, "%-10s %-16s %5s %5s %6s %15s %9s", "scope", "condition", "n", "k", "p", "95% CI (exact)",
             by_hits(r->design) ? "p(H>F)" : "p(>chance)");
     if (by_hits(r->design)) fprintf(fp, " %6s %6s %6s", "H", "F", "d'");
-    if (r->design == CSF_DESIGN_YES_NO) fprintf(fp, " %15s", "d' 95% CI");
+    if (by_hits(r->design)) fprintf(fp, " %15s", "d' 95% CI");
     fputc('\n', fp);
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
@@ -450,7 +388,7 @@ void csf_study_report_print(const csf_study_report *r, FILE *fp)
         fprintf(fp, "%-10.10s %-16.16s %5d %5d %6.3f [%5.3f, %5.3f] %10.3g", w->scope, nm, w->n, w->k, w->p,
                 w->ci_lo, w->ci_hi, w->p_greater);
         if (by_hits(r->design)) fprintf(fp, " %6.3f %6.3f %6.2f", w->hit_rate, w->fa_rate, w->dprime);
-        if (r->design == CSF_DESIGN_YES_NO) fprintf(fp, " [%5.2f, %5.2f]", w->dprime_lo, w->dprime_hi);
+        if (by_hits(r->design)) fprintf(fp, " [%5.2f, %5.2f]", w->dprime_lo, w->dprime_hi);
         fputc('\n', fp);
     }
     int any = 0;
@@ -528,7 +466,7 @@ char *csf_study_report_json(const csf_study_report *r)
                 json_object_set_new(o, "hit_rate", num(w->hit_rate));
                 json_object_set_new(o, "fa_rate", num(w->fa_rate));
                 json_object_set_new(o, "dprime", num(w->dprime));
-                if (r->design == CSF_DESIGN_YES_NO)
+                if (by_hits(r->design))
                     json_object_set_new(o, "dprime_ci95", json_pack("[o,o]", num(w->dprime_lo), num(w->dprime_hi)));
             }
             json_array_append_new(w->is_curve == 2 ? groups : conds, o);
@@ -637,48 +575,111 @@ csf_status csf_study_report_csv(const csf_study_report *r, const char *path, csf
     return csf_atomic_commit(&af, err);
 }
 
+/* A bar page's row from a condition (or group) row: the point, its chance line and the table. */
+static void bar_of(const csf_study_report *r, const csf_study_row *w, csf_study_plot_bar *b)
+{
+    memset(b, 0, sizeof *b);
+    snprintf(b->label, sizeof b->label, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
+    snprintf(b->cells[0], sizeof b->cells[0], "%s", b->label);
+    b->chance = NAN;
+    if (!by_hits(r->design) || !w->n_signal || !w->n_noise) {
+        b->p = w->p;
+        b->lo = w->ci_lo;
+        b->hi = w->ci_hi;
+        b->chance = 0.5;
+        snprintf(b->cells[1], sizeof b->cells[1], "%d", w->n);
+        snprintf(b->cells[2], sizeof b->cells[2], "%.3f", w->p);
+        snprintf(b->cells[3], sizeof b->cells[3], "[%.3f, %.3f]", w->ci_lo, w->ci_hi);
+        snprintf(b->cells[4], sizeof b->cells[4], "%.2g", w->p_greater);
+        return;
+    }
+    b->p = w->hit_rate;
+    csf_stats_clopper_pearson(w->hits, w->n_signal, 0.95, &b->lo, &b->hi);
+    if (r->design == CSF_DESIGN_YES_NO) {
+        b->chance = w->fa_rate; /* "yes" to a signal against "yes" to nothing */
+    } else {
+        b->second = 1;
+        b->p2 = w->fa_rate;
+        csf_stats_clopper_pearson(w->false_alarms, w->n_noise, 0.95, &b->lo2, &b->hi2);
+    }
+    snprintf(b->cells[1], sizeof b->cells[1], "%.2f (%d/%d)", w->hit_rate, w->hits, w->n_signal);
+    snprintf(b->cells[2], sizeof b->cells[2], "%.2f (%d/%d)", w->fa_rate, w->false_alarms, w->n_noise);
+    snprintf(b->cells[3], sizeof b->cells[3], "%.2f", w->dprime);
+    snprintf(b->cells[4], sizeof b->cells[4], "[%.2f, %.2f]", w->dprime_lo, w->dprime_hi);
+    snprintf(b->cells[5], sizeof b->cells[5], "%.2g", w->p_greater);
+}
+
+/* The bar page of one scope: forced choice pooled only; yes/no and same/different per scope. */
+static void bar_page(const csf_study_report *r, const char *scope, csf_study_plot_bar_page *pg)
+{
+    static const char *const fc[] = {"condition", "trials", "p correct", "95% exact CI", "p (> 0.5)"};
+    static const char *const hf[] = {"condition", "hits (H)",  "false alarms (F)",
+                                     "d'",        "d' 95% CI", "p (H > F)"};
+    int hits = by_hits(r->design);
+    pg->n_columns = hits ? 6 : 5;
+    for (int j = 0; j < pg->n_columns; j++) pg->columns[j] = hits ? hf[j] : fc[j];
+    const char *what = r->design == CSF_DESIGN_SAME_DIFF ? "hits and false alarms"
+                       : hits                            ? "hits against the false-alarm rate"
+                                                         : "proportion correct";
+    snprintf(pg->title, sizeof pg->title, "%s v%d (%s): %s, %s", r->name, r->version,
+             csf_study_design_name(r->design), what, scope);
+    pg->axis = r->design == CSF_DESIGN_SAME_DIFF ? "proportion \"different\" (95% exact CI)"
+               : hits                            ? "hit rate (95% exact CI)"
+                                                 : "proportion correct (95% exact CI)";
+    pg->legend =
+        r->design == CSF_DESIGN_SAME_DIFF
+            ? "Circles: hits, \"different\" to different pairs; squares: false alarms, \"different\" "
+              "to same pairs (95 % exact intervals). d': see the report's model; its interval is "
+              "the profile likelihood's (differencing) or the yes/no interval mapped (independent)."
+        : hits ? "Circles: hit rate (95 % exact interval); dashed: chance, the condition's false-alarm "
+                 "rate (catch trials answered yes). d' = z(H) - z(F), interval after Gourevitch & "
+                 "Galanter (1967). p: Fisher's exact test of hits against false alarms."
+               : "Circles: proportion correct (95 % exact interval); dashed: chance (0.5). p: exact "
+                 "binomial test against 0.5, one-sided.";
+}
+
 csf_status csf_study_report_plot(const csf_study_report *r, const char *path, csf_error *err)
 {
-    csf_study_plot_curve *cv = calloc((size_t)(r->n_rows ? r->n_rows : 1), sizeof *cv);
-    csf_study_plot_bar *bars = calloc((size_t)(r->n_rows ? r->n_rows : 1), sizeof *bars);
-    if (!cv || !bars) {
+    size_t cap = (size_t)(r->n_rows ? r->n_rows : 1);
+    csf_study_plot_curve *cv = calloc(cap, sizeof *cv);
+    csf_study_plot_bar *bars = calloc(cap, sizeof *bars);
+    csf_study_plot_bar_page *pages = calloc(cap, sizeof *pages);
+    if (!cv || !bars || !pages) {
         free(cv);
         free(bars);
+        free(pages);
         return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     }
-    int nc = 0, nb = 0;
+    int nc = 0, nb = 0, np = 0;
+    const char *scope = NULL;
     for (int i = 0; i < r->n_rows; i++) {
         const csf_study_row *w = &r->rows[i];
         if (w->is_curve == 1) {
             csf_study_plot_curve *c = &cv[nc++];
             snprintf(c->title, sizeof c->title, "%s: curve %s (%s)", r->name, w->name, w->scope);
+            snprintf(c->scope, sizeof c->scope, "%s", w->scope);
+            snprintf(c->name, sizeof c->name, "%s", w->name);
             c->levels = w->levels;
             c->n_levels = w->n_levels;
             c->fit = w->fit;
             c->have_fit = w->have_fit;
             c->t_lo = w->t_lo;
             c->t_hi = w->t_hi;
-        } else if (!strcmp(w->scope, "pooled")) {
-            csf_study_plot_bar *b = &bars[nb++];
-            snprintf(b->label, sizeof b->label, "%s%s", w->is_curve == 2 ? "group " : "", w->name);
-            if (r->design == CSF_DESIGN_YES_NO && w->n_signal && w->n_noise) {
-                /* "yes" to a signal against "yes" to nothing: chance is the false-alarm rate */
-                b->p = w->hit_rate;
-                csf_stats_clopper_pearson(w->hits, w->n_signal, 0.95, &b->lo, &b->hi);
-                b->chance = w->fa_rate;
-            } else {
-                b->p = w->p;
-                b->lo = w->ci_lo;
-                b->hi = w->ci_hi;
-                b->chance = 0.5;
-            }
+            continue;
         }
+        if (!by_hits(r->design) && strcmp(w->scope, "pooled")) continue;
+        /* rows come scope by scope (pooled, then each participant): a new scope starts a page */
+        if (!scope || strcmp(scope, w->scope)) {
+            scope = w->scope;
+            bar_page(r, scope, &pages[np]);
+            pages[np++].bars = &bars[nb];
+        }
+        bar_of(r, w, &bars[nb++]);
+        pages[np - 1].n_bars++;
     }
-    char title[200];
-    snprintf(title, sizeof title, "%s v%d (%s): proportion correct, pooled", r->name, r->version,
-             csf_study_design_name(r->design));
-    csf_status st = csf_study_plot_write(path, title, cv, nc, bars, nb, "proportion correct (95% exact CI)", err);
+    csf_status st = csf_study_plot_write(path, cv, nc, pages, np, err);
     free(cv);
     free(bars);
+    free(pages);
     return st;
 }

@@ -8,11 +8,12 @@
  *   - forced choice: an exact binomial test against chance (0.5), one-sided p(X >= k) and
  *     two-sided;
  *   - yes/no and same/different: hit and false-alarm rates, Fisher's exact test of hits against
- *     false alarms (chance is the false-alarm rate, whatever the person's bias), and d' (yes/no:
- *     z(H) - z(F) with its 95 % interval; same/different: the differencing model, or the
- *     independent-observation model when the study says sd_model = independent; a negative d'
- *     means more "yes"/"different" answers without a signal than with one, in both); rates of 0
- *     or 1 are moved by 1/(2N) first.
+ *     false alarms (chance is the false-alarm rate, whatever the person's bias), and d' with its
+ *     95 % interval (yes/no: z(H) - z(F); same/different: the differencing model, or the
+ *     independent-observation model when the study says sd_model = independent; intervals as
+ *     csf_stats_dprime_yesno_ci and csf_stats_dprime_sd_ci; a negative d' means more
+ *     "yes"/"different" answers without a signal than with one, in both); rates of 0 or 1 are
+ *     moved by 1/(2N) first.
  * Per psychometric curve (conditions sharing a `curve` name, or one adaptive condition): the
  * maximum-likelihood Weibull fit (threshold t in log10 contrast, slope beta, lapse <= max_lapse;
  * guess 0.5 in forced choice, the curve's false-alarm rate in yes/no) with 95 % intervals for t
@@ -41,7 +42,7 @@ typedef struct {
     double p, ci_lo, ci_hi, p_greater, p_two_sided;
     int hits, n_signal, false_alarms, n_noise;
     double hit_rate, fa_rate, dprime;
-    double dprime_lo, dprime_hi; /* 95 % interval of a yes/no d' (NaN otherwise) */
+    double dprime_lo, dprime_hi; /* 95 % interval of d' (yes/no, same/different; NaN otherwise) */
     /* curves */
     csf_psy_level levels[CSF_REPORT_MAX_LEVELS];
     int n_levels;

@@ -1,6 +1,7 @@
 /* A study's sessions in the store (see study_sessions.h). */
 #include "studies/study_sessions.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -261,5 +262,76 @@ csf_status csf_study_select(csf_store *store, const char *study, int version, cs
     }
     if (st == CSF_OK && by_file && o->legacy) memcpy(o->key, fnv, sizeof fnv);
     if (st != CSF_OK) csf_study_selection_free(o);
+    return st;
+}
+
+static void session_data_clear(csf_study_session_data *d)
+{
+    csf_study_free(d->study);
+    free(d->plan);
+    free(d->trials);
+    csf_study_table_free(&d->table);
+    memset(d, 0, sizeof *d);
+}
+
+void csf_study_session_data_free(csf_study_session_data *d, int n)
+{
+    for (int i = 0; d && i < n; i++) session_data_clear(&d[i]);
+    free(d);
+}
+
+/* CSF_E_NOT_FOUND when the session has no stored study files. */
+static csf_status session_load(csf_store *store, const csf_study_session *x, int want_table,
+                               csf_study_session_data *d, csf_error *err)
+{
+    memset(d, 0, sizeof *d);
+    d->x = x;
+    void *sb = NULL, *cb = NULL;
+    size_t sl = 0, cl = 0;
+    char sp[1024] = "", cp[1024] = "";
+    csf_session_info info;
+    memset(&info, 0, sizeof info);
+    csf_status st = csf_store_get_session(store, x->id, &info, err);
+    if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "study", &sb, &sl, sp, sizeof sp, err);
+    if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "conditions", &cb, &cl, cp, sizeof cp, err);
+    if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
+    /* the seed as stored with the session row (exact; the JSON number is a double) */
+    if (st == CSF_OK) st = csf_study_make_plan(d->study, info.seed, x->participant_index, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK) st = csf_store_get_trials(store, x->id, &d->trials, &d->n_trials, err);
+    if (st == CSF_OK && want_table) st = csf_study_conditions_table(d->study, &d->table, err);
+    csf_session_info_free(&info);
+    free(sb);
+    free(cb);
+    return st;
+}
+
+csf_status csf_study_sessions_load(csf_store *store, const csf_study_selection *sel, int want_table,
+                                   const char *note, csf_study_session_data **out, int *n, csf_error *err)
+{
+    *n = 0;
+    *out = calloc(sel->n_sel > 0 ? (size_t)sel->n_sel : 1, sizeof **out);
+    if (!*out) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    csf_status st = CSF_OK;
+    for (int i = 0; st == CSF_OK && i < sel->n_sel; i++) {
+        const csf_study_session *x = &sel->all[sel->sel[i]];
+        csf_error e;
+        csf_status ls = session_load(store, x, want_table, &(*out)[*n], &e);
+        if (ls == CSF_OK) {
+            (*n)++;
+            continue;
+        }
+        session_data_clear(&(*out)[*n]);
+        if (ls == CSF_E_NOT_FOUND) { /* a start cut short: no study files stored, nothing to pool */
+            if (note)
+                fprintf(stderr, "csfcal: %s: session %lld left out: %s\n", note, (long long)x->id, e.msg);
+            continue;
+        }
+        st = csf_error_set(err, ls, "session %lld: %s", (long long)x->id, e.msg);
+    }
+    if (st != CSF_OK) {
+        csf_study_session_data_free(*out, *n);
+        *out = NULL;
+        *n = 0;
+    }
     return st;
 }

@@ -12,6 +12,7 @@
 
 #include "results/store/store.h"
 #include "studies/study_identity.h"
+#include "studies/study_plan.h"
 
 typedef struct {
     int64_t id;
@@ -48,8 +49,6 @@ void csf_study_versions_text(const csf_study_session *list, int n, const char *s
 /* The highest version number held (0 when none). */
 int csf_study_versions_max(const csf_study_session *list, int n);
 
-#endif
-
 /* The sessions a report or an export covers. study: a settings file (its files' identity picks
  * the sessions that ran exactly these files; version, when > 0, must agree) or a study's name
  * (version > 0 picks that version; 0: the one version the store holds, refused naming them when
@@ -68,3 +67,27 @@ typedef struct {
 csf_status csf_study_select(csf_store *store, const char *study, int version, csf_study_selection *out,
                             csf_error *err);
 void csf_study_selection_free(csf_study_selection *s);
+
+/* One selected session's material, rebuilt from the store alone: the study from the session's
+ * stored copy of its files, the trial plan its stored seed gives (so each stored trial maps to its
+ * condition) and its stored trials; with the conditions file's table when asked for. */
+typedef struct {
+    const csf_study_session *x; /* in the selection's list */
+    csf_study *study;
+    csf_study_trial *plan;
+    int n_plan;
+    csf_trial *trials;
+    size_t n_trials;
+    csf_study_table table; /* filled when loaded with want_table */
+} csf_study_session_data;
+
+/* The walk over a selection's sessions that the report and the export share: each selected
+ * session loaded, oldest first, into *out (malloc'd; free with csf_study_session_data_free). A
+ * session without stored study files (a start cut short before it stored them) holds nothing to
+ * analyse and is left out; note (may be NULL) names the caller in a line on stderr saying so.
+ * Any other failure is an error naming the session. *n may be 0. */
+csf_status csf_study_sessions_load(csf_store *store, const csf_study_selection *sel, int want_table,
+                                   const char *note, csf_study_session_data **out, int *n, csf_error *err);
+void csf_study_session_data_free(csf_study_session_data *d, int n);
+
+#endif

@@ -224,6 +224,93 @@ double csf_stats_dprime_sd_independent(double h, double f)
     return 2 * csf_stats_norm_quantile(0.5 * (1 + sqrt(2 * pmax - 1)));
 }
 
+/* Log-likelihood of rates (h, f) over (n_signal, n_noise) trials under the differencing model
+ * at a signed d' s and criterion k: s >= 0 predicts "different" to different pairs at
+ * sd_diff_hit(s, k) and to same pairs at 2 Phi(-k / sqrt 2); s < 0 swaps the two, the report's
+ * reading of a negative d' (more "different" to same pairs than to different ones). */
+static double sd_diff_loglik(double s, double k, double h, double f, int n_signal, int n_noise)
+{
+    double pf = 2 * csf_stats_norm_cdf(-k / M_SQRT2), ph = sd_diff_hit(fabs(s), k);
+    if (s < 0) {
+        double t = ph;
+        ph = pf;
+        pf = t;
+    }
+    ph = fmin(fmax(ph, 1e-15), 1 - 1e-15);
+    pf = fmin(fmax(pf, 1e-15), 1 - 1e-15);
+    return n_signal * (h * log(ph) + (1 - h) * log1p(-ph)) + n_noise * (f * log(pf) + (1 - f) * log1p(-pf));
+}
+
+/* The likelihood at s maximised over the criterion k: a grid finds the peak's bracket, golden
+ * section refines it (the likelihood is unimodal in k for a fixed s). */
+static double sd_diff_profile(double s, double h, double f, int n_signal, int n_noise)
+{
+    const double k_max = 12;
+    int best = 1;
+    double best_ll = -INFINITY;
+    for (int i = 1; i <= 24; i++) {
+        double ll = sd_diff_loglik(s, k_max * i / 24, h, f, n_signal, n_noise);
+        if (ll > best_ll) {
+            best_ll = ll;
+            best = i;
+        }
+    }
+    double a = k_max * (best - 1) / 24, b = k_max * (best + 1) / 24, g = 0.5 * (sqrt(5.0) - 1);
+    for (int i = 0; i < 40; i++) { /* the bracket shrinks to 1e-9 */
+        double c = b - g * (b - a), d = a + g * (b - a);
+        if (sd_diff_loglik(s, c, h, f, n_signal, n_noise) > sd_diff_loglik(s, d, h, f, n_signal, n_noise))
+            b = d;
+        else a = c;
+    }
+    return fmax(best_ll, sd_diff_loglik(s, 0.5 * (a + b), h, f, n_signal, n_noise));
+}
+
+/* The end of the profile-likelihood interval between s_in (inside) and s_out: where the
+ * deviance from the saturated fit crosses cut; s_out when it never does. */
+static double sd_diff_end(double s_in, double s_out, double sat, double cut, double h, double f, int ns,
+                          int nn)
+{
+    if (sat - sd_diff_profile(s_out, h, f, ns, nn) <= cut) return s_out;
+    for (int i = 0; i < 40; i++) { /* to 1e-11 of the limits' span */
+        double mid = 0.5 * (s_in + s_out);
+        if (sat - sd_diff_profile(mid, h, f, ns, nn) <= cut) s_in = mid;
+        else s_out = mid;
+    }
+    return 0.5 * (s_in + s_out);
+}
+
+/* The independent-observation d' as a function of z(h) - z(f), odd so that a negative argument
+ * gives the negated d' of the swapped rates. */
+static double sd_indep_of_z(double dz)
+{
+    double pmax = csf_stats_norm_cdf(fabs(dz) / 2);
+    double d = 2 * csf_stats_norm_quantile(0.5 * (1 + sqrt(fmax(0, 2 * pmax - 1))));
+    return dz < 0 ? -d : d;
+}
+
+void csf_stats_dprime_sd_ci(double h, double f, int n_signal, int n_noise, int differencing, double conf,
+                            double *lo, double *hi)
+{
+    *lo = *hi = NAN;
+    if (!(h > 0 && h < 1 && f > 0 && f < 1) || n_signal <= 0 || n_noise <= 0 || !(conf > 0 && conf < 1))
+        return;
+    if (!differencing) {
+        double zl, zh;
+        csf_stats_dprime_yesno_ci(h, f, n_signal, n_noise, conf, &zl, &zh);
+        *lo = sd_indep_of_z(zl);
+        *hi = sd_indep_of_z(zh);
+        return;
+    }
+    double s_hat = h == f  ? 0
+                   : h > f ? csf_stats_dprime_sd_differencing(h, f)
+                           : -csf_stats_dprime_sd_differencing(f, h);
+    double z = csf_stats_norm_quantile(0.5 * (1 + conf));
+    /* the model reaches any pair of rates, so the maximum is the saturated likelihood */
+    double sat = n_signal * (h * log(h) + (1 - h) * log1p(-h)) + n_noise * (f * log(f) + (1 - f) * log1p(-f));
+    *lo = sd_diff_end(s_hat, -CSF_SD_DPRIME_LIMIT, sat, 0.5 * z * z, h, f, n_signal, n_noise);
+    *hi = sd_diff_end(s_hat, CSF_SD_DPRIME_LIMIT, sat, 0.5 * z * z, h, f, n_signal, n_noise);
+}
+
 /* ---- Weibull fit ----------------------------------------------------------------------------- */
 
 typedef struct {

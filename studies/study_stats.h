@@ -58,6 +58,21 @@ double csf_stats_dprime_yesno(double h, double f);
 double csf_stats_dprime_sd_differencing(double h, double f);
 double csf_stats_dprime_sd_independent(double h, double f);
 
+/* Interval for a same/different d' at confidence conf, from the corrected rates and the trial
+ * counts, in the report's signed reading (negative: the swapped rates' d', negated).
+ *   differencing model: the profile-likelihood interval (Cox & Hinkley 1974, ch. 9): the signed
+ *     d' values whose likelihood, maximised over the criterion k, is within z^2/2 of the maximum
+ *     (1.92 at 95 %). Near d' = 0 the hit rate moves with d'^2, so a delta-method (Wald)
+ *     interval there is as wide as the slope is flat; the likelihood's own interval is not.
+ *     An end that does not reach the cutoff is +-CSF_SD_DPRIME_LIMIT.
+ *   independent-observation model: its d' is a monotone function of z(h) - z(f), so the ends are
+ *     that function of the ends of the yes/no interval of z(h) - z(f) (Gourevitch & Galanter
+ *     1967), negative ends read through the sign convention.
+ * NaN for rates outside (0, 1) or empty counts. */
+#define CSF_SD_DPRIME_LIMIT 10.0
+void csf_stats_dprime_sd_ci(double h, double f, int n_signal, int n_noise, int differencing, double conf,
+                            double *lo, double *hi);
+
 /* ---- Weibull fit --------------------------------------------------------------------------- */
 
 typedef struct {

@@ -3,6 +3,7 @@
  * tail sums, as binom.test defines them), Macmillan & Creelman's d' definitions, and Weibull fits
  * of data drawn from known psychometric functions. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/rng.h"
@@ -250,6 +251,61 @@ static void test_dprime_ci(void)
     CHECK(isnan(lo) && isnan(hi));
 }
 
+static double corrected(int k, int n)
+{
+    return k == 0 ? 0.5 / n : k == n ? 1 - 0.5 / n : (double)k / n;
+}
+
+/* Same/different d' intervals. Differencing: data drawn from the model itself (written out here:
+ * F = 2 Phi(-k/sqrt 2), H = Phi((d-k)/sqrt 2) + Phi((-d-k)/sqrt 2)) at d' = 1.5 and at d' = 0
+ * must be covered at about the nominal 95 % (1000 simulated participants each, 60 + 60 trials;
+ * the binomial band of 1000 draws at 95 % is 93.6-96.4 %, the bounds allow a little more for the
+ * discreteness of 60 trials); the interval holds the point estimate; swapped rates give it mirrored.
+ * Independent: the ends are that model's d' at the rates whose z(H) - z(F) is the yes/no
+ * interval's ends. */
+static void test_dprime_sd_ci(void)
+{
+    const double truth[2] = {1.5, 0};
+    for (int c = 0; c < 2; c++) {
+        double k = -M_SQRT2 * csf_stats_norm_quantile(0.1);
+        double pf = 2 * csf_stats_norm_cdf(-k / M_SQRT2);
+        double ph =
+            csf_stats_norm_cdf((truth[c] - k) / M_SQRT2) + csf_stats_norm_cdf((-truth[c] - k) / M_SQRT2);
+        csf_rng g;
+        csf_rng_init(&g, 4242 + (uint64_t)c, 9);
+        int covered = 0, n = 1000;
+        for (int r = 0; r < n; r++) {
+            int hits = 0, fas = 0;
+            for (int j = 0; j < 60; j++) {
+                hits += csf_rng_next_uniform(&g) < ph;
+                fas += csf_rng_next_uniform(&g) < pf;
+            }
+            double lo, hi;
+            csf_stats_dprime_sd_ci(corrected(hits, 60), corrected(fas, 60), 60, 60, 1, 0.95, &lo, &hi);
+            covered += lo <= truth[c] && truth[c] <= hi;
+        }
+        CHECK_MSG(covered >= 0.93 * n && covered <= 0.975 * n,
+                  "d' %g: differencing interval covered %d of %d", truth[c], covered, n);
+        printf("same/different d' %g: the differencing interval covered %d of %d\n", truth[c], covered, n);
+    }
+    double lo, hi, lo2, hi2;
+    csf_stats_dprime_sd_ci(0.7, 0.2, 50, 40, 1, 0.95, &lo, &hi);
+    double d = csf_stats_dprime_sd_differencing(0.7, 0.2);
+    CHECK_MSG(lo < d && d < hi && hi - lo < 3, "differencing: %g in [%g, %g]", d, lo, hi);
+    csf_stats_dprime_sd_ci(0.2, 0.7, 40, 50, 1, 0.95, &lo2, &hi2);
+    CHECK_NEAR(lo2, -hi, 1e-6);
+    CHECK_NEAR(hi2, -lo, 1e-6);
+    double yl, yh;
+    csf_stats_dprime_yesno_ci(0.7, 0.2, 50, 40, 0.95, &yl, &yh);
+    csf_stats_dprime_sd_ci(0.7, 0.2, 50, 40, 0, 0.95, &lo, &hi);
+    double zf = csf_stats_norm_quantile(0.2);
+    CHECK_NEAR(hi, csf_stats_dprime_sd_independent(csf_stats_norm_cdf(zf + yh), 0.2), 1e-6);
+    CHECK(yl > 0);
+    CHECK_NEAR(lo, csf_stats_dprime_sd_independent(csf_stats_norm_cdf(zf + yl), 0.2), 1e-6);
+    csf_stats_dprime_sd_ci(1.0, 0.2, 50, 40, 1, 0.95, &lo, &hi);
+    CHECK(isnan(lo) && isnan(hi));
+}
+
 /* Negative log-likelihood of the Weibull with guess g, written out here from its definition. */
 static double nll(const csf_psy_level *lv, int n, double g, double t, double beta, double lapse)
 {
@@ -310,6 +366,7 @@ int main(void)
     test_fisher();
     test_yesno_blind();
     test_dprime_ci();
+    test_dprime_sd_ci();
     test_fit_global();
     return CHECK_RESULT();
 }
