@@ -606,7 +606,13 @@ static int cmd_calibrate(dargs *a)
     else if (!a->quiet) print_calibration_text(&r);
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
-    if (!res.warmup_stable)
+    if (!res.warmup_stable && res.warmup_remaining_rel > 0 && isfinite(res.warmup_wait_s))
+        fprintf(stderr,
+                "csfcal: warning: the monitor was not warm after the warm-up check: white would still "
+                "move %.2f %% during an hour's session (the target is %.3f %%); it was expected to "
+                "settle in about %.0f s more; the profile may drift\n",
+                100 * res.warmup_remaining_rel, 100 * o.target_rel, res.warmup_wait_s);
+    else if (!res.warmup_stable)
         fprintf(stderr, "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
     if (!res.target_met) {
         double worst = 0;
@@ -628,6 +634,23 @@ static int load_profile(const char *path, csf_display_profile **p)
     csf_error_clear(&err);
     if (csf_profile_load(path, p, &err)) return csf_cli_report("display", &err);
     return 0;
+}
+
+/* Why verify did not call the monitor warm, and how long the settling model expects it to take. */
+static void print_not_warm(const csf_display_profile *p, const csf_display_verify_result *vr)
+{
+    printf("profile %s: the monitor is NOT WARM YET after %.0f s (%d readings): ", csf_profile_id(p),
+           vr->warmup_s, vr->n_warmup);
+    if (vr->warmup_remaining_rel > 0 && isfinite(vr->warmup_wait_s))
+        printf("white is %.2f %% from where it settles and would move %.2f %% during an hour's session; "
+               "expected wait about %.0f s more\n",
+               100 * vr->warmup_settled_gap_rel, 100 * vr->warmup_remaining_rel, vr->warmup_wait_s);
+    else if (vr->warmup_remaining_rel > 0)
+        printf("white keeps drifting without settling; check the monitor's power saving and dimming\n");
+    else
+        printf("white still changed by %.2f %% between the last readings; verify again when it has been on "
+               "longer\n",
+               100 * vr->warmup_change_rel);
 }
 
 static int cmd_verify(dargs *a)
@@ -697,6 +720,10 @@ static int cmd_verify(dargs *a)
         json_num(stdout, vr.warmup_s);
         printf(", \"warmup_change_rel\": ");
         json_num(stdout, vr.warmup_change_rel);
+        printf(", \"warmup_remaining_rel\": ");
+        json_num(stdout, vr.warmup_remaining_rel);
+        printf(", \"warmup_expected_wait_s\": ");
+        json_num(stdout, vr.warmup_wait_s);
         printf(", \"white_dev_rel\": ");
         json_num(stdout, vr.white_dev_rel);
         printf(", \"max_dev_rel\": ");
@@ -723,10 +750,7 @@ static int cmd_verify(dargs *a)
                                              : vr.within_stated   ? "true"
                                                                   : "false");
     } else {
-        if (!vr.warm)
-            printf("profile %s: the monitor is NOT WARM YET: white still changed by %.2f %% between the last "
-                   "readings after %.0f s (%d readings); verify again when it has been on longer\n",
-                   csf_profile_id(p), 100 * vr.warmup_change_rel, vr.warmup_s, vr.n_warmup);
+        if (!vr.warm) print_not_warm(p, &vr);
         printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%)",
                csf_profile_id(p), 100 * vr.white_dev_rel, 100 * vr.max_dev_rel, 100 * tol);
         if (a->channels)
