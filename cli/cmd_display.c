@@ -11,6 +11,7 @@
 #include "cli/cli.h"
 #include "cli/commands.h"
 #include "calib/display_calib.h"
+#include "calib/meter_check.h"
 #include "devices/photometer.h"
 #include "core/file_write.h"
 #include "results/colour_export.h"
@@ -399,6 +400,35 @@ static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render
     return 0;
 }
 
+/* The patch against the meter's measuring field at this station's viewing distance, before the
+ * first reading: refused (2) when the meter cannot fit inside it, a warning when it is far larger
+ * than needed. --no-render shows no patch of ours, so there is nothing to check. */
+static int check_patch_size(const dargs *a, csf_photometer *ph, const char *what)
+{
+    if (a->render < 0) return 0;
+    csf_geometry g;
+    csf_error e;
+    csf_error_clear(&e);
+    if (csf_geometry_init(&g, CSF_GEOMETRY_FROM_CONFIG(a->cli.cfg), &e)) {
+        fprintf(stderr, "csfcal: %s: %s\n", what, e.msg);
+        return 2;
+    }
+    double fdeg, fmm;
+    csf_photometer_field(ph, &fdeg, &fmm);
+    char why[600];
+    double patch_deg = a->patch_deg_set ? a->patch_deg : 10.0;
+    int r = csf_patch_for_meter(patch_deg, g.distance_mm, fmin(g.width_mm, g.height_mm), fdeg, fmm, why,
+                                sizeof why);
+    if (r == 2) {
+        fprintf(stderr, "csfcal: %s: photometer %s: %s\n", what, csf_photometer_driver_name(ph), why);
+        return 2;
+    }
+    if (r == 1)
+        fprintf(stderr, "csfcal: %s: warning: photometer %s: %s\n", what, csf_photometer_driver_name(ph),
+                why);
+    return 0;
+}
+
 /* A session the calibration took off the resumable list (damaged stored settings) gets no resume
  * hint. */
 static int session_aborted(csf_store *store, int64_t sid)
@@ -544,6 +574,11 @@ static int cmd_calibrate(dargs *a)
         return csf_cli_report("display calibrate", &err);
     }
     int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
+    if (check_patch_size(a, ph, "display calibrate")) {
+        csf_photometer_close(ph);
+        csf_store_close(store);
+        return 2;
+    }
     render_ctx rctx;
     int ro = render_open(a, ph, seed, &rctx, "display calibrate");
     if (ro == 2) {
@@ -678,6 +713,11 @@ static int cmd_verify(dargs *a)
     if (csf_photometer_open(spec, a->cli.seed, &ph, &err)) {
         csf_profile_free(p);
         return csf_cli_report("display verify", &err);
+    }
+    if (check_patch_size(a, ph, "display verify")) {
+        csf_photometer_close(ph);
+        csf_profile_free(p);
+        return 2;
     }
     render_ctx rctx;
     int ro = render_open(a, ph, a->cli.seed, &rctx, "display verify");
