@@ -2013,35 +2013,24 @@ static void verify_against_statement(const csf_display_profile *p, const csf_dis
     res->within_stated = res->max_dev_rel <= res->allowed_dev_rel;
 }
 
-csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
-                                  const csf_display_verify_opts *o, csf_display_verify_result *res,
-                                  csf_error *err)
+/* verify's warm-up: white until the judgement of calibrate (calib/warmup_model.h) calls the
+ * display warm or warmup_max readings are taken, against the profile's own target when it states
+ * one. The white readings go to w (256). */
+static csf_status verify_warmup(vctx *v, const csf_display_profile *p, double *w,
+                                csf_display_verify_result *res, csf_error *err)
 {
-    memset(res, 0, sizeof *res);
-    for (int c = 0; c < CSF_CH_COUNT; c++) res->dev_rel[c] = NAN;
-    res->warmup_change_rel = NAN;
-    if (o->n_levels < 1 || o->n_levels > 64)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", o->n_levels);
-    if (o->channels && !csf_profile_has_channels(p))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "profile %s has no r, g, b curves (it was calibrated "
-                             "with --no-channels): verify grey only, or calibrate again with channels",
-                             csf_profile_id(p));
-    vctx v = {ph, o, 0};
-    csf_photometer_reading r;
+    const csf_display_verify_opts *o = v->o;
     const double white_rgb[3] = {1, 1, 1};
-    /* warm-up: the same readings and the same test as calibrate; a display still warming up
-     * would be reported as drifted (or, worse, as fine) for a reason that goes away by itself */
-    double w[256], tw[256];
+    double tw[256], t0 = NAN;
     int maxn = o->warmup_max < 6 ? 6 : (o->warmup_max > 256 ? 256 : o->warmup_max);
-    double t0 = NAN;
-    /* the accuracy asked for is the profile's own target when it states one */
     double stated[CSF_CH_COUNT], target = NAN;
     if (!(csf_profile_statement(p, &target, stated) >= 0 && target > 0)) target = o->target_rel;
     csf_warm_judgement j;
     memset(&j, 0, sizeof j);
     while (res->n_warmup < maxn) {
-        if (res->n_warmup > 0) csf_photometer_wait(ph, o->warmup_wait_s);
-        csf_status st = verify_read(&v, white_rgb, &r, err);
+        if (res->n_warmup > 0) csf_photometer_wait(v->ph, o->warmup_wait_s);
+        csf_photometer_reading r;
+        csf_status st = verify_read(v, white_rgb, &r, err);
         if (st) return st;
         if (isnan(t0)) t0 = r.t_s - r.integration_s;
         tw[res->n_warmup] = r.t_s;
@@ -2054,6 +2043,30 @@ csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile 
     res->warmup_remaining_rel = j.remaining_rel;
     res->warmup_settled_gap_rel = j.settled_gap_rel;
     res->warmup_wait_s = j.wait_s;
+    return CSF_OK;
+}
+
+csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
+                                  const csf_display_verify_opts *o, csf_display_verify_result *res,
+                                  csf_error *err)
+{
+    memset(res, 0, sizeof *res);
+    for (int c = 0; c < CSF_CH_COUNT; c++) res->dev_rel[c] = NAN;
+    res->warmup_change_rel = NAN;
+    if (o->n_levels < 1 || o->n_levels > 64)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", o->n_levels);
+    if (o->channels && !csf_profile_has_channels(p))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "profile %s has no r, g, b curves (it was calibrated "
+                             "with --no-channels): verify grey only, or calibrate again with channels",
+                             csf_profile_id(p));
+    vctx v = {ph, o, 0};
+    csf_photometer_reading r;
+    /* warm-up: the same readings and the same judgement as calibrate; a display still warming up
+     * would be reported as drifted (or, worse, as fine) for a reason that goes away by itself */
+    double w[256];
+    csf_status wst = verify_warmup(&v, p, w, res, err);
+    if (wst) return wst;
     /* white: the mean of the last three warm-up readings (the settled level) */
     int n = res->n_warmup, k = n < 3 ? n : 3;
     double wm = 0;

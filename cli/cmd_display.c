@@ -10,6 +10,7 @@
 
 #include "cli/cli.h"
 #include "cli/commands.h"
+#include "cli/display_placement.h"
 #include "calib/display_calib.h"
 #include "calib/meter_check.h"
 #include "devices/photometer.h"
@@ -44,7 +45,9 @@ static const char display_help[] =
     "                  integrates, through the simulated display (the default; --no-render tells\n"
     "                  the simulator the drive values directly, without drawing)\n"
     "  --patch-deg D   side of the square patch at the screen centre (default 10 deg; 0 = full\n"
-    "                  field); --background DRIVE: grey drive around it (default 0)\n"
+    "                  field); --background DRIVE: grey drive around it (default 0); at least\n"
+    "                  2 x a spot meter's field or a contact meter's face + 10 mm. A real meter\n"
+    "                  is first placed on a target mark (Space goes on, Escape leaves)\n"
     "  --render-width N  offscreen render width for the simulator (default 128 px; height by\n"
     "                  the screen's aspect)\n"
     "verify     waits for the monitor to warm up (the same check as calibrate), re-measures\n"
@@ -199,6 +202,13 @@ static void json_num(FILE *f, double v)
 {
     if (isfinite(v)) fprintf(f, "%.10g", v);
     else fputs("null", f);
+}
+
+/* A key (with its separator) and a number. */
+static void json_field(const char *key, double v)
+{
+    fputs(key, stdout);
+    json_num(stdout, v);
 }
 
 /* The photometer to use. There is no default instrument: without one the command is refused,
@@ -429,6 +439,34 @@ static int check_patch_size(const dargs *a, csf_photometer *ph, const char *what
     return 0;
 }
 
+/* A real meter is put on the patch before its first reading (the placement screen); the
+ * simulator needs no placing. 0: go on; otherwise the exit status (1: left with Escape, nothing
+ * measured or stored; 1 also after a fault, which was printed). */
+static int place_meter(render_ctx *r, const char *what)
+{
+    if (r->simulated) return 0;
+    int pr = csf_display_placement(r->pres, &r->patch, r->ph, what);
+    if (pr == 1)
+        fprintf(stderr, "csfcal: %s: left the placement screen with Escape: nothing was measured or stored\n",
+                what);
+    return pr == 0 ? 0 : 1;
+}
+
+/* Everything between opening the photometer and its first reading: the patch against the
+ * meter's field, the presenter (*ro as render_open returns it), the placement screen. 0 to go on
+ * (the presenter open when *ro is 0), else the exit status, with nothing left open but ph. */
+static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, int *ro,
+                           const char *what)
+{
+    *ro = 1;
+    if (check_patch_size(a, ph, what)) return 2;
+    *ro = render_open(a, ph, seed, r, what);
+    if (*ro == 2) return 1;
+    int placed = *ro == 0 ? place_meter(r, what) : 0;
+    if (placed) render_close(r);
+    return placed;
+}
+
 /* A session the calibration took off the resumable list (damaged stored settings) gets no resume
  * hint. */
 static int session_aborted(csf_store *store, int64_t sid)
@@ -543,6 +581,21 @@ static void calibration_options(const dargs *a, csf_display_calib_opts *o)
     o->progress = !a->quiet && isatty(2);
 }
 
+/* A calibration that ran on a monitor the warm-up check never called warm: how much drift the
+ * settling model still expects, and how long it expected the monitor to take. */
+static void warn_not_warm(const csf_display_calib_result *res, double target_rel)
+{
+    if (res->warmup_remaining_rel > 0 && isfinite(res->warmup_wait_s))
+        fprintf(stderr,
+                "csfcal: warning: the monitor was not warm after the warm-up check: white would still "
+                "move %.2f %% during an hour's session (the target is %.3f %%); it was expected to "
+                "settle in about %.0f s more; the profile may drift\n",
+                100 * res->warmup_remaining_rel, 100 * target_rel, res->warmup_wait_s);
+    else
+        fprintf(stderr,
+                "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+}
+
 static int cmd_calibrate(dargs *a)
 {
     if (!a->out) {
@@ -574,17 +627,12 @@ static int cmd_calibrate(dargs *a)
         return csf_cli_report("display calibrate", &err);
     }
     int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
-    if (check_patch_size(a, ph, "display calibrate")) {
-        csf_photometer_close(ph);
-        csf_store_close(store);
-        return 2;
-    }
     render_ctx rctx;
-    int ro = render_open(a, ph, seed, &rctx, "display calibrate");
-    if (ro == 2) {
+    int ro, rc_early = prepare_patches(a, ph, seed, &rctx, &ro, "display calibrate");
+    if (rc_early) {
         csf_photometer_close(ph);
         csf_store_close(store);
-        return 1;
+        return rc_early;
     }
     if (ro == 0) {
         o.show_patch = render_show_patch;
@@ -641,14 +689,7 @@ static int cmd_calibrate(dargs *a)
     else if (!a->quiet) print_calibration_text(&r);
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
-    if (!res.warmup_stable && res.warmup_remaining_rel > 0 && isfinite(res.warmup_wait_s))
-        fprintf(stderr,
-                "csfcal: warning: the monitor was not warm after the warm-up check: white would still "
-                "move %.2f %% during an hour's session (the target is %.3f %%); it was expected to "
-                "settle in about %.0f s more; the profile may drift\n",
-                100 * res.warmup_remaining_rel, 100 * o.target_rel, res.warmup_wait_s);
-    else if (!res.warmup_stable)
-        fprintf(stderr, "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+    if (!res.warmup_stable) warn_not_warm(&res, o.target_rel);
     if (!res.target_met) {
         double worst = 0;
         for (int c = 0; c < CSF_CH_COUNT; c++)
@@ -714,17 +755,12 @@ static int cmd_verify(dargs *a)
         csf_profile_free(p);
         return csf_cli_report("display verify", &err);
     }
-    if (check_patch_size(a, ph, "display verify")) {
-        csf_photometer_close(ph);
-        csf_profile_free(p);
-        return 2;
-    }
     render_ctx rctx;
-    int ro = render_open(a, ph, a->cli.seed, &rctx, "display verify");
-    if (ro == 2) {
+    int ro, rc_early = prepare_patches(a, ph, a->cli.seed, &rctx, &ro, "display verify");
+    if (rc_early) {
         csf_photometer_close(ph);
         csf_profile_free(p);
-        return 1;
+        return rc_early;
     }
     double tol = a->tol > 0 ? a->tol : 0.02;
     csf_display_verify_opts vo;
@@ -760,10 +796,8 @@ static int cmd_verify(dargs *a)
         json_num(stdout, vr.warmup_s);
         printf(", \"warmup_change_rel\": ");
         json_num(stdout, vr.warmup_change_rel);
-        printf(", \"warmup_remaining_rel\": ");
-        json_num(stdout, vr.warmup_remaining_rel);
-        printf(", \"warmup_expected_wait_s\": ");
-        json_num(stdout, vr.warmup_wait_s);
+        json_field(", \"warmup_remaining_rel\": ", vr.warmup_remaining_rel);
+        json_field(", \"warmup_expected_wait_s\": ", vr.warmup_wait_s);
         printf(", \"white_dev_rel\": ");
         json_num(stdout, vr.white_dev_rel);
         printf(", \"max_dev_rel\": ");

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "calib/meter_check.h"
+#include "cli/display_placement.h"
 #include "devices/photometer_driver.h"
 #include "calib_truth.h"
 #include "tests/check.h"
@@ -122,10 +123,27 @@ static void patch_checks(void)
           CSF_E_INVALID_ARG);
 }
 
+/* The placement screen's "stable": four readings within 1 % of their mean. */
+static void placement_checks(void)
+{
+    double spread;
+    const double still[] = {90, 180.2, 180.5, 180.1, 180.4};
+    CHECK_INT_EQ(csf_placement_stable(still, 3, &spread), 0);
+    CHECK(isnan(spread));
+    CHECK_INT_EQ(csf_placement_stable(still, 4, &spread), 0); /* 90: the meter was still moving */
+    CHECK_INT_EQ(csf_placement_stable(still, 5, &spread), 1);
+    CHECK_NEAR(spread, 0.4 / 180.3, 1e-9);
+    const double sliding[] = {180, 181, 182.5, 183};
+    CHECK_INT_EQ(csf_placement_stable(sliding, 4, &spread), 0);
+    const double dark[] = {0, 0, 0, 0};
+    CHECK_INT_EQ(csf_placement_stable(dark, 4, &spread), 0);
+}
+
 int main(void)
 {
     unit_checks();
     patch_checks();
+    placement_checks();
     csf_error err;
     csf_error_clear(&err);
     csf_display_calib_result ref_res;
