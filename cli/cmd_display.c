@@ -47,7 +47,8 @@ static const char display_help[] =
     "  --patch-deg D   side of the square patch at the screen centre (default 10 deg; 0 = full\n"
     "                  field); --background DRIVE: grey drive around it (default 0); at least\n"
     "                  2 x a spot meter's field or a contact meter's face + 10 mm. A real meter\n"
-    "                  is first placed on a target mark (Space goes on, Escape leaves)\n"
+    "                  is first placed on a target mark (Space goes on, Escape leaves;\n"
+    "                  --no-placement: it is mounted on the patch already, no screen)\n"
     "  --render-width N  offscreen render width for the simulator (default 128 px; height by\n"
     "                  the screen's aspect)\n"
     "verify     waits for the monitor to warm up (the same check as calibrate), re-measures\n"
@@ -69,9 +70,27 @@ static const char display_help[] =
     "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2);\n"
     "  see docs/instruments.md\n\n";
 
-enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
-       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER,
-       OPT_CHANNELS, OPT_WARMWAIT };
+enum {
+    OPT_OUT = CSF_OPT_FIRST_FREE,
+    OPT_TARGET,
+    OPT_BUDGET,
+    OPT_NOCH,
+    OPT_NAME,
+    OPT_QUIET,
+    OPT_LEVELS,
+    OPT_TOL,
+    OPT_FORMAT,
+    OPT_HELP,
+    OPT_RENDER,
+    OPT_NORENDER,
+    OPT_PATCHDEG,
+    OPT_BG,
+    OPT_RWIDTH,
+    OPT_ICCVER,
+    OPT_CHANNELS,
+    OPT_WARMWAIT,
+    OPT_NOPLACE
+};
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -93,6 +112,7 @@ static const struct option display_options[] = {
     {"icc-version", required_argument, 0, OPT_ICCVER},
     {"channels", no_argument, 0, OPT_CHANNELS},
     {"warmup-wait", required_argument, 0, OPT_WARMWAIT},
+    {"no-placement", no_argument, 0, OPT_NOPLACE},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -111,6 +131,7 @@ typedef struct {
     long render_width;
     long icc_version; /* 0: the default */
     double warmup_wait_s; /* --warmup-wait; < 0: the default */
+    int no_placement;     /* --no-placement: the meter is mounted on the patch already */
 } dargs;
 
 static int parse(int argc, char **argv, dargs *a)
@@ -121,7 +142,7 @@ static int parse(int argc, char **argv, dargs *a)
     while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
         int bad = 0;
         if (c == 'o') a->given |= 1ul;
-        else if (c >= OPT_OUT && c <= OPT_WARMWAIT && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
+        else if (c >= OPT_OUT && c <= OPT_NOPLACE && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
         switch (c) {
         case 'o': a->out = optarg; break;
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
@@ -148,6 +169,7 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_FORMAT: a->format = optarg; break;
         case OPT_RENDER: a->render = 1; break;
         case OPT_NORENDER: a->render = -1; break;
+        case OPT_NOPLACE: a->no_placement = 1; break;
         case OPT_PATCHDEG: bad = csf_parse_double(optarg, "patch-deg", 0, 90, &a->patch_deg); a->patch_deg_set = 1; break;
         case OPT_BG: bad = csf_parse_double(optarg, "background", 0, 1, &a->background); break;
         case OPT_RWIDTH: bad = csf_parse_int(optarg, "render-width", 16, 4096, &a->render_width); break;
@@ -442,9 +464,9 @@ static int check_patch_size(const dargs *a, csf_photometer *ph, const char *what
 /* A real meter is put on the patch before its first reading (the placement screen); the
  * simulator needs no placing. 0: go on; otherwise the exit status (1: left with Escape, nothing
  * measured or stored; 1 also after a fault, which was printed). */
-static int place_meter(render_ctx *r, const char *what)
+static int place_meter(const dargs *a, render_ctx *r, const char *what)
 {
-    if (r->simulated) return 0;
+    if (r->simulated || a->no_placement) return 0;
     int pr = csf_display_placement(r->pres, &r->patch, r->ph, what);
     if (pr == 1)
         fprintf(stderr, "csfcal: %s: left the placement screen with Escape: nothing was measured or stored\n",
@@ -462,7 +484,7 @@ static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, re
     if (check_patch_size(a, ph, what)) return 2;
     *ro = render_open(a, ph, seed, r, what);
     if (*ro == 2) return 1;
-    int placed = *ro == 0 ? place_meter(r, what) : 0;
+    int placed = *ro == 0 ? place_meter(a, r, what) : 0;
     if (placed) render_close(r);
     return placed;
 }
@@ -953,13 +975,15 @@ static int cmd_info(dargs *a)
  * silently ignored: refuse it, naming it. */
 static int refuse_foreign_options(const char *sub, const dargs *a)
 {
-    static const struct { const char *sub; unsigned long ok; } allowed[] = {
-        {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) | OPTBIT(OPT_NAME) |
-                      OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) |
-                      OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT)},
+    static const struct { const char *sub; unsigned long ok;
+    } allowed[] = {
+        {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) |
+                          OPTBIT(OPT_NAME) | OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) |
+                          OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT) |
+                          OPTBIT(OPT_NOPLACE)},
         {"verify", OPTBIT(OPT_LEVELS) | OPTBIT(OPT_TOL) | OPTBIT(OPT_CHANNELS) | OPTBIT(OPT_RENDER) |
-                   OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
-                   OPTBIT(OPT_WARMWAIT)},
+                       OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
+                       OPTBIT(OPT_WARMWAIT) | OPTBIT(OPT_NOPLACE)},
         {"export", OPTBIT(OPT_OUT) | OPTBIT(OPT_FORMAT) | OPTBIT(OPT_ICCVER)},
         {"info", 0},
     };

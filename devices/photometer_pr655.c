@@ -176,11 +176,11 @@ static csf_status parse_aperture(const char *v, double *deg)
     return CSF_E_INVALID_ARG;
 }
 
-/* Options after the port: timeout_s=S and, on the PR-670, aperture=1|1/2|1/4|1/8. */
-static csf_status pr_options(pr_state *s, const char *spec_name, const char *opts, csf_error *err)
+csf_status csf_pr_parse_options(const char *spec_name, const char *opts, double *timeout_s,
+                                double *aperture_deg, csf_error *err)
 {
     int has_wheel = strcmp(spec_name, "pr670") == 0;
-    if (!*opts) return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", s->name);
+    if (!*opts) return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", spec_name);
     while (*opts) {
         const char *comma = strchr(opts, ',');
         size_t len = comma ? (size_t)(comma - opts) : strlen(opts);
@@ -195,9 +195,9 @@ static csf_status pr_options(pr_state *s, const char *spec_name, const char *opt
             errno = 0;
             double x = strtod(item + 10, &end);
             ok = end && !*end && !errno && x >= 0.1 && x <= 600;
-            if (ok) s->timeout_s = x;
+            if (ok) *timeout_s = x;
         } else if (ok && has_wheel && strncmp(item, "aperture=", 9) == 0) {
-            ok = parse_aperture(item + 9, &s->aperture_deg) == CSF_OK;
+            ok = parse_aperture(item + 9, aperture_deg) == CSF_OK;
         } else {
             ok = 0;
         }
@@ -205,11 +205,11 @@ static csf_status pr_options(pr_state *s, const char *spec_name, const char *opt
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "%s: option '%.*s' not understood (known: timeout_s=S, "
                                  "0.1 to 600 s%s)",
-                                 s->name, (int)(len > 60 ? 60 : len), opts,
+                                 spec_name, (int)(len > 60 ? 60 : len), opts,
                                  has_wheel ? "; aperture=1|1/2|1/4|1/8 deg" : "");
         opts += len + (comma ? 1 : 0);
         if (comma && !*opts)
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", s->name);
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", spec_name);
     }
     return CSF_OK;
 }
@@ -241,7 +241,8 @@ static csf_status pr_open_model(const char *name, const char *spec_name, const c
     s->path[plen] = 0;
     snprintf(s->who, sizeof s->who, "Photo Research %s on %s", name, s->path);
     s->aperture_deg = 1.0;
-    csf_status st = comma ? pr_options(s, spec_name, comma + 1, err) : CSF_OK;
+    csf_status st =
+        comma ? csf_pr_parse_options(spec_name, comma + 1, &s->timeout_s, &s->aperture_deg, err) : CSF_OK;
     if (st) {
         free(s);
         return st;
