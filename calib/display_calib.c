@@ -18,6 +18,7 @@
  * fit). */
 #include "calib/display_calib.h"
 #include "calib/meter_check.h"
+#include "calib/warmup_model.h"
 #include "core/json_read.h"
 
 #include <math.h>
@@ -76,6 +77,7 @@ typedef struct {
     double drift_A, drift_B, drift_tau, drift_tref;
     double drift_rms; /* relative rms of the white readings about the drift curve: the
                          instrument's noise with more degrees of freedom than one reference */
+    csf_warm_judgement warm; /* the warm-up judgement after the latest warm-up reading */
 } ctx;
 
 static const char *ch_name_store(int role, int ch)
@@ -114,7 +116,17 @@ static void progress(ctx *c)
     int total = c->o->budget > 0 ? c->o->budget : 1;
     int done = c->n_sweep > total ? total : c->n_sweep;
     if (c->n && c->r[c->n - 1].role == ROLE_WARMUP) {
-        fprintf(stderr, "\rwarming up: white reading %d (%.0f s)                       ", c->n_warmup, c->t_last);
+        if (c->warm.model_significant && !isfinite(c->warm.wait_s))
+            fprintf(stderr, "\rwarming up: white reading %d (%.0f s): white still drifting, not settling   ",
+                    c->n_warmup, c->t_last);
+        else if (c->warm.model_significant && c->warm.wait_s > 0)
+            fprintf(stderr,
+                    "\rwarming up: white reading %d (%.0f s): %.2f %% of drift left over the session, "
+                    "about %.0f s more   ",
+                    c->n_warmup, c->t_last, 100 * c->warm.remaining_rel, c->warm.wait_s);
+        else
+            fprintf(stderr, "\rwarming up: white reading %d (%.0f s)                       ", c->n_warmup,
+                    c->t_last);
         c->progress_shown = 1;
         return;
     }
@@ -1447,9 +1459,11 @@ int csf_display_warm_settled(const double *w, int n, double target_rel, double *
     return change < tol;
 }
 
+/* White until the display is warm by the settling model (calib/warmup_model.h): the step test
+ * and, where the readings show a drift, less than the target of it left over the session. */
 static csf_status warmup(ctx *c, csf_display_calib_result *res, csf_error *err)
 {
-    double w[256];
+    double w[256], t[256];
     int n = 0;
     res->warmup_stable = 0;
     int maxn = c->o->warmup_max < 6 ? 6 : (c->o->warmup_max > 256 ? 256 : c->o->warmup_max);
@@ -1458,12 +1472,17 @@ static csf_status warmup(ctx *c, csf_display_calib_result *res, csf_error *err)
         rd x;
         csf_status st = take(c, ROLE_WARMUP, CSF_CH_GREY, 1.0, 0, &x, err);
         if (st) return st;
+        t[n] = x.t_s;
         w[n++] = x.lum;
-        if (csf_display_warm_settled(w, n, c->o->target_rel, NULL)) {
+        int warm = csf_display_warm_judge(t, w, n, c->o->target_rel, CSF_WARM_SESSION_S, &c->warm);
+        progress(c);
+        if (warm) {
             res->warmup_stable = 1;
             break;
         }
     }
+    res->warmup_remaining_rel = c->warm.remaining_rel;
+    res->warmup_wait_s = c->warm.wait_s;
     c->noise_rel = n >= 3 ? sd3(&w[n - 3], 3) / w[n - 1] : 0.001;
     return CSF_OK;
 }
@@ -1994,6 +2013,39 @@ static void verify_against_statement(const csf_display_profile *p, const csf_dis
     res->within_stated = res->max_dev_rel <= res->allowed_dev_rel;
 }
 
+/* verify's warm-up: white until the judgement of calibrate (calib/warmup_model.h) calls the
+ * display warm or warmup_max readings are taken, against the profile's own target when it states
+ * one. The white readings go to w (256). */
+static csf_status verify_warmup(vctx *v, const csf_display_profile *p, double *w,
+                                csf_display_verify_result *res, csf_error *err)
+{
+    const csf_display_verify_opts *o = v->o;
+    const double white_rgb[3] = {1, 1, 1};
+    double tw[256], t0 = NAN;
+    int maxn = o->warmup_max < 6 ? 6 : (o->warmup_max > 256 ? 256 : o->warmup_max);
+    double stated[CSF_CH_COUNT], target = NAN;
+    if (!(csf_profile_statement(p, &target, stated) >= 0 && target > 0)) target = o->target_rel;
+    csf_warm_judgement j;
+    memset(&j, 0, sizeof j);
+    while (res->n_warmup < maxn) {
+        if (res->n_warmup > 0) csf_photometer_wait(v->ph, o->warmup_wait_s);
+        csf_photometer_reading r;
+        csf_status st = verify_read(v, white_rgb, &r, err);
+        if (st) return st;
+        if (isnan(t0)) t0 = r.t_s - r.integration_s;
+        tw[res->n_warmup] = r.t_s;
+        w[res->n_warmup++] = r.lum_cdm2;
+        res->warmup_s = r.t_s - t0;
+        res->warm = csf_display_warm_judge(tw, w, res->n_warmup, target, CSF_WARM_SESSION_S, &j);
+        res->warmup_change_rel = j.change_rel;
+        if (res->warm) break;
+    }
+    res->warmup_remaining_rel = j.remaining_rel;
+    res->warmup_settled_gap_rel = j.settled_gap_rel;
+    res->warmup_wait_s = j.wait_s;
+    return CSF_OK;
+}
+
 csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile *p,
                                   const csf_display_verify_opts *o, csf_display_verify_result *res,
                                   csf_error *err)
@@ -2004,29 +2056,17 @@ csf_status csf_display_verify_run(csf_photometer *ph, const csf_display_profile 
     if (o->n_levels < 1 || o->n_levels > 64)
         return csf_error_set(err, CSF_E_INVALID_ARG, "verify levels %d out of range (1 to 64)", o->n_levels);
     if (o->channels && !csf_profile_has_channels(p))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "profile %s has no r, g, b curves (it was calibrated "
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "profile %s has no r, g, b curves (it was calibrated "
                              "with --no-channels): verify grey only, or calibrate again with channels",
                              csf_profile_id(p));
     vctx v = {ph, o, 0};
     csf_photometer_reading r;
-    const double white_rgb[3] = {1, 1, 1};
-    /* warm-up: the same readings and the same test as calibrate; a display still warming up
+    /* warm-up: the same readings and the same judgement as calibrate; a display still warming up
      * would be reported as drifted (or, worse, as fine) for a reason that goes away by itself */
     double w[256];
-    int maxn = o->warmup_max < 6 ? 6 : (o->warmup_max > 256 ? 256 : o->warmup_max);
-    double t0 = NAN;
-    while (res->n_warmup < maxn) {
-        if (res->n_warmup > 0) csf_photometer_wait(ph, o->warmup_wait_s);
-        csf_status st = verify_read(&v, white_rgb, &r, err);
-        if (st) return st;
-        if (isnan(t0)) t0 = r.t_s - r.integration_s;
-        w[res->n_warmup++] = r.lum_cdm2;
-        res->warmup_s = r.t_s - t0;
-        if (csf_display_warm_settled(w, res->n_warmup, o->target_rel, &res->warmup_change_rel)) {
-            res->warm = 1;
-            break;
-        }
-    }
+    csf_status wst = verify_warmup(&v, p, w, res, err);
+    if (wst) return wst;
     /* white: the mean of the last three warm-up readings (the settled level) */
     int n = res->n_warmup, k = n < 3 ? n : 3;
     double wm = 0;

@@ -47,7 +47,14 @@ typedef struct {
     int n_readings;        /* every reading taken or replayed (warm-up, dark, references, sweeps) */
     int n_sweep;           /* grey and channel sweep readings (the figure the target is stated for) */
     int n_warmup;
-    int warmup_stable;     /* 1: white settled within the tolerance; 0: gave up after warmup_max */
+    /* 1: the display was judged warm (calib/warmup_model.h); 0: gave up after warmup_max */
+    int warmup_stable;
+    /* the settling model's predicted white change over an hour's session after the warm-up (0: no
+     * drift seen) */
+    double warmup_remaining_rel;
+    /* the model's expected further wait when the warm-up gave up (0 when warm; INFINITY: the
+     * model puts white at or below zero) */
+    double warmup_wait_s;
     double noise_rel;      /* instrument noise estimated from white references */
     double drift_rel;      /* white change from first to last reference */
     double est_error_rel[CSF_CH_COUNT]; /* stated max relative error above 10 % of each curve's
@@ -76,8 +83,8 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
                                  csf_display_profile **out, csf_display_calib_result *res,
                                  csf_error *err);
 
-/* The warm-up test both calibrate and verify use: white read every warmup_wait_s until the mean
- * of the last three readings differs from the three before by less than
+/* The step test of the warm-up judgement (calib/warmup_model.h, which calibrate and verify use):
+ * the mean of the last three white readings differs from the three before by less than
  * max(target_rel / 4, 2.5 sd of the last three x sqrt(2/3)). Returns 1 when w[0..n-1] passes;
  * *change_rel (may be NULL) gets that relative change (NAN under 6 readings). */
 int csf_display_warm_settled(const double *white_cdm2, int n, double target_rel, double *change_rel);
@@ -96,7 +103,12 @@ typedef struct {
 void csf_display_verify_defaults(csf_display_verify_opts *o);
 
 typedef struct {
-    int warm;              /* 1: white settled during the warm-up check (same test as calibrate) */
+    /* 1: judged warm during the warm-up check (the judgement of calibrate, against the profile's
+     * stated target when it has one) */
+    int warm;
+    double warmup_remaining_rel;   /* the model's predicted white change over an hour's session */
+    double warmup_settled_gap_rel; /* how far white still is from where the model settles */
+    double warmup_wait_s;          /* the model's expected further wait (0 when warm) */
     int n_warmup;          /* warm-up readings taken */
     double warmup_s;       /* instrument time the warm-up check took */
     double warmup_change_rel; /* last relative change between 3-reading means of white */

@@ -103,3 +103,55 @@ int csf_meter_above_white(double lum_cdm2, double white_cdm2, double noise_abs_c
              "moved onto something brighter, or the instrument changed its range", lum_cdm2, white_cdm2);
     return 1;
 }
+
+/* Margins. A spot meter is aimed through its viewfinder, whose measuring circle lands on the patch
+ * to within about its own radius, and its field has no sharp edge (light from just outside the
+ * nominal circle still reaches the sensor); a patch twice the field keeps a field's radius of the
+ * patch round the circle on every side. A contact meter is put on the target mark by hand, good to
+ * about 5 mm either way: 10 mm more than its face. A patch much larger than needed buys nothing:
+ * the reading is still the light under the meter, and a large bright area lets an LCD's
+ * non-uniformity and its dimming under load (and an OLED's automatic brightness limit) decide what
+ * that light is. */
+int csf_patch_for_meter(double patch_deg, double distance_mm, double screen_min_mm, double field_deg,
+                        double field_mm, char *why, size_t len)
+{
+    const double deg = M_PI / 180;
+    if (why && len) why[0] = 0;
+    if (!(distance_mm > 0) || (!(field_deg > 0) && !(field_mm > 0))) return 0;
+    double patch_mm = patch_deg > 0 ? 2 * distance_mm * tan(0.5 * patch_deg * deg) : screen_min_mm;
+    double shown_deg = patch_deg > 0 ? patch_deg : 2 * atan(0.5 * screen_min_mm / distance_mm) / deg;
+    double need_mm, need_deg;
+    char meter[160];
+    if (field_deg > 0) {
+        need_deg = CSF_SPOT_MARGIN * field_deg;
+        need_mm = 2 * distance_mm * tan(0.5 * need_deg * deg);
+        snprintf(meter, sizeof meter,
+                 "a %.3g deg field (a spot meter at the eye's %.0f mm; %.3g x the field "
+                 "for aiming)",
+                 field_deg, distance_mm, CSF_SPOT_MARGIN);
+    } else {
+        need_mm = field_mm + CSF_CONTACT_MARGIN_MM;
+        need_deg = 2 * atan(0.5 * need_mm / distance_mm) / deg;
+        snprintf(meter, sizeof meter, "a %.3g mm face (a contact meter; %.0f mm more for placing it by hand)",
+                 field_mm, CSF_CONTACT_MARGIN_MM);
+    }
+    if (patch_mm < need_mm * (1 - 1e-9)) {
+        if (why)
+            snprintf(why, len,
+                     "the %.3g deg patch (%.1f mm at %.0f mm) is too small for the meter: it has %s, "
+                     "so the patch must be at least %.3g deg (%.1f mm); give --patch-deg %.3g or more",
+                     shown_deg, patch_mm, distance_mm, meter, need_deg, need_mm, ceil(need_deg * 10) / 10);
+        return 2;
+    }
+    if (patch_mm > CSF_PATCH_LARGE_FACTOR * need_mm) {
+        if (why)
+            snprintf(why, len,
+                     "the %.3g deg patch (%.1f mm) is %.0f x what the meter needs (%.3g deg, %.1f mm, "
+                     "for %s); a large bright patch lets the panel's non-uniformity and dimming under load "
+                     "change the reading; about %.3g deg is enough",
+                     shown_deg, patch_mm, patch_mm / need_mm, need_deg, need_mm, meter,
+                     ceil(need_deg * 2 * 10) / 10);
+        return 1;
+    }
+    return 0;
+}

@@ -54,4 +54,17 @@ int csf_meter_white_step(double prev_cdm2, double now_cdm2, double model_ratio, 
  * absolute noise): the sensor moved onto something brighter, or the instrument's range is wrong. */
 int csf_meter_above_white(double lum_cdm2, double white_cdm2, double noise_abs_cdm2, char *why, size_t len);
 
+/* Does the measuring patch suit the meter's field (csf_photometer_field)? The patch is a square of
+ * side patch_deg seen from distance_mm (0: the full field, screen_min_mm across). A spot meter
+ * (field_deg > 0) is taken to stand where the eye is, so its field covers field_deg of the patch
+ * too; it needs CSF_SPOT_MARGIN x field_deg. A contact meter (field_mm > 0) needs field_mm +
+ * CSF_CONTACT_MARGIN_MM. Returns 2 when the patch is too small (why: the patch in deg and mm, the
+ * meter's need and the limit), 1 when it is more than CSF_PATCH_LARGE_FACTOR x the need (why: a
+ * warning), 0 otherwise. */
+#define CSF_SPOT_MARGIN 2.0
+#define CSF_CONTACT_MARGIN_MM 10.0
+#define CSF_PATCH_LARGE_FACTOR 8.0
+int csf_patch_for_meter(double patch_deg, double distance_mm, double screen_min_mm, double field_deg,
+                        double field_mm, char *why, size_t len);
+
 #endif

@@ -10,7 +10,9 @@
 
 #include "cli/cli.h"
 #include "cli/commands.h"
+#include "cli/display_placement.h"
 #include "calib/display_calib.h"
+#include "calib/meter_check.h"
 #include "devices/photometer.h"
 #include "core/file_write.h"
 #include "results/colour_export.h"
@@ -43,7 +45,10 @@ static const char display_help[] =
     "                  integrates, through the simulated display (the default; --no-render tells\n"
     "                  the simulator the drive values directly, without drawing)\n"
     "  --patch-deg D   side of the square patch at the screen centre (default 10 deg; 0 = full\n"
-    "                  field); --background DRIVE: grey drive around it (default 0)\n"
+    "                  field); --background DRIVE: grey drive around it (default 0); at least\n"
+    "                  2 x a spot meter's field or a contact meter's face + 10 mm. A real meter\n"
+    "                  is first placed on a target mark (Space goes on, Escape leaves;\n"
+    "                  --no-placement: it is mounted on the patch already, no screen)\n"
     "  --render-width N  offscreen render width for the simulator (default 128 px; height by\n"
     "                  the screen's aspect)\n"
     "verify     waits for the monitor to warm up (the same check as calibrate), re-measures\n"
@@ -65,9 +70,27 @@ static const char display_help[] =
     "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2);\n"
     "  see docs/instruments.md\n\n";
 
-enum { OPT_OUT = CSF_OPT_FIRST_FREE, OPT_TARGET, OPT_BUDGET, OPT_NOCH, OPT_NAME, OPT_QUIET, OPT_LEVELS,
-       OPT_TOL, OPT_FORMAT, OPT_HELP, OPT_RENDER, OPT_NORENDER, OPT_PATCHDEG, OPT_BG, OPT_RWIDTH, OPT_ICCVER,
-       OPT_CHANNELS, OPT_WARMWAIT };
+enum {
+    OPT_OUT = CSF_OPT_FIRST_FREE,
+    OPT_TARGET,
+    OPT_BUDGET,
+    OPT_NOCH,
+    OPT_NAME,
+    OPT_QUIET,
+    OPT_LEVELS,
+    OPT_TOL,
+    OPT_FORMAT,
+    OPT_HELP,
+    OPT_RENDER,
+    OPT_NORENDER,
+    OPT_PATCHDEG,
+    OPT_BG,
+    OPT_RWIDTH,
+    OPT_ICCVER,
+    OPT_CHANNELS,
+    OPT_WARMWAIT,
+    OPT_NOPLACE
+};
 
 static const struct option display_options[] = {
     {"out", required_argument, 0, 'o'},
@@ -89,6 +112,7 @@ static const struct option display_options[] = {
     {"icc-version", required_argument, 0, OPT_ICCVER},
     {"channels", no_argument, 0, OPT_CHANNELS},
     {"warmup-wait", required_argument, 0, OPT_WARMWAIT},
+    {"no-placement", no_argument, 0, OPT_NOPLACE},
     CSF_CLI_COMMON_OPTIONS,
     {0, 0, 0, 0},
 };
@@ -107,6 +131,7 @@ typedef struct {
     long render_width;
     long icc_version; /* 0: the default */
     double warmup_wait_s; /* --warmup-wait; < 0: the default */
+    int no_placement;     /* --no-placement: the meter is mounted on the patch already */
 } dargs;
 
 static int parse(int argc, char **argv, dargs *a)
@@ -117,7 +142,7 @@ static int parse(int argc, char **argv, dargs *a)
     while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
         int bad = 0;
         if (c == 'o') a->given |= 1ul;
-        else if (c >= OPT_OUT && c <= OPT_WARMWAIT && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
+        else if (c >= OPT_OUT && c <= OPT_NOPLACE && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
         switch (c) {
         case 'o': a->out = optarg; break;
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
@@ -144,6 +169,7 @@ static int parse(int argc, char **argv, dargs *a)
         case OPT_FORMAT: a->format = optarg; break;
         case OPT_RENDER: a->render = 1; break;
         case OPT_NORENDER: a->render = -1; break;
+        case OPT_NOPLACE: a->no_placement = 1; break;
         case OPT_PATCHDEG: bad = csf_parse_double(optarg, "patch-deg", 0, 90, &a->patch_deg); a->patch_deg_set = 1; break;
         case OPT_BG: bad = csf_parse_double(optarg, "background", 0, 1, &a->background); break;
         case OPT_RWIDTH: bad = csf_parse_int(optarg, "render-width", 16, 4096, &a->render_width); break;
@@ -198,6 +224,13 @@ static void json_num(FILE *f, double v)
 {
     if (isfinite(v)) fprintf(f, "%.10g", v);
     else fputs("null", f);
+}
+
+/* A key (with its separator) and a number. */
+static void json_field(const char *key, double v)
+{
+    fputs(key, stdout);
+    json_num(stdout, v);
 }
 
 /* The photometer to use. There is no default instrument: without one the command is refused,
@@ -399,6 +432,63 @@ static int render_open(const dargs *a, csf_photometer *ph, uint64_t seed, render
     return 0;
 }
 
+/* The patch against the meter's measuring field at this station's viewing distance, before the
+ * first reading: refused (2) when the meter cannot fit inside it, a warning when it is far larger
+ * than needed. --no-render shows no patch of ours, so there is nothing to check. */
+static int check_patch_size(const dargs *a, csf_photometer *ph, const char *what)
+{
+    if (a->render < 0) return 0;
+    csf_geometry g;
+    csf_error e;
+    csf_error_clear(&e);
+    if (csf_geometry_init(&g, CSF_GEOMETRY_FROM_CONFIG(a->cli.cfg), &e)) {
+        fprintf(stderr, "csfcal: %s: %s\n", what, e.msg);
+        return 2;
+    }
+    double fdeg, fmm;
+    csf_photometer_field(ph, &fdeg, &fmm);
+    char why[600];
+    double patch_deg = a->patch_deg_set ? a->patch_deg : 10.0;
+    int r = csf_patch_for_meter(patch_deg, g.distance_mm, fmin(g.width_mm, g.height_mm), fdeg, fmm, why,
+                                sizeof why);
+    if (r == 2) {
+        fprintf(stderr, "csfcal: %s: photometer %s: %s\n", what, csf_photometer_driver_name(ph), why);
+        return 2;
+    }
+    if (r == 1)
+        fprintf(stderr, "csfcal: %s: warning: photometer %s: %s\n", what, csf_photometer_driver_name(ph),
+                why);
+    return 0;
+}
+
+/* A real meter is put on the patch before its first reading (the placement screen); the
+ * simulator needs no placing. 0: go on; otherwise the exit status (1: left with Escape, nothing
+ * measured or stored; 1 also after a fault, which was printed). */
+static int place_meter(const dargs *a, render_ctx *r, const char *what)
+{
+    if (r->simulated || a->no_placement) return 0;
+    int pr = csf_display_placement(r->pres, &r->patch, r->ph, what);
+    if (pr == 1)
+        fprintf(stderr, "csfcal: %s: left the placement screen with Escape: nothing was measured or stored\n",
+                what);
+    return pr == 0 ? 0 : 1;
+}
+
+/* Everything between opening the photometer and its first reading: the patch against the
+ * meter's field, the presenter (*ro as render_open returns it), the placement screen. 0 to go on
+ * (the presenter open when *ro is 0), else the exit status, with nothing left open but ph. */
+static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, int *ro,
+                           const char *what)
+{
+    *ro = 1;
+    if (check_patch_size(a, ph, what)) return 2;
+    *ro = render_open(a, ph, seed, r, what);
+    if (*ro == 2) return 1;
+    int placed = *ro == 0 ? place_meter(a, r, what) : 0;
+    if (placed) render_close(r);
+    return placed;
+}
+
 /* A session the calibration took off the resumable list (damaged stored settings) gets no resume
  * hint. */
 static int session_aborted(csf_store *store, int64_t sid)
@@ -513,6 +603,21 @@ static void calibration_options(const dargs *a, csf_display_calib_opts *o)
     o->progress = !a->quiet && isatty(2);
 }
 
+/* A calibration that ran on a monitor the warm-up check never called warm: how much drift the
+ * settling model still expects, and how long it expected the monitor to take. */
+static void warn_not_warm(const csf_display_calib_result *res, double target_rel)
+{
+    if (res->warmup_remaining_rel > 0 && isfinite(res->warmup_wait_s))
+        fprintf(stderr,
+                "csfcal: warning: the monitor was not warm after the warm-up check: white would still "
+                "move %.2f %% during an hour's session (the target is %.3f %%); it was expected to "
+                "settle in about %.0f s more; the profile may drift\n",
+                100 * res->warmup_remaining_rel, 100 * target_rel, res->warmup_wait_s);
+    else
+        fprintf(stderr,
+                "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+}
+
 static int cmd_calibrate(dargs *a)
 {
     if (!a->out) {
@@ -545,11 +650,11 @@ static int cmd_calibrate(dargs *a)
     }
     int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
     render_ctx rctx;
-    int ro = render_open(a, ph, seed, &rctx, "display calibrate");
-    if (ro == 2) {
+    int ro, rc_early = prepare_patches(a, ph, seed, &rctx, &ro, "display calibrate");
+    if (rc_early) {
         csf_photometer_close(ph);
         csf_store_close(store);
-        return 1;
+        return rc_early;
     }
     if (ro == 0) {
         o.show_patch = render_show_patch;
@@ -606,8 +711,7 @@ static int cmd_calibrate(dargs *a)
     else if (!a->quiet) print_calibration_text(&r);
     if (res.monotonic_violations)
         fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
-    if (!res.warmup_stable)
-        fprintf(stderr, "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
+    if (!res.warmup_stable) warn_not_warm(&res, o.target_rel);
     if (!res.target_met) {
         double worst = 0;
         for (int c = 0; c < CSF_CH_COUNT; c++)
@@ -628,6 +732,23 @@ static int load_profile(const char *path, csf_display_profile **p)
     csf_error_clear(&err);
     if (csf_profile_load(path, p, &err)) return csf_cli_report("display", &err);
     return 0;
+}
+
+/* Why verify did not call the monitor warm, and how long the settling model expects it to take. */
+static void print_not_warm(const csf_display_profile *p, const csf_display_verify_result *vr)
+{
+    printf("profile %s: the monitor is NOT WARM YET after %.0f s (%d readings): ", csf_profile_id(p),
+           vr->warmup_s, vr->n_warmup);
+    if (vr->warmup_remaining_rel > 0 && isfinite(vr->warmup_wait_s))
+        printf("white is %.2f %% from where it settles and would move %.2f %% during an hour's session; "
+               "expected wait about %.0f s more\n",
+               100 * vr->warmup_settled_gap_rel, 100 * vr->warmup_remaining_rel, vr->warmup_wait_s);
+    else if (vr->warmup_remaining_rel > 0)
+        printf("white keeps drifting without settling; check the monitor's power saving and dimming\n");
+    else
+        printf("white still changed by %.2f %% between the last readings; verify again when it has been on "
+               "longer\n",
+               100 * vr->warmup_change_rel);
 }
 
 static int cmd_verify(dargs *a)
@@ -657,11 +778,11 @@ static int cmd_verify(dargs *a)
         return csf_cli_report("display verify", &err);
     }
     render_ctx rctx;
-    int ro = render_open(a, ph, a->cli.seed, &rctx, "display verify");
-    if (ro == 2) {
+    int ro, rc_early = prepare_patches(a, ph, a->cli.seed, &rctx, &ro, "display verify");
+    if (rc_early) {
         csf_photometer_close(ph);
         csf_profile_free(p);
-        return 1;
+        return rc_early;
     }
     double tol = a->tol > 0 ? a->tol : 0.02;
     csf_display_verify_opts vo;
@@ -697,6 +818,8 @@ static int cmd_verify(dargs *a)
         json_num(stdout, vr.warmup_s);
         printf(", \"warmup_change_rel\": ");
         json_num(stdout, vr.warmup_change_rel);
+        json_field(", \"warmup_remaining_rel\": ", vr.warmup_remaining_rel);
+        json_field(", \"warmup_expected_wait_s\": ", vr.warmup_wait_s);
         printf(", \"white_dev_rel\": ");
         json_num(stdout, vr.white_dev_rel);
         printf(", \"max_dev_rel\": ");
@@ -723,10 +846,7 @@ static int cmd_verify(dargs *a)
                                              : vr.within_stated   ? "true"
                                                                   : "false");
     } else {
-        if (!vr.warm)
-            printf("profile %s: the monitor is NOT WARM YET: white still changed by %.2f %% between the last "
-                   "readings after %.0f s (%d readings); verify again when it has been on longer\n",
-                   csf_profile_id(p), 100 * vr.warmup_change_rel, vr.warmup_s, vr.n_warmup);
+        if (!vr.warm) print_not_warm(p, &vr);
         printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%)",
                csf_profile_id(p), 100 * vr.white_dev_rel, 100 * vr.max_dev_rel, 100 * tol);
         if (a->channels)
@@ -855,13 +975,15 @@ static int cmd_info(dargs *a)
  * silently ignored: refuse it, naming it. */
 static int refuse_foreign_options(const char *sub, const dargs *a)
 {
-    static const struct { const char *sub; unsigned long ok; } allowed[] = {
-        {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) | OPTBIT(OPT_NAME) |
-                      OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) |
-                      OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT)},
+    static const struct { const char *sub; unsigned long ok;
+    } allowed[] = {
+        {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) |
+                          OPTBIT(OPT_NAME) | OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) |
+                          OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT) |
+                          OPTBIT(OPT_NOPLACE)},
         {"verify", OPTBIT(OPT_LEVELS) | OPTBIT(OPT_TOL) | OPTBIT(OPT_CHANNELS) | OPTBIT(OPT_RENDER) |
-                   OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
-                   OPTBIT(OPT_WARMWAIT)},
+                       OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
+                       OPTBIT(OPT_WARMWAIT) | OPTBIT(OPT_NOPLACE)},
         {"export", OPTBIT(OPT_OUT) | OPTBIT(OPT_FORMAT) | OPTBIT(OPT_ICCVER)},
         {"info", 0},
     };

@@ -179,3 +179,9 @@ double csf_photometer_integration_s(const csf_photometer *p)
 }
 const char *csf_photometer_driver_name(const csf_photometer *p) { return p->drv->name; }
 const char *csf_photometer_spec(const csf_photometer *p) { return p->spec; }
+void csf_photometer_field(const csf_photometer *p, double *field_deg, double *field_mm)
+{
+    *field_deg = p->drv->field_deg;
+    *field_mm = p->drv->field_mm;
+    if (p->drv->instance_field) p->drv->instance_field(p->state, field_deg, field_mm);
+}

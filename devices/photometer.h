@@ -59,6 +59,11 @@ int csf_photometer_caps(const csf_photometer *p);
 /* Integration time of one reading in seconds; 0 when the instrument does not say. */
 double csf_photometer_integration_s(const csf_photometer *p);
 const char *csf_photometer_driver_name(const csf_photometer *p);
+/* What the instrument measures on the screen: a spot meter's acceptance angle in degrees
+ * (*field_deg > 0, *field_mm 0), measured from where the meter stands; or a contact instrument's
+ * light-collecting face in mm (*field_mm > 0, *field_deg 0), which rests on the screen. The
+ * figures and their sources are in each driver and in docs/instruments.md. */
+void csf_photometer_field(const csf_photometer *p, double *field_deg, double *field_mm);
 /* The spec the photometer was opened with (for the store / profile). */
 const char *csf_photometer_spec(const csf_photometer *p);
 

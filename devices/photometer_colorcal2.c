@@ -189,6 +189,9 @@ static void cc2_close(void *state)
     free(s);
 }
 
+/* A contact colorimeter rests its face on the screen: the patch must cover that face. CRS
+ * publishes no aperture for the ColorCAL MkII that we could find; 20 mm is our working figure for
+ * the light-collecting face of a puck-shaped display colorimeter, not the maker's. */
 const csf_photometer_driver csf_photometer_colorcal2_driver = {
     .name = "colorcal2",
     .description = "CRS ColorCAL MkII colorimeter (USB 0861:1001, libusb)",
@@ -201,4 +204,5 @@ const csf_photometer_driver csf_photometer_colorcal2_driver = {
     .close = cc2_close,
     .integration_s = cc2_integration_s,
     .instance_caps = cc2_caps,
+    .field_mm = 20.0,
 };

@@ -163,6 +163,9 @@ static void ch2_close(void *state)
     free(s);
 }
 
+/* A contact colorimeter rests its face on the screen: the patch must cover that face. Hughski
+ * publishes no aperture for the ColorHug2 that we could find; 20 mm is our working figure for
+ * the light-collecting face of a puck-shaped display colorimeter, not the maker's. */
 const csf_photometer_driver csf_photometer_colorhug2_driver = {
     .name = "colorhug2",
     .description = "Hughski ColorHug2 colorimeter (USB 273f:1004, hidapi)",
@@ -175,4 +178,5 @@ const csf_photometer_driver csf_photometer_colorhug2_driver = {
     .close = ch2_close,
     .integration_s = ch2_integration_s,
     .instance_caps = ch2_caps,
+    .field_mm = 20.0,
 };

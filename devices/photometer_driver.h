@@ -35,6 +35,11 @@ typedef struct csf_photometer_driver {
     /* Capabilities of this open instrument when they differ from `caps` (a USB driver talking to
      * its test emulator measures a simulated display). May be NULL. */
     int (*instance_caps)(void *state);
+    /* The measuring field the patch must cover (csf_photometer_field): a spot meter's acceptance
+     * angle in degrees, or a contact instrument's light-collecting face in mm (the other 0). */
+    double field_deg, field_mm;
+    /* This open instrument's field when its options change it (an aperture setting). May be NULL. */
+    void (*instance_field)(void *state, double *field_deg, double *field_mm);
 } csf_photometer_driver;
 
 /* Byte transport for real instruments (USB bulk/HID/serial/process pipe); protocols are written

@@ -242,14 +242,23 @@ static csf_status ls_measure(void *state, const csf_screen_source *src, csf_phot
     return CSF_OK;
 }
 
-#define LS_DRIVER(var, nm, desc, openfn, capv)                                                     \
-    const csf_photometer_driver var = {                                                            \
-        .name = (nm), .description = (desc), .caps = (capv), .open = (openfn), .identify = ls_identify, \
-        .measure = ls_measure, .close = ls_close,                                                  \
+/* Acceptance angles from Konica Minolta's specifications: LS-100 and CS-100A 1 deg, LS-110 1/3 deg
+ * (through the reflex viewfinder, which shows the measuring circle). */
+#define LS_DRIVER(var, nm, desc, openfn, capv, fdeg)                                                         \
+    const csf_photometer_driver var = {                                                                      \
+        .name = (nm),                                                                                        \
+        .description = (desc),                                                                               \
+        .caps = (capv),                                                                                      \
+        .open = (openfn),                                                                                    \
+        .identify = ls_identify,                                                                             \
+        .measure = ls_measure,                                                                               \
+        .close = ls_close,                                                                                   \
+        .field_deg = (fdeg),                                                                                 \
     }
-LS_DRIVER(csf_photometer_ls100_driver, "ls100", "Konica Minolta LS-100 luminance meter (serial: ls100:/dev/ttyUSB0)",
-          ls100_open, 0);
-LS_DRIVER(csf_photometer_ls110_driver, "ls110", "Konica Minolta LS-110 luminance meter (serial: ls110:/dev/ttyUSB0)",
-          ls110_open, 0);
-LS_DRIVER(csf_photometer_cs100a_driver, "cs100a", "Konica Minolta CS-100A chroma meter (serial: cs100a:/dev/ttyUSB0)",
-          cs100a_open, CSF_PHOT_CAP_XYZ);
+LS_DRIVER(csf_photometer_ls100_driver, "ls100",
+          "Konica Minolta LS-100 luminance meter (serial: ls100:/dev/ttyUSB0)", ls100_open, 0, 1.0);
+LS_DRIVER(csf_photometer_ls110_driver, "ls110",
+          "Konica Minolta LS-110 luminance meter (serial: ls110:/dev/ttyUSB0)", ls110_open, 0, 1.0 / 3.0);
+LS_DRIVER(csf_photometer_cs100a_driver, "cs100a",
+          "Konica Minolta CS-100A chroma meter (serial: cs100a:/dev/ttyUSB0)", cs100a_open, CSF_PHOT_CAP_XYZ,
+          1.0);

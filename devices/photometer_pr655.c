@@ -18,6 +18,7 @@ typedef struct {
     char who[320];
     char model[40], serial[40];
     double timeout_s;    /* a measurement: adaptive exposure in dim light takes long */
+    double aperture_deg; /* the measuring aperture set on the instrument (aperture=) */
     unsigned long n;
 } pr_state;
 
@@ -158,6 +159,68 @@ static csf_status remote_mode(pr_state *s, csf_error *err)
     return CSF_OK;
 }
 
+/* The PR-670's aperture wheel holds 1, 1/2, 1/4 and 1/8 deg (the names its remote mode reports,
+ * PR-655/670 and PR-7xx user manuals, Photo Research); the PR-655 has the 1 deg one. csfcal does
+ * not switch it: aperture= says which one is set, so the patch can be checked against it. */
+static csf_status parse_aperture(const char *v, double *deg)
+{
+    static const struct {
+        const char *name;
+        double deg;
+    } ap[] = {{"1", 1.0}, {"1/2", 0.5}, {"1/4", 0.25}, {"1/8", 0.125}};
+    for (size_t i = 0; i < sizeof ap / sizeof ap[0]; i++)
+        if (strcmp(v, ap[i].name) == 0) {
+            *deg = ap[i].deg;
+            return CSF_OK;
+        }
+    return CSF_E_INVALID_ARG;
+}
+
+csf_status csf_pr_parse_options(const char *spec_name, const char *opts, double *timeout_s,
+                                double *aperture_deg, csf_error *err)
+{
+    int has_wheel = strcmp(spec_name, "pr670") == 0;
+    if (!*opts) return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", spec_name);
+    while (*opts) {
+        const char *comma = strchr(opts, ',');
+        size_t len = comma ? (size_t)(comma - opts) : strlen(opts);
+        char item[64];
+        int ok = len < sizeof item;
+        if (ok) {
+            memcpy(item, opts, len);
+            item[len] = 0;
+        }
+        if (ok && strncmp(item, "timeout_s=", 10) == 0) {
+            char *end = NULL;
+            errno = 0;
+            double x = strtod(item + 10, &end);
+            ok = end && !*end && !errno && x >= 0.1 && x <= 600;
+            if (ok) *timeout_s = x;
+        } else if (ok && has_wheel && strncmp(item, "aperture=", 9) == 0) {
+            ok = parse_aperture(item + 9, aperture_deg) == CSF_OK;
+        } else {
+            ok = 0;
+        }
+        if (!ok)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "%s: option '%.*s' not understood (known: timeout_s=S, "
+                                 "0.1 to 600 s%s)",
+                                 spec_name, (int)(len > 60 ? 60 : len), opts,
+                                 has_wheel ? "; aperture=1|1/2|1/4|1/8 deg" : "");
+        opts += len + (comma ? 1 : 0);
+        if (comma && !*opts)
+            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: empty option after ','", spec_name);
+    }
+    return CSF_OK;
+}
+
+static void pr_field(void *state, double *field_deg, double *field_mm)
+{
+    const pr_state *s = state;
+    *field_deg = s->aperture_deg;
+    *field_mm = 0;
+}
+
 static csf_status pr_open_model(const char *name, const char *spec_name, const char *options, void **state,
                                 csf_error *err)
 {
@@ -177,20 +240,15 @@ static csf_status pr_open_model(const char *name, const char *spec_name, const c
     memcpy(s->path, options, plen);
     s->path[plen] = 0;
     snprintf(s->who, sizeof s->who, "Photo Research %s on %s", name, s->path);
-    if (comma) {
-        char *end = NULL; /* stays NULL when the option is not timeout_s= */
-        double x = NAN;
-        errno = 0;
-        if (strncmp(comma + 1, "timeout_s=", 10) == 0) x = strtod(comma + 11, &end);
-        if (!end || isnan(x) || errno || *end || !(x >= 0.1 && x <= 600)) {
-            free(s);
-            return csf_error_set(err, CSF_E_INVALID_ARG, "%s: option '%s' not understood (known: timeout_s=S, 0.1 to "
-                                 "600 s)", name, comma + 1);
-        }
-        s->timeout_s = x;
+    s->aperture_deg = 1.0;
+    csf_status st =
+        comma ? csf_pr_parse_options(spec_name, comma + 1, &s->timeout_s, &s->aperture_deg, err) : CSF_OK;
+    if (st) {
+        free(s);
+        return st;
     }
     csf_serial_params sp = {9600, 8, 'N', 1}; /* USB CDC: the rate is not used on the wire */
-    csf_status st = csf_serial_open(s->path, &sp, s->who, &s->t, err);
+    st = csf_serial_open(s->path, &sp, s->who, &s->t, err);
     if (!st) st = remote_mode(s, err);
     csf_pr_reply r;
     if (!st) st = command(s, "D111", 5, &r, err);
@@ -253,10 +311,24 @@ static csf_status pr_measure(void *state, const csf_screen_source *src, csf_phot
 }
 
 const csf_photometer_driver csf_photometer_pr655_driver = {
-    .name = "pr655", .description = "Photo Research PR-655 spectroradiometer (USB serial: pr655:/dev/ttyACM0)",
-    .caps = CSF_PHOT_CAP_XYZ, .open = pr655_open, .identify = pr_identify, .measure = pr_measure, .close = pr_close,
+    .name = "pr655",
+    .description = "Photo Research PR-655 spectroradiometer (USB serial: pr655:/dev/ttyACM0)",
+    .caps = CSF_PHOT_CAP_XYZ,
+    .open = pr655_open,
+    .identify = pr_identify,
+    .measure = pr_measure,
+    .close = pr_close,
+    .field_deg = 1.0,
+    .instance_field = pr_field,
 };
 const csf_photometer_driver csf_photometer_pr670_driver = {
-    .name = "pr670", .description = "Photo Research PR-670 spectroradiometer (USB serial: pr670:/dev/ttyACM0)",
-    .caps = CSF_PHOT_CAP_XYZ, .open = pr670_open, .identify = pr_identify, .measure = pr_measure, .close = pr_close,
+    .name = "pr670",
+    .description = "Photo Research PR-670 spectroradiometer (USB serial: pr670:/dev/ttyACM0)",
+    .caps = CSF_PHOT_CAP_XYZ,
+    .open = pr670_open,
+    .identify = pr_identify,
+    .measure = pr_measure,
+    .close = pr_close,
+    .field_deg = 1.0,
+    .instance_field = pr_field,
 };

@@ -6,7 +6,8 @@
  * the units code). Error codes (the manual's; sign as the instrument sends it, csfcal reads |N|):
  * 1 light source not constant, 2 light overload, 3 cannot sync, 4 adaptive mode error, 8 weak
  * light, 9 sync error, 10 cannot auto sync, 12 adaptive mode time out, 1000 and above: command
- * errors. Specs: pr655:PATH, pr670:PATH [,timeout_s=S] (see docs/instruments.md). */
+ * errors. Specs: pr655:PATH, pr670:PATH [,timeout_s=S] [,aperture=1|1/2|1/4|1/8 on the PR-670] (see
+ * docs/instruments.md). */
 #ifndef CSF_PHOTOMETER_PR655_H
 #define CSF_PHOTOMETER_PR655_H
 
@@ -28,6 +29,11 @@ csf_status csf_pr_parse(const char *line, size_t len, csf_pr_reply *out, csf_err
 /* Field i as a finite number; -1 when it is not one. */
 int csf_pr_field_num(const csf_pr_reply *r, int i, double *out);
 const char *csf_pr_error_text(long code);
+/* The options after the port (spec_name "pr655" or "pr670"): timeout_s=S (0.1 to 600) and, on the
+ * PR-670, aperture=1|1/2|1/4|1/8 (the aperture set on the instrument, in degrees). Sets only what
+ * is given; CSF_E_INVALID_ARG naming the option otherwise. Pure (fuzzed by fuzz_pr_options). */
+csf_status csf_pr_parse_options(const char *spec_name, const char *opts, double *timeout_s,
+                                double *aperture_deg, csf_error *err);
 csf_status csf_pr_error_status(long code);
 
 #endif

@@ -325,4 +325,7 @@ const csf_photometer_driver csf_photometer_sim_driver = {
     .wait = sim_wait,
     .close = sim_close,
     .integration_s = sim_integration_s,
+    /* a spot meter like the LS-100 (1 deg), so a simulated session checks its patch as the lab's
+     * most common meter would */
+    .field_deg = 1.0,
 };

@@ -400,6 +400,9 @@ static csf_status spot_measure(void *state, const csf_screen_source *src, csf_ph
     return CSF_OK;
 }
 
+/* spotread drives whatever Argyll finds; on a display that is nearly always a contact colorimeter
+ * (i1Display, Spyder, ColorMunki on the screen), so the patch is checked as for one: a 20 mm face,
+ * our working figure (see devices/photometer_colorcal2.c). */
 const csf_photometer_driver csf_photometer_spotread_driver = {
     .name = "spotread",
     .description = "ArgyllCMS spotread bridge (any instrument Argyll supports: spotread[:ARGS])",
@@ -408,4 +411,5 @@ const csf_photometer_driver csf_photometer_spotread_driver = {
     .identify = spot_identify,
     .measure = spot_measure,
     .close = spot_close,
+    .field_mm = 20.0,
 };

@@ -1124,14 +1124,9 @@ void csf_presenter_set_frame_index(csf_presenter *p, long frame_index)
     if (p && frame_index >= 0) p->frame_index = frame_index;
 }
 
-csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_frame_info *out, csf_error *err)
+/* The patch pass of a measurement frame (no present). */
+static void patch_pass(csf_presenter *p, const csf_patch *m, const int r[4])
 {
-    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_patch: NULL presenter");
-    int r[4] = {0, 0, 0, 0};
-    csf_status st = patch_rect_gl(p, m, r, err);
-    if (st) return st;
-    if (!p->headless && glfwWindowShouldClose(p->win))
-        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
     glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
     glViewport(0, 0, p->rw, p->rh);
     target t = main_target(p);
@@ -1147,12 +1142,94 @@ csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_fr
     glUniform1i(p->u[U_FIX], 0);
     glBindVertexArray(p->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *m, csf_frame_info *out, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_patch: NULL presenter");
+    int r[4] = {0, 0, 0, 0};
+    csf_status st = patch_rect_gl(p, m, r, err);
+    if (st) return st;
+    if (!p->headless && glfwWindowShouldClose(p->win))
+        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
+    patch_pass(p, m, r);
     csf_frame_info fi;
     present(p, 1, &fi);
     fi.contrast_shown = 0;
     if (glGetError() != GL_NO_ERROR)
         return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error while drawing patch frame %ld",
                              fi.frame_index);
+    if (out) *out = fi;
+    return CSF_OK;
+}
+
+static cairo_t *text_canvas(const csf_presenter *p, double size, cairo_surface_t **surf);
+static void upload_coverage(csf_presenter *p, GLuint tex, cairo_t *cr, cairo_surface_t *surf);
+
+/* The placement overlay's coverage: a target mark at the patch centre (a ring and a cross, sized
+ * to the patch so it stays inside it) and the text lines at the top left. */
+static cairo_t *placement_canvas(const csf_presenter *p, const int r[4], const char *text,
+                                 cairo_surface_t **surf)
+{
+    double size = fmax(10.0, p->rh / 24.0);
+    cairo_t *cr = text_canvas(p, size, surf);
+    if (!cr) return NULL;
+    double cx = 0.5 * (r[0] + r[2]), cy = p->rh - 0.5 * (r[1] + r[3]); /* cairo: y down */
+    double half = 0.5 * fmin(r[2] - r[0], r[3] - r[1]);
+    double lw = fmax(1.0, half / 25);
+    cairo_set_line_width(cr, lw);
+    cairo_arc(cr, cx, cy, 0.35 * half, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    cairo_move_to(cr, cx - 0.6 * half, cy);
+    cairo_line_to(cr, cx + 0.6 * half, cy);
+    cairo_move_to(cr, cx, cy - 0.6 * half);
+    cairo_line_to(cr, cx, cy + 0.6 * half);
+    cairo_stroke(cr);
+    const char *line = text ? text : "";
+    for (int i = 0; *line && i < 8; i++) {
+        const char *nl = strchr(line, '\n');
+        size_t len = nl ? (size_t)(nl - line) : strlen(line);
+        char buf[256];
+        if (len >= sizeof buf) len = sizeof buf - 1;
+        memcpy(buf, line, len);
+        buf[len] = 0;
+        cairo_move_to(cr, 0.6 * size, (1.3 + 1.4 * i) * size);
+        cairo_show_text(cr, buf);
+        line = nl ? nl + 1 : line + len;
+    }
+    return cr;
+}
+
+csf_status csf_presenter_draw_placement(csf_presenter *p, const csf_patch *m, const char *text,
+                                        csf_frame_info *out, csf_error *err)
+{
+    if (!p) return csf_error_set(err, CSF_E_INVALID_ARG, "draw_placement: NULL presenter");
+    int r[4] = {0, 0, 0, 0};
+    csf_status st = patch_rect_gl(p, m, r, err);
+    if (st) return st;
+    if (!p->headless && glfwWindowShouldClose(p->win))
+        return csf_error_set(err, CSF_E_ABORTED, "the stimulus window was closed");
+    cairo_surface_t *surf;
+    cairo_t *cr = placement_canvas(p, r, text, &surf);
+    if (!cr)
+        return csf_error_set(err, CSF_E_NOMEM, "cairo could not create a %dx%d placement surface", p->rw,
+                             p->rh);
+    upload_coverage(p, p->text_tex, cr, surf);
+    patch_pass(p, m, r);
+    /* the overlay in the caption's dark ink, over the patch and its surround alike */
+    target t = main_target(p);
+    set_common_uniforms(p, 0, &t);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, p->text_tex);
+    glUniform1f(p->u[U_MEAN], (float)mean_lum_of(p, NULL));
+    glUniform1i(p->u[U_MODE], MODE_CAPTION);
+    glUniform1i(p->u[U_FIX], 0);
+    glUniform1i(p->u[U_NMARKS], 0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    csf_frame_info fi;
+    present(p, 1, &fi);
+    if (glGetError() != GL_NO_ERROR)
+        return csf_error_set(err, CSF_E_DEVICE, "OpenGL reported an error drawing the placement screen");
     if (out) *out = fi;
     return CSF_OK;
 }

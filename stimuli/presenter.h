@@ -203,6 +203,12 @@ typedef struct {
  * instrument integrates so the temporal dither averages out. */
 csf_status csf_presenter_draw_patch(csf_presenter *p, const csf_patch *patch, csf_frame_info *out,
                                     csf_error *err);
+/* The placement screen before a real meter's first reading: the patch (as csf_presenter_draw_patch)
+ * with a target mark at its centre and text lines ('\n'-separated, at most 8, top left), both in
+ * the caption's dark ink; give the surround a mid-grey drive so the text can be read. Presented
+ * as one frame. */
+csf_status csf_presenter_draw_placement(csf_presenter *p, const csf_patch *patch, const char *text,
+                                        csf_frame_info *out, csf_error *err);
 /* Sets the number of the next frame (what the temporal dither's per-frame offset and injected
  * misses key on). A measurement that starts each reading at a frame number of its own (reading k
  * at k x frames per reading) draws the same dithered frames whenever it is repeated: a resumed

@@ -151,6 +151,18 @@ grep -q 'empty path' "$t/e" || { echo "msg: $(cat "$t/e")"; fail=1; }
 [ $? -eq 2 ] && grep -q -- '--tolerance does not apply to calibrate' "$t/e" || { echo "calibrate --tolerance: $(cat "$t/e")"; fail=1; }
 "$exe" display info "$t/lcd.profile" -o "$t/x" >/dev/null 2>"$t/e"
 [ $? -eq 2 ] && grep -q -- '--out does not apply to info' "$t/e" || { echo "info -o: $(cat "$t/e")"; fail=1; }
+# a patch smaller than the meter's field (the simulator declares an LS-100's 1 deg, 2 deg with the
+# aiming margin) is refused before any reading, naming the patch in deg and mm and the limit
+"$exe" display calibrate --photometer sim:display=lcd --patch-deg 1.5 --store "$t/small.sqlite" --out "$t/small.profile" \
+  2>"$t/e" >/dev/null
+[ $? -eq 2 ] || { echo "small patch: exit status"; fail=1; }
+grep -q '1.5 deg patch (14.9 mm at 570 mm) is too small' "$t/e" && grep -q 'at least 2 deg' "$t/e" \
+  || { echo "small patch: $(cat "$t/e")"; fail=1; }
+[ -e "$t/small.profile" ] && { echo "small patch: a profile was written"; fail=1; }
+"$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd --patch-deg 1 >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q 'too small for the meter' "$t/e" || { echo "verify small patch: $(cat "$t/e")"; fail=1; }
+"$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd --patch-deg 25 --render-width 32 >/dev/null 2>"$t/e"
+grep -q 'warning: photometer sim: the 25 deg patch' "$t/e" || { echo "large patch: $(cat "$t/e")"; fail=1; }
 # verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
 [ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }

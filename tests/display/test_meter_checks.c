@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "calib/meter_check.h"
+#include "cli/display_placement.h"
+#include "devices/photometer_driver.h"
 #include "calib_truth.h"
 #include "tests/check.h"
 
@@ -74,9 +76,74 @@ static void unit_checks(void)
     CHECK_INT_EQ(csf_meter_above_white(200, 180, 0.001, why, sizeof why), 1);
 }
 
+/* The patch against the meter's field: too small refused with the figures, far too large warned,
+ * and each driver declares a field (spot meters in degrees, contact meters in mm). */
+static void patch_checks(void)
+{
+    char why[600];
+    /* an LS-100 (1 deg) at 570 mm: 2 deg is the least patch, 1.5 deg is refused */
+    CHECK_INT_EQ(csf_patch_for_meter(1.5, 570, 300, 1.0, 0, why, sizeof why), 2);
+    CHECK_STR_CONTAINS(why, "1.5 deg patch (14.9 mm at 570 mm)");
+    CHECK_STR_CONTAINS(why, "1 deg field");
+    CHECK_STR_CONTAINS(why, "at least 2 deg (19.9 mm)");
+    CHECK_INT_EQ(csf_patch_for_meter(2.0, 570, 300, 1.0, 0, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_patch_for_meter(10.0, 570, 300, 1.0, 0, why, sizeof why), 0);
+    /* a PR-670 on its 1/8 deg aperture takes a quarter-degree patch */
+    CHECK_INT_EQ(csf_patch_for_meter(0.25, 570, 300, 0.125, 0, why, sizeof why), 0);
+    CHECK_INT_EQ(csf_patch_for_meter(0.2, 570, 300, 0.125, 0, why, sizeof why), 2);
+    /* a contact meter's 20 mm face needs 30 mm: 3.0 deg at 570 mm, 1.7 deg at 1000 mm */
+    CHECK_INT_EQ(csf_patch_for_meter(2.5, 570, 300, 0, 20, why, sizeof why), 2);
+    CHECK_STR_CONTAINS(why, "20 mm face");
+    CHECK_STR_CONTAINS(why, "(30.0 mm)");
+    CHECK_INT_EQ(csf_patch_for_meter(2.5, 1000, 300, 0, 20, why, sizeof why), 0);
+    /* far larger than needed: a warning, and the full field counts as the screen's height */
+    CHECK_INT_EQ(csf_patch_for_meter(20, 570, 300, 1.0, 0, why, sizeof why), 1);
+    CHECK_STR_CONTAINS(why, "non-uniformity");
+    CHECK_INT_EQ(csf_patch_for_meter(0, 570, 300, 1.0, 0, why, sizeof why), 1);
+    CHECK_INT_EQ(csf_patch_for_meter(0, 570, 200, 0, 20, why, sizeof why), 0);
+    /* every driver declares its field: a spot meter's angle or a contact meter's face */
+    for (const csf_photometer_driver *const *d = csf_photometer_drivers(); *d; d++)
+        CHECK_MSG(((*d)->field_deg > 0) != ((*d)->field_mm > 0), "driver %s declares deg %g, mm %g",
+                  (*d)->name, (*d)->field_deg, (*d)->field_mm);
+    /* the simulated meter's field, through the callers' API */
+    csf_photometer *ph = NULL;
+    csf_error err;
+    if (csf_photometer_open("sim:display=lcd", 1, &ph, &err) == CSF_OK) {
+        double fdeg = 0, fmm = -1;
+        csf_photometer_field(ph, &fdeg, &fmm);
+        CHECK(fdeg == 1.0 && fmm == 0);
+        csf_photometer_close(ph);
+    }
+    /* the PR-670's aperture option is parsed before the port is opened; the PR-655 has none */
+    CHECK_INT_EQ(csf_photometer_open("pr670:/nonexistent/tty,aperture=1/3", 1, &ph, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "aperture=1|1/2|1/4|1/8");
+    CHECK_INT_EQ(csf_photometer_open("pr655:/nonexistent/tty,aperture=1/2", 1, &ph, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_photometer_open("pr670:/nonexistent/tty,", 1, &ph, &err), CSF_E_INVALID_ARG);
+    CHECK(csf_photometer_open("pr670:/nonexistent/tty,aperture=1/8,timeout_s=5", 1, &ph, &err) !=
+          CSF_E_INVALID_ARG);
+}
+
+/* The placement screen's "stable": four readings within 1 % of their mean. */
+static void placement_checks(void)
+{
+    double spread;
+    const double still[] = {90, 180.2, 180.5, 180.1, 180.4};
+    CHECK_INT_EQ(csf_placement_stable(still, 3, &spread), 0);
+    CHECK(isnan(spread));
+    CHECK_INT_EQ(csf_placement_stable(still, 4, &spread), 0); /* 90: the meter was still moving */
+    CHECK_INT_EQ(csf_placement_stable(still, 5, &spread), 1);
+    CHECK_NEAR(spread, 0.4 / 180.3, 1e-9);
+    const double sliding[] = {180, 181, 182.5, 183};
+    CHECK_INT_EQ(csf_placement_stable(sliding, 4, &spread), 0);
+    const double dark[] = {0, 0, 0, 0};
+    CHECK_INT_EQ(csf_placement_stable(dark, 4, &spread), 0);
+}
+
 int main(void)
 {
     unit_checks();
+    patch_checks();
+    placement_checks();
     csf_error err;
     csf_error_clear(&err);
     csf_display_calib_result ref_res;

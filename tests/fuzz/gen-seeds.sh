@@ -198,6 +198,9 @@ printf 'OK00,  180.7,0.3127,0.3290\r\n' >"$tmp/minolta.txt"
 put fuzz_minolta_reply mes.txt "$tmp/minolta.txt"
 printf '0000,111,1.7180e+02,1.8074e+02,1.9620e+02\r\n' >"$tmp/pr.txt"
 put fuzz_pr_reply d2.txt "$tmp/pr.txt"
+# PR options after the port: model byte (odd: pr670) then the text.
+printf '\001timeout_s=5,aperture=1/8' >"$tmp/pro.txt"
+put fuzz_pr_options aperture.txt "$tmp/pro.txt"
 printf 'Hit ESC or Q to exit, any other key to take a reading: \n Result is XYZ: 171.8 180.7 196.2, Yxy: 180.7 0.3127 0.329\n' >"$tmp/spot.txt"
 put fuzz_spotread result.txt "$tmp/spot.txt"
 # Study files: the example studies' settings as they are, their conditions tables behind the
