@@ -7,6 +7,7 @@
  * many more readings. g is fitted per curve and stored, so the model is fully determined by the
  * file and the inverse is exact on the same piecewise cubic. */
 #include "results/display_profile.h"
+#include "core/csv.h"
 #include "core/file_write.h"
 #include "core/file_read.h"
 
@@ -1113,14 +1114,6 @@ static int channel_from_name(const char *s)
     return -1;
 }
 
-static char *trim(char *s)
-{
-    while (*s == ' ' || *s == '\t') s++;
-    size_t l = strlen(s);
-    while (l && (s[l - 1] == ' ' || s[l - 1] == '\t' || s[l - 1] == '\r')) s[--l] = 0;
-    return s;
-}
-
 /* What one pass over a profile's text has gathered besides the profile itself. */
 typedef struct {
     pctx pc;
@@ -1181,7 +1174,7 @@ static csf_status parse_header_key(profile_parse *pp, char *s)
     char *eq = strchr(s, '=');
     if (!eq) return perr(pc, "expected key = value");
     *eq = 0;
-    char *k = trim(s), *v = trim(eq + 1);
+    char *k = csf_trim(s), *v = csf_trim(eq + 1);
     double x;
     if (strcmp(k, "id") == 0) copy_str(p->id, sizeof p->id, v);
     else if (strcmp(k, "display") == 0) copy_str(p->display, sizeof p->display, v);
@@ -1237,7 +1230,8 @@ static csf_status parse_curve_line(profile_parse *pp, char *s)
     pctx *pc = &pp->pc;
     if (pp->section_line == 1) {
         char *eq = strchr(s, '=');
-        if (!eq || (*eq = 0, strcmp(trim(s), "transform_gamma") != 0) || parse_dbl(trim(eq + 1), &pp->gam[section]) < 0 ||
+        if (!eq || (*eq = 0, strcmp(csf_trim(s), "transform_gamma") != 0) ||
+            parse_dbl(csf_trim(eq + 1), &pp->gam[section]) < 0 ||
             !(pp->gam[section] >= 1 && pp->gam[section] <= 4))
             return perr(pc, "curve must start with transform_gamma = G (1 to 4)");
         return CSF_OK;
@@ -1390,7 +1384,7 @@ static csf_status parse_named(const char *text, size_t len, const char *name,
             st = perr(&pp.pc, "NUL byte in text");
             break;
         }
-        st = parse_line(&pp, trim(line));
+        st = parse_line(&pp, csf_trim(line));
     }
     if (st == CSF_OK) st = finish_profile(&pp);
     if (st) {

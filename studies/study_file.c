@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "core/csv.h"
 #include "core/file_read.h"
 #include "results/store/store.h"
 #include "stimuli/image.h"
@@ -17,7 +18,6 @@
 #define CONDITIONS_MAX_BYTES (4u << 20)
 #define INSTRUCTIONS_MAX_BYTES (64u << 10)
 #define CSV_MAX_COLUMNS 32
-#define CSV_FIELD_MAX 1024
 
 const char *csf_study_design_name(csf_study_design d)
 {
@@ -61,15 +61,6 @@ static void settings_defaults(csf_study *s)
     s->bootstrap = 200;
     s->adaptive_max_contrast = 0.5;
     snprintf(s->break_text, sizeof s->break_text, "Take a short break. Press any key to go on.");
-}
-
-static char *trim(char *s)
-{
-    while (*s == ' ' || *s == '\t') s++;
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
-        s[--n] = '\0';
-    return s;
 }
 
 /* A number in [lo, hi], the whole value (no trailing text, no NaN). */
@@ -326,8 +317,20 @@ static csf_status check_line(const char *l, const char *where, int line, csf_err
     if (n > 0 && tmp[n - 1] == '\r') tmp[n - 1] = '\0';
     for (char *t = tmp; *t; t++)
         if (*t == '\t') *t = ' ';
-    snprintf(what, sizeof what, "%s:%d", where, line);
+    snprintf(what, sizeof what, "%.1080s:%d", where, line);
     return csf_store_check_text(tmp, what, err);
+}
+
+/* check_line as the line reader's check: every line as read, comments included. */
+typedef struct {
+    const char *where;
+    csf_error *err;
+} line_check;
+
+static int check_line_cb(void *ctx, const char *raw, int line)
+{
+    const line_check *c = ctx;
+    return check_line(raw, c->where, line, c->err) != CSF_OK;
 }
 
 /* The keys met so far, to find one given twice (where the last would silently win). */
@@ -362,103 +365,46 @@ csf_status csf_study_parse_settings(csf_study *s, const char *text, size_t len, 
         return csf_error_set(err, CSF_E_FORMAT, "%s: larger than %u bytes", where, SETTINGS_MAX_BYTES);
     if (memchr(text, '\0', len))
         return csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a text file)", where);
-    size_t pos = 0;
-    int line = 0;
-    char buf[2048];
     seen_keys seen = {0};
-    while (pos < len) {
-        line++;
-        const char *nl = memchr(text + pos, '\n', len - pos);
-        size_t n = nl ? (size_t)(nl - (text + pos)) : len - pos;
-        if (n >= sizeof buf)
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than %zu characters", where, line,
-                                 sizeof buf - 1);
-        memcpy(buf, text + pos, n);
-        buf[n] = '\0';
-        pos += n + (nl ? 1 : 0);
-        char *l = buf;
-        if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
-            l += 3;
-        csf_status lst = check_line(l, where, line, err);
-        if (lst != CSF_OK) return lst;
-        char *hash = strchr(l, '#');
-        if (hash) *hash = '\0';
-        l = trim(l);
-        if (!*l || !strcmp(l, "[study]")) continue;
+    line_check lc = {where, err};
+    csf_lines lines;
+    if (csf_lines_open(&lines, text, len, 2047)) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    lines.hash_comments = 1;
+    lines.check = check_line_cb;
+    lines.check_ctx = &lc;
+    char *l;
+    csf_status st = CSF_OK;
+    int got;
+    while (st == CSF_OK && (got = csf_lines_next(&lines, &l)) != 0) {
+        int line = lines.line;
+        if (got < 0) {
+            st = lines.why ? csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", where, line, lines.why)
+                           : CSF_E_INVALID_ARG;
+            break;
+        }
+        if (!strcmp(l, "[study]")) continue;
         char *eq = strchr(l, '=');
-        if (!eq)
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 'key = value', got '%.60s'", where,
-                                 line, l);
+        if (!eq) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 'key = value', got '%.60s'", where, line,
+                               l);
+            break;
+        }
         *eq = '\0';
-        char *key = trim(l), *val = trim(eq + 1);
+        char *key = csf_trim(l), *val = csf_trim(eq + 1);
         size_t vl = strlen(val);
         if (vl >= 2 && val[0] == '"' && val[vl - 1] == '"') {
             val[vl - 1] = '\0';
             val++;
         }
-        csf_status st = set_key(s, key, val, where, line, err);
-        if (st != CSF_OK) return st;
-        note_key(&seen, s, key, line);
+        st = set_key(s, key, val, where, line, err);
+        if (st == CSF_OK) note_key(&seen, s, key, line);
     }
+    csf_lines_close(&lines);
+    if (st != CSF_OK) return st;
     return check_settings(s, where, err);
 }
 
 /* ---- conditions CSV ------------------------------------------------------------------------ */
-
-/* Splits one CSV line into fields (RFC 4180 quoting, "" inside quotes). Returns the number of
- * fields, or -1 with *why set. */
-static int csv_split(const char *l, char fields[][CSV_FIELD_MAX], int max, const char **why)
-{
-    int n = 0;
-    const char *p = l;
-    for (;;) {
-        if (n == max) {
-            *why = "too many columns";
-            return -1;
-        }
-        size_t k = 0;
-        char *f = fields[n];
-        while (*p == ' ' || *p == '\t') p++;
-        if (*p == '"') {
-            p++;
-            for (;;) {
-                if (!*p) {
-                    *why = "a quoted field is not closed on its line";
-                    return -1;
-                }
-                if (*p == '"' && p[1] != '"') {
-                    p++;
-                    break;
-                }
-                if (k + 1 >= CSV_FIELD_MAX) { /* refused, never cut */
-                    *why = "a field longer than 1023 characters";
-                    return -1;
-                }
-                f[k++] = *p;
-                p += *p == '"' ? 2 : 1; /* "" is one quote */
-            }
-            while (*p == ' ' || *p == '\t') p++;
-            if (*p && *p != ',') {
-                *why = "text after a closing quote";
-                return -1;
-            }
-        } else {
-            while (*p && *p != ',') {
-                if (k + 1 >= CSV_FIELD_MAX) {
-                    *why = "a field longer than 1023 characters";
-                    return -1;
-                }
-                f[k++] = *p++;
-            }
-            while (k > 0 && (f[k - 1] == ' ' || f[k - 1] == '\t')) k--;
-        }
-        f[k] = '\0';
-        n++;
-        if (*p != ',') break;
-        p++;
-    }
-    return n;
-}
 
 enum {
     COL_LABEL, COL_STIMULUS, COL_FREQ, COL_CONTRAST, COL_METHOD, COL_ECC, COL_POLAR, COL_ORIENT,
@@ -478,7 +424,7 @@ typedef struct {
 } row_ctx;
 
 /* A numeric cell: column c of the row, default dflt when the column is absent or the cell empty. */
-static csf_status cell_num(const row_ctx *r, const int *col, char fields[][CSV_FIELD_MAX], int c,
+static csf_status cell_num(const row_ctx *r, const int *col, char fields[][CSF_CSV_FIELD_MAX], int c,
                            double lo, double hi, const char *unit, double dflt, double *out)
 {
     *out = dflt;
@@ -514,7 +460,7 @@ static double patch_radius_deg(const csf_study_condition *c)
 }
 
 static csf_status parse_row(csf_study *s, csf_study_condition *c, const int *col,
-                            char fields[][CSV_FIELD_MAX], const char *base_dir, row_ctx *r)
+                            char fields[][CSF_CSV_FIELD_MAX], const char *base_dir, row_ctx *r)
 {
     memset(c, 0, sizeof *c);
     c->line = r->line;
@@ -645,8 +591,8 @@ static csf_status check_extra_column(const char *name, const char *where, int li
 
 /* The header row: every column given once, label and ecc_deg among them; col[k] is the field of
  * known column k, -1 where absent; other columns are the user's own. */
-static csf_status parse_header(char (*fields)[CSV_FIELD_MAX], int nf, int *col, const char *where, int line,
-                               csf_error *err)
+static csf_status parse_header(char (*fields)[CSF_CSV_FIELD_MAX], int nf, int *col, const char *where,
+                               int line, csf_error *err)
 {
     csf_status st;
     for (int i = 0; i < nf; i++) {
@@ -673,7 +619,7 @@ static csf_status parse_header(char (*fields)[CSV_FIELD_MAX], int nf, int *col, 
 }
 
 /* One data row as the next condition of s, its label not used before. */
-static csf_status add_condition(csf_study *s, const int *col, char (*fields)[CSV_FIELD_MAX], int nf,
+static csf_status add_condition(csf_study *s, const int *col, char (*fields)[CSF_CSV_FIELD_MAX], int nf,
                                 int n_header, const char *base_dir, const char *where, int line,
                                 csf_error *err)
 {
@@ -703,7 +649,7 @@ static csf_status add_condition(csf_study *s, const int *col, char (*fields)[CSV
 }
 
 /* blocked_by: the header field holding the column, or -1 with the error set. */
-static int blocked_column(const csf_study *s, char (*fields)[CSV_FIELD_MAX], int nf, const char *where,
+static int blocked_column(const csf_study *s, char (*fields)[CSF_CSV_FIELD_MAX], int nf, const char *where,
                           csf_error *err)
 {
     for (int i = 0; i < nf; i++)
@@ -715,10 +661,10 @@ static int blocked_column(const csf_study *s, char (*fields)[CSV_FIELD_MAX], int
 
 /* The block of the condition just added: its blocked_by value's, a new one for a value not met
  * before (blocks come in the order the file first gives their values). */
-static void assign_group(csf_study *s, char (*values)[CSV_FIELD_MAX], const char *value)
+static void assign_group(csf_study *s, char (*values)[CSF_CSV_FIELD_MAX], const char *value)
 {
     csf_study_condition *c = &s->conds[s->n_conds - 1];
-    snprintf(values[s->n_conds - 1], CSV_FIELD_MAX, "%s", value);
+    snprintf(values[s->n_conds - 1], CSF_CSV_FIELD_MAX, "%s", value);
     for (int i = 0; i < s->n_conds - 1; i++)
         if (!strcmp(values[i], value)) {
             c->group = s->conds[i].group;
@@ -737,7 +683,7 @@ static csf_status resolve_practice(csf_study *s, const char *where, csf_error *e
     snprintf(list, sizeof list, "%s", s->practice_labels);
     char *save = NULL;
     for (char *tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        const char *label = trim(tok);
+        const char *label = csf_trim(tok);
         int found = 0;
         for (int i = 0; i < s->n_conds; i++)
             if (!strcmp(s->conds[i].label, label)) found = s->conds[i].practice_pool = 1;
@@ -760,40 +706,34 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
         return csf_error_set(err, CSF_E_FORMAT, "%s: larger than %u bytes", where, CONDITIONS_MAX_BYTES);
     if (memchr(text, '\0', len))
         return csf_error_set(err, CSF_E_FORMAT, "%s: holds a NUL byte (not a CSV file)", where);
-    char (*fields)[CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
-    char *buf = malloc(8192);
+    char(*fields)[CSF_CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
+    csf_lines lines;
+    int lines_ok = csf_lines_open(&lines, text, len, 8191) == 0;
+    line_check lc = {where, err};
+    lines.check = check_line_cb;
+    lines.check_ctx = &lc;
     s->conds = calloc(CSF_STUDY_MAX_CONDITIONS, sizeof *s->conds);
     s->n_groups = s->blocked_by[0] ? 0 : 1;
-    char(*values)[CSV_FIELD_MAX] =
+    char(*values)[CSF_CSV_FIELD_MAX] =
         s->blocked_by[0] ? malloc(CSF_STUDY_MAX_CONDITIONS * sizeof *values) : NULL;
     csf_status st = CSF_OK;
-    if (!fields || !buf || !s->conds || (s->blocked_by[0] && !values)) {
+    if (!fields || !lines_ok || !s->conds || (s->blocked_by[0] && !values)) {
         st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
         goto out;
     }
     int col[N_COLS];
     for (int i = 0; i < N_COLS; i++) col[i] = -1;
-    int n_header = 0, line = 0, group_col = -1;
-    size_t pos = 0;
-    while (pos < len) {
-        line++;
-        const char *nl = memchr(text + pos, '\n', len - pos);
-        size_t n = nl ? (size_t)(nl - (text + pos)) : len - pos;
-        if (n >= 8192) {
-            st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than 8191 characters", where, line);
+    int n_header = 0, group_col = -1, got;
+    char *l;
+    while ((got = csf_lines_next(&lines, &l)) != 0) {
+        int line = lines.line;
+        if (got < 0) {
+            st = lines.why ? csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", where, line, lines.why)
+                           : CSF_E_INVALID_ARG;
             goto out;
         }
-        memcpy(buf, text + pos, n);
-        buf[n] = '\0';
-        pos += n + (nl ? 1 : 0);
-        char *l = buf;
-        if (line == 1 && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB && (unsigned char)l[2] == 0xBF)
-            l += 3;
-        if ((st = check_line(l, where, line, err)) != CSF_OK) goto out;
-        l = trim(l);
-        if (!*l || l[0] == '#') continue;
         const char *why = NULL;
-        int nf = csv_split(l, fields, CSV_MAX_COLUMNS, &why);
+        int nf = csf_csv_split(l, fields, CSV_MAX_COLUMNS, &why);
         if (nf < 0) {
             st = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", where, line, why);
             goto out;
@@ -817,7 +757,7 @@ csf_status csf_study_parse_conditions(csf_study *s, const char *text, size_t len
 out:
     free(fields);
     free(values);
-    free(buf);
+    csf_lines_close(&lines);
     if (st != CSF_OK) {
         free(s->conds);
         s->conds = NULL;
@@ -1057,55 +997,42 @@ void csf_study_table_free(csf_study_table *t)
 }
 
 /* The next header or data line of a conditions text (comments and blank lines skipped), split. */
-static int next_row(const char *text, size_t len, size_t *pos, char *buf, char (*fields)[CSV_FIELD_MAX])
+static int next_row(csf_lines *lines, char (*fields)[CSF_CSV_FIELD_MAX])
 {
-    while (*pos < len) {
-        const char *nl = memchr(text + *pos, '\n', len - *pos);
-        size_t n = nl ? (size_t)(nl - (text + *pos)) : len - *pos;
-        int first = *pos == 0;
-        if (n >= 8192) return -1;
-        memcpy(buf, text + *pos, n);
-        buf[n] = '\0';
-        *pos += n + (nl ? 1 : 0);
-        char *l = buf;
-        if (first && (unsigned char)l[0] == 0xEF && (unsigned char)l[1] == 0xBB &&
-            (unsigned char)l[2] == 0xBF)
-            l += 3;
-        l = trim(l);
-        if (!*l || l[0] == '#') continue;
-        const char *why;
-        return csv_split(l, fields, CSV_MAX_COLUMNS, &why);
-    }
-    return 0;
+    char *l;
+    int got = csf_lines_next(lines, &l);
+    if (got <= 0) return got;
+    const char *why;
+    return csf_csv_split(l, fields, CSV_MAX_COLUMNS, &why);
 }
 
 csf_status csf_study_conditions_table(const csf_study *s, csf_study_table *t, csf_error *err)
 {
     memset(t, 0, sizeof *t);
     const char *text = s->conditions_text ? s->conditions_text : "";
-    size_t len = strlen(text), pos = 0;
-    char(*fields)[CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
-    char *buf = malloc(8192);
+    csf_lines lines;
+    int lines_ok = csf_lines_open(&lines, text, strlen(text), 8191) == 0;
+    char(*fields)[CSF_CSV_FIELD_MAX] = malloc(CSV_MAX_COLUMNS * sizeof *fields);
     t->names = calloc(CSV_MAX_COLUMNS, sizeof *t->names);
     t->cells = calloc((size_t)CSV_MAX_COLUMNS * (s->n_conds + 1), sizeof *t->cells);
     csf_status st = CSF_OK;
-    if (!fields || !buf || !t->names || !t->cells) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    int nf = st == CSF_OK ? next_row(text, len, &pos, buf, fields) : -1;
+    if (!fields || !lines_ok || !t->names || !t->cells) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    int nf = st == CSF_OK ? next_row(&lines, fields) : -1;
     if (st == CSF_OK && nf <= 0)
         st = csf_error_set(err, CSF_E_FORMAT, "%s: no header row", s->conditions_path);
     for (int i = 0; st == CSF_OK && i < nf; i++) snprintf(t->names[i], sizeof t->names[i], "%s", fields[i]);
     t->n_columns = st == CSF_OK ? nf : 0;
     for (int r = 0; st == CSF_OK && r < s->n_conds; r++) {
-        if (next_row(text, len, &pos, buf, fields) != t->n_columns) {
+        if (next_row(&lines, fields) != t->n_columns) {
             st = csf_error_set(err, CSF_E_FORMAT, "%s: row %d does not match its header", s->conditions_path,
                                r + 1);
             break;
         }
         for (int i = 0; i < t->n_columns; i++)
-            snprintf(t->cells[(size_t)r * CSV_MAX_COLUMNS + i], CSV_FIELD_MAX, "%s", fields[i]);
+            snprintf(t->cells[(size_t)r * CSV_MAX_COLUMNS + i], CSF_CSV_FIELD_MAX, "%s", fields[i]);
     }
     free(fields);
-    free(buf);
+    csf_lines_close(&lines);
     if (st != CSF_OK) csf_study_table_free(t);
     return st;
 }
