@@ -82,31 +82,31 @@ typedef struct {
 
 static int oracle_check(void *ctx, int trials, const double *est_log10)
 {
-    oracle * or = ctx;
-    or->last = precision_achieved_rms(or->truth, est_log10, PR_CELLS);
+    oracle *ora = ctx;
+    ora->last = precision_achieved_rms(ora->truth, est_log10, PR_CELLS);
     const char *trace = getenv("CSF_BENCH_TRACE"); /* diagnosis: every checkpoint's achieved RMS */
-    if (trace && *trace == '1') fprintf(stderr, "trace: %d %.4f\n", trials, or->last);
-    for (; or->next < N_LEVELS && or->last <= LEVELS[or->next]; or->next++)
-        or->first[or->next] = (stop_at){trials, 0, or->last};
+    if (trace && *trace == '1') fprintf(stderr, "trace: %d %.4f\n", trials, ora->last);
+    for (; ora->next < N_LEVELS && ora->last <= LEVELS[ora->next]; ora->next++)
+        ora->first[ora->next] = (stop_at){trials, 0, ora->last};
     for (int l = 0; l < N_LEVELS; l++) {
-        if (!(or->last <= LEVELS[l])) or->settled_from[l] = 0;
-        else if (! or->settled_from[l]) or->settled_from[l] = trials, or->settled_ach[l] = or->last;
+        if (!(ora->last <= LEVELS[l])) ora->settled_from[l] = 0;
+        else if (!ora->settled_from[l]) ora->settled_from[l] = trials, ora->settled_ach[l] = ora->last;
     }
     return 0;
 }
 
-static void oracle_start(oracle * or, const double *truth, stop_at *first, stop_at *settled)
+static void oracle_start(oracle *ora, const double *truth, stop_at *first, stop_at *settled)
 {
-    * or = (oracle){.truth = truth, .last = NAN, .first = first, .settled = settled};
+    *ora = (oracle){.truth = truth, .last = NAN, .first = first, .settled = settled};
 }
 
 /* The levels never reached count as the cap. */
-static void oracle_finish(const oracle * or, int cap)
+static void oracle_finish(const oracle *ora, int cap)
 {
-    for (int l = or->next; l < N_LEVELS; l++) or->first[l] = (stop_at){cap, 1, or->last};
+    for (int l = ora->next; l < N_LEVELS; l++) ora->first[l] = (stop_at){cap, 1, ora->last};
     for (int l = 0; l < N_LEVELS; l++)
-        or->settled[l] = or->settled_from[l] ? (stop_at){ or->settled_from[l], 0, or->settled_ach[l]}
-                                             : (stop_at){cap, 1, or->last};
+        ora->settled[l] = ora->settled_from[l] ? (stop_at){ora->settled_from[l], 0, ora->settled_ach[l]}
+                                               : (stop_at){cap, 1, ora->last};
 }
 
 /* ---- one person, one seed ------------------------------------------------------------------ */
@@ -146,30 +146,30 @@ static int run_anchors(const options *op, const char *spec, int seed, const csf_
         checkpoints[n_cp++] = k < op->cap ? k : op->cap;
     uint64_t pseed = 1000 + (uint64_t)seed;
     anchor_person person = {o, pseed, cells, n_alt};
-    oracle or ;
-    anchor_run r = {cells,
-                    PR_CELLS,
-                    n_alt,
-                    log10(CMIN),
-                    log10(PR_CMAX),
-                    pseed,
-                    anchor_person_answer,
-                    &person,
-                    checkpoints,
-                    n_cp,
-                    oracle_check,
-                    & or };
+    oracle ora;
+    anchor_run r = {.cells = cells,
+                    .n_cells = PR_CELLS,
+                    .n_alt = n_alt,
+                    .log10_cmin = log10(CMIN),
+                    .log10_cmax = log10(PR_CMAX),
+                    .seed = pseed,
+                    .answer = anchor_person_answer,
+                    .answer_ctx = &person,
+                    .checkpoints = checkpoints,
+                    .n_checkpoints = n_cp,
+                    .check = oracle_check,
+                    .check_ctx = &ora};
     anchor_psychometric(o, &slope, &lapse);
     for (int k = 0; k < N_SDS; k++) {
-        oracle_start(& or, truth, g->at[M_QUEST][k][g->n], g->at[M_QUEST_SETTLED][k][g->n]);
+        oracle_start(&ora, truth, g->at[M_QUEST][k][g->n], g->at[M_QUEST_SETTLED][k][g->n]);
         anchor_quest_cells(&r, guess, QUEST_SDS[k], slope, lapse, est, NULL);
-        oracle_finish(& or, op->cap);
+        oracle_finish(&ora, op->cap);
     }
     questplus *q = questplus_create(cells, PR_CELLS, n_alt, lapse, log10(CMIN), log10(PR_CMAX));
     if (q) {
-        oracle_start(& or, truth, g->at[M_QPLUS][0][g->n], g->at[M_QPLUS_SETTLED][0][g->n]);
+        oracle_start(&ora, truth, g->at[M_QPLUS][0][g->n], g->at[M_QPLUS_SETTLED][0][g->n]);
         anchor_questplus(&r, q, est);
-        oracle_finish(& or, op->cap);
+        oracle_finish(&ora, op->cap);
         questplus_free(q);
     }
     csf_observer_sim_free(o);
