@@ -187,7 +187,8 @@ static int check_stops(const options *op, const stop_at *at, const char *method,
         if (s->capped && s->trials != op->cap) why = "marked capped below the cap";
         else if (l && s->trials < at[l - 1].trials) why = "the lower level reached first";
         else if (!s->capped && oracle_stop && !(s->ach <= LEVELS[l])) why = "stopped above its level";
-        else if (!s->capped && oracle_stop && s->trials % op->every) why = "stopped off a checkpoint";
+        else if (!s->capped && oracle_stop && s->trials % op->every && s->trials != op->cap)
+            why = "stopped off a checkpoint";
         else if (!s->capped && !oracle_stop && s->trials < PR_MIN_TRIALS) why = "stopped before trial 10";
         if (why)
             fprintf(stderr, "bench_efficiency: check: %s, %s seed %d, level %.2f: %s (%d trials, RMS %.3f)\n",
