@@ -150,7 +150,7 @@ static double expected_entropy(const questplus *q, int n_act, double total, int 
 
 void questplus_next(questplus *q, uint64_t seed, int trial, int *cell, double *x_log10)
 {
-    int pick[QP_CELLS_PER_TRIAL];
+    int pick[QP_CELLS_PER_TRIAL] = {0}; /* a grid of no cells draws none */
     int n_pick = pick_cells(q, seed, trial, pick);
     double total = 0.0;
     int n_act = 0;
