@@ -36,7 +36,7 @@ enum { N_LEVELS = 2, N_SDS = 3, MAX_SEEDS = 8, MAX_SAMPLES = MAX_HONEST_OBS * MA
 enum { MAX_CHECKPOINTS = PR_CAP_PER_CELL * PR_CELLS };
 static const double LEVELS[N_LEVELS] = {0.15, 0.10};
 static const double QUEST_SDS[N_SDS] = {0.3, 0.5, 1.0};
-/* The conservative shift bayes's tables recommend (recommended_shift_se, calib/observer_calib.c) */
+/* The conservative shift bayes's tables recommend (recommended_shift_se, calib/observer_table.c) */
 #define RECOMMENDED_SHIFT 2.0
 #define CMIN 0.0005
 
