@@ -11,11 +11,10 @@
 #include "calib/procedure.h"
 #include "model/observer_sdt.h"
 #include "model/observer_sim.h"
-#include "quest_cell.h"
+#include "anchor_run.h"
 #include "questplus.h"
 #include "honest_sets.h"
 #include "model/psychometric.h"
-#include "core/rng.h"
 #include "tests/bayes/sim_2afc.h"
 
 enum { MAX_BUDGETS = 16, MAX_METHODS = 4, N_OBS = 3, N_LAYOUTS = 2, MAX_SPECS = 8 };
@@ -29,16 +28,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-/* Prior-mean surface of the bayes method, used as QUEST's per-cell guess so QUEST starts from the
- * same population knowledge (and not from the parametric observer's exact truth). */
-static double guess_log10(const csf_cell *c)
-{
-    csf_model_params p = {.smax = pow(10.0, 2.25), .fmax_cpd = pow(10.0, 0.45), .beta_oct = 3.0,
-                          .delta_log10 = 0.5, .ecc_a = 0.03, .ecc_b = 0.02};
-    double t = -csf_model_log10_sensitivity(&p, c->freq_cpd, c->ecc_deg);
-    return t > 0.0 ? 0.0 : t;
 }
 
 /* One simulated session of a --sim observer: as sim2afc_run_alt, answers from devices/observer_sim
@@ -228,57 +217,28 @@ static int honest_trials(int m)
     return 240;
 }
 
-/* The observer's psychometric function as the anchors are given it: the Weibull's own slope and
- * lapse; for a signal-detection observer the Weibull that fits its 2AFC function (slope 1.21 k). */
-static void anchor_psychometric(const csf_observer_sim *o, double *slope, double *lapse)
-{
-    const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
-    *slope = p->decision == CSF_SIM_SDT ? 1.21 * p->k_transducer : p->slope;
-    *lapse = p->lapse < 0.001 ? 0.001 : p->lapse;
-}
-
-/* One forced-choice answer of the simulated person at trial k: 1 = correct. */
-static int sim_correct(const csf_observer_sim *o, uint64_t seed, int k, const csf_cell *c, int m, double x_log10)
-{
-    double shown[4] = {0, 0, 0, 0}, rt;
-    int sig = (int)(csf_rng_u64(seed, 0x9e5, (uint64_t)k) % (uint64_t)m);
-    shown[sig] = pow(10.0, x_log10);
-    int r = m == 4 ? csf_observer_sim_afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, 4, &rt)
-                   : csf_observer_sim_2afc(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, shown, &rt);
-    return r == sig;
-}
-
-/* Per-cell QUEST. Allocation: each trial goes to the cell with the fewest trials among those whose
- * posterior gives at least 20 % to "visible" (t < log10 cmax), ties broken by a seeded rotation;
- * if no cell qualifies, to the one most likely visible. A cell the posterior calls more likely
- * invisible than visible is reported never visible. */
+/* Per-cell QUEST at a fixed budget (bench/anchor_run.h: allocation, never-visible calls). */
 static void run_quest_cells(const csf_observer_sim *o, uint64_t seed, const csf_cell *cells, int n,
                             const int *n_alt, int budget, double sd, double cmax, csf_cell_estimate *est)
 {
-    quest_cell q[24];
-    int trials[24] = {0};
-    double slope, lapse, lcmax = log10(cmax), lcmin = log10(0.0005);
+    double slope, lapse, guess[24], lt[24];
+    int trials[24];
     anchor_psychometric(o, &slope, &lapse);
-    for (int c = 0; c < n; c++) quest_cell_init(&q[c], guess_log10(&cells[c]), sd, slope, lapse, 1.0 / n_alt[c]);
-    int rot = (int)(csf_rng_u64(seed, 0x9e6, 0) % (uint64_t)n);
-    for (int k = 0; k < budget; k++) {
-        int best = -1, best_any = 0;
-        double pv_any = -1.0;
-        for (int i = 0; i < n; i++) {
-            int c = (i + rot) % n;
-            double pv = quest_cell_prob_below(&q[c], lcmax);
-            if (pv > pv_any) pv_any = pv, best_any = c;
-            if (pv >= 0.2 && (best < 0 || trials[c] < trials[best])) best = c;
-        }
-        int c = best >= 0 ? best : best_any;
-        double x = quest_cell_quantile(&q[c], 0.5);
-        x = x < lcmin ? lcmin : x > lcmax ? lcmax : x;
-        quest_cell_update(&q[c], x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
-        trials[c]++;
-    }
+    for (int c = 0; c < n; c++) guess[c] = anchor_static_guess_log10(&cells[c]);
+    anchor_person person = {o, seed, cells, n_alt};
+    anchor_run r = {.cells = cells,
+                    .n_cells = n,
+                    .n_alt = n_alt,
+                    .log10_cmin = log10(0.0005),
+                    .log10_cmax = log10(cmax),
+                    .seed = seed,
+                    .answer = anchor_person_answer,
+                    .answer_ctx = &person,
+                    .checkpoints = &budget,
+                    .n_checkpoints = 1};
+    anchor_quest_cells(&r, guess, sd, slope, lapse, lt, trials);
     for (int c = 0; c < n; c++) {
-        double m = quest_cell_mean(&q[c]);
-        est[c].threshold = quest_cell_prob_below(&q[c], lcmax) < 0.5 ? INFINITY : pow(10.0, m < lcmax ? m : lcmax);
+        est[c].threshold = isfinite(lt[c]) ? pow(10.0, lt[c]) : INFINITY;
         est[c].n_trials = trials[c];
     }
 }
@@ -290,13 +250,18 @@ static int run_questplus(const csf_observer_sim *o, uint64_t seed, const csf_cel
     anchor_psychometric(o, &slope, &lapse); /* the slope is QUEST+'s own parameter; lapse given */
     questplus *q = questplus_create(cells, n, n_alt, lapse, log10(0.0005), log10(cmax));
     if (!q) return -1;
-    for (int k = 0; k < budget; k++) {
-        int c;
-        double x;
-        questplus_next(q, seed, k, &c, &x);
-        questplus_update(q, c, x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
-    }
-    questplus_estimate(q, lt);
+    anchor_person person = {o, seed, cells, n_alt};
+    anchor_run r = {.cells = cells,
+                    .n_cells = n,
+                    .n_alt = n_alt,
+                    .log10_cmin = log10(0.0005),
+                    .log10_cmax = log10(cmax),
+                    .seed = seed,
+                    .answer = anchor_person_answer,
+                    .answer_ctx = &person,
+                    .checkpoints = &budget,
+                    .n_checkpoints = 1};
+    anchor_questplus(&r, q, lt);
     for (int c = 0; c < n; c++) est[c].threshold = isfinite(lt[c]) ? pow(10.0, lt[c]) : INFINITY;
     questplus_free(q);
     return 0;
@@ -712,7 +677,8 @@ int main(int argc, char **argv)
             for (int ob = 0; ob < N_OBS; ob++)
                 for (int c = 0; c < n && use_obs[ob]; c++) {
                     double t = sim2afc_log10_threshold(&probe[ob], cells[c].freq_cpd, cells[c].ecc_deg);
-                    fprintf(tf, "%d,%d,%.6f,%.6f,%d,%d\n", ob, c, t, guess_log10(&cells[c]), t < log10(cmax), n_alt[c]);
+                    fprintf(tf, "%d,%d,%.6f,%.6f,%d,%d\n", ob, c, t, anchor_static_guess_log10(&cells[c]),
+                            t < log10(cmax), n_alt[c]);
                 }
             fclose(tf);
             char out_path[64], cmd[512];

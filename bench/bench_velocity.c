@@ -22,11 +22,10 @@
 #include "calib/observer_calib.h"
 #include "calib/procedure.h"
 #include "cli/config.h"
-#include "core/rng.h"
 #include "model/csf_model.h"
 #include "model/csf_velocity.h"
 #include "model/observer_sim.h"
-#include "quest_cell.h"
+#include "anchor_run.h"
 #include "questplus_v.h"
 #include "results/csflut/csflut.h"
 #include "tests/bayes/sim_2afc.h"
@@ -253,67 +252,35 @@ static double guess_log10(const csf_cell *c)
     return t > 0.0 ? 0.0 : t;
 }
 
-/* The person's psychometric function as the anchors are told it (sdt: the Weibull of slope 1.21 k). */
-static void anchor_psychometric(const csf_observer_sim *o, double *slope, double *lapse)
+/* Scores a run at each of the bench's budgets (anchor_check_fn): RMS into rms[budget index]. */
+typedef struct {
+    const csf_observer_sim *o;
+    const csf_cell *cells;
+    int n, bi;
+    double *rms;
+} budget_scores;
+
+static int score_budget(void *ctx, int trials, const double *est_log10)
 {
-    const csf_observer_sim_params *p = csf_observer_sim_params_get(o);
-    *slope = p->decision == CSF_SIM_SDT ? 1.21 * p->k_transducer : p->slope;
-    *lapse = p->lapse < 0.001 ? 0.001 : p->lapse;
+    budget_scores *sc = ctx;
+    (void)trials;
+    sc->rms[sc->bi++] = rms_error(sc->o, sc->cells, sc->n, est_log10);
+    return 0;
 }
 
-/* One forced-choice answer at trial k: 1 = correct. */
-static int sim_correct(const csf_observer_sim *o, uint64_t seed, int k, const csf_cell *c, int m,
-                       double x_log10)
-{
-    double shown[4] = {0, 0, 0, 0}, rt;
-    int sig = (int)(csf_rng_u64(seed, 0x9e5, (uint64_t)k) % (uint64_t)m);
-    shown[sig] = pow(10.0, x_log10);
-    int r =
-        m == 4
-            ? csf_observer_sim_afc_v(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, c->velocity_dps, shown, 4, &rt)
-            : csf_observer_sim_2afc_v(o, (uint64_t)k, c->freq_cpd, c->ecc_deg, c->velocity_dps, shown, &rt);
-    return r == sig;
-}
-
-/* Per-cell QUEST estimates at a budget: never visible when the posterior says so by more than half. */
-static void quest_estimate(const quest_cell *q, int n, double *est_log10)
-{
-    for (int c = 0; c < n; c++) {
-        double m = quest_cell_mean(&q[c]);
-        est_log10[c] = quest_cell_prob_below(&q[c], log10(CMAX)) < 0.5 ? INFINITY : fmin(m, log10(CMAX));
-    }
-}
-
-/* Per-cell QUEST as bench_observer runs it (each trial to the least-tried cell the posterior gives
- * at least 20 % to being visible), scored at every budget on the way to the largest. */
+/* Per-cell QUEST (bench/anchor_run.h) with prior sd `sd`, scored at every budget on the way to the
+ * largest. */
 static void run_quest(const csf_observer_sim *o, uint64_t seed, const csf_cell *cells, int n,
                       const int *n_alt, double sd, const bench_opts *b, double *rms)
 {
-    static quest_cell q[MAX_CELLS];
-    int trials[MAX_CELLS] = {0}, bi = 0;
-    double slope, lapse, est[MAX_CELLS];
+    double slope, lapse, guess[MAX_CELLS], est[MAX_CELLS];
     anchor_psychometric(o, &slope, &lapse);
-    for (int c = 0; c < n; c++)
-        quest_cell_init(&q[c], guess_log10(&cells[c]), sd, slope, lapse, 1.0 / n_alt[c]);
-    int rot = (int)(csf_rng_u64(seed, 0x9e6, 0) % (uint64_t)n);
-    for (int k = 0; k < b->budgets[b->n_budgets - 1]; k++) {
-        int best = -1, best_any = 0;
-        double pv_any = -1.0;
-        for (int i = 0; i < n; i++) {
-            int c = (i + rot) % n;
-            double pv = quest_cell_prob_below(&q[c], log10(CMAX));
-            if (pv > pv_any) pv_any = pv, best_any = c;
-            if (pv >= 0.2 && (best < 0 || trials[c] < trials[best])) best = c;
-        }
-        int c = best >= 0 ? best : best_any;
-        double x = fmax(log10(CMIN), fmin(log10(CMAX), quest_cell_quantile(&q[c], 0.5)));
-        quest_cell_update(&q[c], x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
-        trials[c]++;
-        if (k + 1 == b->budgets[bi]) {
-            quest_estimate(q, n, est);
-            rms[bi++] = rms_error(o, cells, n, est);
-        }
-    }
+    for (int c = 0; c < n; c++) guess[c] = guess_log10(&cells[c]);
+    anchor_person person = {o, seed, cells, n_alt};
+    budget_scores sc = {o, cells, n, 0, rms};
+    anchor_run r = {cells,   n,          n_alt,        log10(CMIN),  log10(CMAX), seed, anchor_person_answer,
+                    &person, b->budgets, b->n_budgets, score_budget, &sc};
+    anchor_quest_cells(&r, guess, sd, slope, lapse, est, NULL);
 }
 
 /* Joint QUEST+ over the spatio-velocity family, scored at every budget. */
@@ -322,19 +289,14 @@ static int run_qplus(const csf_observer_sim *o, uint64_t seed, const csf_cell *c
 {
     double slope, lapse, est[MAX_CELLS];
     anchor_psychometric(o, &slope, &lapse); /* the slope is QUEST+'s own parameter; lapse given */
-    questplus_v *q = questplus_v_create(cells, n, n_alt, lapse, log10(CMIN), log10(CMAX));
+    questplus *q = questplus_v_create(cells, n, n_alt, lapse, log10(CMIN), log10(CMAX));
     if (!q) return -1;
-    for (int k = 0, bi = 0; k < b->budgets[b->n_budgets - 1]; k++) {
-        int c;
-        double x;
-        questplus_v_next(q, seed, k, &c, &x);
-        questplus_v_update(q, c, x, sim_correct(o, seed, k, &cells[c], n_alt[c], x));
-        if (k + 1 == b->budgets[bi]) {
-            questplus_v_estimate(q, est);
-            rms[bi++] = rms_error(o, cells, n, est);
-        }
-    }
-    questplus_v_free(q);
+    anchor_person person = {o, seed, cells, n_alt};
+    budget_scores sc = {o, cells, n, 0, rms};
+    anchor_run r = {cells,   n,          n_alt,        log10(CMIN),  log10(CMAX), seed, anchor_person_answer,
+                    &person, b->budgets, b->n_budgets, score_budget, &sc};
+    anchor_questplus(&r, q, est);
+    questplus_free(q);
     return 0;
 }
 
@@ -342,15 +304,15 @@ static int run_qplus(const csf_observer_sim *o, uint64_t seed, const csf_cell *c
 static double qplus_floor(const csf_observer_sim *o, const csf_cell *cells, int n, const int *n_alt)
 {
     double truth[MAX_CELLS];
-    questplus_v *q = questplus_v_create(cells, n, n_alt, 0.02, log10(CMIN), log10(CMAX));
+    questplus *q = questplus_v_create(cells, n, n_alt, 0.02, log10(CMIN), log10(CMAX));
     if (!q) return NAN;
     for (int c = 0; c < n; c++) {
         double th =
             csf_observer_sim_threshold_v(o, cells[c].freq_cpd, cells[c].ecc_deg, cells[c].velocity_dps);
         truth[c] = th < CMAX ? log10(th) : INFINITY;
     }
-    double r = questplus_v_best_fit_rms(q, truth);
-    questplus_v_free(q);
+    double r = questplus_best_fit_rms(q, truth);
+    questplus_free(q);
     return r;
 }
 

@@ -22,20 +22,32 @@
 #include <stdint.h>
 
 #include "calib/procedure.h"
+#include "model/csf_model.h"
 
-enum { QP_CELLS_PER_TRIAL = 6 };
+enum { QP_CELLS_PER_TRIAL = 6, QP_N_STATIC = 5376 /* the static grid's surfaces */ };
 
 typedef struct questplus questplus;
 
+/* The static family (the grids above). NULL when out of memory. */
 questplus *questplus_create(const csf_cell *cells, int n_cells, const int *n_alt, double lapse,
                             double log10_cmin, double log10_cmax);
+/* Surface s of a family: each cell's log10 threshold into t_log10[n_cells]; returns its prior
+ * weight (any positive scale). */
+typedef double (*questplus_surface_fn)(void *ctx, int s, const csf_cell *cells, int n_cells, float *t_log10);
+/* Another family of n_surf surfaces (bench/questplus_v.h: the static one times a velocity gain);
+ * placement, pruning and estimate as the static anchor's. */
+questplus *questplus_create_family(const csf_cell *cells, int n_cells, const int *n_alt, double lapse,
+                                   double log10_cmin, double log10_cmax, int n_surf,
+                                   questplus_surface_fn surface, void *ctx);
+/* The static grid's surface number s (log10 Smax slowest, b fastest) and its prior weight. */
+csf_model_params questplus_static_surface(int s, double *prior);
 void questplus_free(questplus *q);
 void questplus_next(questplus *q, uint64_t seed, int trial, int *cell, double *x_log10);
 void questplus_update(questplus *q, int cell, double x_log10, int correct);
 /* log10 threshold per cell, INFINITY where the posterior says never visible. */
 void questplus_estimate(const questplus *q, double *log10_t);
-/* The best the surface family can do: min over the grid's surfaces of the RMS over cells whose
- * truth is finite (truth_log10 >= log10 cmax counts as log10 cmax). */
+/* The best the surface family can do: min over the grid's surfaces of the RMS over the cells whose
+ * truth is below log10 cmax (the others are left out). */
 double questplus_best_fit_rms(const questplus *q, const double *truth_log10);
 
 #endif

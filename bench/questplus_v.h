@@ -7,31 +7,18 @@
  * fit to a velocity grid with QUEST+, and the same family the bayes method's prior is drawn from,
  * so the anchor knows as much about the shape of motion as the method does. 5376 static surfaces
  * x 9 velocity shapes x slope 2, 3.2, 5 = 145152 hypotheses; flat prior on the velocity knobs.
- * Stimuli, placement (QP_V_CELLS_PER_TRIAL random cells x 23 contrasts, least expected entropy),
+ * Stimuli, placement (QP_CELLS_PER_TRIAL random cells x 23 contrasts, least expected entropy),
  * the pruning of hypotheses below 1e-7 of the largest and the estimate (posterior mean of
  * min(t, log10 cmax); never visible when more than half the mass says t >= log10 cmax) are the
  * static anchor's. */
 #ifndef BENCH_QUESTPLUS_V_H
 #define BENCH_QUESTPLUS_V_H
 
-#include <stdint.h>
+#include "questplus.h"
 
-#include "calib/procedure.h"
-
-enum { QP_V_CELLS_PER_TRIAL = 6 };
-
-typedef struct questplus_v questplus_v;
-
-/* cells carry velocity_dps; n_alt[c] = 2 or 4 (guess 1/2 or 1/4). NULL when out of memory. */
-questplus_v *questplus_v_create(const csf_cell *cells, int n_cells, const int *n_alt, double lapse,
-                                double log10_cmin, double log10_cmax);
-void questplus_v_free(questplus_v *q);
-void questplus_v_next(questplus_v *q, uint64_t seed, int trial, int *cell, double *x_log10);
-void questplus_v_update(questplus_v *q, int cell, double x_log10, int correct);
-/* log10 threshold per cell, INFINITY where the posterior says never visible. */
-void questplus_v_estimate(const questplus_v *q, double *log10_t);
-/* The best any surface of the family fits truth_log10 (RMS over cells whose truth is finite and
- * below log10 cmax): the anchor's floor, whatever the budget. */
-double questplus_v_best_fit_rms(const questplus_v *q, const double *truth_log10);
+/* cells carry velocity_dps; n_alt[c] = 2 or 4 (guess 1/2 or 1/4). The questplus_* functions run it
+ * (questplus_best_fit_rms: the anchor's floor, whatever the budget). NULL when out of memory. */
+questplus *questplus_v_create(const csf_cell *cells, int n_cells, const int *n_alt, double lapse,
+                              double log10_cmin, double log10_cmax);
 
 #endif
