@@ -97,21 +97,14 @@ static double num_opt(const char *v, double lo, double hi, int *bad)
 
 static csf_status command(ls_state *s, const char *cmd, csf_minolta_reply *r, csf_error *err)
 {
-    char out[32];
-    int n = snprintf(out, sizeof out, "%s\r\n", cmd);
-    csf_transport_drain(s->t); /* a late answer to an earlier, timed-out command */
-    csf_status st = s->t->write(s->t, (const uint8_t *)out, (size_t)n, s->timeout_s, err);
-    if (st) return st;
     char line[128];
     size_t len;
-    st = csf_transport_read_line(s->t, line, sizeof line, &len, s->timeout_s, s->who, cmd, err);
+    csf_status st = csf_transport_ask_line(s->t, cmd, "\r\n", s->timeout_s, s->timeout_s, line, sizeof line,
+                                           &len, s->who, err);
     if (st) return st;
     csf_error perr;
-    if (csf_minolta_parse(line, len, r, &perr)) {
-        char q[160];
-        csf_quote_bytes(line, len, q, sizeof q);
-        return csf_error_set(err, CSF_E_PROTOCOL, "%s: unreadable answer to %s ('%s'): %s", s->who, cmd, q, perr.msg);
-    }
+    if (csf_minolta_parse(line, len, r, &perr))
+        return csf_transport_unreadable(line, len, s->who, cmd, perr.msg, err);
     if (!r->ok)
         return csf_error_set(err, csf_minolta_error_status(r->code), "%s: ER%02d to %s: %s", s->who, r->code, cmd,
                              csf_minolta_error_text(r->code));
@@ -129,27 +122,24 @@ static void ls_close(void *state)
 static csf_status ls_open_model(int model, const char *options, void **state, csf_error *err)
 {
     const char *name = model_names[model];
-    if (!options[0])
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: give the serial port, e.g. --photometer %s:/dev/ttyUSB0",
-                             name, model == MODEL_CS100A ? "cs100a" : model == MODEL_LS110 ? "ls110" : "ls100");
+    const char *spec_name = model == MODEL_CS100A ? "cs100a" : model == MODEL_LS110 ? "ls110" : "ls100";
     ls_state *s = calloc(1, sizeof *s);
     if (!s) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    const char *opts;
+    csf_status pst =
+        csf_serial_spec_port(options, name, spec_name, "/dev/ttyUSB0", s->path, sizeof s->path, &opts, err);
+    if (pst) {
+        free(s);
+        return pst;
+    }
     s->model = model;
     s->timeout_s = 10;  /* a reading takes about 1 s; slow mode and dim light longer */
     s->floor_cdm2 = model == MODEL_CS100A ? 0.01 : 0.001; /* lower end of the measuring range */
-    const char *comma = strchr(options, ',');
-    size_t plen = comma ? (size_t)(comma - options) : strlen(options);
-    if (plen >= sizeof s->path) {
-        free(s);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: port path longer than %zu characters", name, sizeof s->path - 1);
-    }
-    memcpy(s->path, options, plen);
-    s->path[plen] = 0;
     snprintf(s->who, sizeof s->who, "Konica Minolta %s on %s", name, s->path);
     char buf[256];
-    snprintf(buf, sizeof buf, "%s", comma ? comma + 1 : "");
+    snprintf(buf, sizeof buf, "%s", opts ? opts : "");
     char *save = NULL;
-    for (char *tok = comma ? strtok_r(buf, ",", &save) : NULL; tok; tok = strtok_r(NULL, ",", &save)) {
+    for (char *tok = opts ? strtok_r(buf, ",", &save) : NULL; tok; tok = strtok_r(NULL, ",", &save)) {
         char *eq = strchr(tok, '=');
         int bad = 0;
         if (eq) *eq = 0;

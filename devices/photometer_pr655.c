@@ -105,21 +105,14 @@ csf_status csf_pr_error_status(long code)
 /* Sends cmd + CR and reads the reply line; an error code in it becomes the error. */
 static csf_status command(pr_state *s, const char *cmd, double timeout_s, csf_pr_reply *r, csf_error *err)
 {
-    char out[32];
-    int n = snprintf(out, sizeof out, "%s\r", cmd);
-    csf_transport_drain(s->t);
-    csf_status st = s->t->write(s->t, (const uint8_t *)out, (size_t)n, 5, err);
-    if (st) return st;
     char line[512];
     size_t len;
-    st = csf_transport_read_line(s->t, line, sizeof line, &len, timeout_s, s->who, cmd, err);
+    csf_status st =
+        csf_transport_ask_line(s->t, cmd, "\r", 5, timeout_s, line, sizeof line, &len, s->who, err);
     if (st) return st;
     csf_error perr;
-    if (csf_pr_parse(line, len, r, &perr)) {
-        char q[160];
-        csf_quote_bytes(line, len, q, sizeof q);
-        return csf_error_set(err, CSF_E_PROTOCOL, "%s: unreadable answer to %s ('%s'): %s", s->who, cmd, q, perr.msg);
-    }
+    if (csf_pr_parse(line, len, r, &perr))
+        return csf_transport_unreadable(line, len, s->who, cmd, perr.msg, err);
     if (r->code != 0)
         return csf_error_set(err, csf_pr_error_status(r->code), "%s: error %ld to %s: %s", s->who, r->code, cmd,
                              csf_pr_error_text(r->code));
@@ -224,25 +217,21 @@ static void pr_field(void *state, double *field_deg, double *field_mm)
 static csf_status pr_open_model(const char *name, const char *spec_name, const char *options, void **state,
                                 csf_error *err)
 {
-    if (!options[0])
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: give the serial port, e.g. --photometer %s:/dev/ttyACM0",
-                             name, spec_name);
     pr_state *s = calloc(1, sizeof *s);
     if (!s) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    const char *opts;
+    csf_status pst =
+        csf_serial_spec_port(options, name, spec_name, "/dev/ttyACM0", s->path, sizeof s->path, &opts, err);
+    if (pst) {
+        free(s);
+        return pst;
+    }
     s->name = name;
     s->timeout_s = 60;
-    const char *comma = strchr(options, ',');
-    size_t plen = comma ? (size_t)(comma - options) : strlen(options);
-    if (plen >= sizeof s->path) {
-        free(s);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: port path longer than %zu characters", name, sizeof s->path - 1);
-    }
-    memcpy(s->path, options, plen);
-    s->path[plen] = 0;
     snprintf(s->who, sizeof s->who, "Photo Research %s on %s", name, s->path);
     s->aperture_deg = 1.0;
     csf_status st =
-        comma ? csf_pr_parse_options(spec_name, comma + 1, &s->timeout_s, &s->aperture_deg, err) : CSF_OK;
+        opts ? csf_pr_parse_options(spec_name, opts, &s->timeout_s, &s->aperture_deg, err) : CSF_OK;
     if (st) {
         free(s);
         return st;

@@ -218,6 +218,47 @@ csf_status csf_transport_read_line(csf_transport *t, char *line, size_t cap, siz
     }
 }
 
+csf_status csf_transport_ask_line(csf_transport *t, const char *cmd, const char *ending,
+                                  double write_timeout_s, double read_timeout_s, char *line, size_t cap,
+                                  size_t *len, const char *who, csf_error *err)
+{
+    char out[64];
+    int n = snprintf(out, sizeof out, "%s%s", cmd, ending);
+    if (n < 0 || (size_t)n >= sizeof out)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: command %.20s... longer than %zu bytes", who, cmd,
+                             sizeof out - 1);
+    csf_transport_drain(t); /* a late answer to an earlier, timed-out command */
+    csf_status st = t->write(t, (const uint8_t *)out, (size_t)n, write_timeout_s, err);
+    if (st) return st;
+    return csf_transport_read_line(t, line, cap, len, read_timeout_s, who, cmd, err);
+}
+
+csf_status csf_transport_unreadable(const char *line, size_t len, const char *who, const char *cmd,
+                                    const char *why, csf_error *err)
+{
+    char q[160];
+    csf_quote_bytes(line, len, q, sizeof q);
+    return csf_error_set(err, CSF_E_PROTOCOL, "%s: unreadable answer to %s ('%s'): %s", who, cmd, q, why);
+}
+
+csf_status csf_serial_spec_port(const char *spec, const char *name, const char *spec_name,
+                                const char *example_port, char *path, size_t cap, const char **options,
+                                csf_error *err)
+{
+    if (!spec[0])
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: give the serial port, e.g. --photometer %s:%s",
+                             name, spec_name, example_port);
+    const char *comma = strchr(spec, ',');
+    size_t plen = comma ? (size_t)(comma - spec) : strlen(spec);
+    if (plen >= cap)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "%s: port path longer than %zu characters", name,
+                             cap - 1);
+    memcpy(path, spec, plen);
+    path[plen] = 0;
+    *options = comma ? comma + 1 : NULL;
+    return CSF_OK;
+}
+
 void csf_transport_drain(csf_transport *t)
 {
     uint8_t buf[256];

@@ -34,6 +34,21 @@ csf_status csf_transport_read_line(csf_transport *t, char *line, size_t cap, siz
 /* Drops bytes already waiting (a late answer to an earlier, timed-out command). */
 void csf_transport_drain(csf_transport *t);
 
+/* One command of a line protocol (the serial meters'): drops what is waiting, writes cmd and its
+ * ending, and reads the answer line as csf_transport_read_line does (cmd names it in messages). */
+csf_status csf_transport_ask_line(csf_transport *t, const char *cmd, const char *ending,
+                                  double write_timeout_s, double read_timeout_s, char *line, size_t cap,
+                                  size_t *len, const char *who, csf_error *err);
+/* CSF_E_PROTOCOL for an answer the protocol's parser refused (why), the answer quoted printably. */
+csf_status csf_transport_unreadable(const char *line, size_t len, const char *who, const char *cmd,
+                                    const char *why, csf_error *err);
+/* The port of a serial meter's spec "PORT[,OPTIONS]" into path (cap bytes); *options gets what
+ * follows the first comma, or NULL. Refuses an empty port (naming spec_name and example_port as
+ * the example to give) and a port path that does not fit. */
+csf_status csf_serial_spec_port(const char *spec, const char *name, const char *spec_name,
+                                const char *example_port, char *path, size_t cap, const char **options,
+                                csf_error *err);
+
 /* csf_quote_bytes (core/csf_status.h) gives the printable form of a reply for messages. */
 
 #endif
