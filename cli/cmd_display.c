@@ -618,6 +618,59 @@ static void warn_not_warm(const csf_display_calib_result *res, double target_rel
                 "csfcal: warning: white did not settle during the warm-up check; the profile may drift\n");
 }
 
+/* The line on how the patches were shown; closes the renderer (NULL: nothing was drawn). */
+static void render_info(render_ctx *rctx, int simulated, double t_cal, char *rinfo, size_t len)
+{
+    if (rctx) {
+        snprintf(rinfo, len,
+                 "  rendered: %ld frames of a %d x %d px patch (%d frames per reading, "
+                 "%d-bit, %d x %d render), %.2f s drawing, %.2f s in all\n",
+                 rctx->frames_drawn, rctx->pw, rctx->ph_, rctx->frames, rctx->bits, rctx->rw, rctx->rh,
+                 rctx->wall_s, t_cal);
+        render_close(rctx);
+    } else {
+        snprintf(rinfo, len,
+                 simulated ? "  not rendered: the simulator was told the drive values (%.2f s)\n"
+                           : "  not rendered: nothing was drawn (%.2f s)\n",
+                 t_cal);
+    }
+}
+
+/* After a failure that kept readings: the command that finishes the session. It is pasted into a
+ * shell: its words are quoted for one. */
+static void print_calibration_resume(const dargs *a, const char *store_path, const char *spec, int64_t sid,
+                                     int n_readings)
+{
+    char where[1024];
+    csf_store_redact(store_path, where, sizeof where);
+    char *qs = csf_shell_quote(store_path), *qo = csf_shell_quote(a->out), *qp = csf_shell_quote(spec);
+    fprintf(stderr,
+            "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
+            "  csfcal display calibrate --resume %lld --store %s --photometer %s --out %s\n",
+            n_readings, (long long)sid, where, (long long)sid, qs ? qs : "?", qp ? qp : "?", qo ? qo : "?");
+    free(qs);
+    free(qo);
+    free(qp);
+}
+
+/* What a finished calibration should warn of: a curve that had to be made monotonic, a display
+ * not warm, a target the budget did not meet. */
+static void warn_calibration(const csf_display_calib_result *res, const csf_display_calib_opts *o)
+{
+    if (res->monotonic_violations) fprintf(stderr, "csfcal: warning: %s\n", res->monotonic_msg);
+    if (!res->warmup_stable) warn_not_warm(res, o->target_rel);
+    if (!res->target_met) {
+        double worst = 0;
+        for (int c = 0; c < CSF_CH_COUNT; c++)
+            if (!isnan(res->est_error_rel[c])) worst = fmax(worst, res->est_error_rel[c]);
+        fprintf(stderr,
+                "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
+                "error of %.3f %% against the target %.3f %% (the profile records it); a larger --budget "
+                "or a quieter instrument would meet it\n",
+                o->budget, 100 * worst, 100 * o->target_rel);
+    }
+}
+
 static int cmd_calibrate(dargs *a)
 {
     if (!a->out) {
@@ -668,31 +721,12 @@ static int cmd_calibrate(dargs *a)
     if (st && ro == 0 && rctx.failed && rctx.err.msg[0])
         fprintf(stderr, "csfcal: display calibrate: drawing the patch: %s\n", rctx.err.msg);
     char rinfo[300] = "";
-    if (ro == 0) {
-        snprintf(rinfo, sizeof rinfo, "  rendered: %ld frames of a %d x %d px patch (%d frames per reading, "
-                 "%d-bit, %d x %d render), %.2f s drawing, %.2f s in all\n", rctx.frames_drawn, rctx.pw, rctx.ph_,
-                 rctx.frames, rctx.bits, rctx.rw, rctx.rh, rctx.wall_s, t_cal);
-        render_close(&rctx);
-    } else {
-        snprintf(rinfo, sizeof rinfo, simulated ? "  not rendered: the simulator was told the drive values (%.2f s)\n"
-                                                : "  not rendered: nothing was drawn (%.2f s)\n", t_cal);
-    }
+    render_info(ro == 0 ? &rctx : NULL, simulated, t_cal, rinfo, sizeof rinfo);
     csf_photometer_close(ph);
     if (st) {
         int rc = csf_cli_report("display calibrate", &err);
-        if (sid > 0 && !session_aborted(store, sid)) {
-            /* The command is pasted into a shell: its words are quoted for one. */
-            char where[1024];
-            csf_store_redact(store_path, where, sizeof where);
-            char *qs = csf_shell_quote(store_path), *qo = csf_shell_quote(a->out), *qp = csf_shell_quote(spec);
-            fprintf(stderr, "csfcal: %d readings kept in session %lld of %s; after fixing the cause, finish it with:\n"
-                            "  csfcal display calibrate --resume %lld --store %s --photometer %s --out %s\n",
-                    res.n_readings, (long long)sid, where, (long long)sid, qs ? qs : "?", qp ? qp : "?",
-                    qo ? qo : "?");
-            free(qs);
-            free(qo);
-            free(qp);
-        }
+        if (sid > 0 && !session_aborted(store, sid))
+            print_calibration_resume(a, store_path, spec, sid, res.n_readings);
         csf_store_close(store);
         return rc;
     }
@@ -709,19 +743,7 @@ static int cmd_calibrate(dargs *a)
     calib_report r = {spec, a->out, rinfo, p, &res, o.target_rel, t_cal, o.budget, sid, simulated, ro == 0};
     if (a->cli.json) print_calibration_json(&r);
     else if (!a->quiet) print_calibration_text(&r);
-    if (res.monotonic_violations)
-        fprintf(stderr, "csfcal: warning: %s\n", res.monotonic_msg);
-    if (!res.warmup_stable) warn_not_warm(&res, o.target_rel);
-    if (!res.target_met) {
-        double worst = 0;
-        for (int c = 0; c < CSF_CH_COUNT; c++)
-            if (!isnan(res.est_error_rel[c])) worst = fmax(worst, res.est_error_rel[c]);
-        fprintf(stderr,
-                "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
-                "error of %.3f %% against the target %.3f %% (the profile records it); a larger --budget "
-                "or a quieter instrument would meet it\n",
-                o.budget, 100 * worst, 100 * o.target_rel);
-    }
+    warn_calibration(&res, &o);
     csf_profile_free(p);
     return 0;
 }
@@ -749,6 +771,67 @@ static void print_not_warm(const csf_display_profile *p, const csf_display_verif
         printf("white still changed by %.2f %% between the last readings; verify again when it has been on "
                "longer\n",
                100 * vr->warmup_change_rel);
+}
+
+/* verify's result as one JSON object on stdout. */
+static void print_verify_json(const csf_display_profile *p, const char *spec,
+                              const csf_display_verify_result *r, const char *verdict, double tol)
+{
+    const csf_display_verify_result vr = *r;
+    static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
+    printf("{\"profile_id\": ");
+    json_str(stdout, csf_profile_id(p));
+    printf(", \"photometer\": ");
+    json_str(stdout, spec);
+    printf(", \"verdict\": \"%s\", \"warm\": %s, \"warmup_readings\": %d, \"warmup_s\": ", verdict,
+           vr.warm ? "true" : "false", vr.n_warmup);
+    json_num(stdout, vr.warmup_s);
+    printf(", \"warmup_change_rel\": ");
+    json_num(stdout, vr.warmup_change_rel);
+    json_field(", \"warmup_remaining_rel\": ", vr.warmup_remaining_rel);
+    json_field(", \"warmup_expected_wait_s\": ", vr.warmup_wait_s);
+    printf(", \"white_dev_rel\": ");
+    json_num(stdout, vr.white_dev_rel);
+    printf(", \"max_dev_rel\": ");
+    json_num(stdout, vr.max_dev_rel);
+    printf(", \"tolerance_rel\": ");
+    json_num(stdout, tol);
+    printf(", \"curves\": {");
+    int first = 1;
+    for (int c = 0; c < CSF_CH_COUNT; c++) {
+        if (!isfinite(vr.dev_rel[c])) continue;
+        printf("%s\"%s\": {\"max_dev_rel\": ", first ? "" : ", ", chn[c]);
+        json_num(stdout, vr.dev_rel[c]);
+        printf(", \"levels\": %d}", vr.n_checked[c]);
+        first = 0;
+    }
+    printf("}, \"readings\": %d, \"profile_target_met\": %s, \"profile_stated_rel\": ", vr.n_readings,
+           vr.profile_target_met < 0 ? "null"
+           : vr.profile_target_met   ? "true"
+                                     : "false");
+    json_num(stdout, vr.profile_stated_rel);
+    printf(", \"allowed_dev_rel\": ");
+    json_num(stdout, vr.allowed_dev_rel);
+    printf(", \"within_stated\": %s}\n", vr.within_stated < 0 ? "null" : vr.within_stated ? "true" : "false");
+}
+
+/* verify's result for a person. */
+static void print_verify_text(const dargs *a, const csf_display_profile *p,
+                              const csf_display_verify_result *r, int drifted, double tol)
+{
+    const csf_display_verify_result vr = *r;
+    if (!vr.warm) print_not_warm(p, &vr);
+    printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%)",
+           csf_profile_id(p), 100 * vr.white_dev_rel, 100 * vr.max_dev_rel, 100 * tol);
+    if (a->channels)
+        printf(" [grey %.2f %%, r %.2f %%, g %.2f %%, b %.2f %%]", 100 * vr.dev_rel[CSF_CH_GREY],
+               100 * vr.dev_rel[0], 100 * vr.dev_rel[1], 100 * vr.dev_rel[2]);
+    printf(": %s\n", !vr.warm ? "NOT WARM, not verified" : drifted ? "DRIFTED, recalibrate" : "ok");
+    if (vr.within_stated >= 0)
+        printf("  the profile states %.3f %% (target %s); a profile that good shows up to %.3f %% here: "
+               "%s\n",
+               100 * vr.profile_stated_rel, vr.profile_target_met ? "met" : "NOT met",
+               100 * vr.allowed_dev_rel, vr.within_stated ? "agrees" : "WORSE THAN STATED");
 }
 
 static int cmd_verify(dargs *a)
@@ -807,58 +890,8 @@ static int cmd_verify(dargs *a)
     int drifted = vr.max_dev_rel > tol;
     /* a display still warming up is neither "ok" nor "drifted": say so, and fail */
     const char *verdict = !vr.warm ? "not_warm" : drifted ? "drifted" : "ok";
-    static const char *chn[CSF_CH_COUNT] = {"r", "g", "b", "grey"};
-    if (a->cli.json) {
-        printf("{\"profile_id\": ");
-        json_str(stdout, csf_profile_id(p));
-        printf(", \"photometer\": ");
-        json_str(stdout, spec);
-        printf(", \"verdict\": \"%s\", \"warm\": %s, \"warmup_readings\": %d, \"warmup_s\": ", verdict,
-               vr.warm ? "true" : "false", vr.n_warmup);
-        json_num(stdout, vr.warmup_s);
-        printf(", \"warmup_change_rel\": ");
-        json_num(stdout, vr.warmup_change_rel);
-        json_field(", \"warmup_remaining_rel\": ", vr.warmup_remaining_rel);
-        json_field(", \"warmup_expected_wait_s\": ", vr.warmup_wait_s);
-        printf(", \"white_dev_rel\": ");
-        json_num(stdout, vr.white_dev_rel);
-        printf(", \"max_dev_rel\": ");
-        json_num(stdout, vr.max_dev_rel);
-        printf(", \"tolerance_rel\": ");
-        json_num(stdout, tol);
-        printf(", \"curves\": {");
-        int first = 1;
-        for (int c = 0; c < CSF_CH_COUNT; c++) {
-            if (!isfinite(vr.dev_rel[c])) continue;
-            printf("%s\"%s\": {\"max_dev_rel\": ", first ? "" : ", ", chn[c]);
-            json_num(stdout, vr.dev_rel[c]);
-            printf(", \"levels\": %d}", vr.n_checked[c]);
-            first = 0;
-        }
-        printf("}, \"readings\": %d, \"profile_target_met\": %s, \"profile_stated_rel\": ", vr.n_readings,
-               vr.profile_target_met < 0 ? "null"
-               : vr.profile_target_met   ? "true"
-                                         : "false");
-        json_num(stdout, vr.profile_stated_rel);
-        printf(", \"allowed_dev_rel\": ");
-        json_num(stdout, vr.allowed_dev_rel);
-        printf(", \"within_stated\": %s}\n", vr.within_stated < 0 ? "null"
-                                             : vr.within_stated   ? "true"
-                                                                  : "false");
-    } else {
-        if (!vr.warm) print_not_warm(p, &vr);
-        printf("profile %s: white %+.2f %%, largest deviation above 10%% of peak %.2f %% (tolerance %.2f %%)",
-               csf_profile_id(p), 100 * vr.white_dev_rel, 100 * vr.max_dev_rel, 100 * tol);
-        if (a->channels)
-            printf(" [grey %.2f %%, r %.2f %%, g %.2f %%, b %.2f %%]", 100 * vr.dev_rel[CSF_CH_GREY],
-                   100 * vr.dev_rel[0], 100 * vr.dev_rel[1], 100 * vr.dev_rel[2]);
-        printf(": %s\n", !vr.warm ? "NOT WARM, not verified" : drifted ? "DRIFTED, recalibrate" : "ok");
-        if (vr.within_stated >= 0)
-            printf("  the profile states %.3f %% (target %s); a profile that good shows up to %.3f %% here: "
-                   "%s\n",
-                   100 * vr.profile_stated_rel, vr.profile_target_met ? "met" : "NOT met",
-                   100 * vr.allowed_dev_rel, vr.within_stated ? "agrees" : "WORSE THAN STATED");
-    }
+    if (a->cli.json) print_verify_json(p, spec, &vr, verdict, tol);
+    else print_verify_text(a, p, &vr, drifted, tol);
     if (vr.profile_target_met == 0)
         fprintf(stderr,
                 "csfcal: warning: profile %s states that its calibration's budget ended before the target "
