@@ -124,6 +124,7 @@ static int cmd_run(csf_cli *cli, const char *study, const char *participant, int
     o.participant = participant;
     o.version = version;
     o.headless = csf_cli_want_headless(cli);
+    if (csf_cli_refuse_monitor(cli, "study run", csf_cli_offscreen_reason(cli))) return 2;
     o.observer_spec = cli->cfg.observer[0] ? cli->cfg.observer : (o.headless ? "sim" : "human");
     if (!cli->cfg.observer[0] && o.headless)
         fprintf(stderr, "csfcal: study run: note: no display and no --observer: the SIMULATED observer "
