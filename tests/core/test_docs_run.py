@@ -13,7 +13,12 @@ or `# needs: root` (a photometer, a window, a PostgreSQL server, or installing i
 and a line with a placeholder such as `<FILE>`. Also refused: a ```sh line continued with a
 backslash, and a csfcal command in an indented block, where this test would not see it.
 
-    test_docs_run.py CSFCAL SOURCE_ROOT [DOC ...]
+    test_docs_run.py SOURCE_ROOT build/cli/csfcal=PATH [build/examples/lod/lod=PATH ...] [DOC ...]
+
+Each REL=PATH puts the built program PATH at REL in the scratch folder, as a source root built
+with `meson setup build && ninja -C build` holds it; build/cli is also first on PATH, so the
+commands call it `csfcal`, as an installed one is called. Without DOCs: README.md, docs/*.md and
+examples/**/README.md.
 """
 import glob
 import os
@@ -74,28 +79,35 @@ def commands(path):
     return out, problems
 
 
-def scratch(root, csfcal_dir):
-    """A folder with copies of docs/ and examples/, a HOME, and the environment to run in."""
+def scratch(root, bins):
+    """A folder with copies of docs/ and examples/, the built programs, a HOME, and the
+    environment to run in."""
     d = tempfile.mkdtemp(prefix="csfcal-docs-")
     for sub in ("docs", "examples"):
         shutil.copytree(os.path.join(root, sub), os.path.join(d, sub), symlinks=True)
+    for rel, path in bins.items():
+        os.makedirs(os.path.dirname(os.path.join(d, rel)), exist_ok=True)
+        os.symlink(path, os.path.join(d, rel))
     home = os.path.join(d, "home")
     os.mkdir(home)
     env = {k: v for k, v in os.environ.items()
            if not k.startswith("XDG_") and k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    env.update(HOME=home, PATH=csfcal_dir + os.pathsep + env.get("PATH", "/usr/bin:/bin"),
+    env.update(HOME=home, PATH=os.path.join(d, "build", "cli") + os.pathsep + env.get("PATH", "/usr/bin:/bin"),
                EGL_PLATFORM="surfaceless")
     return d, env
 
 
-def run_doc(path, root, csfcal_dir):
+def run_doc(path, root, bins):
     cmds, problems = commands(path)
     rel = os.path.relpath(path, root)
     problems = [p.replace(path, rel) for p in problems]
-    d, env = scratch(root, csfcal_dir)
+    d, env = scratch(root, bins)
     ran = skipped = 0
     try:
         for no, cmd, skip in cmds:
+            first = cmd.split()[0]
+            if not skip and first.startswith("build/") and not os.path.exists(os.path.join(d, first)):
+                skip = f"{first} is not built here"
             if skip:
                 skipped += 1
                 print(f"  skip {rel}:{no} ({skip}): {cmd}")
@@ -119,18 +131,15 @@ def run_doc(path, root, csfcal_dir):
 
 
 def main():
-    csfcal, root = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-    docs = sys.argv[3:] or (["README.md"] + sorted(glob.glob("docs/*.md", root_dir=root)) +
-                            sorted(glob.glob("examples/**/README.md", root_dir=root, recursive=True)))
-    # the commands name the tool `csfcal`, as an installed one is named
-    bindir = tempfile.mkdtemp(prefix="csfcal-bin-")
-    os.symlink(csfcal, os.path.join(bindir, "csfcal"))
+    root = os.path.abspath(sys.argv[1])
+    bins = dict(a.split("=", 1) for a in sys.argv[2:] if "=" in a)
+    bins = {rel: os.path.abspath(path) for rel, path in bins.items()}
+    docs = [a for a in sys.argv[2:] if "=" not in a]
+    docs = docs or (["README.md"] + sorted(glob.glob("docs/*.md", root_dir=root)) +
+                    sorted(glob.glob("examples/**/README.md", root_dir=root, recursive=True)))
     problems = []
-    try:
-        for doc in docs:
-            problems += run_doc(os.path.join(root, doc), root, bindir)
-    finally:
-        shutil.rmtree(bindir, ignore_errors=True)
+    for doc in docs:
+        problems += run_doc(os.path.join(root, doc), root, bins)
     for p in problems:
         print("FAIL " + p)
     return 1 if problems else 0
