@@ -27,6 +27,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 NEEDS = {"meter", "display", "server", "root"}
 PLACEHOLDER = re.compile(r"<[A-Z][A-Z0-9_.-]*>")
@@ -113,6 +114,7 @@ def run_doc(path, root, bins):
                 print(f"  skip {rel}:{no} ({skip}): {cmd}")
                 continue
             ran += 1
+            t0 = time.monotonic()
             try:
                 p = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=d, env=env,
                                    stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
@@ -120,7 +122,7 @@ def run_doc(path, root, bins):
                 rc, output = p.returncode, p.stdout.decode("utf-8", "replace")
             except subprocess.TimeoutExpired as e:
                 rc, output = "timeout", (e.stdout or b"").decode("utf-8", "replace")
-            print(f"  ran  {rel}:{no} (exit {rc}): {cmd}")
+            print(f"  ran  {rel}:{no} (exit {rc}, {time.monotonic() - t0:.1f} s): {cmd}")
             if rc != 0:
                 tail = "\n".join(output.rstrip().split("\n")[-15:])
                 problems.append(f"{rel}:{no}: exit {rc}: {cmd}\n{tail}")
