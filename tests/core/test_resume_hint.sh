@@ -12,7 +12,7 @@ export XDG_DATA_HOME="$d/data" XDG_CONFIG_HOME="$d/config" EGL_PLATFORM=surfacel
 "$exe" display calibrate --photometer sim:display=lcd --store s.sqlite --out lcd.profile --quiet 2>/dev/null \
   || { echo "display calibrate failed"; exit 1; }
 # An observer session stopped by SIGTERM after a few stored trials is left paused.
-"$exe" observer calibrate --headless --observer sim --store s.sqlite --profile lcd.profile --trials 3000 \
+"$exe" observer calibrate --headless --observer sim --store s.sqlite --profile lcd.profile --trials 200 \
   --render-every -1 --quiet --out me.csflut 2>term.err &
 pid=$!
 for _ in $(seq 600); do
