@@ -73,6 +73,35 @@ static int set_key(csf_cli *cli, const char *key, const char *value)
     return 1;
 }
 
+/* --set KEY=VALUE: one configuration key, checked as station.conf checks it. */
+static int set_option(csf_cli *cli, const char *arg)
+{
+    char buf[1200];
+    snprintf(buf, sizeof buf, "%s", arg);
+    char *eq = strchr(buf, '=');
+    if (!eq) {
+        fprintf(stderr, "csfcal: --set: expected KEY=VALUE, got '%s'\n", arg);
+        return -1;
+    }
+    *eq = '\0';
+    /* An empty store or profile would silently mean the default one, as with --store ''. */
+    if (!eq[1] && !strcmp(buf, "store")) {
+        char def[1024];
+        csf_config_default_store_path(def, sizeof def);
+        fprintf(stderr,
+                "csfcal: --set store=: empty path (give a file, or leave it out for the default %s)\n", def);
+        return -1;
+    }
+    if (!eq[1] && !strcmp(buf, "display_profile")) {
+        fprintf(stderr,
+                "csfcal: --set display_profile=: empty path (give a display profile file, or leave it "
+                "out for the default display model)\n");
+        return -1;
+    }
+    if (!strcmp(buf, "monitor")) cli->monitor_given = 1;
+    return set_key(cli, buf, eq + 1);
+}
+
 int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
 {
     switch (opt) {
@@ -116,33 +145,7 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
         return set_key(cli, "display_profile", arg);
     case CSF_OPT_MONITOR: cli->monitor_given = 1; return set_key(cli, "monitor", arg);
     case CSF_OPT_DISTANCE: return set_key(cli, "viewing_distance_mm", arg);
-    case CSF_OPT_SET: {
-        char buf[1200];
-        snprintf(buf, sizeof buf, "%s", arg);
-        char *eq = strchr(buf, '=');
-        if (!eq) {
-            fprintf(stderr, "csfcal: --set: expected KEY=VALUE, got '%s'\n", arg);
-            return -1;
-        }
-        *eq = '\0';
-        /* An empty store or profile would silently mean the default one, as with --store ''. */
-        if (!eq[1] && !strcmp(buf, "store")) {
-            char def[1024];
-            csf_config_default_store_path(def, sizeof def);
-            fprintf(stderr,
-                    "csfcal: --set store=: empty path (give a file, or leave it out for the default %s)\n",
-                    def);
-            return -1;
-        }
-        if (!eq[1] && !strcmp(buf, "display_profile")) {
-            fprintf(stderr,
-                    "csfcal: --set display_profile=: empty path (give a display profile file, or leave it "
-                    "out for the default display model)\n");
-            return -1;
-        }
-        if (!strcmp(buf, "monitor")) cli->monitor_given = 1;
-        return set_key(cli, buf, eq + 1);
-    }
+    case CSF_OPT_SET: return set_option(cli, arg);
     case CSF_OPT_SCREEN_MM: {
         double w, h;
         if (parse_pair(arg, "screen-mm", 30, 10000, &w, &h) < 0) return -1;
