@@ -53,8 +53,9 @@ expect_refused "distance over the commands' limit" "viewing_distance_mm = 15000 
   devices --headless --set viewing_distance_mm=15000
 
 # A store whose folder does not exist: the folder is made, and stderr says so.
-"$exe" observer calibrate --headless --observer sim --store "$d/new/deeper/s.sqlite" --out "$d/x.csflut" \
-  --trials 2 --freqs 1 --eccs 0 >/dev/null 2>"$d/err"
+# (LeakSanitizer's tracer can crash stopping llvmpipe's threads at exit; leaks are not the point here)
+ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" "$exe" observer calibrate --headless --observer sim \
+  --store "$d/new/deeper/s.sqlite" --out "$d/x.csflut" --trials 2 --freqs 1 --eccs 0 >/dev/null 2>"$d/err"
 rc=$?
 [ "$rc" -eq 0 ] || { echo "new store folder: exit $rc: $(cat "$d/err")"; fail=1; }
 grep -qF "note: the store's folder $d/new/deeper did not exist; created it" "$d/err" \
