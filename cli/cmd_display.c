@@ -1012,7 +1012,9 @@ static int cmd_info(dargs *a)
  * silently ignored: refuse it, naming it. */
 static int refuse_foreign_options(const char *sub, const dargs *a)
 {
-    static const struct { const char *sub; unsigned long ok;
+    static const struct {
+        const char *sub;
+        unsigned long ok;
     } allowed[] = {
         {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) |
                           OPTBIT(OPT_NAME) | OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) |
