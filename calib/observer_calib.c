@@ -152,16 +152,16 @@ static csf_status practice_trial(session_res *S, runner *run, int64_t sid, const
     int four = plan->n_alternatives == 4;
     trial_result tr;
     csf_status st = plan->task == CSF_TASK_FADE ? obs_run_fade(run, key, cell, plan, 0, 1, &tr, err)
-                    : four                     ? obs_run_4afc(run, key, cell, plan, layout, &tr, err)
-                                               : obs_run_2afc(run, key, cell, plan, 0, &tr, err);
+                    : four                      ? obs_run_4afc(run, key, cell, plan, layout, &tr, err)
+                                                : obs_run_2afc(run, key, cell, plan, 0, &tr, err);
     if (st != CSF_OK) return st;
     if (run->who->paused) {
         if (tr.have_rec) csf_trial_record_free(&tr.rec);
         return CSF_OK;
     }
     csf_trial t;
-    obs_fill_trial(&t, sid, *seq, method, cell, four ? layout->polar_deg[plan->signal_interval] : 0, mean_lum, plan, 1,
-               &tr);
+    obs_fill_trial(&t, sid, *seq, method, cell, four ? layout->polar_deg[plan->signal_interval] : 0, mean_lum,
+                   plan, 1, &tr);
     st = store_trial(S, n_stored, &t, &tr, err);
     if (st == CSF_OK) (*seq)++;
     return st;
@@ -546,7 +546,7 @@ static csf_status prepare_cells(obs_run *R, csf_error *err)
         csf_stimulus ps;
         csf_error e;
         obs_make_stimulus(&ps, PRACTICE_FREQ, R->prac_ecc_deg, R->prac_layout.polar_deg[j], PRACTICE_CONTRAST,
-                      R->mean_lum_cdm2);
+                          R->mean_lum_cdm2);
         if (csf_presenter_validate(S->pres, &ps, &e) != CSF_OK) R->prac_layout.n_alternatives = 2;
     }
     init_person(R);
@@ -664,8 +664,9 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
             return csf_error_set(err, CSF_E_INVALID_ARG,
                                  "--resume %lld: stored trial %d had %d alternatives, the replayed plan "
                                  "has %d (the display or the layout rule changed since the session "
-                                 "started); start a new session", (long long)R->sid, S->stored[i].seq,
-                                 S->stored[i].n_alternatives, obs_plan_alternatives(&plan));
+                                 "started); start a new session",
+                                 (long long)R->sid, S->stored[i].seq, S->stored[i].n_alternatives,
+                                 obs_plan_alternatives(&plan));
         if (obs_plan_alternatives(&plan) == 4) res->n_four_place++;
         csf_trial_outcome o = obs_outcome_of(&S->stored[i], S->ops->task);
         S->ops->update(S->proc, R->trial_index, &plan, &o);
@@ -722,11 +723,13 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
     if (R->S.ops->task != CSF_TASK_FADE || plan->task != CSF_TASK_2AFC || *told_anchors) return CSF_OK;
     /* The fade method's forced-choice anchors: a new task, so the person is told. */
     *told_anchors = 1;
-    st = obs_person_screen(who, "Last part: the pattern now appears in one of two intervals,\n"
-                            "at the place a ring marks just before.\n"
-                            "Press 1 or Left for the first interval, 2 or Right for the second.\n"
-                            "Two easy practice trials first. When unsure, guess.\n"
-                            "Escape pauses. Press a key to go on.", err);
+    st = obs_person_screen(who,
+                           "Last part: the pattern now appears in one of two intervals,\n"
+                           "at the place a ring marks just before.\n"
+                           "Press 1 or Left for the first interval, 2 or Right for the second.\n"
+                           "Two easy practice trials first. When unsure, guess.\n"
+                           "Escape pauses. Press a key to go on.",
+                           err);
     if (st != CSF_OK) return st;
     if (who->paused && !obs_ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
     st = anchor_practice(&R->S, &R->run, R->sid, set->method, R->seed, R->mean_lum_cdm2, &R->seq, &R->n_stored, err);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/spec.h"
 #include "results/store/store.h"
 
 const char csf_cli_common_help[] =
@@ -72,6 +73,35 @@ static int set_key(csf_cli *cli, const char *key, const char *value)
     return 1;
 }
 
+/* --set KEY=VALUE: one configuration key, checked as station.conf checks it. */
+static int set_option(csf_cli *cli, const char *arg)
+{
+    char buf[1200];
+    snprintf(buf, sizeof buf, "%s", arg);
+    char *eq = strchr(buf, '=');
+    if (!eq) {
+        fprintf(stderr, "csfcal: --set: expected KEY=VALUE, got '%s'\n", arg);
+        return -1;
+    }
+    *eq = '\0';
+    /* An empty store or profile would silently mean the default one, as with --store ''. */
+    if (!eq[1] && !strcmp(buf, "store")) {
+        char def[1024];
+        csf_config_default_store_path(def, sizeof def);
+        fprintf(stderr,
+                "csfcal: --set store=: empty path (give a file, or leave it out for the default %s)\n", def);
+        return -1;
+    }
+    if (!eq[1] && !strcmp(buf, "display_profile")) {
+        fprintf(stderr,
+                "csfcal: --set display_profile=: empty path (give a display profile file, or leave it "
+                "out for the default display model)\n");
+        return -1;
+    }
+    if (!strcmp(buf, "monitor")) cli->monitor_given = 1;
+    return set_key(cli, buf, eq + 1);
+}
+
 int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
 {
     switch (opt) {
@@ -113,19 +143,9 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg)
             return -1;
         }
         return set_key(cli, "display_profile", arg);
-    case CSF_OPT_MONITOR: return set_key(cli, "monitor", arg);
+    case CSF_OPT_MONITOR: cli->monitor_given = 1; return set_key(cli, "monitor", arg);
     case CSF_OPT_DISTANCE: return set_key(cli, "viewing_distance_mm", arg);
-    case CSF_OPT_SET: {
-        char buf[1200];
-        snprintf(buf, sizeof buf, "%s", arg);
-        char *eq = strchr(buf, '=');
-        if (!eq) {
-            fprintf(stderr, "csfcal: --set: expected KEY=VALUE, got '%s'\n", arg);
-            return -1;
-        }
-        *eq = '\0';
-        return set_key(cli, buf, eq + 1);
-    }
+    case CSF_OPT_SET: return set_option(cli, arg);
     case CSF_OPT_SCREEN_MM: {
         double w, h;
         if (parse_pair(arg, "screen-mm", 30, 10000, &w, &h) < 0) return -1;
@@ -205,17 +225,48 @@ int csf_cli_want_headless(const csf_cli *cli)
     return !((x && *x) || (w && *w));
 }
 
+const char *csf_cli_offscreen_reason(const csf_cli *cli)
+{
+    if (!csf_cli_want_headless(cli)) return NULL;
+    return cli->headless ? "--headless was given"
+                         : "there is no display (neither DISPLAY nor WAYLAND_DISPLAY is set)";
+}
+
+int csf_cli_refuse_monitor(const csf_cli *cli, const char *cmd, const char *offscreen_why)
+{
+    if (!cli->monitor_given || !offscreen_why) return 0;
+    /* Refused, not ignored: whoever names a monitor expects a person to look at it, and a
+     * session drawn offscreen would pass for one shown there. */
+    fprintf(stderr,
+            "csfcal: %s: --monitor %s: this session draws offscreen because %s, so no window opens on "
+            "any monitor; leave out --monitor (a window opens only on the station's display, without "
+            "--headless or --png)\n",
+            cmd, cli->cfg.monitor, offscreen_why);
+    return 2;
+}
+
+/* Creates the folders above path that are missing, and says so: a store folder appearing
+ * silently (a typing mistake, an example's /data/lab) would hide where the sessions went. */
 static void mkdir_parents(const char *path)
 {
     char buf[1024];
     snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++) {
-        if (*p == '/') {
+    char *slash = strrchr(buf, '/');
+    if (!slash || slash == buf) return;
+    *slash = '\0';
+    struct stat st;
+    if (stat(buf, &st) == 0) return;
+    for (char *p = buf + 1;; p++) {
+        if (*p == '/' || *p == '\0') {
+            char c = *p;
             *p = '\0';
             mkdir(buf, 0755);
-            *p = '/';
+            *p = c;
+            if (!c) break;
         }
     }
+    if (stat(buf, &st) == 0 && S_ISDIR(st.st_mode))
+        fprintf(stderr, "csfcal: note: the store's folder %s did not exist; created it\n", buf);
 }
 
 const char *csf_cli_store_path(csf_cli *cli)
@@ -236,14 +287,13 @@ static const char *bare(const char *name)
 int csf_parse_double(const char *text, const char *name, double lo, double hi, double *out)
 {
     name = bare(name);
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
+    double v = 0;
+    csf_num_result r = csf_number_parse(text, lo, hi, &v);
+    if (r == CSF_NUM_NOT_A_NUMBER) {
         fprintf(stderr, "csfcal: --%s: '%s' is not a number (allowed %g to %g)\n", name, text, lo, hi);
         return -1;
     }
-    if (v < lo || v > hi) {
+    if (r == CSF_NUM_OUT_OF_RANGE) {
         fprintf(stderr, "csfcal: --%s: %g is out of range (allowed %g to %g)\n", name, v, lo, hi);
         return -1;
     }
@@ -254,14 +304,13 @@ int csf_parse_double(const char *text, const char *name, double lo, double hi, d
 int csf_parse_int(const char *text, const char *name, long lo, long hi, long *out)
 {
     name = bare(name);
-    char *end = NULL;
-    errno = 0;
-    long v = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || errno == ERANGE) {
+    long v = 0;
+    csf_num_result r = csf_whole_parse(text, lo, hi, &v);
+    if (r == CSF_NUM_NOT_A_NUMBER) {
         fprintf(stderr, "csfcal: --%s: '%s' is not a whole number (allowed %ld to %ld)\n", name, text, lo, hi);
         return -1;
     }
-    if (v < lo || v > hi) {
+    if (r == CSF_NUM_OUT_OF_RANGE) {
         fprintf(stderr, "csfcal: --%s: %ld is out of range (allowed %ld to %ld)\n", name, v, lo, hi);
         return -1;
     }

@@ -17,6 +17,7 @@ typedef struct {
     int headless;            /* --headless, or forced when no display is available */
     int json;                /* --json */
     int resume_id;           /* --resume ID (0 = none) */
+    int monitor_given;       /* --monitor or --set monitor= on the command line */
 } csf_cli;
 
 /* Long options every subcommand accepts; append to a subcommand's own getopt table with
@@ -57,6 +58,15 @@ int csf_cli_common_option(csf_cli *cli, int opt, const char *arg);
 
 /* Decides headless mode: true if --headless was given or no X11/Wayland display is reachable. */
 int csf_cli_want_headless(const csf_cli *cli);
+
+/* Why a session draws offscreen, for messages ("--headless was given", or that there is no
+ * display); NULL when it opens a window (csf_cli_want_headless is false). */
+const char *csf_cli_offscreen_reason(const csf_cli *cli);
+
+/* A monitor named on the command line (--monitor, --set monitor=) for a session that draws
+ * offscreen for the reason offscreen_why: prints that it is refused and why, and returns 2.
+ * Returns 0 when no monitor was named or offscreen_why is NULL. cmd names the command. */
+int csf_cli_refuse_monitor(const csf_cli *cli, const char *cmd, const char *offscreen_why);
 
 /* word as one POSIX shell word, for commands printed for the user to paste: unchanged when it
  * holds only letters, digits and @%+=:,./_- (and is not empty), else in single quotes with each

@@ -385,14 +385,21 @@ static void list_input(out_state *o)
     closedir(d);
 }
 
-static void list_monitors(out_state *o, int headless)
+static void list_monitors(out_state *o, int asked_headless, int no_display)
 {
-    if (headless || !glfwInit()) {
-        entry e = {"display", "(none)", "-", "unusable", "--headless rendering only",
-                   headless ? "--headless was asked for: monitors and GLFW joysticks are not looked for"
-                            : "no window system reachable (no X or Wayland display): monitors and GLFW joysticks "
-                              "cannot be listed",
-                   NULL, -1, -1};
+    if (asked_headless || no_display || !glfwInit()) {
+        entry e = {"display",
+                   "(none)",
+                   "-",
+                   "unusable",
+                   "--headless rendering only",
+                   asked_headless
+                       ? "--headless was asked for: monitors and GLFW joysticks are not looked for"
+                       : "no window system reachable (no X or Wayland display): monitors and GLFW joysticks "
+                         "cannot be listed",
+                   NULL,
+                   -1,
+                   -1};
         add(o, &e);
         return;
     }
@@ -484,7 +491,7 @@ int csf_cmd_devices(int argc, char **argv)
     list_spotread(&o);
     simple(&o, "responder", "keyboard / mouse", "keyboard | mouse", "ok", "through the GLFW window");
     list_input(&o);
-    list_monitors(&o, csf_cli_want_headless(&cli));
+    list_monitors(&o, cli.headless, csf_cli_want_headless(&cli));
     list_egl(&o);
     if (o.json) {
         char *text = json_dumps(o.list, JSON_INDENT(2));

@@ -67,8 +67,12 @@ static const char display_help[] =
     "Simulated photometer: sim[:display=crt|lcd|oled|file=PATH.csv,noise=REL,abs_noise=CDM2,\n"
     "  warmup_s=S,drift=REL,integration_s=S,floor_cdm2=L,sat_cdm2=L,fault=KIND@N]\n"
     "USB meters: colorcal2[:SERIAL][,zero=1][,zero_wait_s=S][,timeout_s=S] (CRS ColorCAL MkII),\n"
-    "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2);\n"
-    "  see docs/instruments.md\n\n";
+    "  colorhug2[:SERIAL][,integration_ms=MS][,calibration=N][,timeout_s=S] (Hughski ColorHug2)\n"
+    "Serial meters: ls100:PORT[,timeout_s=S][,floor_cdm2=L] (also ls110, cs100a: Konica Minolta),\n"
+    "  pr655:PORT[,timeout_s=S] (also pr670: Photo Research), e.g. ls100:/dev/ttyUSB0\n"
+    "ArgyllCMS: spotread[:ARGS] (any instrument spotread drives; ARGS are its options)\n"
+    "A real meter measures this screen: the patches are drawn in a window on it. See\n"
+    "docs/instruments.md\n\n";
 
 enum {
     OPT_OUT = CSF_OPT_FIRST_FREE,
@@ -1008,7 +1012,9 @@ static int cmd_info(dargs *a)
  * silently ignored: refuse it, naming it. */
 static int refuse_foreign_options(const char *sub, const dargs *a)
 {
-    static const struct { const char *sub; unsigned long ok;
+    static const struct {
+        const char *sub;
+        unsigned long ok;
     } allowed[] = {
         {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) |
                           OPTBIT(OPT_NAME) | OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) |

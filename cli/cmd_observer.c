@@ -249,7 +249,7 @@ static int check_calibrate_options(int argc, char **argv, csf_cli *cli, const cs
             return 2;
         }
     }
-    return -1;
+    return csf_cli_refuse_monitor(cli, "observer calibrate", csf_cli_offscreen_reason(cli)) ? 2 : -1;
 }
 
 /* The options into o (and the station's settings into cli). Returns -1 to go on, or the exit

@@ -14,6 +14,7 @@
 #include "cli/cli.h"
 #include "cli/commands.h"
 #include "core/file_write.h"
+#include "results/display_profile.h"
 #include "results/store/store.h"
 #include "results/store/export.h"
 #include "results/store/push.h"
@@ -108,11 +109,68 @@ static int print_json(json_t *doc)
     return bad;
 }
 
+/* The file a display profile was written to, from the display session that wrote it (its
+ * "profile" artifact, whose bytes carry the id): an observer session keeps only the id, and a
+ * resume without that profile is refused. 0 with the path in out, -1 when no session of this
+ * store wrote it (a profile made elsewhere). */
+static int profile_file_of(csf_store *s, const char *profile_id, char *out, size_t len)
+{
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    csf_error err;
+    if (!profile_id[0] || csf_store_list_sessions(s, &list, &n, &err) != CSF_OK) return -1;
+    int found = -1;
+    for (size_t i = n; i-- > 0 && found < 0;) {
+        if (strcmp(list[i].kind, "display") != 0) continue;
+        void *blob = NULL;
+        size_t bl = 0;
+        char path[1024] = "";
+        if (csf_store_get_artifact(s, list[i].id, "profile", &blob, &bl, path, sizeof path, &err) != CSF_OK)
+            continue;
+        csf_display_profile *p = NULL;
+        if (blob && path[0] && csf_store_check_text(path, "profile", &err) == CSF_OK &&
+            csf_profile_parse(blob, bl, &p, &err) == CSF_OK && strcmp(csf_profile_id(p), profile_id) == 0) {
+            snprintf(out, len, "%s", path);
+            found = 0;
+        }
+        csf_profile_free(p);
+        free(blob);
+    }
+    csf_session_list_free(list, n);
+    return found;
+}
+
+/* The observer session's hint: its profile (found by id, or named when its file is unknown). */
+static void print_observer_hint(FILE *out, csf_store *s, const csf_session_info *si, const char *q)
+{
+    long long id = (long long)si->id;
+    char path[1024], pid[256];
+    csf_store_printable(si->profile_id, pid, sizeof pid);
+    if (!si->profile_id[0]) {
+        fprintf(out,
+                "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --out FILE.csflut\n",
+                id, id, q);
+    } else if (profile_file_of(s, si->profile_id, path, sizeof path) == 0) {
+        char *qp = csf_shell_quote(path);
+        fprintf(out,
+                "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --profile %s --out "
+                "FILE.csflut\n",
+                id, id, q, qp ? qp : "?");
+        free(qp);
+    } else {
+        fprintf(
+            out,
+            "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --profile FILE.profile "
+            "--out FILE.csflut\n      (FILE.profile: the display profile %s the session was measured with)\n",
+            id, id, q, pid);
+    }
+}
+
 /* The command that continues an unfinished session: each kind has its own (a display session
  * is continued by display calibrate, which needs the photometer and the profile file again).
  * location is the store as given (checked on open: printable, no secret), quoted for a shell
  * so the line pastes as it is. */
-static void print_resume_hint(FILE *out, const csf_session_info *si, const char *location)
+static void print_resume_hint(FILE *out, csf_store *s, const csf_session_info *si, const char *location)
 {
     long long id = (long long)si->id;
     char *q = csf_shell_quote(location);
@@ -130,9 +188,7 @@ static void print_resume_hint(FILE *out, const csf_session_info *si, const char 
                 "--out FILE.profile\n", id, id, q ? q : "?", qp ? qp : "SPEC");
         free(qp);
         json_decref(set);
-    } else if (!strcmp(si->kind, "observer"))
-        fprintf(out, "  %lld (observer): csfcal observer calibrate --resume %lld --store %s --out FILE.csflut\n",
-                id, id, q ? q : "?");
+    } else if (!strcmp(si->kind, "observer")) print_observer_hint(out, s, si, q ? q : "?");
     else
         fprintf(out, "  %lld (%s): cannot be resumed by this csfcal; csfcal sessions abort %lld --store %s "
                 "closes it\n", id, kind, id, q ? q : "?");
@@ -250,7 +306,7 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
         if (n_open) {
             printf("\n%d unfinished session%s; continue with:\n", n_open, n_open == 1 ? "" : "s");
             for (size_t i = 0; i < n; i++)
-                if (unfinished(&list[i])) print_resume_hint(stdout, &list[i], path);
+                if (unfinished(&list[i])) print_resume_hint(stdout, s, &list[i], path);
         }
     }
     csf_session_list_free(list, n);
@@ -303,7 +359,7 @@ static int cmd_show(csf_cli *cli, int64_t id)
         print_show(&si, created, updated);
         if (unfinished(&si)) {
             printf("unfinished; continue with:\n");
-            print_resume_hint(stdout, &si, csf_cli_store_path(cli));
+            print_resume_hint(stdout, s, &si, csf_cli_store_path(cli));
         }
     }
     csf_session_info_free(&si);

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "calib/motion.h"
+#include "core/spec.h"
 #include "cli/cmd_stimulus.h"
 #include "cli/commands.h"
 
@@ -96,6 +97,12 @@ static const char usage[] =
  * the instrument's own keys (noise, drift, ...) do not affect pixels and are skipped. */
 static int model_spec_from_photometer(const char *phot, char *out, size_t len)
 {
+    csf_spec items;
+    csf_error err;
+    if (!strncmp(phot, "sim:", 4) && csf_spec_split(phot + 4, "--photometer", &items, &err) != CSF_OK) {
+        fprintf(stderr, "csfcal: stimulus: %s\n", err.msg);
+        return -1;
+    }
     if (csf_display_model_spec_from_sim_photometer(phot, out, len) != 0) {
         fprintf(stderr,
                 "csfcal: stimulus: --photometer '%s': only simulated photometers (sim[:...]) "

@@ -294,6 +294,7 @@ static int check_show_args(const csf_cli *cli, const stim_args *a)
                         "display); write frames with --png FILE or --frames N --png DIR/\n");
         return 2;
     }
+    if (a->png && csf_cli_refuse_monitor(cli, "stimulus show", "--png writes files")) return 2;
     for (const char *k = a->keys ? a->keys : ""; *k; k++)
         if (!strchr("fFcCeEvVq", *k)) {
             fprintf(stderr,

@@ -47,8 +47,9 @@ static void usage(FILE *f)
         "model's profile likelihood, or the independent-observation model, as the study says);\n"
         "Weibull fits with lapse (maximum likelihood, a grid search\n"
         "polished by simplex) with 95%% intervals for threshold and slope from the marginal\n"
-        "posterior (flat priors on t, 1/beta and lapse) and from a parametric bootstrap;\n"
-        "pooled and per participant. Given the settings file, the report covers exactly the\n"
+        "posterior (flat priors on t, the width 1/beta and lapse: psignifit 4's interval); the\n"
+        "JSON also gives parametric-bootstrap percentile intervals (they under-cover: about 90%%\n"
+        "for t); pooled and per participant. Given the settings file, the report covers exactly the\n"
         "sessions that ran these files (given a name, --version N or the only version held), lists\n"
         "each session's participant, version and whether it finished, and names the other versions.\n"
         "  --json               the report as JSON on stdout\n"
@@ -57,7 +58,8 @@ static void usage(FILE *f)
         "                       per condition the proportions (yes/no, same/different: hits, false\n"
         "                       alarms, d' and its interval, pooled and per participant)\n"
         "  --csv FILE           tidy CSV, one row per scope and condition or curve\n"
-        "  --bootstrap N        bootstrap samples (default: the study's, 200)\n\n"
+        "  --bootstrap N        bootstrap samples for the JSON's bootstrap intervals (default:\n"
+        "                       the study's, 200; 0 = none)\n\n"
         "export: one CSV row per trial of the sessions a report covers: study, version, participant,\n"
         "session, block, trial, condition, every column of the conditions file (yours included),\n"
         "the stimulus shown, images and their SHA-256, response, correct, rt_s, flags\n"
@@ -124,6 +126,7 @@ static int cmd_run(csf_cli *cli, const char *study, const char *participant, int
     o.participant = participant;
     o.version = version;
     o.headless = csf_cli_want_headless(cli);
+    if (csf_cli_refuse_monitor(cli, "study run", csf_cli_offscreen_reason(cli))) return 2;
     o.observer_spec = cli->cfg.observer[0] ? cli->cfg.observer : (o.headless ? "sim" : "human");
     if (!cli->cfg.observer[0] && o.headless)
         fprintf(stderr, "csfcal: study run: note: no display and no --observer: the SIMULATED observer "

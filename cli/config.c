@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "core/file_read.h"
+#include "core/spec.h"
 #include "results/store/store.h"
 
 void csf_config_defaults(csf_config *c)
@@ -48,7 +49,7 @@ static const key_spec keys[] = {
     DKEY("screen_height_mm", screen_height_mm, 30, 10000, "mm"),
     IKEY("screen_width_px", screen_width_px, 64, 16384, "px"),
     IKEY("screen_height_px", screen_height_px, 64, 16384, "px"),
-    DKEY("viewing_distance_mm", viewing_distance_mm, 100, 20000, "mm"),
+    DKEY("viewing_distance_mm", viewing_distance_mm, 100, 10000, "mm"),
     DKEY("eye_offset_x_mm", eye_offset_x_mm, -5000, 5000, "mm"),
     DKEY("eye_offset_y_mm", eye_offset_y_mm, -5000, 5000, "mm"),
     DKEY("refresh_hz", refresh_hz, 20, 1000, "Hz"),
@@ -93,13 +94,15 @@ csf_status csf_config_set(csf_config *c, const char *key, const char *value, con
             memcpy(base, value, strlen(value) + 1);
             return CSF_OK;
         }
-        char *end = NULL;
-        errno = 0;
-        double v = strtod(value, &end);
-        if (end == value || *trim(end) != '\0' || errno == ERANGE || !isfinite(v))
+        char num[1200]; /* white space around the number is layout, not part of it */
+        snprintf(num, sizeof num, "%s", value);
+        double v = 0;
+        csf_num_result r =
+            strlen(value) < sizeof num ? csf_number_parse(trim(num), k->lo, k->hi, &v) : CSF_NUM_NOT_A_NUMBER;
+        if (r == CSF_NUM_NOT_A_NUMBER)
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s = '%s' is not a number (allowed %g to %g %s)",
                                  where, key, value, k->lo, k->hi, k->unit);
-        if (v < k->lo || v > k->hi)
+        if (r == CSF_NUM_OUT_OF_RANGE)
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s = %g is out of range (allowed %g to %g %s)",
                                  where, key, v, k->lo, k->hi, k->unit);
         if (k->kind == KEY_INT) {

@@ -8,12 +8,14 @@ static const struct {
     int (*run)(int, char **);
     const char *summary;
 } commands[] = {
-    {"observer", csf_cmd_observer, "observer calibrate: measure a person's thresholds, write a .csflut table"},
-    {"display", csf_cmd_display, "display calibrate|verify|export: photometric calibration of a monitor"},
-    {"stimulus", csf_cmd_stimulus, "stimulus check: render a grating offscreen and measure what was drawn"},
+    {"observer", csf_cmd_observer,
+     "observer calibrate: measure a person's thresholds, write a .csflut table"},
+    {"display", csf_cmd_display,
+     "display calibrate|verify|export|info: photometric calibration of a monitor"},
+    {"stimulus", csf_cmd_stimulus, "stimulus check|geometry|show: measure, place and look at a stimulus"},
     {"lut", csf_cmd_lut, "lut info|lookup|export|import: inspect and convert threshold tables"},
-    {"study", csf_cmd_study, "study run|report: 2AFC user studies"},
-    {"sessions", csf_cmd_sessions, "sessions [list|export]: sessions in the results store"},
+    {"study", csf_cmd_study, "study run|report|export: user studies (2AFC, 2IFC, yes/no, same/different)"},
+    {"sessions", csf_cmd_sessions, "sessions [list]|show|export|abort|push|init: the results store"},
     {"report", csf_cmd_report, "report ID -o FILE: plots and summary of a session (PDF/PNG/SVG)"},
     {"devices", csf_cmd_devices, "devices: list photometers, responders and displays"},
 };

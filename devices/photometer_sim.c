@@ -21,8 +21,8 @@
  * answer), offscreen (reads the room's light, the same for every patch), dim (the display dims
  * itself by 10 %), negative, nan, huge (x 1e5) luminance, badxyz (XYZ's Y 30 % off the
  * luminance), glare (the sensor sees a lamp: white's light x 1.5 whatever the patch). */
-#include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +30,7 @@
 #include "model/display_model.h"
 #include "devices/photometer_driver.h"
 #include "core/rng.h"
+#include "core/spec.h"
 
 enum {
     FAULT_NONE, FAULT_UNPLUG, FAULT_TIMEOUT, FAULT_GARBAGE, FAULT_DARK, FAULT_SATURATE,
@@ -60,18 +61,11 @@ typedef struct {
 
 static int num(const char *v, double lo, double hi, double *out)
 {
-    char *end;
-    errno = 0;
-    double x = strtod(v, &end);
-    if (errno || end == v || *end || !isfinite(x) || x < lo || x > hi) return -1;
-    *out = x;
-    return 0;
+    return csf_number_parse(v, lo, hi, out) == CSF_NUM_OK ? 0 : -1;
 }
 
-static csf_status sim_open(const char *options, uint64_t seed, void **state, csf_error *err)
+static void sim_defaults(sim_state *s, uint64_t seed)
 {
-    sim_state *s = calloc(1, sizeof *s);
-    if (!s) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     s->seed = seed;
     s->noise_rel = 0.0005;
     s->noise_abs_cdm2 = 0.001;
@@ -80,76 +74,109 @@ static csf_status sim_open(const char *options, uint64_t seed, void **state, csf
     s->integration_s = 0.5;
     s->floor_cdm2 = 0.01;
     s->sat_cdm2 = 2000;
-    char kind[512] = "lcd", extra[512] = "";
-    char buf[1024];
-    csf_status st = CSF_OK;
-    if (strlen(options) >= sizeof buf) {
+}
+
+/* fault=KIND@N or KIND@N+COUNT */
+static csf_status parse_fault(sim_state *s, const char *v, csf_error *err)
+{
+    const char *at = strchr(v, '@');
+    size_t kl = at ? (size_t)(at - v) : strlen(v);
+    s->fault = -1;
+    for (int f = 1; f < FAULT_COUNT; f++)
+        if (strlen(fault_names[f]) == kl && strncmp(v, fault_names[f], kl) == 0) s->fault = f;
+    char nbuf[64] = "";
+    const char *plus = at ? strchr(at + 1, '+') : NULL;
+    double x = 0, cnt = 0;
+    if (at) snprintf(nbuf, sizeof nbuf, "%.*s", plus ? (int)(plus - at - 1) : (int)strlen(at + 1), at + 1);
+    if (s->fault < 0 || !at || num(nbuf, 0, 1e9, &x) || x != floor(x) ||
+        (plus && (num(plus + 1, 1, 1e9, &cnt) || cnt != floor(cnt))))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "sim photometer: fault=%s not understood (KIND@N or KIND@N+COUNT, KIND one of "
+                             "unplug, timeout, garbage, dark, saturate, stuck, offscreen, dim, negative, "
+                             "nan, huge, badxyz, glare; N a reading number >= 0, COUNT "
+                             "the readings it lasts, >= 1)",
+                             v);
+    s->fault_at = (uint64_t)x;
+    s->fault_count = (uint64_t)cnt;
+    return CSF_OK;
+}
+
+/* The instrument's numeric keys: name, range, what the range is in, and the field it sets. */
+typedef struct {
+    const char *key;
+    double lo, hi;
+    const char *what;
+    size_t off;
+} sim_key;
+#define SK(k, lo, hi, what, field)                                                                           \
+    {                                                                                                        \
+        k, lo, hi, what, offsetof(sim_state, field)                                                          \
+    }
+static const sim_key sim_keys[] = {
+    SK("noise", 0, 0.2, "relative sd", noise_rel),
+    SK("abs_noise", 0, 10, "cd/m2", noise_abs_cdm2),
+    SK("warmup_s", 0.001, 3600, "seconds", warmup_s),
+    SK("drift", 0, 0.5, "relative", drift),
+    SK("integration_s", 0.001, 60, "seconds", integration_s),
+    SK("floor_cdm2", 0, 100, "cd/m2", floor_cdm2),
+    SK("sat_cdm2", 1, 1e6, "cd/m2", sat_cdm2),
+};
+
+/* One key=value: the simulated display's keys gather in kind and extra (the display model
+ * judges them), the instrument's set s. */
+static csf_status sim_option(sim_state *s, const char *k, const char *v, char kind[512], char extra[512],
+                             csf_error *err)
+{
+    if (!v) return csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer option '%s' is not key=value", k);
+    if (strcmp(k, "display") == 0) {
+        snprintf(kind, 512, "%s", v);
+    } else if (strcmp(k, "file") == 0) {
+        snprintf(kind, 512, "file=%s", v);
+    } else if (!strcmp(k, "lmax") || !strcmp(k, "black") || !strcmp(k, "gamma") ||
+               !strcmp(k, "interaction")) {
+        size_t l = strlen(extra);
+        snprintf(extra + l, 512 - l, ",%s=%s", k, v);
+    } else if (strcmp(k, "fault") == 0) {
+        return parse_fault(s, v, err);
+    } else {
+        for (size_t i = 0; i < sizeof sim_keys / sizeof sim_keys[0]; i++) {
+            const sim_key *sk = &sim_keys[i];
+            if (strcmp(k, sk->key) != 0) continue;
+            double x;
+            if (num(v, sk->lo, sk->hi, &x))
+                return csf_error_set(err, CSF_E_INVALID_ARG,
+                                     "sim photometer: %s=%s out of range (%s %g to %g)", k, v, sk->what,
+                                     sk->lo, sk->hi);
+            *(double *)((char *)s + sk->off) = x;
+            return CSF_OK;
+        }
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "sim photometer: unknown option '%s' (known: display, lmax, black, gamma, "
+                             "interaction, noise, abs_noise, warmup_s, drift, integration_s, floor_cdm2, "
+                             "sat_cdm2, fault)",
+                             k);
+    }
+    return CSF_OK;
+}
+
+static csf_status sim_open(const char *options, uint64_t seed, void **state, csf_error *err)
+{
+    if (strlen(options) >= 1024)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer options longer than %d characters",
+                             1023);
+    sim_state *s = calloc(1, sizeof *s);
+    csf_spec *items = malloc(sizeof *items);
+    if (!s || !items) {
         free(s);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer options longer than %zu characters",
-                             sizeof buf - 1);
+        free(items);
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
     }
-    strcpy(buf, options);
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ",", &save); tok && !st; tok = strtok_r(NULL, ",", &save)) {
-        char *eq = strchr(tok, '=');
-        if (!eq) {
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer option '%s' is not key=value", tok);
-            break;
-        }
-        *eq = 0;
-        const char *k = tok, *v = eq + 1;
-        double x;
-#define RANGE(lo, hi, field, what)                                                                 \
-    do {                                                                                           \
-        if (num(v, lo, hi, &x))                                                                    \
-            st = csf_error_set(err, CSF_E_INVALID_ARG, "sim photometer: %s=%s out of range (%s %g to %g)", \
-                               k, v, what, (double)(lo), (double)(hi));                             \
-        else                                                                                       \
-            s->field = x;                                                                          \
-    } while (0)
-        if (strcmp(k, "display") == 0) {
-            snprintf(kind, sizeof kind, "%s", v);
-        } else if (strcmp(k, "file") == 0) {
-            snprintf(kind, sizeof kind, "file=%s", v);
-        } else if (!strcmp(k, "lmax") || !strcmp(k, "black") || !strcmp(k, "gamma") || !strcmp(k, "interaction")) {
-            size_t l = strlen(extra);
-            snprintf(extra + l, sizeof extra - l, ",%s=%s", k, v);
-        } else if (strcmp(k, "noise") == 0) RANGE(0, 0.2, noise_rel, "relative sd");
-        else if (strcmp(k, "abs_noise") == 0) RANGE(0, 10, noise_abs_cdm2, "cd/m2");
-        else if (strcmp(k, "warmup_s") == 0) RANGE(0.001, 3600, warmup_s, "seconds");
-        else if (strcmp(k, "drift") == 0) RANGE(0, 0.5, drift, "relative");
-        else if (strcmp(k, "integration_s") == 0) RANGE(0.001, 60, integration_s, "seconds");
-        else if (strcmp(k, "floor_cdm2") == 0) RANGE(0, 100, floor_cdm2, "cd/m2");
-        else if (strcmp(k, "sat_cdm2") == 0) RANGE(1, 1e6, sat_cdm2, "cd/m2");
-        else if (strcmp(k, "fault") == 0) {
-            const char *at = strchr(v, '@');
-            size_t kl = at ? (size_t)(at - v) : strlen(v);
-            s->fault = -1;
-            for (int f = 1; f < FAULT_COUNT; f++)
-                if (strlen(fault_names[f]) == kl && strncmp(v, fault_names[f], kl) == 0) s->fault = f;
-            char nbuf[64] = "";
-            const char *plus = at ? strchr(at + 1, '+') : NULL;
-            double cnt = 0;
-            if (at) snprintf(nbuf, sizeof nbuf, "%.*s", plus ? (int)(plus - at - 1) : (int)strlen(at + 1), at + 1);
-            if (s->fault < 0 || !at || num(nbuf, 0, 1e9, &x) || x != floor(x) ||
-                (plus && (num(plus + 1, 1, 1e9, &cnt) || cnt != floor(cnt)))) {
-                st = csf_error_set(err, CSF_E_INVALID_ARG,
-                                   "sim photometer: fault=%s not understood (KIND@N or KIND@N+COUNT, KIND one of "
-                                   "unplug, timeout, garbage, dark, saturate, stuck, offscreen, dim, negative, "
-                                   "nan, huge, badxyz, glare; N a reading number >= 0, COUNT "
-                                   "the readings it lasts, >= 1)", v);
-            } else {
-                s->fault_at = (uint64_t)x;
-                s->fault_count = (uint64_t)cnt;
-            }
-        } else {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "sim photometer: unknown option '%s' (known: display, lmax, black, gamma, "
-                               "interaction, noise, abs_noise, warmup_s, drift, integration_s, floor_cdm2, "
-                               "sat_cdm2, fault)", k);
-        }
-#undef RANGE
-    }
+    sim_defaults(s, seed);
+    char kind[512] = "lcd", extra[512] = "";
+    csf_status st = csf_spec_split(options, "sim photometer", items, err);
+    for (int i = 0; st == CSF_OK && i < items->n; i++)
+        st = sim_option(s, items->item[i].key, items->item[i].value, kind, extra, err);
+    free(items);
     if (!st) {
         snprintf(s->display_spec, sizeof s->display_spec, "%s%s", kind, extra);
         st = csf_display_model_create(s->display_spec, &s->display, err);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/file_read.h"
+#include "core/spec.h"
 
 enum { KIND_CRT, KIND_LCD, KIND_OLED, KIND_CSV };
 
@@ -165,17 +166,6 @@ static csf_display_model *model_new(int kind)
     return m;
 }
 
-/* Strict number parse for a spec value. */
-static int parse_num(const char *s, double lo, double hi, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi) return -1;
-    *out = v;
-    return 0;
-}
-
 /* The four comma-separated numbers of a data line into f. */
 static csf_status csv_fields(char *s, const char *name, int line_no, double f[4], csf_error *err)
 {
@@ -309,86 +299,97 @@ static csf_status load_csv_file(const char *path, csf_display_model **out, csf_e
     return st;
 }
 
+/* The spec's first item: a kind, or a measured curve (file=PATH.csv, or a path ending .csv). */
+static csf_status open_kind(const char *item, csf_display_model **out, csf_error *err)
+{
+    if (strcmp(item, "crt") == 0) *out = model_new(KIND_CRT);
+    else if (strcmp(item, "lcd") == 0) *out = model_new(KIND_LCD);
+    else if (strcmp(item, "oled") == 0) *out = model_new(KIND_OLED);
+    else {
+        const char *path = NULL;
+        if (strncmp(item, "file=", 5) == 0) path = item + 5;
+        else if (strlen(item) > 4 && strcmp(item + strlen(item) - 4, ".csv") == 0) path = item;
+        if (!path)
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "unknown display kind '%s' (known: crt, lcd, oled, file=PATH.csv)", item);
+        return load_csv_file(path, out, err);
+    }
+    return *out ? CSF_OK : csf_error_set(err, CSF_E_NOMEM, "out of memory");
+}
+
+/* One key=value after the kind; a measured curve keeps its own peak and gamma. */
+static csf_status apply_option(csf_display_model *m, const char *k, const char *v, csf_error *err)
+{
+    if (!v) return csf_error_set(err, CSF_E_INVALID_ARG, "display option '%s' is not key=value", k);
+    double x = 0;
+    csf_num_result r;
+    if (strcmp(k, "lmax") == 0 && m->kind != KIND_CSV) {
+        if ((r = csf_number_parse(v, 1, 10000, &x)) == CSF_NUM_OK) m->lmax_cdm2 = x;
+    } else if (strcmp(k, "black") == 0) {
+        if ((r = csf_number_parse(v, 0, 50, &x)) == CSF_NUM_OK) m->black_cdm2 = x;
+    } else if (strcmp(k, "gamma") == 0 && m->kind != KIND_CSV) {
+        /* keep the per-channel spread of the kind around the requested value */
+        if ((r = csf_number_parse(v, 1, 4, &x)) == CSF_NUM_OK) {
+            double mean = (m->gamma[0] + m->gamma[1] + m->gamma[2]) / 3.0;
+            for (int c = 0; c < 3; c++) m->gamma[c] += x - mean;
+        }
+    } else if (strcmp(k, "interaction") == 0 && m->kind == KIND_LCD) {
+        if ((r = csf_number_parse(v, 0, 0.2, &x)) == CSF_NUM_OK) m->interaction = x;
+    } else {
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "unknown display option '%s' for %s (known: lmax, black, gamma%s)", k,
+                             csf_display_model_kind(m), m->kind == KIND_LCD ? ", interaction" : "");
+    }
+    if (r != CSF_NUM_OK)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "display option %s=%s out of range (lmax 1..10000 cd/m2, black 0..50 cd/m2, "
+                             "gamma 1..4, interaction 0..0.2)",
+                             k, v);
+    return CSF_OK;
+}
+
 csf_status csf_display_model_create(const char *spec, csf_display_model **out, csf_error *err)
 {
     *out = NULL;
     if (!spec || !*spec) spec = "lcd";
-    char buf[1024];
-    if (strlen(spec) >= sizeof buf)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "display spec longer than %zu characters",
-                             sizeof buf - 1);
-    strcpy(buf, spec);
-    char *save = NULL;
-    char *tok = strtok_r(buf, ",", &save);
-    if (!tok) return csf_error_set(err, CSF_E_INVALID_ARG, "empty display spec (known: crt, lcd, oled, file=PATH.csv)");
-    csf_display_model *m = NULL;
-    csf_status st;
-    if (strcmp(tok, "crt") == 0) m = model_new(KIND_CRT);
-    else if (strcmp(tok, "lcd") == 0) m = model_new(KIND_LCD);
-    else if (strcmp(tok, "oled") == 0) m = model_new(KIND_OLED);
-    else {
-        const char *path = NULL;
-        if (strncmp(tok, "file=", 5) == 0) path = tok + 5;
-        else if (strlen(tok) > 4 && strcmp(tok + strlen(tok) - 4, ".csv") == 0) path = tok;
-        if (!path)
-            return csf_error_set(err, CSF_E_INVALID_ARG,
-                                 "unknown display kind '%s' (known: crt, lcd, oled, file=PATH.csv)", tok);
-        st = load_csv_file(path, &m, err);
-        if (st) return st;
+    if (strlen(spec) >= 1024)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "display spec longer than %d characters", 1023);
+    csf_spec *items = malloc(sizeof *items);
+    if (!items) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    csf_status st = csf_spec_split(spec, "display", items, err);
+    /* the kind is the first item whole: "file=PATH.csv" names a curve, not an option */
+    char kind[1024];
+    if (st == CSF_OK) {
+        snprintf(kind, sizeof kind, "%s%s%s", items->item[0].key, items->item[0].value ? "=" : "",
+                 items->item[0].value ? items->item[0].value : "");
+        st = open_kind(kind, out, err);
     }
-    if (!m) return csf_error_set(err, CSF_E_NOMEM, "out of memory");
-    while ((tok = strtok_r(NULL, ",", &save))) {
-        char *eq = strchr(tok, '=');
-        if (!eq) {
-            free(m);
-            return csf_error_set(err, CSF_E_INVALID_ARG, "display option '%s' is not key=value", tok);
-        }
-        *eq = 0;
-        const char *k = tok, *v = eq + 1;
-        double x;
-        if (strcmp(k, "lmax") == 0 && m->kind != KIND_CSV) {
-            if (parse_num(v, 1, 10000, &x)) goto bad_range;
-            m->lmax_cdm2 = x;
-        } else if (strcmp(k, "black") == 0) {
-            if (parse_num(v, 0, 50, &x)) goto bad_range;
-            m->black_cdm2 = x;
-        } else if (strcmp(k, "gamma") == 0 && m->kind != KIND_CSV) {
-            if (parse_num(v, 1, 4, &x)) goto bad_range;
-            /* keep the per-channel spread of the kind around the requested value */
-            double mean = (m->gamma[0] + m->gamma[1] + m->gamma[2]) / 3.0;
-            for (int c = 0; c < 3; c++) m->gamma[c] += x - mean;
-        } else if (strcmp(k, "interaction") == 0 && m->kind == KIND_LCD) {
-            if (parse_num(v, 0, 0.2, &x)) goto bad_range;
-            m->interaction = x;
-        } else {
-            st = csf_error_set(err, CSF_E_INVALID_ARG,
-                               "unknown display option '%s' for %s (known: lmax, black, gamma%s)", k,
-                               csf_display_model_kind(m), m->kind == KIND_LCD ? ", interaction" : "");
-            free(m);
-            return st;
-        }
-        continue;
-    bad_range:
-        st = csf_error_set(err, CSF_E_INVALID_ARG,
-                           "display option %s=%s out of range (lmax 1..10000 cd/m2, black 0..50 cd/m2, "
-                           "gamma 1..4, interaction 0..0.2)", k, v);
-        free(m);
-        return st;
+    for (int i = 1; st == CSF_OK && i < items->n; i++)
+        st = apply_option(*out, items->item[i].key, items->item[i].value, err);
+    free(items);
+    if (st != CSF_OK) {
+        free(*out);
+        *out = NULL;
     }
-    *out = m;
-    return CSF_OK;
+    return st;
 }
 
 int csf_display_model_spec_from_sim_photometer(const char *phot, char *out, size_t len)
 {
     if (!phot || strncmp(phot, "sim", 3) != 0 || (phot[3] != '\0' && phot[3] != ':')) return -1;
-    char kind[300] = "lcd", extra[600] = "", buf[1024];
+    char kind[300] = "lcd", extra[600] = "";
+    csf_spec *items = malloc(sizeof *items);
+    if (!items) return -1;
+    char buf[1024];
     snprintf(buf, sizeof buf, "%.1000s", phot[3] ? phot + 4 : "");
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        char *eq = strchr(tok, '=');
-        if (!eq) continue;
-        *eq = '\0';
-        const char *k = tok, *v = eq + 1;
+    /* a spec the photometer itself refuses names no display either */
+    if (csf_spec_split(buf, "--photometer", items, NULL) != CSF_OK) {
+        free(items);
+        return -1;
+    }
+    for (int i = 0; i < items->n; i++) {
+        const char *k = items->item[i].key, *v = items->item[i].value;
+        if (!v) continue;
         if (!strcmp(k, "display")) snprintf(kind, sizeof kind, "%.250s", v);
         else if (!strcmp(k, "file")) snprintf(kind, sizeof kind, "file=%.250s", v);
         else if (!strcmp(k, "lmax") || !strcmp(k, "black") || !strcmp(k, "gamma") || !strcmp(k, "interaction")) {
@@ -396,6 +397,7 @@ int csf_display_model_spec_from_sim_photometer(const char *phot, char *out, size
             snprintf(extra + l, sizeof extra - l, ",%s=%.40s", k, v);
         }
     }
+    free(items);
     snprintf(out, len, "%s%s", kind, extra);
     return 0;
 }

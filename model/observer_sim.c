@@ -2,7 +2,6 @@
 #include "model/observer_sim.h"
 #include "model/observer_sdt.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +10,7 @@
 #include "core/file_read.h"
 #include "model/psychometric.h"
 #include "core/rng.h"
+#include "core/spec.h"
 
 /* RNG streams: one per kind of draw, so adding a draw of one kind never shifts another. */
 enum {
@@ -76,12 +76,7 @@ static int parse_field(const char *s, const char *e, double *out, int allow_inf)
         *out = INFINITY;
         return 0;
     }
-    char *end;
-    errno = 0;
-    double v = strtod(buf, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return -1;
-    *out = v;
-    return 0;
+    return csf_number_parse(buf, -INFINITY, INFINITY, out) == CSF_NUM_OK ? 0 : -1;
 }
 
 typedef struct {
@@ -573,12 +568,9 @@ static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const 
     const param_key *k = NULL;
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
         if (strcmp(keys[i].key, tok) == 0) k = &keys[i];
-    char *end;
-    errno = 0;
-    double v = strtod(val, &end);
-    int bad_num = (*val == '\0' || *end != '\0' || errno == ERANGE || !isfinite(v));
+    double v = 0;
     if (strcmp(tok, "rt_mean") == 0) {
-        if (bad_num || v < 0.1 || v > 5)
+        if (csf_number_parse(val, 0.1, 5, &v) != CSF_NUM_OK)
             return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: rt_mean=%s outside 0.1 to 5 s", val);
         x->rt_mean = v;
         return CSF_OK;
@@ -592,7 +584,7 @@ static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const 
             "lapse_runs run_max click_sd click_sd_ecc click_range view display "
             "display_gamma frame_step vc1 vc2 vsteep vmin)",
             tok);
-    if (bad_num || v < k->lo || v > k->hi)
+    if (csf_number_parse(val, k->lo, k->hi, &v) != CSF_NUM_OK)
         return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: %s=%s outside %g to %g", tok, val, k->lo, k->hi);
     int counts = k->off == offsetof(csf_observer_sim_params, lapse_run_max) ||
                  k->off == offsetof(csf_observer_sim_params, frame_step);
@@ -609,17 +601,15 @@ static csf_status parse_spec_number(csf_observer_sim *o, const char *tok, const 
     return CSF_OK;
 }
 
-/* One key=value (or "field=nasal") of the spec. */
-static csf_status parse_spec_token(csf_observer_sim *o, char *tok, uint64_t seed, spec_extras *x, csf_error *err)
+/* One key=value of the spec. */
+static csf_status parse_spec_token(csf_observer_sim *o, const char *tok, const char *val, uint64_t seed,
+                                   spec_extras *x, csf_error *err)
 {
-    if (strcmp(tok, "field=nasal") == 0) {
+    if (!val) return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: '%s' is not key=value", tok);
+    if (strcmp(tok, "field") == 0 && strcmp(val, "nasal") == 0) {
         csf_model_use_nasal_field(&o->p.model);
         return CSF_OK;
     }
-    char *eq = strchr(tok, '=');
-    if (!eq) return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: '%s' is not key=value", tok);
-    *eq = '\0';
-    const char *val = eq + 1;
     if (strcmp(tok, "table") == 0) {
         snprintf(x->table_path, sizeof x->table_path, "%s", val);
         return CSF_OK;
@@ -702,18 +692,28 @@ csf_status csf_observer_sim_create(const char *spec, uint64_t seed, csf_observer
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "--observer: '%s' is not a simulated observer (expected sim or sim:key=value,...)",
                              spec);
-    char buf[1400];
-    if (strlen(spec) >= sizeof buf)
-        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: spec longer than %zu characters", sizeof buf - 1);
+    const size_t max_chars = 1399;
+    if (strlen(spec) > max_chars)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "--observer: spec longer than %zu characters",
+                             max_chars);
+    csf_spec *items = malloc(sizeof *items);
+    if (!items) return csf_error_set(err, CSF_E_NOMEM, "observer: out of memory");
+    csf_status st = csf_spec_split(spec[3] == ':' ? spec + 4 : "", "--observer", items, err);
+    if (st != CSF_OK) {
+        free(items);
+        return st;
+    }
     csf_observer_sim *o = calloc(1, sizeof *o);
-    if (!o) return csf_error_set(err, CSF_E_NOMEM, "observer: out of memory");
+    if (!o) {
+        free(items);
+        return csf_error_set(err, CSF_E_NOMEM, "observer: out of memory");
+    }
     params_default(&o->p);
     o->seed = seed;
     spec_extras x = {.rt_mean = NAN};
-    snprintf(buf, sizeof buf, "%s", spec[3] == ':' ? spec + 4 : "");
-    csf_status st = CSF_OK;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && st == CSF_OK; tok = strtok_r(NULL, ",", &save))
-        st = parse_spec_token(o, tok, seed, &x, err);
+    for (int i = 0; i < items->n && st == CSF_OK; i++)
+        st = parse_spec_token(o, items->item[i].key, items->item[i].value, seed, &x, err);
+    free(items);
     if (st == CSF_OK) st = check_spec(o, &x, err);
     if (st == CSF_OK && x.table_path[0]) st = csf_obs_table_load(x.table_path, &o->table, err);
     if (st != CSF_OK) {

@@ -36,7 +36,7 @@ typedef struct {
     char settings_sha256[CSF_SHA256_HEX];
     char conditions_sha256[CSF_SHA256_HEX];
     char instructions_sha256[CSF_SHA256_HEX]; /* the instructions file's; "" without one */
-    csf_study_image *images; /* malloc'd */
+    csf_study_image *images;                  /* malloc'd */
     int n_images;
 } csf_study_identity;
 

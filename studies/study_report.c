@@ -248,7 +248,8 @@ static csf_status note_sessions(csf_study_report *r, const csf_study_selection *
         w->n_trials = (int)ds[i].m->n_trials;
         snprintf(w->participant, sizeof w->participant, "%s", ds[i].participant);
         w->participant_index = ds[i].m->x->participant_index;
-        w->latin_row = ds[i].m->study->latin ? csf_study_latin_row(ds[i].m->study, w->participant_index, NULL) : -1;
+        w->latin_row =
+            ds[i].m->study->latin ? csf_study_latin_row(ds[i].m->study, w->participant_index, NULL) : -1;
         snprintf(w->experimenter, sizeof w->experimenter, "%s", ds[i].m->x->experimenter);
         snprintf(w->notes, sizeof w->notes, "%s", ds[i].m->x->notes);
     }

@@ -20,7 +20,7 @@ typedef struct {
     const char *participant;     /* 1-63 characters of [A-Za-z0-9_.-] */
     const char *observer_spec;   /* "sim[:key=value,...]" or "human"; NULL = cfg->observer, else sim */
     const char *store_path;
-    int version; /* the study version (docs/studies.md); 0 = 1 */
+    int version;              /* the study version (docs/studies.md); 0 = 1 */
     const char *experimenter; /* session metadata (study run --set); NULL = not given */
     const char *notes;
     int headless;
@@ -33,7 +33,7 @@ typedef struct {
     int resumed, finished;
     uint64_t seed, hash;
     int version;
-    char sha256[65]; /* the study's identity (studies/study_identity.h) */
+    char sha256[65];       /* the study's identity (studies/study_identity.h) */
     int participant_index; /* the participant's place in the version (docs/studies.md) */
     int latin_row;         /* the Latin-square row it picked (0 without counterbalance = latin_*) */
 } csf_study_run_result;

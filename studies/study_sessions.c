@@ -296,7 +296,8 @@ static csf_status session_load(csf_store *store, const csf_study_session *x, int
     if (st == CSF_OK) st = csf_store_get_artifact(store, x->id, "conditions", &cb, &cl, cp, sizeof cp, err);
     if (st == CSF_OK) st = csf_study_from_texts(sb, cb, sp, cp, 0, &d->study, err);
     /* the seed as stored with the session row (exact; the JSON number is a double) */
-    if (st == CSF_OK) st = csf_study_make_plan(d->study, info.seed, x->participant_index, &d->plan, &d->n_plan, err);
+    if (st == CSF_OK)
+        st = csf_study_make_plan(d->study, info.seed, x->participant_index, &d->plan, &d->n_plan, err);
     if (st == CSF_OK) st = csf_store_get_trials(store, x->id, &d->trials, &d->n_trials, err);
     if (st == CSF_OK && want_table) st = csf_study_conditions_table(d->study, &d->table, err);
     csf_session_info_free(&info);

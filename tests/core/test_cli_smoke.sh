@@ -16,11 +16,11 @@ printf 'screen_width_mm = 600\nviewing_distance_mm = -3\n' > "$tmp"
 "$exe" devices --headless --config "$tmp" >/dev/null 2>"$tmp.err"
 rc=$?
 [ "$rc" -eq 2 ] || { echo "bad config: exit $rc, expected 2"; fail=1; }
-grep -q "$tmp:2: viewing_distance_mm = -3 is out of range (allowed 100 to 20000 mm)" "$tmp.err" \
+grep -q "$tmp:2: viewing_distance_mm = -3 is out of range (allowed 100 to 10000 mm)" "$tmp.err" \
   || { echo "bad config message: $(cat "$tmp.err")"; fail=1; }
 # Command-line overrides are range-checked too.
 "$exe" devices --headless --distance-mm 5 >/dev/null 2>"$tmp.err" && { echo "--distance-mm 5 accepted"; fail=1; }
-grep -q "allowed 100 to 20000" "$tmp.err" || { echo "override message: $(cat "$tmp.err")"; fail=1; }
+grep -q "allowed 100 to 10000" "$tmp.err" || { echo "override message: $(cat "$tmp.err")"; fail=1; }
 # A folder as --config is refused (it was read as an empty file: every value a silent default).
 d=$(mktemp -d)
 "$exe" devices --headless --config "$d" >/dev/null 2>"$tmp.err"

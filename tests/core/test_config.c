@@ -38,7 +38,7 @@ int main(void)
     p = write_tmp("screen_width_mm = 600\nviewing_distance_mm = 5\n");
     CHECK(csf_config_load(&c, p, &err) == CSF_E_INVALID_ARG);
     CHECK_STR_CONTAINS(err.msg, ":2:");
-    CHECK_STR_CONTAINS(err.msg, "allowed 100 to 20000 mm");
+    CHECK_STR_CONTAINS(err.msg, "allowed 100 to 10000 mm");
     unlink(p);
 
     p = write_tmp("screen_width_px = 1280.5\n");

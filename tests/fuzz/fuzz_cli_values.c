@@ -25,7 +25,7 @@ static void check_config(const csf_config *c)
     if (!(c->screen_height_mm >= 30 && c->screen_height_mm <= 10000)) abort();
     if (c->screen_width_px < 64 || c->screen_width_px > 16384) abort();
     if (c->screen_height_px < 64 || c->screen_height_px > 16384) abort();
-    if (!(c->viewing_distance_mm >= 100 && c->viewing_distance_mm <= 20000)) abort();
+    if (!(c->viewing_distance_mm >= 100 && c->viewing_distance_mm <= 10000)) abort();
     if (!memchr(c->store_path, '\0', sizeof c->store_path)) abort();
     if (!memchr(c->photometer, '\0', sizeof c->photometer)) abort();
 }

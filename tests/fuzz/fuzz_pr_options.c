@@ -21,7 +21,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     double timeout_s = 60, aperture_deg = 1;
     csf_error err = {0};
     if (csf_pr_parse_options(model, opts, &timeout_s, &aperture_deg, &err) != CSF_OK) {
-        if (err.code != CSF_E_INVALID_ARG || err.msg[0] == '\0' || !memchr(err.msg, '\0', sizeof err.msg)) abort();
+        if (err.code != CSF_E_INVALID_ARG || err.msg[0] == '\0' || !memchr(err.msg, '\0', sizeof err.msg))
+            abort();
         return 0;
     }
     if (!(timeout_s >= 0.1 && timeout_s <= 600)) abort();

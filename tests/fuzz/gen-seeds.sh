@@ -179,6 +179,12 @@ sed -n 's/^observer = sim://p' "$conf" | tr -d '\n' >"$tmp/obs-conf.txt"
 put fuzz_observer_spec config.txt "$tmp/obs-conf.txt"
 printf 'smax=150' >"$tmp/obs-fade.txt"
 put fuzz_observer_spec fade.txt "$tmp/obs-fade.txt"
+# The same spec and the configuration's photometer spec through the one splitter (fuzz_spec:
+# first byte 0 picks the key=value split).
+{ printf '\0'; cat "$tmp/obs-conf.txt"; } >"$tmp/spec-obs.bin"
+put fuzz_spec observer.bin "$tmp/spec-obs.bin"
+{ printf '\0'; sed -n 's/^photometer = sim://p' "$conf" | head -1 | tr -d '\n'; } >"$tmp/spec-phot.bin"
+put fuzz_spec photometer.bin "$tmp/spec-phot.bin"
 # The responder spec of the configuration, after "hid:" or "gamepad:" (fuzz_responder_spec; the
 # generated configuration names the keyboard, so the checked-in corpus carries the HID cases).
 sed -n 's/^responder = \(hid\|gamepad\)://p' "$conf" | head -1 | tr -d '\n' >"$tmp/resp.txt"

@@ -42,7 +42,8 @@ static void test_williams(void)
         for (int i = 0; i < n; i++)
             for (int j = 0; j < n; j++) {
                 CHECK_INT_EQ(pos[i][j], rows / n);
-                if (i != j) CHECK_MSG(pair[i][j] == rows / n, "n %d: pair %d->%d %d times", n, i, j, pair[i][j]);
+                if (i != j)
+                    CHECK_MSG(pair[i][j] == rows / n, "n %d: pair %d->%d %d times", n, i, j, pair[i][j]);
             }
         int a[9], b[9];
         csf_study_williams_row(n, 1, a);
@@ -65,7 +66,9 @@ static void test_sequential(void)
     csf_study *s = NULL;
     csf_error e;
     CHECK_MSG(study("name = t\nconditions = c.csv\ntrials_per_condition = 3\norder = sequential\n"
-                    "practice_trials = 0\n", four, &s, &e) == CSF_OK, "%s", e.msg);
+                    "practice_trials = 0\n",
+                    four, &s, &e) == CSF_OK,
+              "%s", e.msg);
     csf_study_trial *t = NULL;
     int n = 0, c[64] = {0};
     CHECK(csf_study_make_plan(s, 9, 0, &t, &n, &e) == CSF_OK);
@@ -76,8 +79,9 @@ static void test_sequential(void)
 
     /* latin_conditions: each participant's passes follow their Williams row */
     CHECK_MSG(study("name = t\nconditions = c.csv\ntrials_per_condition = 2\norder = sequential\n"
-                    "counterbalance = latin_conditions\npractice_trials = 0\n", four, &s, &e) == CSF_OK, "%s",
-              e.msg);
+                    "counterbalance = latin_conditions\npractice_trials = 0\n",
+                    four, &s, &e) == CSF_OK,
+              "%s", e.msg);
     for (int p = 0; p < 5; p++) {
         int row[4];
         csf_study_williams_row(4, p, row);
@@ -95,9 +99,12 @@ static void test_blocked(void)
     csf_study *s = NULL;
     csf_error e;
     CHECK_MSG(study("name = t\nconditions = c.csv\ntrials_per_condition = 6\nblocked_by = grp\n"
-                    "counterbalance = latin_blocks\npractice_trials = 2\n", four, &s, &e) == CSF_OK, "%s", e.msg);
+                    "counterbalance = latin_blocks\npractice_trials = 2\n",
+                    four, &s, &e) == CSF_OK,
+              "%s", e.msg);
     CHECK_INT_EQ(s->n_groups, 2);
-    CHECK(s->conds[0].group == 0 && s->conds[1].group == 1 && s->conds[2].group == 0 && s->conds[3].group == 1);
+    CHECK(s->conds[0].group == 0 && s->conds[1].group == 1 && s->conds[2].group == 0 &&
+          s->conds[3].group == 1);
     const char *first_grp[2] = {"x", "y"};
     for (int p = 0; p < 2; p++) {
         csf_study_trial *t = NULL;
@@ -172,7 +179,8 @@ static void test_values(void)
     }
     csf_study *s = NULL;
     csf_error e;
-    CHECK(study("name = t\nconditions = c.csv\ninstructions = Look here.\\nThen press.\n", four, &s, &e) == CSF_OK);
+    CHECK(study("name = t\nconditions = c.csv\ninstructions = Look here.\\nThen press.\n", four, &s, &e) ==
+          CSF_OK);
     CHECK(s && !strcmp(s->instructions, "Look here.\nThen press."));
     csf_study_free(s);
 }
@@ -224,7 +232,8 @@ static void test_instructions_identity(const char *dir)
         CHECK(csf_study_identity_compute(s1, 0, &a, &e) == CSF_OK);
         CHECK(csf_study_identity_compute(s2, 0, &b, &e) == CSF_OK);
         CHECK(strcmp(a.sha256, b.sha256) != 0);
-        CHECK(!strcmp(a.settings_sha256, b.settings_sha256) && !strcmp(a.conditions_sha256, b.conditions_sha256));
+        CHECK(!strcmp(a.settings_sha256, b.settings_sha256) &&
+              !strcmp(a.conditions_sha256, b.conditions_sha256));
         char what[500];
         CHECK_INT_EQ(csf_study_identity_diff(&a, &b, what, sizeof what), 1);
         CHECK_STR_CONTAINS(what, "the instructions file changed");
