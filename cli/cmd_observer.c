@@ -122,6 +122,63 @@ static void print_resume_hint(const csf_cli *cli, const csf_obs_options *o, cons
 
 /* One option from getopt_long into o (or cli). Returns -1 to go on, or the exit status: 0 after
  * --help, 2 for a bad value or an unknown option. */
+/* The options given as words or shapes rather than numbers: a drift direction, a method, a render
+ * size, a responder, a layout. Returns -1 to go on, or the exit status (2) after saying why. */
+static int apply_word_option(int c, csf_cli *cli, csf_obs_options *o)
+{
+    switch (c) {
+    case OPT_DRIFT_DIRECTION:
+        if (strcmp(optarg, "random") == 0) o->drift_direction = 0;
+        else if (strcmp(optarg, "forward") == 0) o->drift_direction = 1;
+        else if (strcmp(optarg, "backward") == 0) o->drift_direction = -1;
+        else {
+            fprintf(stderr, "csfcal: --drift-direction: '%s' is not allowed (random, forward, backward)\n",
+                    optarg);
+            return 2;
+        }
+        break;
+    case OPT_METHOD:
+        if (strcmp(optarg, "fade") && strcmp(optarg, "2afc") && strcmp(optarg, "bayes")) {
+            fprintf(stderr, "csfcal: --method: '%s' is unknown (bayes, fade, 2afc)\n", optarg);
+            return 2;
+        }
+        o->method = optarg;
+        break;
+    case OPT_RENDER_SIZE: {
+        int w, h;
+        char tail;
+        if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) {
+            fprintf(stderr, "csfcal: --render-size: expected WxH, each 16 to 4096, got '%s'\n", optarg);
+            return 2;
+        }
+        o->render_w = w;
+        o->render_h = h;
+        break;
+    }
+    case OPT_RESPONDER:
+        if (strlen(optarg) >= sizeof cli->cfg.responder) {
+            fprintf(stderr, "csfcal: --responder: longer than %zu characters\n",
+                    sizeof cli->cfg.responder - 1);
+            return 2;
+        }
+        snprintf(cli->cfg.responder, sizeof cli->cfg.responder, "%s", optarg);
+        break;
+    case OPT_AFC:
+        if (strcmp(optarg, "2") == 0) o->afc = 2;
+        else if (strcmp(optarg, "4") == 0) o->afc = 4;
+        else {
+            fprintf(stderr,
+                    "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
+                    "where they fit)\n",
+                    optarg);
+            return 2;
+        }
+        break;
+    default: break;
+    }
+    return -1;
+}
+
 static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_options *o)
 {
     long v;
@@ -147,26 +204,9 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
                                           CSF_OBS_MAX_AXIS);
         if (o->n_vels < 0) return 2;
         break;
-    case OPT_DRIFT_DIRECTION:
-        if (strcmp(optarg, "random") == 0) o->drift_direction = 0;
-        else if (strcmp(optarg, "forward") == 0) o->drift_direction = 1;
-        else if (strcmp(optarg, "backward") == 0) o->drift_direction = -1;
-        else {
-            fprintf(stderr, "csfcal: --drift-direction: '%s' is not allowed (random, forward, backward)\n",
-                    optarg);
-            return 2;
-        }
-        break;
     case OPT_TRIALS:
         if (csf_parse_int(optarg, "trials", 1, 5000, &v) < 0) return 2;
         o->trials = (int)v;
-        break;
-    case OPT_METHOD:
-        if (strcmp(optarg, "fade") && strcmp(optarg, "2afc") && strcmp(optarg, "bayes")) {
-            fprintf(stderr, "csfcal: --method: '%s' is unknown (bayes, fade, 2afc)\n", optarg);
-            return 2;
-        }
-        o->method = optarg;
         break;
     case OPT_PRACTICE:
         if (csf_parse_int(optarg, "practice", 0, 50, &v) < 0) return 2;
@@ -181,44 +221,19 @@ static int apply_calibrate_option(int c, char **argv, csf_cli *cli, csf_obs_opti
         if (v == 0) v = 1;
         o->render_every = (int)v;
         break;
-    case OPT_RENDER_SIZE: {
-        int w, h;
-        char tail;
-        if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) {
-            fprintf(stderr, "csfcal: --render-size: expected WxH, each 16 to 4096, got '%s'\n", optarg);
-            return 2;
-        }
-        o->render_w = w;
-        o->render_h = h;
-        break;
-    }
     case OPT_QUIET: o->quiet = 1; break;
     case OPT_ALLOW_PROFILE: o->allow_profile_change = 1; break;
-    case OPT_RESPONDER:
-        if (strlen(optarg) >= sizeof cli->cfg.responder) {
-            fprintf(stderr, "csfcal: --responder: longer than %zu characters\n",
-                    sizeof cli->cfg.responder - 1);
-            return 2;
-        }
-        snprintf(cli->cfg.responder, sizeof cli->cfg.responder, "%s", optarg);
-        break;
     case OPT_FADE_ANCHORS: {
         double share;
         if (csf_parse_double(optarg, "fade-anchors", 0, 0.5, &share) < 0) return 2;
         o->fade_anchor_share = share > 0 ? share : -1;
         break;
     }
-    case OPT_AFC:
-        if (strcmp(optarg, "2") == 0) o->afc = 2;
-        else if (strcmp(optarg, "4") == 0) o->afc = 4;
-        else {
-            fprintf(stderr,
-                    "csfcal: --afc: '%s' is not allowed (2: two intervals, 4: four places "
-                    "where they fit)\n",
-                    optarg);
-            return 2;
-        }
-        break;
+    case OPT_DRIFT_DIRECTION:
+    case OPT_METHOD:
+    case OPT_RENDER_SIZE:
+    case OPT_RESPONDER:
+    case OPT_AFC: return apply_word_option(c, cli, o);
     default: {
         int r = csf_cli_option_default(cli, "observer calibrate", "", c, argv);
         if (r >= 0) return r;

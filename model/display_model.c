@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/file_read.h"
+#include "core/csv.h"
 #include "core/spec.h"
 
 enum { KIND_CRT, KIND_LCD, KIND_OLED, KIND_CSV };
@@ -167,25 +168,20 @@ static csf_display_model *model_new(int kind)
 }
 
 /* The four comma-separated numbers of a data line into f. */
-static csf_status csv_fields(char *s, const char *name, int line_no, double f[4], csf_error *err)
+static csf_status csv_fields(const char *s, const char *name, int line_no, double f[4], csf_error *err)
 {
-    char *p = s;
-    for (int k = 0; k < 4; k++) {
-        char *end;
-        errno = 0;
-        f[k] = strtod(p, &end);
-        if (end == p || errno || !isfinite(f[k]))
+    char fields[5][CSF_CSV_FIELD_MAX];
+    const char *why;
+    int n = csf_csv_split(s, fields, 5, &why);
+    if (n < 0 && strcmp(why, "too many columns") != 0)
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", name, line_no, why);
+    if (n < 0 || n > 4)
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: trailing text after 4 fields", name, line_no);
+    if (n != 4)
+        return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields", name, line_no);
+    for (int k = 0; k < 4; k++)
+        if (csf_number_parse(fields[k], -INFINITY, INFINITY, &f[k]) != CSF_NUM_OK)
             return csf_error_set(err, CSF_E_FORMAT, "%s:%d: field %d is not a number", name, line_no, k + 1);
-        p = end;
-        while (*p == ' ' || *p == '\t') p++;
-        if (k < 3) {
-            if (*p != ',')
-                return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected 4 comma-separated fields", name,
-                                     line_no);
-            p++;
-        }
-    }
-    if (*p) return csf_error_set(err, CSF_E_FORMAT, "%s:%d: trailing text after 4 fields", name, line_no);
     return CSF_OK;
 }
 
@@ -225,6 +221,35 @@ static csf_status csv_check_levels(const csf_display_model *m, const int *seen, 
     return CSF_OK;
 }
 
+/* Every data line of a display CSV into m: comments and blank lines skipped, one optional header
+ * ("level,...") before the first row. */
+static csf_status csv_read_rows(csf_display_model *m, int *seen, const char *text, size_t len,
+                                const char *name, csf_error *err)
+{
+    csf_lines lines;
+    if (csf_lines_open(&lines, text, len, 255))
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory reading display CSV");
+    int n_rows = 0, got;
+    char *s;
+    csf_status rc = CSF_OK;
+    while (rc == CSF_OK && (got = csf_lines_next(&lines, &s)) != 0) {
+        int line_no = lines.line;
+        if (got < 0) rc = csf_error_set(err, CSF_E_FORMAT, "%s:%d: %s", name, line_no, lines.why);
+        else if (isalpha((unsigned char)*s)) {
+            if (n_rows == 0 && strncmp(s, "level", 5) == 0) continue; /* header */
+            rc =
+                csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected level,r_cdm2,g_cdm2,b_cdm2", name, line_no);
+        } else {
+            double f[4];
+            rc = csv_fields(s, name, line_no, f, err);
+            if (!rc) rc = csv_store_row(m, seen, f, name, line_no, err);
+            n_rows++;
+        }
+    }
+    csf_lines_close(&lines);
+    return rc;
+}
+
 csf_status csf_display_model_from_csv(const char *text, size_t len, const char *name,
                                       csf_display_model **out, csf_error *err)
 {
@@ -232,47 +257,12 @@ csf_status csf_display_model_from_csv(const char *text, size_t len, const char *
     csf_display_model *m = model_new(KIND_CSV);
     if (!m) return csf_error_set(err, CSF_E_NOMEM, "out of memory reading display CSV");
     int seen[CSV_LEVELS] = {0};
-    int n_rows = 0, line_no = 0;
-    size_t pos = 0;
-    while (pos < len) {
-        size_t start = pos;
-        while (pos < len && text[pos] != '\n') pos++;
-        size_t l = pos - start;
-        if (pos < len) pos++;
-        line_no++;
-        char line[256];
-        if (l >= sizeof line) {
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: line longer than %zu characters", name,
-                                 line_no, sizeof line - 1);
-        }
-        memcpy(line, text + start, l);
-        line[l] = 0;
-        if (memchr(line, 0, l)) {
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: NUL byte in CSV", name, line_no);
-        }
-        char *s = line;
-        while (*s == ' ' || *s == '\t') s++;
-        size_t sl = strlen(s);
-        while (sl && (s[sl - 1] == '\r' || s[sl - 1] == ' ' || s[sl - 1] == '\t')) s[--sl] = 0;
-        if (!*s || *s == '#') continue;
-        if (isalpha((unsigned char)*s)) {
-            if (n_rows == 0 && strncmp(s, "level", 5) == 0) continue; /* header */
-            free(m);
-            return csf_error_set(err, CSF_E_FORMAT, "%s:%d: expected level,r_cdm2,g_cdm2,b_cdm2",
-                                 name, line_no);
-        }
-        double f[4];
-        csf_status rc = csv_fields(s, name, line_no, f, err);
-        if (!rc) rc = csv_store_row(m, seen, f, name, line_no, err);
-        if (rc) {
-            free(m);
-            return rc;
-        }
-        n_rows++;
+    csf_status rc = csv_read_rows(m, seen, text, len, name, err);
+    if (rc) {
+        free(m);
+        return rc;
     }
-    csf_status rc = csv_check_levels(m, seen, name, err);
+    rc = csv_check_levels(m, seen, name, err);
     if (rc) {
         free(m);
         return rc;

@@ -10,6 +10,7 @@
 #include "core/file_read.h"
 #include "model/psychometric.h"
 #include "core/rng.h"
+#include "core/csv.h"
 #include "core/spec.h"
 
 /* RNG streams: one per kind of draw, so adding a draw of one kind never shifts another. */
@@ -62,21 +63,14 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Parses one number field [s, e); accepts "inf" for the threshold column. */
-static int parse_field(const char *s, const char *e, double *out, int allow_inf)
+/* One number field (trimmed by the splitter); "inf" is accepted for the threshold column. */
+static int parse_field(const char *f, double *out, int allow_inf)
 {
-    char buf[64];
-    while (s < e && (*s == ' ' || *s == '\t')) s++;
-    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r')) e--;
-    size_t n = (size_t)(e - s);
-    if (n == 0 || n >= sizeof buf) return -1;
-    memcpy(buf, s, n);
-    buf[n] = '\0';
-    if (allow_inf && (strcmp(buf, "inf") == 0 || strcmp(buf, "INF") == 0 || strcmp(buf, "Inf") == 0)) {
+    if (allow_inf && (strcmp(f, "inf") == 0 || strcmp(f, "INF") == 0 || strcmp(f, "Inf") == 0)) {
         *out = INFINITY;
         return 0;
     }
-    return csf_number_parse(buf, -INFINITY, INFINITY, out) == CSF_NUM_OK ? 0 : -1;
+    return csf_number_parse(f, -INFINITY, INFINITY, out) == CSF_NUM_OK ? 0 : -1;
 }
 
 typedef struct {
@@ -96,36 +90,18 @@ typedef struct {
     int nf, ne, nv;
     int n_cols;
     int col_of[N_COLS]; /* field index of each column, -1 where absent */
+    char fields[N_COLS][CSF_CSV_FIELD_MAX];
 } table_read;
 
-/* Splits s..e at commas: at most n_max fields, their bounds in fs/fe; -1 with more fields. */
-static int split_fields(const char *s, const char *e, const char **fs, const char **fe, int n_max)
-{
-    int n = 0;
-    for (;;) {
-        const char *c = memchr(s, ',', (size_t)(e - s));
-        if (n == n_max) return -1;
-        fs[n] = s;
-        fe[n] = c ? c : e;
-        n++;
-        if (!c) return n;
-        s = c + 1;
-    }
-}
-
 /* The header line: each known column name once, freq_cpd, ecc_deg and threshold required. */
-static csf_status read_table_header(table_read *tr, const char *s, const char *e, int line, csf_error *err)
+static csf_status read_table_header(table_read *tr, const char *l, int line, csf_error *err)
 {
-    const char *fs[N_COLS], *fe[N_COLS];
-    int n = split_fields(s, e, fs, fe, N_COLS);
+    const char *why;
+    int n = csf_csv_split(l, tr->fields, N_COLS, &why);
     for (int c = 0; c < N_COLS; c++) tr->col_of[c] = -1;
     for (int i = 0; i < n; i++) {
-        while (fs[i] < fe[i] && (*fs[i] == ' ' || *fs[i] == '\t')) fs[i]++;
-        while (fe[i] > fs[i] && (fe[i][-1] == ' ' || fe[i][-1] == '\t')) fe[i]--;
         int c = 0;
-        while (c < N_COLS && !((size_t)(fe[i] - fs[i]) == strlen(col_names[c]) &&
-                               memcmp(fs[i], col_names[c], strlen(col_names[c])) == 0))
-            c++;
+        while (c < N_COLS && strcmp(tr->fields[i], col_names[c]) != 0) c++;
         if (c == N_COLS || tr->col_of[c] >= 0) n = -1;
         else tr->col_of[c] = i;
     }
@@ -140,11 +116,10 @@ static csf_status read_table_header(table_read *tr, const char *s, const char *e
 }
 
 /* The fields of one data line as numbers in range; velocity 0 where the table has none. */
-static csf_status read_row_values(const table_read *tr, const char *s, const char *e, int line,
-                                  table_row *row, csf_error *err)
+static csf_status read_row_values(table_read *tr, const char *l, int line, table_row *row, csf_error *err)
 {
-    const char *fs[N_COLS], *fe[N_COLS];
-    if (split_fields(s, e, fs, fe, N_COLS) != tr->n_cols)
+    const char *why;
+    if (csf_csv_split(l, tr->fields, N_COLS, &why) != tr->n_cols)
         return tr->col_of[COL_VEL] < 0
                    ? csf_error_set(err, CSF_E_FORMAT,
                                    "observer table line %d: expected 3 comma-separated numbers "
@@ -158,7 +133,7 @@ static csf_status read_row_values(const table_read *tr, const char *s, const cha
     double val[N_COLS] = {0};
     for (int c = 0; c < N_COLS; c++) {
         int i = tr->col_of[c];
-        if (i >= 0 && parse_field(fs[i], fe[i], &val[c], c == COL_TH))
+        if (i >= 0 && parse_field(tr->fields[i], &val[c], c == COL_TH))
             return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: not a number", line);
     }
     if (!(val[COL_FREQ] > 0 && val[COL_FREQ] <= 1000))
@@ -180,10 +155,10 @@ static csf_status read_row_values(const table_read *tr, const char *s, const cha
 
 /* One data line s..e (trimmed, without its comment): numbers in range, on a grid of at most
  * TABLE_MAX_AXIS values per axis. */
-static csf_status read_table_row(table_read *tr, const char *s, const char *e, int line, csf_error *err)
+static csf_status read_table_row(table_read *tr, const char *l, int line, csf_error *err)
 {
     table_row row;
-    csf_status st = read_row_values(tr, s, e, line, &row, err);
+    csf_status st = read_row_values(tr, l, line, &row, err);
     if (st != CSF_OK) return st;
     if (find_or_add(tr->fax, &tr->nf, row.f) < 0 || find_or_add(tr->eax, &tr->ne, row.e) < 0 ||
         find_or_add(tr->vax, &tr->nv, row.v) < 0)
@@ -212,34 +187,25 @@ static int is_header(const table_read *tr, const char *s)
     return tr->n_rows == 0 && ((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z'));
 }
 
-/* Every line: comments (#) and blank lines skipped, an optional header, then the rows. */
+/* Every line: comments (#, also after a row) and blank lines skipped, an optional header, then the
+ * rows. */
 static csf_status read_table_lines(table_read *tr, const char *text, size_t len, csf_error *err)
 {
-    size_t pos = 0;
-    int line = 0;
-    while (pos < len) {
-        size_t start = pos;
-        while (pos < len && text[pos] != '\n') pos++;
-        size_t end = pos;
-        if (pos < len) pos++;
-        line++;
-        for (size_t i = start; i < end; i++)
-            if (text[i] == '#') {
-                end = i;
-                break;
-            }
-        if (memchr(text + start, '\0', end - start))
-            return csf_error_set(err, CSF_E_FORMAT, "observer table line %d: NUL byte", line);
-        while (start < end && (text[start] == ' ' || text[start] == '\t' || text[start] == '\r')) start++;
-        while (end > start && (text[end - 1] == ' ' || text[end - 1] == '\t' || text[end - 1] == '\r')) end--;
-        if (start == end) continue;
-        const char *s = text + start, *e = text + end;
-        csf_status st =
-            is_header(tr, s) ? read_table_header(tr, s, e, line, err) : read_table_row(tr, s, e, line, err);
-        if (st != CSF_OK) return st;
-    }
-    if (tr->n_rows == 0) return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
-    return CSF_OK;
+    csf_lines lines;
+    if (csf_lines_open(&lines, text, len, 65535))
+        return csf_error_set(err, CSF_E_NOMEM, "observer table: out of memory");
+    lines.hash_comments = 1;
+    char *l;
+    int got;
+    csf_status st = CSF_OK;
+    while (st == CSF_OK && (got = csf_lines_next(&lines, &l)) != 0)
+        st = got < 0 ? csf_error_set(err, CSF_E_FORMAT, "observer table line %d: %s", lines.line, lines.why)
+             : is_header(tr, l) ? read_table_header(tr, l, lines.line, err)
+                                : read_table_row(tr, l, lines.line, err);
+    csf_lines_close(&lines);
+    if (st == CSF_OK && tr->n_rows == 0)
+        return csf_error_set(err, CSF_E_FORMAT, "observer table: no data rows");
+    return st;
 }
 
 static int axis_index(const double *axis, double v)

@@ -215,8 +215,12 @@ static void test_draws(void)
     CHECK(smin >= 1.5 && smin < 1.6 && smax <= 6 && smax > 5.6);
     CHECK(lmin >= 0 && lmin < 0.005 && lmax <= 0.08 && lmax > 0.075);
     CHECK(kmin >= 1.25 && kmin < 1.35 && kmax <= 5 && kmax > 4.7);
-    /* a later explicit value wins over a draw */
-    csf_observer_sim *o = make("sim:slope=draw,slope=2.5", 3);
+    /* a key given twice is refused, a draw and a value alike: which one was meant cannot be known */
+    csf_observer_sim *o = NULL;
+    csf_error err;
+    CHECK(csf_observer_sim_create("sim:slope=draw,slope=2.5", 3, &o, &err) == CSF_E_INVALID_ARG && o == NULL);
+    CHECK_STR_CONTAINS(err.msg, "given twice");
+    o = make("sim:slope=2.5", 3);
     CHECK(csf_observer_sim_params_get(o)->slope == 2.5 && !csf_observer_sim_params_get(o)->slope_drawn);
     csf_observer_sim_free(o);
 }
