@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/csv.h"
 #include "core/file_read.h"
 #include "core/spec.h"
 #include "results/store/store.h"
@@ -63,15 +64,6 @@ static const key_spec keys[] = {
     DKEY("profile_max_age_days", profile_max_age_days, 0, 3650, "days"),
 };
 
-static char *trim(char *s)
-{
-    while (*s == ' ' || *s == '\t') s++;
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
-        s[--n] = '\0';
-    return s;
-}
-
 csf_status csf_config_set(csf_config *c, const char *key, const char *value, const char *where,
                           csf_error *err)
 {
@@ -97,8 +89,8 @@ csf_status csf_config_set(csf_config *c, const char *key, const char *value, con
         char num[1200]; /* white space around the number is layout, not part of it */
         snprintf(num, sizeof num, "%s", value);
         double v = 0;
-        csf_num_result r =
-            strlen(value) < sizeof num ? csf_number_parse(trim(num), k->lo, k->hi, &v) : CSF_NUM_NOT_A_NUMBER;
+        csf_num_result r = strlen(value) < sizeof num ? csf_number_parse(csf_trim(num), k->lo, k->hi, &v)
+                                                      : CSF_NUM_NOT_A_NUMBER;
         if (r == CSF_NUM_NOT_A_NUMBER)
             return csf_error_set(err, CSF_E_INVALID_ARG, "%s: %s = '%s' is not a number (allowed %g to %g %s)",
                                  where, key, value, k->lo, k->hi, k->unit);
@@ -171,40 +163,42 @@ static csf_status parse_config_text(csf_config *c, const char *path, char *data,
                              (unsigned char)data[bin], bin);
     }
     int set_on_line[sizeof keys / sizeof keys[0]] = {0};
-    int lineno = 0;
-    char *next = data;
-    while (next && *next) {
-        char *line = next;
-        char *nl = strchr(line, '\n');
-        if (nl) *nl = '\0';
-        next = nl ? nl + 1 : NULL;
-        lineno++;
+    csf_lines lines;
+    if (csf_lines_open(&lines, data, strlen(data), CONFIG_MAX_LINE))
+        return csf_error_set(err, CSF_E_NOMEM, "out of memory");
+    lines.hash_comments = 1;
+    char *s;
+    int got;
+    csf_status st = CSF_OK;
+    while (st == CSF_OK && (got = csf_lines_next(&lines, &s)) != 0) {
+        int lineno = lines.line;
         char where[1100];
-        snprintf(where, sizeof where, "%s:%d", path, lineno);
-        if (strlen(line) > CONFIG_MAX_LINE)
-            return csf_error_set(err, CSF_E_FORMAT, "%s: line longer than %d characters", where, CONFIG_MAX_LINE);
-        char *hash = strchr(line, '#');
-        if (hash) *hash = '\0';
-        char *s = trim(line);
-        if (*s == '\0') continue;
+        snprintf(where, sizeof where, "%.1080s:%d", path, lineno);
+        if (got < 0) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s: %s", where, lines.why);
+            break;
+        }
         if (*s == '[') {
             if (strcmp(s, "[station]") != 0)
-                return csf_error_set(err, CSF_E_FORMAT, "%s: unknown section %s (only [station])", where, s);
+                st = csf_error_set(err, CSF_E_FORMAT, "%s: unknown section %s (only [station])", where, s);
             continue;
         }
         char *eq = strchr(s, '=');
-        if (!eq) return csf_error_set(err, CSF_E_FORMAT, "%s: expected 'key = value'", where);
+        if (!eq) {
+            st = csf_error_set(err, CSF_E_FORMAT, "%s: expected 'key = value'", where);
+            break;
+        }
         *eq = '\0';
-        char *key = trim(s);
+        char *key = csf_trim(s);
         int k = key_index(key);
         if (k >= 0 && set_on_line[k])
-            return csf_error_set(err, CSF_E_FORMAT, "%s: %s is set twice (first on line %d): keep one line",
-                                 where, key, set_on_line[k]);
-        csf_status st = csf_config_set(c, key, trim(eq + 1), where, err);
-        if (st != CSF_OK) return st;
-        set_on_line[k] = lineno;
+            st = csf_error_set(err, CSF_E_FORMAT, "%s: %s is set twice (first on line %d): keep one line",
+                               where, key, set_on_line[k]);
+        else st = csf_config_set(c, key, csf_trim(eq + 1), where, err);
+        if (st == CSF_OK) set_on_line[k] = lineno;
     }
-    return CSF_OK;
+    csf_lines_close(&lines);
+    return st;
 }
 
 csf_status csf_config_load(csf_config *c, const char *path, csf_error *err)
