@@ -157,12 +157,15 @@ def text_pixels(width, height, rows):
 
 
 def check_text(width, height, rows):
-    dark, field = text_pixels(width, height, rows)
-    # a blank or trial frame holds at most the fixation mark (0.12 deg radius: a dozen pixels)
-    if len(dark) < 300:
-        return "no text: %d dark pixels on a field of level %.0f" % (len(dark), field)
-    xs = sorted(x for x, _ in dark)
-    print("text: %d dark pixels, columns %d to %d, field level %.0f" % (len(dark), xs[0], xs[-1], field))
+    """Text has a dark core (below 0.6 of the field's level); the place rings (0.7 of the mean
+    luminance, about 0.85 of its level) and the dither do not reach it, and a blank or trial frame
+    holds only the fixation mark (0.12 deg radius: a few pixels)."""
+    field = median_level(rows, width, 0, height)
+    ink = [(x, y) for y in range(height) for x in range(width) if grey(rows, x, y) < 0.6 * field]
+    if len(ink) < 150:
+        return "no text: %d dark pixels on a field of level %.0f" % (len(ink), field)
+    xs = sorted(x for x, _ in ink)
+    print("text: %d dark pixels, columns %d to %d, field level %.0f" % (len(ink), xs[0], xs[-1], field))
     return None
 
 

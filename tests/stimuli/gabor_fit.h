@@ -118,18 +118,21 @@ static inline gfit_result gfit_at(const gfit_pixels *px, double f)
     return (gfit_result){y[0], hypot(y[1], y[2]) / y[0], atan2(-y[2], y[1])};
 }
 
-/* The frequency with the largest fitted amplitude, on a grid of step_rel around f0 (+-20 %). */
+/* The frequency with the largest fitted amplitude: the best of a grid of step_rel around f0
+ * (+-20 %), refined by the vertex of the parabola through it and its two neighbours. */
 static inline double gfit_best_freq(const gfit_pixels *px, double f0, double step_rel)
 {
-    double best = f0, best_c = -1;
-    for (double f = 0.8 * f0; f <= 1.2 * f0; f += step_rel * f0) {
+    double best = f0, best_c = -1, step = step_rel * f0;
+    for (double f = 0.8 * f0; f <= 1.2 * f0; f += step) {
         gfit_result r = gfit_at(px, f);
         if (r.contrast > best_c) {
             best_c = r.contrast;
             best = f;
         }
     }
-    return best;
+    double lo = gfit_at(px, best - step).contrast, hi = gfit_at(px, best + step).contrast;
+    double curv = lo - 2 * best_c + hi;
+    return curv < 0 ? best + 0.5 * step * (lo - hi) / curv : best;
 }
 
 #endif

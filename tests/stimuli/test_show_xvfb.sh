@@ -59,15 +59,26 @@ CHECK_F=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["measu
 CPID=$!
 wait_until 30 bash -c "xdotool search --onlyvisible --name '^csfcal\$' >/dev/null 2>&1" || die "no csfcal window within 30 s"
 xdotool mousemove $((W / 2)) $((H / 2)) # no window manager: keyboard focus follows the pointer
-sleep 1.0                              # frames with the measured contrast in the caption
 
 shot() { xwd -root -silent >"$T/$1.xwd" && python3 "$XWDTOOL" png "$T/$1.xwd" "$T/$1.png" || die "screenshot $1"; }
+# shot_when NAME CHECK ARGS...: screenshots NAME until xwd_tool.py CHECK NAME.xwd ARGS... passes
+# (20 s): the caption follows a key once the new frame has been measured, later under load
+shot_when() {
+    local name="$1" what="$2" end=$((SECONDS + 20)); shift 2
+    while :; do
+        xwd -root -silent >"$T/$name.xwd" || die "screenshot $name"
+        python3 "$XWDTOOL" "$what" "$T/$name.xwd" "$@" >/dev/null && break
+        [ $SECONDS -ge $end ] && die "screenshot $name: no $what $* within 20 s"
+        sleep 0.3
+    done
+    python3 "$XWDTOOL" png "$T/$name.xwd" "$T/$name.png" || die "screenshot $name"
+}
 # fit NAME FREQ_ASKED: "contrast C freq_cpd F mean_cdm2 M" of the Gabor in screenshot NAME
 fit() { "$FIT" "$T/$1.png" $MM_W $MM_H $DIST "$2" $ECC 0 $SIGMA lcd || die "fit of $1"; }
 field() { awk -v k="$1" '{ for (i = 1; i < NF; i++) if ($i == k) print $(i + 1) }' <<<"$2"; }
 
-# 1. the first frame: as asked, and as stimulus check measures it
-shot one
+# 1. the first frame: as asked, and as stimulus check measures it (once its caption is up)
+shot_when one caption
 [ -n "${CSFCAL_SHOW_PNG:-}" ] && cp "$T/one.png" "$CSFCAL_SHOW_PNG"
 R=$(fit one $FREQ); echo "screenshot 1: $R (stimulus check: contrast $CHECK_C, $CHECK_F cpd)"
 check "window: contrast within 3 % of the asked $CONTRAST" within "$(field contrast "$R")" $CONTRAST 0.03
@@ -78,8 +89,7 @@ check "window: a caption in the top rows" python3 "$XWDTOOL" caption "$T/one.xwd
 
 # 2. Right: one octave up, measured on the screen, and the caption follows
 xdotool key Right
-sleep 1.0
-shot two
+shot_when two captiondiff "$T/one.xwd" 1
 R=$(fit two $((2 * FREQ))); echo "screenshot 2: $R"
 check "Right: the measured frequency doubles to $((2 * FREQ)) cpd (within 1 %)" within "$(field freq_cpd "$R")" $((2 * FREQ)) 0.01
 check "Right: contrast still within 3 %" within "$(field contrast "$R")" $CONTRAST 0.03
@@ -87,11 +97,9 @@ check "Right: the caption changed" python3 "$XWDTOOL" captiondiff "$T/one.xwd" "
 
 # 3. up to 4 cpd, then a step to 8 cpd: above the Nyquist limit here (about 6 cpd), not taken
 xdotool key Right
-sleep 1.0
-shot three
+shot_when three captiondiff "$T/two.xwd" 1
 xdotool key Right
-sleep 1.0
-shot four
+shot_when four captiondiff "$T/three.xwd" 1
 R=$(fit four $((4 * FREQ))); echo "screenshot 4 (after the refused step): $R"
 check "past the limit: the frequency stays at $((4 * FREQ)) cpd (within 1 %)" within "$(field freq_cpd "$R")" $((4 * FREQ)) 0.01
 # the reason must be readable: the caption's text changes over at least half the screen's width
