@@ -79,6 +79,14 @@ static void apply_key(show_state *st, int key)
     stim_args next = st->a;
     if (!step_settings(&next, key)) return;
     char why[300];
+    if (next.freq_cpd == st->a.freq_cpd && next.contrast == st->a.contrast && next.ecc_deg == st->a.ecc_deg &&
+        next.velocity_dps == st->a.velocity_dps) {
+        /* a step clamped to where it already was: contrast 1, eccentricity 0 */
+        snprintf(st->note, sizeof st->note, "refused: %s",
+                 key == 'c' ? "contrast is at its limit of 1" : "eccentricity is at its limit of 0 deg");
+        st->need_caption = 1;
+        return;
+    }
     if (settings_ok(st->p, &next, why, sizeof why)) {
         snprintf(st->note, sizeof st->note, "refused: %.280s", why);
         st->need_caption = 1;
@@ -132,20 +140,24 @@ static csf_status measure(show_state *st, csf_error *err)
     return CSF_OK;
 }
 
+/* The caption: the values shown, led by the reason when the last key's step was not taken. The
+ * values alone fill about 170 characters, wider than a 1920-pixel screen at the caption's font
+ * (1/45 of the height), so a reason after them would never be seen. */
 static csf_status update_caption(show_state *st, csf_error *err)
 {
     if (st->clean) return CSF_OK;
     const stim_args *a = &st->a;
     double black, max;
     csf_presenter_lum_range(st->p, &black, &max);
-    char line[CSF_CAPTION_MAX_CHARS + 1];
+    char line[1024]; /* cut to the caption's limit below (the tail is off any screen) */
     snprintf(line, sizeof line,
-             "%s %.4g cpd  ecc %.3g  polar %.3g deg  contrast %.4g (on screen %.4g)  sigma %.3g  "
-             "orient %.3g deg  %.3g deg/s (%.3g Hz)  mean %.4g cd/m2  [f/F c/C e/E v/V q]%s%.150s",
-             a->grating ? "grating" : "Gabor", a->freq_cpd, a->ecc_deg, a->polar_deg, a->contrast,
-             st->measured_c, a->sigma_deg, a->orientation_deg, a->velocity_dps, a->velocity_dps * a->freq_cpd,
-             st->s.mean_lum_cdm2 > 0 ? st->s.mean_lum_cdm2 : 0.5 * (black + max), st->note[0] ? "  " : "",
-             st->note);
+             "%.220s%s%s %.4g cpd  ecc %.3g  polar %.3g deg  contrast %.4g (on screen %.4g)  sigma %.3g  "
+             "orient %.3g deg  %.3g deg/s (%.3g Hz)  mean %.4g cd/m2  [f/F c/C e/E v/V q]",
+             st->note, st->note[0] ? "  |  " : "", a->grating ? "grating" : "Gabor", a->freq_cpd, a->ecc_deg,
+             a->polar_deg, a->contrast, st->measured_c, a->sigma_deg, a->orientation_deg, a->velocity_dps,
+             a->velocity_dps * a->freq_cpd,
+             st->s.mean_lum_cdm2 > 0 ? st->s.mean_lum_cdm2 : 0.5 * (black + max));
+    line[CSF_CAPTION_MAX_CHARS] = '\0';
     return csf_presenter_set_caption(st->p, line, err);
 }
 

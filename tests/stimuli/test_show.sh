@@ -77,6 +77,12 @@ if command -v xvfb-run >/dev/null 2>&1; then
     || { err "windowed show (refused step) failed"; cat "$T/e"; }
   [ "$(jget "$T/n.json" "j['freq_cpd'] == 4 and 'Nyquist' in j['note'] and j['frames'] < 50")" = True ] \
     || err "refused step / q: $(cat "$T/n.json")"
+  # a step clamped where it already is (eccentricity 0, then E) is refused and noted the same way
+  (unset EGL_PLATFORM; xvfb-run -a -s "-noreset -screen 0 1280x720x24" "$CSFCAL" stimulus show $win \
+     --freq 2 --ecc 0 --keys "Eq" --quit-after-frames 50 --json) >"$T/z.json" 2>"$T/e" \
+    || { err "windowed show (eccentricity 0, E) failed"; cat "$T/e"; }
+  [ "$(jget "$T/z.json" "j['ecc_deg'] == 0 and 'eccentricity is at its limit of 0 deg' in j['note']")" = True ] \
+    || err "E at eccentricity 0 not noted: $(cat "$T/z.json")"
 else
   echo "xvfb-run not installed: window path not tested"
 fi
