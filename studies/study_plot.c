@@ -483,6 +483,13 @@ csf_status csf_study_plot_write(const char *path, const csf_study_plot_curve *cu
                              ".svg)", path, ext ? ext : "(none)");
     int np = n_curves + n_pages;
     if (np == 0) np = 1;
+    /* A PNG stacks the pages in one image, and cairo's images are at most 32767 px tall. */
+    int png_max_pages = (int)(32767 / PAGE_H);
+    if (png && np > png_max_pages)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "study report %s: %d pages do not fit in one PNG image (at most %d pages, "
+                             "32767 px); write the report as .pdf (a page each) or .svg",
+                             path, np, png_max_pages);
     csf_atomic_file af = {0};
     csf_status st = csf_atomic_open(&af, path, "study report plot", err);
     if (st != CSF_OK) return st;

@@ -5,8 +5,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "core/rng.h"
+#include "studies/study_plot.h"
 #include "studies/study_stats.h"
 #include "tests/check.h"
 
@@ -355,8 +357,26 @@ static void test_fit_global(void)
     }
 }
 
+/* A PNG report holds its pages in one image, which cairo caps at 32767 px: more pages are refused
+ * before anything is written, naming the formats that hold them. */
+static void test_png_page_limit(void)
+{
+    static csf_study_plot_bar_page pages[60];
+    char path[] = "/tmp/csf_png_limit_XXXXXX.png";
+    int fd = mkstemps(path, 4);
+    CHECK(fd >= 0);
+    close(fd);
+    unlink(path);
+    csf_error err;
+    CHECK(csf_study_plot_write(path, NULL, 0, pages, 60, &err) == CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "at most 55 pages");
+    CHECK_STR_CONTAINS(err.msg, ".pdf");
+    CHECK(access(path, F_OK) != 0);
+}
+
 int main(void)
 {
+    test_png_page_limit();
     test_normal();
     test_clopper_pearson();
     test_binomial();
