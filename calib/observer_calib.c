@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "calib/afc_layout.h"
 #include "calib/motion.h"
@@ -776,7 +777,7 @@ static int precision_reached(obs_run *R, int n)
     double rms = predicted_rms(R);
     int reached = n >= PRECISION_MIN_TRIALS && rms <= R->set.precision;
     int every = R->S.sim ? 50 : 10;
-    if (!R->opt->quiet && (n % every == 0 || reached)) {
+    if (!R->opt->quiet && !R->progress.live && (n % every == 0 || reached)) {
         double spent = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
         fprintf(stderr,
                 "csfcal: observer: trial %d (cap %d): predicted error %.3f log10, target %.3f; %.1f min "
@@ -797,6 +798,43 @@ static csf_status record_person_time(obs_run *R, csf_error *err)
     R->res->person_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
     csf_error e;
     return csf_store_add_person_time(R->S.store, R->sid, R->res->person_s, err ? err : &e);
+}
+
+/* The latest flagged trial (a false alarm, an anticipation, a click far from the grating, missed
+ * frames) for the experimenter's line. */
+static void note_trial(obs_run *R, const csf_trial *t)
+{
+    if (t->flags[0]) obs_progress_event(&R->progress, "trial %d %s", R->trial_index + 1, t->flags);
+    else if (!t->valid) obs_progress_event(&R->progress, "trial %d not valid", R->trial_index + 1);
+}
+
+/* The stated error at or below which a cell counts as settled on the experimenter's line: the
+ * --precision target, or 0.15 log10 with a fixed budget. */
+#define PROGRESS_SETTLE_LOG10 0.15
+
+/* The experimenter's line after n main trials: after each of a person's trials, after every tenth
+ * of a simulated person's (their trials take no time to watch). */
+static void show_progress(obs_run *R, int n, int last)
+{
+    const session_settings *set = &R->set;
+    if (!R->progress.live || (R->S.sim && n % 10 != 0 && n != set->trials && !last)) return;
+    obs_progress_state ps = {n, set->trials, NAN, set->precision, 0, 0, 0, NAN, NAN};
+    ps.settle_log10 = set->precision > 0 ? set->precision : PROGRESS_SETTLE_LOG10;
+    /* with --precision the estimate is this trial's already (precision_reached) */
+    csf_error e;
+    if (set->precision > 0 || R->S.ops->estimate(R->S.proc, R->S.est, &e) == CSF_OK) {
+        ps.rms_log10 = obs_rms_of_estimates(R);
+        for (int k = 0; k < R->n_cells; k++) {
+            if (R->S.not_shown[k]) continue;
+            ps.cells++;
+            ps.cells_settled +=
+                isfinite(R->S.est[k].stderr_log10) && R->S.est[k].stderr_log10 <= ps.settle_log10;
+        }
+    }
+    ps.spent_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+    int run_done = n - R->resume_done;
+    if (run_done > 0) ps.left_s = ps.spent_s / run_done * (set->trials - n);
+    obs_progress_show(&R->progress, &ps);
 }
 
 /* The main trials, each stored (durably) before the procedure sees it and before the next is
@@ -841,6 +879,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
             /* The interrupted trial is not stored: it is shown again, now or on --resume
              * (next() is a function of the state and the index, so it plans the same trial). */
             if (obs_ask_resume(who, ti, set->trials)) {
+                obs_progress_event(&R->progress, "paused at trial %d, went on", ti + 1);
                 R->trial_index--;
                 continue;
             }
@@ -855,11 +894,14 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
         if (four) res->n_four_place++;
         csf_trial_outcome o = obs_outcome_of(&t, S->ops->task);
         S->ops->update(S->proc, ti, &plan, &o);
-        if (set->precision > 0 && precision_reached(R, ti + 1)) {
+        int reached = set->precision > 0 && precision_reached(R, ti + 1);
+        note_trial(R, &t);
+        show_progress(R, ti + 1, reached);
+        if (reached) {
             R->trial_index++;
             break;
         }
-        if (!R->opt->quiet && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0) {
+        if (!R->opt->quiet && !R->progress.live && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0) {
             /* time left at this run's own pace so far */
             double spent = csf_presenter_time(S->pres) - R->person_t0_s;
             int run_done = ti + 1 - R->resume_done;
@@ -913,12 +955,14 @@ static csf_status run_trials_and_table(obs_run *R, csf_error *err)
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     obs_stop_requested = 0;
+    obs_progress_init(&R->progress, !R->opt->quiet && isatty(STDERR_FILENO));
     say_expected_time(R);
     R->person_t0_s = csf_presenter_time(R->S.pres);
     R->person_started = 1;
     csf_status st = run_practice(R, err);
     if (st == CSF_OK) st = replay_stored(R, err);
     if (st == CSF_OK) st = run_main_trials(R, err);
+    obs_progress_end(&R->progress);
     if (st == CSF_OK) st = record_person_time(R, err);
     if (st == CSF_OK) st = obs_judge_session(R, err);
     if (st == CSF_OK) st = obs_write_table(R, err);

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <time.h>
 
+#include "calib/observer_progress.h"
 #include "calib/observer_session.h"
 #include "calib/observer_trials.h"
 #include "calib/procedure.h"
@@ -62,6 +63,7 @@ struct csf_obs_session {
     int person_started;    /* person_t0_s is set: the first screen was shown */
     int resume_done;       /* main trials stored before this run (a resume) */
     int person_recorded;   /* this run's person time is in the store */
+    obs_progress progress; /* the experimenter's line on a terminal */
     struct timespec wall0; /* when the session began, for the wall time of the result */
 };
 typedef struct csf_obs_session obs_run;

@@ -10,7 +10,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libcairo2-dev libpng-dev
   libopencolorio-dev opencolorio-tools liblcms2-dev liblcms2-utils
   libusb-1.0-0-dev libhidapi-dev
-  xvfb xauth x11-xserver-utils xdotool libx11-dev x11-apps
+  xvfb xauth x11-xserver-utils xdotool libx11-dev x11-apps bsdutils
   python3 poppler-utils argyll glslang-tools libjansson-dev
   libpq-dev postgresql libssl-dev python3-pandas
 )
