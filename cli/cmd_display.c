@@ -501,7 +501,7 @@ static int session_aborted(csf_store *store, int64_t sid)
     csf_error e;
     memset(&si, 0, sizeof si);
     if (csf_store_get_session(store, sid, &si, &e) != CSF_OK) return 0;
-    int aborted = strcmp(si.state, "aborted") == 0;
+    int aborted = si.state == CSF_SESSION_ABORTED;
     csf_session_info_free(&si);
     return aborted;
 }

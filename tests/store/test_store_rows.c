@@ -156,7 +156,8 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
     if (!s) return;
     int64_t disp = 0, obs = 0, obs2 = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, "lab-oled", NULL, 1, &disp, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "lab-oled", NULL, 1, &disp, &err),
+                 CSF_OK);
     /* display calibrate stores the bytes, then the command that saved the file its path. */
     const char text[] = "csfcal-display-profile 1\nid = lab-oled-20261123-0badf00d\ndisplay = lab-oled\n";
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", NULL, text, sizeof text - 1, &err), CSF_OK);
@@ -172,8 +173,9 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts"), 2);
 
     /* An observer session on that display with its profile: no display row for the profile. */
-    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20261123-0badf00d",
-                                                 NULL, 2, &obs, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, CSF_SESSION_OBSERVER, "ann", "lab-oled",
+                                                 "lab-oled-20261123-0badf00d", NULL, 2, &obs, &err),
+                 CSF_OK);
     csf_session_info si;
     CHECK_INT_EQ(csf_store_get_session(s, obs, &si, &err), CSF_OK);
     CHECK(!strcmp(si.display, "lab-oled") && !strcmp(si.profile_id, "lab-oled-20261123-0badf00d"));
@@ -181,8 +183,9 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays"), 1);
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 1);
     /* An older profile file for that display goes into its history but does not become current. */
-    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20260101-00000001",
-                                                 NULL, 3, &obs2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, CSF_SESSION_OBSERVER, "ann", "lab-oled",
+                                                 "lab-oled-20260101-00000001", NULL, 3, &obs2, &err),
+                 CSF_OK);
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 2);
     char cur[128];
     CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-oled", cur, sizeof cur, &err), CSF_OK);
