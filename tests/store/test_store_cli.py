@@ -405,7 +405,8 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run("display", "calibrate", "--photometer", "sim", "--resume", disp, "--quiet", *S,
             "--out", os.path.join(tmp, "d.profile"), expect=2)
     no_raw(p, "display --resume")
-    check("archived\\x07" in p.stderr and "does not know" in p.stderr, f"display resume: {p.stderr!r}")
+    check("archived\\x07" in p.stderr and "does not know" in p.stderr and "--resume" not in p.stderr,
+          f"display resume, refused without a hint to resume: {p.stderr!r}")
     check(not os.path.exists(os.path.join(tmp, "d.profile")), "no profile from a refused resume")
     # abort and push leave a state they do not know alone
     p = run("sessions", "abort", disp, *S, expect=1)
