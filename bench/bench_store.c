@@ -82,7 +82,8 @@ int main(int argc, char **argv)
     if (csf_store_open(path, &s, &err) != CSF_OK) die(&err);
     double t_open_empty = now_s() - t0;
     int64_t sid = 0;
-    if (csf_store_begin_session(s, "observer", "bench", "bench", NULL, 1, &sid, &err) != CSF_OK) die(&err);
+    if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "bench", "bench", NULL, 1, &sid, &err) != CSF_OK)
+        die(&err);
     double *lat = malloc((size_t)n_durable * sizeof *lat);
     t0 = now_s();
     for (int i = 0; i < n_durable; i++) {
@@ -114,7 +115,8 @@ int main(int argc, char **argv)
     /* 2. A store with 100,000 trials (loaded in bulk, one transaction per 10,000). */
     const int N = 100000;
     if (csf_store_open(path, &s, &err) != CSF_OK) die(&err);
-    if (csf_store_begin_session(s, "observer", "bulk", "bench", NULL, 2, &sid, &err) != CSF_OK) die(&err);
+    if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "bulk", "bench", NULL, 2, &sid, &err) != CSF_OK)
+        die(&err);
     t0 = now_s();
     for (int i = 0; i < N; i++) {
         if (i % 10000 == 0) sqlite3_exec(csf_store_db(s), "BEGIN", NULL, NULL, NULL);

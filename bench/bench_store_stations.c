@@ -65,7 +65,8 @@ static int station(const char *loc, int w, int n, int ready_fd, int go_fd, int o
         return 3;
     }
     int64_t sid = 0;
-    if (csf_store_begin_session(s, "observer", "bench", "lcd", NULL, (uint64_t)w, &sid, &err) != CSF_OK) {
+    if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "bench", "lcd", NULL, (uint64_t)w, &sid, &err) !=
+        CSF_OK) {
         fprintf(stderr, "station %d: %s\n", w, err.msg);
         return 4;
     }
@@ -83,7 +84,7 @@ static int station(const char *loc, int w, int n, int ready_fd, int go_fd, int o
         double lat = now_s() - t0;
         if (write(out_fd, &lat, sizeof lat) != sizeof lat) return 6;
     }
-    csf_store_set_session_state(s, sid, "finished", &err);
+    csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err);
     csf_store_close(s);
     return 0;
 }

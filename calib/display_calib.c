@@ -88,14 +88,14 @@ static const char *ch_name_store(int role, int ch)
     return n[ch];
 }
 
-static const char *status_name(csf_status st)
+static csf_reading_status reading_status(csf_status st)
 {
     switch (st) {
-    case CSF_OK: return "ok";
-    case CSF_E_TOO_DARK: return "too_dark";
-    case CSF_E_SATURATED: return "saturated";
-    case CSF_E_TIMEOUT: return "timeout";
-    default: return "error";
+    case CSF_OK: return CSF_READING_OK;
+    case CSF_E_TOO_DARK: return CSF_READING_TOO_DARK;
+    case CSF_E_SATURATED: return CSF_READING_SATURATED;
+    case CSF_E_TIMEOUT: return CSF_READING_TIMEOUT;
+    default: return CSF_READING_ERROR;
     }
 }
 
@@ -280,9 +280,20 @@ static csf_status take_replayed(ctx *c, int role, double drive, int accept_dark,
                                  "expects %s at %.6g: the session was made by a different procedure "
                                  "or settings and cannot be resumed", s->seq, (long long)c->sid,
                                  s->channel, s->drive01, want, drive);
+        if (s->status == CSF_READING_STATUS_UNKNOWN) {
+            /* A status a newer csfcal (or a hand) wrote: neither a good reading nor a failed
+             * attempt for this one to decide on. */
+            char shown[64];
+            csf_store_printable(s->status_text, shown, sizeof shown);
+            return csf_error_set(err, CSF_E_FORMAT,
+                                 "stored reading %d of session %lld has status '%s', which this "
+                                 "csfcal does not know (allowed ok, too_dark, saturated, timeout, "
+                                 "error): the session cannot be resumed by it",
+                                 s->seq, (long long)c->sid, shown);
+        }
         c->t_last = s->t_s;
-        int ok = strcmp(s->status, "ok") == 0;
-        int dark = strcmp(s->status, "too_dark") == 0;
+        int ok = s->status == CSF_READING_OK;
+        int dark = s->status == CSF_READING_TOO_DARK;
         if (!ok && !(dark && accept_dark)) {
             /* a failed attempt: the live run stopped there and a resume retries it. A white
              * reference that failed because the sensor had moved or the display had changed
@@ -337,7 +348,7 @@ static csf_status store_live_reading(const ctx *c, const char *want, double driv
     sr.Z = keep ? pr->xyz[2] : NAN;
     sr.has_xyz = keep && pr->has_xyz;
     sr.t_s = pr->t_s;
-    snprintf(sr.status, sizeof sr.status, "%s", status_name(st));
+    sr.status = reading_status(st);
     return csf_store_add_reading(c->store, &sr, err);
 }
 
@@ -1797,6 +1808,28 @@ static csf_status stored_settings(const char *json, int64_t sid, csf_display_cal
     return CSF_OK;
 }
 
+/* A resume's check of the stored kind and state; a kind or state this build does not know is
+ * refused, never taken for a known one. */
+static csf_status resumable(const csf_session_info *si, int64_t session_id, csf_error *err)
+{
+    char kind[64], state[64];
+    csf_store_printable(si->kind_text, kind, sizeof kind);
+    csf_store_printable(si->state_text, state, sizeof state);
+    if (si->kind != CSF_SESSION_DISPLAY)
+        return csf_error_set(
+            err, CSF_E_INVALID_ARG, "session %lld is a %s session%s, not a display calibration",
+            (long long)session_id, kind, si->kind ? "" : " (a kind this csfcal does not know)");
+    if (si->state == CSF_SESSION_FINISHED)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
+                             (long long)session_id);
+    if (si->state == CSF_SESSION_STATE_UNKNOWN)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "session %lld is in state '%s', which this csfcal does not know "
+                             "(allowed running, paused, finished, aborted); it is not resumed",
+                             (long long)session_id, state);
+    return CSF_OK;
+}
+
 /* A session being resumed: its kind and state checked, its stored settings into o (a session whose
  * settings cannot be used is marked aborted), its readings into c for the replay. */
 static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t session_id, csf_error *err)
@@ -1806,16 +1839,10 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
     memset(&si, 0, sizeof si);
     st = csf_store_get_session(c->store, session_id, &si, err);
     if (st) return st;
-    if (strcmp(si.kind, "display") != 0) {
+    st = resumable(&si, session_id, err);
+    if (st) {
         csf_session_info_free(&si);
-        return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "session %lld is a %s session, not a display calibration", (long long)session_id,
-                             si.kind);
-    }
-    if (strcmp(si.state, "finished") == 0) {
-        csf_session_info_free(&si);
-        return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
-                             (long long)session_id);
+        return st;
     }
     st = stored_settings(si.settings_json, session_id, o, err);
     csf_session_info_free(&si);
@@ -1824,7 +1851,7 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
          * list, keep its readings. */
         char why[sizeof err->msg];
         snprintf(why, sizeof why, "%s", err ? err->msg : "stored settings are damaged");
-        csf_store_set_session_state(c->store, session_id, "aborted", NULL);
+        csf_store_set_session_state(c->store, session_id, CSF_SESSION_ABORTED, NULL);
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "%s; the session cannot be resumed and is now "
                              "marked aborted (its readings stay in the store: csfcal sessions export %lld)",
@@ -1836,7 +1863,7 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
     c->seq = (int)c->n_replay;
     for (size_t i = 0; i < c->n_replay; i++)
         if (c->replay[i].seq >= c->seq) c->seq = c->replay[i].seq + 1;
-    if ((st = csf_store_set_session_state(c->store, c->sid, "running", err))) {
+    if ((st = csf_store_set_session_state(c->store, c->sid, CSF_SESSION_RUNNING, err))) {
         free(c->replay);
         return st;
     }
@@ -1898,9 +1925,9 @@ static void close_session(const ctx *c, csf_status st, const csf_display_profile
             csf_store_add_artifact(c->store, c->sid, "profile", NULL, text, strlen(text), &e2);
             free(text);
         }
-        csf_store_set_session_state(c->store, c->sid, "finished", &e2);
+        csf_store_set_session_state(c->store, c->sid, CSF_SESSION_FINISHED, &e2);
     } else {
-        csf_store_set_session_state(c->store, c->sid, "paused", &e2);
+        csf_store_set_session_state(c->store, c->sid, CSF_SESSION_PAUSED, &e2);
     }
 }
 
@@ -1934,7 +1961,7 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     } else if (store) {
         settings_json(&o, csf_photometer_spec(ph), settings, sizeof settings);
         const char *dn = o.display_name ? o.display_name : csf_photometer_spec(ph);
-        st = csf_store_begin_session(store, "display", NULL, dn, settings, seed, &c.sid, err);
+        st = csf_store_begin_session(store, CSF_SESSION_DISPLAY, NULL, dn, settings, seed, &c.sid, err);
         if (st) return st;
         if (session_id) *session_id = c.sid;
     }

@@ -204,11 +204,11 @@ static csf_status resumed_settings(obs_run *R, csf_error *err)
     memset(&info, 0, sizeof info);
     csf_status st = csf_store_get_session(R->S.store, sid, &info, err);
     if (st != CSF_OK) return st;
-    int wrong = strcmp(info.kind, "observer") != 0 ||
-                !(strcmp(info.state, "running") == 0 || strcmp(info.state, "paused") == 0);
-    char kind[16], state[16];
-    snprintf(kind, sizeof kind, "%s", info.kind);
-    snprintf(state, sizeof state, "%s", info.state);
+    /* A kind or state this build does not know is never taken for a known one. */
+    int wrong = info.kind != CSF_SESSION_OBSERVER || !csf_session_state_open(info.state);
+    char kind[64], state[64]; /* as stored, escaped: the row may hold any bytes */
+    csf_store_printable(info.kind_text, kind, sizeof kind);
+    csf_store_printable(info.state_text, state, sizeof state);
     R->seed = info.seed;
     R->resume_n_stored = info.n_trials;
     int unreadable = !wrong && csf_obs_settings_from_json(info.settings_json, set) != 0;
@@ -227,7 +227,7 @@ static csf_status resumed_settings(obs_run *R, csf_error *err)
         /* Replaying them would fail the same way at every attempt: say so once, and take the
          * session off the resumable list; its trials stay in the store. */
         csf_error e2;
-        csf_store_set_session_state(R->S.store, sid, "aborted", &e2);
+        csf_store_set_session_state(R->S.store, sid, CSF_SESSION_ABORTED, &e2);
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "--resume %lld: the session's stored settings %s%s. It cannot be resumed "
                              "and is now marked aborted; its %d trials stay in the store (csfcal "
@@ -472,7 +472,7 @@ static csf_status open_session_row(obs_run *R, csf_error *err)
     session_settings *set = &R->set;
     csf_status st;
     if (R->sid) {
-        st = csf_store_set_session_state(S->store, R->sid, "running", err);
+        st = csf_store_set_session_state(S->store, R->sid, CSF_SESSION_RUNNING, err);
         if (st == CSF_OK) R->res->session_id = R->sid;
         return st;
     }
@@ -485,8 +485,9 @@ static csf_status open_session_row(obs_run *R, csf_error *err)
     char obs_name[64];
     snprintf(obs_name, sizeof obs_name, "%.60s",
              R->is_sim ? "sim" : (set->observer[5] == ':' ? set->observer + 6 : "human"));
-    st = csf_store_begin_session_profile(S->store, "observer", obs_name, csf_profile_display(S->profile),
-                                         csf_profile_id(S->profile), json, R->seed, &R->sid, err);
+    st = csf_store_begin_session_profile(S->store, CSF_SESSION_OBSERVER, obs_name,
+                                         csf_profile_display(S->profile), csf_profile_id(S->profile), json,
+                                         R->seed, &R->sid, err);
     if (st == CSF_OK) R->res->session_id = R->sid;
     return st;
 }
@@ -912,7 +913,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
     }
     if (who->paused || obs_stop_requested) {
         record_person_time(R, NULL);
-        csf_store_set_session_state(S->store, R->sid, "paused", NULL);
+        csf_store_set_session_state(S->store, R->sid, CSF_SESSION_PAUSED, NULL);
         R->said_paused = 1;
         return csf_error_set(err, CSF_E_ABORTED, "session %lld paused after %d trials; continue with --resume %lld",
                              (long long)R->sid, R->trial_index, (long long)R->sid);
@@ -1125,7 +1126,7 @@ csf_status csf_obs_session_run(csf_obs_session *R, csf_store *store, csf_error *
     if (st != CSF_OK && !R->said_paused && st != CSF_E_INSUFFICIENT && res->session_id) {
         csf_error e2;
         if (R->person_started) record_person_time(R, NULL);
-        csf_store_set_session_state(R->S.store, res->session_id, "paused", &e2);
+        csf_store_set_session_state(R->S.store, res->session_id, CSF_SESSION_PAUSED, &e2);
         res->resumable = 1;
     }
     struct timespec w1;

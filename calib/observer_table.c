@@ -191,7 +191,7 @@ csf_status obs_judge_session(obs_run *R, csf_error *err)
     free(rows);
     if (st != CSF_OK) return st;
     if (why) {
-        csf_store_set_session_state(S->store, R->sid, "aborted", NULL);
+        csf_store_set_session_state(S->store, R->sid, CSF_SESSION_ABORTED, NULL);
         return csf_error_set(err, CSF_E_INSUFFICIENT, "session %lld: no table written: %s", (long long)R->sid,
                              why);
     }
@@ -322,7 +322,7 @@ csf_status obs_write_table(obs_run *R, csf_error *err)
 csf_status obs_finish_session(obs_run *R, csf_error *err)
 {
     const csf_obs_options *opt = R->opt;
-    csf_status st = csf_store_set_session_state(R->S.store, R->sid, "finished", err);
+    csf_status st = csf_store_set_session_state(R->S.store, R->sid, CSF_SESSION_FINISHED, err);
     if (st != CSF_OK || !opt->plot_path || !*opt->plot_path) return st;
     st = csf_report_write(R->S.store, R->sid, opt->plot_path, err);
     if (st != CSF_OK) return st;

@@ -493,15 +493,15 @@ static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, re
     return placed;
 }
 
-/* A session the calibration took off the resumable list (damaged stored settings) gets no resume
- * hint. */
+/* A session the calibration took off the resumable list (damaged stored settings), or one in a
+ * state this build does not know (which it never resumes), gets no resume hint. */
 static int session_aborted(csf_store *store, int64_t sid)
 {
     csf_session_info si;
     csf_error e;
     memset(&si, 0, sizeof si);
     if (csf_store_get_session(store, sid, &si, &e) != CSF_OK) return 0;
-    int aborted = strcmp(si.state, "aborted") == 0;
+    int aborted = si.state == CSF_SESSION_ABORTED || si.state == CSF_SESSION_STATE_UNKNOWN;
     csf_session_info_free(&si);
     return aborted;
 }

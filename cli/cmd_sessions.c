@@ -80,8 +80,8 @@ static json_t *session_json(const csf_session_info *si, int with_settings)
 {
     json_t *o = json_object();
     json_object_set_new(o, "id", json_integer(si->id));
-    json_object_set_new(o, "kind", json_text(si->kind));
-    json_object_set_new(o, "state", json_text(si->state));
+    json_object_set_new(o, "kind", json_text(si->kind_text));
+    json_object_set_new(o, "state", json_text(si->state_text));
     json_object_set_new(o, "observer", json_text(si->observer));
     json_object_set_new(o, "display", json_text(si->display));
     json_object_set_new(o, "profile_id", si->profile_id[0] ? json_text(si->profile_id) : json_null());
@@ -121,7 +121,7 @@ static int profile_file_of(csf_store *s, const char *profile_id, char *out, size
     if (!profile_id[0] || csf_store_list_sessions(s, &list, &n, &err) != CSF_OK) return -1;
     int found = -1;
     for (size_t i = n; i-- > 0 && found < 0;) {
-        if (strcmp(list[i].kind, "display") != 0) continue;
+        if (list[i].kind != CSF_SESSION_DISPLAY) continue;
         void *blob = NULL;
         size_t bl = 0;
         char path[1024] = "";
@@ -175,8 +175,8 @@ static void print_resume_hint(FILE *out, csf_store *s, const csf_session_info *s
     long long id = (long long)si->id;
     char *q = csf_shell_quote(location);
     char kind[64];
-    csf_store_printable(si->kind, kind, sizeof kind);
-    if (!strcmp(si->kind, "display")) {
+    csf_store_printable(si->kind_text, kind, sizeof kind);
+    if (si->kind == CSF_SESSION_DISPLAY) {
         /* the photometer the session was started with, from its stored settings */
         json_error_t je;
         json_t *set = si->settings_json ? json_loads(si->settings_json, 0, &je) : NULL;
@@ -188,7 +188,7 @@ static void print_resume_hint(FILE *out, csf_store *s, const csf_session_info *s
                 "--out FILE.profile\n", id, id, q ? q : "?", qp ? qp : "SPEC");
         free(qp);
         json_decref(set);
-    } else if (!strcmp(si->kind, "observer")) print_observer_hint(out, s, si, q ? q : "?");
+    } else if (si->kind == CSF_SESSION_OBSERVER) print_observer_hint(out, s, si, q ? q : "?");
     else
         fprintf(out, "  %lld (%s): cannot be resumed by this csfcal; csfcal sessions abort %lld --store %s "
                 "closes it\n", id, kind, id, q ? q : "?");
@@ -225,7 +225,7 @@ static void person_minutes(const csf_session_info *si, char *out, size_t cap)
 
 static int unfinished(const csf_session_info *si)
 {
-    return !strcmp(si->state, "running") || !strcmp(si->state, "paused");
+    return csf_session_state_open(si->state);
 }
 
 static int parse_id(const char *text, int64_t *id)
@@ -247,7 +247,8 @@ static int open_store(csf_cli *cli, csf_store **s, int writable)
     return 0;
 }
 
-static int cmd_list(csf_cli *cli, const char *kind, const char *state)
+/* kind, state: CSF_SESSION_KIND_UNKNOWN / CSF_SESSION_STATE_UNKNOWN for no filter. */
+static int cmd_list(csf_cli *cli, csf_session_kind kind, csf_session_state state)
 {
     csf_store *s = NULL;
     csf_error err;
@@ -271,7 +272,7 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
     /* Filters: keep the matching sessions at the front of the list. */
     size_t kept = 0;
     for (size_t i = 0; i < n; i++) {
-        if ((kind && strcmp(list[i].kind, kind)) || (state && strcmp(list[i].state, state))) {
+        if ((kind && list[i].kind != kind) || (state && list[i].state != state)) {
             csf_session_info_free(&list[i]);
             continue;
         }
@@ -292,8 +293,8 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
         for (size_t i = 0; i < n; i++) {
             const csf_session_info *si = &list[i];
             printf("%-5lld ", (long long)si->id);
-            print_cell(si->kind, 8);
-            print_cell(si->state, 9);
+            print_cell(si->kind_text, 8);
+            print_cell(si->state_text, 9);
             print_cell(si->observer, 14);
             print_cell(si->display, 18);
             char created[64];
@@ -318,7 +319,7 @@ static int cmd_list(csf_cli *cli, const char *kind, const char *state)
 static void print_show(const csf_session_info *si, const char *created, const char *updated)
 {
     const char *label[] = {"kind", "state", "observer", "display", "profile"};
-    const char *val[] = {si->kind, si->state, si->observer, si->display, si->profile_id};
+    const char *val[] = {si->kind_text, si->state_text, si->observer, si->display, si->profile_id};
     char buf[1024];
     printf("session      %lld\n", (long long)si->id);
     for (size_t i = 0; i < sizeof label / sizeof label[0]; i++) {
@@ -378,15 +379,20 @@ static int cmd_abort(csf_cli *cli, int64_t id)
         csf_store_close(s);
         return csf_cli_report("sessions", &err);
     }
-    int finished = !strcmp(si.state, "finished");
+    csf_session_state state = si.state;
+    char state_text[64];
+    csf_store_printable(si.state_text, state_text, sizeof state_text);
     csf_session_info_free(&si);
-    if (finished) {
+    /* A state this build does not know may be a closed one: left as it is. */
+    if (state == CSF_SESSION_FINISHED || state == CSF_SESSION_STATE_UNKNOWN) {
         csf_store_close(s);
-        fprintf(stderr, "csfcal: sessions: session %lld is finished; only running or paused "
-                "sessions can be aborted\n", (long long)id);
+        fprintf(stderr,
+                "csfcal: sessions: session %lld is %s%s; only running or paused "
+                "sessions can be aborted\n",
+                (long long)id, state_text, state ? "" : " (a state this csfcal does not know)");
         return 1;
     }
-    if (csf_store_set_session_state(s, id, "aborted", &err) != CSF_OK) {
+    if (csf_store_set_session_state(s, id, CSF_SESSION_ABORTED, &err) != CSF_OK) {
         csf_store_close(s);
         return csf_cli_report("sessions", &err);
     }
@@ -546,7 +552,9 @@ int csf_cmd_sessions(int argc, char **argv)
     csf_cli cli;
     int rc = csf_cli_init(&cli, argc, argv);
     if (rc) return rc;
-    const char *format = NULL, *table = NULL, *out_path = NULL, *kind = NULL, *state = NULL;
+    const char *format = NULL, *table = NULL, *out_path = NULL;
+    csf_session_kind kind = CSF_SESSION_KIND_UNKNOWN; /* no filter */
+    csf_session_state state = CSF_SESSION_STATE_UNKNOWN;
     const char *to = NULL;
     optind = 0;
     opterr = 0;
@@ -556,20 +564,19 @@ int csf_cmd_sessions(int argc, char **argv)
         case OPT_FORMAT: format = optarg; break;
         case OPT_TABLE: table = optarg; break;
         case OPT_KIND:
-            if (strcmp(optarg, "display") && strcmp(optarg, "observer") && strcmp(optarg, "study")) {
+            kind = csf_session_kind_from_name(optarg);
+            if (!kind) {
                 fprintf(stderr, "csfcal: sessions: --kind '%s' unknown (allowed display, observer, study)\n", optarg);
                 return 2;
             }
-            kind = optarg;
             break;
         case OPT_STATE:
-            if (strcmp(optarg, "running") && strcmp(optarg, "paused") && strcmp(optarg, "finished") &&
-                strcmp(optarg, "aborted")) {
+            state = csf_session_state_from_name(optarg);
+            if (!state) {
                 fprintf(stderr, "csfcal: sessions: --state '%s' unknown (allowed running, paused, "
                         "finished, aborted)\n", optarg);
                 return 2;
             }
-            state = optarg;
             break;
         case 'o': out_path = optarg; break;
         case OPT_TO: to = optarg; break;

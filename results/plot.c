@@ -40,6 +40,7 @@ typedef struct {
     size_t n_frames;
     csf_display_profile *profile; /* from the session's "profile" artifact, if it parses */
     int frames_inline;            /* the frame-timing histogram is on the summary page */
+    char kind[64], state[64];     /* the session's stored kind and state, escaped to be shown */
 } report_data;
 
 /* ---- log-parabola fit ---------------------------------------------------------------------
@@ -497,7 +498,7 @@ static session_counts count_session(const report_data *d)
         k.planned += t->frames_planned;
         k.missed += t->frames_missed;
     }
-    for (size_t i = 0; i < d->n_readings; i++) k.rd_bad += strcmp(d->readings[i].status, "ok") != 0;
+    for (size_t i = 0; i < d->n_readings; i++) k.rd_bad += d->readings[i].status != CSF_READING_OK;
     for (size_t i = 0; i < d->n_th; i++) k.th_inf += !isfinite(d->th[i].threshold);
     return k;
 }
@@ -522,9 +523,9 @@ static double draw_facts(cairo_t *cr, const report_data *d, const session_counts
         {"Photometer readings", NULL},
         {"Thresholds", NULL},
     };
-    char v_state[64], v_dur[64], v_person[64], v_seed[32], v_trials[160], v_frames[128];
+    char v_state[136], v_dur[64], v_person[64], v_seed[32], v_trials[160], v_frames[128];
     char v_read[160], v_th[96];
-    snprintf(v_state, sizeof v_state, "%s / %s", si->kind, si->state);
+    snprintf(v_state, sizeof v_state, "%s / %s", d->kind, d->state);
     if (isfinite(dur_s)) snprintf(v_dur, sizeof v_dur, "%.0f min %02.0f s", floor(dur_s / 60), fmod(dur_s, 60));
     else snprintf(v_dur, sizeof v_dur, "unknown");
     /* The participant's own time in the session (every run added up), which the wall clock
@@ -556,7 +557,7 @@ static double draw_facts(cairo_t *cr, const report_data *d, const session_counts
     double y = 72;
     /* A display session has no trials, an observer session no readings: rows that would only
      * say "0" are left out (a count that is not 0 is always shown). */
-    int is_display = !strcmp(si->kind, "display");
+    int is_display = si->kind == CSF_SESSION_DISPLAY;
     int skip[sizeof lines / sizeof lines[0]] = {0};
     skip[1] = is_display && !si->observer[0];
     skip[6] = is_display && !isfinite(si->person_s); /* a display session has no participant */
@@ -584,9 +585,10 @@ static int collect_verdicts(const report_data *d, const session_counts *k, verdi
 {
     const csf_session_info *si = &d->info;
     int nv = 0;
-    if (strcmp(si->state, "finished") != 0)
+    if (si->state != CSF_SESSION_FINISHED)
         snprintf(v[nv].text, sizeof v[nv].text, "Session is %s, not finished: continue it with --resume %lld",
-                 si->state, (long long)si->id), v[nv++].level = strcmp(si->state, "aborted") ? 1 : 2;
+                 d->state, (long long)si->id),
+            v[nv++].level = si->state == CSF_SESSION_ABORTED ? 2 : 1;
     if (d->n_trials) {
         double f = (double)k->invalid / (double)d->n_trials;
         v[nv].level = f > 0.10 ? 2 : f > 0.02 ? 1 : 0;
@@ -608,7 +610,7 @@ static int collect_verdicts(const report_data *d, const session_counts *k, verdi
         v[nv].level = k->rd_bad ? 1 : 0;
         snprintf(v[nv++].text, sizeof v[0].text, "%d of %zu photometer readings failed", k->rd_bad, d->n_readings);
     }
-    if (!strcmp(si->kind, "observer")) {
+    if (si->kind == CSF_SESSION_OBSERVER) {
         v[nv].level = d->n_th ? 0 : 1;
         if (d->n_th) snprintf(v[nv++].text, sizeof v[0].text, "%zu thresholds measured", d->n_th);
         else snprintf(v[nv++].text, sizeof v[0].text, "no thresholds stored yet");
@@ -642,7 +644,7 @@ static double summary_body(cairo_t *cr, const report_data *d)
 {
     const csf_session_info *si = &d->info;
     char buf[512];
-    snprintf(buf, sizeof buf, "csfcal session %lld: %s calibration report", (long long)si->id, si->kind);
+    snprintf(buf, sizeof buf, "csfcal session %lld: %s calibration report", (long long)si->id, d->kind);
     title(cr, buf);
     session_counts k = count_session(d);
     /* Left column: the facts; right column: the verdicts, what a person looks at first. */
@@ -687,7 +689,7 @@ static int channel_count(const report_data *d, const char *chan, int *not_ok)
     for (size_t i = 0; i < d->n_readings; i++) {
         if (strcmp(d->readings[i].channel, chan)) continue;
         n++;
-        bad += strcmp(d->readings[i].status, "ok") != 0;
+        bad += d->readings[i].status != CSF_READING_OK;
     }
     *not_ok = bad;
     return n;
@@ -715,7 +717,7 @@ static void draw_readings_table(cairo_t *cr, const report_data *d, double y)
         double lo_v = INFINITY, hi_v = -INFINITY, lo_l = NAN, hi_l = NAN;
         for (size_t i = 0; i < d->n_readings; i++) {
             const csf_reading *r = &d->readings[i];
-            if (strcmp(r->channel, disp_chan[k].name) || strcmp(r->status, "ok")) continue;
+            if (strcmp(r->channel, disp_chan[k].name) || r->status != CSF_READING_OK) continue;
             if (r->drive01 < lo_v) lo_v = r->drive01, lo_l = r->lum_cdm2;
             if (r->drive01 > hi_v) hi_v = r->drive01, hi_l = r->lum_cdm2;
         }
@@ -995,7 +997,7 @@ static double model_lum(const report_data *d, size_t idx, double black)
     int grey_like = !strcmp(r->channel, "grey") || !strcmp(r->channel, "white");
     for (size_t j = 0; j < d->n_readings; j++) {
         const csf_reading *q = &d->readings[j];
-        if (j == idx || !isfinite(q->lum_cdm2) || strcmp(q->status, "ok")) continue;
+        if (j == idx || !isfinite(q->lum_cdm2) || q->status != CSF_READING_OK) continue;
         int same = !strcmp(q->channel, r->channel) ||
                    (grey_like && (!strcmp(q->channel, "grey") || !strcmp(q->channel, "white"))) ||
                    (!strcmp(q->channel, "dark") && q->drive01 == 0);
@@ -1225,6 +1227,8 @@ static void sanitize(report_data *d)
     for (size_t i = 0; i < d->n_frames; i++)
         if (d->frames[i] >= 0 && d->frames[i] <= 10.0) d->frames[k++] = d->frames[i];
     d->n_frames = k;
+    csf_store_printable(d->info.kind_text, d->kind, sizeof d->kind);
+    csf_store_printable(d->info.state_text, d->state, sizeof d->state);
     for (size_t i = 0; i < d->n_readings; i++) {
         csf_reading *r = &d->readings[i];
         if (!(r->drive01 >= 0 && r->drive01 <= 1)) r->drive01 = 0, r->lum_cdm2 = NAN;
@@ -1310,8 +1314,9 @@ csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_pa
     panel_fn panels[4];
     int np = 0;
     panels[np++] = draw_summary;
-    if (!strcmp(d.info.kind, "observer") || !strcmp(d.info.kind, "study") || d.n_th) panels[np++] = draw_csf;
-    if (!strcmp(d.info.kind, "display") || d.n_readings) panels[np++] = draw_display;
+    if (d.info.kind == CSF_SESSION_OBSERVER || d.info.kind == CSF_SESSION_STUDY || d.n_th)
+        panels[np++] = draw_csf;
+    if (d.info.kind == CSF_SESSION_DISPLAY || d.n_readings) panels[np++] = draw_display;
     d.frames_inline = d.n_frames && PAGE_H - 80 - summary_height(&d) >= FRAMES_INLINE_MIN_PT;
     /* A session without frame intervals (display sessions) gets no page that says so. */
     if (!d.frames_inline && d.n_frames) panels[np++] = draw_frames;
@@ -1338,8 +1343,8 @@ csf_status csf_report_write(csf_store *s, int64_t session_id, const char *out_pa
         return st;
     }
     char doc_title[160];
-    snprintf(doc_title, sizeof doc_title, "csfcal session %lld: %s calibration report",
-             (long long)d.info.id, d.info.kind);
+    snprintf(doc_title, sizeof doc_title, "csfcal session %lld: %s calibration report", (long long)d.info.id,
+             d.kind);
     if (kind == OUT_PDF) {
         cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_TITLE, doc_title);
         cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_SUBJECT,

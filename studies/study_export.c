@@ -123,7 +123,7 @@ static void put_trial(FILE *fp, const char *study, const sess *d, const csf_tria
     fprintf(fp, ",%d", d->x->version);
     put_text(fp, d->x->key);
     put_text(fp, d->x->participant);
-    fprintf(fp, ",%lld,%d,%d,", (long long)d->x->id, !strcmp(d->x->state, "finished"),
+    fprintf(fp, ",%lld,%d,%d,", (long long)d->x->id, d->x->state == CSF_SESSION_FINISHED,
             d->x->participant_index);
     if (s->latin) fprintf(fp, "%d", csf_study_latin_row(s, d->x->participant_index, NULL));
     put_text(fp, d->x->experimenter);

@@ -284,7 +284,7 @@ csf_status csf_study_report_build(const char *store_path, const char *study, int
     for (int i = 0; st == CSF_OK && i < nd; i++) {
         ds[i].m = &loaded[i];
         csf_store_printable(loaded[i].x->participant, ds[i].participant, sizeof ds[i].participant);
-        ds[i].finished = !strcmp(loaded[i].x->state, "finished");
+        ds[i].finished = loaded[i].x->state == CSF_SESSION_FINISHED;
     }
     if (st == CSF_OK && nd == 0)
         st = csf_error_set(err, CSF_E_NOT_FOUND,

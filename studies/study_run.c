@@ -608,7 +608,7 @@ static void abort_unstarted(csf_store *store, int64_t sid, csf_error *err)
     csf_error e2;
     char m[sizeof err->msg];
     snprintf(m, sizeof m, "%s", err->msg);
-    if (csf_store_set_session_state(store, sid, "aborted", &e2) == CSF_OK)
+    if (csf_store_set_session_state(store, sid, CSF_SESSION_ABORTED, &e2) == CSF_OK)
         csf_error_set(err, err->code, "%s; session %lld marked aborted", m, (long long)sid);
 }
 
@@ -672,7 +672,7 @@ static csf_status check_version(const run_res *R, const csf_study_run_options *o
 static int participant_index(const csf_study_session *list, int n, int version)
 {
     int k = 0;
-    for (int i = 0; i < n; i++) k += list[i].version == version && strcmp(list[i].state, "aborted") != 0;
+    for (int i = 0; i < n; i++) k += list[i].version == version && list[i].state != CSF_SESSION_ABORTED;
     return k;
 }
 
@@ -711,16 +711,25 @@ static csf_status resume_session(run_res *R, const csf_study_run_options *opt, i
     char shown[300];
     csf_store_printable(opt->participant, shown, sizeof shown);
     *sid = mine->id;
-    if (!strcmp(mine->state, "finished"))
+    if (mine->state == CSF_SESSION_FINISHED)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "study %s version %d: participant %s has already "
                              "finished it (session %lld); use another participant code",
                              s->name, version, shown, (long long)*sid);
-    if (!strcmp(mine->state, "aborted"))
+    if (mine->state == CSF_SESSION_ABORTED)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "study %s version %d: participant %s's session %lld was "
                              "aborted; use another participant code",
                              s->name, version, shown, (long long)*sid);
+    if (!csf_session_state_open(mine->state)) {
+        char state[64];
+        csf_store_printable(mine->state_text, state, sizeof state);
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "study %s version %d: participant %s's session %lld is in state "
+                             "'%s', which this csfcal does not know (it resumes running or "
+                             "paused sessions); use another participant code",
+                             s->name, version, shown, (long long)*sid, state);
+    }
     csf_status st = same_meta("experimenter", opt->experimenter, mine->experimenter, *sid, err);
     if (st == CSF_OK) st = same_meta("notes", opt->notes, mine->notes, *sid, err);
     if (st != CSF_OK) return st;
@@ -729,7 +738,7 @@ static csf_status resume_session(run_res *R, const csf_study_run_options *opt, i
     char sname[160];
     csf_study_store_name(s->name, version, sname, sizeof sname);
     csf_store_find_study(R->store, sname, &res->study_id, NULL);
-    return csf_store_set_session_state(R->store, *sid, "running", err);
+    return csf_store_set_session_state(R->store, *sid, CSF_SESSION_RUNNING, err);
 }
 
 /* The study files and every image, stored with the session so the store alone holds what the
@@ -811,7 +820,7 @@ static csf_status open_session(run_res *R, const csf_study_run_options *opt, con
         if (st != CSF_OK) return st;
     }
     char *json = session_json(R, opt, observer, seed, version);
-    st = json ? csf_store_begin_session_profile(R->store, "study", opt->participant,
+    st = json ? csf_store_begin_session_profile(R->store, CSF_SESSION_STUDY, opt->participant,
                                                 csf_profile_display(R->profile), csf_profile_id(R->profile),
                                                 json, seed, sid, err)
               : not_json(s, err);
@@ -1045,15 +1054,15 @@ static csf_status end_session(run_res *R, int64_t sid, int n_plan, csf_status st
     csf_error e2;
     if (st == CSF_OK) {
         res->finished = 1;
-        st = csf_store_set_session_state(R->store, sid, "finished", err);
+        st = csf_store_set_session_state(R->store, sid, CSF_SESSION_FINISHED, err);
     } else if (st == CSF_E_ABORTED) {
-        csf_store_set_session_state(R->store, sid, "paused", &e2);
+        csf_store_set_session_state(R->store, sid, CSF_SESSION_PAUSED, &e2);
         csf_error_set(err, CSF_E_ABORTED,
                       "study %s: paused after %d of %d trials (all stored); run the same "
                       "command again to continue",
                       s->name, res->n_stored, n_plan);
     } else {
-        csf_store_set_session_state(R->store, sid, "paused", &e2);
+        csf_store_set_session_state(R->store, sid, CSF_SESSION_PAUSED, &e2);
     }
     return st;
 }

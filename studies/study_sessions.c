@@ -43,7 +43,8 @@ static int read_session(const csf_session_info *info, const char *study, csf_stu
         memset(o, 0, sizeof *o);
         o->id = info->id;
         snprintf(o->participant, sizeof o->participant, "%s", part);
-        snprintf(o->state, sizeof o->state, "%s", info->state);
+        o->state = info->state;
+        snprintf(o->state_text, sizeof o->state_text, "%s", info->state_text);
         json_int_t v = json_integer_value(json_object_get(j, "version"));
         o->version = v >= 1 && v <= 1000000 ? (int)v : 1;
         o->n_trials = info->n_trials;
@@ -79,7 +80,7 @@ csf_status csf_study_sessions_list(csf_store *store, const char *study, csf_stud
     csf_study_session *o = calloc(nl + 1, sizeof *o);
     if (!o) st = csf_error_set(err, CSF_E_NOMEM, "out of memory");
     for (size_t i = 0; o && i < nl; i++) {
-        if (strcmp(list[i].kind, "study")) continue;
+        if (list[i].kind != CSF_SESSION_STUDY) continue;
         /* the list carries no settings: read each study session */
         csf_session_info info;
         memset(&info, 0, sizeof info);
@@ -116,7 +117,7 @@ static int each_version(const csf_study_session *list, int n, const char *skip_k
         for (int j = i; j < n; j++)
             if (list[j].version == list[i].version && !strcmp(list[j].key, list[i].key)) {
                 ns++;
-                nf += !strcmp(list[j].state, "finished");
+                nf += list[j].state == CSF_SESSION_FINISHED;
             }
         fn(ctx, &list[i], ns, nf);
         count++;

@@ -18,7 +18,8 @@ typedef struct {
     int64_t id;
     char participant[64]; /* as stored (check before showing: csf_store_printable) */
     int version;          /* 1 when the session names none */
-    char state[16];
+    csf_session_state state;
+    char state_text[16];      /* as stored, for display only (csf_store_printable) */
     char key[CSF_SHA256_HEX]; /* the identity's sha256; legacy: the 16 hex digits of "hash" */
     int legacy;
     csf_study_identity identity; /* parsed when !legacy */

@@ -11,11 +11,12 @@
 /* A session to insert: what begin_session was given, plus what a copy from another store
  * (csf_store_push) keeps: its uuid, creation time, state and tool version. */
 typedef struct {
-    const char *kind, *observer, *display, *profile_id, *settings_json;
+    csf_session_kind kind;   /* known values only: the caller checks */
+    csf_session_state state; /* known values only: the caller checks */
+    const char *observer, *display, *profile_id, *settings_json;
     uint64_t seed;
     const char *uuid;         /* 36 characters, never NULL */
     const char *created_utc;  /* NULL: now */
-    const char *state;        /* NULL: running */
     const char *tool_version; /* NULL: this build's */
 } csf_store_session_new;
 
@@ -44,7 +45,8 @@ typedef struct csf_store_ops {
     /* CSF_E_NOT_FOUND when no session has that uuid. */
     csf_status (*find_session_uuid)(csf_store *s, const char *uuid, int64_t *id, csf_error *err);
     csf_status (*get_session)(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
-    csf_status (*set_session_state)(csf_store *s, int64_t id, const char *state, csf_error *err);
+    csf_status (*set_session_state)(csf_store *s, int64_t id, csf_session_state state,
+                                    csf_error *err); /* state: a known value */
     csf_status (*list_sessions)(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
     /* Adds seconds (checked: finite, 0 to CSF_STORE_PERSON_S_MAX) to an open session's person
      * time; a closed one is refused. */

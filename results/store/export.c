@@ -238,7 +238,7 @@ static csf_status export_readings(csf_store *s, int64_t session_id, writer *w, c
         put_r(w, x->has_xyz ? x->Y : NAN);
         put_r(w, x->has_xyz ? x->Z : NAN);
         put_r(w, x->t_s);
-        put_s(w, x->status);
+        put_s(w, x->status_text); /* as stored, a word this build may not know */
         end_row(w);
     }
     end_table(w);
@@ -313,7 +313,7 @@ csf_status csf_store_export(csf_store *s, int64_t session_id, csf_export_table t
     csf_status st = csf_store_get_session(s, session_id, &info, err);
     if (st != CSF_OK) return st;
     if (table == CSF_TABLE_AUTO)
-        table = !strcmp(info.kind, "display") ? CSF_TABLE_READINGS : CSF_TABLE_TRIALS;
+        table = info.kind == CSF_SESSION_DISPLAY ? CSF_TABLE_READINGS : CSF_TABLE_TRIALS;
     csf_session_info_free(&info);
     writer w = {out, format == CSF_EXPORT_JSON, 0, 0, NULL, 0};
     errno = 0;

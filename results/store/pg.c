@@ -797,7 +797,7 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
                              csf_error *err)
 {
     const char *what = "starting a session";
-    const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
+    const char *kind = csf_session_kind_name(nw->kind), *observer = nw->observer, *display = nw->display;
     const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
     uint64_t seed = nw->seed;
     int64_t new_id = 0;
@@ -836,7 +836,7 @@ static csf_status begin_once(pg_store *p, const csf_store_session_new *nw, int64
     a_txt(&a, nw->tool_version ? nw->tool_version : CSF_VERSION);
     a_txt(&a, nw->created_utc ? nw->created_utc : now);
     a_txt(&a, profile_id);
-    a_txt(&a, nw->state ? nw->state : "running");
+    a_txt(&a, csf_session_state_name(nw->state));
     a_txt(&a, nw->uuid);
     a_txt(&a, now);
     /* station: the login, which the row-level policies of docs/store_roles.sql compare with. */
@@ -984,7 +984,7 @@ static csf_status state_unchanged(pg_store *p, int64_t id, csf_error *err)
 /* A state change needs the session's claim: a station resuming a session takes it, and one
  * that another station holds is refused (two stations never run one session). A state other
  * than running gives the claim back. */
-static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf_error *err)
+static csf_status set_state_once(pg_store *p, int64_t id, csf_session_state state, csf_error *err)
 {
     int held = has_claim(p, id);
     csf_status cs = held ? CSF_OK : try_claim(p, id, &held, err);
@@ -993,15 +993,15 @@ static csf_status set_state_once(pg_store *p, int64_t id, const char *state, csf
     char now[32];
     csf_store_utc_now(now);
     pgargs a = {0};
-    a_txt(&a, state);
+    a_txt(&a, csf_session_state_name(state));
     a_txt(&a, now);
     a_i64(&a, id);
     PGresult *r = run(p, "UPDATE sessions SET state = $1, updated_utc = $2 WHERE id = $3", &a);
     if (!ok(r)) cs = fail(p, r, "changing a session's state", err);
     else if (!strcmp(PQcmdTuples(r), "0")) cs = state_unchanged(p, id, err);
     PQclear(r);
-    if (cs == CSF_OK && !strcmp(state, "running")) cs = remember(p, id, err);
-    if (cs != CSF_OK || strcmp(state, "running") != 0) release_claim(p, id);
+    if (cs == CSF_OK && state == CSF_SESSION_RUNNING) cs = remember(p, id, err);
+    if (cs != CSF_OK || state != CSF_SESSION_RUNNING) release_claim(p, id);
     return cs;
 }
 
@@ -1162,13 +1162,13 @@ static csf_status flush_spool(pg_store *p, double wait_s, csf_error *err)
 static int abort_phantom(csf_store *b, const csf_session_info *local, int64_t sid)
 {
     pg_store *p = pg(b);
-    if (strcmp(local->state, "aborted") != 0 || local->n_trials || local->n_readings) return 0;
+    if (local->state != CSF_SESSION_ABORTED || local->n_trials || local->n_readings) return 0;
     csf_session_info si;
     csf_error e;
     if (pg_get_session(&p->base, sid, &si, &e) != CSF_OK) return 0;
-    int phantom = !strcmp(si.state, "running") && !si.n_trials && !si.n_readings;
+    int phantom = si.state == CSF_SESSION_RUNNING && !si.n_trials && !si.n_readings;
     csf_session_info_free(&si);
-    return phantom && set_state_once(p, sid, "aborted", &e) == CSF_OK;
+    return phantom && set_state_once(p, sid, CSF_SESSION_ABORTED, &e) == CSF_OK;
 }
 
 /* A station that died while the server was away left rows in its spool that nobody sent. They
@@ -1206,7 +1206,7 @@ static csf_status write_or_spool(pg_store *p, const write_op *w, csf_error *err)
     }
 }
 
-static csf_status pg_set_session_state(csf_store *b, int64_t id, const char *state, csf_error *err)
+static csf_status pg_set_session_state(csf_store *b, int64_t id, csf_session_state state, csf_error *err)
 {
     pg_store *p = pg(b);
     if (!known(p, id)) RETRY(p, err, set_state_once(p, id, state, err)); /* a claim to take */
@@ -1244,8 +1244,9 @@ static csf_status person_unchanged(pg_store *p, int64_t id, double total_s, int 
     /* Read back as text: equal to the last bits only where the server writes floats exactly
      * (extra_float_digits >= 1, PostgreSQL 12's default), so a rounding's width is allowed. */
     if (fabs(have_s - total_s) <= 1e-12 * fmax(1.0, total_s) || (!exact && have_s > total_s)) return CSF_OK;
-    if (!strcmp(state, "finished") || !strcmp(state, "aborted"))
-        return csf_store_person_time_closed(err, p->base.path, id, state);
+    csf_session_state now_state = csf_session_state_from_name(state);
+    if (csf_session_state_closed(now_state))
+        return csf_store_person_time_closed(err, p->base.path, id, now_state);
     if (have_s > total_s)
         return csf_error_set(err, CSF_E_STORE,
                              "store %s: session %lld has %.17g s of person time "
@@ -1350,7 +1351,7 @@ static csf_status add_reading_once(pg_store *p, const csf_reading *rd, csf_error
     a_dbl(&a, rd->has_xyz ? rd->Y : NAN);
     a_dbl(&a, rd->has_xyz ? rd->Z : NAN);
     a_dbl(&a, isnan(rd->t_s) ? 0.0 : rd->t_s);
-    a_txt(&a, rd->status);
+    a_txt(&a, csf_reading_status_name(rd->status));
     a_dbl(&a, csf_store_unix_now_s());
     PGresult *r = run(p, "INSERT INTO readings (session_id, seq, channel, drive01, lum_cdm2, X_cdm2,"
                          " Y_cdm2, Z_cdm2, t_s, status, stored_s)"

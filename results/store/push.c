@@ -32,11 +32,16 @@ static csf_status dest_session(csf_store *dst, const csf_session_info *si, int64
     csf_status cs = dst->ops->find_session_uuid(dst, si->uuid, id, err);
     if (cs != CSF_E_NOT_FOUND) return cs;
     csf_error_clear(err);
-    csf_store_session_new nw = {.kind = si->kind, .observer = si->observer,
-                                .display = si->display, .profile_id = si->profile_id[0] ? si->profile_id : NULL,
-                                .settings_json = si->settings_json, .seed = si->seed,
-                                .uuid = si->uuid, .created_utc = si->created_utc,
-                                .state = "paused", .tool_version = si->tool_version};
+    csf_store_session_new nw = {.kind = si->kind,
+                                .observer = si->observer,
+                                .display = si->display,
+                                .profile_id = si->profile_id[0] ? si->profile_id : NULL,
+                                .settings_json = si->settings_json,
+                                .seed = si->seed,
+                                .uuid = si->uuid,
+                                .created_utc = si->created_utc,
+                                .state = CSF_SESSION_PAUSED,
+                                .tool_version = si->tool_version};
     /* Made paused, never finished: a lab's server refuses rows added to a finished session,
      * and the copy takes the source's state once it has everything (push, below). */
     *created = 1;
@@ -180,11 +185,27 @@ static csf_status push_person_time(const csf_session_info *si, csf_store *dst, i
     csf_session_info di;
     csf_status cs = csf_store_get_session(dst, did, &di, err);
     if (cs != CSF_OK) return cs;
-    int over = !strcmp(di.state, "finished") || !strcmp(di.state, "aborted");
+    int over = csf_session_state_closed(di.state);
     int has = di.person_s >= si->person_s;
     csf_session_info_free(&di);
     if (over || has) return CSF_OK;
     return dst->ops->raise_person_time(dst, did, si->person_s, err);
+}
+
+/* A session whose kind or state this build does not know (a store written by a newer csfcal,
+ * or by hand) is not copied: its copy could only be stored as some known kind or state, which
+ * it is not. */
+static csf_status known_session(const csf_store *src, const csf_session_info *si, csf_error *err)
+{
+    if (si->kind != CSF_SESSION_KIND_UNKNOWN && si->state != CSF_SESSION_STATE_UNKNOWN) return CSF_OK;
+    char kind[64], state[64];
+    csf_store_printable(si->kind_text, kind, sizeof kind);
+    csf_store_printable(si->state_text, state, sizeof state);
+    return csf_error_set(err, CSF_E_STORE,
+                         "store %s: session %lld has kind '%s' and state '%s', which this csfcal "
+                         "does not know (allowed kinds display, observer, study; states running, "
+                         "paused, finished, aborted): not copied",
+                         src->path, (long long)si->id, kind, state);
 }
 
 static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int keep_state,
@@ -204,7 +225,8 @@ static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int k
     /* A session aborted before anything was measured (among them the start a spool records
      * when the server may or may not have got it) is not made on a destination that lacks it:
      * it would be a phantom there. One the destination has still takes the state. */
-    if (cs == CSF_OK && !strcmp(si.state, "aborted") && !si.n_trials && !si.n_readings) {
+    if (cs == CSF_OK) cs = known_session(src, &si, err);
+    if (cs == CSF_OK && si.state == CSF_SESSION_ABORTED && !si.n_trials && !si.n_readings) {
         cs = dst->ops->find_session_uuid(dst, si.uuid, &did, err);
         if (cs == CSF_E_NOT_FOUND) {
             csf_error_clear(err);
@@ -224,7 +246,7 @@ static csf_status push(csf_store *src, csf_store *dst, int64_t session_id, int k
     csf_session_info di;
     if (cs == CSF_OK && !keep_state) cs = csf_store_get_session(dst, did, &di, err);
     if (cs == CSF_OK && !keep_state) {
-        int over = !strcmp(di.state, "finished") || !strcmp(di.state, "aborted");
+        int over = csf_session_state_closed(di.state);
         csf_session_info_free(&di);
         if (!over) cs = csf_store_set_session_state(dst, did, si.state, err);
     }

@@ -15,12 +15,76 @@ static void text(const csf_store_cols *c, int col, char *dst, size_t cap)
 
 static int int_col(const csf_store_cols *c, int col) { return (int)c->i64(c, col); }
 
+/* The words the store holds, indexed by enum value; index 0 (UNKNOWN) has none. These are the
+ * words of the schema's CHECK constraints (migrations.c, pg_schema.c): a store keeps its text,
+ * so a change here is a schema change. */
+static const char *const kind_names[] = {NULL, "display", "observer", "study"};
+static const char *const state_names[] = {NULL, "running", "paused", "finished", "aborted"};
+static const char *const status_names[] = {NULL, "ok", "too_dark", "saturated", "timeout", "error"};
+
+#define N_OF(a) (sizeof(a) / sizeof(a)[0])
+
+static const char *name_of(const char *const *names, size_t n, int v)
+{
+    return v > 0 && (size_t)v < n ? names[v] : NULL;
+}
+
+static int value_of(const char *const *names, size_t n, const char *name)
+{
+    for (size_t i = 1; name && i < n; i++)
+        if (!strcmp(names[i], name)) return (int)i;
+    return 0;
+}
+
+const char *csf_session_kind_name(csf_session_kind k)
+{
+    return name_of(kind_names, N_OF(kind_names), (int)k);
+}
+
+const char *csf_session_state_name(csf_session_state st)
+{
+    return name_of(state_names, N_OF(state_names), (int)st);
+}
+
+const char *csf_reading_status_name(csf_reading_status st)
+{
+    return name_of(status_names, N_OF(status_names), (int)st);
+}
+
+csf_session_kind csf_session_kind_from_name(const char *name)
+{
+    return (csf_session_kind)value_of(kind_names, N_OF(kind_names), name);
+}
+
+csf_session_state csf_session_state_from_name(const char *name)
+{
+    return (csf_session_state)value_of(state_names, N_OF(state_names), name);
+}
+
+csf_reading_status csf_reading_status_from_name(const char *name)
+{
+    return (csf_reading_status)value_of(status_names, N_OF(status_names), name);
+}
+
+int csf_session_state_open(csf_session_state st)
+{
+    return st == CSF_SESSION_RUNNING || st == CSF_SESSION_PAUSED;
+}
+
+int csf_session_state_closed(csf_session_state st)
+{
+    return st == CSF_SESSION_FINISHED || st == CSF_SESSION_ABORTED;
+}
+
 int csf_store_row_session(const csf_store_cols *c, csf_session_info *o)
 {
     memset(o, 0, sizeof *o);
     o->id = c->i64(c, 0);
-    text(c, 1, o->kind, sizeof o->kind);
-    text(c, 2, o->state, sizeof o->state);
+    /* The value comes from the whole stored text, the display copy may be cut. */
+    o->kind = csf_session_kind_from_name(c->txt(c, 1));
+    o->state = csf_session_state_from_name(c->txt(c, 2));
+    text(c, 1, o->kind_text, sizeof o->kind_text);
+    text(c, 2, o->state_text, sizeof o->state_text);
     text(c, 3, o->observer, sizeof o->observer);
     text(c, 4, o->display, sizeof o->display);
     /* Rows written past csfcal can hold longer names than it stores: said, never hidden. */
@@ -39,13 +103,13 @@ int csf_store_row_session(const csf_store_cols *c, csf_session_info *o)
     return o->settings_json ? 0 : -1;
 }
 
-csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id, const char *state)
+csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id, csf_session_state state)
 {
     return csf_error_set(err, CSF_E_STORE,
                          "store %s: session %lld is %s and closed: its person "
                          "time does not change (a run adds its person time before it finishes "
                          "or aborts the session)",
-                         path, (long long)id, state);
+                         path, (long long)id, csf_session_state_name(state));
 }
 
 void csf_store_row_trial(const csf_store_cols *c, int64_t session_id, csf_trial *t)
@@ -94,7 +158,8 @@ void csf_store_row_reading(const csf_store_cols *c, int64_t session_id, csf_read
     r->Y = c->dbl(c, 5);
     r->Z = c->dbl(c, 6);
     r->t_s = c->dbl(c, 7);
-    text(c, 8, r->status, sizeof r->status);
+    r->status = csf_reading_status_from_name(c->txt(c, 8));
+    text(c, 8, r->status_text, sizeof r->status_text);
 }
 
 void csf_store_row_threshold(const csf_store_cols *c, csf_threshold_row *t)

@@ -48,7 +48,8 @@ void csf_store_row_threshold(const csf_store_cols *c, csf_threshold_row *t);
 
 /* The refusal of a change to the person time of session id, which is state (finished or
  * aborted) and so closed; both backends give it in the same words. */
-csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id, const char *state);
+csf_status csf_store_person_time_closed(csf_error *err, const char *path, int64_t id,
+                                        csf_session_state state);
 
 /* Unix seconds to ISO 8601 UTC; 0 with "" for a value that is no time of this era (a damaged
  * row: converting an out-of-range double to time_t is undefined). */

@@ -77,6 +77,7 @@ csf_status csf_spool_session(csf_spool *sp, const csf_session_info *k, int64_t *
                                 .seed = k->seed,
                                 .uuid = k->uuid,
                                 .created_utc = k->created_utc,
+                                .state = CSF_SESSION_RUNNING,
                                 .tool_version = k->tool_version};
     return sp->store->ops->begin_session(sp->store, &nw, lsid, err);
 }
@@ -121,7 +122,7 @@ void csf_spool_unsure_begin(csf_spool *sp, const csf_store_session_new *nw)
 {
     csf_error e;
     csf_store_session_new ab = *nw;
-    ab.state = "aborted";
+    ab.state = CSF_SESSION_ABORTED;
     int64_t lsid = 0;
     csf_status cs = spool_open(sp, &e);
     if (cs == CSF_OK) cs = sp->store->ops->begin_session(sp->store, &ab, &lsid, &e);

@@ -38,7 +38,7 @@ typedef struct {
     const csf_reading *r;
     const double *iv;
     int n, seq;
-    const char *state;
+    csf_session_state state;       /* CSF_SPOOL_STATE */
     const csf_threshold_row *rows; /* CSF_SPOOL_THRESHOLDS: n_rows of them */
     size_t n_rows;
     const char *art_kind, *path; /* CSF_SPOOL_ARTIFACT */

@@ -839,7 +839,7 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
                                    csf_error *err)
 {
     sq_store *s = sq(base);
-    const char *kind = nw->kind, *observer = nw->observer, *display = nw->display;
+    const char *kind = csf_session_kind_name(nw->kind), *observer = nw->observer, *display = nw->display;
     const char *profile_id = nw->profile_id, *settings_json = nw->settings_json;
     uint64_t seed = nw->seed;
     /* Observer and display rows are written in the same transaction as the session. */
@@ -870,7 +870,7 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
         sqlite3_bind_text(st, 8, now, -1, SQLITE_TRANSIENT);
         if (profile_id) sqlite3_bind_text(st, 9, profile_id, -1, SQLITE_TRANSIENT);
         else sqlite3_bind_null(st, 9);
-        sqlite3_bind_text(st, 10, nw->state ? nw->state : "running", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_text(st, 10, csf_session_state_name(nw->state), -1, SQLITE_TRANSIENT);
         sqlite3_bind_text(st, 11, nw->uuid, -1, SQLITE_TRANSIENT);
         cs = run_simple(s, st, "starting a session", err);
     }
@@ -883,7 +883,7 @@ static csf_status sq_begin_session(csf_store *base, const csf_store_session_new 
             if (id) *id = new_id;
             /* A new id has no other holder; a session copied in a state other than running
              * (csf_store_push) is nobody's to hold. */
-            return nw->state && strcmp(nw->state, "running") != 0 ? CSF_OK : sq_claim(s, new_id, err);
+            return nw->state != CSF_SESSION_RUNNING ? CSF_OK : sq_claim(s, new_id, err);
         }
     }
     exec_s(s, "ROLLBACK");
@@ -1104,18 +1104,18 @@ static void sq_release(sq_store *s, int64_t id)
 
 /* A state change needs the session's claim (as on a server): resuming takes it, one held by
  * another station is refused; a state other than running gives it back. */
-static csf_status sq_set_session_state(csf_store *base, int64_t id, const char *state, csf_error *err)
+static csf_status sq_set_session_state(csf_store *base, int64_t id, csf_session_state state, csf_error *err)
 {
     sq_store *s = sq(base);
     csf_status cls = sq_claim(s, id, err);
     if (cls != CSF_OK) return cls;
-    if (strcmp(state, "running") != 0) sq_release(s, id); /* also when the change fails */
+    if (state != CSF_SESSION_RUNNING) sq_release(s, id); /* also when the change fails */
     sqlite3_stmt *st = NULL;
     int rc = prepare(s, "UPDATE sessions SET state = ?, updated_utc = ? WHERE id = ?", &st);
     if (rc != SQLITE_OK) return fail(s, err, rc, "changing a session's state");
     char now[32];
     csf_store_utc_now(now);
-    sqlite3_bind_text(st, 1, state, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 1, csf_session_state_name(state), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st, 2, now, -1, SQLITE_TRANSIENT);
     sqlite3_bind_int64(st, 3, id);
     csf_status cs = run_simple(s, st, "changing a session's state", err);
@@ -1149,8 +1149,8 @@ static csf_status person_unchanged(sq_store *s, int64_t id, double total_s, csf_
         return csf_error_set(err, CSF_E_NOT_FOUND, "store %s: no session %lld", s->path, (long long)id);
     if (rc != SQLITE_ROW) return fail(s, err, rc, "reading a session's person time");
     if (have_s >= total_s) return CSF_OK;
-    if (!strcmp(state, "finished") || !strcmp(state, "aborted"))
-        return csf_store_person_time_closed(err, s->path, id, state);
+    csf_session_state now_state = csf_session_state_from_name(state);
+    if (csf_session_state_closed(now_state)) return csf_store_person_time_closed(err, s->path, id, now_state);
     return csf_error_set(err, CSF_E_STORE,
                          "store %s: the person time of session %lld did not "
                          "change",
@@ -1262,7 +1262,7 @@ static csf_status sq_add_reading(csf_store *base, const csf_reading *r, csf_erro
         bind_real(st, 8, r->Z);
     }
     bind_real(st, 9, isnan(r->t_s) ? 0.0 : r->t_s);
-    sqlite3_bind_text(st, 10, r->status, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, 10, csf_reading_status_name(r->status), -1, SQLITE_TRANSIENT);
     sqlite3_bind_double(st, 11, csf_store_unix_now_s());
     int rc = step(s, st);
     sqlite3_reset(st);

@@ -401,25 +401,24 @@ int csf_store_new_uuid(char out[40])
     return 0;
 }
 
-csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
-                                   const char *display, const char *settings_json, uint64_t seed,
-                                   int64_t *id, csf_error *err)
+csf_status csf_store_begin_session(csf_store *s, csf_session_kind kind, const char *observer,
+                                   const char *display, const char *settings_json, uint64_t seed, int64_t *id,
+                                   csf_error *err)
 {
     return csf_store_begin_session_profile(s, kind, observer, display, NULL, settings_json, seed,
                                            id, err);
 }
 
-csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const char *observer,
+csf_status csf_store_begin_session_profile(csf_store *s, csf_session_kind kind, const char *observer,
                                            const char *display, const char *profile_id,
                                            const char *settings_json, uint64_t seed, int64_t *id,
                                            csf_error *err)
 {
     csf_error_clear(err);
     if (!s) return not_open(err);
-    if (!ONE_OF(kind, "display", "observer", "study"))
+    if (!csf_session_kind_name(kind))
         return csf_error_set(err, CSF_E_INVALID_ARG,
-                             "store: session kind '%s' unknown (allowed display, observer, study)",
-                             kind ? kind : "(null)");
+                             "store: session kind %d unknown (allowed display, observer, study)", (int)kind);
     csf_status cs = csf_store_check_name(observer, "observer name", 255, 0, err);
     if (cs == CSF_OK) cs = csf_store_check_name(display, "display name", 255, 0, err);
     if (cs == CSF_OK) cs = csf_store_check_name(profile_id, "profile id", 127, 0, err);
@@ -431,9 +430,14 @@ csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const
     if (csf_store_new_uuid(uuid) < 0)
         return csf_error_set(err, CSF_E_STORE, "store %s: no random bytes for the session's uuid",
                              s->path);
-    csf_store_session_new nw = {.kind = kind, .observer = observer, .display = display,
-                                .profile_id = profile_id, .settings_json = settings_json,
-                                .seed = seed, .uuid = uuid};
+    csf_store_session_new nw = {.kind = kind,
+                                .observer = observer,
+                                .display = display,
+                                .profile_id = profile_id,
+                                .settings_json = settings_json,
+                                .seed = seed,
+                                .uuid = uuid,
+                                .state = CSF_SESSION_RUNNING};
     return s->ops->begin_session(s, &nw, id, err);
 }
 
@@ -445,13 +449,15 @@ csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out
     return s->ops->get_session(s, id, out, err);
 }
 
-csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err)
+csf_status csf_store_set_session_state(csf_store *s, int64_t id, csf_session_state state, csf_error *err)
 {
     csf_error_clear(err);
     if (!s) return not_open(err);
-    if (!ONE_OF(state, "running", "paused", "finished", "aborted"))
-        return csf_error_set(err, CSF_E_INVALID_ARG, "store: session state '%s' unknown (allowed "
-                             "running, paused, finished, aborted)", state ? state : "(null)");
+    if (!csf_session_state_name(state))
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "store: session state %d unknown (allowed "
+                             "running, paused, finished, aborted)",
+                             (int)state);
     if (s->readonly) return read_only(s, "a session state", err);
     return s->ops->set_session_state(s, id, state, err);
 }
@@ -522,8 +528,7 @@ csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *
         !ONE_OF(r->channel, "dark", "white", "grey", "r", "g", "b"))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading channel must be dark, white, "
                              "grey, r, g or b");
-    if (!terminated(r->status, sizeof r->status) ||
-        !ONE_OF(r->status, "ok", "too_dark", "saturated", "timeout", "error"))
+    if (!csf_reading_status_name(r->status))
         return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading status must be ok, too_dark, "
                              "saturated, timeout or error");
     if (r->seq < 0) return csf_error_set(err, CSF_E_INVALID_ARG, "store: reading seq %d < 0", r->seq);

@@ -91,10 +91,44 @@ const char *csf_store_path(const csf_store *s);
 
 /* ---- sessions ---------------------------------------------------------------------------- */
 
+/* What a session is and where it stands. The store keeps each as text (the CHECK constraints name
+ * the same words, see csf_session_kind_name): a row holding a word this build does not know (a
+ * store written by a newer csfcal, or by hand) reads as the UNKNOWN value, which no code treats
+ * as any known one, and its stored text is kept beside it for display. UNKNOWN is 0, so a
+ * zeroed struct is no known value either. */
+typedef enum {
+    CSF_SESSION_KIND_UNKNOWN = 0,
+    CSF_SESSION_DISPLAY,  /* "display": a display calibration (photometer readings) */
+    CSF_SESSION_OBSERVER, /* "observer": an observer calibration (trials, thresholds) */
+    CSF_SESSION_STUDY,    /* "study": one participant's run of a user study */
+} csf_session_kind;
+
+typedef enum {
+    CSF_SESSION_STATE_UNKNOWN = 0,
+    CSF_SESSION_RUNNING,  /* "running" */
+    CSF_SESSION_PAUSED,   /* "paused" */
+    CSF_SESSION_FINISHED, /* "finished" */
+    CSF_SESSION_ABORTED,  /* "aborted" */
+} csf_session_state;
+
+/* The stored word of a known value; NULL for UNKNOWN and for any value outside the enum. */
+const char *csf_session_kind_name(csf_session_kind k);
+const char *csf_session_state_name(csf_session_state st);
+/* The value a stored word names; UNKNOWN for NULL and for any other word (exact match only). */
+csf_session_kind csf_session_kind_from_name(const char *name);
+csf_session_state csf_session_state_from_name(const char *name);
+/* 1 for a session that can still be continued (running or paused); 0 for a closed one and for
+ * an unknown state, which is never resumed nor changed as if it were open. */
+int csf_session_state_open(csf_session_state st);
+/* 1 for a closed session (finished or aborted); 0 for an open and for an unknown state. */
+int csf_session_state_closed(csf_session_state st);
+
 typedef struct {
     int64_t id;
-    char kind[16];        /* "display", "observer", "study" */
-    char state[16];       /* "running", "paused", "finished", "aborted" */
+    csf_session_kind kind;
+    csf_session_state state;
+    char kind_text[16];   /* kind and state as stored (cut to 15 bytes), for display only: */
+    char state_text[16];  /* may hold any bytes, so shown through csf_store_printable */
     char observer[256];   /* observer name (observer/study sessions), "" otherwise; whole */
     char display[256];    /* display name, whole; "" when unknown */
     int names_cut;        /* 1 when the stored observer or display name is longer than these
@@ -115,22 +149,23 @@ typedef struct {
 
 void csf_session_info_free(csf_session_info *s); /* frees settings_json */
 
-/* Starts a session in state "running". observer/display may be NULL or "" (stored as ""); named
- * observers and displays are also recorded in their own tables. settings_json NULL = "{}". */
-csf_status csf_store_begin_session(csf_store *s, const char *kind, const char *observer,
-                                   const char *display, const char *settings_json, uint64_t seed,
-                                   int64_t *id, csf_error *err);
+/* Starts a session in state running. kind must be a known value (else CSF_E_INVALID_ARG).
+ * observer/display may be NULL or "" (stored as ""); named observers and displays are also
+ * recorded in their own tables. settings_json NULL = "{}". */
+csf_status csf_store_begin_session(csf_store *s, csf_session_kind kind, const char *observer,
+                                   const char *display, const char *settings_json, uint64_t seed, int64_t *id,
+                                   csf_error *err);
 /* The same, for a session that shows stimuli through a display profile: display is the display
  * the profile was measured on, profile_id the profile's id (NULL or "" = none). The display is
  * recorded in its own table and the profile in the display's profile history; the display's
  * current profile changes only when it has none. */
-csf_status csf_store_begin_session_profile(csf_store *s, const char *kind, const char *observer,
+csf_status csf_store_begin_session_profile(csf_store *s, csf_session_kind kind, const char *observer,
                                            const char *display, const char *profile_id,
                                            const char *settings_json, uint64_t seed, int64_t *id,
                                            csf_error *err);
 csf_status csf_store_get_session(csf_store *s, int64_t id, csf_session_info *out, csf_error *err);
-/* state: "running", "paused", "finished", "aborted"; also updates the session's updated time. */
-csf_status csf_store_set_session_state(csf_store *s, int64_t id, const char *state, csf_error *err);
+/* state: a known value (else CSF_E_INVALID_ARG); also updates the session's updated time. */
+csf_status csf_store_set_session_state(csf_store *s, int64_t id, csf_session_state state, csf_error *err);
 /* All sessions, oldest first. *out is malloc'd; free each with csf_session_info_free, then free(*out). */
 csf_status csf_store_list_sessions(csf_store *s, csf_session_info **out, size_t *n, csf_error *err);
 /* Free a list from csf_store_list_sessions. */
@@ -156,6 +191,20 @@ csf_status csf_store_session_times(csf_store *s, int64_t id, char created_utc[32
 
 /* ---- photometer readings ----------------------------------------------------------------- */
 
+/* How a photometer reading went, stored as text as the session's kind and state are. */
+typedef enum {
+    CSF_READING_STATUS_UNKNOWN = 0,
+    CSF_READING_OK,        /* "ok" */
+    CSF_READING_TOO_DARK,  /* "too_dark": below the meter's range */
+    CSF_READING_SATURATED, /* "saturated": above it */
+    CSF_READING_TIMEOUT,   /* "timeout": the meter did not answer in time */
+    CSF_READING_ERROR,     /* "error": any other failure */
+} csf_reading_status;
+
+/* As csf_session_kind_name / _from_name. */
+const char *csf_reading_status_name(csf_reading_status st);
+csf_reading_status csf_reading_status_from_name(const char *name);
+
 typedef struct {
     int64_t session_id;
     int seq;              /* 0, 1, 2 ... per session; unique */
@@ -165,7 +214,9 @@ typedef struct {
     double X, Y, Z;       /* CIE XYZ (Y in cd/m2) when has_xyz */
     int has_xyz;
     double t_s;           /* seconds since the session started */
-    char status[16];      /* "ok", "too_dark", "saturated", "timeout", "error" */
+    csf_reading_status status; /* a known value when added */
+    char status_text[16];      /* the status as stored (cut to 15 bytes), for display only; not
+                             read by csf_store_add_reading */
 } csf_reading;
 
 csf_status csf_store_add_reading(csf_store *s, const csf_reading *r, csf_error *err);

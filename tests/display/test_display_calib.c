@@ -225,7 +225,7 @@ int main(void)
             csf_session_info si;
             memset(&si, 0, sizeof si);
             if (ds && csf_store_get_session(ds, sid, &si, &err) == CSF_OK) {
-                CHECK(strcmp(si.state, "paused") == 0);
+                CHECK(si.state == CSF_SESSION_PAUSED);
                 csf_session_info_free(&si);
             }
         }
@@ -386,12 +386,12 @@ int main(void)
         CHECK_INT_EQ(csf_store_get_readings(store, sid, &rd, &n, &err), CSF_OK);
         /* every attempt up to and including the failed one is stored */
         CHECK_INT_EQ(n, (size_t)at + 1);
-        if (n) CHECK(strcmp(rd[n - 1].status, "ok") != 0);
+        if (n) CHECK(rd[n - 1].status != CSF_READING_OK);
         free(rd);
         csf_session_info si;
         memset(&si, 0, sizeof si);
         CHECK_INT_EQ(csf_store_get_session(store, sid, &si, &err), CSF_OK);
-        CHECK(strcmp(si.state, "paused") == 0);
+        CHECK(si.state == CSF_SESSION_PAUSED);
         csf_session_info_free(&si);
         /* resume with the instrument reconnected */
         int64_t sid2 = sid;
@@ -409,7 +409,7 @@ int main(void)
             csf_profile_free(p);
         }
         CHECK_INT_EQ(csf_store_get_session(store, sid, &si, &err), CSF_OK);
-        CHECK(strcmp(si.state, "finished") == 0);
+        CHECK(si.state == CSF_SESSION_FINISHED);
         csf_session_info_free(&si);
         /* a finished session is not resumed again */
         p = calibrate("sim:display=lcd", 21, store, &sid2, &res, &st, &err);

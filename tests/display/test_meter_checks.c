@@ -208,7 +208,8 @@ int main(void)
             CHECK_MSG(n == (size_t)at + 1, "%s: %zu readings stored, expected %d", spec, n, at + 1);
         }
         if (n) {
-            CHECK_MSG(strcmp(rd[n - 1].status, "error") == 0, "%s: last status %s", spec, rd[n - 1].status);
+            CHECK_MSG(rd[n - 1].status == CSF_READING_ERROR, "%s: last status %s", spec,
+                      rd[n - 1].status_text);
             if (strcmp(faults[k].kind, "nan") != 0)
                 CHECK_MSG(isfinite(rd[n - 1].lum_cdm2), "%s: the failing reading's value is not kept", spec);
         }
@@ -216,7 +217,7 @@ int main(void)
         csf_session_info si;
         memset(&si, 0, sizeof si);
         CHECK_INT_EQ(csf_store_get_session(store, sid, &si, &err), CSF_OK);
-        CHECK(strcmp(si.state, "paused") == 0);
+        CHECK(si.state == CSF_SESSION_PAUSED);
         csf_session_info_free(&si);
         if (faults[k].resume < 0) continue; /* its warm-up readings are room light: resumed, it would still be */
         int64_t sid2 = sid;

@@ -201,11 +201,11 @@ static void part_bc(void)
     for (size_t i = 0; i < n[0] && i < n[1]; i++) {
         CHECK_INT_EQ(rd[0][i].seq, rd[1][i].seq);
         CHECK(strcmp(rd[0][i].channel, rd[1][i].channel) == 0);
-        CHECK(strcmp(rd[0][i].status, rd[1][i].status) == 0);
+        CHECK(rd[0][i].status == rd[1][i].status);
         /* adaptive levels follow the readings, which differ by the dither's residue */
         CHECK_NEAR(rd[0][i].drive01, rd[1][i].drive01, 1e-3);
         CHECK_INT_EQ(rd[0][i].has_xyz, rd[1][i].has_xyz);
-        if (!strcmp(rd[0][i].status, "ok") && rd[1][i].lum_cdm2 > 1) {
+        if (rd[0][i].status == CSF_READING_OK && rd[1][i].lum_cdm2 > 1) {
             double d = fabs(rd[0][i].lum_cdm2 / rd[1][i].lum_cdm2 - 1);
             if (d > worst) worst = d;
         }

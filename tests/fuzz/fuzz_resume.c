@@ -59,10 +59,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (csf_store_list_sessions(s, &list, &n, &err) == CSF_OK) {
             int done = 0;
             for (size_t i = 0; i < n && done < 3; i++)
-                if (strcmp(list[i].kind, "display") == 0) {
+                if (list[i].kind == CSF_SESSION_DISPLAY) {
                     /* a finished session is refused before its readings are read: reopen it */
-                    if (strcmp(list[i].state, "finished") == 0 &&
-                        csf_store_set_session_state(s, list[i].id, "paused", &err) != CSF_OK)
+                    if (list[i].state == CSF_SESSION_FINISHED &&
+                        csf_store_set_session_state(s, list[i].id, CSF_SESSION_PAUSED, &err) != CSF_OK)
                         continue;
                     resume(s, list[i].id);
                     done++;

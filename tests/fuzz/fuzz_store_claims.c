@@ -40,7 +40,7 @@ static int setup(void)
     snprintf(claims, sizeof claims, "%s-claims", path);
     csf_error err;
     if (csf_store_open(path, &holder, &err) != CSF_OK ||
-        csf_store_begin_session(holder, "observer", "o", "d", NULL, 1, &sid, &err) != CSF_OK) {
+        csf_store_begin_session(holder, CSF_SESSION_OBSERVER, "o", "d", NULL, 1, &sid, &err) != CSF_OK) {
         fprintf(stderr, "fuzz_store_claims: %s\n", err.msg);
         return -1;
     }
@@ -62,7 +62,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     csf_store *other = NULL;
     csf_error err;
     if (csf_store_open(path, &other, &err) != CSF_OK) return 0;
-    csf_status cs = csf_store_set_session_state(other, sid, "running", &err);
+    csf_status cs = csf_store_set_session_state(other, sid, CSF_SESSION_RUNNING, &err);
     if (cs == CSF_OK) abort(); /* the claim is held: a resume must be refused */
     if (!memchr(err.msg, '\0', sizeof err.msg)) abort();
     csf_store_close(other);

@@ -89,7 +89,7 @@ static int session_finished(const char *store)
     csf_session_info info;
     int done = 0;
     if (csf_store_get_session(s, 1, &info, &err) == CSF_OK) {
-        done = strcmp(info.state, "finished") == 0;
+        done = info.state == CSF_SESSION_FINISHED;
         csf_session_info_free(&info);
     }
     csf_store_close(s);

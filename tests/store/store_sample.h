@@ -50,9 +50,10 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
         return -1;
     }
     int ok = 1;
-    ok &= csf_store_begin_session(s, "observer", "sim-observer", "sim-lcd",
+    ok &= csf_store_begin_session(s, CSF_SESSION_OBSERVER, "sim-observer", "sim-lcd",
                                   "{\"method\":\"fade\",\"freqs_cpd\":[0.5,1,2,4,8,16,24],"
-                                  "\"eccs_deg\":[0,5,10,20]}", seed, obs_id, &err) == CSF_OK;
+                                  "\"eccs_deg\":[0,5,10,20]}",
+                                  seed, obs_id, &err) == CSF_OK;
     /* The person's time: a 30 s instruction screen, then each trial's frames and answer. */
     double person_s = SAMPLE_INSTRUCTIONS_S;
     for (int i = 0; ok && i < SAMPLE_TRIALS; i++) {
@@ -87,9 +88,10 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
         }
     ok &= csf_store_put_thresholds(s, *obs_id, rows, (size_t)n, &err) == CSF_OK;
     ok &= csf_store_add_artifact(s, *obs_id, "csflut", "sim-observer.csflut", "CSFLUT-sample", 13, &err) == CSF_OK;
-    ok &= csf_store_set_session_state(s, *obs_id, "finished", &err) == CSF_OK;
+    ok &= csf_store_set_session_state(s, *obs_id, CSF_SESSION_FINISHED, &err) == CSF_OK;
 
-    ok &= csf_store_begin_session(s, "display", NULL, "sim-lcd", "{\"levels\":17}", seed, disp_id, &err) == CSF_OK;
+    ok &= csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "sim-lcd", "{\"levels\":17}", seed, disp_id,
+                                  &err) == CSF_OK;
     csf_profile_reading pr[64];
     int npr = 0, seq = 0;
     static const char *const names[4] = {"r", "g", "b", "grey"};
@@ -109,7 +111,7 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
             r.Y = r.lum_cdm2;
             r.Z = 1.09 * r.lum_cdm2;
             r.t_s = 2.0 * seq;
-            snprintf(r.status, sizeof r.status, "ok");
+            r.status = CSF_READING_OK;
             ok &= csf_store_add_reading(s, &r, &err) == CSF_OK;
             pr[npr].channel = ch == 3 ? CSF_CH_GREY : ch;
             pr[npr].drive01 = v;
@@ -140,7 +142,7 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
     } else {
         fprintf(stderr, "sample: no profile artifact (%s); report falls back to interpolation\n", perr.msg);
     }
-    ok &= csf_store_set_session_state(s, *disp_id, "finished", &err) == CSF_OK;
+    ok &= csf_store_set_session_state(s, *disp_id, CSF_SESSION_FINISHED, &err) == CSF_OK;
     if (!ok) fprintf(stderr, "sample: %s\n", err.msg);
     csf_store_close(s);
     return ok ? 0 : -1;

@@ -140,7 +140,8 @@ static void test_files(const char *dir, const char *store_path, int64_t obs, int
 
     /* A session just started: still a valid report, with the "no data yet" pages. */
     int64_t fresh = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "newbie", "lcd", NULL, 1, &fresh, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "newbie", "lcd", NULL, 1, &fresh, &err),
+                 CSF_OK);
     snprintf(path, sizeof path, "%s/fresh.pdf", dir);
     CHECK_INT_EQ(csf_report_write(s, fresh, path, &err), CSF_OK);
     b = (unsigned char *)test_read_file(path, &n);

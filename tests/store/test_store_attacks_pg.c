@@ -159,7 +159,8 @@ static int64_t session_with_trials(csf_store *s, int n)
 {
     int64_t sid = 0;
     csf_error err;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "p", "booth-lcd", NULL, 1, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "p", "booth-lcd", NULL, 1, &sid, &err),
+                 CSF_OK);
     for (int i = 0; i < n; i++) {
         csf_trial t = make_trial(sid, i, 1);
         double iv[3] = {0.0166, 0.0167, 0.0168};
@@ -323,7 +324,7 @@ static void test_closed(void)
     CHECK_INT_EQ(csf_store_put_thresholds(s1, sid, &th, 1, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s1, sid, "csflut", "t.csflut", "table", 5, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(s1, sid, 42.5, &err), CSF_OK); /* the station's grant */
-    CHECK_INT_EQ(csf_store_set_session_state(s1, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
 
     char sql[512], q[256];
     snprintf(sql, sizeof sql, "INSERT INTO trials SELECT session_id, 50, method, freq_cpd, ecc_deg,"
@@ -344,7 +345,7 @@ static void test_closed(void)
     CHECK(try_as("booth1", sql) != 0);
     snprintf(sql, sizeof sql, "UPDATE sessions SET state = 'running' WHERE id = %lld", (long long)sid);
     CHECK(try_as("booth1", sql) != 0);
-    CHECK(csf_store_set_session_state(s1, sid, "running", &err) != CSF_OK);
+    CHECK(csf_store_set_session_state(s1, sid, CSF_SESSION_RUNNING, &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "closed");
     /* The owner is held to it too (a repair disables the trigger on purpose). */
     CHECK(try_as("csfcal_owner", sql) != 0);
@@ -381,20 +382,20 @@ static void test_others_session(int64_t sid1)
     csf_store *s1 = open_as("booth1", 0), *s2 = open_as("booth2", 0);
     if (!s1 || !s2) return;
     csf_error err;
-    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "running", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, CSF_SESSION_RUNNING, &err), CSF_OK);
     /* While booth1 runs it: refused, naming the holder and since when it runs. */
-    CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, "paused", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, CSF_SESSION_PAUSED, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station: login booth1, program 'csfcal'");
     CHECK_STR_CONTAINS(err.msg, "running since 20");
-    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, CSF_SESSION_PAUSED, &err), CSF_OK);
     csf_store_close(s1);
-    CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, "aborted", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(s2, sid1, CSF_SESSION_ABORTED, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "belongs to another station");
     CHECK_STR_CONTAINS(err.msg, "login booth1");
     char q[160];
     snprintf(q, sizeof q, "SELECT COUNT(*) FROM sessions WHERE id = %lld AND state = 'paused'", (long long)sid1);
     CHECK_INT_EQ(admin_int(q), 1);
-    CHECK_INT_EQ(csf_store_set_session_state(s2, 999999, "aborted", &err), CSF_E_NOT_FOUND);
+    CHECK_INT_EQ(csf_store_set_session_state(s2, 999999, CSF_SESSION_ABORTED, &err), CSF_E_NOT_FOUND);
     CHECK_STR_CONTAINS(err.msg, "no session 999999");
     csf_trial t = make_trial(sid1, 40, 1);
     CHECK(csf_store_add_trial(s2, &t, &err) != CSF_OK);
@@ -463,12 +464,14 @@ static void test_studies(void)
     /* Nor another code while a study session of its own waits for its participant. */
     csf_store *s1 = open_as("booth1", 0);
     int64_t waiting = 0;
-    if (s1) CHECK_INT_EQ(csf_store_begin_session(s1, "study", "P20", "", NULL, 1, &waiting, &e), CSF_OK);
+    if (s1)
+        CHECK_INT_EQ(csf_store_begin_session(s1, CSF_SESSION_STUDY, "P20", "", NULL, 1, &waiting, &e),
+                     CSF_OK);
     CHECK(try_as("booth1", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P21',"
                            " 'x' FROM studies WHERE name = 'tiny'") != 0);
     CHECK(try_as("booth1", "INSERT INTO participants (study_id, code, created_utc) SELECT id, 'P20',"
                            " 'x' FROM studies WHERE name = 'tiny'") == 0); /* its own: allowed */
-    if (s1) CHECK_INT_EQ(csf_store_set_session_state(s1, waiting, "aborted", &e), CSF_OK);
+    if (s1) CHECK_INT_EQ(csf_store_set_session_state(s1, waiting, CSF_SESSION_ABORTED, &e), CSF_OK);
     csf_store_close(s1);
     /* A code taken some other way (an older csfcal, the superuser or the owner by hand): the
      * run is refused, and the session it began is not left running. */
@@ -510,7 +513,7 @@ static void test_push_finished(void)
                             .n_trials = 4};
     CHECK_INT_EQ(csf_store_put_thresholds(src, sid, &th, 1, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(src, sid, "csflut", "t.csflut", "table", 5, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     for (int round = 0; round < 2; round++) {
         csf_push_counts c;
         csf_status st = csf_store_push_session(src, dst, sid, &c, &err);
@@ -577,7 +580,7 @@ static void test_spool_says_once(void)
     CHECK_INT_EQ(csf_store_open(loc, &s, &err), CSF_OK);
     if (!s) return;
     int64_t sid = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "p", "d", NULL, 1, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "p", "d", NULL, 1, &sid, &err), CSF_OK);
     server("stop");
     fflush(stderr);
     int saved = dup(2), fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0600);

@@ -39,8 +39,11 @@ static void test_sessions_trials(const char *path)
     int64_t obs = 0, disp = 0;
     const char *settings = "{\"freqs_cpd\":[1,2,4,8],\"method\":\"fade\"}";
     const uint64_t big_seed = 0xfedcba9876543210ULL; /* above INT64_MAX: must round-trip */
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "alice", "lcd-1", settings, big_seed, &obs, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, "lcd-1", NULL, 7, &disp, &err), CSF_OK);
+    CHECK_INT_EQ(
+        csf_store_begin_session(s, CSF_SESSION_OBSERVER, "alice", "lcd-1", settings, big_seed, &obs, &err),
+        CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "lcd-1", NULL, 7, &disp, &err),
+                 CSF_OK);
     CHECK(obs > 0 && disp > 0 && obs != disp);
 
     /* Insert out of order: get_trials must come back ordered by seq (what resume replays). */
@@ -80,7 +83,7 @@ static void test_sessions_trials(const char *path)
         r.Y = r.lum_cdm2;
         r.Z = 1.08 * r.lum_cdm2;
         r.t_s = 1.5 * k;
-        snprintf(r.status, sizeof r.status, "%s", k == 5 ? "timeout" : "ok");
+        r.status = k == 5 ? CSF_READING_TIMEOUT : CSF_READING_OK;
         CHECK_INT_EQ(csf_store_add_reading(s, &r, &err), CSF_OK);
     }
     csf_reading badr;
@@ -88,9 +91,16 @@ static void test_sessions_trials(const char *path)
     badr.session_id = disp;
     badr.seq = 10;
     snprintf(badr.channel, sizeof badr.channel, "uv");
-    snprintf(badr.status, sizeof badr.status, "ok");
+    badr.status = CSF_READING_OK;
     CHECK_INT_EQ(csf_store_add_reading(s, &badr, &err), CSF_E_INVALID_ARG);
     CHECK_STR_CONTAINS(err.msg, "channel");
+    /* a good channel with a status no reading can be stored with */
+    snprintf(badr.channel, sizeof badr.channel, "white");
+    badr.status = CSF_READING_STATUS_UNKNOWN;
+    CHECK_INT_EQ(csf_store_add_reading(s, &badr, &err), CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "ok, too_dark, saturated, timeout or error");
+    badr.status = (csf_reading_status)42;
+    CHECK_INT_EQ(csf_store_add_reading(s, &badr, &err), CSF_E_INVALID_ARG);
 
     csf_threshold_row rows[3] = {
         {4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
@@ -124,13 +134,19 @@ static void test_sessions_trials(const char *path)
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", "/tmp/p3.txt", NULL, 0, &err), CSF_OK);
     CHECK(csf_store_add_artifact(s, 424242, "plot", "x.png", "a", 1, &err) != CSF_OK);
 
-    CHECK_INT_EQ(csf_store_set_session_state(s, obs, "paused", &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s, disp, "finished", &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s, obs, "sleeping", &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_set_session_state(s, obs, CSF_SESSION_PAUSED, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, disp, CSF_SESSION_FINISHED, &err), CSF_OK);
+    /* A value outside the enum (a cast from bad data) and the unknown value are never stored. */
+    CHECK_INT_EQ(csf_store_set_session_state(s, obs, (csf_session_state)99, &err), CSF_E_INVALID_ARG);
     CHECK_STR_CONTAINS(err.msg, "running, paused, finished, aborted");
-    CHECK_INT_EQ(csf_store_set_session_state(s, 99999, "finished", &err), CSF_E_NOT_FOUND);
+    CHECK_INT_EQ(csf_store_set_session_state(s, obs, CSF_SESSION_STATE_UNKNOWN, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_set_session_state(s, 99999, CSF_SESSION_FINISHED, &err), CSF_E_NOT_FOUND);
     int64_t bad = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "party", NULL, NULL, NULL, 1, &bad, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_begin_session(s, (csf_session_kind)-1, NULL, NULL, NULL, 1, &bad, &err),
+                 CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_KIND_UNKNOWN, NULL, NULL, NULL, 1, &bad, &err),
+                 CSF_E_INVALID_ARG);
+    CHECK_STR_CONTAINS(err.msg, "display, observer, study");
 
     int64_t study = 0, p1 = 0, p2 = 0, found = 0;
     CHECK_INT_EQ(csf_store_create_study(s, "lod-2afc", "{\"conditions\":4}", &study, &err), CSF_OK);
@@ -146,7 +162,8 @@ static void test_sessions_trials(const char *path)
     CHECK_INT_EQ(csf_store_count_participants(s, study, &np, &err), CSF_OK);
     CHECK_INT_EQ(np, 2);
     int64_t st_sess = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "study", "P01", "lcd-1", NULL, 3, &st_sess, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_STUDY, "P01", "lcd-1", NULL, 3, &st_sess, &err),
+                 CSF_OK);
     CHECK_INT_EQ(csf_store_link_session_participant(s, st_sess, p1, &err), CSF_OK);
     CHECK(csf_store_link_session_participant(s, st_sess, p2, &err) != CSF_OK);
     /* Long display names (profile ids) are kept in full, and read back whole. */
@@ -154,12 +171,13 @@ static void test_sessions_trials(const char *path)
     memset(longname, 'x', sizeof longname - 1);
     longname[sizeof longname - 1] = '\0';
     int64_t long_sess = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, longname, NULL, 1, &long_sess, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, longname, NULL, 1, &long_sess, &err),
+                 CSF_OK);
     csf_session_info li;
     CHECK_INT_EQ(csf_store_get_session(s, long_sess, &li, &err), CSF_OK);
     CHECK_INT_EQ(strlen(li.display), sizeof longname - 1);
     csf_session_info_free(&li);
-    CHECK_INT_EQ(csf_store_set_session_state(s, long_sess, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, long_sess, CSF_SESSION_ABORTED, &err), CSF_OK);
     int64_t d1 = 0, d2 = 0;
     CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", "lcd-1-2026-11-22-abcd", &d1, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_upsert_display(s, "lcd-1", NULL, &d2, &err), CSF_OK);
@@ -194,7 +212,7 @@ static void test_sessions_trials(const char *path)
         CHECK(!strcmp(rd[0].channel, "dark") && !strcmp(rd[3].channel, "r"));
         CHECK_NEAR(rd[4].lum_cdm2, 0.2 + 100.0 * pow(0.8, 2.2), 1e-12);
         CHECK(isnan(rd[5].lum_cdm2));
-        CHECK(!strcmp(rd[5].status, "timeout"));
+        CHECK(rd[5].status == CSF_READING_TIMEOUT);
         CHECK(rd[1].has_xyz && !rd[2].has_xyz);
         CHECK_NEAR(rd[1].Z, 1.08 * rd[1].lum_cdm2, 1e-12);
         CHECK_NEAR(rd[4].t_s, 6.0, 0);
@@ -237,7 +255,7 @@ static void test_sessions_trials(const char *path)
 
     csf_session_info info;
     CHECK_INT_EQ(csf_store_get_session(s, obs, &info, &err), CSF_OK);
-    CHECK(!strcmp(info.kind, "observer") && !strcmp(info.state, "paused"));
+    CHECK(info.kind == CSF_SESSION_OBSERVER && info.state == CSF_SESSION_PAUSED);
     CHECK(!strcmp(info.observer, "alice") && !strcmp(info.display, "lcd-1"));
     CHECK(!strcmp(info.settings_json, settings));
     CHECK(info.seed == big_seed);
@@ -255,8 +273,8 @@ static void test_sessions_trials(const char *path)
     if (nl == 4) {
         CHECK(list[0].id == obs && list[1].id == disp && list[2].id == st_sess);
         CHECK_INT_EQ(list[1].n_readings, 6);
-        CHECK(!strcmp(list[1].state, "finished") && !strcmp(list[1].settings_json, "{}"));
-        CHECK(!strcmp(list[2].kind, "study") && !strcmp(list[2].state, "running"));
+        CHECK(list[1].state == CSF_SESSION_FINISHED && !strcmp(list[1].settings_json, "{}"));
+        CHECK(list[2].kind == CSF_SESSION_STUDY && list[2].state == CSF_SESSION_RUNNING);
     }
     csf_session_list_free(list, nl);
 
@@ -319,16 +337,16 @@ static void test_person_time(const char *path)
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
     if (!s) return;
     int64_t a = 0, b = 0, c = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "pt", "lcd", NULL, 11, &a, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(s, "study", "P3", "lcd", NULL, 12, &b, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "pt2", "lcd", NULL, 13, &c, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "pt", "lcd", NULL, 11, &a, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_STUDY, "P3", "lcd", NULL, 12, &b, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "pt2", "lcd", NULL, 13, &c, &err), CSF_OK);
     CHECK(isnan(person_of(s, a)));
     CHECK_INT_EQ(csf_store_add_person_time(s, a, 90.25, &err), CSF_OK);
     CHECK_NEAR(person_of(s, a), 90.25, 0);
     /* a second run of the session (paused, then resumed) adds its own */
-    CHECK_INT_EQ(csf_store_set_session_state(s, a, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, CSF_SESSION_PAUSED, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(s, a, 167.5, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s, a, "running", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, CSF_SESSION_RUNNING, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(s, a, 0.0, &err), CSF_OK);
     CHECK_NEAR(person_of(s, a), 257.75, 0);
     CHECK(isnan(person_of(s, b)));
@@ -351,11 +369,11 @@ static void test_person_time(const char *path)
     CHECK_INT_EQ(csf_store_add_person_time(NULL, a, 5.0, &err), CSF_E_INVALID_ARG);
 
     /* closed sessions keep what they have */
-    CHECK_INT_EQ(csf_store_set_session_state(s, a, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, a, CSF_SESSION_FINISHED, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(s, a, 10.0, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "finished and closed");
     CHECK_NEAR(person_of(s, a), 257.75, 0);
-    CHECK_INT_EQ(csf_store_set_session_state(s, c, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, c, CSF_SESSION_ABORTED, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(s, c, 10.0, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "aborted and closed");
     CHECK(isnan(person_of(s, c)));
@@ -399,7 +417,8 @@ static void test_pg_open(const char *path)
         CHECK_INT_EQ(nl, 4);
         csf_session_list_free(list, nl);
         int64_t id = 0;
-        CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "y", NULL, 1, &id, &err), CSF_E_STORE);
+        CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "x", "y", NULL, 1, &id, &err),
+                     CSF_E_STORE);
         CHECK_STR_CONTAINS(err.msg, "read-only");
         csf_store_close(s);
     }
@@ -448,7 +467,8 @@ int main(void)
         CHECK_INT_EQ(nl, 4);
         csf_session_list_free(list, nl);
         int64_t id = 0;
-        CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "y", NULL, 1, &id, &err), CSF_E_STORE);
+        CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "x", "y", NULL, 1, &id, &err),
+                     CSF_E_STORE);
         CHECK_STR_CONTAINS(err.msg, "read-only");
         csf_trial t = make_trial(1, 1000, 1);
         CHECK_INT_EQ(csf_store_add_trial(s, &t, &err), CSF_E_STORE);

@@ -41,7 +41,8 @@ static void test_holder_named(void)
         csf_store *s = test_open_or_exit(loc, "station A");
         csf_error err;
         int64_t sid = 0;
-        if (csf_store_begin_session(s, "observer", "held", "lcd", NULL, 5, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "held", "lcd", NULL, 5, &sid, &err) != CSF_OK)
+            _exit(4);
         csf_trial t = make_trial(sid, 0, 5);
         if (csf_store_add_trial(s, &t, &err) != CSF_OK) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
@@ -57,7 +58,7 @@ static void test_holder_named(void)
 
     csf_store *b = test_open_or_exit(loc, "station B");
     csf_error err;
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station");
     if (test_pg()) {
         CHECK_STR_CONTAINS(err.msg, "login csfcal_admin");
@@ -72,7 +73,7 @@ static void test_holder_named(void)
         CHECK_STR_CONTAINS(err.msg, want);
     }
     /* Another station may not end it either. */
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "aborted", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_ABORTED, &err), CSF_E_STORE);
 
     kill(a, SIGKILL);
     int status = 0;
@@ -83,13 +84,13 @@ static void test_holder_named(void)
      * a little later: poll up to a deadline. */
     csf_status cs = CSF_E_STORE;
     double deadline = now_s() + 60.0;
-    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && test_pg() &&
+    while ((cs = csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err)) != CSF_OK && test_pg() &&
            now_s() < deadline)
         usleep(50000);
     CHECK_INT_EQ(cs, CSF_OK);
     csf_trial t = make_trial(sid, 1, 5);
     CHECK_INT_EQ(csf_store_add_trial(b, &t, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     csf_store_close(b);
 }
 
@@ -105,7 +106,8 @@ static void test_take_over_hung(void)
         csf_store *s = test_open_or_exit(loc, "station A");
         csf_error err;
         int64_t sid = 0;
-        if (csf_store_begin_session(s, "observer", "hung", "lcd", NULL, 7, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "hung", "lcd", NULL, 7, &sid, &err) != CSF_OK)
+            _exit(4);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
         pause();
         _exit(8);
@@ -117,7 +119,7 @@ static void test_take_over_hung(void)
     kill(a, SIGSTOP); /* hung: the process is there, its connection open */
     csf_store *b = test_open_or_exit(loc, "station B");
     csf_error err;
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err), CSF_E_STORE);
     const char *say = strstr(err.msg, "SELECT pg_terminate_backend(");
     CHECK_MSG(say != NULL, "no way to take over in: %s", err.msg);
     long backend = 0;
@@ -128,10 +130,11 @@ static void test_take_over_hung(void)
     CHECK_INT_EQ(test_pg_admin("csfcal", sql), 0);
     csf_status cs = CSF_E_STORE;
     double deadline = now_s() + 60.0;
-    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && now_s() < deadline)
+    while ((cs = csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err)) != CSF_OK &&
+           now_s() < deadline)
         usleep(50000);
     CHECK_INT_EQ(cs, CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     csf_store_close(b);
     kill(a, SIGKILL);
     int status = 0;
@@ -145,8 +148,9 @@ static void test_resume_race(void)
     csf_store *s = test_open_or_exit(loc, "setup");
     csf_error err;
     int64_t sid = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "raced", "lcd", NULL, 6, &sid, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s, sid, "paused", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "raced", "lcd", NULL, 6, &sid, &err),
+                 CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, sid, CSF_SESSION_PAUSED, &err), CSF_OK);
     csf_store_close(s);
 
     enum { N = 4 };
@@ -163,8 +167,9 @@ static void test_resume_race(void)
             char c;
             if (read(go[0], &c, 1) < 0) _exit(9);
             csf_error e;
-            char r = csf_store_set_session_state(st, sid, "running", &e) == CSF_OK ? 'y'
-                     : strstr(e.msg, "in use by another station") ? 'n' : '?';
+            char r = csf_store_set_session_state(st, sid, CSF_SESSION_RUNNING, &e) == CSF_OK ? 'y'
+                     : strstr(e.msg, "in use by another station")                            ? 'n'
+                                                                                             : '?';
             if (r == '?') fprintf(stderr, "racer: %s\n", e.msg);
             if (write(results[1], &r, 1) != 1) _exit(9);
             if (read(done[0], &c, 1) < 0) _exit(9); /* hold until all have answered */
@@ -212,7 +217,8 @@ static void test_claim_by_file(const char *dir)
     csf_store *a = test_open_or_exit(loc, "holder");
     csf_error err;
     int64_t sid = 0;
-    CHECK_INT_EQ(csf_store_begin_session(a, "observer", "held", "lcd", NULL, 5, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(a, CSF_SESSION_OBSERVER, "held", "lcd", NULL, 5, &sid, &err),
+                 CSF_OK);
     /* The aliases are tried from another process, as a second station would. */
     int res[2];
     CHECK(pipe(res) == 0);
@@ -224,7 +230,7 @@ static void test_claim_by_file(const char *dir)
         for (int i = 0; i < 2; i++) {
             csf_store *b = test_open_or_exit(names[i], "alias");
             csf_error e;
-            csf_status cs = csf_store_set_session_state(b, sid, "aborted", &e);
+            csf_status cs = csf_store_set_session_state(b, sid, CSF_SESSION_ABORTED, &e);
             out[i] = cs == CSF_E_STORE && strstr(e.msg, "in use by another station") != NULL;
             csf_store_close(b);
         }
@@ -240,9 +246,9 @@ static void test_claim_by_file(const char *dir)
     CHECK_MSG(out[1], "another path to the store aborted a session another process holds");
     csf_session_info si;
     CHECK_INT_EQ(csf_store_get_session(a, sid, &si, &err), CSF_OK);
-    CHECK_MSG(!strcmp(si.state, "running"), "state %s", si.state);
+    CHECK_MSG(si.state == CSF_SESSION_RUNNING, "state %s", si.state_text);
     csf_session_info_free(&si);
-    CHECK_INT_EQ(csf_store_set_session_state(a, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(a, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     csf_store_close(a);
     unlink(sym);
     rmdir(sub);
@@ -264,7 +270,8 @@ static void test_planted_claims_link(const char *dir)
     csf_store *s = test_open_or_exit(store, "planted");
     csf_error err;
     int64_t sid = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "x", "lcd", NULL, 5, &sid, &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "x", "lcd", NULL, 5, &sid, &err),
+                 CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "symbolic link or not a regular file");
     csf_store_close(s);
     char buf[1024] = "";

@@ -324,5 +324,114 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run_env("sessions", "push", ids[0], "--to", os.path.join(tmp, "lab.sqlite"), "--store", odd, expect=1)
     check("longer than 255" in p.stderr, f"long name push: {p.stderr}")
 
+# --- kinds and states this csfcal does not know (a store written by a newer csfcal, or by hand) ---
+# The schema CHECKs the words, so a hand that writes others turns the checks off; such a row is
+# listed and shown with its stored text escaped, and never taken for a known kind or state.
+with tempfile.TemporaryDirectory() as tmp:
+    store = os.path.join(tmp, "s.sqlite")
+    ids = subprocess.run([make_sample, store], capture_output=True, text=True, check=True).stdout.split()
+    obs, disp = ids[0], ids[1]
+    S = ["--store", store]
+    new_kind, new_state = "survey\x1b[2J", "archived\x07"
+
+    def hand_write(path, sql, args):
+        db = sqlite3.connect(path)
+        db.execute("PRAGMA ignore_check_constraints = ON")
+        db.execute(sql, args)
+        db.commit()
+        db.close()
+
+    def loosen(path):
+        db = sqlite3.connect(path)
+        db.execute("PRAGMA writable_schema = ON")
+        db.execute("UPDATE sqlite_master SET sql = replace(replace(sql, "
+                   "'CHECK (kind IN (''display'', ''observer'', ''study''))', ''), "
+                   "'CHECK (state IN (''running'', ''paused'', ''finished'', ''aborted''))', '') "
+                   "WHERE name = 'sessions'")
+        db.commit()
+        db.close()
+
+    def stored(path, sid):
+        db = sqlite3.connect(path)
+        row = db.execute("SELECT kind, state FROM sessions WHERE id = ?", (int(sid),)).fetchone()
+        db.close()
+        return row
+
+    hand_write(store, "UPDATE sessions SET kind = ?, state = 'running' WHERE id = ?", (new_kind, int(obs)))
+    hand_write(store, "UPDATE sessions SET state = ? WHERE id = ?", (new_state, int(disp)))
+
+    def no_raw(p, what):
+        raw = [c for c in p.stdout + p.stderr if (ord(c) < 0x20 and c != "\n") or 0x7f <= ord(c) <= 0x9f]
+        check(not raw, f"{what}: raw control characters {raw!r} in {p.stdout!r} {p.stderr!r}")
+
+    p = run("sessions", "list", *S)
+    no_raw(p, "list")
+    table = p.stdout.split("\n\n")[0].splitlines()[1:]  # the rows, before the resume hints
+    rows = {l.split()[0]: l for l in table if l.split()}
+    # the table's columns are cut at an escape (shown whole by show and in the hint)
+    check(len(rows) == 2 and rows.get(obs, "").split()[1:3] == ["survey", "running"], f"unknown kind listed: {p.stdout!r}")
+    check(rows.get(disp, "").split()[1:3] == ["display", "archived"], f"unknown state listed: {p.stdout!r}")
+    # the running session of an unknown kind gets the hint that closes it; the unknown state none
+    hints = [l for l in p.stdout.splitlines() if "--resume" in l or "sessions abort" in l]
+    check(len(hints) == 1 and f"{obs} (survey\\x1b[2J): cannot be resumed" in hints[0], f"hints: {hints}")
+    lst = json.loads(run("sessions", "list", "--json", *S).stdout)
+    check([x["kind"] for x in lst] == [new_kind, "display"] and lst[1]["state"] == new_state, f"json: {lst}")
+    # filters match known words only: neither row is an observer session, nor finished
+    check(run("sessions", "--kind", "observer", "--json", *S).stdout.strip() == "[]", "--kind observer")
+    check([x["id"] for x in json.loads(run("sessions", "--state", "finished", "--json", *S).stdout)] == [],
+          "--state finished")
+    check([x["id"] for x in json.loads(run("sessions", "--kind", "display", "--json", *S).stdout)] == [int(disp)],
+          "--kind display")
+    for sid, want in ((obs, "kind         survey\\x1b[2J"), (disp, "state        archived\\x07")):
+        p = run("sessions", "show", sid, *S)
+        no_raw(p, f"show {sid}")
+        check(want in p.stdout, f"show {sid}: {p.stdout!r}")
+    p = run("report", obs, *S, "-o", os.path.join(tmp, "r.svg"))
+    check(os.path.getsize(os.path.join(tmp, "r.svg")) > 1000, "report of an unknown kind")
+
+    # A store opened to be written is checked whole first: these rows break its CHECKs, so it
+    # is refused as malformed before any session is read.
+    p = run("observer", "calibrate", "--resume", obs, *S, "--out", os.path.join(tmp, "o.csflut"), expect=1)
+    check("CHECK constraint failed" in p.stderr, f"resume in a store that breaks its CHECKs: {p.stderr!r}")
+    # A hand that also took the CHECKs out of the schema: the store opens, and every procedure
+    # that would change the session refuses it, naming the stored word escaped.
+    loosen(store)
+    check("CHECK (state" not in subprocess.run(["sqlite3", store, ".schema sessions"], capture_output=True,
+                                              text=True).stdout, "the CHECKs are out of the schema")
+    p = run("observer", "calibrate", "--resume", obs, *S, "--out", os.path.join(tmp, "o.csflut"), expect=2)
+    no_raw(p, "observer --resume")
+    check("survey\\x1b[2J" in p.stderr and "only running or paused observer sessions" in p.stderr,
+          f"observer resume of an unknown kind: {p.stderr!r}")
+    p = run("display", "calibrate", "--photometer", "sim", "--resume", disp, "--quiet", *S,
+            "--out", os.path.join(tmp, "d.profile"), expect=2)
+    no_raw(p, "display --resume")
+    check("archived\\x07" in p.stderr and "does not know" in p.stderr and "--resume" not in p.stderr,
+          f"display resume, refused without a hint to resume: {p.stderr!r}")
+    check(not os.path.exists(os.path.join(tmp, "d.profile")), "no profile from a refused resume")
+    # abort and push leave a state they do not know alone
+    p = run("sessions", "abort", disp, *S, expect=1)
+    check("does not know" in p.stderr and "archived\\x07" in p.stderr, f"abort: {p.stderr!r}")
+    p = run("sessions", "push", obs, "--to", os.path.join(tmp, "lab.sqlite"), *S, expect=1)
+    check("does not know" in p.stderr and "not copied" in p.stderr, f"push: {p.stderr!r}")
+    check(stored(store, obs) == (new_kind, "running") and stored(store, disp) == ("display", new_state),
+          f"rows changed: {stored(store, obs)} {stored(store, disp)}")
+
+    # a study participant whose session is in a state this csfcal does not know is not resumed
+    with open(os.path.join(tmp, "s.csv"), "w") as f:
+        f.write("label,freq_cpd,ecc_deg,contrast\na,2,5,0.01\n")
+    study = os.path.join(tmp, "s.conf")
+    with open(study, "w") as f:
+        f.write("name = later\ndesign = 2afc\nconditions = s.csv\ntrials_per_condition = 10\nbootstrap = 0\n")
+    st_store = os.path.join(tmp, "study.sqlite")
+    run("study", "run", study, "--participant", "P1", "--observer", "sim", "--headless", "--quiet",
+        "--store", st_store)
+    loosen(st_store)
+    hand_write(st_store, "UPDATE sessions SET state = ?", (new_state,))
+    p = run("study", "run", study, "--participant", "P1", "--observer", "sim", "--headless", "--quiet",
+            "--store", st_store, expect=2)
+    no_raw(p, "study run")
+    check("archived\\x07" in p.stderr and "does not know" in p.stderr, f"study resume: {p.stderr!r}")
+    check(stored(st_store, 1) == ("study", new_state), f"study row changed: {stored(st_store, 1)}")
+
 print(f"{checks} checks, {failures} failed", file=sys.stderr)
 sys.exit(1 if failures else 0)

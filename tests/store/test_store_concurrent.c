@@ -24,7 +24,8 @@ static int writer(const char *path, int w)
     char name[16];
     snprintf(name, sizeof name, "station%d", w);
     int64_t sid = 0;
-    if (csf_store_begin_session(s, "observer", name, "lcd", NULL, (uint64_t)w, &sid, &err) != CSF_OK) {
+    if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, name, "lcd", NULL, (uint64_t)w, &sid, &err) !=
+        CSF_OK) {
         fprintf(stderr, "writer %d: %s\n", w, err.msg);
         return 4;
     }
@@ -46,7 +47,7 @@ static int writer(const char *path, int w)
             csf_session_list_free(list, n);
         }
     }
-    if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) return 8;
+    if (csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err) != CSF_OK) return 8;
     csf_store_close(s);
     return 0;
 }
@@ -75,7 +76,10 @@ static void test_create_at_once(const char *dir, const char *name)
                 _exit(3);
             }
             int64_t sid = 0;
-            int rc = csf_store_begin_session(cs, "observer", "station", "lcd", NULL, 1, &sid, &e) == CSF_OK ? 0 : 4;
+            int rc = csf_store_begin_session(cs, CSF_SESSION_OBSERVER, "station", "lcd", NULL, 1, &sid, &e) ==
+                             CSF_OK
+                         ? 0
+                         : 4;
             csf_store_close(cs);
             _exit(rc);
         }
@@ -134,7 +138,7 @@ int main(void)
     CHECK_INT_EQ(n, WRITERS);
     for (size_t i = 0; i < n; i++) {
         CHECK_INT_EQ(list[i].n_trials, TRIALS);
-        CHECK(!strcmp(list[i].state, "finished"));
+        CHECK(list[i].state == CSF_SESSION_FINISHED);
         int w = list[i].observer[7] - '0';
         csf_trial *t = NULL;
         size_t nt = 0;

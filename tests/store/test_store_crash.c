@@ -114,7 +114,8 @@ int main(void)
     int64_t sid = 0;
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
     if (!s) return CHECK_RESULT();
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "sim", "sim-lcd", "{}", SEED, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "sim", "sim-lcd", "{}", SEED, &sid, &err),
+                 CSF_OK);
     csf_store_close(s);
 
     int max_reported = -1, hook_deaths = 0, kills = 0, progress_rounds = 0;

@@ -29,7 +29,7 @@ static int fill_store(const char *path, int n_trials)
         return -1;
     }
     int64_t id = 0;
-    int ok = csf_store_begin_session(s, "observer", "eve", "lcd", NULL, 1, &id, &err) == CSF_OK;
+    int ok = csf_store_begin_session(s, CSF_SESSION_OBSERVER, "eve", "lcd", NULL, 1, &id, &err) == CSF_OK;
     sqlite3_exec(csf_store_db(s), "BEGIN", NULL, NULL, NULL); /* bulk: one commit */
     for (int i = 0; i < n_trials && ok; i++) {
         csf_trial t = make_trial(id, i, 3);
@@ -207,7 +207,9 @@ static void test_full_tmpfs(const char *dir)
     csf_store *s = NULL;
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
     int64_t id = 0;
-    if (s) CHECK_INT_EQ(csf_store_begin_session(s, "observer", "eve", "lcd", NULL, 1, &id, &err), CSF_OK);
+    if (s)
+        CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "eve", "lcd", NULL, 1, &id, &err),
+                     CSF_OK);
     int stored = 0;
     for (int i = 0; s && i < 20; i++) {
         csf_trial t = make_trial(id, i, 9);

@@ -149,7 +149,7 @@ int main(void)
     CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
     CHECK_INT_EQ(n, 2);
     if (n == 2) {
-        CHECK(!strcmp(list[0].kind, "display") && !strcmp(list[0].state, "finished"));
+        CHECK(list[0].kind == CSF_SESSION_DISPLAY && list[0].state == CSF_SESSION_FINISHED);
         CHECK(!strcmp(list[1].observer, "bob") && list[1].seed == 42);
         CHECK(!strcmp(list[1].tool_version, "0.0.9"));
         CHECK_INT_EQ(list[0].n_readings, 3);

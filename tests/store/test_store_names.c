@@ -87,28 +87,32 @@ static void test_store_refuses(const char *loc)
     CHECK_INT_EQ(csf_store_open(loc, &s, &err), CSF_OK);
     if (!s) return;
     int64_t id = 0;
-    check_refusal(csf_store_begin_session(s, "observer", "eve\x1b]0;pwned\a", "lcd", NULL, 1, &id, &err),
-                  &err, "\\x1b", "character 4");
+    check_refusal(
+        csf_store_begin_session(s, CSF_SESSION_OBSERVER, "eve\x1b]0;pwned\a", "lcd", NULL, 1, &id, &err),
+        &err, "\\x1b", "character 4");
     CHECK_STR_CONTAINS(err.msg, "observer name");
-    check_refusal(csf_store_begin_session(s, "display", NULL, "booth\r-lcd", NULL, 1, &id, &err), &err,
-                  "\\x0d", "character 6");
-    check_refusal(csf_store_begin_session_profile(s, "observer", "eve", "lcd", "p\x07", NULL, 1, &id, &err),
-                  &err, "\\x07", "character 2");
+    check_refusal(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "booth\r-lcd", NULL, 1, &id, &err),
+                  &err, "\\x0d", "character 6");
+    check_refusal(
+        csf_store_begin_session_profile(s, CSF_SESSION_OBSERVER, "eve", "lcd", "p\x07", NULL, 1, &id, &err),
+        &err, "\\x07", "character 2");
     check_refusal(csf_store_upsert_display(s, "lcd\r", NULL, &id, &err), &err, "\\x0d", "character 4");
     check_refusal(csf_store_upsert_observer(s, "\x1b" "c", &id, &err), &err, "\\x1b", "character 1");
     check_refusal(csf_store_create_study(s, "contrast\x1b[31m", NULL, &id, &err), &err, "\\x1b",
                   "character 9");
     /* The settings a study session once stored when they were written by hand around such a
      * name: not JSON, so refused. */
-    CHECK_INT_EQ(csf_store_begin_session(s, "study", "P1", "lcd", "{\"study\":\"a\x1b\"}", 1, &id, &err),
-                 CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(
+        csf_store_begin_session(s, CSF_SESSION_STUDY, "P1", "lcd", "{\"study\":\"a\x1b\"}", 1, &id, &err),
+        CSF_E_INVALID_ARG);
     CHECK_STR_CONTAINS(err.msg, "not valid JSON");
     CHECK_INT_EQ(count_sessions(s), 0); /* nothing half-stored by any refusal */
 
     int64_t study = 0, sid = 0;
     CHECK_INT_EQ(csf_store_create_study(s, "contrast", "{\"design\":\"2afc\"}", &study, &err), CSF_OK);
     check_refusal(csf_store_add_participant(s, study, "P\a01", &id, &err), &err, "\\x07", "character 2");
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "O'Brien", "lcd", "{}", 1, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "O'Brien", "lcd", "{}", 1, &sid, &err),
+                 CSF_OK);
     check_refusal(csf_store_add_artifact(s, sid, "plot\x1b", NULL, NULL, 0, &err), &err, "\\x1b",
                   "character 5");
 
@@ -116,11 +120,12 @@ static void test_store_refuses(const char *loc)
     char name[333];
     memset(name, 'n', sizeof name - 1);
     name[sizeof name - 1] = '\0';
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", name, "lcd", NULL, 1, &id, &err), CSF_E_INVALID_ARG);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, name, "lcd", NULL, 1, &id, &err),
+                 CSF_E_INVALID_ARG);
     CHECK_STR_CONTAINS(err.msg, "255");
     CHECK_STR_CONTAINS(err.msg, "not shortened");
     name[255] = '\0';
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", name, name, NULL, 1, &id, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, name, name, NULL, 1, &id, &err), CSF_OK);
     csf_session_info si;
     CHECK_INT_EQ(csf_store_get_session(s, id, &si, &err), CSF_OK);
     CHECK_INT_EQ(strlen(si.observer), 255);
@@ -149,8 +154,10 @@ static void test_push_whole(const char *dir, const char *dest)
     memset(name, 'q', sizeof name - 1);
     name[sizeof name - 1] = '\0';
     int64_t sid = 0, raw = 0;
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", name, "lcd", NULL, 5, &sid, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "short", "lcd", NULL, 6, &raw, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_OBSERVER, name, "lcd", NULL, 5, &sid, &err),
+                 CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_OBSERVER, "short", "lcd", NULL, 6, &raw, &err),
+                 CSF_OK);
     csf_push_counts c;
     CHECK_INT_EQ(csf_store_push_session(src, dst, sid, &c, &err), CSF_OK);
     csf_session_info si;

@@ -79,17 +79,21 @@ int main(void)
 
     /* The lab store already has a session of its own: ids differ between the stores. */
     int64_t other = 0, sid = 0, disp = 0;
-    CHECK_INT_EQ(csf_store_begin_session(dst, "observer", "someone", "lcd", NULL, 1, &other, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(dst, other, "finished", &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "p7", "booth-lcd", "{\"a\":1}", 42, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(dst, CSF_SESSION_OBSERVER, "someone", "lcd", NULL, 1, &other, &err),
+                 CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(dst, other, CSF_SESSION_FINISHED, &err), CSF_OK);
+    CHECK_INT_EQ(
+        csf_store_begin_session(src, CSF_SESSION_OBSERVER, "p7", "booth-lcd", "{\"a\":1}", 42, &sid, &err),
+        CSF_OK);
     add_trials(src, sid, 0, 30, 42);
     csf_threshold_row rows[2] = {{4.0, 0.0, 0.0, 50.0, 0.004, 0.05, 30},
                                  {32.0, 0.0, 0.0, 50.0, INFINITY, NAN, 12}};
     CHECK_INT_EQ(csf_store_put_thresholds(src, sid, rows, 2, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(src, sid, "csflut", "/tmp/p7.csflut", "LUTBYTES", 8, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_person_time(src, sid, 600.5, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "paused", &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(src, "display", NULL, "booth-lcd", NULL, 5, &disp, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, CSF_SESSION_PAUSED, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_DISPLAY, NULL, "booth-lcd", NULL, 5, &disp, &err),
+                 CSF_OK);
     for (int k = 0; k < 4; k++) {
         csf_reading r;
         memset(&r, 0, sizeof r);
@@ -98,7 +102,7 @@ int main(void)
         snprintf(r.channel, sizeof r.channel, "grey");
         r.drive01 = k / 3.0;
         r.lum_cdm2 = 0.5 + 30.0 * k;
-        snprintf(r.status, sizeof r.status, "ok");
+        r.status = CSF_READING_OK;
         CHECK_INT_EQ(csf_store_add_reading(src, &r, &err), CSF_OK);
     }
 
@@ -122,7 +126,7 @@ int main(void)
     CHECK_INT_EQ(csf_store_get_session(src, sid, &a, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_get_session(dst, did, &b, &err), CSF_OK);
     CHECK(!strcmp(a.uuid, b.uuid) && strlen(a.uuid) == 36);
-    CHECK(!strcmp(b.state, "paused") && !strcmp(b.observer, "p7") && b.seed == 42);
+    CHECK(b.state == CSF_SESSION_PAUSED && !strcmp(b.observer, "p7") && b.seed == 42);
     CHECK(!strcmp(a.created_utc, b.created_utc) && !strcmp(b.settings_json, "{\"a\":1}"));
     CHECK_NEAR(b.person_s, 600.5, 0);
     csf_session_info_free(&a);
@@ -160,10 +164,10 @@ int main(void)
     CHECK_INT_EQ(csf_store_count_participants(dst, lab_study, &np, &err), CSF_OK);
     CHECK_INT_EQ(np, 2);
     CHECK_NEAR(person_of(dst, did), 600.5, 0); /* raised to the source's, not added again */
-    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "running", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, CSF_SESSION_RUNNING, &err), CSF_OK);
     add_trials(src, sid, 30, 45, 42);
     CHECK_INT_EQ(csf_store_add_person_time(src, sid, 120.25, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(src, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     CHECK_INT_EQ(push(src, dst, sid, 15, 30), did);
     check_copy(dst, did, 45, 42);
     CHECK_NEAR(person_of(dst, did), 720.75, 0);    /* the second run's time arrives before the finish */
@@ -179,7 +183,8 @@ int main(void)
 
     /* A session stored before v6 has no uuid: it gets one on the first push, kept after. */
     int64_t old = 0;
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "old", "lcd", NULL, 9, &old, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_OBSERVER, "old", "lcd", NULL, 9, &old, &err),
+                 CSF_OK);
     add_trials(src, old, 0, 5, 9);
     char q[128];
     snprintf(q, sizeof q, "UPDATE sessions SET uuid = NULL WHERE id = %lld", (long long)old);
@@ -190,18 +195,20 @@ int main(void)
     /* Aborted before anything was measured: not made on the destination (it would list a
      * phantom); once the destination has it (pushed while running), the abort reaches it. */
     int64_t empty = 0, empty2 = 0;
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "gone", "lcd", NULL, 3, &empty, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(src, empty, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_OBSERVER, "gone", "lcd", NULL, 3, &empty, &err),
+                 CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, empty, CSF_SESSION_ABORTED, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_push_session(src, dst, empty, &c, &err), CSF_OK);
     CHECK(c.skipped_empty && c.dest_id == 0);
-    CHECK_INT_EQ(csf_store_begin_session(src, "observer", "left", "lcd", NULL, 4, &empty2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(src, CSF_SESSION_OBSERVER, "left", "lcd", NULL, 4, &empty2, &err),
+                 CSF_OK);
     CHECK_INT_EQ(push(src, dst, empty2, 0, 0) > 0, 1);
-    CHECK_INT_EQ(csf_store_set_session_state(src, empty2, "aborted", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(src, empty2, CSF_SESSION_ABORTED, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_push_session(src, dst, empty2, &c, &err), CSF_OK);
     CHECK(!c.skipped_empty && c.dest_id > 0);
     csf_session_info es;
     CHECK_INT_EQ(csf_store_get_session(dst, c.dest_id, &es, &err), CSF_OK);
-    CHECK(!strcmp(es.state, "aborted"));
+    CHECK(es.state == CSF_SESSION_ABORTED);
     csf_session_info_free(&es);
 
     csf_session_info *list = NULL;

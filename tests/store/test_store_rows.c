@@ -2,7 +2,8 @@
  * (fixtures/schema_v4.sql, made by csfcal itself) is repaired by the v5 migration; new sessions
  * record the display and the profile apart; one file is one artifact row; units in column names,
  * one threshold per cell, CHECKs on enumerations; someone else's database is refused without a
- * byte changed; /dev/null is named as what it is; a damaged stored_s is ignored, not cast. */
+ * byte changed; /dev/null is named as what it is; a damaged stored_s is ignored, not cast; a
+ * kind, state or status this build does not know reads as unknown, its text kept. */
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -156,7 +157,8 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(csf_store_open(path, &s, &err), CSF_OK);
     if (!s) return;
     int64_t disp = 0, obs = 0, obs2 = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "display", NULL, "lab-oled", NULL, 1, &disp, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "lab-oled", NULL, 1, &disp, &err),
+                 CSF_OK);
     /* display calibrate stores the bytes, then the command that saved the file its path. */
     const char text[] = "csfcal-display-profile 1\nid = lab-oled-20261123-0badf00d\ndisplay = lab-oled\n";
     CHECK_INT_EQ(csf_store_add_artifact(s, disp, "profile", NULL, text, sizeof text - 1, &err), CSF_OK);
@@ -172,8 +174,9 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM artifacts"), 2);
 
     /* An observer session on that display with its profile: no display row for the profile. */
-    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20261123-0badf00d",
-                                                 NULL, 2, &obs, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, CSF_SESSION_OBSERVER, "ann", "lab-oled",
+                                                 "lab-oled-20261123-0badf00d", NULL, 2, &obs, &err),
+                 CSF_OK);
     csf_session_info si;
     CHECK_INT_EQ(csf_store_get_session(s, obs, &si, &err), CSF_OK);
     CHECK(!strcmp(si.display, "lab-oled") && !strcmp(si.profile_id, "lab-oled-20261123-0badf00d"));
@@ -181,8 +184,9 @@ static void test_new_rows(const char *dir)
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM displays"), 1);
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 1);
     /* An older profile file for that display goes into its history but does not become current. */
-    CHECK_INT_EQ(csf_store_begin_session_profile(s, "observer", "ann", "lab-oled", "lab-oled-20260101-00000001",
-                                                 NULL, 3, &obs2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session_profile(s, CSF_SESSION_OBSERVER, "ann", "lab-oled",
+                                                 "lab-oled-20260101-00000001", NULL, 3, &obs2, &err),
+                 CSF_OK);
     CHECK_INT_EQ(sql_int(s, "SELECT COUNT(*) FROM display_profiles"), 2);
     char cur[128];
     CHECK_INT_EQ(csf_store_display_profile_id(s, "lab-oled", cur, sizeof cur, &err), CSF_OK);
@@ -230,6 +234,85 @@ static void test_new_rows(const char *dir)
     csf_store_close(s);
 }
 
+/* The words each enum is stored as, both ways; nothing else, however close, is a known value. */
+static void test_words(void)
+{
+    static const char *kinds[] = {"display", "observer", "study"};
+    static const char *states[] = {"running", "paused", "finished", "aborted"};
+    static const char *statuses[] = {"ok", "too_dark", "saturated", "timeout", "error"};
+    for (int i = 0; i < 3; i++) {
+        CHECK_INT_EQ((int)csf_session_kind_from_name(kinds[i]), i + 1);
+        CHECK(!strcmp(csf_session_kind_name((csf_session_kind)(i + 1)), kinds[i]));
+    }
+    for (int i = 0; i < 4; i++) {
+        CHECK_INT_EQ((int)csf_session_state_from_name(states[i]), i + 1);
+        CHECK(!strcmp(csf_session_state_name((csf_session_state)(i + 1)), states[i]));
+    }
+    for (int i = 0; i < 5; i++) {
+        CHECK_INT_EQ((int)csf_reading_status_from_name(statuses[i]), i + 1);
+        CHECK(!strcmp(csf_reading_status_name((csf_reading_status)(i + 1)), statuses[i]));
+    }
+    const char *near[] = {NULL, "", "Display", "display ", "runnin", "okay", "unknown"};
+    for (size_t i = 0; i < sizeof near / sizeof near[0]; i++) {
+        CHECK_INT_EQ((int)csf_session_kind_from_name(near[i]), CSF_SESSION_KIND_UNKNOWN);
+        CHECK_INT_EQ((int)csf_session_state_from_name(near[i]), CSF_SESSION_STATE_UNKNOWN);
+        CHECK_INT_EQ((int)csf_reading_status_from_name(near[i]), CSF_READING_STATUS_UNKNOWN);
+    }
+    CHECK(!csf_session_kind_name(CSF_SESSION_KIND_UNKNOWN) && !csf_session_kind_name((csf_session_kind)4) &&
+          !csf_session_kind_name((csf_session_kind)-1));
+    CHECK(!csf_session_state_name(CSF_SESSION_STATE_UNKNOWN) &&
+          !csf_session_state_name((csf_session_state)5));
+    CHECK(!csf_reading_status_name(CSF_READING_STATUS_UNKNOWN) &&
+          !csf_reading_status_name((csf_reading_status)6));
+    CHECK(!csf_session_state_open(CSF_SESSION_STATE_UNKNOWN) &&
+          !csf_session_state_closed(CSF_SESSION_STATE_UNKNOWN));
+}
+
+/* Rows holding words this build does not know (written with the CHECKs off: by hand, or a newer
+ * csfcal): read as the unknown values, whole text kept for display, never a known value. */
+static void test_unknown_words(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/later.sqlite", dir);
+    csf_error err;
+    csf_store *s = test_open_or_exit(path, "test_store_rows");
+    int64_t a = 0, b = 0;
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_DISPLAY, NULL, "lcd", NULL, 1, &a, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "ann", "lcd", NULL, 2, &b, &err), CSF_OK);
+    csf_reading r = {.session_id = a, .seq = 0, .drive01 = 1, .lum_cdm2 = 100, .status = CSF_READING_OK};
+    snprintf(r.channel, sizeof r.channel, "white");
+    CHECK_INT_EQ(csf_store_add_reading(s, &r, &err), CSF_OK);
+    sqlite3 *db = csf_store_db(s);
+    CHECK(sqlite3_exec(db,
+                       "PRAGMA ignore_check_constraints = ON;"
+                       "UPDATE sessions SET kind = 'survey', state = 'archived' WHERE id = 1;"
+                       /* a known word with more after it, past the 15 bytes shown */
+                       "UPDATE sessions SET kind = 'observer-with-eye-tracker' WHERE id = 2;"
+                       "UPDATE readings SET status = 'dim';",
+                       NULL, NULL, NULL) == SQLITE_OK);
+    csf_session_info si;
+    CHECK_INT_EQ(csf_store_get_session(s, a, &si, &err), CSF_OK);
+    CHECK_INT_EQ((int)si.kind, CSF_SESSION_KIND_UNKNOWN);
+    CHECK_INT_EQ((int)si.state, CSF_SESSION_STATE_UNKNOWN);
+    CHECK(!strcmp(si.kind_text, "survey") && !strcmp(si.state_text, "archived"));
+    csf_session_info_free(&si);
+    csf_session_info *list = NULL;
+    size_t n = 0;
+    CHECK_INT_EQ(csf_store_list_sessions(s, &list, &n, &err), CSF_OK);
+    CHECK_INT_EQ((int)n, 2);
+    if (n == 2) {
+        CHECK_INT_EQ((int)list[1].kind, CSF_SESSION_KIND_UNKNOWN);
+        CHECK_INT_EQ((int)list[1].state, CSF_SESSION_RUNNING);
+        CHECK(!strcmp(list[1].kind_text, "observer-with-e")); /* cut to 15 bytes */
+    }
+    csf_session_list_free(list, n);
+    csf_reading *rd = NULL;
+    CHECK_INT_EQ(csf_store_get_readings(s, a, &rd, &n, &err), CSF_OK);
+    CHECK(n == 1 && rd[0].status == CSF_READING_STATUS_UNKNOWN && !strcmp(rd[0].status_text, "dim"));
+    free(rd);
+    csf_store_close(s);
+}
+
 static void test_refusals(const char *dir)
 {
     /* Someone else's database: refused, and not one byte of it changed (it stays in rollback
@@ -268,6 +351,8 @@ int main(void)
     test_v4_repair(dir);
     test_new_rows(dir);
     test_refusals(dir);
+    test_words();
+    test_unknown_words(dir);
     rm_rf(dir);
     return CHECK_RESULT();
 }

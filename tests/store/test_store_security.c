@@ -155,8 +155,10 @@ static void test_roles(const char *roles_sql)
         return;
     }
     int64_t sid1 = 0, sid2 = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s1, "observer", "p1", "booth-lcd", NULL, 1, &sid1, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(s2, "observer", "p2", "booth-lcd", NULL, 2, &sid2, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s1, CSF_SESSION_OBSERVER, "p1", "booth-lcd", NULL, 1, &sid1, &err),
+                 CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s2, CSF_SESSION_OBSERVER, "p2", "booth-lcd", NULL, 2, &sid2, &err),
+                 CSF_OK);
     for (int i = 0; i < 5; i++) {
         csf_trial t = make_trial(sid1, i, 1);
         CHECK_INT_EQ(csf_store_add_trial(s1, &t, &err), CSF_OK);
@@ -165,9 +167,9 @@ static void test_roles(const char *roles_sql)
     csf_trial foreign = make_trial(sid1, 5, 1);
     CHECK(csf_store_add_trial(s2, &foreign, &err) != CSF_OK);
     CHECK_STR_CONTAINS(err.msg, "permission denied");
-    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, "paused", &err), CSF_OK);
-    CHECK(csf_store_set_session_state(s2, sid1, "aborted", &err) != CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s2, sid2, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s1, sid1, CSF_SESSION_PAUSED, &err), CSF_OK);
+    CHECK(csf_store_set_session_state(s2, sid1, CSF_SESSION_ABORTED, &err) != CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s2, sid2, CSF_SESSION_FINISHED, &err), CSF_OK);
     /* Stations list every session of the lab. */
     csf_session_info *list = NULL;
     size_t n = 0;
@@ -198,7 +200,8 @@ static void test_roles(const char *roles_sql)
     CHECK_INT_EQ(csf_store_open(an, &sa, &err), CSF_OK);
     if (sa) {
         int64_t x = 0;
-        CHECK_INT_EQ(csf_store_begin_session(sa, "observer", "a", "d", NULL, 1, &x, &err), CSF_E_STORE);
+        CHECK_INT_EQ(csf_store_begin_session(sa, CSF_SESSION_OBSERVER, "a", "d", NULL, 1, &x, &err),
+                     CSF_E_STORE);
         CHECK_STR_CONTAINS(err.msg, "permission denied");
         CHECK(strstr(err.msg, "pw-alice") == NULL);
         csf_store_close(sa);

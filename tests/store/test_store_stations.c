@@ -75,14 +75,15 @@ static int station(const char *loc, int w, int go_fd)
     char code[16];
     snprintf(code, sizeof code, "P%02d", w);
     if (csf_store_add_participant(s, study, code, &part, &err) != CSF_OK ||
-        csf_store_begin_session(s, "study", code, "booth-lcd", NULL, (uint64_t)w, &sid, &err) != CSF_OK ||
+        csf_store_begin_session(s, CSF_SESSION_STUDY, code, "booth-lcd", NULL, (uint64_t)w, &sid, &err) !=
+            CSF_OK ||
         csf_store_link_session_participant(s, sid, part, &err) != CSF_OK ||
         csf_store_upsert_observer(s, "shared-observer", NULL, &err) != CSF_OK) {
         fprintf(stderr, "station %d: %s\n", w, err.msg);
         return 5;
     }
     if (write_trials(s, sid, 0, TRIALS, 500 + (uint64_t)w, 0) < 0) return 6;
-    if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) return 7;
+    if (csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err) != CSF_OK) return 7;
     csf_store_close(s);
     return 0;
 }
@@ -136,7 +137,7 @@ static void test_many_stations(const char *loc)
     CHECK_INT_EQ(n, STATIONS);
     for (size_t i = 0; i < n; i++) {
         int w = atoi(list[i].observer + 1);
-        CHECK(!strcmp(list[i].state, "finished"));
+        CHECK(list[i].state == CSF_SESSION_FINISHED);
         check_session(s, list[i].id, 500 + (uint64_t)w, TRIALS);
     }
     csf_session_list_free(list, n);
@@ -160,7 +161,9 @@ static void test_claim_and_kill(const char *loc)
         csf_store *s = test_open_or_exit(loc, "station A");
         csf_error err;
         int64_t sid = 0;
-        if (csf_store_begin_session(s, "observer", "claimed", "lcd", NULL, 77, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "claimed", "lcd", NULL, 77, &sid, &err) !=
+            CSF_OK)
+            _exit(4);
         if (write_trials(s, sid, 0, 10, 77, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6);
         write_trials(s, sid, 10, 100000, 77, 20000); /* until killed */
@@ -173,9 +176,9 @@ static void test_claim_and_kill(const char *loc)
 
     csf_store *b = test_open_or_exit(loc, "station B");
     csf_error err;
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "running", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err), CSF_E_STORE);
     CHECK_STR_CONTAINS(err.msg, "in use by another station");
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "aborted", &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_ABORTED, &err), CSF_E_STORE);
     kill(a, SIGKILL); /* mid-session: it writes a trial every 20 ms */
     int status = 0;
     waitpid(a, &status, 0);
@@ -184,7 +187,8 @@ static void test_claim_and_kill(const char *loc)
      * machine: poll up to a deadline. */
     csf_status cs = CSF_E_STORE;
     double deadline = now_s() + 60.0;
-    while ((cs = csf_store_set_session_state(b, sid, "running", &err)) != CSF_OK && now_s() < deadline)
+    while ((cs = csf_store_set_session_state(b, sid, CSF_SESSION_RUNNING, &err)) != CSF_OK &&
+           now_s() < deadline)
         usleep(50000);
     CHECK_INT_EQ(cs, CSF_OK);
     csf_trial *t = NULL;
@@ -193,7 +197,7 @@ static void test_claim_and_kill(const char *loc)
     free(t);
     CHECK(nt >= 10);
     CHECK_INT_EQ(write_trials(b, sid, (int)nt, TRIALS, 77, 0), 0);
-    CHECK_INT_EQ(csf_store_set_session_state(b, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(b, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     check_session(b, sid, 77, TRIALS);
     csf_store_close(b);
 }
@@ -210,12 +214,14 @@ static void test_server_restart(const char *loc)
         csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
-        if (csf_store_begin_session(s, "observer", "restart", "lcd", NULL, 91, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "restart", "lcd", NULL, 91, &sid, &err) !=
+            CSF_OK)
+            _exit(4);
         if (write_trials(s, sid, 0, 5, 91, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid) _exit(6); /* some trials in */
         if (write_trials(s, sid, 5, TRIALS, 91, 30000) < 0) _exit(5);
         if (csf_store_add_person_time(s, sid, 75.5, &err) != CSF_OK) _exit(8);
-        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        if (csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
     }
@@ -234,7 +240,7 @@ static void test_server_restart(const char *loc)
     csf_session_info si;
     csf_error err;
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
-    CHECK(!strcmp(si.state, "finished"));
+    CHECK(si.state == CSF_SESSION_FINISHED);
     CHECK_NEAR(si.person_s, 75.5, 0);
     csf_session_info_free(&si);
     csf_store_close(s);
@@ -275,13 +281,14 @@ static void test_server_away(const char *loc, const char *spool)
         csf_store *s = test_open_or_exit(loc, "station");
         csf_error err;
         int64_t sid = 0;
-        if (csf_store_begin_session(s, "observer", "away", "lcd", NULL, 93, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "away", "lcd", NULL, 93, &sid, &err) != CSF_OK)
+            _exit(4);
         if (write_trials(s, sid, 0, 5, 93, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid || wait_byte(stopped[0]) < 0) _exit(6);
         if (write_trials(s, sid, 5, 20, 93, 0) < 0) _exit(5);
         if (write(spooled[1], "s", 1) != 1 || wait_byte(started[0]) < 0) _exit(6);
         if (write_trials(s, sid, 20, TRIALS, 93, 10000) < 0) _exit(5);
-        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        if (csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
     }
@@ -305,7 +312,7 @@ static void test_server_away(const char *loc, const char *spool)
     csf_session_info si;
     csf_error err;
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
-    CHECK(!strcmp(si.state, "finished"));
+    CHECK(si.state == CSF_SESSION_FINISHED);
     csf_session_info_free(&si);
     csf_store_close(s);
     close(ready[0]);
@@ -330,11 +337,12 @@ static void test_spool_then_push(const char *loc, const char *spool)
         csf_error err;
         int64_t sid = 0;
         char c;
-        if (csf_store_begin_session(s, "observer", "pushed", "lcd", NULL, 94, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "pushed", "lcd", NULL, 94, &sid, &err) != CSF_OK)
+            _exit(4);
         if (write_trials(s, sid, 0, 10, 94, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid || read(cont[0], &c, 1) != 1) _exit(6);
         if (write_trials(s, sid, 10, 25, 94, 0) < 0) _exit(5);
-        if (csf_store_set_session_state(s, sid, "finished", &err) != CSF_OK) _exit(7);
+        if (csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err) != CSF_OK) _exit(7);
         csf_store_close(s);
         _exit(0);
     }
@@ -367,7 +375,7 @@ static void test_spool_then_push(const char *loc, const char *spool)
     CHECK_INT_EQ(c.dest_id, sid);
     check_session(s, sid, 94, 25);
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
-    CHECK(!strcmp(si.state, "finished"));
+    CHECK(si.state == CSF_SESSION_FINISHED);
     csf_session_info_free(&si);
     csf_store_close(sp);
     csf_store_close(s);
@@ -389,7 +397,9 @@ static void test_crash_while_away(const char *loc)
         csf_error err;
         int64_t sid = 0;
         char c;
-        if (csf_store_begin_session(s, "observer", "crashed", "lcd", NULL, 95, &sid, &err) != CSF_OK) _exit(4);
+        if (csf_store_begin_session(s, CSF_SESSION_OBSERVER, "crashed", "lcd", NULL, 95, &sid, &err) !=
+            CSF_OK)
+            _exit(4);
         if (write_trials(s, sid, 0, 10, 95, 0) < 0) _exit(5);
         if (write(ready[1], &sid, sizeof sid) != sizeof sid || read(cont[0], &c, 1) != 1) _exit(6);
         if (write_trials(s, sid, 10, 20, 95, 0) < 0) _exit(5);
@@ -415,12 +425,12 @@ static void test_crash_while_away(const char *loc)
     csf_session_info si;
     csf_error err;
     CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
-    CHECK(!strcmp(si.state, "running"));
+    CHECK(si.state == CSF_SESSION_RUNNING);
     csf_session_info_free(&si);
     csf_store *other = test_open_or_exit(loc, "another station");
-    CHECK_INT_EQ(csf_store_set_session_state(other, sid, "running", &err), CSF_OK); /* unclaimed */
+    CHECK_INT_EQ(csf_store_set_session_state(other, sid, CSF_SESSION_RUNNING, &err), CSF_OK); /* unclaimed */
     CHECK_INT_EQ(write_trials(other, sid, 20, 25, 95, 0), 0); /* the resume goes on after them */
-    CHECK_INT_EQ(csf_store_set_session_state(other, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(other, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     check_session(other, sid, 95, 25);
     csf_store_close(other);
     csf_store_close(s);
@@ -438,7 +448,7 @@ static void test_away_results(const char *loc)
     int64_t study = 0, part = 0, sid = 0;
     CHECK_INT_EQ(csf_store_create_study(s, "away-study", "{\"d\":1}", &study, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_participant(s, study, "A1", &part, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_begin_session(s, "study", "A1", "lcd", NULL, 98, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_STUDY, "A1", "lcd", NULL, 98, &sid, &err), CSF_OK);
     CHECK_INT_EQ(write_trials(s, sid, 0, 3, 98, 0), 0);
     CHECK_INT_EQ(csf_store_add_person_time(s, sid, 100.0, &err), CSF_OK); /* on the server */
     run_pg("stop");
@@ -452,7 +462,7 @@ static void test_away_results(const char *loc)
     CHECK_INT_EQ(csf_store_add_artifact(s, sid, "plot", "/tmp/b.png", "PNG22", 5, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s, sid, "csflut", "/tmp/a.csflut", NULL, 0, &err), CSF_OK);
     CHECK_INT_EQ(csf_store_add_artifact(s, sid, "csflut", NULL, "LUT", 3, &err), CSF_OK);
-    CHECK_INT_EQ(csf_store_set_session_state(s, sid, "finished", &err), CSF_OK);
+    CHECK_INT_EQ(csf_store_set_session_state(s, sid, CSF_SESSION_FINISHED, &err), CSF_OK);
     run_pg("start");
     csf_store_close(s); /* sends the spool */
     setenv("CSF_STORE_RETRY_S", "60", 1);
@@ -473,7 +483,7 @@ static void test_away_results(const char *loc)
         CHECK_INT_EQ(test_query_int(s, loc, "SELECT COUNT(*) FROM participants WHERE code = 'A1'"), 1);
         csf_session_info si;
         CHECK_INT_EQ(csf_store_get_session(s, sid, &si, &err), CSF_OK);
-        CHECK(!strcmp(si.state, "finished"));
+        CHECK(si.state == CSF_SESSION_FINISHED);
         CHECK_NEAR(si.person_s, 150.5, 0); /* both runs' parts, the spooled one sent once */
         csf_session_info_free(&si);
         csf_store_close(s);
@@ -513,7 +523,9 @@ static void test_begin_drop(const char *loc)
     csf_store *s = test_open_or_exit(loc, "station");
     csf_error err;
     int64_t sid = 0;
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "dropped-begin", "lcd", NULL, 96, &sid, &err), CSF_OK);
+    CHECK_INT_EQ(
+        csf_store_begin_session(s, CSF_SESSION_OBSERVER, "dropped-begin", "lcd", NULL, 96, &sid, &err),
+        CSF_OK);
     CHECK(hook_fired);
     CHECK_INT_EQ(write_trials(s, sid, 0, 5, 96, 0), 0);
     CHECK_INT_EQ(count_sessions(s, loc, "dropped-begin", NULL), 1);
@@ -524,7 +536,8 @@ static void test_begin_drop(const char *loc)
     hook_action = "stop";
     hook_fired = 0;
     s = test_open_or_exit(loc, "station");
-    CHECK_INT_EQ(csf_store_begin_session(s, "observer", "phantom", "lcd", NULL, 97, &sid, &err), CSF_E_STORE);
+    CHECK_INT_EQ(csf_store_begin_session(s, CSF_SESSION_OBSERVER, "phantom", "lcd", NULL, 97, &sid, &err),
+                 CSF_E_STORE);
     CHECK(hook_fired);
     csf_store_close(s);
     csf_store_fault_hook = NULL;
