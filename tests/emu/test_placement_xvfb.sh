@@ -14,9 +14,8 @@
 # without Xvfb, xdotool or xwd. Every wait has a timeout.
 set -u
 CSFCAL="$1" EMU="$2" XWDTOOL="$3"
-for p in Xvfb xdotool xwd; do
-    command -v $p >/dev/null 2>&1 || { echo "SKIP: $p not installed"; exit 77; }
-done
+. "$(dirname "$0")/../xvfb_lib.sh"
+xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
 T=$(mktemp -d /tmp/csfcal-place-XXXXXX)
 XPID="" EPID="" CPID=""
@@ -30,19 +29,11 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 1' INT TERM
 fail=0
-check() { local what="$1"; shift; if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi; }
 die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }; done; exit 1; }
-wait_until() { local n=$(($1 * 10)); shift; for _ in $(seq "$n"); do "$@" && return 0; sleep 0.1; done; return 1; }
 
 W=640 H=360
-exec 3>"$T/display"
-Xvfb -displayfd 3 -noreset -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
-XPID=$!
-exec 3>&-
-wait_until 15 test -s "$T/display" || { echo "SKIP: no private Xvfb display"; exit 77; }
-DISPLAY=":$(head -n1 "$T/display")"
-export DISPLAY XDG_CONFIG_HOME="$T/cfg" XDG_DATA_HOME="$T/data" CSFCAL_SCREEN_MIRROR="$T/screen"
-wait_until 10 xdotool getmouselocation >/dev/null 2>&1 || { echo "SKIP: Xvfb does not answer"; exit 77; }
+xvfb_start "$W" "$H"
+export CSFCAL_SCREEN_MIRROR="$T/screen"
 
 "$EMU" --path-file "$T/pts" --display lcd --seed 5 >/dev/null 2>"$T/emu.err" &
 EPID=$!

@@ -15,9 +15,8 @@
 # has a timeout.
 set -u
 CSFCAL="$1" XWDTOOL="$2"
-for p in Xvfb xdotool xwd; do
-    command -v $p >/dev/null 2>&1 || { echo "SKIP: $p not installed"; exit 77; }
-done
+. "$(dirname "$0")/../xvfb_lib.sh"
+xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
 T=$(mktemp -d /tmp/csfcal-screens-XXXXXX)
 XPID="" CPID="" SPID=""
@@ -31,19 +30,10 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 1' INT TERM
 fail=0
-check() { local what="$1"; shift; if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi; }
 die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }; done; exit 1; }
-wait_until() { local n=$(($1 * 10)); shift; for _ in $(seq "$n"); do "$@" && return 0; sleep 0.1; done; return 1; }
 
 W=640 H=360
-exec 3>"$T/display"
-Xvfb -displayfd 3 -noreset -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
-XPID=$!
-exec 3>&-
-wait_until 15 test -s "$T/display" || { echo "SKIP: no private Xvfb display"; exit 77; }
-DISPLAY=":$(head -n1 "$T/display")"
-export DISPLAY XDG_CONFIG_HOME="$T/cfg" XDG_DATA_HOME="$T/data"
-wait_until 10 xdotool getmouselocation >/dev/null 2>&1 || { echo "SKIP: Xvfb does not answer"; exit 77; }
+xvfb_start "$W" "$H"
 
 STORE="$T/s.sqlite" MM_W=531 MM_H=299 DIST=570 ECC=10 RING_DEG=3
 # 20 Hz: a loaded machine under ASan keeps up (a frame is missed only after 75 ms)

@@ -14,9 +14,8 @@
 # Skips (77) without Xvfb, xdotool or xwd. Every wait has a timeout.
 set -u
 CSFCAL="$1" FIT="$2" XWDTOOL="$3"
-for p in Xvfb xdotool xwd; do
-    command -v $p >/dev/null 2>&1 || { echo "SKIP: $p not installed"; exit 77; }
-done
+. "$(dirname "$0")/../xvfb_lib.sh"
+xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
 T=$(mktemp -d /tmp/csfcal-showx-XXXXXX)
 XPID="" CPID=""
@@ -29,21 +28,12 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 1' INT TERM
 fail=0
-check() { local what="$1"; shift; if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi; }
 die() { echo "FAIL: $*"; [ -s "$T/show.err" ] && tail -n 20 "$T/show.err"; exit 1; }
-wait_until() { local n=$(($1 * 10)); shift; for _ in $(seq "$n"); do "$@" && return 0; sleep 0.1; done; return 1; }
 # within A B REL: |A / B - 1| <= REL
 within() { awk -v a="$1" -v b="$2" -v r="$3" 'BEGIN { d = a / b - 1; if (d < 0) d = -d; exit !(d <= r) }'; }
 
 W=640 H=360
-exec 3>"$T/display"
-Xvfb -displayfd 3 -noreset -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
-XPID=$!
-exec 3>&-
-wait_until 15 test -s "$T/display" || { echo "SKIP: no private Xvfb display"; exit 77; }
-DISPLAY=":$(head -n1 "$T/display")"
-export DISPLAY XDG_CONFIG_HOME="$T/cfg" XDG_DATA_HOME="$T/data"
-wait_until 10 xdotool getmouselocation >/dev/null 2>&1 || { echo "SKIP: Xvfb does not answer"; exit 77; }
+xvfb_start "$W" "$H"
 
 MM_W=531 MM_H=299 DIST=570 FREQ=1 ECC=3 CONTRAST=0.3 SIGMA=1
 SET=(--screen-px ${W}x${H} --screen-mm ${MM_W}x${MM_H} --distance-mm $DIST --photometer sim:display=lcd
