@@ -217,6 +217,23 @@ static int honest_trials(int m)
     return 240;
 }
 
+/* An anchor run of the whole budget, answered by the simulated person, contrasts from 0.0005 to
+ * cmax. */
+static anchor_run budget_run(const csf_cell *cells, int n, const int *n_alt, uint64_t seed, double cmax,
+                             anchor_person *person, const int *budget)
+{
+    return (anchor_run){.cells = cells,
+                        .n_cells = n,
+                        .n_alt = n_alt,
+                        .log10_cmin = log10(0.0005),
+                        .log10_cmax = log10(cmax),
+                        .seed = seed,
+                        .answer = anchor_person_answer,
+                        .answer_ctx = person,
+                        .checkpoints = budget,
+                        .n_checkpoints = 1};
+}
+
 /* Per-cell QUEST at a fixed budget (bench/anchor_run.h: allocation, never-visible calls). */
 static void run_quest_cells(const csf_observer_sim *o, uint64_t seed, const csf_cell *cells, int n,
                             const int *n_alt, int budget, double sd, double cmax, csf_cell_estimate *est)
@@ -226,16 +243,7 @@ static void run_quest_cells(const csf_observer_sim *o, uint64_t seed, const csf_
     anchor_psychometric(o, &slope, &lapse);
     for (int c = 0; c < n; c++) guess[c] = anchor_static_guess_log10(&cells[c]);
     anchor_person person = {o, seed, cells, n_alt};
-    anchor_run r = {.cells = cells,
-                    .n_cells = n,
-                    .n_alt = n_alt,
-                    .log10_cmin = log10(0.0005),
-                    .log10_cmax = log10(cmax),
-                    .seed = seed,
-                    .answer = anchor_person_answer,
-                    .answer_ctx = &person,
-                    .checkpoints = &budget,
-                    .n_checkpoints = 1};
+    anchor_run r = budget_run(cells, n, n_alt, seed, cmax, &person, &budget);
     anchor_quest_cells(&r, guess, sd, slope, lapse, lt, trials);
     for (int c = 0; c < n; c++) {
         est[c].threshold = isfinite(lt[c]) ? pow(10.0, lt[c]) : INFINITY;
@@ -251,16 +259,7 @@ static int run_questplus(const csf_observer_sim *o, uint64_t seed, const csf_cel
     questplus *q = questplus_create(cells, n, n_alt, lapse, log10(0.0005), log10(cmax));
     if (!q) return -1;
     anchor_person person = {o, seed, cells, n_alt};
-    anchor_run r = {.cells = cells,
-                    .n_cells = n,
-                    .n_alt = n_alt,
-                    .log10_cmin = log10(0.0005),
-                    .log10_cmax = log10(cmax),
-                    .seed = seed,
-                    .answer = anchor_person_answer,
-                    .answer_ctx = &person,
-                    .checkpoints = &budget,
-                    .n_checkpoints = 1};
+    anchor_run r = budget_run(cells, n, n_alt, seed, cmax, &person, &budget);
     anchor_questplus(&r, q, lt);
     for (int c = 0; c < n; c++) est[c].threshold = isfinite(lt[c]) ? pow(10.0, lt[c]) : INFINITY;
     questplus_free(q);
