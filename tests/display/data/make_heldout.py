@@ -12,6 +12,16 @@ A second set, made after the estimator was finished and looked at only for the f
   heldout2_tone.csv    a lifted toe and a Reinhard-like shoulder, channel gammas 2.3 / 2.4 / 2.5
   heldout2_bump.csv    the sRGB curve (linear segment below 0.04045) with a 0.5 % bump at drive
                        0.6 on green only (a panel's overdrive table), red and blue plain
+A third set, made on 2026-11-28 at 23:25 UTC before the channel statement's leave-one-out
+change, and run once after it:
+  heldout3_pq.csv      the SMPTE ST 2084 (PQ) curve of a 1000 cd/m2 signal on a 600 cd/m2 panel,
+                       rolled off softly above 450 cd/m2 (an HDR monitor's tone mapping),
+                       blue's drive 2 % ahead
+  heldout3_frc.csv     a 6-bit panel with frame-rate control: 64 native levels on a 2.2 power law,
+                       each off by a fixed random error of sd 0.25 % (seeded), the 8-bit levels
+                       between them dithered (linear between native levels)
+  heldout3_clip.csv    a projector whose blue clips at drive 0.88 (flat above), red and green on a
+                       2.4 power law with a 3 % toe lift
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -79,3 +89,37 @@ def bump(c, v):
 
 write("heldout2_tone.csv", 300.0, tone, "lifted toe, Reinhard-like shoulder, channel gammas 2.3/2.4/2.5")
 write("heldout2_bump.csv", 120.0, bump, "sRGB curve, 0.5 % bump at drive 0.6 on green only")
+
+
+def pq(c, v):
+    m1, m2, c1, c2, c3 = 0.1593017578125, 78.84375, 0.8359375, 18.8515625, 18.6875
+    # the signal spans 0 to 1000 cd/m2 (code value 0.7518 of PQ's 10000); blue's drive 2 % ahead
+    v = 0.7518 * min(1.0, v * (1.02 if c == 2 else 1.0))
+    p = v ** (1 / m2)
+    y = (max(p - c1, 0) / (c2 - c3 * p)) ** (1 / m1) * 10000 / 600  # of the panel's 600 cd/m2
+    knee = 0.75
+    return y if y < knee else knee + (1 - knee) * math.tanh((y - knee) / (1 - knee))
+
+
+import random
+
+_frc_rng = random.Random(2026112823)
+_frc_err = [[1 + 0.0025 * _frc_rng.gauss(0, 1) for _ in range(64)] for _ in range(3)]
+
+
+def frc(c, v):
+    x = v * 63
+    i = min(int(x), 62)
+    at = lambda k: ((k / 63) ** 2.2) * (_frc_err[c][k] if k > 0 else 0)
+    return at(i) + (x - i) * (at(i + 1) - at(i))
+
+
+def clip(c, v):
+    if c == 2:
+        return min(v, 0.88) ** 2.2
+    return 0.03 * v + 0.97 * v ** 2.4
+
+
+write("heldout3_pq.csv", 600.0, pq, "PQ signal to 1000 cd/m2 on a 600 cd/m2 panel, soft roll-off above 450, blue 2 % ahead")
+write("heldout3_frc.csv", 250.0, frc, "6-bit panel with FRC: 64 native levels off by sd 0.25 %, dithered between")
+write("heldout3_clip.csv", 900.0, clip, "projector: blue clips at drive 0.88, red and green 2.4 with a 3 % toe")
