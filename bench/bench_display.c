@@ -209,18 +209,6 @@ typedef struct {
     int oracle_outside;      /* runs outside 1.5x of the condition's median true error: the ceiling */
 } honest_summary;
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median_of(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* One condition's runs (o[4] per seed, NaN when stopped): its median stated/true and how many runs
  * even a statement equal to the median true error would put outside 1.5x (a max error over one
  * run's noise scatters; no statement made before the truth is known can beat that). */
@@ -237,7 +225,7 @@ static void honest_condition(const honest_display *d, double noise_rel, const do
                 t[k++] = o[4 * i + 2 * part + 1];
             }
         if (!k) continue;
-        double mt = median_of(t, k), mr = median_of(r, k);
+        double mt = median(t, k), mr = median(r, k);
         for (int i = 0; i < k; i++) sum[d->role].oracle_outside += mt / t[i] > 1.5 || mt / t[i] < 1 / 1.5;
         sum[d->role].conds++;
         int out = mr > 1.5 || mr < 1 / 1.5;

@@ -1237,9 +1237,24 @@ static void level_sds(const ctx *c, const levels *L, double nr, double *sd)
     }
 }
 
+/* Whether level i of L is in the range a statement covers: at or above 10 % of the curve's peak, or,
+ * with a drive floor v_lo (not NaN), at or above that drive. */
+static int in_range(const levels *L, size_t i, double peak, double v_lo)
+{
+    return isnan(v_lo) ? L->lum[i] >= 0.1 * peak : L->v[i] >= v_lo;
+}
+
+static statement curve_statement_over(const ctx *c, int ch, const levels *L, double *est, double v_lo);
+
 /* The stated error of a curve modelled through its own levels; est (L->m entries, may be NULL)
  * gets the per-interval model error for placing levels. */
 static statement curve_statement(const ctx *c, int ch, const levels *L, double *est)
+{
+    return curve_statement_over(c, ch, L, est, NAN);
+}
+
+/* The same over the drives from v_lo up (NaN: above 10 % of the curve's peak). */
+static statement curve_statement_over(const ctx *c, int ch, const levels *L, double *est, double v_lo)
 {
     statement out = {INFINITY, INFINITY, INFINITY};
     size_t m = L->m;
@@ -1253,10 +1268,10 @@ static statement curve_statement(const ctx *c, int ch, const levels *L, double *
     size_t k = 0;
     out.model = 0;
     for (size_t i = 0; i < m; i++) {
-        if (i + 1 < m && L->lum[i + 1] >= 0.1 * peak) out.model = fmax(out.model, emin[i]);
+        if (i + 1 < m && in_range(L, i + 1, peak, v_lo)) out.model = fmax(out.model, emin[i]);
         /* the knots in the range, and the one below its low end: the interval across the 10 %
          * line carries that knot's error into the range */
-        if (L->v[i] > 0 && (L->lum[i] >= 0.1 * peak || (i + 1 < m && L->lum[i + 1] >= 0.1 * peak)))
+        if (L->v[i] > 0 && (in_range(L, i, peak, v_lo) || (i + 1 < m && in_range(L, i + 1, peak, v_lo))))
             top[k++] = sd[i];
     }
     out.noise = max_noise_median(top, k);
@@ -1277,6 +1292,19 @@ static double curve_statement_grey(const ctx *c)
     levels L;
     levels_read(c, CSF_CH_GREY, &L);
     double t = curve_statement(c, CSF_CH_GREY, &L, NULL).total;
+    levels_free(&L);
+    return t;
+}
+
+/* Grey's stated error over the drives from v_lo up: a channel modelled through grey inherits grey's
+ * error over the channel's own range, which starts below grey's 10 % point when the channel rises
+ * earlier (a red of gamma 2.0 beside a grey of 2.4 reaches 10 % of its peak at a drive where grey
+ * is at 3 %, among grey's sparse dark knots). */
+static double curve_statement_grey_from(const ctx *c, double v_lo)
+{
+    levels L;
+    levels_read(c, CSF_CH_GREY, &L);
+    double t = curve_statement_over(c, CSF_CH_GREY, &L, NULL, v_lo).total;
     levels_free(&L);
     return t;
 }
@@ -1353,29 +1381,69 @@ static csf_status refine_curve(ctx *c, int ch, int budget, int start, double pea
     return CSF_OK;
 }
 
-/* The stated error of channel ch modelled through grey (ratio model rm): the grey curve's own
- * stated error (the channel inherits its shape and its knots' noise), the fit's uncertainty at
- * the levels (about sd * sqrt(parameters / levels), doubled for the worst level), and a bias the
- * model leaves: the largest residual of a level mean less its noise, in quadrature. */
-static statement channel_grey_statement(const ctx *c, int ch, const ratio_model *rm, double grey_total)
+/* The ratio model's miss at level i of the channel, predicted by the same basis fitted without that
+ * level (leave-one-out: a fit through a level cannot show how far it misses between levels); the
+ * fit through all levels when too few are left to refit, and at full drive (the normaliser). */
+static double ratio_loo_residual(const ctx *c, const levels *L, const double *g, const ratio_model *rm,
+                                 size_t i)
+{
+    size_t m = L->m;
+    double x = g[i] / g[m - 1], pred = rm->lc1 * x * ratio_eval(rm, L->v[i], x);
+    double in_sample = L->lum[i] / pred - 1;
+    if (i + 1 >= m) return in_sample;
+    double *dv = malloc(m * sizeof(double)), *dl = malloc(m * sizeof(double)),
+           *dg = malloc(m * sizeof(double));
+    int *cnt = malloc(m * sizeof(int));
+    double out = in_sample;
+    if (dv && dl && dg && cnt) {
+        size_t k = 0;
+        for (size_t j = 0; j < m; j++)
+            if (j != i) {
+                dv[k] = L->v[j], dl[k] = L->lum[j], dg[k] = g[j], cnt[k] = L->cnt[j];
+                k++;
+            }
+        ratio_model r;
+        fit_ratio_basis(c, dv, dl, cnt, dg, k, rm->basis, rm->nb, &r);
+        if (r.valid) out = L->lum[i] / (r.lc1 * x * ratio_eval(&r, L->v[i], x)) - 1;
+    }
+    free(dv);
+    free(dl);
+    free(dg);
+    free(cnt);
+    return out;
+}
+
+/* The stated error of channel ch modelled through grey (ratio model rm): grey's own stated error over
+ * the channel's range of drives (the channel inherits its shape and its knots' noise), the fit's
+ * uncertainty at the levels (about sd * sqrt(parameters / levels), doubled for the worst level), and a
+ * bias the model leaves: the largest leave-one-out miss of a level mean less its noise, in
+ * quadrature. */
+static statement channel_grey_statement(const ctx *c, int ch, const ratio_model *rm)
 {
     statement out = {INFINITY, INFINITY, INFINITY};
     levels L;
     levels_read(c, ch, &L);
     double *g = malloc((L.m + 1) * sizeof(double));
     if (g && L.m >= 2 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
-        double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0;
+        double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0, v_lo = NAN;
         int n = 0;
         for (size_t i = 0; i < L.m; i++) {
             if (!(L.v[i] > 0) || !(L.lum[i] >= 0.1 * peak)) continue;
-            double x = g[i] / g[L.m - 1], pred = rm->lc1 * x * ratio_eval(rm, L.v[i], x);
+            /* the range starts where the channel crosses 10 % of its peak, between this level
+             * and the one below (linear in luminance) */
+            if (isnan(v_lo))
+                v_lo = i > 0 && L.lum[i] > L.lum[i - 1]
+                           ? L.v[i - 1] + (L.v[i] - L.v[i - 1]) * (0.1 * peak - L.lum[i - 1]) /
+                                              (L.lum[i] - L.lum[i - 1])
+                           : L.v[i];
             double sd2 = (nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i];
-            double r = L.lum[i] / pred - 1;
+            double r = ratio_loo_residual(c, &L, g, rm, i);
             bias2 = fmax(bias2, r * r - sd2);
             ss += sd2;
             n++;
         }
         if (n > 0) {
+            double grey_total = curve_statement_grey_from(c, v_lo);
             double fit = 2 * sqrt(ss / n * fmin(1.0, (double)rm->nb / n));
             out.noise = sqrt(grey_total * grey_total + fit * fit);
             out.model = sqrt(fmax(bias2, 0));
@@ -1396,7 +1464,7 @@ static csf_status refine_channel_via_grey(ctx *c, int ch, int budget, int start,
         fit_ratio(c, ch, &rm);
         if (!rm.ok) return CSF_OK; /* the caller goes on with levels of its own */
         /* grey's statement as it is now (the pooled noise moves as readings come) */
-        statement s = channel_grey_statement(c, ch, &rm, curve_statement_grey(c));
+        statement s = channel_grey_statement(c, ch, &rm);
         if (s.total <= c->o->target_rel) return CSF_OK;
         levels L;
         levels_read(c, ch, &L);
@@ -1593,7 +1661,7 @@ static csf_status confirm_dark(ctx *c, csf_error *err)
 static int channel_via_grey(const ctx *c, int ch, ratio_model *rm, double *stated)
 {
     fit_ratio(c, ch, rm);
-    double g = rm->valid ? channel_grey_statement(c, ch, rm, curve_statement_grey(c)).total : INFINITY;
+    double g = rm->valid ? channel_grey_statement(c, ch, rm).total : INFINITY;
     levels L;
     levels_read(c, ch, &L);
     double own = curve_statement(c, ch, &L, NULL).total;
