@@ -22,6 +22,14 @@ change, and run once after it:
                        between them dithered (linear between native levels)
   heldout3_clip.csv    a projector whose blue clips at drive 0.88 (flat above), red and green on a
                        2.4 power law with a 3 % toe lift
+A fourth set, made on 2026-11-28 before the statement of unwitnessed intervals (which held-out 3's
+PQ display led to), and run once after it:
+  heldout4_hlg.csv     ITU-R BT.2100 hybrid log-gamma (square law below half drive, logarithmic
+                       above) to 1000 cd/m2 with the system gamma 1.2 applied to each channel
+  heldout4_crush.csv   a 2.2 power law with its black crushed: nothing below drive 0.06, channel
+                       crush points 0.05 / 0.06 / 0.08
+  heldout4_wobble.csv  a 2.2 power law with a slow 1.5 % wobble (period a quarter of the drive
+                       range, phase per channel): a badly made calibration LUT
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -123,3 +131,23 @@ def clip(c, v):
 write("heldout3_pq.csv", 600.0, pq, "PQ signal to 1000 cd/m2 on a 600 cd/m2 panel, soft roll-off above 450, blue 2 % ahead")
 write("heldout3_frc.csv", 250.0, frc, "6-bit panel with FRC: 64 native levels off by sd 0.25 %, dithered between")
 write("heldout3_clip.csv", 900.0, clip, "projector: blue clips at drive 0.88, red and green 2.4 with a 3 % toe")
+
+
+def hlg(c, v):
+    a, b, cc = 0.17883277, 0.28466892, 0.55991073
+    e = v * v / 3 if v <= 0.5 else (math.exp((v - cc) / a) + b) / 12
+    return e ** 1.2
+
+
+def crush(c, v):
+    v0 = (0.05, 0.06, 0.08)[c]
+    return max(0.0, (v - v0) / (1 - v0)) ** 2.2
+
+
+def wobble(c, v):
+    return v ** 2.2 * (1 + 0.015 * math.sin(2 * math.pi * v / 0.25 + 1.1 * c))
+
+
+write("heldout4_hlg.csv", 1000.0, hlg, "hybrid log-gamma to 1000 cd/m2, system gamma 1.2")
+write("heldout4_crush.csv", 180.0, crush, "2.2 power law, black crushed below drive 0.05/0.06/0.08")
+write("heldout4_wobble.csv", 200.0, wobble, "2.2 power law with a 1.5 % wobble of period 0.25 drive")
