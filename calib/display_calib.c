@@ -598,7 +598,7 @@ static size_t distinct(const double *v, const double *L, size_t n, double *dv, d
  * where they cross inside a neighbouring interval, the break lies there, and the gap between the
  * crossing and the straight model (its noise taken off) is that interval's error, into est. */
 static void corner_estimates(const double *dv, const double *dl, size_t m, size_t k, const double *sd_rel,
-                             double *est)
+                             double *est, char *seen)
 {
     double peak_c = dl[m - 1];
     for (int side = 0; side < 2; side++) {
@@ -625,7 +625,21 @@ static void corner_estimates(const double *dv, const double *dl, size_t m, size_
                      pow(fmax(ys, 0.1 * peak_c), 2);
         e = e * e > 4 * var ? sqrt(e * e - var) : 0;
         if (e > est[a1]) est[a1] = e; /* interval [a1, b0] */
+        seen[a1] = 1;
     }
+}
+
+/* An interval no knot could witness (beside a corner at the curve's end, say) is not known to be
+ * right: its estimate is how far the model bends away from the straight line across it at the
+ * middle, the curvature the model assumes there unchecked. A sweep with readings left splits it
+ * (its new knot is then witnessed); a statement made without that reading says it. */
+static double unwitnessed_estimate(const double *dv, const double *dl, size_t m, int is_channel, size_t i)
+{
+    double mid = 0.5 * (dv[i] + dv[i + 1]), pred;
+    csf_error e;
+    if (csf_profile_fit_curve(dv, dl, m, is_channel, &mid, &pred, 1, &e)) return 0;
+    double lin = 0.5 * (dl[i] + dl[i + 1]);
+    return fabs(pred - lin) / fmax(pred, 0.1 * dl[m - 1]);
 }
 
 /* Leave-one-out error estimate per interval (noise taken off; see "the stated error"): est (m-1
@@ -641,6 +655,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
     for (size_t i = 0; wit && i < 2 * m; i++) wit[i] = NAN;
     if (!wit) est_min = NULL;
     double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double));
+    char *seen = calloc(m, 1);
     double worst = 0;
     /* a knot the model already treats as a corner is not re-tested: leaving it out would always
      * look bad (the kink is lost) although the model with it is right */
@@ -652,7 +667,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         for (size_t j = 0; j < nc; j++)
             if (corners[j] == dv[k]) skip = 1;
         if (skip) {
-            corner_estimates(dv, dl, m, k, sd_rel, est);
+            if (seen) corner_estimates(dv, dl, m, k, sd_rel, est, seen);
             continue;
         }
         size_t j = 0;
@@ -689,6 +704,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         double sl = 2 * ek * amp * hl * hl * hl, sr = 2 * ek * amp * hr * hr * hr;
         if (sl > est[k - 1]) est[k - 1] = sl;
         if (sr > est[k]) est[k] = sr;
+        if (seen) seen[k - 1] = seen[k] = 1;
         if (est_min) {
             wit[2 * (k - 1) + 1] = sl;
             wit[2 * k] = sr;
@@ -704,6 +720,13 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         /* a corner's own estimate (set above) stands */
         if (est[i] > fmax(isnan(a) ? 0 : a, isnan(b) ? 0 : b)) est_min[i] = est[i];
     }
+    for (size_t i = 0; seen && m >= 3 && i + 1 < m; i++)
+        if (!seen[i]) {
+            double u = unwitnessed_estimate(dv, dl, m, is_channel, i);
+            if (u > est[i]) est[i] = u;
+            if (est_min && u > est_min[i]) est_min[i] = u;
+        }
+    free(seen);
     free(wit);
     /* intervals entirely below 10 % of peak matter less (the accuracy target is stated above it,
      * and contrast there is set by the black level more than by the curve): lower priority */
