@@ -12,7 +12,7 @@ A second set, made after the estimator was finished and looked at only for the f
   heldout2_tone.csv    a lifted toe and a Reinhard-like shoulder, channel gammas 2.3 / 2.4 / 2.5
   heldout2_bump.csv    the sRGB curve (linear segment below 0.04045) with a 0.5 % bump at drive
                        0.6 on green only (a panel's overdrive table), red and blue plain
-A third set, made on 2026-11-28 at 23:25 UTC before the channel statement's leave-one-out
+A third set, made on 2026-11-28 at 22:49 UTC before the channel statement's leave-one-out
 change, and run once after it:
   heldout3_pq.csv      the SMPTE ST 2084 (PQ) curve of a 1000 cd/m2 signal on a 600 cd/m2 panel,
                        rolled off softly above 450 cd/m2 (an HDR monitor's tone mapping),
@@ -22,8 +22,8 @@ change, and run once after it:
                        between them dithered (linear between native levels)
   heldout3_clip.csv    a projector whose blue clips at drive 0.88 (flat above), red and green on a
                        2.4 power law with a 3 % toe lift
-A fourth set, made on 2026-11-28 before the statement of unwitnessed intervals (which held-out 3's
-PQ display led to), and run once after it:
+A fourth set, made on 2026-11-28 at 22:57 UTC before the statement of unwitnessed intervals
+(which held-out 3's PQ display led to), and run once after it:
   heldout4_hlg.csv     ITU-R BT.2100 hybrid log-gamma (square law below half drive, logarithmic
                        above) to 1000 cd/m2 with the system gamma 1.2 applied to each channel
   heldout4_crush.csv   a 2.2 power law with its black crushed: nothing below drive 0.06, channel
