@@ -159,7 +159,7 @@ static const char *const trial_cols[] = {
     "sigma_deg", "velocity_dps", "mean_lum_cdm2", "is_catch", "is_practice",
     "contrast_requested", "contrast_shown_mean", "contrast_shown_max", "frames_planned",
     "frames_shown", "frames_missed", "signal_interval", "response", "rt_s", "click_x_deg",
-    "click_y_deg", "valid", "flags", "n_alternatives"};
+    "click_y_deg", "valid", "flags", "n_alternatives", "onset_s"};
 
 static const char *const reading_cols[] = {
     "session_id", "seq", "channel", "drive01", "lum_cdm2", "X_cdm2", "Y_cdm2", "Z_cdm2", "t_s", "status"};
@@ -210,6 +210,7 @@ static csf_status export_trials(csf_store *s, int64_t session_id, writer *w, csf
         put_b(w, x->valid);
         put_s(w, x->flags);
         put_i(w, x->n_alternatives);
+        put_r(w, x->has_onset ? x->onset_s : NAN);
         end_row(w);
     }
     end_table(w);

@@ -60,6 +60,8 @@ static inline int make_sample_store(const char *path, uint64_t seed, int64_t *ob
         csf_trial t = make_trial(*obs_id, i, seed);
         t.freq_cpd = sample_freqs[i % SAMPLE_NF];
         t.ecc_deg = sample_eccs[(i / SAMPLE_NF) % SAMPLE_NE];
+        t.has_onset = 1; /* shown when the person's time so far has passed */
+        t.onset_s = person_s;
         ok &= csf_store_add_trial(s, &t, &err) == CSF_OK;
         double iv[SAMPLE_FRAMES];
         sample_intervals(seed, i, iv);

@@ -91,6 +91,9 @@ with tempfile.TemporaryDirectory() as tmp:
         check(r["rt_s"] == "" or float(r["rt_s"]) > 0, "rt_s empty or positive")
     check(any(r["flags"] == "missed_frames,late" for r in rows), "quoted flags with a comma survive")
     check(any(r["rt_s"] == "" for r in rows), "missing rt_s is an empty cell")
+    onsets = [float(r["onset_s"]) for r in rows]
+    check(header[-1] == "onset_s" and all(b > a for a, b in zip(onsets, onsets[1:])) and onsets[0] >= 0,
+          "onset_s: the last column, rising on the session clock")
     check(all(len(l.split(",")) >= len(header) for l in p.stdout.splitlines()[1:]), "rows as wide as header")
     freqs = sorted({float(r["freq_cpd"]) for r in rows})
     check(freqs == [0.5, 1, 2, 4, 8, 16, 24], f"frequencies {freqs}")
