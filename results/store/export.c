@@ -154,12 +154,14 @@ static void end_table(writer *w)
     if (w->json) fputs(w->row ? "\n]\n" : "]\n", w->out);
 }
 
+/* clang-format off */
 static const char *const trial_cols[] = {
     "session_id", "seq", "method", "freq_cpd", "ecc_deg", "polar_deg", "orientation_deg",
     "sigma_deg", "velocity_dps", "mean_lum_cdm2", "is_catch", "is_practice",
     "contrast_requested", "contrast_shown_mean", "contrast_shown_max", "frames_planned",
     "frames_shown", "frames_missed", "signal_interval", "response", "rt_s", "click_x_deg",
     "click_y_deg", "valid", "flags", "n_alternatives", "onset_s"};
+/* clang-format on */
 
 static const char *const reading_cols[] = {
     "session_id", "seq", "channel", "drive01", "lum_cdm2", "X_cdm2", "Y_cdm2", "Z_cdm2", "t_s", "status"};
