@@ -486,6 +486,9 @@ static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, re
 {
     *ro = 1;
     if (check_patch_size(a, ph, what)) return 2;
+    if ((csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) &&
+        csf_cli_refuse_monitor(&a->cli, what, "the simulated photometer measures patches drawn offscreen"))
+        return 2;
     *ro = render_open(a, ph, seed, r, what);
     if (*ro == 2) return 1;
     int placed = *ro == 0 ? place_meter(a, r, what) : 0;

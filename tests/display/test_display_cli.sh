@@ -163,6 +163,15 @@ grep -q '1.5 deg patch (14.9 mm at 570 mm) is too small' "$t/e" && grep -q 'at l
 [ $? -eq 2 ] && grep -q 'too small for the meter' "$t/e" || { echo "verify small patch: $(cat "$t/e")"; fail=1; }
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd --patch-deg 25 --render-width 32 >/dev/null 2>"$t/e"
 grep -q 'warning: photometer sim: the 25 deg patch' "$t/e" || { echo "large patch: $(cat "$t/e")"; fail=1; }
+# --monitor with the simulated photometer is refused, not ignored: its patches are drawn offscreen
+"$exe" display calibrate --store "$t/mon.sqlite" --out "$t/mon.profile" --photometer sim:display=lcd --monitor 1 \
+  >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--monitor 1: this session draws offscreen because the simulated photometer' "$t/e" \
+  || { echo "calibrate --monitor with the simulator: $(cat "$t/e")"; fail=1; }
+"$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd --monitor 1 >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--monitor 1: this session draws offscreen because the simulated photometer' "$t/e" \
+  || { echo "verify --monitor with the simulator: $(cat "$t/e")"; fail=1; }
+[ -e "$t/mon.profile" ] && { echo "--monitor: a profile was written"; fail=1; }
 # verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
 [ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }
