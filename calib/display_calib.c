@@ -1913,6 +1913,13 @@ static csf_status resumable(const csf_session_info *si, int64_t session_id, csf_
     if (si->state == CSF_SESSION_FINISHED)
         return csf_error_set(err, CSF_E_INVALID_ARG, "session %lld is already finished; nothing to resume",
                              (long long)session_id);
+    /* aborted is final, by `sessions abort` or because its settings could not be used: a resume
+     * would take it back from whoever closed it */
+    if (si->state == CSF_SESSION_ABORTED)
+        return csf_error_set(err, CSF_E_INVALID_ARG,
+                             "session %lld was aborted; only running or paused display sessions can be "
+                             "resumed (its readings stay in the store: csfcal sessions export %lld)",
+                             (long long)session_id, (long long)session_id);
     if (si->state == CSF_SESSION_STATE_UNKNOWN)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "session %lld is in state '%s', which this csfcal does not know "

@@ -71,6 +71,20 @@ grep -q 'finish it with' "$t/e3" && { echo "resume hint for a session that canno
 [ "$(sqlite3 "$db3" "SELECT state FROM sessions WHERE id = 1")" = aborted ] || { echo "damaged session not aborted"; fail=1; }
 [ "$(sqlite3 "$db3" "SELECT count(*) FROM readings WHERE session_id = 1")" = "$kept" ] && [ "$kept" -gt 0 ] \
   || { echo "readings lost: $kept before"; fail=1; }
+# an aborted session stays aborted: a second resume is refused (before, it was taken back to running)
+"$exe" display calibrate --photometer sim:display=lcd --resume 1 --store "$db3" --out "$t/d.profile" --quiet 2>"$t/e3"
+rc=$?
+[ "$rc" -eq 2 ] && grep -q 'session 1 was aborted; only running or paused display sessions' "$t/e3" \
+  || { echo "resume of an aborted session: exit $rc: $(cat "$t/e3")"; fail=1; }
+[ "$(sqlite3 "$db3" "SELECT state FROM sessions WHERE id = 1")" = aborted ] || { echo "aborted session resumed"; fail=1; }
+db4="$t/closed.sqlite"
+"$exe" display calibrate --photometer sim:display=lcd,fault=unplug@20 --store "$db4" --out "$t/c.profile" --quiet 2>/dev/null
+"$exe" sessions abort 1 --store "$db4" >/dev/null 2>&1 || { echo "sessions abort failed"; fail=1; }
+"$exe" display calibrate --photometer sim:display=lcd --resume 1 --store "$db4" --out "$t/c.profile" --quiet 2>"$t/e3"
+rc=$?
+[ "$rc" -eq 2 ] && grep -q 'was aborted' "$t/e3" && [ ! -e "$t/c.profile" ] \
+  && [ "$(sqlite3 "$db4" "SELECT state FROM sessions WHERE id = 1")" = aborted ] \
+  || { echo "resume after sessions abort: exit $rc: $(cat "$t/e3")"; fail=1; }
 # CSV display
 "$exe" display calibrate --photometer "sim:display=file=$data/kink.csv" --store "$db" --out "$t/k.profile" --quiet \
   || { echo "csv calibrate failed"; fail=1; }
