@@ -563,7 +563,9 @@ int main(int argc, char **argv)
             quest = 1;
         } else {
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
-                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] [--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] [--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-15] [--quick]]\n");
+                            "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] "
+                            "[--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] "
+                            "[--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-16] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
