@@ -369,8 +369,9 @@ static const honest_observer HONEST_FIFTEENTH[] = {
     {"parkinson, sdt k 1.45/0.069",
      "sim:decision=sdt,k=1.453,lapse=0.069,table=bench/data/observer_parkinson.csv", 1, 0},
 };
-/* The sixteenth held-out set (bench/data/observer_heldout16.py, made before the joint method's stop
- * on precision weighed information by the person's time; run once on that change) */
+/* The sixteenth held-out set (bench/data/observer_heldout16.py, written for a change to the joint
+ * method's stop on precision that was dropped on seen sets before it ran: unseen, kept for the next
+ * change and run once on it) */
 static const honest_observer HONEST_SIXTEENTH[] = {
     {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
     {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
