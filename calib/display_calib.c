@@ -78,6 +78,9 @@ typedef struct {
     double drift_rms; /* relative rms of the white readings about the drift curve: the
                          instrument's noise with more degrees of freedom than one reference */
     csf_warm_judgement warm; /* the warm-up judgement after the latest warm-up reading */
+    /* The quantile of the worst knot's noise a statement takes: the median for the error the
+     * profile states, MET_QUANTILE for every "is the target met" decision (see the stated error). */
+    double noise_quantile;
 } ctx;
 
 static const char *ch_name_store(int role, int ch)
@@ -1177,7 +1180,12 @@ static double split_point(const ctx *c, const levels *L, size_t wi)
  *    (interval_errors): the miss of a left-out knot, its noise removed in quadrature, scaled from
  *    the merged interval to each half. The largest over the intervals above 10 % of peak.
  * Leave-one-out alone understated the error by 2-7x at ordinary noise: it took the noise off and
- * never added it back, and an RMS-like miss is not the worst case over the range. */
+ * never added it back, and an RMS-like miss is not the worst case over the range.
+ * The profile states the median; whether the target is met (the sweep's stop, the top-up, the
+ * target_met it reports) is judged at MET_QUANTILE of the noise part instead: a median just under
+ * the target leaves the truth above it half the time, and a profile that says "target met" should
+ * be right far more often than that. */
+#define MET_QUANTILE 0.9
 
 /* Sum of squared relative deviations from their level's mean, and degrees of freedom, over every
  * level above 10 % of its curve's peak read more than once; with_white: grey's drive 1 too. */
@@ -1229,8 +1237,9 @@ static double pooled_noise_rel(const ctx *c)
     return sqrt(ss / dof);
 }
 
-/* Median of max_k |e_k| for independent e_k ~ N(0, sd_k^2) (see above). */
-static double max_noise_median(const double *sd, size_t n)
+/* The q-quantile of max_k |e_k| for independent e_k ~ N(0, sd_k^2) (see above): the m with
+ * prod_k (2 Phi(m / s_k) - 1) = q. */
+static double max_noise_quantile(const double *sd, size_t n, double q)
 {
     double hi = 0;
     for (size_t i = 0; i < n; i++) hi = fmax(hi, sd[i]);
@@ -1241,7 +1250,7 @@ static double max_noise_median(const double *sd, size_t n)
         double mid = 0.5 * (lo + hi), f = 0;
         for (size_t i = 0; i < n; i++)
             if (sd[i] > 0) f += log(erf(mid / (sd[i] * sqrt(2.0))));
-        if (f < log(0.5)) lo = mid;
+        if (f < log(q)) lo = mid;
         else hi = mid;
     }
     return 0.5 * (lo + hi);
@@ -1297,7 +1306,7 @@ static statement curve_statement_over(const ctx *c, int ch, const levels *L, dou
         if (L->v[i] > 0 && (in_range(L, i, peak, v_lo) || (i + 1 < m && in_range(L, i + 1, peak, v_lo))))
             top[k++] = sd[i];
     }
-    out.noise = max_noise_median(top, k);
+    out.noise = max_noise_quantile(top, k, c->noise_quantile > 0 ? c->noise_quantile : 0.5);
     /* leave-one-out needs two levels inside the range besides full drive to say anything about
      * the model there: with fewer the model's error is unknown, and so is the statement */
     if (k < 3) out.model = INFINITY;
@@ -1973,14 +1982,19 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
  * channel through grey (channel_grey_statement). target_met: all at or below the target. */
 static void stated_errors(const ctx *c, const csf_display_calib_opts *o, csf_display_calib_result *res)
 {
-    for (int ch = 0; ch < CSF_CH_COUNT; ch++) res->est_error_rel[ch] = NAN;
-    res->est_error_rel[CSF_CH_GREY] = curve_statement_grey(c);
-    res->target_met = res->est_error_rel[CSF_CH_GREY] <= o->target_rel;
+    ctx median = *c; /* what the profile states: the median */
+    median.noise_quantile = 0.5;
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++) res->est_error_rel[ch] = res->met_error_rel[ch] = NAN;
+    res->est_error_rel[CSF_CH_GREY] = curve_statement_grey(&median);
+    res->met_error_rel[CSF_CH_GREY] = curve_statement_grey(c);
     for (int ch = 0; o->channels && ch < 3; ch++) {
         ratio_model rm;
-        channel_via_grey(c, ch, &rm, &res->est_error_rel[ch]);
-        res->target_met &= res->est_error_rel[ch] <= o->target_rel;
+        channel_via_grey(&median, ch, &rm, &res->est_error_rel[ch]);
+        channel_via_grey(c, ch, &rm, &res->met_error_rel[ch]);
     }
+    res->target_met = 1;
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++)
+        if (ch == CSF_CH_GREY || o->channels) res->target_met &= res->met_error_rel[ch] <= o->target_rel;
 }
 
 /* The profile from a run that ended well: the checks, the profile and the channels taken from the
@@ -2051,6 +2065,7 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     c.ph = ph;
     c.store = store;
     c.o = &o;
+    c.noise_quantile = MET_QUANTILE;
     csf_status st = CSF_OK;
     char settings[1024];
     if (store && session_id && *session_id > 0) {

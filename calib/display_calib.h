@@ -60,9 +60,12 @@ typedef struct {
     double est_error_rel[CSF_CH_COUNT]; /* stated max relative error above 10 % of each curve's
                                            peak: the knots' noise (median of the worst knot error,
                                            from the measured repeatability) and the model's error
-                                           (leave-one-out at the gaps' scale), in quadrature; what
-                                           the stopping rule and target_met use; inf when the
-                                           levels are too few to say (docs/display-profile.md) */
+                                           (leave-one-out at the gaps' scale), in quadrature; inf
+                                           when the levels are too few to say
+                                           (docs/display-profile.md) */
+    double met_error_rel[CSF_CH_COUNT]; /* the same with the worst knot's noise at its 90th
+                                           percentile: what the stopping rule and target_met use
+                                           (met: every curve's at or below the target) */
     double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
     int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
     char monotonic_msg[256];

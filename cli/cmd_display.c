@@ -545,6 +545,11 @@ static void print_calibration_json(const calib_report *r)
         printf("%s\"%s\": ", k ? ", " : "", chn[c]);
         json_num(stdout, res->est_error_rel[c]);
     }
+    printf("}, \"met_error_rel\": {");
+    for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
+        printf("%s\"%s\": ", k ? ", " : "", chn[c]);
+        json_num(stdout, res->met_error_rel[c]);
+    }
     printf("}, \"target_met\": %s, \"budget\": %d, \"noise_rel\": ", res->target_met ? "true" : "false",
            r->budget);
     json_num(stdout, res->noise_rel);
@@ -572,6 +577,10 @@ static void print_calibration_text(const calib_report *r)
     if (has_ch)
         printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res->est_error_rel[0], 100 * res->est_error_rel[1],
                100 * res->est_error_rel[2]);
+    double met = 0;
+    for (int c = 0; c < CSF_CH_COUNT; c++)
+        if (!isnan(res->met_error_rel[c])) met = fmax(met, res->met_error_rel[c]);
+    printf("\n  at most %.3f %% with 90 %% confidence (what \"met\" is judged on)", 100 * met);
     printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res->noise_rel,
            100 * res->drift_rel);
     if (has_ch) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res->additivity_error);
@@ -667,14 +676,16 @@ static void warn_calibration(const csf_display_calib_result *res, const csf_disp
     if (res->monotonic_violations) fprintf(stderr, "csfcal: warning: %s\n", res->monotonic_msg);
     if (!res->warmup_stable) warn_not_warm(res, o->target_rel);
     if (!res->target_met) {
-        double worst = 0;
-        for (int c = 0; c < CSF_CH_COUNT; c++)
+        double worst = 0, met = 0;
+        for (int c = 0; c < CSF_CH_COUNT; c++) {
             if (!isnan(res->est_error_rel[c])) worst = fmax(worst, res->est_error_rel[c]);
+            if (!isnan(res->met_error_rel[c])) met = fmax(met, res->met_error_rel[c]);
+        }
         fprintf(stderr,
                 "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
-                "error of %.3f %% against the target %.3f %% (the profile records it); a larger --budget "
-                "or a quieter instrument would meet it\n",
-                o->budget, 100 * worst, 100 * o->target_rel);
+                "error of %.3f %% (at most %.3f %% with 90 %% confidence) against the target %.3f %% (the "
+                "profile records it); a larger --budget or a quieter instrument would meet it\n",
+                o->budget, 100 * worst, 100 * met, 100 * o->target_rel);
     }
 }
 

@@ -22,7 +22,7 @@ python3 -c 'import json,sys; d=json.load(sys.stdin); assert d["profile_target_me
 "$exe" display calibrate --photometer 'sim:display=lcd,noise=0.0002' --seed 3 --store "$t/s.sqlite" \
   --out "$t/ok.profile" --no-render --json > "$t/j" 2> "$t/e" || { echo "calibrate failed: $(cat "$t/e")"; fail=1; }
 grep -q 'target not met' "$t/e" && { echo "unmet reported for a met target: $(cat "$t/e")"; fail=1; }
-python3 -c 'import json,sys; d=json.load(sys.stdin); assert d["target_met"] is True and max(d["error_indicator_rel"].values()) <= 0.0025, d' \
+python3 -c 'import json,sys; d=json.load(sys.stdin); assert d["target_met"] is True and max(d["met_error_rel"].values()) <= 0.0025 and all(d["met_error_rel"][k] >= v for k, v in d["error_indicator_rel"].items()), d' \
   < "$t/j" || { echo "json: $(cat "$t/j")"; fail=1; }
 grep -q '^target_met = 1$' "$t/ok.profile" || { echo "profile does not record the met target"; fail=1; }
 exit $fail

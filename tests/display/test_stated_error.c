@@ -118,7 +118,11 @@ static void run(double noise_rel, uint64_t seed)
         CHECK(met == res.target_met);
         CHECK(target == o.target_rel);
         for (int c = 0; c < CSF_CH_COUNT; c++) CHECK(stated[c] == res.est_error_rel[c]);
-        CHECK(res.target_met == (sg <= o.target_rel && sc <= o.target_rel));
+        /* met is judged on the 90th percentile of the knots' noise, never below the median stated */
+        double mg = res.met_error_rel[CSF_CH_GREY], mc = 0;
+        for (int c = 0; c < 3; c++) mc = fmax(mc, res.met_error_rel[c]);
+        CHECK(mg >= sg && mc >= sc);
+        CHECK(res.target_met == (mg <= o.target_rel && mc <= o.target_rel));
         /* the file keeps the statement */
         char *text = NULL;
         csf_display_profile *q = NULL;
