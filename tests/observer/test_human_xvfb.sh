@@ -299,7 +299,7 @@ check "fade anchors: table written" test -s "$T/fa.csflut"
 J=$("$CSFCAL" sessions export 7 --format csv --store "$STORE")
 check "fade anchors: three fade trials, two two-interval practice trials, an anchor answered 2" awk -F, '
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { n++; a[n] = $NF; r[n] = $c["response"]; p[n] = $c["is_practice"] }   # n_alternatives is last
+    { n++; a[n] = $(NF - 1); r[n] = $c["response"]; p[n] = $c["is_practice"] }   # n_alternatives: next to last
     END { exit !(n == 6 && a[1] == 0 && a[2] == 0 && a[3] == 0 && p[3] == 0 && a[4] == 2 && p[4] == 1 &&
                  a[5] == 2 && p[5] == 1 && a[6] == 2 && p[6] == 0 && r[6] == 2) }' <<<"$J"
 

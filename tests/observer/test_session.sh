@@ -97,9 +97,10 @@ check "resumed session wrote the table" test -s "$T/p.csflut"
 # 9. Four places shown at once (--afc 4, the default) for peripheral cells, two intervals at the
 # fovea; exported trials say which, answers are places 1-4, polar angles are the layout's.
 # fields FILE.csv: prints "ecc n_alt signal response polar is_practice" per row, by header name
-# (n_alternatives is the last column: flags before it may hold a quoted comma).
+# (n_alternatives is next to last, before onset_s: flags before it may hold a quoted comma, so
+# it is counted from the end).
 fields() { awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { print $c["ecc_deg"], $NF, $c["signal_interval"], $c["response"], $c["polar_deg"], $c["is_practice"] }' "$1"; }
+    { print $c["ecc_deg"], $(NF - 1), $c["signal_interval"], $c["response"], $c["polar_deg"], $c["is_practice"] }' "$1"; }
 for m in bayes 2afc; do
     out=$(run --method $m --freqs 1,4 --eccs 0,10 --trials 80 --practice 2 --seed 21 --out "$T/four-$m.csflut" --json)
     check "$m --afc 4 (default): session ok" grep -q '"status":"ok"' <<<"$out"
