@@ -1319,15 +1319,6 @@ done:
     return out;
 }
 
-static double curve_statement_grey(const ctx *c)
-{
-    levels L;
-    levels_read(c, CSF_CH_GREY, &L);
-    double t = curve_statement(c, CSF_CH_GREY, &L, NULL).total;
-    levels_free(&L);
-    return t;
-}
-
 /* Grey's stated error over the drives from v_lo up: a channel modelled through grey inherits grey's
  * error over the channel's own range, which starts below grey's 10 % point when the channel rises
  * earlier (a red of gamma 2.0 beside a grey of 2.4 reaches 10 % of its peak at a drive where grey
@@ -1339,6 +1330,12 @@ static double curve_statement_grey_from(const ctx *c, double v_lo)
     double t = curve_statement_over(c, CSF_CH_GREY, &L, NULL, v_lo).total;
     levels_free(&L);
     return t;
+}
+
+/* Grey's stated error above 10 % of its peak. */
+static double curve_statement_grey(const ctx *c)
+{
+    return curve_statement_grey_from(c, NAN);
 }
 
 /* The level to split next: the worst interval of est that still has a drive level inside it

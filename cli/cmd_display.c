@@ -564,6 +564,15 @@ static void print_calibration_json(const calib_report *r)
     printf("}\n");
 }
 
+/* The largest of a result's per-curve figures (NaN entries: curves not measured). */
+static double worst_curve(const double v[CSF_CH_COUNT])
+{
+    double worst = 0;
+    for (int c = 0; c < CSF_CH_COUNT; c++)
+        if (!isnan(v[c])) worst = fmax(worst, v[c]);
+    return worst;
+}
+
 static void print_calibration_text(const calib_report *r)
 {
     const csf_display_calib_result *res = r->res;
@@ -577,10 +586,8 @@ static void print_calibration_text(const calib_report *r)
     if (has_ch)
         printf(", r %.3f %%, g %.3f %%, b %.3f %%", 100 * res->est_error_rel[0], 100 * res->est_error_rel[1],
                100 * res->est_error_rel[2]);
-    double met = 0;
-    for (int c = 0; c < CSF_CH_COUNT; c++)
-        if (!isnan(res->met_error_rel[c])) met = fmax(met, res->met_error_rel[c]);
-    printf("\n  at most %.3f %% with 90 %% confidence (what \"met\" is judged on)", 100 * met);
+    printf("\n  at most %.3f %% with 90 %% confidence (what \"met\" is judged on)",
+           100 * worst_curve(res->met_error_rel));
     printf("\n  instrument noise %.3f %%, white drift during the session %+.3f %%\n", 100 * res->noise_rel,
            100 * res->drift_rel);
     if (has_ch) printf("  additivity (black + r + g + b vs white): %+.2f %%\n", 100 * res->additivity_error);
@@ -676,11 +683,7 @@ static void warn_calibration(const csf_display_calib_result *res, const csf_disp
     if (res->monotonic_violations) fprintf(stderr, "csfcal: warning: %s\n", res->monotonic_msg);
     if (!res->warmup_stable) warn_not_warm(res, o->target_rel);
     if (!res->target_met) {
-        double worst = 0, met = 0;
-        for (int c = 0; c < CSF_CH_COUNT; c++) {
-            if (!isnan(res->est_error_rel[c])) worst = fmax(worst, res->est_error_rel[c]);
-            if (!isnan(res->met_error_rel[c])) met = fmax(met, res->met_error_rel[c]);
-        }
+        double worst = worst_curve(res->est_error_rel), met = worst_curve(res->met_error_rel);
         fprintf(stderr,
                 "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
                 "error of %.3f %% (at most %.3f %% with 90 %% confidence) against the target %.3f %% (the "

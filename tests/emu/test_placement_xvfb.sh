@@ -17,18 +17,7 @@ CSFCAL="$1" EMU="$2" XWDTOOL="$3"
 . "$(dirname "$0")/../xvfb_lib.sh"
 xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
-T=$(mktemp -d /tmp/csfcal-place-XXXXXX)
-XPID="" EPID="" CPID=""
-cleanup() {
-    [ -n "$CPID" ] && kill "$CPID" 2>/dev/null
-    [ -n "$EPID" ] && kill "$EPID" 2>/dev/null
-    [ -n "$XPID" ] && kill "$XPID" 2>/dev/null
-    [ -n "$XPID" ] && wait "$XPID" 2>/dev/null
-    rm -rf "$T"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
+xvfb_scratch place CPID EPID
 die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }; done; exit 1; }
 
 W=640 H=360

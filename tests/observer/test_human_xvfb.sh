@@ -25,26 +25,10 @@
 set -u
 CSFCAL="$1"
 CLOSE_WINDOW="${2:-}"
-command -v Xvfb >/dev/null 2>&1 || { echo "SKIP: Xvfb not installed"; exit 77; }
-command -v xdotool >/dev/null 2>&1 || { echo "SKIP: xdotool not installed"; exit 77; }
+. "$(dirname "$0")/../xvfb_lib.sh"
+xvfb_need Xvfb xdotool
 unset EGL_PLATFORM WAYLAND_DISPLAY
-
-T=$(mktemp -d /tmp/csfcal-human-XXXXXX)
-XPID=""
-CPID=""
-cleanup() {
-    [ -n "$CPID" ] && kill "$CPID" 2>/dev/null
-    [ -n "$XPID" ] && kill "$XPID" 2>/dev/null
-    [ -n "$XPID" ] && wait "$XPID" 2>/dev/null
-    rm -rf "$T"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
-check() { # check DESCRIPTION COMMAND...
-    local what="$1"; shift
-    if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi
-}
+xvfb_scratch human CPID
 die() {
     echo "FAIL: $*"
     for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 30 "$f"; }; done
@@ -53,31 +37,8 @@ die() {
     exit 1
 }
 
-# A private X server; -displayfd picks a free display number (no race with other tests).
-# -noreset: without it Xvfb resets whenever its last client disconnects, and every xdotool poll
-# below is such a client; a csfcal connecting during a reset was refused ("Failed to open display"
-# in a CI run). The display is only trusted while our own server is alive and answering.
 W=640 H=360
-start_xvfb() {
-    rm -f "$T/display"
-    exec 3>"$T/display"
-    Xvfb -displayfd 3 -noreset -screen 0 ${W}x${H}x24 -nolisten tcp >"$T/xvfb.log" 2>&1 &
-    XPID=$!
-    exec 3>&-
-    for _ in $(seq 150); do [ -s "$T/display" ] && break; kill -0 "$XPID" 2>/dev/null || break; sleep 0.1; done
-    [ -s "$T/display" ] || return 1
-    local n; n=$(head -n1 "$T/display")
-    DISPLAY=":$n"; export DISPLAY
-    xdotool getmouselocation >/dev/null 2>&1 && kill -0 "$XPID" 2>/dev/null
-}
-xvfb_ok=0
-for attempt in 1 2 3; do
-    if start_xvfb; then xvfb_ok=1; break; fi
-    echo "note: Xvfb attempt $attempt did not give a usable private display"
-    kill "$XPID" 2>/dev/null; wait "$XPID" 2>/dev/null; XPID=""
-    sleep 1
-done
-[ $xvfb_ok = 1 ] || { cat "$T/xvfb.log"; echo "SKIP: no private Xvfb display could be started"; exit 77; }
+xvfb_start "$W" "$H"
 echo "Xvfb on $DISPLAY (${W}x${H}, pid $XPID)"
 
 STORE="$T/s.sqlite"

@@ -18,18 +18,7 @@ CSFCAL="$1" XWDTOOL="$2"
 . "$(dirname "$0")/../xvfb_lib.sh"
 xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
-T=$(mktemp -d /tmp/csfcal-screens-XXXXXX)
-XPID="" CPID="" SPID=""
-cleanup() {
-    [ -n "$SPID" ] && kill "$SPID" 2>/dev/null
-    [ -n "$CPID" ] && kill "$CPID" 2>/dev/null
-    [ -n "$XPID" ] && kill "$XPID" 2>/dev/null
-    [ -n "$XPID" ] && wait "$XPID" 2>/dev/null
-    rm -rf "$T"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
+xvfb_scratch screens SPID CPID
 die() { echo "FAIL: $*"; for f in "$T"/*.err; do [ -s "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }; done; exit 1; }
 
 W=640 H=360

@@ -17,17 +17,7 @@ CSFCAL="$1" FIT="$2" XWDTOOL="$3"
 . "$(dirname "$0")/../xvfb_lib.sh"
 xvfb_need Xvfb xdotool xwd
 unset EGL_PLATFORM WAYLAND_DISPLAY
-T=$(mktemp -d /tmp/csfcal-showx-XXXXXX)
-XPID="" CPID=""
-cleanup() {
-    [ -n "$CPID" ] && kill "$CPID" 2>/dev/null
-    [ -n "$XPID" ] && kill "$XPID" 2>/dev/null
-    [ -n "$XPID" ] && wait "$XPID" 2>/dev/null
-    rm -rf "$T"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
+xvfb_scratch showx CPID
 die() { echo "FAIL: $*"; [ -s "$T/show.err" ] && tail -n 20 "$T/show.err"; exit 1; }
 # within A B REL: |A / B - 1| <= REL
 within() { awk -v a="$1" -v b="$2" -v r="$3" 'BEGIN { d = a / b - 1; if (d < 0) d = -d; exit !(d <= r) }'; }
