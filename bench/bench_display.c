@@ -195,8 +195,9 @@ static double maxv(const double *x, int n)
  * made after that estimator was finished and run for its final figures (seen since); HELD_OUT3,
  * made before the channel statement's leave-one-out residuals and run once after them (its PQ
  * display then led to the statement of unwitnessed intervals: seen since); HELD_OUT4, made before
- * that statement and run once after it. */
-enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, N_ROLES };
+ * that statement and run once after it (seen since); HELD_OUT5, made before the spot checks between
+ * the sweep's levels and run once after them. */
+enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, N_ROLES };
 
 typedef struct {
     const char *name, *spec; /* display part of the simulated photometer spec */
@@ -325,6 +326,9 @@ static int honest_main(int seeds, int all)
         {"hybrid log-gamma 1000 cd/m2 csv", "file=heldout4_hlg.csv", HELD_OUT4},
         {"black crushed csv", "file=heldout4_crush.csv", HELD_OUT4},
         {"LUT with a slow wobble csv", "file=heldout4_wobble.csv", HELD_OUT4},
+        {"LUT gain steps per eighth csv", "file=heldout5_steps.csv", HELD_OUT5},
+        {"wide gamut, red clips, green rolls off csv", "file=heldout5_sat.csv", HELD_OUT5},
+        {"rough measured curve csv", "file=heldout5_rough.csv", HELD_OUT5},
         {"S-curve csv", "file=heldout_scurve.csv", DEV},
         {"BT.1886 csv", "file=heldout_bt1886.csv", DEV},
         {"LUT ripple csv", "file=heldout_lutwiggle.csv", DEV},
@@ -345,7 +349,7 @@ static int honest_main(int seeds, int all)
     for (int r = 0; r < N_ROLES; r++) sum[r] = (honest_summary){0, INFINITY, "", "", 0, 0, 0, 0, 0, 0, 0};
     for (size_t d = 0; d < sizeof displays / sizeof displays[0]; d++) {
         if ((displays[d].role == TUNED && all == 0) || (displays[d].role != TUNED && all == 2) ||
-            (displays[d].role == HELD_OUT4 && all == 3))
+            (displays[d].role == HELD_OUT5 && all == 3))
             continue;
         for (size_t k = 0; k < sizeof noises / sizeof noises[0]; k++) {
             double o[4 * 1000];
@@ -354,11 +358,14 @@ static int honest_main(int seeds, int all)
             honest_condition(&displays[d], noises[k], o, seeds, sum);
         }
     }
-    static const char *label[] = {"", "dev (held out from tuning, seen in development)",
-                                  "held-out 2 (run for the earlier estimator's figures; seen since)",
-                                  "held-out 3 (run once for the channel statement; seen since)",
-                                  "held-out 4 (final)"};
-    for (int r = HELD_OUT4; r >= DEV; r--)
+    static const char *label[] = {
+        "",
+        "dev (held out from tuning, seen in development)",
+        "held-out 2 (run for the earlier estimator's figures; seen since)",
+        "held-out 3 (run once for the channel statement; seen since)",
+        "held-out 4 (run once for the statement of unwitnessed intervals; seen since)",
+        "held-out 5 (final)"};
+    for (int r = HELD_OUT5; r >= DEV; r--)
         if (sum[r].runs)
             printf(
                 "\n%s: %d stated/true ratios, %d outside [1/1.5, 1.5]; largest %.2f (%s), smallest %.2f "

@@ -30,6 +30,14 @@ A fourth set, made on 2026-11-28 at 22:57 UTC before the statement of unwitnesse
                        crush points 0.05 / 0.06 / 0.08
   heldout4_wobble.csv  a 2.2 power law with a slow 1.5 % wobble (period a quarter of the drive
                        range, phase per channel): a badly made calibration LUT
+A fifth set, made on 2026-11-29 at 02:20 UTC before the statement took spot checks between the
+sweep's levels, and run once after it:
+  heldout5_steps.csv   a 2.2 power law whose driver LUT was built per eighth of the drive range,
+                       each eighth with its own gain error (sd 0.3 %, seeded): steps at 1/8 drive
+  heldout5_sat.csv     a wide-gamut LCD: red clips at drive 0.93, green rolls off softly above
+                       0.75 (tanh), blue a 2.1 power law
+  heldout5_rough.csv   a measured-looking 2.25 power law with a band-limited roughness of about
+                       0.3 % rms (white noise per level, averaged over 7 levels, per channel)
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -151,3 +159,35 @@ def wobble(c, v):
 write("heldout4_hlg.csv", 1000.0, hlg, "hybrid log-gamma to 1000 cd/m2, system gamma 1.2")
 write("heldout4_crush.csv", 180.0, crush, "2.2 power law, black crushed below drive 0.05/0.06/0.08")
 write("heldout4_wobble.csv", 200.0, wobble, "2.2 power law with a 1.5 % wobble of period 0.25 drive")
+
+
+_step_rng = random.Random(2026112902)
+_step_gain = [[1 + 0.003 * _step_rng.gauss(0, 1) for _ in range(8)] for _ in range(3)]
+
+
+def steps(c, v):
+    return v ** 2.2 * _step_gain[c][min(int(v * 8), 7)]
+
+
+def sat(c, v):
+    if c == 0:
+        return min(v, 0.93) ** 2.3
+    if c == 1:
+        y = v ** 2.2
+        knee = 0.75 ** 2.2
+        return y if y < knee else knee + 0.6 * math.tanh((y - knee) / 0.6)
+    return v ** 2.1
+
+
+_rough_rng = random.Random(2026112903)
+_rough_white = [[_rough_rng.gauss(0, 1) for _ in range(262)] for _ in range(3)]
+_rough = [[0.003 * math.sqrt(7) * sum(_rough_white[c][k:k + 7]) / 7 for k in range(256)] for c in range(3)]
+
+
+def rough(c, v):
+    return v ** 2.25 * (1 + _rough[c][min(int(round(v * 255)), 255)])
+
+
+write("heldout5_steps.csv", 250.0, steps, "2.2 power law, LUT gain error per eighth of the drive (sd 0.3 %)")
+write("heldout5_sat.csv", 350.0, sat, "wide-gamut LCD: red clips at 0.93, green rolls off above 0.75, blue 2.1")
+write("heldout5_rough.csv", 150.0, rough, "2.25 power law with 0.3 % rms roughness over about 7 levels")
