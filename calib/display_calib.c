@@ -32,8 +32,10 @@
 /* ROLE_DARK_REJECTED: a dark reading of a series found contradictory (see dark_series), or taken
  * while the sensor was off the patch (see set_aside); ROLE_REJECTED: a sweep reading taken
  * between a good white reference and one that showed the sensor had moved or the display had
- * changed. Both are kept in the store and replayed, used for nothing. */
-enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP, ROLE_DARK_REJECTED, ROLE_REJECTED };
+ * changed. Both are kept in the store and replayed, used for nothing. ROLE_CHECK: a spot check
+ * between the sweep's levels (see spot_checks), stored under its channel like a sweep reading but
+ * never part of the profile it tests. */
+enum { ROLE_WARMUP, ROLE_DARK, ROLE_REF, ROLE_SWEEP, ROLE_DARK_REJECTED, ROLE_REJECTED, ROLE_CHECK };
 
 typedef struct {
     int role, ch;
@@ -67,7 +69,7 @@ typedef struct {
     int suspect;           /* replay met a stored white reference that failed a check which puts
                               the readings since the white before it in doubt (set_aside) */
     int dark_live_series;  /* dark series taken live in this run (the re-measure limit) */
-    int n_sweep, n_warmup;
+    int n_sweep, n_warmup, n_check;
     double noise_rel, noise_abs;
     double black;
     int progress_shown;
@@ -107,6 +109,7 @@ void csf_display_calib_defaults(csf_display_calib_opts *o)
     memset(o, 0, sizeof *o);
     o->target_rel = 0.0025;
     o->budget = 48;
+    o->checks = 4;
     o->channels = 1;
     o->warmup_wait_s = 5;
     o->warmup_max = 40;
@@ -326,8 +329,9 @@ static csf_status take_replayed(ctx *c, int role, double drive, int accept_dark,
         out->t_s = s->t_s;
         if (role == ROLE_SWEEP) c->n_sweep++;
         if (role == ROLE_WARMUP) c->n_warmup++;
+        if (role == ROLE_CHECK) c->n_check++;
         csf_status rst = push(c, out, err);
-        if (!rst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
+        if (!rst && (role == ROLE_WARMUP || role == ROLE_REF)) fit_drift(c);
         return rst;
     }
     *replayed = 0;
@@ -394,8 +398,9 @@ static csf_status take_live(ctx *c, int role, int ch, double drive, int accept_d
     out->t_s = pr.t_s;
     if (role == ROLE_SWEEP) c->n_sweep++;
     if (role == ROLE_WARMUP) c->n_warmup++;
+    if (role == ROLE_CHECK) c->n_check++;
     csf_status pst = push(c, out, err);
-    if (!pst && role != ROLE_SWEEP && role != ROLE_DARK) fit_drift(c);
+    if (!pst && (role == ROLE_WARMUP || role == ROLE_REF)) fit_drift(c);
     progress(c);
     return pst;
 }
@@ -997,9 +1002,10 @@ static int set_aside(ctx *c)
         i--;
     int k = 0;
     for (; i < c->n; i++) {
-        if (c->r[i].role == ROLE_SWEEP) {
+        if (c->r[i].role == ROLE_SWEEP || c->r[i].role == ROLE_CHECK) {
+            c->n_sweep -= c->r[i].role == ROLE_SWEEP;
+            c->n_check -= c->r[i].role == ROLE_CHECK;
             c->r[i].role = ROLE_REJECTED;
-            c->n_sweep--;
             k++;
         } else if (c->r[i].role == ROLE_DARK) {
             c->r[i].role = ROLE_DARK_REJECTED;
@@ -1687,17 +1693,165 @@ static csf_status confirm_dark(ctx *c, csf_error *err)
  * the ratio explains the readings within their noise (the sweep then spends the channel's share
  * on repeats), else the channel's own levels (the sweep then adds levels), unless a sane ratio
  * fit still states less than they do (a short budget). */
-static int channel_via_grey(const ctx *c, int ch, ratio_model *rm, double *stated)
+static int channel_statement(const ctx *c, int ch, ratio_model *rm, statement *stated)
 {
     fit_ratio(c, ch, rm);
-    double g = rm->valid ? channel_grey_statement(c, ch, rm).total : INFINITY;
+    statement g = rm->valid ? channel_grey_statement(c, ch, rm) : (statement){INFINITY, INFINITY, INFINITY};
     levels L;
     levels_read(c, ch, &L);
-    double own = curve_statement(c, ch, &L, NULL).total;
+    statement own = curve_statement(c, ch, &L, NULL);
     levels_free(&L);
-    int use = rm->ok || (rm->valid && g < own);
+    int use = rm->ok || (rm->valid && g.total < own.total);
     *stated = use ? g : own;
     return use;
+}
+
+/* The same, its total alone. */
+static int channel_via_grey(const ctx *c, int ch, ratio_model *rm, double *stated)
+{
+    statement s;
+    int use = channel_statement(c, ch, rm, &s);
+    *stated = s.total;
+    return use;
+}
+
+/* ---- spot checks ----
+ * The statement above sees what the levels show: the knots' noise and how far the model bends
+ * between them. Structure finer than the levels (a LUT's ripple, a 6-bit panel's dithered native
+ * levels) or a corner inside an interval (a channel that clips) leaves no trace at the knots. A few
+ * readings between the levels, never fitted, show it, as a verification set does (ArgyllCMS's
+ * dispcal verifies with patches it did not fit): their scatter about the profile, less what the
+ * check's own noise and the profile's knot noise explain, is the profile's systematic error there.
+ * What they see is an rms over a few drives; the statement is a maximum over the range. The peak
+ * of a systematic error is about sqrt(2) times its rms for one slow wobble and about 2.8 times for
+ * some fifty independent level errors (sqrt(2 ln 50): a 6-bit panel's native levels above 10 % of
+ * peak); CHECK_PEAK_PER_RMS, 2, is within 1.5x of both. */
+#define CHECK_PEAK_PER_RMS 2.0
+
+static csf_status build_profile(ctx *c, const char *display_name, const char *instrument, double additivity,
+                                csf_display_profile **out, csf_error *err);
+
+/* Drive where a curve of the profile reaches 10 % of its peak (grey: of white, black included). */
+static double profile_range_low(const csf_display_profile *p, int ch)
+{
+    if (ch == CSF_CH_GREY) return csf_profile_grey_drive(p, 0.1 * csf_profile_lum_max(p));
+    return csf_profile_channel_drive(p, ch, 0.1 * csf_profile_channel_lum(p, ch, 1.0));
+}
+
+/* The profile's luminance of curve ch at drive v (a channel less black, as its readings are kept). */
+static double profile_lum(const csf_display_profile *p, int ch, double v)
+{
+    return ch == CSF_CH_GREY ? csf_profile_grey_lum(p, v) : csf_profile_channel_lum(p, ch, v);
+}
+
+/* The profile the readings so far give, channels through grey where the statement takes them so. */
+static csf_status provisional_profile(ctx *c, csf_display_profile **p, csf_error *err)
+{
+    csf_status st = build_profile(c, "provisional", "", NAN, p, err);
+    for (int ch = 0; !st && c->o->channels && ch < 3; ch++) {
+        ratio_model rm;
+        double stated;
+        if (channel_via_grey(c, ch, &rm, &stated)) st = channel_from_grey(c, ch, &rm, *p, err);
+    }
+    if (st) {
+        csf_profile_free(*p);
+        *p = NULL;
+    }
+    return st;
+}
+
+/* The check drives of curve ch: one in each of o->checks equal strata of its range above 10 % of
+ * peak, at a point within the stratum that moves from stratum to stratum and curve to curve (a
+ * golden-ratio sequence), so that checks do not fall in step with a LUT's or the sweep's spacing. */
+static int check_drives(const ctx *c, const csf_display_profile *p, int ch, double *v, int max)
+{
+    double lo = profile_range_low(p, ch);
+    if (!(lo >= 0 && lo < 1)) return 0;
+    int n = c->o->checks < max ? c->o->checks : max, k = 0;
+    double w = (1 - lo) / (n > 0 ? n : 1);
+    for (int i = 0; i < n; i++) {
+        double f = fmod(0.6180339887498949 * (i + 1) + 0.381966 * ch, 1.0);
+        double d = snap(c, lo + w * (i + 0.15 + 0.7 * f));
+        if (d > 0 && d < 1) v[k++] = d;
+    }
+    return k;
+}
+
+/* The spot checks after the sweep: each curve's check drives, then a white reference (the drift
+ * correction needs one after them); read again while the reference sets them aside. */
+static csf_status spot_checks(ctx *c, csf_error *err)
+{
+    if (c->o->checks <= 0) return CSF_OK;
+    for (;;) {
+        csf_display_profile *p = NULL;
+        csf_status st = provisional_profile(c, &p, err);
+        if (st) return st;
+        for (int ch = CSF_CH_GREY; !st && ch >= 0; ch--) {
+            if (ch < 3 && !c->o->channels) break;
+            double v[64];
+            int n = check_drives(c, p, ch, v, 64);
+            for (int i = 0; !st && i < n; i++) {
+                rd x;
+                st = take(c, ROLE_CHECK, ch, v[i], 0, &x, err);
+            }
+        }
+        csf_profile_free(p);
+        if (st) return st;
+        int redo = 0;
+        if ((st = reference(c, &redo, err))) return st;
+        if (!redo) return CSF_OK;
+    }
+}
+
+/* The relative sd of the profile's curve at drive v from the knots' noise (levels L, linear
+ * weights between the two levels around v). */
+static double knot_sd_at(const ctx *c, const levels *L, double v)
+{
+    if (L->m < 2) return 0;
+    double *sd = malloc(L->m * sizeof(double));
+    if (!sd) return 0;
+    level_sds(c, L, pooled_noise_rel(c), sd);
+    size_t i = 0;
+    while (i + 2 < L->m && L->v[i + 1] <= v) i++;
+    double t = L->v[i + 1] > L->v[i] ? fmin(1, fmax(0, (v - L->v[i]) / (L->v[i + 1] - L->v[i]))) : 0;
+    double out = sqrt(pow((1 - t) * sd[i], 2) + pow(t * sd[i + 1], 2));
+    free(sd);
+    return out;
+}
+
+/* The systematic error the spot checks of curve ch show in profile p, scaled to a maximum over the
+ * range (see CHECK_PEAK_PER_RMS); via: the curve is modelled through grey (its knot noise is then
+ * grey's). NAN when the curve has no checks. */
+static double check_error(const ctx *c, int ch, int via, const csf_display_profile *p)
+{
+    levels L;
+    levels_read(c, via || ch == CSF_CH_GREY ? CSF_CH_GREY : ch, &L);
+    double nr = pooled_noise_rel(c), ss = 0, noise2 = 0;
+    int n = 0;
+    for (size_t i = 0; i < c->n; i++) {
+        const rd *x = &c->r[i];
+        if (x->role != ROLE_CHECK || x->ch != ch || isnan(x->lum)) continue;
+        double meas = corrected(c, x) - (ch < 3 ? c->black : 0), pred = profile_lum(p, ch, x->drive);
+        if (!(pred > 0) || !(meas > 0)) continue;
+        double r = meas / pred - 1, ks = knot_sd_at(c, &L, x->drive);
+        ss += r * r;
+        noise2 += nr * nr + pow(c->noise_abs / meas, 2) + ks * ks;
+        n++;
+    }
+    levels_free(&L);
+    if (!n) return NAN;
+    /* the noise's share is taken at the 90th percentile of its chi-square (Wilson and Hilferty's
+     * approximation): with four checks an unbiased subtraction leaves pure noise a positive excess
+     * half the time, which a square root then makes a systematic error of about the noise's size */
+    double z = 1.2816, q = n * pow(1 - 2.0 / (9 * n) + z * sqrt(2.0 / (9 * n)), 3);
+    return CHECK_PEAK_PER_RMS * sqrt(fmax(0, (ss - noise2 * q / n) / n));
+}
+
+/* A statement with what the checks show: the larger of the model's error and the checks'. */
+static double with_checks(statement s, double check)
+{
+    if (!isfinite(check)) return s.total;
+    return fmax(s.total, sqrt(s.noise * s.noise + check * check));
 }
 
 /* After the sweeps: while a curve's stated error is above the target and sweep readings are
@@ -1799,6 +1953,8 @@ static csf_status run(ctx *c, csf_display_calib_result *res, csf_error *err)
     }
     if ((st = top_up(c, err))) return st;
     update_black(c);
+    if ((st = spot_checks(c, err))) return st;
+    update_black(c);
     return CSF_OK;
 }
 
@@ -1852,7 +2008,9 @@ static csf_status build_profile(ctx *c, const char *display_name, const char *in
     size_t k = 0;
     for (size_t i = 0; i < c->n; i++) {
         const rd *x = &c->r[i];
-        if (x->role == ROLE_WARMUP || x->role == ROLE_DARK_REJECTED || x->role == ROLE_REJECTED) continue;
+        if (x->role == ROLE_WARMUP || x->role == ROLE_DARK_REJECTED || x->role == ROLE_REJECTED ||
+            x->role == ROLE_CHECK)
+            continue;
         double f = drift_factor(c, x->t_s);
         pr[k].channel = x->role == ROLE_SWEEP ? x->ch : CSF_CH_GREY;
         pr[k].drive01 = x->drive;
@@ -1872,10 +2030,10 @@ static void settings_json(const csf_display_calib_opts *o, const char *spec, cha
     /* Through jansson, so the photometer spec is kept as given and the text is always JSON; a
      * spec jansson refuses (not UTF-8) is stored empty, as the settings do not depend on it. */
     json_t *sp = json_string(spec);
-    json_t *doc = json_pack("{s:o,s:f,s:i,s:i,s:f,s:i,s:i}", "photometer", sp ? sp : json_string(""),
+    json_t *doc = json_pack("{s:o,s:f,s:i,s:i,s:f,s:i,s:i,s:i}", "photometer", sp ? sp : json_string(""),
                             "target_rel", o->target_rel, "budget", o->budget, "channels", o->channels,
-                            "warmup_wait_s", o->warmup_wait_s, "warmup_max", o->warmup_max,
-                            "drive_levels", o->drive_levels);
+                            "warmup_wait_s", o->warmup_wait_s, "warmup_max", o->warmup_max, "drive_levels",
+                            o->drive_levels, "checks", o->checks);
     char *text = doc ? json_dumps(doc, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) : NULL;
     json_decref(doc);
     snprintf(buf, len, "%s", text && strlen(text) < len ? text : "{}");
@@ -1898,7 +2056,8 @@ static csf_status stored_settings(const char *json, int64_t sid, csf_display_cal
               csf_json_get_int(d, "channels", 0, 1, &channels, err) < 0 ||
               csf_json_get_number(d, "warmup_wait_s", 0, 86400, &o->warmup_wait_s, err) < 0 ||
               csf_json_get_int(d, "warmup_max", 0, 4096, &o->warmup_max, err) < 0 ||
-              csf_json_get_int(d, "drive_levels", 0, 65535, &o->drive_levels, err) < 0;
+              csf_json_get_int(d, "drive_levels", 0, 65535, &o->drive_levels, err) < 0 ||
+              csf_json_get_int(d, "checks", 0, CSF_DISPLAY_MAX_CHECKS, &o->checks, err) < 0;
     csf_json_free(d);
     if (bad) return CSF_E_FORMAT;
     o->channels = channels != 0;
@@ -1977,17 +2136,29 @@ static csf_status resume_session(ctx *c, csf_display_calib_opts *o, int64_t sess
 /* Every curve's stated error from all the readings (the references after the last sweep
  * included), for the model the profile holds: grey and channels through their own levels, or a
  * channel through grey (channel_grey_statement). target_met: all at or below the target. */
-static void stated_errors(const ctx *c, const csf_display_calib_opts *o, csf_display_calib_result *res)
+static void stated_errors(const ctx *c, const csf_display_calib_opts *o, const csf_display_profile *p,
+                          csf_display_calib_result *res)
 {
     ctx median = *c; /* what the profile states: the median */
     median.noise_quantile = 0.5;
-    for (int ch = 0; ch < CSF_CH_COUNT; ch++) res->est_error_rel[ch] = res->met_error_rel[ch] = NAN;
-    res->est_error_rel[CSF_CH_GREY] = curve_statement_grey(&median);
-    res->met_error_rel[CSF_CH_GREY] = curve_statement_grey(c);
+    for (int ch = 0; ch < CSF_CH_COUNT; ch++)
+        res->est_error_rel[ch] = res->met_error_rel[ch] = res->check_error_rel[ch] = NAN;
+    levels L;
+    levels_read(c, CSF_CH_GREY, &L);
+    double chk = p ? check_error(c, CSF_CH_GREY, 0, p) : NAN;
+    res->check_error_rel[CSF_CH_GREY] = chk;
+    res->est_error_rel[CSF_CH_GREY] = with_checks(curve_statement(&median, CSF_CH_GREY, &L, NULL), chk);
+    res->met_error_rel[CSF_CH_GREY] = with_checks(curve_statement(c, CSF_CH_GREY, &L, NULL), chk);
+    levels_free(&L);
     for (int ch = 0; o->channels && ch < 3; ch++) {
         ratio_model rm;
-        channel_via_grey(&median, ch, &rm, &res->est_error_rel[ch]);
-        channel_via_grey(c, ch, &rm, &res->met_error_rel[ch]);
+        statement sm, sq;
+        int via = channel_statement(&median, ch, &rm, &sm);
+        channel_statement(c, ch, &rm, &sq);
+        chk = p ? check_error(c, ch, via, p) : NAN;
+        res->check_error_rel[ch] = chk;
+        res->est_error_rel[ch] = with_checks(sm, chk);
+        res->met_error_rel[ch] = with_checks(sq, chk);
     }
     res->target_met = 1;
     for (int ch = 0; ch < CSF_CH_COUNT; ch++)
@@ -2015,7 +2186,7 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
         res->channel_via_grey[ch] = use;
         if (use) st = channel_from_grey(c, ch, &rm, *out, err);
     }
-    stated_errors(c, o, res);
+    stated_errors(c, o, *out, res);
     if (!st) csf_profile_set_statement(*out, o->target_rel, res->est_error_rel, res->target_met);
     if (st) {
         csf_profile_free(*out);
@@ -2053,6 +2224,9 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     if (o.drive_levels < 0 || o.drive_levels > 65535)
         return csf_error_set(err, CSF_E_INVALID_ARG, "drive levels %d out of range (0 = continuous, up to 65535)",
                              o.drive_levels);
+    if (o.checks < 0 || o.checks > CSF_DISPLAY_MAX_CHECKS)
+        return csf_error_set(err, CSF_E_INVALID_ARG, "spot checks %d per curve out of range (0 to %d)",
+                             o.checks, CSF_DISPLAY_MAX_CHECKS);
     if (!(o.target_rel >= 1e-5 && o.target_rel <= 0.5) || o.budget < 8 || o.budget > 4096)
         return csf_error_set(err, CSF_E_INVALID_ARG,
                              "calibration target %g (allowed 1e-5 to 0.5) or budget %d (allowed 8 to 4096) out of range",
@@ -2080,7 +2254,8 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     res->n_readings = (int)c.n;
     res->n_sweep = c.n_sweep;
     res->n_warmup = c.n_warmup;
-    res->n_profile = (int)c.n - c.n_warmup;
+    res->n_check = c.n_check;
+    res->n_profile = (int)c.n - c.n_warmup - c.n_check;
 
     if (!st) {
         st = finish_profile(&c, &o, out, res, err);

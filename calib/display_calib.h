@@ -15,9 +15,14 @@
 #include "results/display_profile.h"
 #include "results/store/store.h"
 
+#define CSF_DISPLAY_MAX_CHECKS 64
+
 typedef struct {
     double target_rel;     /* accuracy target: max relative luminance error above 10 % of peak (0.0025) */
     int budget;            /* most sweep readings, grey plus channels (48) */
+    int checks;            /* spot checks per curve between the sweep's levels, never fitted (4; 0
+                              to CSF_DISPLAY_MAX_CHECKS): what the levels cannot show, finer
+                              structure or a corner inside an interval, enters the statement */
     int channels;          /* 1: also measure r, g, b curves (default) */
     double warmup_wait_s;  /* time between warm-up readings (5 s) */
     int warmup_max;        /* most warm-up readings (40) */
@@ -46,6 +51,7 @@ void csf_display_calib_defaults(csf_display_calib_opts *o);
 typedef struct {
     int n_readings;        /* every reading taken or replayed (warm-up, dark, references, sweeps) */
     int n_sweep;           /* grey and channel sweep readings (the figure the target is stated for) */
+    int n_check;           /* spot checks (not part of the profile) */
     int n_warmup;
     /* 1: the display was judged warm (calib/warmup_model.h); 0: gave up after warmup_max */
     int warmup_stable;
@@ -57,15 +63,18 @@ typedef struct {
     double warmup_wait_s;
     double noise_rel;      /* instrument noise estimated from white references */
     double drift_rel;      /* white change from first to last reference */
-    double est_error_rel[CSF_CH_COUNT]; /* stated max relative error above 10 % of each curve's
+    double est_error_rel[CSF_CH_COUNT];   /* stated max relative error above 10 % of each curve's
                                            peak: the knots' noise (median of the worst knot error,
                                            from the measured repeatability) and the model's error
                                            (leave-one-out at the gaps' scale), in quadrature; inf
                                            when the levels are too few to say
                                            (docs/display-profile.md) */
-    double met_error_rel[CSF_CH_COUNT]; /* the same with the worst knot's noise at its 90th
+    double met_error_rel[CSF_CH_COUNT];   /* the same with the worst knot's noise at its 90th
                                            percentile: what the stopping rule and target_met use
                                            (met: every curve's at or below the target) */
+    double check_error_rel[CSF_CH_COUNT]; /* the systematic error the spot checks show, scaled to a
+                                             maximum over the range; NAN without checks. The stated
+                                             error takes it where it exceeds the model's part */
     double additivity_error; /* (black + sum of channel increments) / white - 1; NAN if not measured */
     int monotonic_violations; /* neighbour pairs that fall by more than 3 sd of noise */
     char monotonic_msg[256];

@@ -22,7 +22,8 @@
 
 static const char display_help[] =
     "usage: csfcal display calibrate --photometer SPEC --out PROFILE [--store DB] [--seed N]\n"
-    "                                [--resume ID] [--target REL] [--budget N] [--no-channels]\n"
+    "                                [--resume ID] [--target REL] [--budget N] [--checks N]\n"
+    "                                [--no-channels]\n"
     "                                [--name NAME] [--quiet] [--render|--no-render]\n"
     "                                [--patch-deg D] [--background DRIVE] [--render-width N]\n"
     "       csfcal display verify PROFILE --photometer SPEC [--levels N] [--tolerance REL]\n"
@@ -35,6 +36,9 @@ static const char display_help[] =
     "           instrument fault, --resume ID finishes the session from its stored readings.\n"
     "  --target REL    max relative luminance error above 10 %% of peak (default 0.0025)\n"
     "  --budget N      most sweep readings for grey plus channels (default 48, 8 to 4096)\n"
+    "  --checks N      spot checks per curve between the sweep's levels, never fitted: the\n"
+    "                  stated error takes what they show (a LUT's ripple, a clipped channel)\n"
+    "                  where the levels cannot (default 4, 0 to 64; 0: none)\n"
     "  --no-channels   grey only (no r, g, b curves, no additivity check)\n"
     "  --name NAME     display name for the profile id (default: the photometer spec)\n"
     "  --warmup-wait S seconds between the warm-up white readings (default 5; 0 to 600); a\n"
@@ -93,7 +97,8 @@ enum {
     OPT_ICCVER,
     OPT_CHANNELS,
     OPT_WARMWAIT,
-    OPT_NOPLACE
+    OPT_NOPLACE,
+    OPT_CHECKS
 };
 
 static const struct option display_options[] = {
@@ -101,6 +106,7 @@ static const struct option display_options[] = {
     {"output", required_argument, 0, 'o'},
     {"target", required_argument, 0, OPT_TARGET},
     {"budget", required_argument, 0, OPT_BUDGET},
+    {"checks", required_argument, 0, OPT_CHECKS},
     {"no-channels", no_argument, 0, OPT_NOCH},
     {"name", required_argument, 0, OPT_NAME},
     {"quiet", no_argument, 0, OPT_QUIET},
@@ -125,7 +131,7 @@ typedef struct {
     csf_cli cli;
     const char *out, *name, *format, *file;
     double target, tol;
-    long budget, levels;
+    long budget, levels, checks; /* checks < 0: the default */
     int no_channels, channels, quiet, help;
     int photometer_given; /* --photometer on the command line (else from the configuration) */
     unsigned long given;  /* bit (opt - OPT_OUT) per subcommand option given, 'o' as OPT_OUT */
@@ -146,11 +152,12 @@ static int parse(int argc, char **argv, dargs *a)
     while ((c = getopt_long(argc, argv, ":o:h", display_options, NULL)) != -1) {
         int bad = 0;
         if (c == 'o') a->given |= 1ul;
-        else if (c >= OPT_OUT && c <= OPT_NOPLACE && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
+        else if (c >= OPT_OUT && c <= OPT_CHECKS && c != OPT_HELP) a->given |= 1ul << (c - OPT_OUT);
         switch (c) {
         case 'o': a->out = optarg; break;
         case OPT_TARGET: bad = csf_parse_double(optarg, "target", 1e-5, 0.5, &a->target); break;
         case OPT_BUDGET: bad = csf_parse_int(optarg, "budget", 8, 4096, &a->budget); break;
+        case OPT_CHECKS: bad = csf_parse_int(optarg, "checks", 0, CSF_DISPLAY_MAX_CHECKS, &a->checks); break;
         case OPT_NOCH: a->no_channels = 1; break;
         case OPT_CHANNELS: a->channels = 1; break;
         case OPT_WARMWAIT: bad = csf_parse_double(optarg, "warmup-wait", 0, 600, &a->warmup_wait_s); break;
@@ -536,8 +543,9 @@ static void print_calibration_json(const calib_report *r)
     json_num(stdout, csf_profile_lum_black(r->p));
     printf(", \"white_cdm2\": ");
     json_num(stdout, csf_profile_lum_max(r->p));
-    printf(", \"readings\": %d, \"sweep_readings\": %d, \"warmup_readings\": %d, \"warmup_stable\": %s",
-           res->n_readings, res->n_sweep, res->n_warmup, res->warmup_stable ? "true" : "false");
+    printf(", \"readings\": %d, \"sweep_readings\": %d, \"warmup_readings\": %d, \"check_readings\": %d, "
+           "\"warmup_stable\": %s",
+           res->n_readings, res->n_sweep, res->n_warmup, res->n_check, res->warmup_stable ? "true" : "false");
     printf(", \"target_rel\": ");
     json_num(stdout, r->target_rel);
     printf(", \"error_indicator_rel\": {");
@@ -549,6 +557,11 @@ static void print_calibration_json(const calib_report *r)
     for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
         printf("%s\"%s\": ", k ? ", " : "", chn[c]);
         json_num(stdout, res->met_error_rel[c]);
+    }
+    printf("}, \"check_error_rel\": {");
+    for (int c = CSF_CH_GREY, k = 0; k < (has_ch ? 4 : 1); k++, c = k - 1) {
+        printf("%s\"%s\": ", k ? ", " : "", chn[c]);
+        json_num(stdout, res->check_error_rel[c]);
     }
     printf("}, \"target_met\": %s, \"budget\": %d, \"noise_rel\": ", res->target_met ? "true" : "false",
            r->budget);
@@ -579,8 +592,12 @@ static void print_calibration_text(const calib_report *r)
     int has_ch = csf_profile_has_channels(r->p);
     printf("display profile %s written to %s (session %lld)\n", csf_profile_id(r->p), r->out, (long long)r->sid);
     printf("  black %.4g cd/m2, white %.4g cd/m2\n", csf_profile_lum_black(r->p), csf_profile_lum_max(r->p));
-    printf("  readings: %d sweep (grey + channels), %d in all (%d warm-up%s)\n", res->n_sweep,
-           res->n_readings, res->n_warmup, res->warmup_stable ? "" : ", white never settled");
+    printf("  readings: %d sweep (grey + channels), %d spot checks, %d in all (%d warm-up%s)\n", res->n_sweep,
+           res->n_check, res->n_readings, res->n_warmup, res->warmup_stable ? "" : ", white never settled");
+    if (res->n_check > 0)
+        printf("  spot checks between the levels: a systematic error of about %.3f %% at most (in the "
+               "statement where it is larger than the model's)\n",
+               100 * worst_curve(res->check_error_rel));
     printf("  stated max error above 10 %% of peak (noise + model; target %.3f %%, %s): grey %.3f %%",
            100 * r->target_rel, res->target_met ? "met" : "NOT MET", 100 * res->est_error_rel[CSF_CH_GREY]);
     if (has_ch)
@@ -620,6 +637,7 @@ static void calibration_options(const dargs *a, csf_display_calib_opts *o)
     csf_display_calib_defaults(o);
     if (a->target > 0) o->target_rel = a->target;
     if (a->budget > 0) o->budget = (int)a->budget;
+    if (a->checks >= 0) o->checks = (int)a->checks;
     if (a->warmup_wait_s >= 0) o->warmup_wait_s = a->warmup_wait_s;
     o->channels = !a->no_channels;
     o->display_name = a->name;
@@ -683,12 +701,19 @@ static void warn_calibration(const csf_display_calib_result *res, const csf_disp
     if (res->monotonic_violations) fprintf(stderr, "csfcal: warning: %s\n", res->monotonic_msg);
     if (!res->warmup_stable) warn_not_warm(res, o->target_rel);
     if (!res->target_met) {
-        double worst = worst_curve(res->est_error_rel), met = worst_curve(res->met_error_rel);
+        double worst = worst_curve(res->est_error_rel), met = worst_curve(res->met_error_rel),
+               checked = worst_curve(res->check_error_rel);
+        /* structure finer than the levels is not what more sweep readings remove */
+        int fine = checked > o->target_rel;
         fprintf(stderr,
                 "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
                 "error of %.3f %% (at most %.3f %% with 90 %% confidence) against the target %.3f %% (the "
-                "profile records it); a larger --budget or a quieter instrument would meet it\n",
-                o->budget, 100 * worst, 100 * met, 100 * o->target_rel);
+                "profile records it); %s\n",
+                o->budget, 100 * worst, 100 * met, 100 * o->target_rel,
+                fine ? "the spot checks between the sweep's levels show a systematic error the levels "
+                       "cannot follow (a LUT's ripple, dithered native levels, a clipped channel): the "
+                       "display's own curve is rougher than the target"
+                     : "a larger --budget or a quieter instrument would meet it");
     }
 }
 
@@ -1036,7 +1061,7 @@ static int refuse_foreign_options(const char *sub, const dargs *a)
         {"calibrate", OPTBIT(OPT_OUT) | OPTBIT(OPT_TARGET) | OPTBIT(OPT_BUDGET) | OPTBIT(OPT_NOCH) |
                           OPTBIT(OPT_NAME) | OPTBIT(OPT_QUIET) | OPTBIT(OPT_RENDER) | OPTBIT(OPT_NORENDER) |
                           OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) | OPTBIT(OPT_WARMWAIT) |
-                          OPTBIT(OPT_NOPLACE)},
+                          OPTBIT(OPT_NOPLACE) | OPTBIT(OPT_CHECKS)},
         {"verify", OPTBIT(OPT_LEVELS) | OPTBIT(OPT_TOL) | OPTBIT(OPT_CHANNELS) | OPTBIT(OPT_RENDER) |
                        OPTBIT(OPT_NORENDER) | OPTBIT(OPT_PATCHDEG) | OPTBIT(OPT_BG) | OPTBIT(OPT_RWIDTH) |
                        OPTBIT(OPT_WARMWAIT) | OPTBIT(OPT_NOPLACE)},
@@ -1071,6 +1096,7 @@ int csf_cmd_display(int argc, char **argv)
     dargs a;
     memset(&a, 0, sizeof a);
     a.warmup_wait_s = -1;
+    a.checks = -1;
     int rc = csf_cli_init(&a.cli, argc - 1, argv + 1);
     if (rc) return rc;
     rc = parse(argc - 1, argv + 1, &a);

@@ -78,7 +78,8 @@ int main(void)
             profile_errors(p, nf[k][1], e);
             CHECK_MSG(e[3] <= 0.0006, "noise-free %s grey error %g", nf[k][1], e[3]);
             for (int c = 0; c < 3; c++) CHECK_MSG(e[c] <= 0.0015, "noise-free %s channel %d error %g", nf[k][1], c, e[c]);
-            CHECK_INT_EQ(res.n_profile, res.n_readings - res.n_warmup);
+            CHECK_INT_EQ(res.n_profile, res.n_readings - res.n_warmup - res.n_check);
+            CHECK_INT_EQ(res.n_check, 4 * 4); /* four spot checks on each of grey, r, g, b */
             /* the saved profile carries the grey-derived channel curves exactly */
             char *text = NULL;
             csf_display_profile *q = NULL;
