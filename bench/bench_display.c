@@ -196,8 +196,9 @@ static double maxv(const double *x, int n)
  * made before the channel statement's leave-one-out residuals and run once after them (its PQ
  * display then led to the statement of unwitnessed intervals: seen since); HELD_OUT4, made before
  * that statement and run once after it (seen since); HELD_OUT5, made before the spot checks between
- * the sweep's levels and run once after them. */
-enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, N_ROLES };
+ * the sweep's levels and run once after them (seen since); HELD_OUT6, made before checks that miss
+ * by far could become sweep levels and run once after that. */
+enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, HELD_OUT6, N_ROLES };
 
 typedef struct {
     const char *name, *spec; /* display part of the simulated photometer spec */
@@ -329,6 +330,9 @@ static int honest_main(int seeds, int all)
         {"LUT gain steps per eighth csv", "file=heldout5_steps.csv", HELD_OUT5},
         {"wide gamut, red clips, green rolls off csv", "file=heldout5_sat.csv", HELD_OUT5},
         {"rough measured curve csv", "file=heldout5_rough.csv", HELD_OUT5},
+        {"projector, green clips, red knee csv", "file=heldout6_gclip.csv", HELD_OUT6},
+        {"overshoot bump at 0.3 csv", "file=heldout6_bump.csv", HELD_OUT6},
+        {"two-segment LUT csv", "file=heldout6_twoseg.csv", HELD_OUT6},
         {"S-curve csv", "file=heldout_scurve.csv", DEV},
         {"BT.1886 csv", "file=heldout_bt1886.csv", DEV},
         {"LUT ripple csv", "file=heldout_lutwiggle.csv", DEV},
@@ -349,7 +353,7 @@ static int honest_main(int seeds, int all)
     for (int r = 0; r < N_ROLES; r++) sum[r] = (honest_summary){0, INFINITY, "", "", 0, 0, 0, 0, 0, 0, 0};
     for (size_t d = 0; d < sizeof displays / sizeof displays[0]; d++) {
         if ((displays[d].role == TUNED && all == 0) || (displays[d].role != TUNED && all == 2) ||
-            (displays[d].role == HELD_OUT5 && all == 3))
+            (displays[d].role == HELD_OUT6 && all == 3))
             continue;
         for (size_t k = 0; k < sizeof noises / sizeof noises[0]; k++) {
             double o[4 * 1000];

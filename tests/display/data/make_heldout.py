@@ -38,6 +38,14 @@ sweep's levels, and run once after it:
                        0.75 (tanh), blue a 2.1 power law
   heldout5_rough.csv   a measured-looking 2.25 power law with a band-limited roughness of about
                        0.3 % rms (white noise per level, averaged over 7 levels, per channel)
+A sixth set, made on 2026-11-29 at 02:10 UTC before spot checks that miss by far could become
+sweep levels, and run once after it:
+  heldout6_gclip.csv   a DLP-like projector: green clips at drive 0.82, red bends over softly above
+                       0.7 (a knee), blue a 2.3 power law
+  heldout6_bump.csv    a 2.2 power law with a 1 % overshoot bump at drive 0.3 on every channel (an
+                       overdrive table's artefact), 0.03 wide
+  heldout6_twoseg.csv  a two-segment LUT: slope of a 2.0 power law below drive 0.4 and 2.7 above,
+                       joined continuously (a kink in the slope), channel joins 0.38 / 0.40 / 0.43
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -191,3 +199,29 @@ def rough(c, v):
 write("heldout5_steps.csv", 250.0, steps, "2.2 power law, LUT gain error per eighth of the drive (sd 0.3 %)")
 write("heldout5_sat.csv", 350.0, sat, "wide-gamut LCD: red clips at 0.93, green rolls off above 0.75, blue 2.1")
 write("heldout5_rough.csv", 150.0, rough, "2.25 power law with 0.3 % rms roughness over about 7 levels")
+
+
+def gclip(c, v):
+    if c == 1:
+        return min(v, 0.82) ** 2.2
+    if c == 0:
+        y = v ** 2.4
+        knee = 0.7 ** 2.4
+        return y if y < knee else knee + 0.5 * math.tanh((y - knee) / 0.5)
+    return v ** 2.3
+
+
+def bump6(c, v):
+    return v ** 2.2 * (1 + 0.01 * math.exp(-((v - 0.3) / 0.03) ** 2))
+
+
+def twoseg(c, v):
+    j = (0.38, 0.40, 0.43)[c]
+    if v <= j:
+        return v ** 2.0 * j ** 0.7
+    return j ** 2.7 * (v / j) ** 2.7
+
+
+write("heldout6_gclip.csv", 1200.0, gclip, "projector: green clips at 0.82, red knee above 0.7, blue 2.3")
+write("heldout6_bump.csv", 220.0, bump6, "2.2 power law with a 1 % overshoot bump at drive 0.3, 0.03 wide")
+write("heldout6_twoseg.csv", 280.0, twoseg, "two-segment LUT: 2.0 below, 2.7 above a join at 0.38/0.40/0.43")
