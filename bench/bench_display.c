@@ -368,8 +368,9 @@ static int honest_main(int seeds, int all)
         "held-out 2 (run for the earlier estimator's figures; seen since)",
         "held-out 3 (run once for the channel statement; seen since)",
         "held-out 4 (run once for the statement of unwitnessed intervals; seen since)",
-        "held-out 5 (final)"};
-    for (int r = HELD_OUT5; r >= DEV; r--)
+        "held-out 5 (run once for the spot checks; seen since)",
+        "held-out 6 (final)"};
+    for (int r = HELD_OUT6; r >= DEV; r--)
         if (sum[r].runs)
             printf(
                 "\n%s: %d stated/true ratios, %d outside [1/1.5, 1.5]; largest %.2f (%s), smallest %.2f "
