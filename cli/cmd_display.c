@@ -485,17 +485,23 @@ static int place_meter(const dargs *a, render_ctx *r, const char *what)
     return pr == 0 ? 0 : 1;
 }
 
-/* Everything between opening the photometer and its first reading: the patch against the
- * meter's field, the presenter (*ro as render_open returns it), the placement screen. 0 to go on
- * (the presenter open when *ro is 0), else the exit status, with nothing left open but ph. */
-static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, int *ro,
-                           const char *what)
+/* The refusals that need the instrument (the patch against its field, --monitor with the
+ * simulator): 0 to go on, else 2, said on stderr. Before anything is opened or written. */
+static int refuse_patches(const dargs *a, csf_photometer *ph, const char *what)
 {
-    *ro = 1;
     if (check_patch_size(a, ph, what)) return 2;
     if ((csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) &&
         csf_cli_refuse_monitor(&a->cli, what, "the simulated photometer measures patches drawn offscreen"))
         return 2;
+    return 0;
+}
+
+/* Everything between the refusals and the first reading: the presenter (*ro as render_open
+ * returns it), the placement screen. 0 to go on (the presenter open when *ro is 0), else the exit
+ * status, with nothing left open but ph. */
+static int prepare_patches(const dargs *a, csf_photometer *ph, uint64_t seed, render_ctx *r, int *ro,
+                           const char *what)
+{
     *ro = render_open(a, ph, seed, r, what);
     if (*ro == 2) return 1;
     int placed = *ro == 0 ? place_meter(a, r, what) : 0;
@@ -736,15 +742,26 @@ static int cmd_calibrate(dargs *a)
     calibration_options(a, &o);
     const char *store_path = csf_cli_store_path(&a->cli);
     csf_store *store = NULL;
-    csf_status st = csf_store_open(store_path, &store, &err);
-    if (st) return csf_cli_report("display calibrate", &err);
+    csf_status st = CSF_OK;
     int64_t sid = a->cli.resume_id;
     uint64_t seed = a->cli.seed;
     csf_photometer *ph = NULL;
-    if (sid > 0) st = resume_calibration(a, store, sid, spec, &seed, &err);
+    /* a resumed session's seed is in its store; a new session's store is opened (and made) only
+     * once the instrument is known to fit the patch, so a refusal leaves no empty store behind */
+    if (sid > 0 && (st = csf_store_open(store_path, &store, &err)) == CSF_OK)
+        st = resume_calibration(a, store, sid, spec, &seed, &err);
     if (st == CSF_OK) st = csf_photometer_open(spec, seed, &ph, &err);
     if (st) {
         csf_store_close(store);
+        return csf_cli_report("display calibrate", &err);
+    }
+    if (refuse_patches(a, ph, "display calibrate")) {
+        csf_photometer_close(ph);
+        csf_store_close(store);
+        return 2;
+    }
+    if (!store && (st = csf_store_open(store_path, &store, &err)) != CSF_OK) {
+        csf_photometer_close(ph);
         return csf_cli_report("display calibrate", &err);
     }
     int simulated = (csf_photometer_caps(ph) & CSF_PHOT_CAP_SIMULATED) != 0;
@@ -907,7 +924,8 @@ static int cmd_verify(dargs *a)
         return csf_cli_report("display verify", &err);
     }
     render_ctx rctx;
-    int ro, rc_early = prepare_patches(a, ph, a->cli.seed, &rctx, &ro, "display verify");
+    int ro = 1, rc_early = refuse_patches(a, ph, "display verify");
+    if (!rc_early) rc_early = prepare_patches(a, ph, a->cli.seed, &rctx, &ro, "display verify");
     if (rc_early) {
         csf_photometer_close(ph);
         csf_profile_free(p);

@@ -186,6 +186,22 @@ grep -q 'warning: photometer sim: the 25 deg patch' "$t/e" || { echo "large patc
 [ $? -eq 2 ] && grep -q -- '--monitor 1: this session draws offscreen because the simulated photometer' "$t/e" \
   || { echo "verify --monitor with the simulator: $(cat "$t/e")"; fail=1; }
 [ -e "$t/mon.profile" ] && { echo "--monitor: a profile was written"; fail=1; }
+# and the refusal leaves no store file behind (it comes before the store is opened)
+[ -e "$t/mon.sqlite" ] && { echo "--monitor: a store file was made before the refusal"; fail=1; }
+# --checks: out of range refused; 0 takes none, and the JSON says how many were taken
+"$exe" display calibrate --store "$t/chk.sqlite" --out "$t/chk.profile" --photometer sim:display=lcd --checks 65 \
+  >/dev/null 2>"$t/e"
+[ $? -eq 2 ] && grep -q -- '--checks: 65 is out of range (allowed 0 to 64)' "$t/e" \
+  || { echo "--checks 65: $(cat "$t/e")"; fail=1; }
+for n in 0 3; do
+  "$exe" display calibrate --store "$t/chk.sqlite" --out "$t/chk$n.profile" --photometer sim:display=lcd --checks $n \
+    --json 2>/dev/null >"$t/chk$n.json"
+  python3 -c 'import json, sys
+d = json.load(open(sys.argv[1])); n = int(sys.argv[2])
+assert d["check_readings"] == 4 * n, d["check_readings"]
+assert (d["check_error_rel"]["grey"] is None) == (n == 0), d["check_error_rel"]' "$t/chk$n.json" $n \
+    || { echo "--checks $n: $(head -c 400 "$t/chk$n.json")"; fail=1; }
+done
 # verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
 [ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }
