@@ -1,8 +1,9 @@
 #!/bin/sh
 # A rendered display calibration (patches drawn through the presenter, the simulator reading the
 # rendered frames) stopped at several points -- instrument faults in the warm-up, the dark and
-# white readings, the grey and the channel sweeps, and a SIGKILL -- and resumed without the fault
-# makes the uninterrupted session's profile: the same readings (store) and the same model.
+# white readings, the grey and the channel sweeps, the spot checks after them (readings 56-72 of
+# 72), and a SIGKILL -- and resumed without the fault makes the uninterrupted session's profile:
+# the same readings (store) and the same model.
 set -u
 exe="$1"
 fail=0
@@ -32,7 +33,7 @@ compare() { # $1: label, $2: store, $3: profile
   model "$t/ref.profile" >"$t/a"; model "$3" >"$t/b"
   cmp -s "$t/a" "$t/b" || { echo "$1: profile differs"; diff "$t/a" "$t/b" | head -6; fail=1; }
 }
-for f in timeout@4 garbage@15 unplug@22 timeout@40 unplug@46; do
+for f in timeout@4 garbage@15 unplug@22 timeout@40 unplug@46 timeout@62 garbage@68; do
   rm -f "$t/f.sqlite" "$t/f.profile"
   "$exe" display calibrate --photometer "$ph,fault=$f" $common --store "$t/f.sqlite" --out "$t/f.profile" 2>"$t/e" \
     && { echo "$f: no fault"; fail=1; continue; }
