@@ -136,6 +136,12 @@ static void progress(ctx *c)
         c->progress_shown = 1;
         return;
     }
+    if (c->n && c->r[c->n - 1].role == ROLE_CHECK) {
+        fprintf(stderr, "\rspot checks between the sweep's levels: %d taken                          ",
+                c->n_check);
+        c->progress_shown = 1;
+        return;
+    }
     /* time per reading since the warm-up ended (its waits would inflate the estimate) */
     size_t first = 0;
     while (first < c->n && c->r[first].role == ROLE_WARMUP) first++;
@@ -261,7 +267,11 @@ static const char *fault_hint(csf_status st, int is_white)
 static csf_status meter_fault(const ctx *c, csf_status st, int role, int ch, double drive, const csf_error *m,
                               csf_error *err)
 {
-    static const char *what[] = {"warm-up white", "dark", "white reference", "sweep", "dark", "sweep"};
+    static const char *what[] = {
+        [ROLE_WARMUP] = "warm-up white", [ROLE_DARK] = "dark",          [ROLE_REF] = "white reference",
+        [ROLE_SWEEP] = "sweep",          [ROLE_DARK_REJECTED] = "dark", [ROLE_REJECTED] = "sweep",
+        [ROLE_CHECK] = "spot check"};
+    _Static_assert(sizeof what / sizeof what[0] == ROLE_CHECK + 1, "a name for every role");
     static const char *chn[4] = {"red", "green", "blue", "grey"};
     double rgb[3];
     patch_rgb(ch, drive, rgb);
@@ -1804,7 +1814,8 @@ static csf_status spot_checks(ctx *c, csf_error *err)
 }
 
 /* The relative sd of the profile's curve at drive v from the knots' noise (levels L, linear
- * weights between the two levels around v). */
+ * weights between the two levels around v), in cd/m2 first: a channel's knot at black is exact
+ * (zero luminance, no relative sd to speak of). */
 static double knot_sd_at(const ctx *c, const levels *L, double v)
 {
     if (L->m < 2) return 0;
@@ -1814,7 +1825,9 @@ static double knot_sd_at(const ctx *c, const levels *L, double v)
     size_t i = 0;
     while (i + 2 < L->m && L->v[i + 1] <= v) i++;
     double t = L->v[i + 1] > L->v[i] ? fmin(1, fmax(0, (v - L->v[i]) / (L->v[i + 1] - L->v[i]))) : 0;
-    double out = sqrt(pow((1 - t) * sd[i], 2) + pow(t * sd[i + 1], 2));
+    double a = L->lum[i] > 0 ? sd[i] * L->lum[i] : 0, b = L->lum[i + 1] > 0 ? sd[i + 1] * L->lum[i + 1] : 0;
+    double lum = (1 - t) * L->lum[i] + t * L->lum[i + 1];
+    double out = lum > 0 ? sqrt(pow((1 - t) * a, 2) + pow(t * b, 2)) / lum : 0;
     free(sd);
     return out;
 }
@@ -2051,6 +2064,9 @@ static csf_status stored_settings(const char *json, int64_t sid, csf_display_cal
     csf_status st = csf_json_parse_object(json, what, &d, err);
     if (st) return st;
     int channels = o->channels;
+    csf_display_calib_opts defaults;
+    csf_display_calib_defaults(&defaults);
+    o->checks = defaults.checks; /* a session stored before spot checks existed gets today's default */
     int bad = csf_json_get_number(d, "target_rel", 1e-5, 0.5, &o->target_rel, err) < 0 ||
               csf_json_get_int(d, "budget", 8, 4096, &o->budget, err) < 0 ||
               csf_json_get_int(d, "channels", 0, 1, &channels, err) < 0 ||
@@ -2147,22 +2163,27 @@ static void stated_errors(const ctx *c, const csf_display_calib_opts *o, const c
     levels_read(c, CSF_CH_GREY, &L);
     double chk = p ? check_error(c, CSF_CH_GREY, 0, p) : NAN;
     res->check_error_rel[CSF_CH_GREY] = chk;
+    statement sg = curve_statement(c, CSF_CH_GREY, &L, NULL);
+    int met_without_checks = sg.total <= o->target_rel;
     res->est_error_rel[CSF_CH_GREY] = with_checks(curve_statement(&median, CSF_CH_GREY, &L, NULL), chk);
-    res->met_error_rel[CSF_CH_GREY] = with_checks(curve_statement(c, CSF_CH_GREY, &L, NULL), chk);
+    res->met_error_rel[CSF_CH_GREY] = with_checks(sg, chk);
     levels_free(&L);
     for (int ch = 0; o->channels && ch < 3; ch++) {
         ratio_model rm;
         statement sm, sq;
-        int via = channel_statement(&median, ch, &rm, &sm);
+        channel_statement(&median, ch, &rm, &sm);
         channel_statement(c, ch, &rm, &sq);
-        chk = p ? check_error(c, ch, via, p) : NAN;
+        /* the checks are judged against the model the profile holds */
+        chk = p ? check_error(c, ch, res->channel_via_grey[ch], p) : NAN;
         res->check_error_rel[ch] = chk;
         res->est_error_rel[ch] = with_checks(sm, chk);
         res->met_error_rel[ch] = with_checks(sq, chk);
+        met_without_checks &= sq.total <= o->target_rel;
     }
     res->target_met = 1;
     for (int ch = 0; ch < CSF_CH_COUNT; ch++)
         if (ch == CSF_CH_GREY || o->channels) res->target_met &= res->met_error_rel[ch] <= o->target_rel;
+    res->checks_raised = met_without_checks && !res->target_met;
 }
 
 /* The profile from a run that ended well: the checks, the profile and the channels taken from the
@@ -2255,7 +2276,9 @@ csf_status csf_display_calibrate(csf_photometer *ph, const csf_display_calib_opt
     res->n_sweep = c.n_sweep;
     res->n_warmup = c.n_warmup;
     res->n_check = c.n_check;
-    res->n_profile = (int)c.n - c.n_warmup - c.n_check;
+    res->n_profile = 0;
+    for (size_t i = 0; i < c.n; i++) /* what build_profile takes */
+        res->n_profile += c.r[i].role == ROLE_DARK || c.r[i].role == ROLE_REF || c.r[i].role == ROLE_SWEEP;
 
     if (!st) {
         st = finish_profile(&c, &o, out, res, err);

@@ -80,10 +80,13 @@ typedef struct {
     char monotonic_msg[256];
     int channel_via_grey[3]; /* 1: channel c modelled through the grey curve (ratio fit within
                                 noise); 0: its own curve through its readings */
-    int n_profile;         /* readings the profile is built from: sweeps + dark + white references
-                              (n_readings less warm-up) */
-    int target_met;        /* 1: every curve's stated error is at or below target_rel; 0: the budget
-                              ended first (said on stderr by the CLI, in --json, in the profile) */
+    int n_profile;           /* readings the profile is built from: sweeps + dark + white references
+                              (n_readings less warm-up, spot checks and readings set aside) */
+    int target_met;          /* 1: every curve's stated error is at or below target_rel; 0: the budget
+                              ended first, or the spot checks raised a statement the sweep had met
+                              (said on stderr by the CLI, in --json, in the profile) */
+    int checks_raised;       /* 1: the target is missed only because of what the spot checks show
+                              (structure finer than the levels: more sweep readings do not help) */
 } csf_display_calib_result;
 
 /* Runs (or resumes, when session_id > 0 and the store holds its readings) a calibration.

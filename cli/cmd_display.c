@@ -569,8 +569,8 @@ static void print_calibration_json(const calib_report *r)
         printf("%s\"%s\": ", k ? ", " : "", chn[c]);
         json_num(stdout, res->check_error_rel[c]);
     }
-    printf("}, \"target_met\": %s, \"budget\": %d, \"noise_rel\": ", res->target_met ? "true" : "false",
-           r->budget);
+    printf("}, \"target_met\": %s, \"checks_raised\": %s, \"budget\": %d, \"noise_rel\": ",
+           res->target_met ? "true" : "false", res->checks_raised ? "true" : "false", r->budget);
     json_num(stdout, res->noise_rel);
     printf(", \"drift_rel\": ");
     json_num(stdout, res->drift_rel);
@@ -707,19 +707,22 @@ static void warn_calibration(const csf_display_calib_result *res, const csf_disp
     if (res->monotonic_violations) fprintf(stderr, "csfcal: warning: %s\n", res->monotonic_msg);
     if (!res->warmup_stable) warn_not_warm(res, o->target_rel);
     if (!res->target_met) {
-        double worst = worst_curve(res->est_error_rel), met = worst_curve(res->met_error_rel),
-               checked = worst_curve(res->check_error_rel);
-        /* structure finer than the levels is not what more sweep readings remove */
-        int fine = checked > o->target_rel;
-        fprintf(stderr,
+        double worst = worst_curve(res->est_error_rel), met = worst_curve(res->met_error_rel);
+        if (res->checks_raised) /* structure finer than the levels is not what more sweep readings remove */
+            fprintf(stderr,
+                    "csfcal: warning: target not met: the sweep met the target %.3f %% at its levels, but "
+                    "the spot checks between them show a systematic error the levels cannot follow (a "
+                    "LUT's ripple, dithered native levels, a clipped channel): stated error %.3f %% (at "
+                    "most %.3f %% with 90 %% confidence; the profile records it). The display's own curve "
+                    "is rougher than the target; a larger --budget would not meet it\n",
+                    100 * o->target_rel, 100 * worst, 100 * met);
+        else
+            fprintf(
+                stderr,
                 "csfcal: warning: target not met: the budget of %d sweep readings ended with a stated "
                 "error of %.3f %% (at most %.3f %% with 90 %% confidence) against the target %.3f %% (the "
-                "profile records it); %s\n",
-                o->budget, 100 * worst, 100 * met, 100 * o->target_rel,
-                fine ? "the spot checks between the sweep's levels show a systematic error the levels "
-                       "cannot follow (a LUT's ripple, dithered native levels, a clipped channel): the "
-                       "display's own curve is rougher than the target"
-                     : "a larger --budget or a quieter instrument would meet it");
+                "profile records it); a larger --budget or a quieter instrument would meet it\n",
+                o->budget, 100 * worst, 100 * met, 100 * o->target_rel);
     }
 }
 

@@ -202,6 +202,16 @@ assert d["check_readings"] == 4 * n, d["check_readings"]
 assert (d["check_error_rel"]["grey"] is None) == (n == 0), d["check_error_rel"]' "$t/chk$n.json" $n \
     || { echo "--checks $n: $(head -c 400 "$t/chk$n.json")"; fail=1; }
 done
+# a LUT's ripple between the sweep's levels: the sweep meets the target at its levels, the checks
+# show it is not met, and the warning says more budget would not help (not that it would)
+"$exe" display calibrate --store "$t/chk.sqlite" --out "$t/rip.profile" --json \
+  --photometer "sim:display=file=$data/heldout_lutwiggle.csv,noise=0.0005" 2>"$t/e" >"$t/rip.json"
+python3 -c 'import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["target_met"] is False and d["checks_raised"] is True, d
+assert d["check_error_rel"]["grey"] > 0.0025, d["check_error_rel"]' "$t/rip.json" \
+  && grep -q 'a larger --budget would not meet it' "$t/e" && ! grep -q 'would meet it' "$t/e" \
+  || { echo "ripple between the levels: $(cat "$t/e") $(head -c 300 "$t/rip.json")"; fail=1; }
 # verify waits for warm-up: a monitor still warming up is NOT WARM (exit 1), never "ok"
 "$exe" display verify "$t/lcd.profile" --photometer sim:display=lcd,warmup_s=120,drift=0.3 --no-render >"$t/v" 2>/dev/null
 [ $? -eq 1 ] || { echo "cold monitor: exit status"; fail=1; }
