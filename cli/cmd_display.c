@@ -763,7 +763,7 @@ static int cmd_calibrate(dargs *a)
         csf_store_close(store);
         return 2;
     }
-    if (!store && (st = csf_store_open(store_path, &store, &err)) != CSF_OK) {
+    if (!store && csf_store_open(store_path, &store, &err) != CSF_OK) {
         csf_photometer_close(ph);
         return csf_cli_report("display calibrate", &err);
     }
