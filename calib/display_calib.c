@@ -1754,14 +1754,20 @@ static double profile_lum(const csf_display_profile *p, int ch, double v)
     return ch == CSF_CH_GREY ? csf_profile_grey_lum(p, v) : csf_profile_channel_lum(p, ch, v);
 }
 
-/* The profile the readings so far give, channels through grey where the statement takes them so. */
-static csf_status provisional_profile(ctx *c, csf_display_profile **p, csf_error *err)
+/* The profile the readings so far give: every curve through its levels, then each channel the
+ * statement takes through grey rebuilt from grey (via[ch], may be NULL, gets the choice). *p is
+ * NULL when it fails. */
+static csf_status profile_from_readings(ctx *c, const char *display_name, const char *instrument,
+                                        double additivity, int via[3], csf_display_profile **p,
+                                        csf_error *err)
 {
-    csf_status st = build_profile(c, "provisional", "", NAN, p, err);
+    csf_status st = build_profile(c, display_name, instrument, additivity, p, err);
     for (int ch = 0; !st && c->o->channels && ch < 3; ch++) {
         ratio_model rm;
         double stated;
-        if (channel_via_grey(c, ch, &rm, &stated)) st = channel_from_grey(c, ch, &rm, *p, err);
+        int use = channel_via_grey(c, ch, &rm, &stated);
+        if (via) via[ch] = use;
+        if (use) st = channel_from_grey(c, ch, &rm, *p, err);
     }
     if (st) {
         csf_profile_free(*p);
@@ -1794,7 +1800,7 @@ static csf_status spot_checks(ctx *c, csf_error *err)
     if (c->o->checks <= 0) return CSF_OK;
     for (;;) {
         csf_display_profile *p = NULL;
-        csf_status st = provisional_profile(c, &p, err);
+        csf_status st = profile_from_readings(c, "provisional", "", NAN, NULL, &p, err);
         if (st) return st;
         for (int ch = CSF_CH_GREY; !st && ch >= 0; ch--) {
             if (ch < 3 && !c->o->channels) break;
@@ -1813,23 +1819,18 @@ static csf_status spot_checks(ctx *c, csf_error *err)
     }
 }
 
-/* The relative sd of the profile's curve at drive v from the knots' noise (levels L, linear
- * weights between the two levels around v), in cd/m2 first: a channel's knot at black is exact
- * (zero luminance, no relative sd to speak of). */
-static double knot_sd_at(const ctx *c, const levels *L, double v)
+/* The relative sd of the profile's curve at drive v from the knots' noise (levels L with their
+ * relative sds sd, linear weights between the two levels around v), in cd/m2 first: a channel's
+ * knot at black is exact (zero luminance, no relative sd to speak of). */
+static double knot_sd_at(const levels *L, const double *sd, double v)
 {
-    if (L->m < 2) return 0;
-    double *sd = malloc(L->m * sizeof(double));
-    if (!sd) return 0;
-    level_sds(c, L, pooled_noise_rel(c), sd);
+    if (L->m < 2 || !sd) return 0;
     size_t i = 0;
     while (i + 2 < L->m && L->v[i + 1] <= v) i++;
     double t = L->v[i + 1] > L->v[i] ? fmin(1, fmax(0, (v - L->v[i]) / (L->v[i + 1] - L->v[i]))) : 0;
     double a = L->lum[i] > 0 ? sd[i] * L->lum[i] : 0, b = L->lum[i + 1] > 0 ? sd[i + 1] * L->lum[i + 1] : 0;
     double lum = (1 - t) * L->lum[i] + t * L->lum[i + 1];
-    double out = lum > 0 ? sqrt(pow((1 - t) * a, 2) + pow(t * b, 2)) / lum : 0;
-    free(sd);
-    return out;
+    return lum > 0 ? sqrt(pow((1 - t) * a, 2) + pow(t * b, 2)) / lum : 0;
 }
 
 /* The systematic error the spot checks of curve ch show in profile p, scaled to a maximum over the
@@ -1839,18 +1840,20 @@ static double check_error(const ctx *c, int ch, int via, const csf_display_profi
 {
     levels L;
     levels_read(c, via || ch == CSF_CH_GREY ? CSF_CH_GREY : ch, &L);
-    double nr = pooled_noise_rel(c), ss = 0, noise2 = 0;
+    double nr = pooled_noise_rel(c), ss = 0, noise2 = 0, *sd = malloc((L.m + 1) * sizeof(double));
+    if (sd) level_sds(c, &L, nr, sd);
     int n = 0;
     for (size_t i = 0; i < c->n; i++) {
         const rd *x = &c->r[i];
         if (x->role != ROLE_CHECK || x->ch != ch || isnan(x->lum)) continue;
         double meas = corrected(c, x) - (ch < 3 ? c->black : 0), pred = profile_lum(p, ch, x->drive);
         if (!(pred > 0) || !(meas > 0)) continue;
-        double r = meas / pred - 1, ks = knot_sd_at(c, &L, x->drive);
+        double r = meas / pred - 1, ks = knot_sd_at(&L, sd, x->drive);
         ss += r * r;
         noise2 += nr * nr + pow(c->noise_abs / meas, 2) + ks * ks;
         n++;
     }
+    free(sd);
     levels_free(&L);
     if (!n) return NAN;
     /* the noise's share is taken at the 90th percentile of its chi-square (Wilson and Hilferty's
@@ -2199,20 +2202,9 @@ static csf_status finish_profile(ctx *c, const csf_display_calib_opts *o, csf_di
     if (csf_photometer_identify(ph, ident, sizeof ident, &ie))
         snprintf(ident, sizeof ident, "%s", csf_photometer_spec(ph));
     const char *dn = o->display_name ? o->display_name : csf_photometer_spec(ph);
-    st = build_profile(c, dn, ident, res->additivity_error, out, err);
-    for (int ch = 0; !st && o->channels && ch < 3; ch++) {
-        ratio_model rm;
-        double stated;
-        int use = channel_via_grey(c, ch, &rm, &stated);
-        res->channel_via_grey[ch] = use;
-        if (use) st = channel_from_grey(c, ch, &rm, *out, err);
-    }
+    st = profile_from_readings(c, dn, ident, res->additivity_error, res->channel_via_grey, out, err);
     stated_errors(c, o, *out, res);
     if (!st) csf_profile_set_statement(*out, o->target_rel, res->est_error_rel, res->target_met);
-    if (st) {
-        csf_profile_free(*out);
-        *out = NULL;
-    }
     return st;
 }
 
