@@ -201,8 +201,8 @@ static double maxv(const double *x, int n)
 enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, HELD_OUT6, N_ROLES };
 
 /* the table rows' tag per role, one for every role */
-static const char *const role_tag[N_ROLES] = {" (tuned)", " (dev)", "", " (held-out 3)", " (held-out 4)",
-                                              " (held-out 5)", " (held-out 6)"};
+static const char *const role_tag[N_ROLES] = {
+    " (tuned)", " (dev)", "", " (held-out 3)", " (held-out 4)", " (held-out 5)", " (held-out 6)"};
 
 typedef struct {
     const char *name, *spec; /* display part of the simulated photometer spec */
@@ -300,9 +300,8 @@ static int honest_run(const honest_display *d, const char *data, double noise_re
     if (d->role != TUNED) honest_note(&sum[d->role], sc / tc, what);
     sum[d->role].unmet += !res.target_met;
     printf("| %s%s | %.2f %% | %d | %.3f %% | %.3f %% | %.2f | %.3f %% | %.3f %% | %.2f | %d | %s |\n",
-           d->name, role_tag[d->role],
-           100 * noise_rel, seed, 100 * sg, 100 * tg, sg / tg, 100 * sc, 100 * tc, sc / tc, res.n_sweep,
-           res.target_met ? "yes" : "**no**");
+           d->name, role_tag[d->role], 100 * noise_rel, seed, 100 * sg, 100 * tg, sg / tg, 100 * sc, 100 * tc,
+           sc / tc, res.n_sweep, res.target_met ? "yes" : "**no**");
     fflush(stdout);
     csf_profile_free(p);
     csf_photometer_close(ph);

@@ -31,12 +31,15 @@
 #define AFC_X_CANDIDATES 31
 #define AFC_SD_STABLE 0.05
 #define AFC_PRIOR_SD 0.7
+#define AFC_CLIP_ABOVE 0.1 /* log10 above the reach where a never-visible cell's threshold is taken */
 /* Data-alone odds for "never visible" (posterior odds of a threshold above the display's reach
  * over the prior odds) a cell needs before it is written never visible (invisible_odds). One
  * wrong answer at the top contrast is at most 0.5 / 0.04 = 12.5 times likelier from an invisible
  * cell than from a plainly visible one (two intervals, lapse 0.08, the grid's highest; four places
  * the same), so odds above that are evidence that survives a lapse. */
 #define AFC_INVISIBLE_BF 20.0
+/* ... and the odds up to which such a cell is still shown: ten times that */
+#define AFC_RETEST_BF (10 * AFC_INVISIBLE_BF)
 
 enum { ST_INTERVAL = 0x2afc1, ST_POLAR, ST_ROTATE };
 
@@ -192,6 +195,22 @@ static void mix_moments(const afc_state *a, int i, double *mean, double *sd, dou
     if (p_above) *p_above = pa;
 }
 
+/* The sd of cell i's threshold with every value above the display's reach taken as one, just above
+ * it (a->mix must hold the cell's posterior): all of them write the same "never visible" into the
+ * table. The plain sd of a cell that cannot be seen stays wide however often it is shown (no answer
+ * tells apart thresholds the display cannot reach), so choosing cells by it sends most of the
+ * trials to the invisible ones. */
+static double clipped_sd(const afc_state *a, int i)
+{
+    const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta];
+    double m = 0.0, m2 = 0.0, top = a->x_hi + AFC_CLIP_ABOVE;
+    for (int k = 0; k < g->n; k++) {
+        double t = fmin(g->t_lo + k * g->t_step, top);
+        m += a->mix[k] * t, m2 += a->mix[k] * t * t;
+    }
+    return sqrt(fmax(m2 - m * m, 0.0));
+}
+
 static double h_of(const double *q, int n)
 {
     double tot = 0.0, h = 0.0;
@@ -229,6 +248,8 @@ static double mix_best_x(afc_state *a, int i)
     return best_x;
 }
 
+static double invisible_odds(const afc_state *a, int i, double p_above);
+
 static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     afc_state *a = state;
@@ -237,9 +258,14 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
     int rot = (int)(csf_rng_u64(a->s.seed, ST_ROTATE, (uint64_t)trial_index) % (uint64_t)n);
     for (int k = 0; k < n; k++) {
         int i = (k + rot) % n;
-        double sd;
         cell_mix(a, i);
-        mix_moments(a, i, NULL, &sd, NULL);
+        double sd, p_above;
+        mix_moments(a, i, NULL, &sd, &p_above);
+        /* a cell that leans to never visible is undecided until its evidence is well past what
+         * writing it so takes (a streak of lapses at a visible cell near the reach can reach the
+         * bar and is undone by the trials that follow): its whole spread stands till then;
+         * otherwise thresholds beyond the reach count as one */
+        if (!(p_above > 0.5 && invisible_odds(a, i, p_above) < AFC_RETEST_BF)) sd = clipped_sd(a, i);
         if (sd <= AFC_SD_STABLE) continue;
         if (sd > best_sd + 1e-12) {
             best_sd = sd;
