@@ -32,10 +32,18 @@
 #define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
 #define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
 #define PRECISION_CAP_PER_CELL 40 /* --precision without --trials: the cap (960 over 24 cells) */
-/* The RMS stated error a session reaches with n trials per cell is about this over sqrt(n) (bayes
- * and the per-cell methods alike, within a factor of about 1.5, from simulated sessions); only used
- * to warn that a --precision is out of the cap's reach. */
-#define REACH_LOG10_SQRT_TRIALS 0.25
+/* The RMS stated error a session reaches with n trials per cell is about reach_log10_sqrt_trials()
+ * over sqrt(n): the median over simulated people (slope and lapse drawn) and held-out sets stopped at
+ * --precision 0.10 (bayes about 180 trials over 24 cells, 2afc about 480, fade about 240 on the
+ * model's people and up to 720 on held-out ones; the spread from person to person is about 1.5x in
+ * trials). Used for the expected time before the first trial and to warn that a --precision is
+ * out of the cap's reach. */
+static double reach_log10_sqrt_trials(const csf_procedure_ops *ops)
+{
+    if (strcmp(ops->name, "bayes") == 0) return 0.27; /* one surface pools every cell's trials */
+    if (strcmp(ops->name, "2afc") == 0) return 0.45;  /* each cell on its own */
+    return 0.32;                                      /* fade: a ramp says more than a choice */
+}
 #define PRECISION_MIN_TRIALS 10 /* no stop before this many trials: the prior alone is not a table */
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE, ST_DEMO };
@@ -456,7 +464,7 @@ static void warn_precision_reach(const obs_run *R)
     const session_settings *set = &R->set;
     int n_shown = set->n_freqs * set->n_eccs * (set->n_vels > 0 ? set->n_vels : 1) - R->n_not_shown;
     if (set->precision <= 0 || n_shown <= 0 || R->opt->quiet) return;
-    double reach = REACH_LOG10_SQRT_TRIALS / sqrt((double)set->trials / n_shown);
+    double reach = reach_log10_sqrt_trials(R->S.ops) / sqrt((double)set->trials / n_shown);
     if (set->precision < reach)
         fprintf(stderr,
                 "csfcal: observer: --precision %g log10 is probably out of reach of the cap of %d trials "
@@ -780,10 +788,16 @@ static int precision_reached(obs_run *R, int n)
     int every = R->S.sim ? 50 : 10;
     if (!R->opt->quiet && !R->progress.live && (n % every == 0 || reached)) {
         double spent = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+        int left = obs_progress_trials_left(n, rms, R->set.precision, R->set.trials),
+            run_done = n - R->resume_done;
+        char left_s[64] = "";
+        if (left > 0 && run_done > 0)
+            snprintf(left_s, sizeof left_s, ", about %.1f min (%d trials) left",
+                     spent / run_done * left / 60.0, left);
         fprintf(stderr,
                 "csfcal: observer: trial %d (cap %d): predicted error %.3f log10, target %.3f; %.1f min "
-                "so far\n",
-                n, R->set.trials, rms, R->set.precision, spent / 60.0);
+                "so far%s\n",
+                n, R->set.trials, rms, R->set.precision, spent / 60.0, left_s);
     }
     if (reached) R->res->reached_precision = 1;
     return reached;
@@ -833,8 +847,9 @@ static void show_progress(obs_run *R, int n, int last)
         }
     }
     ps.spent_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
-    int run_done = n - R->resume_done;
-    if (run_done > 0) ps.left_s = ps.spent_s / run_done * (set->trials - n);
+    int run_done = n - R->resume_done, left = set->trials - n;
+    if (set->precision > 0) left = obs_progress_trials_left(n, ps.rms_log10, set->precision, set->trials);
+    if (run_done > 0 && left >= 0) ps.left_s = ps.spent_s / run_done * left;
     obs_progress_show(&R->progress, &ps);
 }
 
@@ -928,9 +943,9 @@ static void say_expected_time(obs_run *R)
     for (size_t i = 0; i < R->n_stored; i++) done += !R->S.stored[i].is_practice;
     int left = R->set.trials - done;
     if (R->set.precision > 0) {
-        /* the trials the precision should take (REACH_LOG10_SQRT_TRIALS), within the cap */
+        /* the trials the precision should take (reach_log10_sqrt_trials), within the cap */
         int n_shown = R->n_cells - R->n_not_shown;
-        double need = n_shown * pow(REACH_LOG10_SQRT_TRIALS / R->set.precision, 2.0);
+        double need = n_shown * pow(reach_log10_sqrt_trials(R->S.ops) / R->set.precision, 2.0);
         if (need < left) left = (int)ceil(need) - done;
     }
     if (left < 0) left = 0;

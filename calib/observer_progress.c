@@ -20,6 +20,14 @@ void obs_progress_event(obs_progress *p, const char *fmt, ...)
     va_end(ap);
 }
 
+int obs_progress_trials_left(int n, double rms_log10, double target_log10, int cap)
+{
+    if (n < 10 || !(rms_log10 > 0) || !(target_log10 > 0) || !isfinite(rms_log10)) return -1;
+    if (rms_log10 <= target_log10 || n >= cap) return 0;
+    double need = n * (rms_log10 / target_log10) * (rms_log10 / target_log10);
+    return need >= cap ? cap - n : (int)ceil(need) - n;
+}
+
 /* Minutes as "2.4 min", or "?" while unknown. */
 static void minutes(char *buf, size_t len, double s)
 {
@@ -38,9 +46,9 @@ void obs_progress_show(obs_progress *p, const obs_progress_state *s)
     minutes(spent, sizeof spent, s->spent_s);
     minutes(left, sizeof left, s->left_s);
     /* \r and erase-to-end-of-line: the line is redrawn where it stands */
-    /* with a precision target the time left is to the cap: the stop may come sooner */
+    /* with a precision target the time left is an estimate from the error's fall so far */
     fprintf(stderr, "\r\033[Kcsfcal: %s | cells %d/%d at <= %.2f | %s so far, %s%s left%s%s", head,
-            s->cells_settled, s->cells, s->settle_log10, spent, s->target > 0 ? "at most " : "", left,
+            s->cells_settled, s->cells, s->settle_log10, spent, s->target > 0 ? "about " : "", left,
             p->last_event[0] ? " | last: " : "", p->last_event);
     fflush(stderr);
     p->on_screen = 1;

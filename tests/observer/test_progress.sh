@@ -25,11 +25,16 @@ grep -q 'last: trial [0-9]* [a-z_]*' "$T/a" || err "no flagged trial named: $(tr
 # the line is ended before the summary, so the summary starts a line of its own
 grep -q $'left[^\r]*\r\r\nobserver session 1' "$T/a" || grep -q $'left[^\r\n]*\r\nobserver session 1' "$T/a" ||
   err "the summary does not start on its own line: $(tr '\r\033' '|~' <"$T/a" | tail -c 300)"
-# precision: the predicted error against the target, the time left to the cap
+# precision: the predicted error against the target, the time left estimated from its fall
 on_tty "$T/b" observer calibrate --observer sim --seed 5 --precision 0.2 --freqs 1,4 --eccs 0,10 \
   --store "$T/s.db" --out "$T/b.csflut"
-grep -q 'predicted error [0-9.]* of 0.200 log10 | cells [0-4]/4 at <= 0.20 | .* at most [0-9.]* min left' "$T/b" ||
+grep -q 'predicted error [0-9.]* of 0.200 log10 | cells [0-4]/4 at <= 0.20 | .* about [0-9.]* min left' "$T/b" ||
   err "precision line: $(tr '\r\033' '|~' <"$T/b" | tail -c 400)"
+# ... and in a log: the periodic line says the time and the trials left, which shrink as it goes
+"$CSFCAL" observer calibrate --observer sim --seed 5 --precision 0.15 --store "$T/s.db" --out "$T/p.csflut" \
+  2>"$T/p.err" >/dev/null || err "the precision session with stderr to a file failed"
+grep -q 'trial 50 (cap [0-9]*): predicted error [0-9.]* log10, target 0.150; [0-9.]* min so far, about [0-9.]* min ([0-9]* trials) left' \
+  "$T/p.err" || err "no time left in the periodic precision line: $(tail -c 400 "$T/p.err")"
 # --quiet: nothing on the terminal but the summary
 on_tty "$T/c" observer calibrate --observer sim --seed 6 --trials 20 --quiet --store "$T/s.db" --out "$T/c.csflut"
 grep -q 'csfcal: trial' "$T/c" && err "--quiet drew the progress line"
