@@ -31,7 +31,6 @@
 #define AFC_X_CANDIDATES 31
 #define AFC_SD_STABLE 0.05
 #define AFC_PRIOR_SD 0.7
-#define AFC_CLIP_ABOVE 0.1 /* log10 above the reach where a never-visible cell's threshold is taken */
 /* Data-alone odds for "never visible" (posterior odds of a threshold above the display's reach
  * over the prior odds) a cell needs before it is written never visible (invisible_odds). One
  * wrong answer at the top contrast is at most 0.5 / 0.04 = 12.5 times likelier from an invisible
@@ -195,22 +194,6 @@ static void mix_moments(const afc_state *a, int i, double *mean, double *sd, dou
     if (p_above) *p_above = pa;
 }
 
-/* The sd of cell i's threshold with every value above the display's reach taken as one, just above
- * it (a->mix must hold the cell's posterior): all of them write the same "never visible" into the
- * table. The plain sd of a cell that cannot be seen stays wide however often it is shown (no answer
- * tells apart thresholds the display cannot reach), so choosing cells by it sends most of the
- * trials to the invisible ones. */
-static double clipped_sd(const afc_state *a, int i)
-{
-    const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta];
-    double m = 0.0, m2 = 0.0, top = a->x_hi + AFC_CLIP_ABOVE;
-    for (int k = 0; k < g->n; k++) {
-        double t = fmin(g->t_lo + k * g->t_step, top);
-        m += a->mix[k] * t, m2 += a->mix[k] * t * t;
-    }
-    return sqrt(fmax(m2 - m * m, 0.0));
-}
-
 static double h_of(const double *q, int n)
 {
     double tot = 0.0, h = 0.0;
@@ -261,11 +244,12 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
         cell_mix(a, i);
         double sd, p_above;
         mix_moments(a, i, NULL, &sd, &p_above);
-        /* a cell that leans to never visible is undecided until its evidence is well past what
-         * writing it so takes (a streak of lapses at a visible cell near the reach can reach the
-         * bar and is undone by the trials that follow): its whole spread stands till then;
-         * otherwise thresholds beyond the reach count as one */
-        if (!(p_above > 0.5 && invisible_odds(a, i, p_above) < AFC_RETEST_BF)) sd = clipped_sd(a, i);
+        /* A cell settled as never visible draws no more trials: its spread stays wide however
+         * often it is shown (no answer tells apart thresholds beyond the display's reach), so by
+         * that alone it would take most of a long session. Settled means evidence well past what
+         * writing it never visible takes: a streak of lapses at a visible cell near the reach can
+         * reach that bar, and the trials that follow undo it. */
+        if (p_above > 0.5 && invisible_odds(a, i, p_above) >= AFC_RETEST_BF) continue;
         if (sd <= AFC_SD_STABLE) continue;
         if (sd > best_sd + 1e-12) {
             best_sd = sd;
