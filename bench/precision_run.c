@@ -89,23 +89,27 @@ static void snapshot(const csf_cell_estimate *est, int trials, int reached, sess
 }
 
 static void *create_method(const csf_procedure_ops *ops, int seed, const csf_cell *cells, const int *n_alt,
-                           int cap)
+                           int cap, double precision)
 {
     int fade = ops->task == CSF_TASK_FADE;
-    csf_procedure_setup s = {.cells = cells,
-                             .n_cells = PR_CELLS,
-                             .trial_budget = cap,
-                             .seed = 1000 + (uint64_t)seed,
-                             .max_contrast = PR_CMAX,
-                             .min_contrast = 0.0005,
-                             .slope_beta = 3.5,
-                             .lapse = 0.02,
-                             .guess = fade ? 0.02 : 0.5,
-                             .ramp_start_log10 = -3.0,
-                             .ramp_end_log10 = 0.0,
-                             .ramp_s = 6.0,
-                             .reaction_latency_s = 0.37,
-                             .n_alternatives = fade ? NULL : n_alt};
+    csf_procedure_setup s = {
+        .cells = cells,
+        .n_cells = PR_CELLS,
+        .trial_budget = cap,
+        .seed = 1000 + (uint64_t)seed,
+        .max_contrast = PR_CMAX,
+        .min_contrast = 0.0005,
+        .slope_beta = 3.5,
+        .lapse = 0.02,
+        .guess = fade ? 0.02 : 0.5,
+        .ramp_start_log10 = -3.0,
+        .ramp_end_log10 = 0.0,
+        .ramp_s = 6.0,
+        .reaction_latency_s = 0.37,
+        .n_alternatives = fade ? NULL : n_alt,
+        /* as the session plans a precision stop (calib/observer_calib.c) */
+        .planned_trials =
+            precision > 0 ? csf_precision_planned_trials(ops->name, PR_CELLS, precision, cap) : 0};
     void *st = NULL;
     csf_error err = {0};
     if (ops->create(&s, &st, &err) != CSF_OK) {
@@ -124,7 +128,10 @@ int precision_session(const csf_procedure_ops *ops, const char *spec, int seed, 
         fprintf(stderr, "precision_session: %s: %s\n", spec, err.msg);
         return -1;
     }
-    void *st = create_method(ops, seed, cells, n_alt, trials);
+    double finest = 0; /* the session stops at the last (finest) level, and plans for it */
+    for (int i = 0; i < n_levels; i++)
+        if (!(finest > 0) || levels[i] < finest) finest = levels[i];
+    void *st = create_method(ops, seed, cells, n_alt, trials, finest);
     if (!st) {
         csf_observer_sim_free(o);
         return -1;

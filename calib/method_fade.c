@@ -148,6 +148,8 @@ typedef struct {
      * threshold is on a grid of n_off points, offset index d = delta / t_step + off_half. */
     int n_anchor_plan;    /* anchors planned (0: none) */
     int anchor_from;      /* the trial index where the anchor block starts at the latest */
+    double anchor_share;  /* share of the trials for anchors past the plan (0: the budget ends the
+                             block, as it does when the plan is the budget) */
     int off_half, n_off;
     double *anchor_ll;    /* per cell, per anchor pair, over the forced-choice threshold u on the t
                              grid widened by off_half points each side: log likelihood of its anchors */
@@ -157,17 +159,26 @@ typedef struct {
     int joint_dirty;
 } fade_state;
 
+/* The trials the session is planned for: its budget, or under a precision stop (the budget only a
+ * cap) the trials the target should take. Planned for the cap, the anchor block sat at three
+ * quarters of it (720 of 960 trials), and no precision could be reached before then. */
+static int planned_trials(const csf_procedure_setup *setup)
+{
+    int p = setup->planned_trials;
+    return p > 0 && p < setup->trial_budget ? p : setup->trial_budget;
+}
+
 /* How many anchors the budget holds, where their block starts, and their arrays. Anchors need a
  * fade estimate to sit on: a budget too small to give every cell FADE_MIN_RAMPS ramps first keeps
  * them for the ramps (a cell not found is worse than an offset). Returns 0 when out of memory. */
 static int anchors_setup(fade_state *f, const csf_procedure_setup *setup, double share)
 {
-    int n = setup->n_cells;
-    if (share > 0) f->n_anchor_plan = (int)lround(share * setup->trial_budget);
-    if (f->n_anchor_plan > setup->trial_budget - FADE_MIN_RAMPS * n)
-        f->n_anchor_plan = setup->trial_budget - FADE_MIN_RAMPS * n;
+    int n = setup->n_cells, plan = planned_trials(setup);
+    if (share > 0) f->n_anchor_plan = (int)lround(share * plan);
+    if (f->n_anchor_plan > plan - FADE_MIN_RAMPS * n) f->n_anchor_plan = plan - FADE_MIN_RAMPS * n;
     if (f->n_anchor_plan < 0) f->n_anchor_plan = 0;
-    f->anchor_from = setup->trial_budget - f->n_anchor_plan;
+    f->anchor_from = plan - f->n_anchor_plan;
+    if (plan < setup->trial_budget && share > 0) f->anchor_share = share;
     f->off_half = (int)ceil(FADE_OFFSET_RANGE / f->t_step);
     if (f->off_half > FADE_OFF_MAX / 2) f->off_half = FADE_OFF_MAX / 2;
     f->n_off = 2 * f->off_half + 1;
@@ -223,7 +234,9 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
                              setup->fade_anchor_share, CSF_FADE_ANCHOR_SHARE_MAX);
     }
     int anchors_ok = anchors_setup(f, setup, share);
-    int fade_budget = f->anchor_from;
+    /* the ramps the whole budget leaves (under a precision stop the cap's: a cell counted
+     * measured at a looser sd would end the session before the target) */
+    int fade_budget = setup->trial_budget - f->n_anchor_plan;
     /* 0.06 log10 takes about 6 trials a cell; a larger budget buys a tighter target (sd falls
      * as 1/sqrt(trials)), down to 0.025, so the budget is used rather than left over. */
     f->sd_stable = FADE_SE_STABLE;
@@ -450,6 +463,12 @@ static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
     double off_sd;
     offset_moments(f, NULL, &off_sd);
     if (f->n_anchor > 0 && off_sd <= FADE_OFFSET_SD_DONE) return 0;
+    /* Past its plan (a precision stop: the session may run on to the cap) the block keeps to its
+     * share of the trials so far, mixed with ramps: an offset that will not settle (a person whose
+     * criterion drifts) would otherwise take every trial left, and the cells none. */
+    if (f->anchor_share > 0 && f->n_anchor >= f->n_anchor_plan &&
+        f->n_anchor >= f->anchor_share * trial_index)
+        return 0;
     int n = f->s.n_cells, best = -1;
     int rot = (int)(csf_rng_u64(f->s.seed, ST_ANCHOR, 2 * (uint64_t)trial_index) % (uint64_t)n);
     for (int k = 0; k < n; k++) {

@@ -32,18 +32,7 @@
 #define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
 #define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
 #define PRECISION_CAP_PER_CELL 40 /* --precision without --trials: the cap (960 over 24 cells) */
-/* The RMS stated error a session reaches with n trials per cell is about reach_log10_sqrt_trials()
- * over sqrt(n): the median over simulated people (slope and lapse drawn) and held-out sets stopped at
- * --precision 0.10 (bayes about 180 trials over 24 cells, 2afc about 480, fade about 240 on the
- * model's people and up to 720 on held-out ones; the spread from person to person is about 1.5x in
- * trials). Used for the expected time before the first trial and to warn that a --precision is
- * out of the cap's reach. */
-static double reach_log10_sqrt_trials(const csf_procedure_ops *ops)
-{
-    if (strcmp(ops->name, "bayes") == 0) return 0.27; /* one surface pools every cell's trials */
-    if (strcmp(ops->name, "2afc") == 0) return 0.45;  /* each cell on its own */
-    return 0.32;                                      /* fade: a ramp says more than a choice */
-}
+
 #define PRECISION_MIN_TRIALS 10 /* no stop before this many trials: the prior alone is not a table */
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE, ST_DEMO };
@@ -386,15 +375,17 @@ static csf_status check_display_side(obs_run *R, csf_error *err)
 }
 
 /* Seconds of the person's time one trial takes: fixation, the stimulus, the answer (a typical
- * response time; the fade task's press comes about half way up the ramp, then a click). */
+ * response time; a fade ramp starts 0.8 log10 below the cell's estimate once it has one, so the
+ * press comes about 1.6 s in at 0.5 log10/s, then a click: 2.9 s, where simulated sessions at
+ * --precision 0.10 spent 2.8 s a trial). */
 #define EXPECT_AFC_ANSWER_S 0.6
 #define EXPECT_FOUR_ANSWER_S 0.7
 #define EXPECT_CLICK_S 1.0
+#define EXPECT_FADE_PRESS_S 1.6
 static double expected_trial_s(const obs_run *R, int four)
 {
     if (R->S.ops->task == CSF_TASK_FADE) {
-        double ramp_s = (log10(R->max_contrast) + 3.0) / 0.5;
-        return FIXATION_S + 0.5 * ramp_s + EXPECT_CLICK_S;
+        return FIXATION_S + EXPECT_FADE_PRESS_S + EXPECT_CLICK_S;
     }
     if (four) return FIXATION_S + AFC_INTERVAL_S + EXPECT_FOUR_ANSWER_S;
     return FIXATION_S + 2 * AFC_INTERVAL_S + AFC_ISI_S + EXPECT_AFC_ANSWER_S;
@@ -464,7 +455,7 @@ static void warn_precision_reach(const obs_run *R)
     const session_settings *set = &R->set;
     int n_shown = set->n_freqs * set->n_eccs * (set->n_vels > 0 ? set->n_vels : 1) - R->n_not_shown;
     if (set->precision <= 0 || n_shown <= 0 || R->opt->quiet) return;
-    double reach = reach_log10_sqrt_trials(R->S.ops) / sqrt((double)set->trials / n_shown);
+    double reach = csf_precision_expected_rms(R->S.ops->name, n_shown, set->trials);
     if (set->precision < reach)
         fprintf(stderr,
                 "csfcal: observer: --precision %g log10 is probably out of reach of the cap of %d trials "
@@ -650,6 +641,9 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
     setup.cells = S->cells;
     setup.n_cells = R->n_cells;
     setup.trial_budget = set->trials;
+    if (set->precision > 0)
+        setup.planned_trials = csf_precision_planned_trials(S->ops->name, R->n_cells - R->n_not_shown,
+                                                            set->precision, set->trials);
     setup.seed = R->seed;
     setup.max_contrast = R->max_contrast;
     setup.min_contrast = 0.0005;
@@ -943,10 +937,10 @@ static void say_expected_time(obs_run *R)
     for (size_t i = 0; i < R->n_stored; i++) done += !R->S.stored[i].is_practice;
     int left = R->set.trials - done;
     if (R->set.precision > 0) {
-        /* the trials the precision should take (reach_log10_sqrt_trials), within the cap */
-        int n_shown = R->n_cells - R->n_not_shown;
-        double need = n_shown * pow(reach_log10_sqrt_trials(R->S.ops) / R->set.precision, 2.0);
-        if (need < left) left = (int)ceil(need) - done;
+        /* the trials the precision should take, within the cap */
+        int need = csf_precision_planned_trials(R->S.ops->name, R->n_cells - R->n_not_shown, R->set.precision,
+                                                R->set.trials);
+        if (need < left) left = need - done;
     }
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;

@@ -69,7 +69,21 @@ typedef struct {
      * writes its prediction there; the per-cell methods, which have nothing to predict from,
      * refuse such a setup. */
     const unsigned char *not_shown;
+    /* The trials the session expects to run when trial_budget is only a cap (a precision stop):
+     * csf_precision_planned_trials. 0 = trial_budget. A method that plans a block for the end of
+     * the session (fade's anchors) plans it for this many, so the stop can come once they ran. */
+    int planned_trials;
 } csf_procedure_setup;
+
+/* The trials a session of method `name` over n_shown cells should take to bring its predicted
+ * RMS error to precision_log10 (within cap): n_shown (reach / precision)^2, where reach is the
+ * RMS a method states at one trial a cell if it falls as 1/sqrt(trials), the median of simulated
+ * and held-out sessions stopped at 0.10 (bayes 0.27: one surface pools every cell's trials; 2afc
+ * 0.45: each cell on its own; fade 0.32: a ramp says more than a choice). People differ by
+ * about 1.5x in trials. */
+int csf_precision_planned_trials(const char *name, int n_shown, double precision_log10, int cap);
+/* The RMS error method `name` is expected to state after `trials` over n_shown cells. */
+double csf_precision_expected_rms(const char *name, int n_shown, int trials);
 
 /* Fastest drift a cell may ask for (deg/s): beyond it the eye cannot fixate a stationary mark
  * while such motion is shown, and no display shows it without aliasing at a useful frequency. */
