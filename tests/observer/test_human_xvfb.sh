@@ -217,7 +217,9 @@ check "mouse: every response is 2 (right button)" test "$(grep -c '"response": 2
 # ---- 6. Four places shown at once: keys I, keypad 1, then a click on a place ------------------
 # 10 deg on this screen: places at polar 45, 135, 225, 315 deg; the upper left one is ~86 px left
 # of and above the centre (570 mm tan 10 deg cos 45 deg = 71 mm; 640 px / 531 mm, 360 px / 299 mm).
-start four --method 2afc --afc 4 --trials 6 --freqs 1 --eccs 10 --screen-px ${W}x${H} --out "$T/f4.csflut" --seed 16
+# Three cells: the blind answers settle a cell as never visible after two or three trials, and a
+# session whose every cell is settled ends before its budget; three cells hold six trials.
+start four --method 2afc --afc 4 --trials 6 --freqs 1,2,4 --eccs 10 --screen-px ${W}x${H} --out "$T/f4.csflut" --seed 16
 wait_window
 wait_until 15 has_state 6 . || die "four: no session in the store"
 xdotool key space
