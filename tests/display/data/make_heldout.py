@@ -46,6 +46,14 @@ sweep levels, and run once after it:
                        overdrive table's artefact), 0.03 wide
   heldout6_twoseg.csv  a two-segment LUT: slope of a 2.0 power law below drive 0.4 and 2.7 above,
                        joined continuously (a kink in the slope), channel joins 0.38 / 0.40 / 0.43
+A seventh set, made on 2026-11-29 at 06:20 UTC after held-out 6's first run, for the next change
+to the statement (not run yet):
+  heldout7_notch.csv   a 2.2 power law with a 2 % gain dip between drives 0.45 and 0.55 on every
+                       channel, edges 0.015 wide (a local-dimming zone's transition)
+  heldout7_toe.csv     a 1 % black lift with an S-shaped toe below drive 0.12 / 0.14 / 0.16 (a
+                       panel's black compensation), a 2.4 power law above
+  heldout7_bknee.csv   blue compressed hard above drive 0.6 (tanh), red and green a 2.2 power law
+                       with a 0.6 % overshoot rising from drive 0.85 to white
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -225,3 +233,33 @@ def twoseg(c, v):
 write("heldout6_gclip.csv", 1200.0, gclip, "projector: green clips at 0.82, red knee above 0.7, blue 2.3")
 write("heldout6_bump.csv", 220.0, bump6, "2.2 power law with a 1 % overshoot bump at drive 0.3, 0.03 wide")
 write("heldout6_twoseg.csv", 280.0, twoseg, "two-segment LUT: 2.0 below, 2.7 above a join at 0.38/0.40/0.43")
+
+
+def notch7(c, v):
+    edge = 0.015
+    up = 0.5 * (1 + math.tanh((v - 0.45) / edge))
+    down = 0.5 * (1 - math.tanh((v - 0.55) / edge))
+    return v ** 2.2 * (1 - 0.02 * up * down)
+
+
+def toe7(c, v):
+    t = (0.12, 0.14, 0.16)[c]
+    base = 0.01 + 0.99 * v ** 2.4
+    if v >= t:
+        return base
+    s = v / t
+    return (0.01 + 0.99 * t ** 2.4) * (3 * s * s - 2 * s * s * s) * 0.9 + 0.1 * base
+
+
+def bknee7(c, v):
+    if c == 2:
+        y = v ** 2.2
+        k = 0.6 ** 2.2
+        return y if y < k else k + 0.25 * math.tanh((y - k) / 0.25)
+    y = v ** 2.2
+    return y * (1 + (0.006 * ((v - 0.85) / 0.15) if v > 0.85 else 0))
+
+
+write("heldout7_notch.csv", 300.0, notch7, "2.2 power law with a 2 % gain dip between drives 0.45 and 0.55")
+write("heldout7_toe.csv", 180.0, toe7, "1 % black lift, S-shaped toe below 0.12/0.14/0.16, 2.4 above")
+write("heldout7_bknee.csv", 400.0, bknee7, "blue compressed above 0.6; red and green 0.6 % overshoot from 0.85")
