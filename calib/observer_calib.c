@@ -32,8 +32,7 @@
 #define DEFAULT_TRIALS_PER_CELL 5 /* the static default's rate: 120 trials over 24 cells */
 #define MIN_TRIALS_PER_CELL 4     /* fade and 2afc with a velocity axis: fewer estimate nothing */
 #define PRECISION_CAP_PER_CELL 40 /* --precision without --trials: the cap (960 over 24 cells) */
-
-#define PRECISION_MIN_TRIALS 10 /* no stop before this many trials: the prior alone is not a table */
+#define PRECISION_MIN_TRIALS 10   /* no stop before this many trials: the prior alone is not a table */
 
 enum { ST_PRACTICE_POLAR = 0x5e551, ST_POLAR_FIX, ST_ANCHOR_PRACTICE, ST_DEMO };
 
@@ -630,6 +629,17 @@ static csf_status run_practice(obs_run *R, csf_error *err)
     return CSF_OK;
 }
 
+/* Whether the replayed plan is for the stored trial's cell: the method replans every stored trial and
+ * the stored answer goes to the plan's cell, so a method that plans differently since the session
+ * started (a newer csfcal) would put answers on the wrong cells without this check. */
+static int replay_matches(const csf_cell *cells, int n_cells, const csf_trial_plan *plan, const csf_trial *t)
+{
+    if (plan->cell < 0 || plan->cell >= n_cells) return 0;
+    const csf_cell *c = &cells[plan->cell];
+    return fabs(c->freq_cpd - t->freq_cpd) <= 1e-6 * c->freq_cpd && fabs(c->ecc_deg - t->ecc_deg) <= 1e-6 &&
+           fabs(c->velocity_dps - t->velocity_dps) <= 1e-6;
+}
+
 /* The procedure, rebuilt by replaying every stored main trial through update(). */
 static csf_status replay_stored(obs_run *R, csf_error *err)
 {
@@ -671,6 +681,13 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
                                  "started); start a new session",
                                  (long long)R->sid, S->stored[i].seq, S->stored[i].n_alternatives,
                                  obs_plan_alternatives(&plan));
+        if (!replay_matches(S->cells, R->n_cells, &plan, &S->stored[i]))
+            return csf_error_set(err, CSF_E_INVALID_ARG,
+                                 "--resume %lld: stored trial %d was at %g cpd, %g deg, %g deg/s, the "
+                                 "replayed plan asks for another cell (the method changed since the session "
+                                 "started); its trials are kept, start a new session",
+                                 (long long)R->sid, S->stored[i].seq, S->stored[i].freq_cpd,
+                                 S->stored[i].ecc_deg, S->stored[i].velocity_dps);
         if (obs_plan_alternatives(&plan) == 4) res->n_four_place++;
         csf_trial_outcome o = obs_outcome_of(&S->stored[i], S->ops->task);
         S->ops->update(S->proc, R->trial_index, &plan, &o);

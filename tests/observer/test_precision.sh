@@ -2,7 +2,8 @@
 # csfcal observer calibrate --precision (simulated person, headless): the session stops when the
 # table's predicted RMS error reaches the target, says so with the trials and the person's time;
 # a target out of the cap's reach is warned about and run to the cap; bad values refused before any
-# trial with nothing stored. JSON read back through python's json module. $1 = csfcal executable.
+# trial with nothing stored; a paused session resumes, and refuses a replay off its stored cells.
+# JSON read back through python's json module. $1 = csfcal executable.
 set -u
 CSFCAL="$1"
 T=$(mktemp -d /tmp/csfcal-prec-XXXXXX)
@@ -32,6 +33,27 @@ out=$(run --store "$T/b.sqlite" --precision 0.01 --trials 30 --freqs 1,4 --eccs 
 check "unreachable target runs to the cap" python3 -c '
 import json,sys
 d=json.loads(sys.argv[1]); assert d["status"]=="ok" and d["trials"]==30 and d["reached_precision"] is False, d' "$out"
+
+# A paused fade session under --precision resumes to its stop. A stored trial whose cell the
+# replayed plan does not ask for (a csfcal that plans differently since the session started;
+# here the store is edited to look so) is refused on --resume, its trials kept.
+. "$(dirname "$0")/term_after.sh"
+term_after_trials "$T/p.sqlite" 1 12 "$T/p.err" "$CSFCAL" observer calibrate --headless --observer sim --method fade \
+  --precision 0.12 --freqs 1,2,4,8 --eccs 0,10 --seed 7 --store "$T/p.sqlite" --out "$T/p.csflut"
+check "fade precision session paused" test "$RC" -eq 1
+cp "$T/p.sqlite" "$T/q.sqlite"
+out=$("$CSFCAL" observer calibrate --headless --resume 1 --store "$T/p.sqlite" --out "$T/p.csflut" --json 2>/dev/null)
+check "paused fade session resumes to its stop" python3 -c '
+import json,sys
+d=json.loads(sys.argv[1]); assert d["status"]=="ok" and d["reached_precision"] is True, d' "$out"
+sqlite3 "$T/q.sqlite" "UPDATE trials SET freq_cpd = CASE WHEN freq_cpd = 1 THEN 8 ELSE 1 END
+  WHERE session_id = 1 AND seq = (SELECT max(seq) FROM trials WHERE session_id = 1 AND is_practice = 0)"
+n=$(sqlite3 "$T/q.sqlite" "SELECT count(*) FROM trials")
+err=$("$CSFCAL" observer calibrate --headless --resume 1 --store "$T/q.sqlite" --out "$T/q.csflut" 2>&1 >/dev/null); rc=$?
+check "a replay off the stored cells refused" test $rc -ne 0
+check "... saying so" grep -q "the replayed plan asks for another cell" <<<"$err"
+check "... its trials kept" test "$(sqlite3 "$T/q.sqlite" "SELECT count(*) FROM trials")" -eq "$n"
+check "... no table" test ! -e "$T/q.csflut"
 
 for bad in 0 -0.1 nan 3; do
     err=$(run --store "$T/r.sqlite" --precision "$bad" --out "$T/r.csflut" 2>&1 >/dev/null); rc=$?
