@@ -637,7 +637,7 @@ static int replay_matches(const csf_cell *cells, int n_cells, const csf_trial_pl
     if (plan->cell < 0 || plan->cell >= n_cells) return 0;
     const csf_cell *c = &cells[plan->cell];
     return fabs(c->freq_cpd - t->freq_cpd) <= 1e-6 * c->freq_cpd && fabs(c->ecc_deg - t->ecc_deg) <= 1e-6 &&
-           fabs(c->velocity_dps - t->velocity_dps) <= 1e-6;
+           fabs(c->velocity_dps - fabs(t->velocity_dps)) <= 1e-6; /* a trial stores its drift's direction */
 }
 
 /* The procedure, rebuilt by replaying every stored main trial through update(). */
