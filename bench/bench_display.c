@@ -202,9 +202,10 @@ static double maxv(const double *x, int n)
 enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, HELD_OUT6, HELD_OUT7, N_ROLES };
 
 /* the table rows' tag per role, one for every role */
-static const char *const role_tag[N_ROLES] = {" (tuned)",      " (dev)",        "",
-                                              " (held-out 3)", " (held-out 4)", " (held-out 5)",
-                                              " (held-out 6)", " (held-out 7)"};
+static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
+                                       " (held-out 3)", " (held-out 4)", " (held-out 5)",
+                                       " (held-out 6)", " (held-out 7)"};
+_Static_assert(sizeof role_tag / sizeof role_tag[0] == N_ROLES, "one row tag per role");
 
 typedef struct {
     const char *name, *spec; /* display part of the simulated photometer spec */
@@ -379,6 +380,7 @@ static int honest_main(int seeds, int all)
         "held-out 5 (run once for the spot checks; seen since)",
         "held-out 6 (first run on the spot checks' statement; seen since)",
         "held-out 7 (made for the next change; its first run)"};
+    _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)
             printf(

@@ -160,8 +160,8 @@ typedef struct {
 } fade_state;
 
 /* The trials the session is planned for: its budget, or under a precision stop (the budget only a
- * cap) the trials the target should take. Planned for the cap, the anchor block sat at three
- * quarters of it (720 of 960 trials), and no precision could be reached before then. */
+ * cap) the trials the target should take: planned for the cap, the anchor block would start at
+ * three quarters of it (720 of 960 trials) and no precision stop could come before then. */
 static int planned_trials(const csf_procedure_setup *setup)
 {
     int p = setup->planned_trials;
