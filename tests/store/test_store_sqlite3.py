@@ -35,7 +35,9 @@ def run(*args, expect=0):
 
 
 def sql(store, query):
-    p = subprocess.run(["sqlite3", "-batch", store, query], capture_output=True, text=True)
+    # a busy timeout, as any reader beside a writing session needs: csfcal holds the write lock
+    # for a moment at each stored trial, and the polls below read while it writes
+    p = subprocess.run(["sqlite3", "-batch", "-cmd", ".timeout 5000", store, query], capture_output=True, text=True)
     check(p.returncode == 0, f"sqlite3 {query}: {p.stderr.strip()}")
     return p.stdout.strip()
 
