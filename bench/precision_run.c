@@ -108,8 +108,7 @@ static void *create_method(const csf_procedure_ops *ops, int seed, const csf_cel
         .reaction_latency_s = 0.37,
         .n_alternatives = fade ? NULL : n_alt,
         /* as the session plans a precision stop (calib/observer_calib.c) */
-        .planned_trials =
-            precision > 0 ? csf_precision_planned_trials(ops->name, PR_CELLS, precision, cap) : 0};
+        .planned_trials = precision > 0 ? csf_precision_planned_trials(ops, PR_CELLS, precision, cap) : 0};
     void *st = NULL;
     csf_error err = {0};
     if (ops->create(&s, &st, &err) != CSF_OK) {

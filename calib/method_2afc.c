@@ -364,4 +364,5 @@ const csf_procedure_ops csf_procedure_2afc = {
     .update = afc_update,
     .estimate = afc_estimate,
     .destroy = afc_destroy,
+    .reach_log10 = 0.45, /* each cell on its own */
 };

@@ -1762,4 +1762,5 @@ const csf_procedure_ops csf_procedure_bayes = {
     .update = bayes_update,
     .estimate = bayes_estimate,
     .destroy = bayes_destroy,
+    .reach_log10 = 0.27, /* one surface pools every cell's trials */
 };

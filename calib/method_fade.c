@@ -66,7 +66,7 @@
 #define FADE_INVISIBLE_AFTER 2
 #define FADE_RETEST_EXTRA 1 /* more unanswered ramps where a neighbour was seen */
 
-enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
+enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR, ST_CHECK };
 
 #ifndef FADE_PROBE_RATE
 #define FADE_PROBE_RATE 0.35   /* share of a measured cell's trials that are latency probes */
@@ -95,9 +95,27 @@ enum { ST_CATCH = 0xfade1, ST_POLAR, ST_ROTATE, ST_PROBE, ST_ANCHOR };
 #ifndef FADE_ANCHOR_ABOVE
 #define FADE_ANCHOR_ABOVE 0.05   /* anchor contrast above the cell's forced-choice estimate */
 #endif
+/* Checks (plan_check): two-interval trials at the display's highest contrast on a cell about to
+ * be written never visible, at least FADE_CHECK_MIN and at most FADE_CHECK_MAX, until the cell's
+ * forced-choice answers alone favour one side of the reach by FADE_CHECK_BF (check_odds, over
+ * thresholds within FADE_CHECK_SPAN log10 of it). */
+#define FADE_CHECK_MIN 4
+#define FADE_CHECK_MAX 12
+#define FADE_CHECK_BF 10.0
+#define FADE_CHECK_SPAN 0.5
+#define FADE_CHECK_MEASURE_MAX 30 /* forced-choice trials on a checked cell at most */
 
 /* One stored trial, for rebuilding the posteriors when the latency estimate moves. */
-typedef enum { TR_DETECT, TR_CENSORED, TR_PROBE_YES, TR_PROBE_NO, TR_ANCHOR_RIGHT, TR_ANCHOR_WRONG } trial_kind;
+typedef enum {
+    TR_DETECT,
+    TR_CENSORED,
+    TR_PROBE_YES,
+    TR_PROBE_NO,
+    TR_ANCHOR_RIGHT,
+    TR_ANCHOR_WRONG,
+    TR_CHECK_RIGHT,
+    TR_CHECK_WRONG
+} trial_kind;
 typedef struct {
     int cell;
     trial_kind kind;
@@ -155,6 +173,10 @@ typedef struct {
                              grid widened by off_half points each side: log likelihood of its anchors */
     int *n_anchor_cell;
     int n_anchor;
+    double *check_ll; /* the same for each cell's checks (plan_check), kept apart from the
+                             anchors: they do not enter the offset */
+    int *n_check_cell;
+    int check_cell;       /* the cell of the check fade_next planned last (-1: none) */
     double *joint;        /* [anchor pair][offset]: normalised posterior */
     int joint_dirty;
 } fade_state;
@@ -183,11 +205,14 @@ static int anchors_setup(fade_state *f, const csf_procedure_setup *setup, double
     if (f->off_half > FADE_OFF_MAX / 2) f->off_half = FADE_OFF_MAX / 2;
     f->n_off = 2 * f->off_half + 1;
     if (f->n_anchor_plan == 0) return 1;
-    f->anchor_ll = calloc((size_t)n * N_APAIR * (FADE_GRID_N + 2 * (size_t)f->off_half), sizeof *f->anchor_ll);
+    size_t n_ll = (size_t)n * N_APAIR * (FADE_GRID_N + 2 * (size_t)f->off_half);
+    f->anchor_ll = calloc(n_ll, sizeof *f->anchor_ll);
+    f->check_ll = calloc(n_ll, sizeof *f->check_ll);
     f->n_anchor_cell = calloc((size_t)n, sizeof *f->n_anchor_cell);
+    f->n_check_cell = calloc((size_t)n, sizeof *f->n_check_cell);
     f->joint = calloc((size_t)N_APAIR * f->n_off, sizeof *f->joint);
     f->joint_dirty = 1;
-    return f->anchor_ll && f->n_anchor_cell && f->joint;
+    return f->anchor_ll && f->check_ll && f->n_anchor_cell && f->n_check_cell && f->joint;
 }
 
 static csf_status fade_create(const csf_procedure_setup *setup, void **state, csf_error *err)
@@ -249,13 +274,16 @@ static csf_status fade_create(const csf_procedure_setup *setup, void **state, cs
         free(f->cells);
         free(f->st);
         free(f->anchor_ll);
+        free(f->check_ll);
         free(f->n_anchor_cell);
+        free(f->n_check_cell);
         free(f->joint);
         free(f);
         return csf_error_set(err, CSF_E_NOMEM, "fade: out of memory");
     }
     memcpy(f->cells, setup->cells, (size_t)setup->n_cells * sizeof *f->cells);
     f->s.cells = f->cells;
+    f->check_cell = -1;
     *state = f;
     return CSF_OK;
 }
@@ -268,7 +296,9 @@ static void fade_destroy(void *state)
     free(f->st);
     free(f->trials);
     free(f->anchor_ll);
+    free(f->check_ll);
     free(f->n_anchor_cell);
+    free(f->n_check_cell);
     free(f->joint);
     free(f);
 }
@@ -364,6 +394,23 @@ static double *anchor_row(const fade_state *f, int cell, int a)
     return f->anchor_ll + ((size_t)cell * N_APAIR + (size_t)a) * (size_t)anchor_width(f);
 }
 
+static double *check_row(const fade_state *f, int cell, int a)
+{
+    return f->check_ll + ((size_t)cell * N_APAIR + (size_t)a) * (size_t)anchor_width(f);
+}
+
+/* The log likelihood of all the cell's forced-choice answers (anchors and checks) under anchor
+ * pair a, at widened-grid index k. */
+static double fc_loglik(const fade_state *f, int cell, int a, int k)
+{
+    return anchor_row(f, cell, a)[k] + check_row(f, cell, a)[k];
+}
+
+static int fc_trials(const fade_state *f, int cell)
+{
+    return f->n_anchor_cell[cell] + f->n_check_cell[cell];
+}
+
 static double offset_log10(const fade_state *f, int d) { return (d - f->off_half) * f->t_step; }
 
 /* The posterior of (anchor pair, offset) from every anchored cell: the cell's yes/no threshold t
@@ -419,20 +466,22 @@ static void offset_moments(fade_state *f, double *mean, double *sd)
 }
 
 /* The cell's forced-choice threshold u = t - offset: mean, sd and the mass above the display's
- * highest contrast, over the joint posterior. */
-static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd, double *p_above)
+ * highest contrast, over the joint posterior; with visible_only, the mean and sd of the part
+ * within the display's reach. */
+static void cell_moments_fc_part(fade_state *f, int cell, int visible_only, double *mean, double *sd,
+                                 double *p_above)
 {
     joint_refresh(f);
-    double p[FADE_GRID_N], m1 = 0, m2 = 0, above = 0;
+    double p[FADE_GRID_N], m1 = 0, m2 = 0, above = 0, wsum = 0;
     fade_marginal(f, &f->st[cell], p);
-    int two_h = 2 * f->off_half, anchored = f->n_anchor_cell[cell] > 0;
+    int two_h = 2 * f->off_half, anchored = fc_trials(f, cell) > 0;
+    double A[FADE_GRID_N + FADE_OFF_MAX] = {0}; /* zeroed for the analyzer: rows fill anchor_width() */
     for (int a = 0; a < N_APAIR; a++) {
-        const double *A = anchor_row(f, cell, a);
         double amax = 0;
         if (anchored) {
             amax = -INFINITY;
             for (int k = 0; k < anchor_width(f); k++)
-                if (A[k] > amax) amax = A[k];
+                if ((A[k] = fc_loglik(f, cell, a, k)) > amax) amax = A[k];
         }
         for (int d = 0; d < f->n_off; d++) {
             double w = f->joint[a * f->n_off + d], off = offset_log10(f, d);
@@ -442,18 +491,27 @@ static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd, d
                 if (p[i] <= 1e-12) continue;
                 double q = anchored ? p[i] * exp(A[i - d + two_h] - amax) : p[i];
                 double u = f->t_lo + i * f->t_step - off;
-                s0 += q, s1 += q * u, s2 += q * u * u;
                 if (u > f->x_hi) sa += q;
+                if (visible_only && u > f->x_hi) continue;
+                s0 += q, s1 += q * u, s2 += q * u * u;
             }
             if (!(s0 > 0)) continue;
-            m1 += w * s1 / s0;
-            m2 += w * s2 / s0;
-            above += w * sa / s0;
+            double tot = visible_only ? s0 + sa : s0, wv = w * s0 / tot; /* this pair's visible weight */
+            m1 += wv * s1 / s0;
+            m2 += wv * s2 / s0;
+            wsum += wv;
+            above += w * sa / tot;
         }
     }
+    if (visible_only && wsum > 0) m1 /= wsum, m2 /= wsum;
     if (mean) *mean = m1;
     if (sd) *sd = sqrt(m2 - m1 * m1 > 0 ? m2 - m1 * m1 : 0);
     if (p_above) *p_above = above;
+}
+
+static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd, double *p_above)
+{
+    cell_moments_fc_part(f, cell, 0, mean, sd, p_above);
 }
 
 /* Plans an anchor: a two-interval trial on the visible cell with the fewest anchors, just above
@@ -496,12 +554,108 @@ static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
     return 1;
 }
 
-static void anchor_add(fade_state *f, const fade_trial *t)
+/* The odds, on the cell's forced-choice answers alone, that its forced-choice threshold is
+ * beyond the display's reach: their mean likelihood over thresholds up to FADE_CHECK_SPAN above
+ * the reach against that over as far below it (the anchors' slopes and lapses averaged). 1 when it
+ * has none. The ramps cannot say this for a cell near the reach: a person whose yes/no criterion is
+ * strict leaves ramps to the top unanswered at a contrast they pick out in a forced choice, and
+ * how strict differs from cell to cell more than the one offset the anchors measure allows. */
+static double check_odds(const fade_state *f, int i)
 {
-    int right = t->kind == TR_ANCHOR_RIGHT;
+    if (!f->n_anchor_cell || fc_trials(f, i) == 0) return 1.0;
+    int w = anchor_width(f);
+    double mx = -INFINITY, above = 0, below = 0;
+    int n_above = 0, n_below = 0;
+    for (int pass = 0; pass < 2; pass++)
+        for (int a = 0; a < N_APAIR; a++)
+            for (int k = 0; k < w; k++) {
+                double u = f->t_lo + (k - f->off_half) * f->t_step, ll = fc_loglik(f, i, a, k);
+                if (fabs(u - f->x_hi) > FADE_CHECK_SPAN) continue;
+                if (pass == 0) {
+                    if (ll > mx) mx = ll;
+                } else if (u > f->x_hi) {
+                    above += exp(ll - mx), n_above++;
+                } else {
+                    below += exp(ll - mx), n_below++;
+                }
+            }
+    if (!n_above || !n_below || !(below > 0)) return 1.0;
+    return (above / n_above) / (below / n_below);
+}
+
+/* Whether cell i is to be written never visible on its ramps: most of its forced-choice
+ * threshold beyond the reach, and unanswered full ramps that lapses do not explain (one more for
+ * every press located on the grating: a press at a contrast where neighbours are seen is likelier
+ * a detection between lapses than a guess). */
+static int ramps_say_invisible(fade_state *f, int i, double above)
+{
+    const fade_cell *c = &f->st[i];
+    return above > 0.5 && c->n_cens_full >= invisible_needs(f, i) + c->n_det;
+}
+
+/* What cell i needs next (plan_check): CHECK_NONE; CHECK_AT_TOP while its forced-choice answers
+ * have not settled which side of the reach its threshold is on (its ramps would write it never
+ * visible, and a neighbour was seen); CHECK_MEASURE once they say visible, until its
+ * forced-choice threshold is known to FADE_SE_STABLE: the ramps will not measure it, and a
+ * precision stop would otherwise wait on its spread. *x_log10: the contrast to show. */
+enum { CHECK_NONE, CHECK_AT_TOP, CHECK_MEASURE };
+static int needs_check(fade_state *f, int i, double *x_log10)
+{
+    int n = fc_trials(f, i);
+    if (n >= FADE_CHECK_MEASURE_MAX || !neighbour_visible(f, i, NULL)) return CHECK_NONE;
+    double above;
+    cell_moments_fc(f, i, NULL, NULL, &above);
+    if (!ramps_say_invisible(f, i, above)) return CHECK_NONE;
+    *x_log10 = log10(f->s.max_contrast);
+    if (n < FADE_CHECK_MIN) return CHECK_AT_TOP;
+    double odds = check_odds(f, i);
+    if (odds >= FADE_CHECK_BF || (n >= FADE_CHECK_MAX && odds >= 1.0)) return CHECK_NONE; /* never visible */
+    if (odds > 1.0 / FADE_CHECK_BF && n < FADE_CHECK_MAX) return CHECK_AT_TOP;
+    double m, sd;
+    cell_moments_fc_part(f, i, 1, &m, &sd, NULL);
+    if (sd <= FADE_SE_STABLE) return CHECK_NONE;
+    if (m + FADE_ANCHOR_ABOVE < *x_log10) *x_log10 = m + FADE_ANCHOR_ABOVE;
+    if (*x_log10 < log10(f->s.min_contrast)) *x_log10 = log10(f->s.min_contrast);
+    return CHECK_MEASURE;
+}
+
+/* Plans a check: a two-interval trial on a cell that its ramps would write never visible next to
+ * one that was seen, at the display's highest contrast until its answers settle the side of the
+ * reach, then (visible) near its forced-choice estimate. What the table promises is the
+ * forced-choice threshold, and near the reach only a forced choice shows which side it is on.
+ * Under a precision stop, where the session's length follows the evidence, no such cell is
+ * written never visible before its checks. Returns 0 when no cell needs one. */
+static int plan_check(fade_state *f, int trial_index, csf_trial_plan *plan)
+{
+    if (!(f->anchor_share > 0) || f->n_anchor_plan <= 0) return 0; /* no forced choice planned */
+    int n = f->s.n_cells;
+    int rot = (int)(csf_rng_u64(f->s.seed, ST_CHECK, 2 * (uint64_t)trial_index) % (uint64_t)n);
+    for (int k = 0; k < n; k++) {
+        int i = (k + rot) % n;
+        double x;
+        if (needs_check(f, i, &x) == CHECK_NONE) continue;
+        plan->task = CSF_TASK_2AFC;
+        plan->cell = f->check_cell = i;
+        plan->contrast = pow(10.0, x);
+        plan->ramp_start_log10 = x;
+        plan->ramp_s = 0;
+        plan->n_alternatives = 2;
+        plan->is_catch = 0;
+        plan->signal_interval = (int)(csf_rng_u64(f->s.seed, ST_CHECK, 2 * (uint64_t)trial_index + 1) & 1);
+        return 1;
+    }
+    return 0;
+}
+
+/* A two-interval trial's likelihood over the cell's forced-choice threshold: an anchor's into
+ * the anchors (and the offset), a check's apart. */
+static void fc_add(fade_state *f, const fade_trial *t)
+{
+    int check = t->kind == TR_CHECK_RIGHT || t->kind == TR_CHECK_WRONG;
+    int right = t->kind == TR_ANCHOR_RIGHT || t->kind == TR_CHECK_RIGHT;
     for (int a = 0; a < N_APAIR; a++) {
         double beta = anchor_slopes[a % N_A_SLOPE], lapse = anchor_lapses[a / N_A_SLOPE];
-        double *A = anchor_row(f, t->cell, a);
+        double *A = check ? check_row(f, t->cell, a) : anchor_row(f, t->cell, a);
         for (int k = 0; k < anchor_width(f); k++) {
             double u = f->t_lo + (k - f->off_half) * f->t_step;
             double pr = csf_psy_p_afc(t->x_end, u, beta, lapse, 2);
@@ -509,8 +663,12 @@ static void anchor_add(fade_state *f, const fade_trial *t)
             A[k] += log(l > 1e-12 ? l : 1e-12);
         }
     }
-    f->n_anchor_cell[t->cell]++;
-    f->n_anchor++;
+    if (check) {
+        f->n_check_cell[t->cell]++;
+    } else {
+        f->n_anchor_cell[t->cell]++;
+        f->n_anchor++;
+    }
     f->joint_dirty = 1;
 }
 
@@ -521,6 +679,8 @@ static csf_status fade_next(void *state, int trial_index, csf_trial_plan *plan)
     memset(plan, 0, sizeof *plan);
     plan->task = CSF_TASK_FADE;
     plan->polar_deg = 360.0 * csf_rng_uniform(f->s.seed, ST_POLAR, (uint64_t)trial_index);
+    f->check_cell = -1;
+    if (plan_check(f, trial_index, plan)) return CSF_OK;
     int best = -1;
     int rot = (int)(csf_rng_u64(f->s.seed, ST_ROTATE, (uint64_t)trial_index) % (uint64_t)n);
     for (int k = 0; k < n; k++) {
@@ -613,8 +773,8 @@ static double detection_x(const fade_state *f, const fade_trial *t)
 static void add_trial(fade_state *f, const fade_trial *t)
 {
     fade_cell *c = &f->st[t->cell];
-    if (t->kind == TR_ANCHOR_RIGHT || t->kind == TR_ANCHOR_WRONG) {
-        anchor_add(f, t); /* not a fade trial: the fade schedule counts only those */
+    if (t->kind >= TR_ANCHOR_RIGHT) {
+        fc_add(f, t); /* not a fade trial: the fade schedule counts only those */
         return;
     }
     c->n_trials++;
@@ -644,8 +804,11 @@ static void rebuild(fade_state *f)
 {
     memset(f->st, 0, (size_t)f->s.n_cells * sizeof *f->st);
     if (f->n_anchor_plan > 0) {
-        memset(f->anchor_ll, 0, (size_t)f->s.n_cells * N_APAIR * (size_t)anchor_width(f) * sizeof *f->anchor_ll);
+        size_t n_ll = (size_t)f->s.n_cells * N_APAIR * (size_t)anchor_width(f);
+        memset(f->anchor_ll, 0, n_ll * sizeof *f->anchor_ll);
+        memset(f->check_ll, 0, n_ll * sizeof *f->check_ll);
         memset(f->n_anchor_cell, 0, (size_t)f->s.n_cells * sizeof *f->n_anchor_cell);
+        memset(f->n_check_cell, 0, (size_t)f->s.n_cells * sizeof *f->n_check_cell);
         f->n_anchor = 0;
         f->joint_dirty = 1;
     }
@@ -671,7 +834,9 @@ static void fade_update(void *state, int trial_index, const csf_trial_plan *plan
     if (plan->task == CSF_TASK_2AFC) {
         if (f->n_anchor_plan <= 0) return; /* not planned by this session: nothing to learn from */
         if (isfinite(o->contrast_at_response) && o->contrast_at_response > 0) t.x_end = log10(o->contrast_at_response);
-        t.kind = o->response == plan->signal_interval ? TR_ANCHOR_RIGHT : TR_ANCHOR_WRONG;
+        int right = o->response == plan->signal_interval;
+        if (plan->cell == f->check_cell) t.kind = right ? TR_CHECK_RIGHT : TR_CHECK_WRONG;
+        else t.kind = right ? TR_ANCHOR_RIGHT : TR_ANCHOR_WRONG;
         f->trials[f->n_tr++] = t;
         add_trial(f, &f->trials[f->n_tr - 1]);
         return;
@@ -735,7 +900,7 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
     (void)err;
     for (int i = 0; i < f->s.n_cells; i++) {
         const fade_cell *c = &f->st[i];
-        out[i].n_trials = c->n_trials + (f->n_anchor_cell ? f->n_anchor_cell[i] : 0);
+        out[i].n_trials = c->n_trials + (f->n_anchor_cell ? fc_trials(f, i) : 0);
         if (out[i].n_trials == 0) {
             out[i].threshold = NAN;   /* no data: unknown, not invisible */
             out[i].stderr_log10 = NAN;
@@ -745,16 +910,20 @@ static csf_status fade_estimate(void *state, csf_cell_estimate *out, csf_error *
         /* the table's threshold is the forced-choice one, visibility included */
         if (f->n_anchor_plan > 0) cell_moments_fc(f, i, &m, &sd, &above);
         else cell_moments(f, c, &m, &sd, &above);
-        /* never visible only on unanswered full ramps that lapses do not explain, one more for
-         * every press located on the grating (a press at a contrast where neighbours are seen is
-         * likelier a detection between lapses than a guess) */
-        if (above > 0.5 && c->n_cens_full < invisible_needs(f, i) + c->n_det) {
-            unresolved_estimate(f, i, &out[i]);
+        if (above > 0.5 && ramps_say_invisible(f, i, above)) {
+            if (!(f->n_anchor_cell && fc_trials(f, i) > 0 && check_odds(f, i) < 1.0)) {
+                out[i].threshold = INFINITY;
+                out[i].stderr_log10 = NAN;
+                continue;
+            }
+            /* its forced-choice answers lean to visible: the part of its threshold within reach */
+            cell_moments_fc_part(f, i, 1, &m, &sd, NULL);
+            out[i].threshold = pow(10.0, m);
+            out[i].stderr_log10 = hypot(sd, FADE_CELL_OFFSET_SD);
             continue;
         }
         if (above > 0.5) {
-            out[i].threshold = INFINITY;
-            out[i].stderr_log10 = NAN;
+            unresolved_estimate(f, i, &out[i]);
             continue;
         }
         out[i].threshold = pow(10.0, m);
@@ -786,4 +955,5 @@ const csf_procedure_ops csf_procedure_fade = {
     .estimate = fade_estimate,
     .destroy = fade_destroy,
     .task_offset = fade_task_offset,
+    .reach_log10 = 0.32, /* a ramp says more than a choice */
 };

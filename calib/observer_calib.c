@@ -454,7 +454,7 @@ static void warn_precision_reach(const obs_run *R)
     const session_settings *set = &R->set;
     int n_shown = set->n_freqs * set->n_eccs * (set->n_vels > 0 ? set->n_vels : 1) - R->n_not_shown;
     if (set->precision <= 0 || n_shown <= 0 || R->opt->quiet) return;
-    double reach = csf_precision_expected_rms(R->S.ops->name, n_shown, set->trials);
+    double reach = csf_precision_expected_rms(R->S.ops, n_shown, set->trials);
     if (set->precision < reach)
         fprintf(stderr,
                 "csfcal: observer: --precision %g log10 is probably out of reach of the cap of %d trials "
@@ -652,8 +652,8 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
     setup.n_cells = R->n_cells;
     setup.trial_budget = set->trials;
     if (set->precision > 0)
-        setup.planned_trials = csf_precision_planned_trials(S->ops->name, R->n_cells - R->n_not_shown,
-                                                            set->precision, set->trials);
+        setup.planned_trials =
+            csf_precision_planned_trials(S->ops, R->n_cells - R->n_not_shown, set->precision, set->trials);
     setup.seed = R->seed;
     setup.max_contrast = R->max_contrast;
     setup.min_contrast = 0.0005;
@@ -767,6 +767,13 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
     return CSF_OK;
 }
 
+/* The person's time in this run so far: the session's clock from the first screen, plus the
+ * simulated answer times (the virtual clock does not run for them; 0 for a real person). */
+static double person_time_so_far(const obs_run *R)
+{
+    return csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+}
+
 /* The table's predicted RMS error: the root mean square of the method's stated errors over the
  * cells it would write as visible and the display can show (NaN when none has one). */
 double obs_rms_of_estimates(const obs_run *R)
@@ -798,7 +805,7 @@ static int precision_reached(obs_run *R, int n)
     int reached = n >= PRECISION_MIN_TRIALS && rms <= R->set.precision;
     int every = R->S.sim ? 50 : 10;
     if (!R->opt->quiet && !R->progress.live && (n % every == 0 || reached)) {
-        double spent = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+        double spent = person_time_so_far(R);
         int left = obs_progress_trials_left(n, rms, R->set.precision, R->set.trials),
             run_done = n - R->resume_done;
         char left_s[64] = "";
@@ -821,7 +828,7 @@ static csf_status record_person_time(obs_run *R, csf_error *err)
 {
     if (R->person_recorded) return CSF_OK;
     R->person_recorded = 1;
-    R->res->person_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+    R->res->person_s = person_time_so_far(R);
     csf_error e;
     return csf_store_add_person_time(R->S.store, R->sid, R->res->person_s, err ? err : &e);
 }
@@ -857,7 +864,7 @@ static void show_progress(obs_run *R, int n, int last)
                 isfinite(R->S.est[k].stderr_log10) && R->S.est[k].stderr_log10 <= ps.settle_log10;
         }
     }
-    ps.spent_s = csf_presenter_time(R->S.pres) - R->person_t0_s + R->who.sim_rt_total_s;
+    ps.spent_s = person_time_so_far(R);
     int run_done = n - R->resume_done, left = set->trials - n;
     if (set->precision > 0) left = obs_progress_trials_left(n, ps.rms_log10, set->precision, set->trials);
     if (run_done > 0 && left >= 0) ps.left_s = ps.spent_s / run_done * left;
@@ -930,7 +937,7 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
         }
         if (!R->opt->quiet && !R->progress.live && !S->sim && (ti + 1) % 10 == 0 && set->precision <= 0) {
             /* time left at this run's own pace so far */
-            double spent = csf_presenter_time(S->pres) - R->person_t0_s;
+            double spent = person_time_so_far(R);
             int run_done = ti + 1 - R->resume_done;
             double left_s = run_done > 0 ? spent / run_done * (set->trials - ti - 1) : NAN;
             fprintf(stderr, "csfcal: observer: %d of %d trials, about %.1f min left\n", ti + 1, set->trials,
@@ -955,7 +962,7 @@ static void say_expected_time(obs_run *R)
     int left = R->set.trials - done;
     if (R->set.precision > 0) {
         /* the trials the precision should take, within the cap */
-        int need = csf_precision_planned_trials(R->S.ops->name, R->n_cells - R->n_not_shown, R->set.precision,
+        int need = csf_precision_planned_trials(R->S.ops, R->n_cells - R->n_not_shown, R->set.precision,
                                                 R->set.trials);
         if (need < left) left = need - done;
     }

@@ -19,21 +19,14 @@ const csf_procedure_ops *csf_procedure_find(const char *name)
     return NULL;
 }
 
-static double reach_log10(const char *name)
+int csf_precision_planned_trials(const csf_procedure_ops *ops, int n_shown, double precision_log10, int cap)
 {
-    if (name && strcmp(name, "bayes") == 0) return 0.27;
-    if (name && strcmp(name, "2afc") == 0) return 0.45;
-    return 0.32;
-}
-
-int csf_precision_planned_trials(const char *name, int n_shown, double precision_log10, int cap)
-{
-    if (n_shown <= 0 || !(precision_log10 > 0)) return cap;
-    double need = ceil(n_shown * pow(reach_log10(name) / precision_log10, 2.0));
+    if (!ops || n_shown <= 0 || !(precision_log10 > 0)) return cap;
+    double need = ceil(n_shown * pow(ops->reach_log10 / precision_log10, 2.0));
     return need < cap ? (int)need : cap;
 }
 
-double csf_precision_expected_rms(const char *name, int n_shown, int trials)
+double csf_precision_expected_rms(const csf_procedure_ops *ops, int n_shown, int trials)
 {
-    return n_shown > 0 && trials > 0 ? reach_log10(name) / sqrt((double)trials / n_shown) : INFINITY;
+    return ops && n_shown > 0 && trials > 0 ? ops->reach_log10 / sqrt((double)trials / n_shown) : INFINITY;
 }

@@ -75,16 +75,6 @@ typedef struct {
     int planned_trials;
 } csf_procedure_setup;
 
-/* The trials a session of method `name` over n_shown cells should take to bring its predicted
- * RMS error to precision_log10 (within cap): n_shown (reach / precision)^2, where reach is the
- * RMS a method states at one trial a cell if it falls as 1/sqrt(trials), the median of simulated
- * and held-out sessions stopped at 0.10 (bayes 0.27: one surface pools every cell's trials; 2afc
- * 0.45: each cell on its own; fade 0.32: a ramp says more than a choice). People differ by
- * about 1.5x in trials. */
-int csf_precision_planned_trials(const char *name, int n_shown, double precision_log10, int cap);
-/* The RMS error method `name` is expected to state after `trials` over n_shown cells. */
-double csf_precision_expected_rms(const char *name, int n_shown, int trials);
-
 /* Fastest drift a cell may ask for (deg/s): beyond it the eye cannot fixate a stationary mark
  * while such motion is shown, and no display shows it without aliasing at a useful frequency. */
 #define CSF_PROC_MAX_VELOCITY_DPS 200.0
@@ -134,7 +124,17 @@ typedef struct {
      * person's measured offset yes/no threshold - forced-choice threshold (log10, posterior mean
      * and sd). Returns 1 when there is an offset to report, 0 otherwise. */
     int (*task_offset)(void *state, int *n_anchors, double *offset_log10, double *sd_log10);
+    /* The RMS error (log10) the method states at one trial a cell, if it falls as 1/sqrt(trials):
+     * what a precision stop plans on. The median of simulated and held-out sessions stopped at
+     * 0.10; people differ by about 1.5x in trials. */
+    double reach_log10;
 } csf_procedure_ops;
+
+/* The trials a session of method ops should take to bring its predicted RMS error over n_shown
+ * cells to precision_log10 (within cap): n_shown (ops->reach_log10 / precision)^2. */
+int csf_precision_planned_trials(const csf_procedure_ops *ops, int n_shown, double precision_log10, int cap);
+/* The RMS error method ops is expected to state after `trials` over n_shown cells. */
+double csf_precision_expected_rms(const csf_procedure_ops *ops, int n_shown, int trials);
 
 /* Registry (calib/procedure.c): returns NULL for an unknown name, and for "bayes" while that
  * method is not linked into this build (the session then says so and suggests fade or 2afc). */

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "calib/procedure.h"
+#include "core/rng.h"
 #include "model/observer_sim.h"
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
@@ -66,6 +67,27 @@ static void check_coverage(const csf_procedure_ops *ops, const csf_cell *cells, 
     CHECK(cov >= 0.90);
 }
 
+/* The person's answer to a fade ramp, frame by frame at 60 Hz; *clock_s moves past the trial. */
+static void fade_answer(csf_observer_sim *obs, int i, const csf_cell *c, const csf_trial_plan *plan,
+                        double *clock_s, csf_trial_outcome *out)
+{
+    csf_sim_fade_trial tr;
+    double window = plan->ramp_s + 1.5,
+           rate = (log10(plan->contrast) - plan->ramp_start_log10) / plan->ramp_s;
+    csf_observer_sim_fade_begin(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, plan->polar_deg, *clock_s, window,
+                                &tr);
+    for (int k = 0; k * (1.0 / 60) < window; k++) {
+        double t = k / 60.0, press;
+        double cs = plan->is_catch || t > plan->ramp_s ? 0 : pow(10.0, plan->ramp_start_log10 + rate * t);
+        if (csf_observer_sim_fade_frame(obs, &tr, *clock_s + t, cs, &press)) {
+            out->response = 1, out->rt_s = press - *clock_s, out->contrast_at_response = cs;
+            out->valid = !plan->is_catch;
+            break;
+        }
+    }
+    *clock_s += window + 1;
+}
+
 /* Fade: a person answers every ramp as the model says, except the first two ramps at the target
  * cell, which end unanswered (a lapse injected twice). The neighbours are seen; the cell must be
  * re-tested and come out visible near its truth. */
@@ -89,23 +111,8 @@ static void check_fade_lapse_retest(const csf_cell *cells)
         if (plan.cell == target && plan.task == CSF_TASK_FADE && !plan.is_catch && lapses < 2) {
             lapses++; /* the ramp runs to its top and nothing is pressed */
         } else if (plan.task == CSF_TASK_FADE) {
-            csf_sim_fade_trial tr;
-            double window = plan.ramp_s + 1.5,
-                   rate = (log10(plan.contrast) - plan.ramp_start_log10) / plan.ramp_s;
-            csf_observer_sim_fade_begin(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, plan.polar_deg, clock_s,
-                                        window, &tr);
             ramps_after += plan.cell == target && lapses == 2;
-            for (int k = 0; k * (1.0 / 60) < window; k++) {
-                double t = k / 60.0, press;
-                double cs =
-                    plan.is_catch || t > plan.ramp_s ? 0 : pow(10.0, plan.ramp_start_log10 + rate * t);
-                if (csf_observer_sim_fade_frame(obs, &tr, clock_s + t, cs, &press)) {
-                    out.response = 1, out.rt_s = press - clock_s, out.contrast_at_response = cs;
-                    out.valid = !plan.is_catch;
-                    break;
-                }
-            }
-            clock_s += window + 1;
+            fade_answer(obs, i, c, &plan, &clock_s, &out);
         } else {
             double cs[4] = {0, 0, 0, 0}, rt;
             cs[plan.signal_interval] = plan.contrast;
@@ -123,6 +130,60 @@ static void check_fade_lapse_retest(const csf_cell *cells)
     CHECK(ramps_after >= 1);
     CHECK(isfinite(est[target].threshold));
     CHECK(fabs(log10(est[target].threshold) - truth) <= 1.96 * est[target].stderr_log10 + 0.05);
+    csf_procedure_fade.destroy(st);
+    csf_observer_sim_free(obs);
+}
+
+/* Fade under a precision stop (planned trials below the cap, as `--precision` sets them): the
+ * target cell's ramps all end unanswered (a yes/no criterion too strict for it), though its truth
+ * is far inside the reach. Its ramps alone would write it never visible. The method checks it with
+ * forced choices at the display's highest contrast first: answered as the person sees it, the cell
+ * is written visible; answered at chance (nothing to see there), it is still written never
+ * visible, after a bounded number of checks. */
+static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance)
+{
+    const int target = 2 * 6 + 2; /* 2 cpd at 10 deg */
+    csf_observer_sim *obs;
+    csf_error err;
+    CHECK(csf_observer_sim_create("sim:slope=3,lapse=0,table=bench/data/observer_mansak.csv", 82, &obs,
+                                  &err) == CSF_OK);
+    csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, 960, 82, CSF_TASK_FADE);
+    s.planned_trials = 300;
+    void *st = NULL;
+    CHECK(csf_procedure_fade.create(&s, &st, &err) == CSF_OK);
+    int checks_at_top = 0, fc_on_target = 0;
+    double clock_s = 0;
+    for (int i = 0; i < 400; i++) {
+        csf_trial_plan plan;
+        if (csf_procedure_fade.next(st, i, &plan) != CSF_OK) break;
+        csf_trial_outcome out = {0, NAN, NAN, 1};
+        const csf_cell *c = &cells[plan.cell];
+        if (plan.cell == target && plan.task == CSF_TASK_FADE) {
+            /* nothing pressed: the ramp runs to its top */
+        } else if (plan.task == CSF_TASK_FADE) {
+            fade_answer(obs, i, c, &plan, &clock_s, &out);
+        } else {
+            double cs[4] = {0, 0, 0, 0}, rt;
+            cs[plan.signal_interval] = plan.contrast;
+            out.response = csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
+            if (plan.cell == target) {
+                fc_on_target++;
+                checks_at_top += plan.contrast >= s.max_contrast;
+                if (at_chance) out.response = csf_rng_uniform(82, 0xc4ec, (uint64_t)i) < 0.5;
+            }
+            out.contrast_at_response = plan.contrast;
+        }
+        csf_procedure_fade.update(st, i, &plan, &out);
+    }
+    csf_cell_estimate est[N_CELLS];
+    CHECK(csf_procedure_fade.estimate(st, est, &err) == CSF_OK);
+    printf("fade, precision plan, target's ramps unanswered, forced choices %s: %d forced-choice trials on "
+           "it (%d at the top); written %.3f log10\n",
+           at_chance ? "at chance" : "as seen", fc_on_target, checks_at_top, log10(est[target].threshold));
+    CHECK(checks_at_top >= 4);
+    CHECK(fc_on_target <= 30);
+    if (at_chance) CHECK(isinf(est[target].threshold));
+    else CHECK(isfinite(est[target].threshold));
     csf_procedure_fade.destroy(st);
     csf_observer_sim_free(obs);
 }
@@ -170,6 +231,8 @@ int main(void)
     CHECK(sim2afc_default_grid(cells) == N_CELLS);
     CHECK(sim2afc_default_layouts(cells, N_CELLS, 4, n_alt) == 0);
     check_fade_lapse_retest(cells);
+    check_fade_forced_choice_checks(cells, 0);
+    check_fade_forced_choice_checks(cells, 1);
     check_afc_invisible_budget(cells);
     check_coverage(&csf_procedure_fade, cells, n_alt, 2);
     check_coverage(&csf_procedure_2afc, cells, n_alt, 2);
