@@ -660,6 +660,68 @@ static double unwitnessed_estimate(const double *dv, const double *dl, size_t m,
     return fabs(pred - lin) / fmax(pred, 0.1 * dl[m - 1]);
 }
 
+/* The local exponent of the curve between knots p < q, d ln y / d ln v with y the luminance above
+ * base (black for grey, none for a channel), and its noise from the knots' relative sds; NAN where a
+ * knot is at drive 0 or not above base. */
+static double local_exponent(const double *dv, const double *dl, double base, const double *sd_rel, size_t p,
+                             size_t q, double *sd)
+{
+    double yp = dl[p] - base, yq = dl[q] - base, w = log(dv[q] / dv[p]);
+    if (!(dv[p] > 0) || !(yp > 0) || !(yq > 0) || !(w > 0)) return NAN;
+    double sp = sd_rel[p] * dl[p] / yp, sq = sd_rel[q] * dl[q] / yq;
+    *sd = sqrt(sp * sp + sq * sq) / w;
+    return log(yq / yp) / w;
+}
+
+/* Whether a corner could hide inside interval i, one the knots cannot show because none falls on it
+ * (a channel that clips, a LUT's joint between two segments). A display curve is close to a power
+ * law piece by piece, so in ln y against ln v its pieces are nearly straight: a corner inside i shows
+ * as a jump of the local exponent from the line left of i to the line right of it, larger than the
+ * smooth bending the lines further out show. The corner is then where the two lines cross (they
+ * pass through the interval's ends); *xs, *ys get it (drive, luminance as dl holds it) and *share the
+ * part of the jump that neither the smooth bending nor the knots' noise (two sd, then taken off in
+ * quadrature, as for a left-out knot) explains. Returns 0 when no corner can be inside. */
+static int hidden_corner(const double *dv, const double *dl, size_t m, int is_channel, const double *sd_rel,
+                         size_t i, double *xs, double *ys, double *share)
+{
+    if (i < 1 || i + 2 >= m) return 0;
+    double base = is_channel || !(dv[0] == 0) ? 0 : dl[0];
+    /* the lines beside i over at least 0.03 of drive where knots allow (as corner_estimates) */
+    size_t a0 = i - 1, b1 = i + 2;
+    while (a0 > 1 && dv[i] - dv[a0] < 0.03) a0--;
+    while (b1 + 1 < m && dv[b1] - dv[i + 1] < 0.03) b1++;
+    double sl, sr;
+    double gl = local_exponent(dv, dl, base, sd_rel, a0, i, &sl),
+           gr = local_exponent(dv, dl, base, sd_rel, i + 1, b1, &sr);
+    if (isnan(gl) || isnan(gr)) return 0;
+    /* the smooth bending: the change of exponent per unit of ln v just outside, on each side that
+     * has room, carried across from the left line's middle to the right line's */
+    double ul = 0.5 * log(dv[a0] * dv[i]), ur = 0.5 * log(dv[i + 1] * dv[b1]), bend = 0, dummy;
+    int sides = 0;
+    if (a0 >= 2) {
+        size_t z = a0 - 1;
+        while (z > 1 && dv[a0] - dv[z] < 0.03) z--;
+        double g = local_exponent(dv, dl, base, sd_rel, z, a0, &dummy);
+        if (!isnan(g)) bend = fmax(bend, fabs(gl - g) / (ul - 0.5 * log(dv[z] * dv[a0]))), sides++;
+    }
+    if (b1 + 1 < m) {
+        size_t z = b1 + 1;
+        while (z + 1 < m && dv[z] - dv[b1] < 0.03) z++;
+        double g = local_exponent(dv, dl, base, sd_rel, b1, z, &dummy);
+        if (!isnan(g)) bend = fmax(bend, fabs(g - gr) / (0.5 * log(dv[b1] * dv[z]) - ur)), sides++;
+    }
+    if (!sides) return 0;
+    double jump = fabs(gr - gl), excess = jump - bend * (ur - ul), var = sl * sl + sr * sr;
+    if (!(excess * excess > 4 * var) || !(excess > 0)) return 0;
+    double li = log(dv[i]), lj = log(dv[i + 1]), yi = log(dl[i] - base), yj = log(dl[i + 1] - base);
+    double u = (yj - yi + gl * li - gr * lj) / (gl - gr);
+    if (!(u > li && u < lj)) return 0;
+    *xs = exp(u);
+    *ys = exp(yi + gl * (u - li)) + base;
+    *share = sqrt(excess * excess - var) / jump;
+    return 1;
+}
+
 /* Leave-one-out error estimate per interval (noise taken off; see "the stated error"): est (m-1
  * entries) the larger of each interval's two witnesses, for placing levels; est_min (may be NULL)
  * their geometric mean, for the statement. Returns the largest est. */
@@ -744,6 +806,18 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
             if (u > est[i]) est[i] = u;
             if (est_min && u > est_min[i]) est_min[i] = u;
         }
+    /* A corner inside an interval leaves the knots at its ends, and so leave-one-out, nearly blind:
+     * the interval's error is what the model misses of the corner the lines beside it make */
+    for (size_t i = 1; i + 2 < m; i++) {
+        double xs, ys, share, pred;
+        csf_error e;
+        if (!hidden_corner(dv, dl, m, is_channel, sd_rel, i, &xs, &ys, &share) ||
+            csf_profile_fit_curve(dv, dl, m, is_channel, &xs, &pred, 1, &e))
+            continue;
+        double h = share * fabs(ys - pred) / fmax(ys, 0.1 * peak);
+        if (h > est[i]) est[i] = h;
+        if (est_min && h > est_min[i]) est_min[i] = h;
+    }
     free(seen);
     free(wit);
     /* intervals entirely below 10 % of peak matter less (the accuracy target is stated above it,
@@ -1115,9 +1189,30 @@ static double grey_drive_at(const ctx *c, double frac)
     return hi;
 }
 
+/* Where channel ch starts the range the target covers (10 % of its peak), from its levels so far: on
+ * the line in ln L against ln v through the two levels around that point, or the lowest two above
+ * it (a display curve is nearly a power law piece by piece). NAN when the levels cannot say. */
+static double channel_range_start(const ctx *c, int ch)
+{
+    levels L;
+    levels_read(c, ch, &L);
+    double out = NAN;
+    size_t i = 0;
+    while (i < L.m && !(L.v[i] > 0 && L.lum[i] > 0)) i++;
+    size_t j = i;
+    while (j + 1 < L.m && L.lum[j] < 0.1 * L.lum[L.m - 1]) j++;
+    size_t p = j > i ? j - 1 : j, q = p + 1;
+    if (L.m >= 2 && q < L.m && L.v[p] > 0 && L.lum[p] > 0 && L.lum[q] > L.lum[p]) {
+        double g = log(L.lum[q] / L.lum[p]) / log(L.v[q] / L.v[p]);
+        out = L.v[p] * pow(0.1 * L.lum[L.m - 1] / L.lum[p], 1 / g);
+    }
+    levels_free(&L);
+    return out;
+}
+
 /* The fixed levels of a sweep after full drive: a channel's full drive again when its share
  * allows (it scales the channel's whole curve; the ratio fit needs the four grid levels more),
- * the corners the caller asks for, then the grid. */
+ * the grid, then the corners the caller asks for. */
 static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, const double *extra, int n_extra,
                                      double peak, csf_error *err)
 {
@@ -1132,19 +1227,33 @@ static csf_status sweep_fixed_levels(ctx *c, int ch, int budget, int start, cons
         st = measure_level(c, ch, 1.0, INFINITY, budget - (c->n_sweep - start), err);
         if (st) return st;
     }
-    for (int i = 0; i < n_extra && c->n_sweep - start < budget; i++) {
-        /* a grey corner may be one the model inferred between two levels: snap it to what the
-         * framebuffer can show */
-        double q = snap(c, extra[i]);
-        if (!(q > 0 && q < 1)) continue;
-        st = measure_level(c, ch, q, peak, budget - (c->n_sweep - start), err);
-        if (st) return st;
-    }
     for (int i = 0; i < ng && c->n_sweep - start < budget; i++) {
         /* at most two readings each here: with a noisy instrument the grid's spread (what the
          * model and its stated error need) comes before averaging, which the refinement does */
         int left = budget - (c->n_sweep - start);
-        st = measure_level(c, ch, snap(c, grid[i]), peak, ch < 3 && left > 2 ? 2 : left, err);
+        double v = grid[i];
+        /* a channel's lowest grid level goes where its range starts when the levels above say
+         * where that is: a channel that clips or bends away from grey starts elsewhere (a clipped
+         * green lower, a steeper red higher), and an interval the range starts inside is modelled
+         * there from the side below the range, where the curve's relative error is largest and no
+         * knot can witness it. Only between half the grid's level and the next grid level: the line
+         * from the levels above is an extrapolation, worth trusting that far */
+        if (ch < 3 && v < 0.5) {
+            double s10 = channel_range_start(c, ch);
+            if (s10 > 0.5 * v && s10 < 0.5) v = s10;
+        }
+        st = measure_level(c, ch, snap(c, v), peak, ch < 3 && left > 2 ? 2 : left, err);
+        if (st) return st;
+    }
+    for (int i = 0; i < n_extra && c->n_sweep - start < budget; i++) {
+        /* a grey corner may be one the model inferred between two levels: snap it to what the
+         * framebuffer can show. After the grid and, like it, at most two readings: a corner read
+         * four times by a noisy instrument before the grid could take a channel's whole share,
+         * leaving a curve of three knots across the range */
+        double q = snap(c, extra[i]);
+        if (!(q > 0 && q < 1)) continue;
+        int left = budget - (c->n_sweep - start);
+        st = measure_level(c, ch, q, peak, left > 2 ? 2 : left, err);
         if (st) return st;
     }
     /* the low end of the range the target covers: where grey is at 10 % of its peak, unless the
