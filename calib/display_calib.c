@@ -710,7 +710,9 @@ static int hidden_corner(const double *dv, const double *dl, size_t m, int is_ch
         double g = local_exponent(dv, dl, base, sd_rel, b1, z, &dummy);
         if (!isnan(g)) bend = fmax(bend, fabs(g - gr) / (0.5 * log(dv[b1] * dv[z]) - ur)), sides++;
     }
-    if (!sides) return 0;
+    /* both sides: near an end one side proves nothing (a smooth curve may bend more and more
+     * towards it: an LCD's toe, an OLED limiting its power near white), as for bracketed_corners */
+    if (sides < 2) return 0;
     double jump = fabs(gr - gl), excess = jump - bend * (ur - ul), var = sl * sl + sr * sr;
     if (!(excess * excess > 4 * var) || !(excess > 0)) return 0;
     double li = log(dv[i]), lj = log(dv[i + 1]), yi = log(dl[i] - base), yj = log(dl[i + 1] - base);
@@ -811,7 +813,8 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
     for (size_t i = 1; i + 2 < m; i++) {
         double xs, ys, share, pred;
         csf_error e;
-        if (!hidden_corner(dv, dl, m, is_channel, sd_rel, i, &xs, &ys, &share) ||
+        if (!(dl[i + 1] >= 0.1 * peak) ||
+            !hidden_corner(dv, dl, m, is_channel, sd_rel, i, &xs, &ys, &share) ||
             csf_profile_fit_curve(dv, dl, m, is_channel, &xs, &pred, 1, &e))
             continue;
         double h = share * fabs(ys - pred) / fmax(ys, 0.1 * peak);
@@ -1403,6 +1406,18 @@ static int in_range(const levels *L, size_t i, double peak, double v_lo)
 
 static statement curve_statement_over(const ctx *c, int ch, const levels *L, double *est, double v_lo);
 
+/* The share of interval i's error (estimated for its middle) in the part from drive v_lo up, when
+ * v_lo is inside it: a smooth interpolant's error goes as t^2 (1 - t)^2 across an interval, so over
+ * [t0, 1] its largest is 16 t0^2 (1 - t0)^2 of the middle's when t0 > 1/2. A channel through grey
+ * whose range starts late in one of grey's dark intervals inherits that much of it. */
+static double covered_share(const levels *L, size_t i, double v_lo)
+{
+    double t0 = (v_lo - L->v[i]) / (L->v[i + 1] - L->v[i]);
+    if (!(t0 > 0.5)) return 1;
+    if (t0 > 1) t0 = 1;
+    return 16 * t0 * t0 * (1 - t0) * (1 - t0);
+}
+
 /* The stated error of a curve modelled through its own levels; est (L->m entries, may be NULL)
  * gets the per-interval model error for placing levels. */
 static statement curve_statement(const ctx *c, int ch, const levels *L, double *est)
@@ -1425,7 +1440,10 @@ static statement curve_statement_over(const ctx *c, int ch, const levels *L, dou
     size_t k = 0;
     out.model = 0;
     for (size_t i = 0; i < m; i++) {
-        if (i + 1 < m && in_range(L, i + 1, peak, v_lo)) out.model = fmax(out.model, emin[i]);
+        if (i + 1 < m && in_range(L, i + 1, peak, v_lo))
+            out.model =
+                fmax(out.model,
+                     emin[i] * (isnan(v_lo) || in_range(L, i, peak, v_lo) ? 1 : covered_share(L, i, v_lo)));
         /* the knots in the range, and the one below its low end: the interval across the 10 %
          * line carries that knot's error into the range */
         if (L->v[i] > 0 && (in_range(L, i, peak, v_lo) || (i + 1 < m && in_range(L, i + 1, peak, v_lo))))
@@ -1571,8 +1589,10 @@ static double ratio_loo_residual(const ctx *c, const levels *L, const double *g,
  * the channel's range of drives (the channel inherits its shape and its knots' noise), the fit's
  * uncertainty at the levels (about sd * sqrt(parameters / levels), doubled for the worst level), and a
  * bias the model leaves: the largest leave-one-out miss of a level mean less its noise, in
- * quadrature. */
-static statement channel_grey_statement(const ctx *c, int ch, const ratio_model *rm)
+ * quadrature. *grey_part and *range_lo (may be NULL; set when the statement is) get grey's part and
+ * the drive where the channel's range starts. */
+static statement channel_grey_statement(const ctx *c, int ch, const ratio_model *rm, double *grey_part,
+                                        double *range_lo)
 {
     statement out = {INFINITY, INFINITY, INFINITY};
     levels L;
@@ -1598,6 +1618,8 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
         }
         if (n > 0) {
             double grey_total = curve_statement_grey_from(c, v_lo);
+            if (grey_part) *grey_part = grey_total;
+            if (range_lo) *range_lo = v_lo;
             double fit = 2 * sqrt(ss / n * fmin(1.0, (double)rm->nb / n));
             out.noise = sqrt(grey_total * grey_total + fit * fit);
             out.model = sqrt(fmax(bias2, 0));
@@ -1618,7 +1640,7 @@ static csf_status refine_channel_via_grey(ctx *c, int ch, int budget, int start,
         fit_ratio(c, ch, &rm);
         if (!rm.ok) return CSF_OK; /* the caller goes on with levels of its own */
         /* grey's statement as it is now (the pooled noise moves as readings come) */
-        statement s = channel_grey_statement(c, ch, &rm);
+        statement s = channel_grey_statement(c, ch, &rm, NULL, NULL);
         if (s.total <= c->o->target_rel) return CSF_OK;
         levels L;
         levels_read(c, ch, &L);
@@ -1815,7 +1837,8 @@ static csf_status confirm_dark(ctx *c, csf_error *err)
 static int channel_statement(const ctx *c, int ch, ratio_model *rm, statement *stated)
 {
     fit_ratio(c, ch, rm);
-    statement g = rm->valid ? channel_grey_statement(c, ch, rm) : (statement){INFINITY, INFINITY, INFINITY};
+    statement g =
+        rm->valid ? channel_grey_statement(c, ch, rm, NULL, NULL) : (statement){INFINITY, INFINITY, INFINITY};
     levels L;
     levels_read(c, ch, &L);
     statement own = curve_statement(c, ch, &L, NULL);
@@ -1885,6 +1908,23 @@ static csf_status profile_from_readings(ctx *c, const char *display_name, const 
     return st;
 }
 
+/* Where a check best tests the lowest interval of curve ch that reaches its range (above drive
+ * lo): a third of the way up from its lower knot, where a wrong slope at that knot (the model takes
+ * it partly from the secant to black) shows most (t (1 - t)^2 peaks at t = 1/3). NAN when none. */
+static double lowest_interval_check(const ctx *c, int ch, double lo)
+{
+    levels L;
+    levels_read(c, ch, &L);
+    double at = NAN;
+    for (size_t i = 0; i + 1 < L.m; i++)
+        if (L.v[i] > 0 && L.v[i + 1] > lo) {
+            at = fmax(lo, L.v[i] + (L.v[i + 1] - L.v[i]) / 3);
+            break;
+        }
+    levels_free(&L);
+    return at;
+}
+
 /* The check drives of curve ch: one in each of o->checks equal strata of its range above 10 % of
  * peak, at a point within the stratum that moves from stratum to stratum and curve to curve (a
  * golden-ratio sequence), so that checks do not fall in step with a LUT's or the sweep's spacing. */
@@ -1893,10 +1933,12 @@ static int check_drives(const ctx *c, const csf_display_profile *p, int ch, doub
     double lo = profile_range_low(p, ch);
     if (!(lo >= 0 && lo < 1)) return 0;
     int n = c->o->checks < max ? c->o->checks : max, k = 0;
-    double w = (1 - lo) / (n > 0 ? n : 1);
+    double w = (1 - lo) / (n > 0 ? n : 1), low = lowest_interval_check(c, ch, lo);
     for (int i = 0; i < n; i++) {
         double f = fmod(0.6180339887498949 * (i + 1) + 0.381966 * ch, 1.0);
         double d = snap(c, lo + w * (i + 0.15 + 0.7 * f));
+        /* the stratum that holds it checks the lowest interval: no level below can witness it */
+        if (low >= lo + w * i && low < lo + w * (i + 1)) d = snap(c, low);
         if (d > 0 && d < 1) v[k++] = d;
     }
     return k;
@@ -1979,6 +2021,27 @@ static double with_checks(statement s, double check)
     return fmax(s.total, sqrt(s.noise * s.noise + check * check));
 }
 
+/* The grey level to read next for grey's statement over the drives from v_lo up: a new level in the
+ * worst interval there when the model part is the larger, else the noisiest level there; NAN when
+ * none is left. */
+static double grey_level_from(const ctx *c, double v_lo)
+{
+    levels L;
+    levels_read(c, CSF_CH_GREY, &L);
+    double *est = calloc(L.m + 1, sizeof(double)), next = NAN, worst = 0;
+    if (est && L.m >= 3) {
+        statement s = curve_statement_over(c, CSF_CH_GREY, &L, est, v_lo);
+        for (size_t i = 0; i + 1 < L.m; i++)
+            if (!(L.v[i + 1] > v_lo)) est[i] = -1;
+        if (!(s.model < s.noise)) next = pick_split(c, &L, est, &worst);
+        double top = L.lum[L.m - 1], at = predict(c, CSF_CH_GREY, v_lo);
+        if (isnan(next) && top > 0 && at > 0) next = noisiest_level(c, &L, at / top);
+    }
+    free(est);
+    levels_free(&L);
+    return next;
+}
+
 /* After the sweeps: while a curve's stated error is above the target and sweep readings are
  * left, one more step on the worst curve (its statement moves as readings come: the pooled noise,
  * grey's error that channels inherit), then a white reference. What is left unmet when the
@@ -2000,7 +2063,18 @@ static csf_status top_up(ctx *c, csf_error *err)
         int before = c->n_sweep;
         ratio_model rm;
         csf_status st;
+        double gp = NAN, v_lo = NAN, grey_next = NAN;
         if (worst_ch < 3 && channel_via_grey(c, worst_ch, &rm, &st_ch)) {
+            /* a channel through grey inherits grey's error over its own range, which may start
+             * among grey's sparse dark levels: when that part is the larger, the reading goes to
+             * grey there (a channel reading would only average the channel's own noise) */
+            statement sc = channel_grey_statement(c, worst_ch, &rm, &gp, &v_lo);
+            if (gp * gp > sc.total * sc.total - gp * gp) grey_next = grey_level_from(c, v_lo);
+        }
+        if (!isnan(grey_next)) {
+            double peak = predict(c, CSF_CH_GREY, 1.0);
+            st = measure_level(c, CSF_CH_GREY, grey_next, peak, c->o->budget - c->n_sweep, err);
+        } else if (worst_ch < 3 && channel_via_grey(c, worst_ch, &rm, &st_ch)) {
             levels L;
             levels_read(c, worst_ch, &L);
             double at = L.m >= 2 ? noisiest_level(c, &L, 0.05) : NAN;
