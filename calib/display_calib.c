@@ -724,6 +724,26 @@ static int hidden_corner(const double *dv, const double *dl, size_t m, int is_ch
     return 1;
 }
 
+/* A corner inside an interval leaves the knots at its ends, and so leave-one-out, nearly blind: an
+ * interval of the range the target covers where one could hide (hidden_corner) gets what the model
+ * misses of the corner the lines beside it make, into est and est_min (may be NULL) where larger. */
+static void hidden_corner_errors(const double *dv, const double *dl, size_t m, int is_channel,
+                                 const double *sd_rel, double *est, double *est_min)
+{
+    double peak = dl[m - 1];
+    for (size_t i = 1; i + 2 < m; i++) {
+        double xs, ys, share, pred;
+        csf_error e;
+        if (!(dl[i + 1] >= 0.1 * peak) ||
+            !hidden_corner(dv, dl, m, is_channel, sd_rel, i, &xs, &ys, &share) ||
+            csf_profile_fit_curve(dv, dl, m, is_channel, &xs, &pred, 1, &e))
+            continue;
+        double h = share * fabs(ys - pred) / fmax(ys, 0.1 * peak);
+        if (h > est[i]) est[i] = h;
+        if (est_min && h > est_min[i]) est_min[i] = h;
+    }
+}
+
 /* Leave-one-out error estimate per interval (noise taken off; see "the stated error"): est (m-1
  * entries) the larger of each interval's two witnesses, for placing levels; est_min (may be NULL)
  * their geometric mean, for the statement. Returns the largest est. */
@@ -808,19 +828,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
             if (u > est[i]) est[i] = u;
             if (est_min && u > est_min[i]) est_min[i] = u;
         }
-    /* A corner inside an interval leaves the knots at its ends, and so leave-one-out, nearly blind:
-     * the interval's error is what the model misses of the corner the lines beside it make */
-    for (size_t i = 1; i + 2 < m; i++) {
-        double xs, ys, share, pred;
-        csf_error e;
-        if (!(dl[i + 1] >= 0.1 * peak) ||
-            !hidden_corner(dv, dl, m, is_channel, sd_rel, i, &xs, &ys, &share) ||
-            csf_profile_fit_curve(dv, dl, m, is_channel, &xs, &pred, 1, &e))
-            continue;
-        double h = share * fabs(ys - pred) / fmax(ys, 0.1 * peak);
-        if (h > est[i]) est[i] = h;
-        if (est_min && h > est_min[i]) est_min[i] = h;
-    }
+    hidden_corner_errors(dv, dl, m, is_channel, sd_rel, est, est_min);
     free(seen);
     free(wit);
     /* intervals entirely below 10 % of peak matter less (the accuracy target is stated above it,
