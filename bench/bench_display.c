@@ -198,8 +198,10 @@ static double maxv(const double *x, int n)
  * that statement and run once after it (seen since); HELD_OUT5, made before the spot checks between
  * the sweep's levels and run once after them (seen since); HELD_OUT6, made for the change after
  * the spot checks and first run on the statement as it stood (seen since); HELD_OUT7, made after
- * that run for the next change to the statement, not run yet ("seen" leaves it out). */
+ * that run for the next change to the statement and run once after it (seen since). UNSEEN: the
+ * role made for the next change and not run yet, which "seen" leaves out (none now). */
 enum { TUNED, DEV, HELD_OUT, HELD_OUT3, HELD_OUT4, HELD_OUT5, HELD_OUT6, HELD_OUT7, N_ROLES };
+enum { UNSEEN = N_ROLES };
 
 /* the table rows' tag per role, one for every role */
 static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
@@ -362,7 +364,7 @@ static int honest_main(int seeds, int all)
     for (int r = 0; r < N_ROLES; r++) sum[r] = (honest_summary){0, INFINITY, "", "", 0, 0, 0, 0, 0, 0, 0};
     for (size_t d = 0; d < sizeof displays / sizeof displays[0]; d++) {
         if ((displays[d].role == TUNED && all == 0) || (displays[d].role != TUNED && all == 2) ||
-            (displays[d].role == HELD_OUT7 && all == 3))
+            ((int)displays[d].role == UNSEEN && all == 3))
             continue;
         for (size_t k = 0; k < sizeof noises / sizeof noises[0]; k++) {
             double o[4 * 1000];
@@ -379,7 +381,7 @@ static int honest_main(int seeds, int all)
         "held-out 4 (run once for the statement of unwitnessed intervals; seen since)",
         "held-out 5 (run once for the spot checks; seen since)",
         "held-out 6 (first run on the spot checks' statement; seen since)",
-        "held-out 7 (made for the next change; its first run)"};
+        "held-out 7 (run once for the corner and range-start statement; seen since)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)
