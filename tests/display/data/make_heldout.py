@@ -54,6 +54,14 @@ to the statement (not run yet):
                        panel's black compensation), a 2.4 power law above
   heldout7_bknee.csv   blue compressed hard above drive 0.6 (tanh), red and green a 2.2 power law
                        with a 0.6 % overshoot rising from drive 0.85 to white
+An eighth set, made on 2026-11-29 at 09:20 UTC after held-out 7's first run, for the next change
+to the statement (not run yet):
+  heldout8_abl.csv     a 2.2 power law whose top is held back by a brightness limiter: above drive
+                       0.8 / 0.82 / 0.85 the luminance rises half as fast, with a soft 0.03 joint
+  heldout8_redlate.csv red starts late (nothing below drive 0.07, then a 2.6 power law from there),
+                       green and blue a 2.2 power law
+  heldout8_midkink.csv a 2.4 power law whose slope steps up 6 % at drive 0.66 (a LUT's joint in the
+                       bright half), channel joints 0.64 / 0.66 / 0.69
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -263,3 +271,28 @@ def bknee7(c, v):
 write("heldout7_notch.csv", 300.0, notch7, "2.2 power law with a 2 % gain dip between drives 0.45 and 0.55")
 write("heldout7_toe.csv", 180.0, toe7, "1 % black lift, S-shaped toe below 0.12/0.14/0.16, 2.4 above")
 write("heldout7_bknee.csv", 400.0, bknee7, "blue compressed above 0.6; red and green 0.6 % overshoot from 0.85")
+
+
+def abl8(c, v):
+    k, w = (0.8, 0.82, 0.85)[c], 0.03
+    # the slope above the joint is half the power law's, blended over the joint's width
+    soft = w * math.log1p(math.exp((v - k) / w))
+    return v ** 2.2 - 0.5 * (2.2 * k ** 1.2) * soft
+
+
+def redlate8(c, v):
+    if c != 0:
+        return v ** 2.2
+    s = 0.07
+    return ((v - s) / (1 - s)) ** 2.6 if v > s else 0.0
+
+
+def midkink8(c, v):
+    j = (0.64, 0.66, 0.69)[c]
+    y = v ** 2.4
+    return y if v < j else y + 0.06 * 2.4 * j ** 1.4 * (v - j)
+
+
+write("heldout8_abl.csv", 350.0, abl8, "2.2 power law, above 0.8/0.82/0.85 rising half as fast (a limiter)")
+write("heldout8_redlate.csv", 250.0, redlate8, "red starts at drive 0.07 then 2.6; green and blue 2.2")
+write("heldout8_midkink.csv", 200.0, midkink8, "2.4 power law, slope up 6 % from 0.64/0.66/0.69")
