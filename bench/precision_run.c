@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "calib/observer_trials.h"
 #include "model/observer_sim.h"
 
 const double PR_SHIFTS[PR_N_SHIFTS] = {0, 0.5, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0};
@@ -92,6 +93,9 @@ static void *create_method(const csf_procedure_ops *ops, int seed, const csf_cel
                            int cap, double precision)
 {
     int fade = ops->task == CSF_TASK_FADE;
+    double trial_s[PR_CELLS]; /* as the session prices a trial (calib/observer_trials.c) */
+    for (int c = 0; c < PR_CELLS; c++)
+        trial_s[c] = obs_trial_expected_s(ops->task, !fade && n_alt && n_alt[c] == 4);
     csf_procedure_setup s = {
         .cells = cells,
         .n_cells = PR_CELLS,
@@ -108,7 +112,8 @@ static void *create_method(const csf_procedure_ops *ops, int seed, const csf_cel
         .reaction_latency_s = 0.37,
         .n_alternatives = fade ? NULL : n_alt,
         /* as the session plans a precision stop (calib/observer_calib.c) */
-        .planned_trials = precision > 0 ? csf_precision_planned_trials(ops, PR_CELLS, precision, cap) : 0};
+        .planned_trials = precision > 0 ? csf_precision_planned_trials(ops, PR_CELLS, precision, cap) : 0,
+        .trial_s = trial_s};
     void *st = NULL;
     csf_error err = {0};
     if (ops->create(&s, &st, &err) != CSF_OK) {

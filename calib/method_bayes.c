@@ -318,6 +318,8 @@ typedef struct {
      * one table per layout: [0] two intervals, [1] four locations (offset by 2*n_grid - 1) */
     double *ptab, *htab;
     int *n_alt;      /* [n_cells] 2 or 4 */
+    double *trial_s; /* [n_cells] the person's expected seconds a trial (trial_prices); NULL: alike */
+    double *cost_bf; /* [2 n_cells] trial_prices' prices and its rows' evidence */
     double *tclip;   /* [n_grid] t_g clipped at log10 max contrast + 0.1 (variance criterion) */
 
     /* per cell */
@@ -1013,6 +1015,7 @@ static void bayes_destroy(void *state)
     free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials);
     for (int l = 0; l < N_LEVELS; l++) free(s->kn[l]);
     free(s->kw), free(s->ptab), free(s->htab), free(s->n_alt), free(s->tclip), free(s->level), free(s->hist);
+    free(s->trial_s), free(s->cost_bf);
     free(s->theta), free(s->m), free(s->logz), free(s->logw), free(s->post), free(s->surf), free(s->weak);
     free(s->scratch_a), free(s->scratch_b), free(s->scratch_idx);
     free(s->corr), free(s->gp_a), free(s->gp_inv), free(s->gp_y), free(s->gp_nv);
@@ -1294,6 +1297,15 @@ static csf_status bayes_create(const csf_procedure_setup *setup, void **out, csf
     }
     memcpy(s->cells, setup->cells, sizeof(csf_cell) * (size_t)nc);
     for (int c = 0; c < nc; c++) s->n_alt[c] = setup->n_alternatives && setup->n_alternatives[c] == 4 ? 4 : 2;
+    if (setup->trial_s && setup->planned_trials > 0) { /* a precision stop: its cost is time */
+        s->trial_s = malloc(sizeof(double) * (size_t)nc);
+        s->cost_bf = malloc(2 * sizeof(double) * (size_t)nc);
+        if (!s->trial_s || !s->cost_bf) {
+            bayes_destroy(s);
+            return csf_error_set(err, CSF_E_NOMEM, "bayes: out of memory for %d cells", nc);
+        }
+        for (int c = 0; c < nc; c++) s->trial_s[c] = setup->trial_s[c] > 0 ? setup->trial_s[c] : 1.0;
+    }
     s->dip_free = dip_is_free(s);
     for (int c = 0; c < nc; c++)
         s->vel_free |= fabs(s->cells[c].velocity_dps) > csf_velocity_default().v_min_dps;
@@ -1485,6 +1497,29 @@ static double cell_best_trial(bayes_state *s, int c, int *cx_out)
     return ci;
 }
 
+static void row_evidence(bayes_state *s, double *cell_bf, double *row_bf);
+
+/* Under a precision stop the session ends when the stated errors are small enough, so what a
+ * trial costs is the person's time: a cell's expected gain is divided by its trial's seconds (a
+ * two-interval trial at the fovea takes longer than four places shown at once). Not while the
+ * cell has fewer than MISFIT_MIN_TRIALS trials of its own, nor where its row's own evidence leans
+ * to the surface missing it: there the surface's confidence, on which the gain is computed, is
+ * what is in doubt, and a cell the surface misfits (a fovea poorer than the rings predict) would
+ * be passed over until its error could no longer be seen. Those cells are priced at the cheapest
+ * trial. The seconds each cell's gain is divided by; NULL when trials are not priced. */
+static const double *trial_prices(bayes_state *s)
+{
+    if (!s->trial_s) return NULL;
+    double cheapest = INFINITY, *price = s->cost_bf;
+    for (int c = 0; c < s->n_cells; c++) cheapest = fmin(cheapest, s->trial_s[c]);
+    row_evidence(s, s->cost_bf + s->n_cells, price); /* the rows' evidence, then the prices over it */
+    for (int c = 0; c < s->n_cells; c++) {
+        int trusted = s->n_trials[c] >= MISFIT_MIN_TRIALS && price[c] <= 0.0;
+        price[c] = trusted ? s->trial_s[c] : cheapest;
+    }
+    return price;
+}
+
 static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     bayes_state *s = state;
@@ -1493,6 +1528,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     if (trial_index < 0) return CSF_E_INVALID_ARG;
     if (s->trial_budget > 0 && trial_index >= s->trial_budget) return CSF_E_ABORTED;
     refresh_cache(s);
+    const double *price = trial_prices(s);
     int G = s->n_grid;
     double best_info = -1.0;
     double *cell_info = s->scratch_a;   /* n_cells <= 4096; scratch is >= n_part = 2000 ... */
@@ -1514,6 +1550,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     /* a cell the display cannot show is never chosen (below any real value) */
     for (int c = 0; c < s->n_cells; c++)
         if (s->not_shown[c]) cell_info[c] = -2.0;
+        else if (price) cell_info[c] /= price[c];
     for (int c = 0; c < s->n_cells; c++)
         if (cell_info[c] > best_info) best_info = cell_info[c];
     int n_near = 0;

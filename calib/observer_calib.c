@@ -373,21 +373,9 @@ static csf_status check_display_side(obs_run *R, csf_error *err)
     return CSF_OK;
 }
 
-/* Seconds of the person's time one trial takes: fixation, the stimulus, the answer (a typical
- * response time; a fade ramp starts 0.8 log10 below the cell's estimate once it has one, so the
- * press comes about 1.6 s in at 0.5 log10/s, then a click: 2.9 s, where simulated sessions at
- * --precision 0.10 spent 2.8 s a trial). */
-#define EXPECT_AFC_ANSWER_S 0.6
-#define EXPECT_FOUR_ANSWER_S 0.7
-#define EXPECT_CLICK_S 1.0
-#define EXPECT_FADE_PRESS_S 1.6
 static double expected_trial_s(const obs_run *R, int four)
 {
-    if (R->S.ops->task == CSF_TASK_FADE) {
-        return FIXATION_S + EXPECT_FADE_PRESS_S + EXPECT_CLICK_S;
-    }
-    if (four) return FIXATION_S + AFC_INTERVAL_S + EXPECT_FOUR_ANSWER_S;
-    return FIXATION_S + 2 * AFC_INTERVAL_S + AFC_ISI_S + EXPECT_AFC_ANSWER_S;
+    return obs_trial_expected_s(R->S.ops->task, four);
 }
 
 /* The whole session's expected person time, share_four of its trials with four places. */
@@ -667,7 +655,12 @@ static csf_status replay_stored(obs_run *R, csf_error *err)
     setup.n_alternatives = res->n_cells_four_place > 0 ? S->n_alt : NULL;
     setup.fade_anchor_share = set->fade_anchors > 0 ? set->fade_anchors : -1;
     setup.not_shown = R->n_not_shown > 0 ? S->not_shown : NULL;
+    double *trial_s = malloc(sizeof(double) * (size_t)R->n_cells);
+    for (int k = 0; trial_s && k < R->n_cells; k++)
+        trial_s[k] = expected_trial_s(R, setup.n_alternatives && S->n_alt[k] == 4);
+    setup.trial_s = trial_s;
     csf_status st = S->ops->create(&setup, &S->proc, err);
+    free(trial_s);
     if (st != CSF_OK) return st;
     R->trial_index = 0;
     for (size_t i = 0; i < R->n_stored; i++) {

@@ -397,3 +397,20 @@ csf_trial_outcome obs_outcome_of(const csf_trial *t, csf_task task)
     o.valid = t->valid;
     return o;
 }
+
+/* Seconds of the person's time one trial takes: fixation, the stimulus, the answer (a typical
+ * response time; a fade ramp starts 0.8 log10 below the cell's estimate once it has one, so the
+ * press comes about 1.6 s in at 0.5 log10/s, then a click: 2.9 s, where simulated sessions at
+ * --precision 0.10 spent 2.8 s a trial). */
+#define EXPECT_AFC_ANSWER_S 0.6
+#define EXPECT_FOUR_ANSWER_S 0.7
+#define EXPECT_CLICK_S 1.0
+#define EXPECT_FADE_PRESS_S 1.6
+double obs_trial_expected_s(csf_task task, int four)
+{
+    if (task == CSF_TASK_FADE) {
+        return FIXATION_S + EXPECT_FADE_PRESS_S + EXPECT_CLICK_S;
+    }
+    if (four) return FIXATION_S + AFC_INTERVAL_S + EXPECT_FOUR_ANSWER_S;
+    return FIXATION_S + 2 * AFC_INTERVAL_S + AFC_ISI_S + EXPECT_AFC_ANSWER_S;
+}

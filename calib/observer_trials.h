@@ -34,6 +34,10 @@
 #define CUE_GAP_S (FIXATION_S - CUE_S)
 #define CUE_RADIUS_DEG (CSF_AFC_PATCH_RADIUS_SIGMAS * GABOR_SIGMA_DEG)
 
+/* Seconds of the person's time one main trial of task takes (four: four places at once), as a
+ * session plans it: fixation, the stimulus, a typical answer. */
+double obs_trial_expected_s(csf_task task, int four);
+
 typedef struct {
     csf_presenter *pres;
     person *who;

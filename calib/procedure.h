@@ -73,6 +73,10 @@ typedef struct {
      * csf_precision_planned_trials. 0 = trial_budget. A method that plans a block for the end of
      * the session (fade's anchors) plans it for this many, so the stop can come once they ran. */
     int planned_trials;
+    /* The person's expected seconds for one trial at each cell (a two-interval trial takes longer
+     * than four places shown at once). NULL = alike. A method that stops on precision may weigh
+     * what a trial teaches by what it costs (bayes does, under a precision stop). */
+    const double *trial_s;
 } csf_procedure_setup;
 
 /* Fastest drift a cell may ask for (deg/s): beyond it the eye cannot fixate a stationary mark
