@@ -19,10 +19,18 @@ static void session(const sim2afc *o, const csf_cell *cells, const int *n_alt, u
 {
     double trial_s[N];
     for (int c = 0; c < N; c++) trial_s[c] = n_alt[c] == 4 ? RING_S : FOVEA_S;
-    csf_procedure_setup setup = {.cells = cells, .n_cells = N, .trial_budget = 960, .seed = seed,
-                                 .max_contrast = 1.0, .min_contrast = 0.0005, .slope_beta = o->slope,
-                                 .lapse = o->lapse, .guess = 0.5, .n_alternatives = n_alt,
-                                 .planned_trials = TRIALS, .trial_s = weigh ? trial_s : NULL};
+    csf_procedure_setup setup = {.cells = cells,
+                                 .n_cells = N,
+                                 .trial_budget = 960,
+                                 .seed = seed,
+                                 .max_contrast = 1.0,
+                                 .min_contrast = 0.0005,
+                                 .slope_beta = o->slope,
+                                 .lapse = o->lapse,
+                                 .guess = 0.5,
+                                 .n_alternatives = n_alt,
+                                 .planned_trials = TRIALS,
+                                 .trial_s = weigh ? trial_s : NULL};
     csf_error err = {0};
     void *st = NULL;
     CHECK(csf_procedure_bayes.create(&setup, &st, &err) == CSF_OK);
