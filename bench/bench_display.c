@@ -386,7 +386,7 @@ static int honest_main(int seeds, int all)
         "held-out 5 (run once for the spot checks; seen since)",
         "held-out 6 (first run on the spot checks' statement; seen since)",
         "held-out 7 (run once for the corner and range-start statement; seen since)",
-        "held-out 8 (made for the next change; its first run)"};
+        "held-out 8 (run once for the measured order of convergence; seen since)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)

@@ -744,11 +744,66 @@ static void hidden_corner_errors(const double *dv, const double *dl, size_t m, i
     }
 }
 
+/* How much larger an interpolant's error is at the middle of an interval than at relative position t
+ * in it: a cubic's error goes as t^2 (1 - t)^2, the gain capped at 16. */
+static double middle_gain(double t)
+{
+    return 0.0625 / fmax(t * t * (1 - t) * (1 - t), 0.0625 / 16);
+}
+
+/* The order p at which the model's error falls with the width w of an interval (error ~ w^p) near
+ * knot k, measured rather than assumed, as Richardson's extrapolation does: e2_mid (knot k left out,
+ * scaled to the middle of the span it opens) against the same with knots k - 1, k and k + 1 left out
+ * (a span about twice as wide). A smooth curve under this model falls about 8 times per halving
+ * (p = 3), a kink inside the span 2 times (p = 1). Where the wider miss is within its noise, a
+ * neighbour is a corner or knot k is too near an end, p is 2, a halving's error 1/4. */
+static double convergence_order(const double *dv, const double *dl, size_t m, int is_channel,
+                                const double *sd_rel, size_t k, double e2_mid, const double *corners,
+                                size_t nc)
+{
+    const double p_default = 2;
+    if (k < 2 || k + 2 >= m) return p_default;
+    for (size_t j = 0; j < nc; j++)
+        if (corners[j] == dv[k - 1] || corners[j] == dv[k + 1]) return p_default;
+    double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double)), pred;
+    if (!tv || !tl) {
+        free(tv);
+        free(tl);
+        return p_default;
+    }
+    size_t j = 0;
+    for (size_t i = 0; i < m; i++)
+        if (i + 1 < k || i > k + 1) {
+            tv[j] = dv[i];
+            tl[j++] = dl[i];
+        }
+    csf_error e;
+    int bad = csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e) != CSF_OK;
+    free(tv);
+    free(tl);
+    if (bad) return p_default;
+    double peak = dl[m - 1], denom = fmax(dl[k], 0.1 * peak);
+    double e4 = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
+    /* the knot's noise and the prediction's from the knots two away (about 0.32 of each one's
+     * variance, as for one left out), taken off as there */
+    double var =
+        sd_rel[k] * sd_rel[k] + 0.32 * (sd_rel[k - 2] * sd_rel[k - 2] + sd_rel[k + 2] * sd_rel[k + 2]);
+    if (!(e4 * e4 > 4 * var)) return p_default;
+    e4 = sqrt(e4 * e4 - var);
+    double H2 = dv[k + 1] - dv[k - 1], H4 = dv[k + 2] - dv[k - 2];
+    double e4_mid = e4 * middle_gain((dv[k] - dv[k - 2]) / H4);
+    double p = log(e4_mid / e2_mid) / log(H4 / H2);
+    if (!isfinite(p)) return p_default;
+    /* a monotone cubic with slopes from secants converges at order 3 at best */
+    return fmin(fmax(p, 1), 3);
+}
+
 /* Leave-one-out error estimate per interval (noise taken off; see "the stated error"): est (m-1
  * entries) the larger of each interval's two witnesses, for placing levels; est_min (may be NULL)
- * their geometric mean, for the statement. Returns the largest est. */
+ * their geometric mean, for the statement. p_max caps the measured order of convergence (2 for a
+ * "met" decision, 3 for the statement). Returns the largest est. */
 static double interval_errors(const double *dv, const double *dl, size_t m, int is_channel,
-                              const double *sd_rel, double *est, double *est_min)
+                              const double *sd_rel, double p_max, double *est, double *est_min)
 {
     double peak = dl[m - 1];
     for (size_t i = 0; i + 1 < m; i++) est[i] = 0;
@@ -796,14 +851,15 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
         ek = ek * ek > 4 * var ? sqrt(ek * ek - var) : 0;
 
         /* The left-out knot saw the merged interval's error at its own position t, which is
-         * small near an end even when the interval is bad: scale to the middle (a cubic's error
-         * goes ~ t^2 (1-t)^2, amplification capped at 16), then to each half by (h/H)^3
-         * (a smooth curve's error falls 8-16x per halving, a kink's 2x; x2 keeps the equal-split
-         * case at 1/4 of the knot's error). */
+         * small near an end even when the interval is bad: scale to the middle (middle_gain), then
+         * to each part. Halving a span divides the error by 2^p, p the order the curve shows here
+         * (convergence_order, at most p_max); a part of width h H gets (2 h)^3 of that, as a part
+         * near an end of the span sees less of the curve's bending than its width alone says. */
         double H = dv[k + 1] - dv[k - 1], t = (dv[k] - dv[k - 1]) / H;
-        double amp = 0.0625 / fmax(t * t * (1 - t) * (1 - t), 0.0625 / 16);
-        double hl = (dv[k] - dv[k - 1]) / H, hr = (dv[k + 1] - dv[k]) / H;
-        double sl = 2 * ek * amp * hl * hl * hl, sr = 2 * ek * amp * hr * hr * hr;
+        double amp = middle_gain(t);
+        double p = ek > 0 ? convergence_order(dv, dl, m, is_channel, sd_rel, k, ek * amp, corners, nc) : 2;
+        p = fmin(p, p_max);
+        double sl = ek * amp * pow(2 * t, 3) * pow(2, -p), sr = ek * amp * pow(2 * (1 - t), 3) * pow(2, -p);
         if (sl > est[k - 1]) est[k - 1] = sl;
         if (sr > est[k]) est[k] = sr;
         if (seen) seen[k - 1] = seen[k] = 1;
@@ -1443,7 +1499,10 @@ static statement curve_statement_over(const ctx *c, int ch, const levels *L, dou
            *top = malloc(m * sizeof(double)), *emin = calloc(m, sizeof(double));
     if (!sd || !e || !top || !emin) goto done;
     level_sds(c, L, pooled_noise_rel(c), sd);
-    interval_errors(L->v, L->lum, m, ch < 3, sd, e, emin);
+    /* a "met" decision does not lean on a measured order above the usual 2: the measurement is
+     * noisy, and a false "met" costs the user more than a reading */
+    double p_max = c->noise_quantile > 0.5 ? 2 : 3;
+    interval_errors(L->v, L->lum, m, ch < 3, sd, p_max, e, emin);
     double peak = L->lum[m - 1];
     size_t k = 0;
     out.model = 0;
@@ -1561,6 +1620,20 @@ static csf_status refine_curve(ctx *c, int ch, int budget, int start, double pea
     return CSF_OK;
 }
 
+/* The p quantile of the largest of n squared standard normal deviates (n >= 1, 0 < p < 1): z^2 where
+ * (Phi(z) - Phi(-z))^n is p. */
+static double noise_max_chi2(int n, double p_max)
+{
+    if (n < 1) n = 1;
+    double p = pow(p_max, 1.0 / n), lo = 0, hi = 10;
+    for (int it = 0; it < 60; it++) {
+        double z = 0.5 * (lo + hi);
+        if (erf(z / sqrt(2.0)) < p) lo = z;
+        else hi = z;
+    }
+    return lo * lo;
+}
+
 /* The ratio model's miss at level i of the channel, predicted by the same basis fitted without that
  * level (leave-one-out: a fit through a level cannot show how far it misses between levels); the
  * fit through all levels when too few are left to refit, and at full drive (the normaliser). */
@@ -1608,7 +1681,15 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
     double *g = malloc((L.m + 1) * sizeof(double));
     if (g && L.m >= 2 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
         double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0, v_lo = NAN;
-        int n = 0;
+        int n = 0, n_in = 0;
+        for (size_t i = 0; i < L.m; i++) n_in += L.v[i] > 0 && L.lum[i] >= 0.1 * peak;
+        /* a leave-one-out miss carries the level's own noise and the refit's, about nb / (m - 1) of
+         * it. The largest of n_in such misses, were they pure noise, reaches noise_max_chi2 times its
+         * variance with probability 1 - q: what exceeds that is the model's, at the statement's
+         * quantile q (the median, or the 90th percentile the target is judged at) */
+        double q = c->noise_quantile > 0 ? c->noise_quantile : 0.5;
+        double noise_share =
+            (1 + (double)rm->nb / (double)(L.m > 1 ? L.m - 1 : 1)) * noise_max_chi2(n_in, 1 - q);
         for (size_t i = 0; i < L.m; i++) {
             if (!(L.v[i] > 0) || !(L.lum[i] >= 0.1 * peak)) continue;
             /* the range starts where the channel crosses 10 % of its peak, between this level
@@ -1620,7 +1701,7 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
                            : L.v[i];
             double sd2 = (nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i];
             double r = ratio_loo_residual(c, &L, g, rm, i);
-            bias2 = fmax(bias2, r * r - sd2);
+            bias2 = fmax(bias2, r * r - noise_share * sd2);
             ss += sd2;
             n++;
         }
@@ -1628,7 +1709,7 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
             double grey_total = curve_statement_grey_from(c, v_lo);
             if (grey_part) *grey_part = grey_total;
             if (range_lo) *range_lo = v_lo;
-            double fit = 2 * sqrt(ss / n * fmin(1.0, (double)rm->nb / n));
+            double fit = 2 * sqrt(ss / n * fmin(1.0, (double)rm->nb / (double)L.m));
             out.noise = sqrt(grey_total * grey_total + fit * fit);
             out.model = sqrt(fmax(bias2, 0));
             out.total = sqrt(out.noise * out.noise + out.model * out.model);
