@@ -62,6 +62,15 @@ to the statement (not run yet):
                        green and blue a 2.2 power law
   heldout8_midkink.csv a 2.4 power law whose slope steps up 6 % at drive 0.66 (a LUT's joint in the
                        bright half), channel joints 0.64 / 0.66 / 0.69
+A ninth set, made on 2026-11-29 at 11:35 UTC after held-out 8's first run, for the next change
+to the statement (not run yet):
+  heldout9_drift.csv   a power law whose exponent drifts smoothly with drive, 1.9 at black to 2.7 at
+                       white (2.0-2.8 / 1.9-2.7 / 1.8-2.6 per channel): a panel whose gamma is not one
+                       number
+  heldout9_gdark.csv   green's slope steps down 8 % at drive 0.3 (a LUT's joint in the dark half, on
+                       one channel), red and blue a 2.2 power law
+  heldout9_zone.csv    a 2.2 power law whose gain steps up 1.5 % across drive 0.72, 0.01 wide (a
+                       backlight zone's boundary): a step, not a dip
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -296,3 +305,24 @@ def midkink8(c, v):
 write("heldout8_abl.csv", 350.0, abl8, "2.2 power law, above 0.8/0.82/0.85 rising half as fast (a limiter)")
 write("heldout8_redlate.csv", 250.0, redlate8, "red starts at drive 0.07 then 2.6; green and blue 2.2")
 write("heldout8_midkink.csv", 200.0, midkink8, "2.4 power law, slope up 6 % from 0.64/0.66/0.69")
+
+
+def drift9(c, v):
+    lo, hi = (2.0, 2.8) if c == 0 else (1.9, 2.7) if c == 1 else (1.8, 2.6)
+    return v ** (lo + (hi - lo) * v) if v > 0 else 0.0
+
+
+def gdark9(c, v):
+    y = v ** 2.2
+    if c != 1 or v < 0.3:
+        return y
+    return y - 0.08 * 2.2 * 0.3 ** 1.2 * (v - 0.3)
+
+
+def zone9(c, v):
+    return v ** 2.2 * (1 + 0.015 * 0.5 * (1 + math.tanh((v - 0.72) / 0.01)))
+
+
+write("heldout9_drift.csv", 300.0, drift9, "exponent drifting with drive, 1.9 to 2.7 (per channel 2.0-2.8/1.9-2.7/1.8-2.6)")
+write("heldout9_gdark.csv", 260.0, gdark9, "green slope down 8 % from drive 0.3; red and blue 2.2")
+write("heldout9_zone.csv", 320.0, zone9, "2.2 power law, gain up 1.5 % across drive 0.72, 0.01 wide")
