@@ -136,6 +136,20 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef MISFIT_WIDEN_PRIOR
 #define MISFIT_WIDEN_PRIOR 0.05 /* prior probability that the surface misses a cell (widened_sd); 0: off */
 #endif
+/* Checks (plan_check): under a precision stop, a cell the surface would have written never visible
+ * beside a cell written visible gets trials of its own at the display's highest contrast, at least
+ * CHECK_MIN and at most CHECK_MAX, until its answers alone favour one side of the reach by CHECK_BF
+ * (own_odds, over thresholds within CHECK_SPAN log10 of it); a cell whose answers then say visible
+ * is measured on them (near their posterior median) to CHECK_SE, CHECK_MEASURE_MAX trials at most.
+ * At any budget a cell whose own answers say visible (CHECK_BF, or leaning so after CHECK_MAX) is not
+ * written never visible. */
+#define CHECK_MIN 4
+#define CHECK_MAX 12
+#define CHECK_BF 10.0
+#define CHECK_SPAN 0.5
+#define CHECK_SE 0.10
+#define CHECK_MEASURE_MAX 30
+#define CHECK_AFTER_PER_CELL 2
 #ifndef MISFIT_MIN_TRIALS
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
 #endif
@@ -1520,6 +1534,127 @@ static const double *trial_prices(bayes_state *s)
     return price;
 }
 
+static void summarise(const bayes_state *s, const double *p, double *mean, double *sd, double *p_inv);
+
+/* The odds, on cell c's answers alone, that its threshold is beyond the display's reach: their mean
+ * likelihood over thresholds up to CHECK_SPAN above the reach against that over as far below it. 1
+ * when it has none. */
+static double own_odds(const bayes_state *s, int c)
+{
+    if (!s->n_trials[c]) return 1.0;
+    const double *ll = &s->loglik[(size_t)c * s->n_grid];
+    double mx = -INFINITY, above = 0, below = 0;
+    int n_above = 0, n_below = 0;
+    for (int g = 0; g < s->n_grid; g++)
+        if (fabs(s->lo + g * s->step - s->log_cmax) <= CHECK_SPAN && ll[g] > mx) mx = ll[g];
+    for (int g = 0; g < s->n_grid; g++) {
+        double t = s->lo + g * s->step;
+        if (fabs(t - s->log_cmax) > CHECK_SPAN) continue;
+        if (g > s->g_cmax) above += exp(ll[g] - mx), n_above++;
+        else below += exp(ll[g] - mx), n_below++;
+    }
+    if (!n_above || !n_below || !(below > 0)) return 1.0;
+    return (above / n_above) / (below / n_below);
+}
+
+/* Cell c's threshold on its answers alone (a flat prior over the grid), normalised, into post. */
+static void own_posterior(const bayes_state *s, int c, double *post)
+{
+    const double *ll = &s->loglik[(size_t)c * s->n_grid];
+    double mx = -INFINITY, sum = 0;
+    for (int g = 0; g < s->n_grid; g++)
+        if (ll[g] > mx) mx = ll[g];
+    for (int g = 0; g < s->n_grid; g++) sum += post[g] = exp(ll[g] - mx);
+    for (int g = 0; g < s->n_grid; g++) post[g] /= sum;
+}
+
+/* Whether the posterior of cell c calls it never visible (refresh_cache done). */
+static int called_invisible(const bayes_state *s, int c)
+{
+    double m, sd, p_inv;
+    summarise(s, &s->post[(size_t)c * s->n_grid], &m, &sd, &p_inv);
+    return p_inv > INVISIBLE_PROB;
+}
+
+/* Whether a grid neighbour of cell c (the next frequency up or down in its row, the next
+ * eccentricity in its column, at its velocity) is shown and called visible. */
+static int neighbour_visible(const bayes_state *s, int c)
+{
+    const csf_cell *a = &s->cells[c];
+    int near[4] = {-1, -1, -1, -1}; /* lower f, higher f, lower e, higher e */
+    for (int d = 0; d < s->n_cells; d++) {
+        const csf_cell *b = &s->cells[d];
+        if (d == c || fabs(b->velocity_dps - a->velocity_dps) > 1e-9) continue;
+        int same_e = fabs(b->ecc_deg - a->ecc_deg) < 1e-9, same_f = fabs(b->freq_cpd - a->freq_cpd) < 1e-9;
+        int k = same_e   ? (b->freq_cpd < a->freq_cpd ? 0 : 1)
+                : same_f ? (b->ecc_deg < a->ecc_deg ? 2 : 3)
+                         : -1;
+        if (k < 0) continue;
+        double dist = same_e ? fabs(log(b->freq_cpd / a->freq_cpd)) : fabs(b->ecc_deg - a->ecc_deg);
+        if (near[k] < 0) {
+            near[k] = d;
+            continue;
+        }
+        const csf_cell *o = &s->cells[near[k]];
+        if (dist < (same_e ? fabs(log(o->freq_cpd / a->freq_cpd)) : fabs(o->ecc_deg - a->ecc_deg)))
+            near[k] = d;
+    }
+    for (int k = 0; k < 4; k++)
+        if (near[k] >= 0 && !s->not_shown[near[k]] && !called_invisible(s, near[k])) return 1;
+    return 0;
+}
+
+/* The contrast (log10) of the check cell c needs next, or NAN when it needs none: at the highest
+ * contrast while its answers have not settled which side of the reach it is on; near the median of
+ * its answers' posterior once they say visible, until that is known to CHECK_SE. */
+static double check_contrast(bayes_state *s, int c)
+{
+    int n = s->n_trials[c];
+    if (s->not_shown[c] || n >= CHECK_MEASURE_MAX || !called_invisible(s, c) || !neighbour_visible(s, c))
+        return NAN;
+    double odds = own_odds(s, c);
+    if (n < CHECK_MIN) return s->log_cmax;
+    if (odds >= CHECK_BF || (n >= CHECK_MAX && odds >= 1.0)) return NAN; /* never visible */
+    if (odds > 1.0 / CHECK_BF && n < CHECK_MAX) return s->log_cmax;
+    double *post = s->scratch_b, m, sd, p_inv, cum = 0, med = s->log_cmax;
+    own_posterior(s, c, post);
+    summarise(s, post, &m, &sd, &p_inv);
+    if (sd <= CHECK_SE) return NAN;
+    for (int g = 0; g <= s->g_cmax; g++)
+        if ((cum += post[g] / (1 - p_inv)) >= 0.5) {
+            med = s->lo + g * s->step;
+            break;
+        }
+    return fmax(med, s->log_cmin);
+}
+
+/* Plans a check (see CHECK_MIN): under a precision stop, where the session's length follows the
+ * evidence, no cell beside a visible one is written never visible on the surface's word alone.
+ * Returns 0 when no cell needs one. */
+static int plan_check(bayes_state *s, int trial_index, csf_trial_plan *plan)
+{
+    /* a fixed budget: the surface's word stands; and not before the surface has heard about twice
+     * as many answers as there are cells (at the first trial the prior alone calls the cells at
+     * the high-frequency corner never visible) */
+    if (!s->trial_s || trial_index < CHECK_AFTER_PER_CELL * s->n_cells) return 0;
+    int n = s->n_cells;
+    int rot = (int)(csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 3) * n) % n;
+    for (int k = 0; k < n; k++) {
+        int c = (k + rot) % n;
+        double x = check_contrast(s, c);
+        if (isnan(x)) continue;
+        plan->cell = c;
+        plan->contrast = pow(10.0, fmin(x, s->log_cmax));
+        plan->n_alternatives = s->n_alt[c];
+        double u = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1);
+        plan->signal_interval = plan->n_alternatives == 4 ? (int)(u * 4.0) % 4 : u < 0.5;
+        plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
+        plan->ramp_start_log10 = NAN;
+        return 1;
+    }
+    return 0;
+}
+
 static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
 {
     bayes_state *s = state;
@@ -1528,6 +1663,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
     if (trial_index < 0) return CSF_E_INVALID_ARG;
     if (s->trial_budget > 0 && trial_index >= s->trial_budget) return CSF_E_ABORTED;
     refresh_cache(s);
+    if (plan_check(s, trial_index, plan)) return CSF_OK;
     const double *price = trial_prices(s);
     int G = s->n_grid;
     double best_info = -1.0;
@@ -1720,6 +1856,16 @@ static csf_status bayes_estimate(void *state, csf_cell_estimate *out, csf_error 
         if (fallback) po = weak;
         double mean, sd, p_inv;
         summarise(s, po, &mean, &sd, &p_inv);
+        double odds = p_inv > INVISIBLE_PROB ? own_odds(s, c) : 1.0;
+        if (odds <= 1.0 / CHECK_BF || (s->n_trials[c] >= CHECK_MAX && odds < 1.0)) {
+            /* not "never visible" where the cell's own answers say visible (10:1, or leaning so
+             * after a check's worth of them): a surface that misses the person's high-frequency
+             * limb would otherwise carry a cell the person sees past the reach, and a renderer
+             * would remove detail the person can see. The answers alone then say where it is. */
+            own_posterior(s, c, weak);
+            fallback = 1;
+            summarise(s, weak, &mean, &sd, &p_inv);
+        }
         if (!fallback && row_bf) sd = widened_sd(s, weak, mean, sd, row_bf[c]);
         out[c].n_trials = s->n_trials[c];
         if (s->not_shown[c]) {

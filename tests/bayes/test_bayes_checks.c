@@ -1,0 +1,131 @@
+/* A cell is written never visible only on its own answers. Under a precision stop (trials priced
+ * by the person's time), a person like the model's own but who sees 8 cpd at 20 deg at contrast
+ * 0.5, where the surface puts the threshold 1.5 log10 beyond the display's reach: the cell is checked
+ * at the top contrast beside its visible neighbours, found visible and measured, in every seed,
+ * where before it got no trial and was written never visible. The model's own person keeps its
+ * invisible cells (16 cpd at 10 and 20 deg) never visible, and a person who sees nothing is still
+ * written never visible everywhere. At a fixed budget nothing is checked. */
+#include "tests/bayes/sim_2afc.h"
+#include "tests/check.h"
+
+enum { N_CELLS = 24, TRIALS = 200 };
+static const double ECCS[4] = {0, 5, 10, 20};
+
+/* The model's own person on the default grid as a table, with cell (fi, ei) at log10 threshold
+ * over (NAN: none changed). */
+static void person(sim2afc *o, int fi, int ei, double over, uint64_t seed)
+{
+    sim2afc model;
+    sim2afc_parametric(&model, csf_model_default(), seed);
+    memset(o, 0, sizeof *o);
+    o->is_table = 1;
+    o->slope = 3.5;
+    o->lapse = 0.02;
+    o->seed = seed;
+    o->method_psychometric = 1; /* as a session: slope and lapse unknown */
+    o->n_f = 6, o->n_e = 4;
+    for (int i = 0; i < 6; i++) o->f[i] = log10(0.5 * pow(2.0, i));
+    for (int j = 0; j < 4; j++) o->e[j] = ECCS[j];
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 6; i++)
+            o->lt[j * 6 + i] = sim2afc_log10_threshold(&model, 0.5 * pow(2.0, i), ECCS[j]);
+    if (!isnan(over)) o->lt[ei * 6 + fi] = over;
+}
+
+/* TRIALS trials of bayes on o, under a precision plan (priced) or a fixed budget; est gets the
+ * table. Returns the trials at the display's highest contrast in cell c. */
+static int run(const sim2afc *o, const csf_cell *cells, int priced, uint64_t seed, int c,
+               csf_cell_estimate *est)
+{
+    double trial_s[N_CELLS];
+    for (int k = 0; k < N_CELLS; k++) trial_s[k] = 2.4;
+    csf_procedure_setup setup = {.cells = cells,
+                                 .n_cells = N_CELLS,
+                                 .trial_budget = priced ? 960 : TRIALS,
+                                 .seed = 100 + seed,
+                                 .max_contrast = 1.0,
+                                 .min_contrast = 0.0005,
+                                 .slope_beta = 3.5,
+                                 .lapse = 0.02,
+                                 .guess = 0.5,
+                                 .fixed_psychometric = 0,
+                                 .trial_s = priced ? trial_s : NULL,
+                                 .planned_trials = priced ? TRIALS : 0};
+    csf_error err = {0};
+    void *st = NULL;
+    CHECK_INT_EQ(csf_procedure_bayes.create(&setup, &st, &err), CSF_OK);
+    if (!st) return -1;
+    int at_top = 0;
+    for (int k = 0; k < TRIALS; k++) {
+        csf_trial_plan plan;
+        if (csf_procedure_bayes.next(st, k, &plan) != CSF_OK) break;
+        at_top += plan.cell == c && plan.contrast >= 1.0;
+        csf_trial_outcome out = sim2afc_respond_cell(o, &plan, &cells[plan.cell], k);
+        csf_procedure_bayes.update(st, k, &plan, &out);
+    }
+    CHECK_INT_EQ(csf_procedure_bayes.estimate(st, est, &err), CSF_OK);
+    csf_procedure_bayes.destroy(st);
+    return at_top;
+}
+
+int main(void)
+{
+    csf_cell cells[N_CELLS];
+    CHECK_INT_EQ(sim2afc_default_grid(cells), N_CELLS);
+    const int fi = 4, ei = 3, c = ei * 6 + fi; /* 8 cpd, 20 deg */
+    double err[4];
+    for (uint64_t seed = 1; seed <= 4; seed++) {
+        sim2afc o;
+        person(&o, fi, ei, -0.3, seed);
+        csf_cell_estimate est[N_CELLS];
+        int top = run(&o, cells, 1, seed, c, est);
+        CHECK_MSG(isfinite(est[c].threshold),
+                  "seed %d: 8 cpd 20 deg (truth -0.30) written never visible after %d "
+                  "trials at the top",
+                  (int)seed, top);
+        CHECK_MSG(top >= 4, "seed %d: %d checks at the top contrast", (int)seed, top);
+        err[seed - 1] = isfinite(est[c].threshold) ? fabs(log10(est[c].threshold) + 0.3) : INFINITY;
+        printf("seed %d: checked %d at the top, written %.3f (truth -0.30) +- %.3f from %d trials\n",
+               (int)seed, top, log10(est[c].threshold), est[c].stderr_log10, est[c].n_trials);
+        /* at a fixed budget the surface's word stands, and nothing is spent on checks */
+        int fixed_top = run(&o, cells, 0, seed, c, est);
+        CHECK_MSG(fixed_top == 0, "seed %d: %d checks at a fixed budget", (int)seed, fixed_top);
+    }
+    double sorted[4];
+    memcpy(sorted, err, sizeof sorted);
+    for (int i = 0; i < 4; i++)
+        for (int j = i + 1; j < 4; j++)
+            if (sorted[j] < sorted[i]) {
+                double t = sorted[i];
+                sorted[i] = sorted[j], sorted[j] = t;
+            }
+    CHECK_MSG(sorted[1] < 0.15, "checked cell's error, second smallest of 4 seeds: %.3f log10", sorted[1]);
+
+    /* the model's own person: its cells beyond the reach stay never visible */
+    for (uint64_t seed = 1; seed <= 2; seed++) {
+        sim2afc o;
+        person(&o, 0, 0, NAN, seed);
+        csf_cell_estimate est[N_CELLS];
+        run(&o, cells, 1, seed, c, est);
+        for (int k = 0; k < N_CELLS; k++) {
+            double t = o.lt[(k / 6) * 6 + k % 6];
+            if (t > 0.3)
+                CHECK_MSG(isinf(est[k].threshold), "seed %d: cell %d (truth %.2f) written %g", (int)seed, k,
+                          t, est[k].threshold);
+            if (t < -0.3)
+                CHECK_MSG(isfinite(est[k].threshold), "seed %d: cell %d (truth %.2f) never visible",
+                          (int)seed, k, t);
+        }
+    }
+
+    /* a person who sees nothing: never visible everywhere, checks or not */
+    sim2afc blind;
+    person(&blind, 0, 0, NAN, 5);
+    for (int k = 0; k < 6 * 4; k++) blind.lt[k] = 1.0;
+    csf_cell_estimate est[N_CELLS];
+    run(&blind, cells, 1, 5, c, est);
+    int n_inf = 0;
+    for (int k = 0; k < N_CELLS; k++) n_inf += isinf(est[k].threshold) != 0;
+    CHECK_MSG(n_inf == N_CELLS, "blind person: only %d of %d cells never visible", n_inf, N_CELLS);
+    return CHECK_RESULT();
+}
