@@ -393,7 +393,8 @@ static const honest_observer HONEST_SIXTEENTH[] = {
      0},
 };
 /* The seventeenth held-out set (bench/data/observer_heldout17.py, written after sixteen sets had been
- * seen, for the next change to the stated errors: unseen, run once on it) */
+ * seen, for the next change to the stated errors; run once for bayes's checks of cells written never
+ * visible, bayes only: seen since for bayes) */
 static const honest_observer HONEST_SEVENTEENTH[] = {
     {"parametric, Weibull 3.5/0.02", "sim", 0, 1},
     {"bumpy, Weibull 3.5/0.02", "sim:table=bench/data/observer_bumpy.csv", 0, 1},
