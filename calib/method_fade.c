@@ -514,6 +514,22 @@ static void cell_moments_fc(fade_state *f, int cell, double *mean, double *sd, d
     cell_moments_fc_part(f, cell, 0, mean, sd, p_above);
 }
 
+/* A two-interval trial on cell at contrast x_log10, its signal interval drawn from the given stream
+ * (the anchors' or the checks') for this trial. */
+static void fc_plan(const fade_state *f, csf_trial_plan *plan, int cell, double x_log10, int stream,
+                    int trial_index)
+{
+    plan->task = CSF_TASK_2AFC;
+    plan->cell = cell;
+    plan->contrast = pow(10.0, x_log10);
+    plan->ramp_start_log10 = x_log10;
+    plan->ramp_s = 0;
+    plan->n_alternatives = 2;
+    plan->is_catch = 0;
+    plan->signal_interval =
+        (int)(csf_rng_u64(f->s.seed, (uint64_t)stream, 2 * (uint64_t)trial_index + 1) & 1);
+}
+
 /* Plans an anchor: a two-interval trial on the visible cell with the fewest anchors, just above
  * its forced-choice estimate. Returns 0 when there is nothing to anchor or the offset is known. */
 static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
@@ -543,14 +559,7 @@ static int plan_anchor(fade_state *f, int trial_index, csf_trial_plan *plan)
     double x = u + FADE_ANCHOR_ABOVE, lo = log10(f->s.min_contrast), hi = log10(f->s.max_contrast);
     if (x > hi) x = hi;
     if (x < lo) x = lo;
-    plan->task = CSF_TASK_2AFC;
-    plan->cell = best;
-    plan->contrast = pow(10.0, x);
-    plan->ramp_start_log10 = x;
-    plan->ramp_s = 0;
-    plan->n_alternatives = 2;
-    plan->is_catch = 0;
-    plan->signal_interval = (int)(csf_rng_u64(f->s.seed, ST_ANCHOR, 2 * (uint64_t)trial_index + 1) & 1);
+    fc_plan(f, plan, best, x, ST_ANCHOR, trial_index);
     return 1;
 }
 
@@ -634,14 +643,8 @@ static int plan_check(fade_state *f, int trial_index, csf_trial_plan *plan)
         int i = (k + rot) % n;
         double x;
         if (needs_check(f, i, &x) == CHECK_NONE) continue;
-        plan->task = CSF_TASK_2AFC;
-        plan->cell = f->check_cell = i;
-        plan->contrast = pow(10.0, x);
-        plan->ramp_start_log10 = x;
-        plan->ramp_s = 0;
-        plan->n_alternatives = 2;
-        plan->is_catch = 0;
-        plan->signal_interval = (int)(csf_rng_u64(f->s.seed, ST_CHECK, 2 * (uint64_t)trial_index + 1) & 1);
+        f->check_cell = i;
+        fc_plan(f, plan, i, x, ST_CHECK, trial_index);
         return 1;
     }
     return 0;

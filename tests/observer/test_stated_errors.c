@@ -88,16 +88,36 @@ static void fade_answer(csf_observer_sim *obs, int i, const csf_cell *c, const c
     *clock_s += window + 1;
 }
 
+/* The person both fade checks below are run on (Mannos & Sakrison's CSF, slope 3, no lapses) and the
+ * cell they make a target of. */
+enum { FADE_TARGET = 2 * 6 + 2 }; /* 2 cpd at 10 deg */
+static csf_observer_sim *fade_check_person(void)
+{
+    csf_observer_sim *obs = NULL;
+    csf_error err;
+    CHECK(csf_observer_sim_create("sim:slope=3,lapse=0,table=bench/data/observer_mansak.csv", 82, &obs,
+                                  &err) == CSF_OK);
+    return obs;
+}
+
+/* The person's answer to a two-interval trial. */
+static void afc_answer(csf_observer_sim *obs, int i, const csf_cell *c, const csf_trial_plan *plan,
+                       csf_trial_outcome *out)
+{
+    double cs[4] = {0, 0, 0, 0}, rt;
+    cs[plan->signal_interval] = plan->contrast;
+    out->response = csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
+    out->contrast_at_response = plan->contrast;
+}
+
 /* Fade: a person answers every ramp as the model says, except the first two ramps at the target
  * cell, which end unanswered (a lapse injected twice). The neighbours are seen; the cell must be
  * re-tested and come out visible near its truth. */
 static void check_fade_lapse_retest(const csf_cell *cells)
 {
-    const int target = 2 * 6 + 2; /* 2 cpd at 10 deg */
-    csf_observer_sim *obs;
+    const int target = FADE_TARGET;
+    csf_observer_sim *obs = fade_check_person();
     csf_error err;
-    CHECK(csf_observer_sim_create("sim:slope=3,lapse=0,table=bench/data/observer_mansak.csv", 82, &obs,
-                                  &err) == CSF_OK);
     csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, 120, 82, CSF_TASK_FADE);
     void *st = NULL;
     CHECK(csf_procedure_fade.create(&s, &st, &err) == CSF_OK);
@@ -114,10 +134,7 @@ static void check_fade_lapse_retest(const csf_cell *cells)
             ramps_after += plan.cell == target && lapses == 2;
             fade_answer(obs, i, c, &plan, &clock_s, &out);
         } else {
-            double cs[4] = {0, 0, 0, 0}, rt;
-            cs[plan.signal_interval] = plan.contrast;
-            out.response = csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
-            out.contrast_at_response = plan.contrast;
+            afc_answer(obs, i, c, &plan, &out);
         }
         csf_procedure_fade.update(st, i, &plan, &out);
     }
@@ -142,11 +159,9 @@ static void check_fade_lapse_retest(const csf_cell *cells)
  * visible, after a bounded number of checks. */
 static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance)
 {
-    const int target = 2 * 6 + 2; /* 2 cpd at 10 deg */
-    csf_observer_sim *obs;
+    const int target = FADE_TARGET;
+    csf_observer_sim *obs = fade_check_person();
     csf_error err;
-    CHECK(csf_observer_sim_create("sim:slope=3,lapse=0,table=bench/data/observer_mansak.csv", 82, &obs,
-                                  &err) == CSF_OK);
     csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, 960, 82, CSF_TASK_FADE);
     s.planned_trials = 300;
     void *st = NULL;
@@ -163,15 +178,12 @@ static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance
         } else if (plan.task == CSF_TASK_FADE) {
             fade_answer(obs, i, c, &plan, &clock_s, &out);
         } else {
-            double cs[4] = {0, 0, 0, 0}, rt;
-            cs[plan.signal_interval] = plan.contrast;
-            out.response = csf_observer_sim_2afc(obs, (uint64_t)i, c->freq_cpd, c->ecc_deg, cs, &rt);
+            afc_answer(obs, i, c, &plan, &out);
             if (plan.cell == target) {
                 fc_on_target++;
                 checks_at_top += plan.contrast >= s.max_contrast;
                 if (at_chance) out.response = csf_rng_uniform(82, 0xc4ec, (uint64_t)i) < 0.5;
             }
-            out.contrast_at_response = plan.contrast;
         }
         csf_procedure_fade.update(st, i, &plan, &out);
     }
