@@ -213,6 +213,7 @@ static void check_afc_invisible_budget(const csf_cell *cells)
     sim2afc_parametric(&o, csf_model_default(), 3);
     o.method_psychometric = 1;
     csf_cell_estimate est[N_CELLS];
+    memset(est, 0, sizeof est); /* a failed run (counted by CHECK) leaves it as it was */
     CHECK(sim2afc_run(&csf_procedure_2afc, &o, cells, N_CELLS, BUDGET, 1003, 1.0, est) == 0);
     int on_invisible = 0, n_invisible = 0, written = 0, n_vis = 0;
     double sd2 = 0;
