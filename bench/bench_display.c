@@ -200,8 +200,8 @@ static double maxv(const double *x, int n)
  * the spot checks and first run on the statement as it stood (seen since); HELD_OUT7, made after
  * that run for the next change to the statement and run once after it (seen since); HELD_OUT8, made
  * after that run for the next change and run once after it (seen since); HELD_OUT9, made after that
- * run for the next change, not run yet. UNSEEN: the role made for the next change and not run yet,
- * which "seen" leaves out. */
+ * run for the next change and first run on the statement as it stood (seen since). UNSEEN: the role
+ * made for the next change and not run yet, which "seen" leaves out (N_ROLES: none now). */
 enum {
     TUNED,
     DEV,
@@ -215,7 +215,7 @@ enum {
     HELD_OUT9,
     N_ROLES
 };
-enum { UNSEEN = HELD_OUT9 };
+enum { UNSEEN = N_ROLES };
 
 /* the table rows' tag per role, one for every role */
 static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
@@ -404,7 +404,7 @@ static int honest_main(int seeds, int all)
         "held-out 6 (first run on the spot checks' statement; seen since)",
         "held-out 7 (run once for the corner and range-start statement; seen since)",
         "held-out 8 (run once for the measured order of convergence; seen since)",
-        "held-out 9 (made for the next change; its first run)"};
+        "held-out 9 (first run on the statement as it stood; seen since)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)

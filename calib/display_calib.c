@@ -751,6 +751,21 @@ static double middle_gain(double t)
     return 0.0625 / fmax(t * t * (1 - t) * (1 - t), 0.0625 / 16);
 }
 
+/* The model through the knots of (dv, dl) but those lo..hi, at drive v, into *pred (tv, tl: scratch
+ * of m entries). Returns 0, or non-zero when that model cannot be fitted. */
+static int predict_without(const double *dv, const double *dl, size_t m, int is_channel, size_t lo, size_t hi,
+                           double v, double *tv, double *tl, double *pred)
+{
+    size_t j = 0;
+    for (size_t i = 0; i < m; i++)
+        if (i < lo || i > hi) {
+            tv[j] = dv[i];
+            tl[j++] = dl[i];
+        }
+    csf_error e;
+    return csf_profile_fit_curve(tv, tl, j, is_channel, &v, pred, 1, &e) != CSF_OK;
+}
+
 /* The order p at which the model's error falls with the width w of an interval (error ~ w^p) near
  * knot k, measured rather than assumed, as Richardson's extrapolation does: e2_mid (knot k left out,
  * scaled to the middle of the span it opens) against the same with knots k - 1, k and k + 1 left out
@@ -759,29 +774,14 @@ static double middle_gain(double t)
  * neighbour is a corner or knot k is too near an end, p is 2, a halving's error 1/4. */
 static double convergence_order(const double *dv, const double *dl, size_t m, int is_channel,
                                 const double *sd_rel, size_t k, double e2_mid, const double *corners,
-                                size_t nc)
+                                size_t nc, double *tv, double *tl)
 {
     const double p_default = 2;
     if (k < 2 || k + 2 >= m) return p_default;
     for (size_t j = 0; j < nc; j++)
         if (corners[j] == dv[k - 1] || corners[j] == dv[k + 1]) return p_default;
-    double *tv = malloc(m * sizeof(double)), *tl = malloc(m * sizeof(double)), pred;
-    if (!tv || !tl) {
-        free(tv);
-        free(tl);
-        return p_default;
-    }
-    size_t j = 0;
-    for (size_t i = 0; i < m; i++)
-        if (i + 1 < k || i > k + 1) {
-            tv[j] = dv[i];
-            tl[j++] = dl[i];
-        }
-    csf_error e;
-    int bad = csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e) != CSF_OK;
-    free(tv);
-    free(tl);
-    if (bad) return p_default;
+    double pred;
+    if (predict_without(dv, dl, m, is_channel, k - 1, k + 1, dv[k], tv, tl, &pred)) return p_default;
     double peak = dl[m - 1], denom = fmax(dl[k], 0.1 * peak);
     double e4 = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
     /* the knot's noise and the prediction's from the knots two away (about 0.32 of each one's
@@ -819,7 +819,7 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
     double corners[64];
     csf_error cerr;
     size_t nc = csf_profile_fit_corners(dv, dl, m, is_channel, corners, 64, &cerr);
-    for (size_t k = 1; k + 1 < m; k++) {
+    for (size_t k = 1; tv && tl && k + 1 < m; k++) { /* out of memory: nothing left out */
         int skip = 0;
         for (size_t j = 0; j < nc; j++)
             if (corners[j] == dv[k]) skip = 1;
@@ -827,15 +827,8 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
             if (seen) corner_estimates(dv, dl, m, k, sd_rel, est, seen);
             continue;
         }
-        size_t j = 0;
-        for (size_t i = 0; i < m; i++)
-            if (i != k) {
-                tv[j] = dv[i];
-                tl[j++] = dl[i];
-            }
         double pred;
-        csf_error e;
-        if (csf_profile_fit_curve(tv, tl, j, is_channel, &dv[k], &pred, 1, &e)) continue;
+        if (predict_without(dv, dl, m, is_channel, k, k, dv[k], tv, tl, &pred)) continue;
         double denom = fmax(dl[k], 0.1 * peak);
         double ek = fabs(pred - dl[k]) / (denom > 0 ? denom : 1);
         /* The miss carries the noise of the knot's mean and of the prediction (a cubic through
@@ -857,7 +850,8 @@ static double interval_errors(const double *dv, const double *dl, size_t m, int 
          * near an end of the span sees less of the curve's bending than its width alone says. */
         double H = dv[k + 1] - dv[k - 1], t = (dv[k] - dv[k - 1]) / H;
         double amp = middle_gain(t);
-        double p = ek > 0 ? convergence_order(dv, dl, m, is_channel, sd_rel, k, ek * amp, corners, nc) : 2;
+        double p =
+            ek > 0 ? convergence_order(dv, dl, m, is_channel, sd_rel, k, ek * amp, corners, nc, tv, tl) : 2;
         p = fmin(p, p_max);
         double sl = ek * amp * pow(2 * t, 3) * pow(2, -p), sr = ek * amp * pow(2 * (1 - t), 3) * pow(2, -p);
         if (sl > est[k - 1]) est[k - 1] = sl;

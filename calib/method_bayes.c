@@ -1628,6 +1628,21 @@ static double check_contrast(bayes_state *s, int c)
     return fmax(med, s->log_cmin);
 }
 
+/* A trial on cell c at contrast x_log10 (at most the display's), in its layout, its signal place and
+ * polar angle drawn for this trial. */
+static void fill_plan(const bayes_state *s, csf_trial_plan *plan, int c, double x_log10, int trial_index)
+{
+    plan->cell = c;
+    plan->contrast = pow(10.0, fmin(x_log10, s->log_cmax));
+    plan->n_alternatives = s->n_alt[c];
+    double u = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1);
+    plan->signal_interval = plan->n_alternatives == 4 ? (int)(u * 4.0) % 4 : u < 0.5;
+    plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
+    plan->is_catch = 0;
+    plan->ramp_start_log10 = NAN;
+    plan->ramp_s = 0.0;
+}
+
 /* Plans a check (see CHECK_MIN): under a precision stop, where the session's length follows the
  * evidence, no cell beside a visible one is written never visible on the surface's word alone.
  * Returns 0 when no cell needs one. */
@@ -1643,13 +1658,7 @@ static int plan_check(bayes_state *s, int trial_index, csf_trial_plan *plan)
         int c = (k + rot) % n;
         double x = check_contrast(s, c);
         if (isnan(x)) continue;
-        plan->cell = c;
-        plan->contrast = pow(10.0, fmin(x, s->log_cmax));
-        plan->n_alternatives = s->n_alt[c];
-        double u = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1);
-        plan->signal_interval = plan->n_alternatives == 4 ? (int)(u * 4.0) % 4 : u < 0.5;
-        plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
-        plan->ramp_start_log10 = NAN;
+        fill_plan(s, plan, c, x, trial_index);
         return 1;
     }
     return 0;
@@ -1703,16 +1712,7 @@ static csf_status bayes_next(void *state, int trial_index, csf_trial_plan *plan)
             }
             k++;
         }
-    plan->cell = chosen;
-    plan->contrast = pow(10.0, s->lo + cell_x[chosen] * s->step);
-    if (plan->contrast > pow(10.0, s->log_cmax)) plan->contrast = pow(10.0, s->log_cmax);
-    plan->n_alternatives = s->n_alt[chosen];
-    double u = csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 1);
-    plan->signal_interval = plan->n_alternatives == 4 ? (int)(u * 4.0) % 4 : u < 0.5;
-    plan->polar_deg = 360.0 * csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 2);
-    plan->is_catch = 0;
-    plan->ramp_start_log10 = NAN;
-    plan->ramp_s = 0.0;
+    fill_plan(s, plan, chosen, s->lo + cell_x[chosen] * s->step, trial_index);
     if (info_buf) free(info_buf), free(cell_x);
     return CSF_OK;
 }

@@ -1,8 +1,8 @@
 /* A cell is written never visible only on its own answers. Under a precision stop (trials priced
  * by the person's time), a person like the model's own but who sees 8 cpd at 20 deg at contrast
  * 0.5, where the surface puts the threshold 1.5 log10 beyond the display's reach: the cell is checked
- * at the top contrast beside its visible neighbours, found visible and measured, in every seed,
- * where before it got no trial and was written never visible. The model's own person keeps its
+ * at the top contrast beside its visible neighbours, found visible and measured, in every seed;
+ * the surface alone would give it no trial and write it never visible. The model's own person keeps its
  * invisible cells (16 cpd at 10 and 20 deg) never visible, and a person who sees nothing is still
  * written never visible everywhere. At a fixed budget nothing is checked. */
 #include "tests/bayes/sim_2afc.h"

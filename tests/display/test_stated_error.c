@@ -111,8 +111,8 @@ static void finer_than_levels(double noise_rel)
 
 /* A smooth curve read with a quiet meter: the statement is the model's error, estimated from how far
  * the curve misses a left-out level. The step from that miss to the levels' own spacing divides it
- * by 2^p, p the order the curve shows there (about 3 on a smooth stretch), not a fixed 4, which
- * said 1.5 times the truth and more here. */
+ * by 2^p, p the order the curve shows there (about 3 on a smooth stretch); a fixed p = 2 states 1.5
+ * times the truth and more here. */
 static void smooth_quiet(void)
 {
     double med = median_ratio("file=" CSF_TEST_DATA "/heldout7_toe.csv", 0.0002, 4, 0);

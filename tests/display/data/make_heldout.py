@@ -63,7 +63,7 @@ to the statement (not run yet):
   heldout8_midkink.csv a 2.4 power law whose slope steps up 6 % at drive 0.66 (a LUT's joint in the
                        bright half), channel joints 0.64 / 0.66 / 0.69
 A ninth set, made on 2026-11-29 at 11:35 UTC after held-out 8's first run, for the next change
-to the statement (not run yet):
+to the statement, and first run at 13:45 UTC on the statement as it stood (seen since):
   heldout9_drift.csv   a power law whose exponent drifts smoothly with drive, 1.9 at black to 2.7 at
                        white (2.0-2.8 / 1.9-2.7 / 1.8-2.6 per channel): a panel whose gamma is not one
                        number
