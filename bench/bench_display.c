@@ -200,8 +200,9 @@ static double maxv(const double *x, int n)
  * the spot checks and first run on the statement as it stood (seen since); HELD_OUT7, made after
  * that run for the next change to the statement and run once after it (seen since); HELD_OUT8, made
  * after that run for the next change and run once after it (seen since); HELD_OUT9, made after that
- * run for the next change and first run on the statement as it stood (seen since). UNSEEN: the role
- * made for the next change and not run yet, which "seen" leaves out (N_ROLES: none now). */
+ * run for the next change and first run on the statement as it stood (seen since); HELD_OUT10, made
+ * after that run for the next change. UNSEEN: the role made for the next change and not run yet,
+ * which "seen" leaves out (N_ROLES: none). */
 enum {
     TUNED,
     DEV,
@@ -213,15 +214,16 @@ enum {
     HELD_OUT7,
     HELD_OUT8,
     HELD_OUT9,
+    HELD_OUT10,
     N_ROLES
 };
-enum { UNSEEN = N_ROLES };
+enum { UNSEEN = HELD_OUT10 };
 
 /* the table rows' tag per role, one for every role */
 static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
                                        " (held-out 3)", " (held-out 4)", " (held-out 5)",
                                        " (held-out 6)", " (held-out 7)", " (held-out 8)",
-                                       " (held-out 9)"};
+                                       " (held-out 9)", " (held-out 10)"};
 _Static_assert(sizeof role_tag / sizeof role_tag[0] == N_ROLES, "one row tag per role");
 
 typedef struct {
@@ -365,6 +367,9 @@ static int honest_main(int seeds, int all)
         {"gamma drifting 1.9 to 2.7 csv", "file=heldout9_drift.csv", HELD_OUT9},
         {"green slope down at 0.3 csv", "file=heldout9_gdark.csv", HELD_OUT9},
         {"zone gain step at 0.72 csv", "file=heldout9_zone.csv", HELD_OUT9},
+        {"33-point LUT, node gain errors csv", "file=heldout10_lut33.csv", HELD_OUT10},
+        {"VA shoulder above 0.85 csv", "file=heldout10_shoulder.csv", HELD_OUT10},
+        {"exponent blend 2.0 to 2.6 csv", "file=heldout10_blend.csv", HELD_OUT10},
         {"S-curve csv", "file=heldout_scurve.csv", DEV},
         {"BT.1886 csv", "file=heldout_bt1886.csv", DEV},
         {"LUT ripple csv", "file=heldout_lutwiggle.csv", DEV},
@@ -404,7 +409,8 @@ static int honest_main(int seeds, int all)
         "held-out 6 (first run on the spot checks' statement; seen since)",
         "held-out 7 (run once for the corner and range-start statement; seen since)",
         "held-out 8 (run once for the measured order of convergence; seen since)",
-        "held-out 9 (first run on the statement as it stood; seen since)"};
+        "held-out 9 (first run on the statement as it stood; seen since)",
+        "held-out 10 (not run yet)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)

@@ -71,6 +71,14 @@ to the statement, and first run at 13:45 UTC on the statement as it stood (seen 
                        one channel), red and blue a 2.2 power law
   heldout9_zone.csv    a 2.2 power law whose gain steps up 1.5 % across drive 0.72, 0.01 wide (a
                        backlight zone's boundary): a step, not a dip
+A tenth set, made on 2026-11-29 at 15:20 UTC after held-out 9's first run, for the next change to
+the statement (not run yet):
+  heldout10_lut33.csv  a 2.2 power law through a driver's 33-point LUT interpolated linearly, each
+                       node off by a fixed gain error of sd 0.2 % (seeded): slope steps every 1/32
+  heldout10_shoulder.csv a VA panel: a 2.3 power law that rolls off into a soft shoulder above drive
+                       0.83 / 0.85 / 0.88, white 4 % under the power law's extrapolation
+  heldout10_blend.csv  an exponent that blends from 2.0 to 2.6 across drive 0.45 (logistic, 0.05
+                       wide; channel centres 0.43 / 0.45 / 0.47): a two-segment LUT with a soft joint
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -326,3 +334,38 @@ def zone9(c, v):
 write("heldout9_drift.csv", 300.0, drift9, "exponent drifting with drive, 1.9 to 2.7 (per channel 2.0-2.8/1.9-2.7/1.8-2.6)")
 write("heldout9_gdark.csv", 260.0, gdark9, "green slope down 8 % from drive 0.3; red and blue 2.2")
 write("heldout9_zone.csv", 320.0, zone9, "2.2 power law, gain up 1.5 % across drive 0.72, 0.01 wide")
+
+
+_lut33_rng = random.Random(2026112915)
+_lut33_gain = [[1 + 0.002 * _lut33_rng.gauss(0, 1) for _ in range(33)] for _ in range(3)]
+
+
+def lut33(c, v):
+    x = v * 32
+    i = min(int(x), 31)
+    a = x - i
+    n0 = (i / 32) ** 2.2 * _lut33_gain[c][i]
+    n1 = ((i + 1) / 32) ** 2.2 * _lut33_gain[c][i + 1]
+    return n0 + a * (n1 - n0)
+
+
+def shoulder10(c, v):
+    k = (0.83, 0.85, 0.88)[c]
+    y = v ** 2.3
+    if v <= k:
+        return y
+    u = (v - k) / (1 - k)
+    return y * (1 - 0.04 * u * u)
+
+
+def blend10(c, v):
+    if v <= 0:
+        return 0.0
+    m = (0.43, 0.45, 0.47)[c]
+    w = 1 / (1 + math.exp(-(v - m) / 0.05))
+    return v ** (2.0 + 0.6 * w)
+
+
+write("heldout10_lut33.csv", 280.0, lut33, "2.2 power law through a 33-point LUT, node gain errors sd 0.2 % (seeded)")
+write("heldout10_shoulder.csv", 240.0, shoulder10, "2.3 power law, soft shoulder above 0.83/0.85/0.88, white 4 % under")
+write("heldout10_blend.csv", 310.0, blend10, "exponent blending 2.0 to 2.6 across 0.43/0.45/0.47, 0.05 wide")
