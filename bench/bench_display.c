@@ -201,8 +201,9 @@ static double maxv(const double *x, int n)
  * that run for the next change to the statement and run once after it (seen since); HELD_OUT8, made
  * after that run for the next change and run once after it (seen since); HELD_OUT9, made after that
  * run for the next change and first run on the statement as it stood (seen since); HELD_OUT10, made
- * after that run for the next change. UNSEEN: the role made for the next change and not run yet,
- * which "seen" leaves out (N_ROLES: none). */
+ * after that run for the next change, first run on a variant not adopted (a probe level in each
+ * channel's sweep) and then on the one adopted (seen since). UNSEEN: the role made for the next
+ * change and not run yet, which "seen" leaves out (N_ROLES: none now). */
 enum {
     TUNED,
     DEV,
@@ -217,7 +218,7 @@ enum {
     HELD_OUT10,
     N_ROLES
 };
-enum { UNSEEN = HELD_OUT10 };
+enum { UNSEEN = N_ROLES };
 
 /* the table rows' tag per role, one for every role */
 static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
@@ -410,7 +411,7 @@ static int honest_main(int seeds, int all)
         "held-out 7 (run once for the corner and range-start statement; seen since)",
         "held-out 8 (run once for the measured order of convergence; seen since)",
         "held-out 9 (first run on the statement as it stood; seen since)",
-        "held-out 10 (not run yet)"};
+        "held-out 10 (first run on the channel probe; seen since)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)

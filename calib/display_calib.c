@@ -2008,6 +2008,36 @@ static double lowest_interval_check(const ctx *c, int ch, double lo)
     return at;
 }
 
+/* Where grey shows the most shape between channel ch's levels: the drive of the largest departure of
+ * grey's curve from the same model through grey at the channel's drives alone, above 10 % of the
+ * channel's peak (NaN when there is none, or a level of the channel is already near). A channel
+ * modelled through grey copies that shape with no reading of its own there, and a joint or a zone's
+ * gain step that only some channels have shows in grey there, diluted by the others' share. */
+static double grey_shape_probe(const ctx *c, int ch)
+{
+    enum { N_FINE = 255 };
+    levels L;
+    levels_read(c, ch, &L);
+    double fv[N_FINE], fine[N_FINE], coarse[N_FINE], at = NAN, worst = 0;
+    double *g = malloc((L.m + 1) * sizeof(double));
+    csf_error e;
+    if (g && L.m >= 4 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
+        for (int j = 0; j < N_FINE; j++) fv[j] = (j + 1) / (double)N_FINE;
+        if (!grey_incr(c, fv, fine, N_FINE) &&
+            csf_profile_fit_curve(L.v, g, L.m, 1, fv, coarse, N_FINE, &e) == CSF_OK)
+            for (int j = 0; j < N_FINE; j++) {
+                if (!(fine[j] >= 0.1 * g[L.m - 1])) continue;
+                double d = fabs(fine[j] - coarse[j]) / fine[j];
+                if (d > worst) worst = d, at = fv[j];
+            }
+        for (size_t i = 0; !isnan(at) && i < L.m; i++)
+            if (fabs(L.v[i] - at) < 1.0 / 64) at = NAN;
+    }
+    free(g);
+    levels_free(&L);
+    return at;
+}
+
 /* The check drives of curve ch: one in each of o->checks equal strata of its range above 10 % of
  * peak, at a point within the stratum that moves from stratum to stratum and curve to curve (a
  * golden-ratio sequence), so that checks do not fall in step with a LUT's or the sweep's spacing. */
@@ -2017,11 +2047,15 @@ static int check_drives(const ctx *c, const csf_display_profile *p, int ch, doub
     if (!(lo >= 0 && lo < 1)) return 0;
     int n = c->o->checks < max ? c->o->checks : max, k = 0;
     double w = (1 - lo) / (n > 0 ? n : 1), low = lowest_interval_check(c, ch, lo);
+    double probe = ch < 3 ? grey_shape_probe(c, ch) : NAN;
     for (int i = 0; i < n; i++) {
         double f = fmod(0.6180339887498949 * (i + 1) + 0.381966 * ch, 1.0);
         double d = snap(c, lo + w * (i + 0.15 + 0.7 * f));
+        int holds_low = low >= lo + w * i && low < lo + w * (i + 1);
         /* the stratum that holds it checks the lowest interval: no level below can witness it */
-        if (low >= lo + w * i && low < lo + w * (i + 1)) d = snap(c, low);
+        if (holds_low) d = snap(c, low);
+        /* a channel's stratum that holds it checks grey's least confirmed shape (grey_shape_probe) */
+        else if (probe >= lo + w * i && probe < lo + w * (i + 1)) d = snap(c, probe);
         if (d > 0 && d < 1) v[k++] = d;
     }
     return k;

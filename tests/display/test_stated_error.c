@@ -10,7 +10,8 @@
  * residuals said a third of the truth there. On a display with a LUT's ripple finer than the
  * sweep's levels, the grey statement is within 1.5x only with the spot checks between them. On a
  * smooth curve with a lifted black and an S-shaped toe read at 0.02 % noise, the grey statement is
- * within 1.4x in the median. */
+ * within 1.4x in the median. On a slope step between the channels' levels, "target met" is rarely
+ * said falsely. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -119,6 +120,41 @@ static void smooth_quiet(void)
     CHECK_MSG(med >= 1 / 1.5 && med <= 1.4, "toe curve: grey stated/true median %.3f at noise 0.02 %%", med);
 }
 
+/* A slope step that each channel takes at its own drive (0.64 / 0.66 / 0.69, heldout8_midkink.csv)
+ * lies between the channels' levels: grey shows it diluted, and a channel modelled through grey
+ * copies grey's version. Over ten seeds at 0.05 % noise the calibration may say "target met" on
+ * at most three runs whose true error (grey or channels) is above the target (about one in ten
+ * runs on the benchmark's 30 seeds); with the spot checks at the golden-ratio drives alone it did
+ * on about half the runs, every run that claimed it. */
+static void joint_between_channel_levels(void)
+{
+    const char *truth = "file=" CSF_TEST_DATA "/heldout8_midkink.csv";
+    int claimed = 0, false_met = 0;
+    for (uint64_t seed = 1; seed <= 10; seed++) {
+        char spec[400];
+        snprintf(spec, sizeof spec, "sim:display=%s,noise=0.0005", truth);
+        csf_display_model *m;
+        csf_photometer *ph;
+        csf_error err;
+        CHECK(csf_display_model_create(truth, &m, &err) == CSF_OK);
+        CHECK(csf_photometer_open(spec, seed, &ph, &err) == CSF_OK);
+        csf_display_calib_opts o;
+        csf_display_calib_defaults(&o);
+        csf_display_profile *p = NULL;
+        csf_display_calib_result res;
+        if (csf_display_calibrate(ph, &o, NULL, NULL, seed, &p, &res, &err) == CSF_OK && res.target_met) {
+            claimed++;
+            false_met += fmax(true_grey_err(m, p), true_channel_err(m, p)) > o.target_rel;
+        }
+        csf_profile_free(p);
+        csf_photometer_close(ph);
+        csf_display_model_free(m);
+    }
+    printf("slope step between the channels' levels: %d of 10 runs said met, %d of them above the target\n",
+           claimed, false_met);
+    CHECK_MSG(false_met <= 3, "slope step: %d of %d 'met' claims false", false_met, claimed);
+}
+
 static void run(double noise_rel, uint64_t seed)
 {
     char spec[200];
@@ -181,5 +217,6 @@ int main(void)
     channels_differ(0.001);
     finer_than_levels(0.0005);
     smooth_quiet();
+    joint_between_channel_levels();
     return CHECK_RESULT();
 }

@@ -71,8 +71,9 @@ to the statement, and first run at 13:45 UTC on the statement as it stood (seen 
                        one channel), red and blue a 2.2 power law
   heldout9_zone.csv    a 2.2 power law whose gain steps up 1.5 % across drive 0.72, 0.01 wide (a
                        backlight zone's boundary): a step, not a dip
-A tenth set, made on 2026-11-29 at 15:20 UTC after held-out 9's first run, for the next change to
-the statement (not run yet):
+A tenth set, made on 2026-11-29 at 14:55 UTC after held-out 9's first run, for the next change to
+the statement, first run at 15:00 UTC on a channel probe level (not adopted), then on the
+channel spot check where grey's shape is least confirmed (adopted; seen since):
   heldout10_lut33.csv  a 2.2 power law through a driver's 33-point LUT interpolated linearly, each
                        node off by a fixed gain error of sd 0.2 % (seeded): slope steps every 1/32
   heldout10_shoulder.csv a VA panel: a 2.3 power law that rolls off into a soft shoulder above drive
