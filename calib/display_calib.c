@@ -2038,6 +2038,35 @@ static double grey_shape_probe(const ctx *c, int ch)
     return at;
 }
 
+/* Where grey's own levels disagree most about an interval: the middle of the interval in range whose
+ * two witnesses (each end knot left out in turn, interval_errors) differ most, the one seeing a
+ * miss the other does not (NaN when none does). A step or a joint inside an interval shows to the
+ * witness beside it only, and the statement, which takes their geometric mean, cannot tell it from
+ * noise; a check there measures it. */
+static double grey_witness_split(const ctx *c)
+{
+    levels L;
+    levels_read(c, CSF_CH_GREY, &L);
+    double at = NAN, worst = 0;
+    double *sd = malloc((L.m + 1) * sizeof(double)), *est = malloc((L.m + 1) * sizeof(double)),
+           *emin = calloc(L.m + 1, sizeof(double));
+    if (sd && est && emin && L.m >= 4) {
+        level_sds(c, &L, pooled_noise_rel(c), sd);
+        interval_errors(L.v, L.lum, L.m, 0, sd, 3, est, emin);
+        double peak = L.lum[L.m - 1];
+        for (size_t i = 0; i + 1 < L.m; i++)
+            if (in_range(&L, i + 1, peak, NAN) && est[i] - emin[i] > worst) {
+                worst = est[i] - emin[i];
+                at = 0.5 * (L.v[i] + L.v[i + 1]);
+            }
+    }
+    free(sd);
+    free(est);
+    free(emin);
+    levels_free(&L);
+    return at;
+}
+
 /* The check drives of curve ch: one in each of o->checks equal strata of its range above 10 % of
  * peak, at a point within the stratum that moves from stratum to stratum and curve to curve (a
  * golden-ratio sequence), so that checks do not fall in step with a LUT's or the sweep's spacing. */
@@ -2047,14 +2076,15 @@ static int check_drives(const ctx *c, const csf_display_profile *p, int ch, doub
     if (!(lo >= 0 && lo < 1)) return 0;
     int n = c->o->checks < max ? c->o->checks : max, k = 0;
     double w = (1 - lo) / (n > 0 ? n : 1), low = lowest_interval_check(c, ch, lo);
-    double probe = ch < 3 ? grey_shape_probe(c, ch) : NAN;
+    double probe = ch < 3 ? grey_shape_probe(c, ch) : grey_witness_split(c);
     for (int i = 0; i < n; i++) {
         double f = fmod(0.6180339887498949 * (i + 1) + 0.381966 * ch, 1.0);
         double d = snap(c, lo + w * (i + 0.15 + 0.7 * f));
         int holds_low = low >= lo + w * i && low < lo + w * (i + 1);
         /* the stratum that holds it checks the lowest interval: no level below can witness it */
         if (holds_low) d = snap(c, low);
-        /* a channel's stratum that holds it checks grey's least confirmed shape (grey_shape_probe) */
+        /* the stratum that holds it checks the shape least confirmed: for a channel, grey's
+         * (grey_shape_probe); for grey, where its witnesses disagree (grey_witness_split) */
         else if (probe >= lo + w * i && probe < lo + w * (i + 1)) d = snap(c, probe);
         if (d > 0 && d < 1) v[k++] = d;
     }
