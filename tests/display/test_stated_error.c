@@ -54,6 +54,26 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* One calibration with the default options (checks spot checks per curve; -1 keeps the default) of
+ * truth read through the simulated photometer at noise_rel: *m the truth, *p the profile (NULL when
+ * the calibration fails), *o the options it ran with. The caller frees *m and *p. */
+static csf_status calibrate_sim(const char *truth, double noise_rel, uint64_t seed, int checks,
+                                csf_display_model **m, csf_display_profile **p, csf_display_calib_result *res,
+                                csf_display_calib_opts *o, csf_error *err)
+{
+    char spec[400];
+    snprintf(spec, sizeof spec, "sim:display=%s,noise=%g", truth, noise_rel);
+    csf_photometer *ph;
+    *p = NULL;
+    CHECK(csf_display_model_create(truth, m, err) == CSF_OK);
+    CHECK(csf_photometer_open(spec, seed, &ph, err) == CSF_OK);
+    csf_display_calib_defaults(o);
+    if (checks >= 0) o->checks = checks;
+    csf_status st = csf_display_calibrate(ph, o, NULL, NULL, seed, p, res, err);
+    csf_photometer_close(ph);
+    return st;
+}
+
 /* The median over seeds 1..5 of stated/true on truth at noise_rel with checks spot checks per
  * curve; channels: the largest of r, g, b, else grey. */
 static double median_ratio(const char *truth, double noise_rel, int checks, int channels)
@@ -61,19 +81,12 @@ static double median_ratio(const char *truth, double noise_rel, int checks, int 
     double ratio[5];
     int n = 0;
     for (uint64_t seed = 1; seed <= 5; seed++) {
-        char spec[400];
-        snprintf(spec, sizeof spec, "sim:display=%s,noise=%g", truth, noise_rel);
         csf_display_model *m;
-        csf_photometer *ph;
-        csf_error err;
-        CHECK(csf_display_model_create(truth, &m, &err) == CSF_OK);
-        CHECK(csf_photometer_open(spec, seed, &ph, &err) == CSF_OK);
-        csf_display_calib_opts o;
-        csf_display_calib_defaults(&o);
-        o.checks = checks;
-        csf_display_profile *p = NULL;
+        csf_display_profile *p;
         csf_display_calib_result res;
-        if (csf_display_calibrate(ph, &o, NULL, NULL, seed, &p, &res, &err) == CSF_OK) {
+        csf_display_calib_opts o;
+        csf_error err;
+        if (calibrate_sim(truth, noise_rel, seed, checks, &m, &p, &res, &o, &err) == CSF_OK) {
             double sc = 0;
             for (int c = 0; c < 3; c++) sc = fmax(sc, res.est_error_rel[c]);
             ratio[n++] =
@@ -81,7 +94,6 @@ static double median_ratio(const char *truth, double noise_rel, int checks, int 
             CHECK(res.n_check == (checks ? 4 * checks : 0));
         }
         csf_profile_free(p);
-        csf_photometer_close(ph);
         csf_display_model_free(m);
     }
     CHECK(n == 5);
@@ -131,23 +143,16 @@ static void joint_between_channel_levels(void)
     const char *truth = "file=" CSF_TEST_DATA "/heldout8_midkink.csv";
     int claimed = 0, false_met = 0;
     for (uint64_t seed = 1; seed <= 10; seed++) {
-        char spec[400];
-        snprintf(spec, sizeof spec, "sim:display=%s,noise=0.0005", truth);
         csf_display_model *m;
-        csf_photometer *ph;
-        csf_error err;
-        CHECK(csf_display_model_create(truth, &m, &err) == CSF_OK);
-        CHECK(csf_photometer_open(spec, seed, &ph, &err) == CSF_OK);
-        csf_display_calib_opts o;
-        csf_display_calib_defaults(&o);
-        csf_display_profile *p = NULL;
+        csf_display_profile *p;
         csf_display_calib_result res;
-        if (csf_display_calibrate(ph, &o, NULL, NULL, seed, &p, &res, &err) == CSF_OK && res.target_met) {
+        csf_display_calib_opts o;
+        csf_error err;
+        if (calibrate_sim(truth, 0.0005, seed, -1, &m, &p, &res, &o, &err) == CSF_OK && res.target_met) {
             claimed++;
             false_met += fmax(true_grey_err(m, p), true_channel_err(m, p)) > o.target_rel;
         }
         csf_profile_free(p);
-        csf_photometer_close(ph);
         csf_display_model_free(m);
     }
     printf("slope step between the channels' levels: %d of 10 runs said met, %d of them above the target\n",
@@ -157,18 +162,12 @@ static void joint_between_channel_levels(void)
 
 static void run(double noise_rel, uint64_t seed)
 {
-    char spec[200];
-    snprintf(spec, sizeof spec, "sim:display=%s,noise=%g", TRUTH, noise_rel);
     csf_display_model *m;
-    csf_photometer *ph;
-    csf_error err;
-    CHECK(csf_display_model_create(TRUTH, &m, &err) == CSF_OK);
-    CHECK(csf_photometer_open(spec, seed, &ph, &err) == CSF_OK);
-    csf_display_calib_opts o;
-    csf_display_calib_defaults(&o);
-    csf_display_profile *p = NULL;
+    csf_display_profile *p;
     csf_display_calib_result res;
-    csf_status st = csf_display_calibrate(ph, &o, NULL, NULL, seed, &p, &res, &err);
+    csf_display_calib_opts o;
+    csf_error err;
+    csf_status st = calibrate_sim(TRUTH, noise_rel, seed, -1, &m, &p, &res, &o, &err);
     CHECK_MSG(st == CSF_OK, "%s", err.msg);
     if (st == CSF_OK) {
         double tg = true_grey_err(m, p), tc = true_channel_err(m, p);
@@ -205,7 +204,6 @@ static void run(double noise_rel, uint64_t seed)
         free(text);
     }
     csf_profile_free(p);
-    csf_photometer_close(ph);
     csf_display_model_free(m);
 }
 
