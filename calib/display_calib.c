@@ -1271,6 +1271,21 @@ static double channel_range_start(const ctx *c, int ch)
     return out;
 }
 
+/* The lowest drive above 0 that curve ch has a level at (1 when none). */
+static double lowest_level(const ctx *c, int ch)
+{
+    levels L;
+    levels_read(c, ch, &L);
+    double out = 1;
+    for (size_t i = 0; i < L.m; i++)
+        if (L.v[i] > 0) {
+            out = L.v[i];
+            break;
+        }
+    levels_free(&L);
+    return out;
+}
+
 /* The fixed levels of a sweep after full drive: a channel's full drive again when its share
  * allows (it scales the channel's whole curve; the ratio fit needs the four grid levels more),
  * the grid, then the corners the caller asks for. */
@@ -1755,6 +1770,17 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
                                           ch < 3 ? (const char *[]){"red", "green", "blue"}[ch] : "white");
     st = sweep_fixed_levels(c, ch, budget, start, extra, n_extra, peak, err);
     if (st) return st;
+    if (ch < 3 && c->n_sweep - start < budget) {
+        /* where the channel's range starts, again from its two lowest levels now: the grid's
+         * first estimate came from levels far above it, and a curve whose exponent falls towards
+         * black (a panel whose gamma is not one number) starts lower than that said, in an
+         * interval no knot would witness */
+        double s10 = channel_range_start(c, ch), lowest = lowest_level(c, ch);
+        int left = budget - (c->n_sweep - start);
+        if (s10 > 0 && s10 < lowest - 1.0 / 64 &&
+            (st = measure_level(c, ch, snap(c, s10), peak, left > 2 ? 2 : left, err)))
+            return st;
+    }
     if (ch < 3) {
         ratio_model rm;
         fit_ratio(c, ch, &rm);
