@@ -1775,10 +1775,10 @@ static csf_status sweep(ctx *c, int ch, int budget, const double *extra, int n_e
          * first estimate came from levels far above it, and a curve whose exponent falls towards
          * black (a panel whose gamma is not one number) starts lower than that said, in an
          * interval no knot would witness */
-        double s10 = channel_range_start(c, ch), lowest = lowest_level(c, ch);
+        double range_start = snap(c, channel_range_start(c, ch)), lowest = lowest_level(c, ch);
         int left = budget - (c->n_sweep - start);
-        if (s10 > 0 && s10 < lowest - 1.0 / 64 &&
-            (st = measure_level(c, ch, snap(c, s10), peak, left > 2 ? 2 : left, err)))
+        if (range_start > 0 && range_start < lowest - 1.0 / 64 &&
+            (st = measure_level(c, ch, range_start, peak, left > 2 ? 2 : left, err)))
             return st;
     }
     if (ch < 3) {
@@ -2035,11 +2035,11 @@ static double lowest_interval_check(const ctx *c, int ch, double lo)
 }
 
 /* Where grey shows the most shape between channel ch's levels: the drive of the largest departure of
- * grey's curve from the same model through grey at the channel's drives alone, above 10 % of the
- * channel's peak (NaN when there is none, or a level of the channel is already near). A channel
+ * grey's curve from the same model through grey at the channel's drives alone, from the drive lo
+ * where the channel's range starts (NaN when there is none, or a level of the channel is near). A channel
  * modelled through grey copies that shape with no reading of its own there, and a joint or a zone's
  * gain step that only some channels have shows in grey there, diluted by the others' share. */
-static double grey_shape_probe(const ctx *c, int ch)
+static double grey_shape_probe(const ctx *c, int ch, double lo)
 {
     enum { N_FINE = 255 };
     levels L;
@@ -2052,7 +2052,7 @@ static double grey_shape_probe(const ctx *c, int ch)
         if (!grey_incr(c, fv, fine, N_FINE) &&
             csf_profile_fit_curve(L.v, g, L.m, 1, fv, coarse, N_FINE, &e) == CSF_OK)
             for (int j = 0; j < N_FINE; j++) {
-                if (!(fine[j] >= 0.1 * g[L.m - 1])) continue;
+                if (!(fv[j] >= lo) || !(fine[j] > 0)) continue;
                 double d = fabs(fine[j] - coarse[j]) / fine[j];
                 if (d > worst) worst = d, at = fv[j];
             }
@@ -2066,7 +2066,8 @@ static double grey_shape_probe(const ctx *c, int ch)
 
 /* Where grey's own levels disagree most about an interval: the middle of the interval in range whose
  * two witnesses (each end knot left out in turn, interval_errors) differ most, the one seeing a
- * miss the other does not (NaN when none does). A step or a joint inside an interval shows to the
+ * miss the other does not (NaN when none does). The gap is taken as it is, not as a ratio: it is
+ * the most error the statement, which takes their geometric mean, may be leaving out. A step or a joint inside an interval shows to the
  * witness beside it only, and the statement, which takes their geometric mean, cannot tell it from
  * noise; a check there measures it. */
 static double grey_witness_split(const ctx *c)
@@ -2082,8 +2083,11 @@ static double grey_witness_split(const ctx *c)
         double peak = L.lum[L.m - 1];
         for (size_t i = 0; i + 1 < L.m; i++)
             if (in_range(&L, i + 1, peak, NAN) && est[i] - emin[i] > worst) {
+                /* a middle that framebuffer codes would round onto a knot checks nothing */
+                double mid = snap(c, 0.5 * (L.v[i] + L.v[i + 1]));
+                if (!(mid > L.v[i] && mid < L.v[i + 1])) continue;
                 worst = est[i] - emin[i];
-                at = 0.5 * (L.v[i] + L.v[i + 1]);
+                at = mid;
             }
     }
     free(sd);
@@ -2102,7 +2106,7 @@ static int check_drives(const ctx *c, const csf_display_profile *p, int ch, doub
     if (!(lo >= 0 && lo < 1)) return 0;
     int n = c->o->checks < max ? c->o->checks : max, k = 0;
     double w = (1 - lo) / (n > 0 ? n : 1), low = lowest_interval_check(c, ch, lo);
-    double probe = ch < 3 ? grey_shape_probe(c, ch) : grey_witness_split(c);
+    double probe = ch < 3 ? grey_shape_probe(c, ch, lo) : grey_witness_split(c);
     for (int i = 0; i < n; i++) {
         double f = fmod(0.6180339887498949 * (i + 1) + 0.381966 * ch, 1.0);
         double d = snap(c, lo + w * (i + 0.15 + 0.7 * f));

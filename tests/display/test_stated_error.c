@@ -63,10 +63,15 @@ static csf_status calibrate_sim(const char *truth, double noise_rel, uint64_t se
 {
     char spec[400];
     snprintf(spec, sizeof spec, "sim:display=%s,noise=%g", truth, noise_rel);
-    csf_photometer *ph;
+    csf_photometer *ph = NULL;
     *p = NULL;
-    CHECK(csf_display_model_create(truth, m, err) == CSF_OK);
-    CHECK(csf_photometer_open(spec, seed, &ph, err) == CSF_OK);
+    *m = NULL;
+    int made = csf_display_model_create(truth, m, err) == CSF_OK;
+    CHECK(made);
+    if (!made) return CSF_E_INVALID_ARG;
+    int opened = csf_photometer_open(spec, seed, &ph, err) == CSF_OK;
+    CHECK(opened);
+    if (!opened) return CSF_E_INVALID_ARG;
     csf_display_calib_defaults(o);
     if (checks >= 0) o->checks = checks;
     csf_status st = csf_display_calibrate(ph, o, NULL, NULL, seed, p, res, err);
@@ -148,7 +153,9 @@ static void joint_between_channel_levels(void)
         csf_display_calib_result res;
         csf_display_calib_opts o;
         csf_error err;
-        if (calibrate_sim(truth, 0.0005, seed, -1, &m, &p, &res, &o, &err) == CSF_OK && res.target_met) {
+        csf_status st = calibrate_sim(truth, 0.0005, seed, -1, &m, &p, &res, &o, &err);
+        CHECK_MSG(st == CSF_OK, "slope step, seed %d: %s", (int)seed, err.msg);
+        if (st == CSF_OK && res.target_met) {
             claimed++;
             false_met += fmax(true_grey_err(m, p), true_channel_err(m, p)) > o.target_rel;
         }
