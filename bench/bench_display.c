@@ -202,8 +202,9 @@ static double maxv(const double *x, int n)
  * after that run for the next change and run once after it (seen since); HELD_OUT9, made after that
  * run for the next change and first run on the statement as it stood (seen since); HELD_OUT10, made
  * after that run for the next change, first run on a variant not adopted (a probe level in each
- * channel's sweep) and then on the one adopted (seen since). UNSEEN: the role made for the next
- * change and not run yet, which "seen" leaves out (N_ROLES: none now). */
+ * channel's sweep) and then on the one adopted (seen since); HELD_OUT11, made after that for the
+ * next change. UNSEEN: the role made for the next change and not run yet, which "seen" leaves out
+ * (N_ROLES: none). */
 enum {
     TUNED,
     DEV,
@@ -216,15 +217,16 @@ enum {
     HELD_OUT8,
     HELD_OUT9,
     HELD_OUT10,
+    HELD_OUT11,
     N_ROLES
 };
-enum { UNSEEN = N_ROLES };
+enum { UNSEEN = HELD_OUT11 };
 
 /* the table rows' tag per role, one for every role */
-static const char *const role_tag[] = {" (tuned)",      " (dev)",        "",
-                                       " (held-out 3)", " (held-out 4)", " (held-out 5)",
-                                       " (held-out 6)", " (held-out 7)", " (held-out 8)",
-                                       " (held-out 9)", " (held-out 10)"};
+static const char *const role_tag[] = {" (tuned)",      " (dev)",         "",
+                                       " (held-out 3)", " (held-out 4)",  " (held-out 5)",
+                                       " (held-out 6)", " (held-out 7)",  " (held-out 8)",
+                                       " (held-out 9)", " (held-out 10)", " (held-out 11)"};
 _Static_assert(sizeof role_tag / sizeof role_tag[0] == N_ROLES, "one row tag per role");
 
 typedef struct {
@@ -371,6 +373,9 @@ static int honest_main(int seeds, int all)
         {"33-point LUT, node gain errors csv", "file=heldout10_lut33.csv", HELD_OUT10},
         {"VA shoulder above 0.85 csv", "file=heldout10_shoulder.csv", HELD_OUT10},
         {"exponent blend 2.0 to 2.6 csv", "file=heldout10_blend.csv", HELD_OUT10},
+        {"peak limiter at 0.94 csv", "file=heldout11_limit.csv", HELD_OUT11},
+        {"green dark-region lift csv", "file=heldout11_gdark.csv", HELD_OUT11},
+        {"black offset, gammas 2.0-2.5 csv", "file=heldout11_offset.csv", HELD_OUT11},
         {"S-curve csv", "file=heldout_scurve.csv", DEV},
         {"BT.1886 csv", "file=heldout_bt1886.csv", DEV},
         {"LUT ripple csv", "file=heldout_lutwiggle.csv", DEV},
@@ -411,7 +416,8 @@ static int honest_main(int seeds, int all)
         "held-out 7 (run once for the corner and range-start statement; seen since)",
         "held-out 8 (run once for the measured order of convergence; seen since)",
         "held-out 9 (first run on the statement as it stood; seen since)",
-        "held-out 10 (first run on the channel probe; seen since)"};
+        "held-out 10 (first run on the channel probe; seen since)",
+        "held-out 11 (not run yet)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)

@@ -80,6 +80,14 @@ channel spot check where grey's shape is least confirmed (adopted; seen since):
                        0.83 / 0.85 / 0.88, white 4 % under the power law's extrapolation
   heldout10_blend.csv  an exponent that blends from 2.0 to 2.6 across drive 0.45 (logistic, 0.05
                        wide; channel centres 0.43 / 0.45 / 0.47): a two-segment LUT with a soft joint
+An eleventh set, made on 2026-11-29 at 15:45 UTC after held-out 10 was seen, for the next change to
+the statement (not run yet):
+  heldout11_limit.csv  a 2.2 power law whose peak limiter holds every channel to 88 % of its
+                       extrapolated white from about drive 0.94 (a smooth minimum, 0.02 wide)
+  heldout11_gdark.csv  green with a 3 % gain lift between drives 0.15 and 0.30 (a dark-region LUT
+                       correction, edges 0.03 wide); red and blue a 2.2 power law
+  heldout11_offset.csv channel gammas 2.0 / 2.2 / 2.5, each with 0.5 % of white subtracted and
+                       clipped at zero (a black-level offset that swallows the first codes)
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -370,3 +378,29 @@ def blend10(c, v):
 write("heldout10_lut33.csv", 280.0, lut33, "2.2 power law through a 33-point LUT, node gain errors sd 0.2 % (seeded)")
 write("heldout10_shoulder.csv", 240.0, shoulder10, "2.3 power law, soft shoulder above 0.83/0.85/0.88, white 4 % under")
 write("heldout10_blend.csv", 310.0, blend10, "exponent blending 2.0 to 2.6 across 0.43/0.45/0.47, 0.05 wide")
+
+
+def limit11(c, v):
+    y = v ** 2.2
+    cap, w = 0.88, 0.02
+    # a smooth minimum of y and cap
+    return 0.5 * (y + cap - math.sqrt((y - cap) ** 2 + w * w)) + 0.5 * (math.sqrt(cap * cap + w * w) - cap)
+
+
+def gdark11(c, v):
+    y = v ** 2.2
+    if c != 1:
+        return y
+    rise = 0.5 * (1 + math.tanh((v - 0.15) / 0.015))
+    fall = 0.5 * (1 + math.tanh((v - 0.30) / 0.015))
+    return y * (1 + 0.03 * (rise - fall))
+
+
+def offset11(c, v):
+    g = (2.0, 2.2, 2.5)[c]
+    return max(0.0, v ** g - 0.005) / (1 - 0.005)
+
+
+write("heldout11_limit.csv", 330.0, limit11, "2.2 power law held to 88 % of its white from about drive 0.94")
+write("heldout11_gdark.csv", 270.0, gdark11, "green 3 % gain lift between 0.15 and 0.30; red and blue 2.2")
+write("heldout11_offset.csv", 230.0, offset11, "gammas 2.0/2.2/2.5, 0.5 % of white subtracted, clipped at zero")
