@@ -2036,9 +2036,10 @@ static double lowest_interval_check(const ctx *c, int ch, double lo)
 
 /* Where grey shows the most shape between channel ch's levels: the drive of the largest departure of
  * grey's curve from the same model through grey at the channel's drives alone, from the drive lo
- * where the channel's range starts (NaN when there is none, or a level of the channel is near). A channel
- * modelled through grey copies that shape with no reading of its own there, and a joint or a zone's
- * gain step that only some channels have shows in grey there, diluted by the others' share. */
+ * where the channel's range starts (NaN when there is none, or a level of the channel is near).
+ * A channel modelled through grey copies that shape with no reading of its own there, and a joint
+ * or a zone's gain step that only some channels have shows in grey there, diluted by the others'
+ * share. */
 static double grey_shape_probe(const ctx *c, int ch, double lo)
 {
     enum { N_FINE = 255 };
@@ -2066,10 +2067,10 @@ static double grey_shape_probe(const ctx *c, int ch, double lo)
 
 /* Where grey's own levels disagree most about an interval: the middle of the interval in range whose
  * two witnesses (each end knot left out in turn, interval_errors) differ most, the one seeing a
- * miss the other does not (NaN when none does). The gap is taken as it is, not as a ratio: it is
- * the most error the statement, which takes their geometric mean, may be leaving out. A step or a joint inside an interval shows to the
+ * miss the other does not (NaN when none does). A step or a joint inside an interval shows to the
  * witness beside it only, and the statement, which takes their geometric mean, cannot tell it from
- * noise; a check there measures it. */
+ * noise; a check there measures it. The gap is ranked as it is, not as a ratio: it is the most
+ * error that geometric mean may be leaving out. */
 static double grey_witness_split(const ctx *c)
 {
     levels L;
