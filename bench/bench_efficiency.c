@@ -32,7 +32,7 @@
 #include "precision_run.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { N_LEVELS = 2, N_SDS = 3, MAX_SEEDS = 8, MAX_SAMPLES = MAX_HONEST_OBS * MAX_SEEDS, MAX_SETS = 17 };
+enum { N_LEVELS = 2, N_SDS = 3, MAX_SEEDS = 8, MAX_SAMPLES = MAX_HONEST_OBS * MAX_SEEDS, MAX_SETS = 18 };
 enum { MAX_CHECKPOINTS = PR_CAP_PER_CELL * PR_CELLS };
 static const double LEVELS[N_LEVELS] = {0.15, 0.10};
 static const double QUEST_SDS[N_SDS] = {0.3, 0.5, 1.0};
