@@ -170,6 +170,10 @@ csf_status obs_judge_session(obs_run *R, csf_error *err)
     csf_status st = S->ops->estimate(S->proc, S->est, err);
     if (st != CSF_OK) return st;
     res->predicted_rms_log10 = obs_rms_of_estimates(R);
+    /* The stop waits for PRECISION_MIN_TRIALS (the prior alone is not a table), so a session whose
+     * cap came first can end below the target without having stopped on it: what it reached is
+     * what its table's predicted error says. */
+    if (R->set.precision > 0 && res->predicted_rms_log10 <= R->set.precision) res->reached_precision = 1;
     if (!S->ops->task_offset || !S->ops->task_offset(S->proc, &res->n_fade_anchors, &res->fade_offset_log10,
                                                      &res->fade_offset_sd_log10))
         res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;

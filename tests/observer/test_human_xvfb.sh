@@ -17,10 +17,16 @@
 #      place 1), keypad 1 (lower left -> 3), then a click on the upper left place (-> 2, the click
 #      stored in degrees up and to the left); every trial stored with n_alternatives 4, the
 #      session ends (answers blind to the grating may leave no table).
-#   7. the window closed as a window manager's close button does (WM_DELETE_WINDOW, sent by
+#   7. fade with its forced-choice anchors: fade trials, the "last part" screen, two-interval
+#      practice and anchor trials.
+#   8. the window closed as a window manager's close button does (WM_DELETE_WINDOW, sent by
 #      x_close_window) while the session waits for an answer: exit 1, the resume command, paused,
 #      the answered trial kept, no table; --resume then finishes it.
-# $1 = csfcal executable, $2 = x_close_window (optional: case 7 is skipped without it). Skips (77)
+#   9. drifting gratings (bayes over a velocity axis): a cell the refresh cannot show never shown.
+#  10. --precision with bayes, 2afc and fade: the session ends at the target or its cap, says
+#      "reached" exactly when the predicted error is at the target, and counts the person's time
+#      on the window's clock (at least fixation and stimulus a trial, at most the wall time).
+# $1 = csfcal executable, $2 = x_close_window (optional: case 8 is skipped without it). Skips (77)
 # when Xvfb or xdotool is missing. Every wait has a timeout.
 set -u
 CSFCAL="$1"
@@ -310,6 +316,63 @@ check "velocity: a 3-D table" bash -c "\"\$0\" lut info \"\$1\" | grep -q 'axis 
 VJ=$("$CSFCAL" sessions export 1 --format json --store "$VSTORE")
 check "velocity: no trial at 2 cpd and 6 deg/s (12 Hz at a 20 Hz refresh)" \
     bash -c '! grep "\"freq_cpd\": 2[,.]" <<<"$0" | grep -q "\"velocity_dps\": -\?6[,.]"' "$VJ"
+
+# ---- 10. --precision in a window, each method: the expected time before the first trial, the
+# stop on the predicted error or the cap, and the person's time on the window's clock ------------
+# (the terminal's lines are checked headless by test_precision; --json quiets them).
+# Blind answers (Right; a press at a fixed moment of each ramp) cannot say where the grating was, so
+# the target (0.5 log10, loose) may or may not be reached before the cap: either way is checked
+# for what it implies. Each method has its own store, so its session is number 1.
+# precision_session TAG STORE ANSWER [options...]: runs one session to its end, answering with
+# ANSWER ("key" or "fade") while it is alive; $T/TAG.out holds its JSON, $T/TAG.wall the seconds.
+precision_session() {
+    local tag="$1" store="$2" how="$3"; shift 3
+    local t0=$SECONDS
+    start "$tag" --store "$store" --screen-px ${W}x${H} --json "$@"
+    wait_window
+    wait_until 15 bash -c "\"$CSFCAL\" sessions --store '$store' 2>/dev/null | grep -q '^1 '" ||
+        die "$tag: no session in the store"
+    xdotool key space
+    local end=$((SECONDS + 90))
+    while alive && [ $SECONDS -lt $end ]; do
+        if [ "$how" = fade ]; then
+            sleep 1.0; xdotool key space; sleep 0.4
+            xdotool mousemove $((W / 2)) $((H / 2)) click 1; sleep 0.6
+        else
+            xdotool key Right; sleep 0.5
+        fi
+    done
+    finish
+    echo $((SECONDS - t0 + 1)) >"$T/$tag.wall"
+}
+# precision_checks TAG CAP: the JSON of a --precision session read back through python's json.
+precision_checks() {
+    local tag="$1" cap="$2"
+    check "$tag --precision: exit 0 (rc $RC)" test "$RC" -eq 0
+    check "$tag --precision: stopped at the target or the cap, person time on the window's clock" python3 -c '
+import json, sys
+d = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+cap, wall = int(sys.argv[2]), float(open(sys.argv[3]).read())
+assert d["status"] == "ok" and d["precision_log10"] == 0.5, d
+assert 1 <= d["trials"] <= cap, d["trials"]
+# reached: said exactly when the predicted error of the table is at the target; a session that did not
+# reach it ran to its cap, or ended when every cell was settled
+assert d["reached_precision"] == (d["predicted_rms_log10"] <= 0.5), d
+assert d["reached_precision"] or d["trials"] == cap or d["finished_early"], d
+# every trial shows at least fixation and a stimulus (0.8 s); the person cannot spend more than
+# the run took on the wall clock; the time expected before the first trial is there
+assert 0.8 * d["trials"] <= d["person_s"] <= wall, (d["person_s"], d["trials"], wall)
+assert 0 < d["expected_person_s"] < 60 * 5, d' "$T/$tag.out" "$cap" "$T/$tag.wall"
+}
+precision_session pbayes "$T/pb.sqlite" key --method bayes --afc 2 --precision 0.5 --trials 16 --freqs 1,2 \
+    --eccs 0 --out "$T/pb.csflut" --seed 21
+precision_checks pbayes 16
+precision_session p2afc "$T/p2.sqlite" key --method 2afc --precision 0.5 --trials 8 --freqs 1,2 --eccs 0 \
+    --out "$T/p2.csflut" --seed 22
+precision_checks p2afc 8
+precision_session pfade "$T/pf.sqlite" fade --method fade --fade-anchors 0 --precision 0.5 --trials 6 \
+    --freqs 1,2 --eccs 0 --out "$T/pf.csflut" --seed 23
+precision_checks pfade 6
 
 [ $fail -ne 0 ] && for f in "$T"/*.err; do echo "--- $f"; tail -n 20 "$f"; done
 exit $fail

@@ -34,6 +34,15 @@ check "unreachable target runs to the cap" python3 -c '
 import json,sys
 d=json.loads(sys.argv[1]); assert d["status"]=="ok" and d["trials"]==30 and d["reached_precision"] is False, d' "$out"
 
+# A cap below the stop's minimum (10 trials): the session runs to the cap, and says the target
+# was reached when its table's predicted error is at it (fade's ramps give 0.07 after six here).
+out=$(run --method fade --fade-anchors 0 --store "$T/e.sqlite" --precision 0.5 --trials 6 --freqs 1,2 --eccs 0 \
+    --seed 23 --out "$T/e.csflut" --json --practice 0 2>/dev/null)
+check "a cap below the stop's minimum: reached as the predicted error says" python3 -c '
+import json,sys
+d=json.loads(sys.argv[1])
+assert d["status"]=="ok" and d["trials"]==6 and d["predicted_rms_log10"] <= 0.5 and d["reached_precision"] is True, d' "$out"
+
 # A paused fade session under --precision resumes to its stop. A stored trial whose cell the
 # replayed plan does not ask for (a csfcal that plans differently since the session started;
 # here the store is edited to look so) is refused on --resume, its trials kept.
