@@ -88,6 +88,14 @@ the statement (not run yet):
                        correction, edges 0.03 wide); red and blue a 2.2 power law
   heldout11_offset.csv channel gammas 2.0 / 2.2 / 2.5, each with 0.5 % of white subtracted and
                        clipped at zero (a black-level offset that swallows the first codes)
+It was run once, on 2026-11-29 at 18:35 UTC, on the statement as it stood (seen since). A twelfth
+set, made after that run for the next change to the statement (not run yet):
+  heldout12_stuck.csv  a 2.2 power law whose LUT merges three codes at drive 0.55 (140-142 show
+                       code 140's light, then 143 steps back onto the curve: banding in a mid-tone)
+  heldout12_push.csv   an OLED's near-black push: exponent 2.6 below drive 0.38 / 0.40 / 0.42 and 2.2
+                       above, continuous in light (a slope break at the joint)
+  heldout12_ripple.csv a 2.2 power law under a backlight's 16 steps: a +-0.6 % triangle ripple of
+                       period 1/16 in drive, each channel's phase a third of a period on
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
@@ -404,3 +412,28 @@ def offset11(c, v):
 write("heldout11_limit.csv", 330.0, limit11, "2.2 power law held to 88 % of its white from about drive 0.94")
 write("heldout11_gdark.csv", 270.0, gdark11, "green 3 % gain lift between 0.15 and 0.30; red and blue 2.2")
 write("heldout11_offset.csv", 230.0, offset11, "gammas 2.0/2.2/2.5, 0.5 % of white subtracted, clipped at zero")
+
+
+def stuck12(c, v):
+    code = round(v * 255)
+    if 140 <= code <= 142:
+        return (140 / 255.0) ** 2.2
+    return v ** 2.2
+
+
+def push12(c, v):
+    k = (0.38, 0.40, 0.42)[c]
+    if v >= k:
+        return v ** 2.2
+    return k ** 2.2 * (v / k) ** 2.6
+
+
+def ripple12(c, v):
+    x = 16 * v + c / 3.0
+    tri = 4 * abs(x - math.floor(x) - 0.5) - 1  # +-1, period 1/16 in drive
+    return v ** 2.2 * (1 + 0.006 * tri)
+
+
+write("heldout12_stuck.csv", 300.0, stuck12, "2.2 power law, codes 140-142 merged at code 140's light")
+write("heldout12_push.csv", 250.0, push12, "exponent 2.6 below 0.38/0.40/0.42, 2.2 above, continuous")
+write("heldout12_ripple.csv", 290.0, ripple12, "2.2 power law, +-0.6 % triangle ripple of period 1/16, phases a third apart")
