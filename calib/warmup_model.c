@@ -118,3 +118,12 @@ int csf_display_warm_judge(const double *t_s, const double *w_cdm2, int n, doubl
     j->warm = j->step_settled && !(j->remaining_rel >= target_rel);
     return j->warm;
 }
+
+double csf_sample_sd(const double *x, int n)
+{
+    double m = 0, s = 0;
+    for (int i = 0; i < n; i++) m += x[i];
+    m /= n;
+    for (int i = 0; i < n; i++) s += (x[i] - m) * (x[i] - m);
+    return n > 1 ? sqrt(s / (n - 1)) : 0;
+}

@@ -42,6 +42,10 @@ typedef struct {
 int csf_display_warm_judge(const double *t_s, const double *w_cdm2, int n, double target_rel,
                            double session_s, csf_warm_judgement *j);
 
+/* The sample sd of x[0..n-1] (0 for one value): the spread of repeated readings that the step
+ * test, calibration's noise estimates and verification's reading noise take. */
+double csf_sample_sd(const double *x, int n);
+
 /* Least-squares fit of y = A + B e^(-t/tau): tau on a log grid (1 s x 1.15^k, k = 0..64, up to
  * about 2 hours) refined between the grid's neighbours, A and B linear. t is used as given
  * (callers choose the origin). Returns 0 and the residual sum of squares in *sse, or -1 when no

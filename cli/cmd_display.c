@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/display_placement.h"
 #include "calib/display_calib.h"
+#include "calib/display_verify.h"
 #include "calib/meter_check.h"
 #include "devices/photometer.h"
 #include "core/file_write.h"

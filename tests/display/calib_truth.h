@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "calib/display_calib.h"
+#include "calib/display_verify.h"
 #include "model/display_model.h"
 #include "results/display_profile.h"
 #include "tests/check.h"
