@@ -88,7 +88,7 @@ the statement (not run yet):
                        correction, edges 0.03 wide); red and blue a 2.2 power law
   heldout11_offset.csv channel gammas 2.0 / 2.2 / 2.5, each with 0.5 % of white subtracted and
                        clipped at zero (a black-level offset that swallows the first codes)
-It was run once, on 2026-11-29 at 18:35 UTC, on the statement as it stood (seen since). A twelfth
+It was run once, on 2026-11-29 at 18:21 UTC, on the statement as it stood (seen since). A twelfth
 set, made after that run for the next change to the statement (not run yet):
   heldout12_stuck.csv  a 2.2 power law whose LUT merges three codes at drive 0.55 (140-142 show
                        code 140's light, then 143 steps back onto the curve: banding in a mid-tone)
