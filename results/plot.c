@@ -7,7 +7,9 @@
 #include <cairo.h>
 #include <ctype.h>
 #include <errno.h>
+#include <jansson.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +18,7 @@
 
 #include "results/display_profile.h"
 #include "core/file_write.h"
+#include "core/utf8_text.h"
 
 #ifndef CSF_VERSION
 #define CSF_VERSION "unknown"
@@ -145,9 +148,16 @@ static double ax_py(const axes *a, double v)
     return a->y + a->h - (t - a->y0) / (a->y1 - a->y0) * a->h;
 }
 
-static void text_at(cairo_t *cr, double x, double y, double size, int bold, double align,
-                    const char *s)
+/* The longest outside text a report draws (a session's settings as stored, when they are not a
+ * JSON object): a page holds far less. */
+#define DRAWN_TEXT_MAX 65536
+
+static void text_at(cairo_t *cr, double x, double y, double size, int bold, double align, const char *text)
 {
+    /* cairo refuses text that is not UTF-8 and then draws nothing more on the page: a name from
+     * another station's store must not cost the whole report */
+    char *s = csf_utf8_drawable(text, SIZE_MAX, DRAWN_TEXT_MAX);
+    if (!s) return;
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
                            bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, size);
@@ -158,6 +168,7 @@ static void text_at(cairo_t *cr, double x, double y, double size, int bold, doub
     /* show_text leaves the current point at the end of the text: the next arc would otherwise
      * start with a line from there. */
     cairo_new_path(cr);
+    free(s);
 }
 
 static void title(cairo_t *cr, const char *s)
@@ -323,14 +334,18 @@ static int break_after(const char *text, size_t i, size_t len)
  * (inside a word only when the word alone is wider than a line); draw = 0 only measures.
  * Returns the baseline of the line after the last one. */
 static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, double size, int bold,
-                           double line_h, const char *text, int draw)
+                           double line_h, const char *outside_text, int draw)
 {
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
                            bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, size);
-    size_t len = strlen(text);
-    char *buf = malloc(len + 1);
-    if (!buf) return y + line_h;
+    char *text = csf_utf8_drawable(outside_text, SIZE_MAX, DRAWN_TEXT_MAX); /* as text_at */
+    size_t len = text ? strlen(text) : 0;
+    char *buf = text ? malloc(len + 1) : NULL;
+    if (!buf) {
+        free(text);
+        return y + line_h;
+    }
     size_t start = 0;
     while (start < len) {
         /* Longest run from start that fits, ending at a break point if there is one. */
@@ -366,6 +381,7 @@ static double wrap_text_ex(cairo_t *cr, double x, double y, double width_pt, dou
         while (start < len && text[start] == ' ') start++;
     }
     free(buf);
+    free(text);
     return len ? y : y + line_h;
 }
 
@@ -375,52 +391,12 @@ static double wrap_text(cairo_t *cr, double x, double y, double width_pt, double
     return wrap_text_ex(cr, x, y, width_pt, size, bold, line_h, text, 1);
 }
 
-/* One "key": value pair of a flat JSON object, from *pos; strings are unquoted, arrays and
- * objects kept as written. 0 at the end of the object or on anything else. */
-static int json_item(const char *js, size_t *pos, char *key, size_t kcap, char *val, size_t vcap)
+/* One setting's value as the report shows it: a string as it is, anything else as compact JSON,
+ * numbers at the 17 digits the store writes them with. NULL when out of memory. */
+static char *setting_text(const json_t *v)
 {
-    size_t i = *pos;
-    while (js[i] == ' ' || js[i] == ',' || js[i] == '\n' || js[i] == '{') i++;
-    if (js[i] != '"') return 0;
-    size_t k = 0;
-    for (i++; js[i] && js[i] != '"'; i++)
-        if (k + 1 < kcap) key[k++] = js[i];
-    key[k] = '\0';
-    if (js[i] != '"') return 0;
-    for (i++; js[i] == ' '; i++) {}
-    if (js[i] != ':') return 0;
-    for (i++; js[i] == ' '; i++) {}
-    size_t v = 0;
-    if (js[i] == '"') {
-        for (i++; js[i] && js[i] != '"'; i++) {
-            if (js[i] == '\\' && js[i + 1]) i++;
-            if (v + 1 < vcap) val[v++] = js[i];
-        }
-        if (js[i] != '"') return 0;
-        i++;
-    } else {
-        int depth = 0, in_str = 0;
-        for (; js[i]; i++) {
-            char c = js[i];
-            if (in_str) {
-                if (c == '\\' && js[i + 1]) i++;
-                else if (c == '"') in_str = 0;
-            } else if (c == '"') {
-                in_str = 1;
-            } else if (c == '[' || c == '{') {
-                depth++;
-            } else if (c == ']' || c == '}') {
-                if (depth == 0) break;
-                depth--;
-            } else if (c == ',' && depth == 0) {
-                break;
-            }
-            if (v + 1 < vcap) val[v++] = c;
-        }
-    }
-    val[v] = '\0';
-    *pos = i;
-    return 1;
+    if (json_is_string(v)) return strdup(json_string_value(v));
+    return json_dumps(v, JSON_ENCODE_ANY | JSON_COMPACT | JSON_REAL_PRECISION(17));
 }
 
 /* The settings the session ran with, as a table of key and value in three columns, each value
@@ -437,27 +413,41 @@ static double draw_settings(cairo_t *cr, const char *js, double y)
     cairo_line_to(cr, PAGE_W - x0, y + 5);
     cairo_stroke(cr);
     y += 20;
-    char key[64], val[1024];
-    size_t pos = 0;
+    /* read through jansson: the store is outside input once on disk, and a value that is not
+     * text (a hostile or damaged row) must not reach the page */
+    json_t *doc = json_loads(js, 0, NULL);
+    const char *key;
+    json_t *value;
     int col = 0, left_out = 0, parsed = 0;
     double row_bottom = y;
-    while (json_item(js, &pos, key, sizeof key, val, sizeof val)) {
+    json_object_foreach(json_is_object(doc) ? doc : NULL, key, value)
+    {
         parsed++;
+        char *text = setting_text(value);
+        /* a value of more than a kilobyte is cut there, a key at 63 bytes (the table's columns) */
+        char *val = csf_utf8_drawable(text ? text : "", SIZE_MAX, 1023);
+        free(text);
+        if (!val) continue;
         double x = x0 + col * (col_w + gap);
         double h = wrap_text_ex(cr, x + key_w, y, col_w - key_w, 8.5, 0, 11, val, 0) - y;
         if (y + h - 11 > bottom) {
             left_out++;
+            free(val);
             continue;
         }
+        char *k = csf_utf8_drawable(key, SIZE_MAX, 63);
         cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
-        wrap_text(cr, x, y, key_w - 4, 8.5, 0, 11, key);
+        wrap_text(cr, x, y, key_w - 4, 8.5, 0, 11, k ? k : "");
         cairo_set_source_rgb(cr, 0, 0, 0);
         row_bottom = fmax(row_bottom, wrap_text(cr, x + key_w, y, col_w - key_w, 8.5, 0, 11, val));
+        free(k);
+        free(val);
         if (++col == 3) {
             col = 0;
             y = row_bottom + 3;
         }
     }
+    json_decref(doc);
     if (col) y = row_bottom;
     if (!parsed) { /* not a flat object: the text as stored, wrapped at word boundaries */
         cairo_set_source_rgb(cr, 0, 0, 0);

@@ -171,6 +171,9 @@ for (j,) in sqlite3.connect(sys.argv[1]).execute("select settings_json from sess
     sys.stdout.write(j)
     break' "$tmp/$st.sqlite" >"$tmp/obs-settings-$st.json" 2>/dev/null
   put fuzz_observer_settings "$st.json" "$tmp/obs-settings-$st.json"
+  # the same text as the report draws it (fuzz_utf8_text: a cap byte, then the text)
+  [ -s "$tmp/obs-settings-$st.json" ] && { printf '\377'; cat "$tmp/obs-settings-$st.json"; } >"$tmp/utf8-$st.bin"
+  put fuzz_utf8_text "$st.bin" "$tmp/utf8-$st.bin"
 done
 # A session claim's record as an SQLite store's STORE-claims holds it (fuzz_store_claims).
 printf 'station=%s pid=%d since=2026-11-23T10:00:00Z\n' "$(hostname)" $$ >"$tmp/claim.txt"
