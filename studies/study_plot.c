@@ -6,12 +6,14 @@
 #include <cairo.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
 #include "core/file_write.h"
+#include "core/utf8_text.h"
 
 #define PAGE_W CSF_STUDY_PAGE_W
 #define PAGE_H CSF_STUDY_PAGE_H
@@ -38,18 +40,26 @@ static cairo_status_t sink_write(void *closure, const unsigned char *data, unsig
     return CAIRO_STATUS_SUCCESS;
 }
 
-static void text_at(cairo_t *cr, double x, double y, double size, const char *s, double align)
+/* The longest label drawn, in bytes: what advance() and fit_text() measure at once. */
+#define LABEL_MAX 511
+
+static void text_at(cairo_t *cr, double x, double y, double size, const char *text, double align)
 {
+    /* names and codes come from the store, outside input: cairo refuses text that is not UTF-8 and
+     * then draws nothing more on the page */
+    char *s = csf_utf8_drawable(text, SIZE_MAX, LABEL_MAX);
+    if (!s) return;
     cairo_set_font_size(cr, size);
     cairo_text_extents_t e;
     cairo_text_extents(cr, s, &e);
     cairo_move_to(cr, x - align * e.x_advance, y);
     cairo_show_text(cr, s);
+    free(s);
 }
 
 static double advance(cairo_t *cr, const char *s, size_t len)
 {
-    char buf[512];
+    char buf[LABEL_MAX + 1];
     if (len >= sizeof buf) len = sizeof buf - 1;
     memcpy(buf, s, len);
     buf[len] = '\0';
@@ -83,9 +93,13 @@ static size_t line_len(cairo_t *cr, const char *s, double w)
 /* Draws s in a box w wide whose first baseline is y: at size when it fits, else shrunk down to
  * min_size, else wrapped into lines (line_len). align: 0 left of x, 0.5 centred, 1 right.
  * Returns the height used (lines times the line pitch). */
-static double fit_text(cairo_t *cr, double x, double y, double w, double size, double min_size, const char *s,
-                       double align)
+static double fit_text(cairo_t *cr, double x, double y, double w, double size, double min_size,
+                       const char *text, double align)
 {
+    /* as text_at; cut to whole characters here, so no part below cuts one */
+    char *drawable = csf_utf8_drawable(text, SIZE_MAX, LABEL_MAX);
+    if (!drawable) return 0;
+    const char *s = drawable;
     cairo_set_font_size(cr, size);
     double full = advance(cr, s, strlen(s));
     if (full > w) {
@@ -95,7 +109,7 @@ static double fit_text(cairo_t *cr, double x, double y, double w, double size, d
     double pitch = size * 1.2, h = 0;
     while (*s) {
         size_t n = line_len(cr, s, w);
-        char buf[512];
+        char buf[LABEL_MAX + 1];
         snprintf(buf, sizeof buf, "%.*s", (int)(n < sizeof buf ? n : sizeof buf - 1), s);
         size_t end = strlen(buf);
         while (end > 0 && buf[end - 1] == ' ') buf[--end] = '\0';
@@ -104,6 +118,7 @@ static double fit_text(cairo_t *cr, double x, double y, double w, double size, d
         s += n;
         while (*s == ' ') s++;
     }
+    free(drawable);
     return h;
 }
 

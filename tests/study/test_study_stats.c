@@ -2,9 +2,11 @@
  * binomial sums in Python's integer arithmetic (math.comb; the interval ends by bisection on the
  * tail sums, as binom.test defines them), Macmillan & Creelman's d' definitions, and Weibull fits
  * of data drawn from known psychometric functions. */
+#include <cairo.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "core/rng.h"
@@ -374,9 +376,56 @@ static void test_png_page_limit(void)
     CHECK(access(path, F_OK) != 0);
 }
 
+/* Labels come from the store, outside input: one that is not UTF-8, one with control characters
+ * and one longer than a label is drawn (multi-byte, so a cut by bytes would split a character).
+ * cairo refuses such text and then draws nothing more; the page must still be written whole. */
+static void test_hostile_labels(void)
+{
+    static csf_study_plot_bar bars[3];
+    snprintf(bars[0].label, sizeof bars[0].label, "%s", "bad \xff\xfe code");
+    snprintf(bars[1].label, sizeof bars[1].label, "%s", "esc \x1b[31m red \x07");
+    char long_title[320] = "";
+    for (int i = 0; i < 150; i++) strcat(long_title, "\xc3\xa9"); /* 300 bytes of U+00E9 */
+    snprintf(bars[2].label, sizeof bars[2].label, "%s", "ok");
+    for (int b = 0; b < 3; b++) {
+        bars[b].p = 0.5 + 0.1 * b, bars[b].lo = bars[b].p - 0.1, bars[b].hi = bars[b].p + 0.1;
+        bars[b].chance = NAN;
+        memcpy(bars[b].cells[0], bars[b].label, sizeof bars[b].label);
+        snprintf(bars[b].cells[1], sizeof bars[b].cells[1], "%s", "\xe2\x82");
+    }
+    csf_study_plot_bar_page page = {
+        .axis = "proportion \xc0\xaf", .legend = "legend \x1b", .n_columns = 2, .bars = bars, .n_bars = 3};
+    snprintf(page.title, sizeof page.title, "%s", long_title);
+    page.columns[0] = "condition", page.columns[1] = "n";
+    char path[] = "/tmp/csf_hostile_XXXXXX.png";
+    int fd = mkstemps(path, 4);
+    CHECK(fd >= 0);
+    close(fd);
+    csf_error err;
+    CHECK_INT_EQ(csf_study_plot_write(path, NULL, 0, &page, 1, &err), CSF_OK);
+    cairo_surface_t *img = cairo_image_surface_create_from_png(path);
+    CHECK_INT_EQ(cairo_surface_status(img), CAIRO_STATUS_SUCCESS);
+    unlink(path);
+    if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) return cairo_surface_destroy(img);
+    /* every bar's marker drawn: dark pixels inside the plot frame at each of the three slots */
+    cairo_surface_flush(img);
+    int stride = cairo_image_surface_get_stride(img);
+    const unsigned char *px = cairo_image_surface_get_data(img);
+    long dark = 0;
+    for (int y = (int)CSF_STUDY_PLOT_T; y < (int)CSF_STUDY_PLOT_B; y++)
+        for (int x = (int)CSF_STUDY_PLOT_L + 2; x < (int)CSF_STUDY_PLOT_R - 2; x++) {
+            const unsigned char *p = px + (size_t)y * (size_t)stride + 4 * (size_t)x;
+            dark += p[0] + p[1] + p[2] < 3 * 128;
+        }
+    fprintf(stderr, "hostile labels: %ld dark pixels in the plot\n", dark);
+    CHECK(dark > 60);
+    cairo_surface_destroy(img);
+}
+
 int main(void)
 {
     test_png_page_limit();
+    test_hostile_labels();
     test_normal();
     test_clopper_pearson();
     test_binomial();
