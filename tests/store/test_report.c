@@ -59,8 +59,9 @@ static int count_pages(const unsigned char *b, size_t n)
     return pages;
 }
 
-/* Pixels within 40 (sum of channel differences) of an RGB colour, in rows [y0, y1). */
-static long count_colour(cairo_surface_t *img, int y0, int y1, int r, int g, int b)
+/* Pixels in rows [y0, y1) within 40 (sum of channel differences) of an RGB colour, or with dark set,
+ * every pixel darker than light grey (drawn text, whatever its colour). */
+static long count_pixels(cairo_surface_t *img, int y0, int y1, int r, int g, int b, int dark)
 {
     int w = cairo_image_surface_get_width(img), stride = cairo_image_surface_get_stride(img);
     const unsigned char *data = cairo_image_surface_get_data(img);
@@ -69,23 +70,14 @@ static long count_colour(cairo_surface_t *img, int y0, int y1, int r, int g, int
         for (int x = 0; x < w; x++) {
             const unsigned char *p = data + (size_t)y * (size_t)stride + 4 * (size_t)x;
             /* CAIRO_FORMAT_RGB24 / ARGB32 little-endian: B, G, R, A */
-            if (abs(p[2] - r) + abs(p[1] - g) + abs(p[0] - b) < 40) n++;
+            if (dark ? p[0] + p[1] + p[2] < 3 * 170 : abs(p[2] - r) + abs(p[1] - g) + abs(p[0] - b) < 40) n++;
         }
     return n;
 }
 
-/* Pixels darker than light grey in rows y0..y1: drawn text. */
-static long count_dark(cairo_surface_t *img, int y0, int y1)
+static long count_colour(cairo_surface_t *img, int y0, int y1, int r, int g, int b)
 {
-    int w = cairo_image_surface_get_width(img), stride = cairo_image_surface_get_stride(img);
-    const unsigned char *data = cairo_image_surface_get_data(img);
-    long n = 0;
-    for (int y = y0; y < y1; y++)
-        for (int x = 0; x < w; x++) {
-            const unsigned char *p = data + (size_t)y * (size_t)stride + 4 * (size_t)x;
-            if (p[0] + p[1] + p[2] < 3 * 170) n++;
-        }
-    return n;
+    return count_pixels(img, y0, y1, r, g, b, 0);
 }
 
 /* Replaces a session's stored settings with raw bytes, past the store's checks (SQLite file). */
@@ -200,7 +192,7 @@ static void test_files(const char *dir, const char *store_path, int64_t obs, int
         CHECK_INT_EQ(cairo_surface_status(page), CAIRO_STATUS_SUCCESS);
         if (cairo_surface_status(page) == CAIRO_STATUS_SUCCESS) {
             cairo_surface_flush(page); /* the footer's grey text, drawn last on the first page */
-            long footer = count_dark(page, 595 - 24, 595);
+            long footer = count_pixels(page, 595 - 24, 595, 0, 0, 0, 1);
             fprintf(stderr, "hostile settings %d: footer pixels %ld\n", h, footer);
             CHECK(footer > 20);
         }
