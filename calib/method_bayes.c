@@ -136,8 +136,9 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #ifndef MISFIT_WIDEN_PRIOR
 #define MISFIT_WIDEN_PRIOR 0.05 /* prior probability that the surface misses a cell (widened_sd); 0: off */
 #endif
-/* Checks (plan_check): under a precision stop, a cell the surface would have written never visible
- * beside a cell written visible gets trials of its own at the display's highest contrast, at least
+/* Checks (plan_check): once the person's answers say they see (person_sees), a cell the surface
+ * would have written never visible beside a cell written visible gets trials of its own at the
+ * display's highest contrast, at least
  * CHECK_MIN and at most CHECK_MAX, until its answers alone favour one side of the reach by CHECK_BF
  * (own_odds, over thresholds within CHECK_SPAN log10 of it); a cell whose answers then say visible
  * is measured on them (near their posterior median) to CHECK_SE, CHECK_MEASURE_MAX trials at most.
@@ -150,6 +151,7 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define CHECK_SE 0.10
 #define CHECK_MEASURE_MAX 30
 #define CHECK_AFTER_PER_CELL 2
+#define PERSON_SEES_LOG10 2.0
 #ifndef MISFIT_MIN_TRIALS
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
 #endif
@@ -340,6 +342,7 @@ typedef struct {
     double *loglik;  /* [n_cells*n_grid] log L_c(t_g), slope and lapse marginalised */
     double *logconv; /* [N_LEVELS][n_cells*n_grid] log Z_c(m = t_g) per offset level */
     int *n_trials;
+    int n_answers[2], n_correct[2]; /* valid trials and correct answers, [0] two intervals, [1] four places */
 
     /* particles */
     int n_part;
@@ -1568,6 +1571,34 @@ static void own_posterior(const bayes_state *s, int c, double *post)
     for (int g = 0; g < s->n_grid; g++) post[g] /= sum;
 }
 
+/* The log10 Bayes factor for k of n answers correct against chance (guess rate g): the rate
+ * uniform over [g, 1] against exactly g. A person who sees nothing exceeds 100:1 with probability
+ * at most 1/100, whatever the number of answers (the factor is a likelihood ratio martingale). */
+static double above_chance_log10(int k, int n, double g)
+{
+    enum { STEPS = 256 };
+    if (n <= 0 || !(g > 0.0 && g < 1.0)) return 0.0;
+    double l0 = k * log(g) + (n - k) * log1p(-g), mx = -INFINITY, l[STEPS], sum = 0.0;
+    for (int i = 0; i < STEPS; i++) {
+        double p = g + (i + 0.5) * (1.0 - g) / STEPS;
+        l[i] = k * log(p) + (n - k) * log1p(-p) - l0;
+        if (l[i] > mx) mx = l[i];
+    }
+    for (int i = 0; i < STEPS; i++) sum += exp(l[i] - mx);
+    return (mx + log(sum / STEPS)) / log(10.0);
+}
+
+/* Whether the person's answers say they see anything the display shows (PERSON_SEES_LOG10 over
+ * chance, both layouts together): until then a cell the surface calls visible is no evidence that
+ * the person sees near a cell it calls never visible, and no check is spent (a person who sees
+ * nothing has such cells until the surface has heard enough to move past the reach). */
+static int person_sees(const bayes_state *s)
+{
+    return above_chance_log10(s->n_correct[0], s->n_answers[0], s->guess) +
+               above_chance_log10(s->n_correct[1], s->n_answers[1], 0.25) >=
+           PERSON_SEES_LOG10;
+}
+
 /* Whether the posterior of cell c calls it never visible (refresh_cache done). */
 static int called_invisible(const bayes_state *s, int c)
 {
@@ -1643,15 +1674,14 @@ static void fill_plan(const bayes_state *s, csf_trial_plan *plan, int c, double 
     plan->ramp_s = 0.0;
 }
 
-/* Plans a check (see CHECK_MIN): under a precision stop, where the session's length follows the
- * evidence, no cell beside a visible one is written never visible on the surface's word alone.
+/* Plans a check (see CHECK_MIN): no cell beside a visible one is written never visible on the
+ * surface's word alone, at any budget: a fixed budget's table is what a renderer reads as well.
  * Returns 0 when no cell needs one. */
 static int plan_check(bayes_state *s, int trial_index, csf_trial_plan *plan)
 {
-    /* a fixed budget: the surface's word stands; and not before the surface has heard about twice
-     * as many answers as there are cells (at the first trial the prior alone calls the cells at
-     * the high-frequency corner never visible) */
-    if (!s->trial_s || trial_index < CHECK_AFTER_PER_CELL * s->n_cells) return 0;
+    /* not before the surface has heard about twice as many answers as there are cells (at the
+     * first trial the prior alone calls the cells at the high-frequency corner never visible) */
+    if (trial_index < CHECK_AFTER_PER_CELL * s->n_cells || !person_sees(s)) return 0;
     int n = s->n_cells;
     int rot = (int)(csf_rng_uniform(s->seed, STREAM_PLAN, (uint64_t)trial_index * 4 + 3) * n) % n;
     for (int k = 0; k < n; k++) {
@@ -1740,6 +1770,7 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
         }
     }
     s->n_trials[c]++;
+    s->n_answers[s->n_alt[c] == 4]++, s->n_correct[s->n_alt[c] == 4] += correct;
     int rebuild_all = 0;
     if (s->n_eta > 1) {
         eta_posterior(s);
