@@ -138,10 +138,10 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #endif
 /* Checks (plan_check): once the person's answers say they see (person_sees), a cell the surface
  * would have written never visible beside a cell written visible gets trials of its own at the
- * display's highest contrast, at least
- * CHECK_MIN and at most CHECK_MAX, until its answers alone favour one side of the reach by CHECK_BF
- * (own_odds, over thresholds within CHECK_SPAN log10 of it); a cell whose answers then say visible
- * is measured on them (near their posterior median) to CHECK_SE, CHECK_MEASURE_MAX trials at most.
+ * display's highest contrast, at least CHECK_MIN and at most CHECK_MAX, until its answers alone
+ * favour one side of the reach by CHECK_BF (own_odds, over thresholds within CHECK_SPAN log10 of
+ * it); a cell whose answers then say visible is measured on them (near their posterior median) to
+ * CHECK_SE, CHECK_MEASURE_MAX trials at most.
  * At any budget a cell whose own answers say visible (CHECK_BF, or leaning so after CHECK_MAX) is not
  * written never visible. */
 #define CHECK_MIN 4
@@ -151,7 +151,7 @@ enum { N_LEVELS = sizeof offset_sd_levels / sizeof offset_sd_levels[0] };
 #define CHECK_SE 0.10
 #define CHECK_MEASURE_MAX 30
 #define CHECK_AFTER_PER_CELL 2
-#define PERSON_SEES_LOG10 2.0
+#define PERSON_SEES_LOG10 2.0 /* 100:1 over chance before any check */
 #ifndef MISFIT_MIN_TRIALS
 #define MISFIT_MIN_TRIALS 5    /* fewer trials cannot overrule the surface */
 #endif
