@@ -1,9 +1,9 @@
 /* A cell is written never visible only on its own answers. A person like the model's own but who
  * sees 8 cpd at 20 deg at contrast 0.5, where the surface puts the threshold 1.5 log10 beyond the
- * display's reach: the cell is checked at the top contrast beside neighbours the person's answers
- * show visible, found visible and measured, in every seed, under a precision stop (trials priced by
- * the person's time) and at a fixed budget alike; the surface alone would give it no trial and
- * write it never visible. The model's own person keeps its invisible cells (16 cpd at 10 and
+ * display's reach: once the person's answers are above chance, the cell is checked at the top
+ * contrast beside its visible neighbours, found visible and measured, in every seed, under a
+ * precision stop (trials priced by the person's time) and at a fixed budget alike; the surface alone
+ * would give it no trial and write it never visible. The model's own person keeps its invisible cells (16 cpd at 10 and
  * 20 deg) never visible, and a person who sees nothing is still written never visible everywhere. */
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
@@ -119,8 +119,8 @@ int main(void)
         }
     }
 
-    /* a person who sees nothing: never visible everywhere, under either plan (no neighbour is
-     * visible on the person's word, so no trial goes to a check) */
+    /* a person who sees nothing: never visible everywhere, under either plan (their answers are at
+     * chance, so no check takes the trials that move the surface past the reach) */
     sim2afc blind;
     person(&blind, 0, 0, NAN, 5);
     for (int k = 0; k < 6 * 4; k++) blind.lt[k] = 1.0;
