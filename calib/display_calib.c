@@ -715,6 +715,51 @@ static double ratio_eval(const ratio_model *rm, double v, double x)
     return exp(r);
 }
 
+#define RATIO_GREY_VAR 4.9e-7 /* the grey curve's own error at a level (about 0.07 %), relative^2 */
+
+/* Level i as a point of the ratio fit: its log ratio *r, weight *w (1 / variance) and basis values
+ * f[nb], with lc1 the channel's and g1 grey's full-drive luminance. Returns 0 for a level the fit
+ * leaves out (at drive 0, under 5 % of the channel's peak, or where grey is dark). */
+static int ratio_point(const ctx *c, const double *dv, const double *dl, const int *cnt, const double *g,
+                       size_t i, double lc1, double g1, const int *basis, int nb, double *r, double *w,
+                       double *f)
+{
+    if (!(dv[i] > 0) || !(dl[i] >= 0.05 * lc1) || !(g[i] > 0)) return 0;
+    /* the noise of one reading: the larger of the reference estimate (5 degrees of freedom)
+     * and the scatter of the white readings about the drift curve (more) */
+    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
+    double u = log(dv[i]), x = g[i] / g1;
+    double var = (nr * nr + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1) + RATIO_GREY_VAR;
+    *r = log((dl[i] / lc1) / x);
+    *w = 1 / var;
+    for (int j = 0; j < nb; j++) f[j] = basis_val(basis[j], u, x);
+    return 1;
+}
+
+/* Solves the nb x nb system in a (its right-hand side in column nb) in place, by Gauss-Jordan
+ * elimination with partial pivoting, into z. Returns 0 when it is singular. */
+static int solve_small(double a[4][5], int nb, double *z)
+{
+    for (int col = 0; col < nb; col++) {
+        int piv = col;
+        for (int r = col + 1; r < nb; r++)
+            if (fabs(a[r][col]) > fabs(a[piv][col])) piv = r;
+        if (!(fabs(a[piv][col]) > 1e-300)) return 0;
+        for (int j = 0; j <= nb; j++) {
+            double t = a[col][j];
+            a[col][j] = a[piv][j];
+            a[piv][j] = t;
+        }
+        for (int r = 0; r < nb; r++)
+            if (r != col) {
+                double f = a[r][col] / a[col][col];
+                for (int j = col; j <= nb; j++) a[r][j] -= f * a[col][j];
+            }
+    }
+    for (int j = 0; j < nb; j++) z[j] = a[j][nb] / a[j][j];
+    return 1;
+}
+
 static void fit_ratio_basis(const ctx *c, const double *dv, const double *dl, const int *cnt, const double *g,
                             size_t m, const int *basis, int nb, ratio_model *rm)
 {
@@ -723,49 +768,29 @@ static void fit_ratio_basis(const ctx *c, const double *dv, const double *dl, co
     memcpy(rm->basis, basis, (size_t)nb * sizeof *basis);
     rm->lc1 = dl[m - 1];
     double g1 = g[m - 1];
-    /* the noise of one reading: the larger of the reference estimate (5 degrees of freedom)
-     * and the scatter of the white readings about the drift curve (more) */
-    double nr = fmax(c->noise_rel, c->drift_ok ? c->drift_rms : 0);
     double A[4][5] = {{0}};
     int n = 0;
     double umin = 0;
     for (int pass = 0; pass < 2; pass++) {
         double chi2 = 0;
         for (size_t i = 0; i < m; i++) {
-            if (!(dv[i] > 0) || !(dl[i] >= 0.05 * rm->lc1) || !(g[i] > 0)) continue;
-            double u = log(dv[i]), x = g[i] / g1;
-            double r = log((dl[i] / rm->lc1) / x);
-            double var = (nr * nr + pow(c->noise_abs / dl[i], 2)) / (cnt[i] > 0 ? cnt[i] : 1);
-            var += 4.9e-7; /* the grey curve's own error at a level (about 0.07 %) */
+            double r, w, f[4];
+            if (!ratio_point(c, dv, dl, cnt, g, i, rm->lc1, g1, basis, nb, &r, &w, f)) continue;
             if (pass == 0) {
-                double w = 1 / var, f[4];
-                for (int j = 0; j < nb; j++) f[j] = basis_val(basis[j], u, x);
                 for (int j = 0; j < nb; j++) {
                     for (int k = 0; k < nb; k++) A[j][k] += w * f[j] * f[k];
                     A[j][nb] += w * f[j] * r;
                 }
-                if (u < umin) umin = u;
+                if (log(dv[i]) < umin) umin = log(dv[i]);
                 n++;
             } else {
-                double d = r - log(ratio_eval(rm, dv[i], x));
-                chi2 += d * d / var;
+                double d = r - log(ratio_eval(rm, dv[i], g[i] / g1));
+                chi2 += d * d * w;
             }
         }
         if (pass == 0) {
             if (n < nb + 2) return; /* at least two degrees of freedom to judge the fit */
-            for (int col = 0; col < nb; col++) {
-                int piv = col;
-                for (int r = col + 1; r < nb; r++)
-                    if (fabs(A[r][col]) > fabs(A[piv][col])) piv = r;
-                if (!(fabs(A[piv][col]) > 1e-300)) return;
-                for (int j = 0; j <= nb; j++) { double t = A[col][j]; A[col][j] = A[piv][j]; A[piv][j] = t; }
-                for (int r = 0; r < nb; r++)
-                    if (r != col) {
-                        double f = A[r][col] / A[col][col];
-                        for (int j = col; j <= nb; j++) A[r][j] -= f * A[col][j];
-                    }
-            }
-            for (int j = 0; j < nb; j++) rm->coef[j] = A[j][nb] / A[j][j];
+            if (!solve_small(A, nb, rm->coef)) return;
             rm->umin = umin;
             rm->n = n;
         } else {
@@ -1396,6 +1421,30 @@ static double ratio_loo_residual(const ctx *c, const levels *L, const double *g,
     return out;
 }
 
+/* The leverage of level i in the ratio fit rm: its weight times f_i' (F' W F)^-1 f_i, the share of
+ * its own reading that the fit through it follows. Left out, the level misses the refit by noise of
+ * variance var_i / (1 - h) (the leave-one-out residual of least squares, Allen 1974): a level at an
+ * end of the range, where the refit extrapolates, misses by more than one in the middle. 0 when the
+ * fit leaves the level out. */
+static double ratio_leverage(const ctx *c, const levels *L, const double *g, const ratio_model *rm, size_t i)
+{
+    size_t m = L->m;
+    double A[4][5] = {{0}}, fi[4], ri, wi, z[4], h = 0;
+    if (!ratio_point(c, L->v, L->lum, L->cnt, g, i, rm->lc1, g[m - 1], rm->basis, rm->nb, &ri, &wi, fi))
+        return 0;
+    for (size_t j = 0; j < m; j++) {
+        double r, w, f[4];
+        if (!ratio_point(c, L->v, L->lum, L->cnt, g, j, rm->lc1, g[m - 1], rm->basis, rm->nb, &r, &w, f))
+            continue;
+        for (int a = 0; a < rm->nb; a++)
+            for (int b = 0; b < rm->nb; b++) A[a][b] += w * f[a] * f[b];
+    }
+    for (int a = 0; a < rm->nb; a++) A[a][rm->nb] = fi[a];
+    if (!solve_small(A, rm->nb, z)) return 0;
+    for (int a = 0; a < rm->nb; a++) h += fi[a] * z[a];
+    return wi * h;
+}
+
 /* The stated error of channel ch modelled through grey (ratio model rm): grey's own stated error over
  * the channel's range of drives (the channel inherits its shape and its knots' noise), the fit's
  * uncertainty at the levels (about sd * sqrt(parameters / levels), doubled for the worst level), and a
@@ -1413,13 +1462,13 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
         double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0, v_lo = NAN;
         int n = 0, n_in = 0;
         for (size_t i = 0; i < L.m; i++) n_in += L.v[i] > 0 && L.lum[i] >= 0.1 * peak;
-        /* a leave-one-out miss carries the level's own noise and the refit's, about nb / (m - 1) of
-         * it. The largest of n_in such misses, were they pure noise, reaches noise_max_chi2 times its
-         * variance with probability 1 - q: what exceeds that is the model's, at the statement's
-         * quantile q (the median, or the 90th percentile the target is judged at) */
+        /* a leave-one-out miss carries the level's own noise and the refit's, together its variance
+         * over 1 - h, h the level's leverage (ratio_leverage). The largest of n_in such misses, were
+         * they pure noise, reaches noise_max_chi2 times its variance with probability 1 - q: what
+         * exceeds that is the model's, at the statement's quantile q (the median, or the 90th
+         * percentile the target is judged at) */
         double q = c->noise_quantile > 0 ? c->noise_quantile : 0.5;
-        double noise_share =
-            (1 + (double)rm->nb / (double)(L.m > 1 ? L.m - 1 : 1)) * noise_max_chi2(n_in, 1 - q);
+        double max_chi2 = noise_max_chi2(n_in, 1 - q);
         for (size_t i = 0; i < L.m; i++) {
             if (!(L.v[i] > 0) || !(L.lum[i] >= 0.1 * peak)) continue;
             /* the range starts where the channel crosses 10 % of its peak, between this level
@@ -1431,7 +1480,7 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
                            : L.v[i];
             double sd2 = (nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i];
             double r = ratio_loo_residual(c, &L, g, rm, i);
-            bias2 = fmax(bias2, r * r - noise_share * sd2);
+            bias2 = fmax(bias2, r * r - max_chi2 / fmax(1 - ratio_leverage(c, &L, g, rm, i), 0.05) * sd2);
             ss += sd2;
             n++;
         }
