@@ -204,8 +204,9 @@ static double maxv(const double *x, int n)
  * after that run for the next change, first run on a variant not adopted (a probe level in each
  * channel's sweep) and then on the one adopted (seen since); HELD_OUT11, made after that for the
  * next change and first run on the statement as it stood (seen since); HELD_OUT12, made after that
- * run for the next change. UNSEEN: the role made for the next change and not run yet, which "seen"
- * leaves out (N_ROLES: none). */
+ * run for the next change and run once for the channel bias's per-level leverage (seen since).
+ * UNSEEN: the role made for the next change and not run yet, which "seen" leaves out (N_ROLES:
+ * none). */
 enum {
     TUNED,
     DEV,
@@ -222,7 +223,7 @@ enum {
     HELD_OUT12,
     N_ROLES
 };
-enum { UNSEEN = HELD_OUT12 };
+enum { UNSEEN = N_ROLES };
 
 /* the table rows' tag per role, one for every role */
 static const char *const role_tag[] = {" (tuned)",      " (dev)",         "",
@@ -424,7 +425,7 @@ static int honest_main(int seeds, int all)
         "held-out 9 (first run on the statement as it stood; seen since)",
         "held-out 10 (first run on the channel probe; seen since)",
         "held-out 11 (first run on the statement as it stood; seen since)",
-        "held-out 12 (not run yet)"};
+        "held-out 12 (run once for the channel bias's per-level leverage; seen since)"};
     _Static_assert(sizeof label / sizeof label[0] == N_ROLES, "one summary label per role");
     for (int r = N_ROLES - 1; r >= DEV; r--)
         if (sum[r].runs)
