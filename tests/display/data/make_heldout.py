@@ -96,6 +96,8 @@ set, made after that run for the next change to the statement (not run yet):
                        above, continuous in light (a slope break at the joint)
   heldout12_ripple.csv a 2.2 power law under a backlight's 16 steps: a +-0.6 % triangle ripple of
                        period 1/16 in drive, each channel's phase a third of a period on
+It was run once, on 2026-11-30 at 02:17 UTC, to judge the channel bias's per-level leverage (seen
+since).
 Run: python3 make_heldout.py (writes beside itself)."""
 import math, os
 
