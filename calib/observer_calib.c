@@ -963,14 +963,24 @@ static void say_expected_time(obs_run *R)
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
     R->res->expected_person_s = expected_session_s(R, left, share_four);
     if (done > 0) R->res->expected_person_s -= R->set.practice * expected_trial_s(R, 0);
+    /* a precision stop's length is the person's: how steep their psychometric function is shows
+     * only in their answers, so the range most people fall in is said beside the plan */
+    const csf_procedure_ops *ops = R->S.ops;
+    int spread = R->set.precision > 0 && ops->time_spread_lo > 0 && ops->time_spread_hi > ops->time_spread_lo;
+    R->res->expected_person_lo_s = spread ? ops->time_spread_lo * R->res->expected_person_s : NAN;
+    R->res->expected_person_hi_s = spread ? ops->time_spread_hi * R->res->expected_person_s : NAN;
     if (R->opt->quiet) return;
     char cells[96] = "";
     if (R->n_not_shown > 0) snprintf(cells, sizeof cells, ", %d of them predicted only", R->n_not_shown);
-    char cap[64] = "";
+    char cap[64] = "", range[64] = "";
     if (R->set.precision > 0) snprintf(cap, sizeof cap, " (cap %d)", R->set.trials);
-    fprintf(
-        stderr, "csfcal: observer: %s%d trials%s over %d cells%s: about %.1f minutes of the person's time\n",
-        R->set.precision > 0 ? "about " : "", left, cap, R->n_cells, cells, R->res->expected_person_s / 60.0);
+    if (spread)
+        snprintf(range, sizeof range, " (8 in 10 people: %.1f to %.1f)", R->res->expected_person_lo_s / 60.0,
+                 R->res->expected_person_hi_s / 60.0);
+    fprintf(stderr,
+            "csfcal: observer: %s%d trials%s over %d cells%s: about %.1f minutes of the person's time%s\n",
+            R->set.precision > 0 ? "about " : "", left, cap, R->n_cells, cells,
+            R->res->expected_person_s / 60.0, range);
 }
 
 /* The trials and what follows them, with SIGINT/SIGTERM turned into a pause meanwhile. */
@@ -1083,6 +1093,7 @@ csf_status csf_obs_session_begin(const csf_obs_options *opt, csf_store *store, c
     memset(res, 0, sizeof *res);
     res->fade_offset_log10 = res->fade_offset_sd_log10 = NAN;
     res->fa_rate = res->latency_s = res->median_se_log10 = res->predicted_rms_log10 = NAN;
+    res->expected_person_lo_s = res->expected_person_hi_s = NAN;
     if (!opt->demo && (!opt->out_path || !*opt->out_path))
         return csf_error_set(err, CSF_E_INVALID_ARG, "observer calibrate: --out FILE.csflut is required");
     if (opt->resume_id && !store)
@@ -1203,6 +1214,10 @@ void csf_obs_result_json(const csf_obs_result *r, const char *out_path, const ch
     json_object_set_new(o, "velocities", json_integer(r->n_vels));
     json_object_set_new(o, "cells_not_shown", json_integer(r->n_not_shown));
     json_object_set_new(o, "expected_person_s", num_or_null(r->expected_person_s));
+    json_t *range = json_null();
+    if (isfinite(r->expected_person_lo_s) && isfinite(r->expected_person_hi_s))
+        range = json_pack("[ff]", r->expected_person_lo_s, r->expected_person_hi_s);
+    json_object_set_new(o, "expected_person_s_range", range ? range : json_null());
     json_object_set_new(o, "person_s", num_or_null(r->person_s));
     json_object_set_new(o, "precision_log10",
                         r->precision_log10 > 0 ? json_real(r->precision_log10) : json_null());

@@ -101,7 +101,9 @@ typedef struct {
                                    never presented */
     double expected_person_s;   /* the person's time this run was expected to take, said before the
                                    first trial (practice, trials, answers) */
-    double person_s;            /* the person's time this run took: the session's clock from the
+    double expected_person_lo_s, expected_person_hi_s; /* with --precision, the range 8 in 10 people's
+                                   time falls in (the method's time_spread); NaN when unknown */
+    double person_s; /* the person's time this run took: the session's clock from the
                                    first trial to the last (the simulated clock in simulation,
                                    simulated answer times included) */
     double wall_s;

@@ -132,6 +132,11 @@ typedef struct {
      * what a precision stop plans on. The median of simulated and held-out sessions stopped at
      * 0.10; people differ by about 1.5x in trials. */
     double reach_log10;
+    /* The person's time over what a precision stop plans, its 10th and 90th percentiles over
+     * simulated people (slope 1.5-6, lapse 0-0.08; bench/bench_person_time.sh at 0.10 log10):
+     * people differ mostly in how steep their psychometric function is, which nothing before the
+     * first trial shows. 0: not measured. */
+    double time_spread_lo, time_spread_hi;
 } csf_procedure_ops;
 
 /* The trials a session of method ops should take to bring its predicted RMS error over n_shown

@@ -19,11 +19,18 @@ d=json.loads(sys.argv[1])
 assert d["status"]=="ok" and d["reached_precision"] is True, d
 assert d["predicted_rms_log10"] <= 0.12 and d["precision_log10"] == 0.12
 assert 10 <= d["trials"] < 320, d["trials"]        # cap: 40 per cell
-assert d["person_s"] > 0' "$out"
+assert d["person_s"] > 0
+lo, hi = d["expected_person_s_range"]               # where 8 in 10 people fall, about the plan
+assert 0 < lo < d["expected_person_s"] < hi, d' "$out"
 check "stored settings keep the target" bash -c "sqlite3 '$T/a.sqlite' 'select settings_json from sessions' | grep -q precision_log10"
 # the same without --json: the experimenter's terminal
 sum=$(run --store "$T/c.sqlite" --precision 0.12 --freqs 1,2,4,8 --eccs 0,10 --seed 5 --out "$T/c.csflut" 2>"$T/c.err")
 check "expected time said first" grep -q "about [0-9]* trials (cap 320) over 8 cells: about .* minutes" "$T/c.err"
+check "with the range most people fall in" grep -q "minutes of the person's time (8 in 10 people: [0-9.]* to [0-9.]*)" "$T/c.err"
+out=$(run --store "$T/f.sqlite" --trials 12 --freqs 1,4 --eccs 0 --seed 5 --out "$T/f.csflut" --json 2>/dev/null)
+check "a fixed budget says no range" python3 -c '
+import json,sys
+d=json.loads(sys.argv[1]); assert d["status"]=="ok" and d["expected_person_s_range"] is None and d["expected_person_s"] > 0, d' "$out"
 check "progress with the predicted error" grep -q "predicted error .* target 0.120" "$T/c.err"
 check "summary: predicted error, reached, person time" grep -q "predicted RMS error 0\.[01][0-9]* log10 (--precision reached), person time [0-9.]* min" <<<"$sum"
 
