@@ -1421,28 +1421,31 @@ static double ratio_loo_residual(const ctx *c, const levels *L, const double *g,
     return out;
 }
 
-/* The leverage of level i in the ratio fit rm: its weight times f_i' (F' W F)^-1 f_i, the share of
- * its own reading that the fit through it follows. Left out, the level misses the refit by noise of
- * variance var_i / (1 - h) (the leave-one-out residual of least squares, Allen 1974): a level at an
- * end of the range, where the refit extrapolates, misses by more than one in the middle. 0 when the
- * fit leaves the level out. */
-static double ratio_leverage(const ctx *c, const levels *L, const double *g, const ratio_model *rm, size_t i)
+/* The leverage of each level in the ratio fit rm, into h[L->m]: its weight times f_i' (F' W F)^-1 f_i,
+ * the share of its own reading that the fit through it follows. Left out, a level misses the refit
+ * by noise of variance var_i / (1 - h) (the leave-one-out residual of least squares, Allen 1974): a
+ * level at an end of the range, where the refit extrapolates, misses by more than one in the
+ * middle. 0 for a level the fit leaves out, and for all when the fit is singular. */
+static void ratio_leverages(const ctx *c, const levels *L, const double *g, const ratio_model *rm, double *h)
 {
     size_t m = L->m;
-    double A[4][5] = {{0}}, fi[4], ri, wi, z[4], h = 0;
-    if (!ratio_point(c, L->v, L->lum, L->cnt, g, i, rm->lc1, g[m - 1], rm->basis, rm->nb, &ri, &wi, fi))
-        return 0;
+    double A[4][5] = {{0}}, r, w, f[4];
     for (size_t j = 0; j < m; j++) {
-        double r, w, f[4];
+        h[j] = 0;
         if (!ratio_point(c, L->v, L->lum, L->cnt, g, j, rm->lc1, g[m - 1], rm->basis, rm->nb, &r, &w, f))
             continue;
         for (int a = 0; a < rm->nb; a++)
             for (int b = 0; b < rm->nb; b++) A[a][b] += w * f[a] * f[b];
     }
-    for (int a = 0; a < rm->nb; a++) A[a][rm->nb] = fi[a];
-    if (!solve_small(A, rm->nb, z)) return 0;
-    for (int a = 0; a < rm->nb; a++) h += fi[a] * z[a];
-    return wi * h;
+    for (size_t i = 0; i < m; i++) {
+        double S[4][5], z[4];
+        if (!ratio_point(c, L->v, L->lum, L->cnt, g, i, rm->lc1, g[m - 1], rm->basis, rm->nb, &r, &w, f))
+            continue;
+        memcpy(S, A, sizeof S); /* solve_small works in place */
+        for (int a = 0; a < rm->nb; a++) S[a][rm->nb] = f[a];
+        if (!solve_small(S, rm->nb, z)) return;
+        for (int a = 0; a < rm->nb; a++) h[i] += w * f[a] * z[a];
+    }
 }
 
 /* The stated error of channel ch modelled through grey (ratio model rm): grey's own stated error over
@@ -1457,13 +1460,14 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
     statement out = {INFINITY, INFINITY, INFINITY};
     levels L;
     levels_read(c, ch, &L);
-    double *g = malloc((L.m + 1) * sizeof(double));
-    if (g && L.m >= 2 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
+    double *g = malloc((L.m + 1) * sizeof(double)), *lev = malloc((L.m + 1) * sizeof(double));
+    if (g && lev && L.m >= 2 && !grey_incr(c, L.v, g, L.m) && g[L.m - 1] > 0) {
+        ratio_leverages(c, &L, g, rm, lev);
         double nr = pooled_noise_rel(c), peak = L.lum[L.m - 1], ss = 0, bias2 = 0, v_lo = NAN;
         int n = 0, n_in = 0;
         for (size_t i = 0; i < L.m; i++) n_in += L.v[i] > 0 && L.lum[i] >= 0.1 * peak;
         /* a leave-one-out miss carries the level's own noise and the refit's, together its variance
-         * over 1 - h, h the level's leverage (ratio_leverage). The largest of n_in such misses, were
+         * over 1 - h, h the level's leverage (ratio_leverages). The largest of n_in such misses, were
          * they pure noise, reaches noise_max_chi2 times its variance with probability 1 - q: what
          * exceeds that is the model's, at the statement's quantile q (the median, or the 90th
          * percentile the target is judged at) */
@@ -1480,7 +1484,7 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
                            : L.v[i];
             double sd2 = (nr * nr + pow(c->noise_abs / L.lum[i], 2)) / L.cnt[i];
             double r = ratio_loo_residual(c, &L, g, rm, i);
-            bias2 = fmax(bias2, r * r - max_chi2 / fmax(1 - ratio_leverage(c, &L, g, rm, i), 0.05) * sd2);
+            bias2 = fmax(bias2, r * r - max_chi2 / fmax(1 - lev[i], 0.05) * sd2);
             ss += sd2;
             n++;
         }
@@ -1495,6 +1499,7 @@ static statement channel_grey_statement(const ctx *c, int ch, const ratio_model 
         }
     }
     free(g);
+    free(lev);
     levels_free(&L);
     return out;
 }

@@ -365,6 +365,6 @@ const csf_procedure_ops csf_procedure_2afc = {
     .estimate = afc_estimate,
     .destroy = afc_destroy,
     .reach_log10 = 0.45,    /* each cell on its own */
-    .time_spread_lo = 0.78, /* 20 people, 2026-11-30 */
+    .time_spread_lo = 0.78, /* BENCHMARKS.md, "Person time" (20 people) */
     .time_spread_hi = 1.32,
 };
