@@ -31,11 +31,17 @@
 #define AFC_X_CANDIDATES 31
 #define AFC_SD_STABLE 0.05
 #define AFC_PRIOR_SD 0.7
-/* Data-alone odds for "never visible" (posterior odds of a threshold above the display's reach
- * over the prior odds) a cell needs before it is written never visible (invisible_odds). One
- * wrong answer at the top contrast is at most 0.5 / 0.04 = 12.5 times likelier from an invisible
- * cell than from a plainly visible one (two intervals, lapse 0.08, the grid's highest; four places
- * the same), so odds above that are evidence that survives a lapse. */
+/* Odds, on a cell's answers alone, that its threshold is beyond the display's reach: their mean
+ * likelihood over thresholds up to AFC_ODDS_SPAN log10 above the reach against that over as far
+ * below it (invisible_odds). Only thresholds near the reach are weighed on the visible side: a
+ * person whose threshold is just inside the reach sees the top contrast barely above it and
+ * answers wrong there more often than lapses explain, and averaged against the prior's visible
+ * side (mostly far inside the reach, where every top-contrast answer is right) a few such wrong
+ * answers would look like proof. A cell needs
+ * AFC_INVISIBLE_BF before it is written never visible: one wrong answer at the top contrast is
+ * about 6 times likelier from a threshold in the span above than from one in the span below
+ * (slope 3, lapse 0.04), so that bar is evidence that survives a lapse. */
+#define AFC_ODDS_SPAN 0.5
 #define AFC_INVISIBLE_BF 20.0
 /* ... and the odds up to which such a cell is still shown: ten times that */
 #define AFC_RETEST_BF (10 * AFC_INVISIBLE_BF)
@@ -57,7 +63,7 @@ typedef struct {
     double *mix;    /* [AFC_GRID_N] scratch: a cell's mixed posterior */
     int *n_trials;
     int *n_alt;     /* per cell: 2 or 4 */
-    double *prior_above; /* per cell: the prior's mass above the display's highest contrast */
+    double *prior_mean; /* per cell: the prior's mean threshold, log10 (sd AFC_PRIOR_SD) */
     double x_lo, x_hi;
 } afc_state;
 
@@ -72,7 +78,7 @@ static void afc_destroy(void *state)
     free(a->cells);
     free(a->n_trials);
     free(a->n_alt);
-    free(a->prior_above);
+    free(a->prior_mean);
     free(a);
 }
 
@@ -111,9 +117,9 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
     a->mix = malloc(AFC_GRID_N * sizeof *a->mix);
     a->n_trials = calloc((size_t)n, sizeof *a->n_trials);
     a->n_alt = malloc((size_t)n * sizeof *a->n_alt);
-    a->prior_above = malloc((size_t)n * sizeof *a->prior_above);
+    a->prior_mean = malloc((size_t)n * sizeof *a->prior_mean);
     if (!a->cells || !a->grid || !a->n_trials || !a->n_alt || !a->log_ev || !a->eta_w || !a->mix ||
-        !a->prior_above) {
+        !a->prior_mean) {
         afc_destroy(a);
         return csf_error_set(err, CSF_E_NOMEM, "2afc: out of memory");
     }
@@ -132,6 +138,7 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
                    csf_velocity_log10_gain(&vel, cell->freq_cpd, cell->velocity_dps);
         if (!(m < a->x_hi + 0.5)) m = a->x_hi + 0.5;
         if (m < a->x_lo) m = a->x_lo;
+        a->prior_mean[i] = m;
         int bad = 0;
         for (int e = 0; e < a->n_eta; e++) {
             double slope = a->n_eta == 1 ? a->s.slope_beta : eta_slopes[e / N_ETA_LAPSE];
@@ -150,10 +157,6 @@ static csf_status afc_create(const csf_procedure_setup *setup, void **state, csf
         }
     }
     for (int e = 0; e < a->n_eta; e++) a->eta_w[e] = 1.0 / a->n_eta;
-    for (int i = 0; i < n; i++) {
-        cell_mix(a, i);
-        mix_moments(a, i, NULL, NULL, &a->prior_above[i]);
-    }
     *state = a;
     return CSF_OK;
 }
@@ -231,7 +234,7 @@ static double mix_best_x(afc_state *a, int i)
     return best_x;
 }
 
-static double invisible_odds(const afc_state *a, int i, double p_above);
+static double invisible_odds(const afc_state *a, int i);
 
 static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
 {
@@ -249,7 +252,7 @@ static csf_status afc_next(void *state, int trial_index, csf_trial_plan *plan)
          * that alone it would take most of a long session. Settled means evidence well past what
          * writing it never visible takes: a streak of lapses at a visible cell near the reach can
          * reach that bar, and the trials that follow undo it. */
-        if (p_above > 0.5 && invisible_odds(a, i, p_above) >= AFC_RETEST_BF) continue;
+        if (p_above > 0.5 && invisible_odds(a, i) >= AFC_RETEST_BF) continue;
         if (sd <= AFC_SD_STABLE) continue;
         if (sd > best_sd + 1e-12) {
             best_sd = sd;
@@ -301,16 +304,27 @@ static void afc_update(void *state, int trial_index, const csf_trial_plan *plan,
     a->n_trials[plan->cell]++;
 }
 
-/* How much more the cell's own trials support "never visible" than the prior did: posterior odds
- * of a threshold above the display's reach over the prior odds. A cell with a few trials keeps
- * most of its prior, and the population prior puts a high-frequency peripheral cell near the
- * reach; "never visible" is written only when the answers themselves say so (the renderer drops
- * what the table calls never visible, the one error it cannot afford). */
-static double invisible_odds(const afc_state *a, int i, double p_above)
+/* The odds of "never visible" on cell i's answers alone (see AFC_INVISIBLE_BF; a->mix must hold
+ * the cell's posterior): the posterior over the prior is the answers' likelihood, the pairs mixed
+ * by their posterior. 1 when the cell has no answers. The population prior puts a high-frequency
+ * peripheral cell near the reach, so "never visible" is written only where the answers themselves
+ * say so (the renderer drops what the table calls never visible, the one error it cannot afford). */
+static double invisible_odds(const afc_state *a, int i)
 {
-    double q = a->prior_above[i];
-    if (!(q > 1e-12 && q < 1 - 1e-12)) return p_above >= 1 ? INFINITY : 0;
-    return (p_above / fmax(1 - p_above, 1e-12)) / (q / (1 - q));
+    if (!a->n_trials[i]) return 1.0;
+    const csf_psy_grid *g = &a->grid[(size_t)i * a->n_eta];
+    double above = 0.0, below = 0.0;
+    int n_above = 0, n_below = 0;
+    for (int k = 0; k < g->n; k++) {
+        double t = g->t_lo + k * g->t_step, z = (t - a->prior_mean[i]) / AFC_PRIOR_SD;
+        if (fabs(t - a->x_hi) > AFC_ODDS_SPAN) continue;
+        double lik = a->mix[k] * exp(0.5 * z * z);
+        if (t > a->x_hi) above += lik, n_above++;
+        else below += lik, n_below++;
+    }
+    if (!n_above || !n_below) return 1.0;
+    if (!(below > 0.0)) return above > 0.0 ? INFINITY : 1.0;
+    return (above / n_above) / (below / n_below);
 }
 
 /* Mean and sd of the cell's threshold given that it is visible (a->mix must hold the cell's
@@ -341,7 +355,7 @@ static csf_status afc_estimate(void *state, csf_cell_estimate *out, csf_error *e
         if (a->n_trials[i] == 0) {
             out[i].threshold = NAN;
             out[i].stderr_log10 = NAN;
-        } else if (p_above > 0.5 && invisible_odds(a, i, p_above) >= AFC_INVISIBLE_BF) {
+        } else if (p_above > 0.5 && invisible_odds(a, i) >= AFC_INVISIBLE_BF) {
             out[i].threshold = INFINITY;
             out[i].stderr_log10 = NAN;
         } else if (p_above > 0.5) {

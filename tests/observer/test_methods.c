@@ -72,7 +72,9 @@ static void test_method(const char *name, int budget, double rms_limit, double b
 
 /* The person's slope and lapse are unknown: a person with slope 2.2 and lapse 0.05 (a naive
  * observer). On the same seeds, the method with slope and lapse marginalised (the default) is
- * more accurate and less biased than with them fixed at 3.5 / 0.02. */
+ * more accurate and less biased than with them fixed at 3.5 / 0.02. 64 seeds: over 16, the RMS of
+ * 64 errors moves by about 0.01 when a rule changes only which cell a trial goes to (2afc, 200
+ * trials, 64 seeds: fixed 0.126, marginalised 0.097; fade, 60 trials: 0.108, 0.089). */
 static void test_unknown_slope(const char *name, int budget)
 {
     const csf_procedure_ops *ops = csf_procedure_find(name);
@@ -80,9 +82,9 @@ static void test_unknown_slope(const char *name, int budget)
     int inv_fixed, inv_marg;
     obs_spec = "sim:slope=2.2,lapse=0.05";
     fixed_psy = 1;
-    double rms_fixed = rms_error(ops, budget, 16, &bias_fixed, &inv_fixed);
+    double rms_fixed = rms_error(ops, budget, 64, &bias_fixed, &inv_fixed);
     fixed_psy = 0;
-    double rms_marg = rms_error(ops, budget, 16, &bias_marg, &inv_marg);
+    double rms_marg = rms_error(ops, budget, 64, &bias_marg, &inv_marg);
     obs_spec = "sim";
     fprintf(stderr, "%s, slope 2.2 / lapse 0.05: fixed 3.5/0.02 RMS %.3f bias %+.3f; marginal RMS %.3f bias %+.3f\n",
             name, rms_fixed, bias_fixed, rms_marg, bias_marg);

@@ -237,6 +237,47 @@ static void check_afc_invisible_budget(const csf_cell *cells)
     CHECK(n_vis == N_CELLS - n_invisible && stated < 0.21);
 }
 
+/* 2afc writes "never visible" only on answers that a threshold just inside the reach would not
+ * give. A person 0.8 log10 less sensitive than the population prior (a low mean luminance, an
+ * older eye), at a cell whose threshold is 0.1 log10 inside the display's reach, answers wrong at
+ * the top contrast about one time in twelve and wrong near it more often. Weighed against the
+ * prior's visible side (mostly far below the reach, where the top contrast is always seen) a few
+ * such answers looked like proof; weighed against thresholds near the reach they do not. Over
+ * 200 sessions of 6 trials (a 120-trial session's share of one cell, slope and lapse unknown to
+ * the method) it must be written never visible in at most 2 %: 8 of 200 before the odds were
+ * weighed near the reach. A cell 0.5 log10 beyond the reach must still be written so in at least
+ * 90 % of 200 sessions of 30 trials. */
+static int afc_never_visible_share(double beyond_reach_log10, int budget)
+{
+    csf_model_params poorer = csf_model_default();
+    poorer.smax /= pow(10.0, 0.8);
+    const csf_cell cell = {4.0, 5.0, 0.0};
+    int never = 0;
+    for (uint64_t seed = 1; seed <= 200; seed++) {
+        sim2afc o;
+        sim2afc_parametric(&o, poorer, seed);
+        o.slope = 3.0;
+        o.lapse = 0.04;
+        o.method_psychometric = 1;
+        double max_contrast = pow(10.0, sim2afc_log10_threshold_v(&o, &cell) - beyond_reach_log10);
+        csf_cell_estimate est;
+        memset(&est, 0, sizeof est);
+        CHECK(sim2afc_run(&csf_procedure_2afc, &o, &cell, 1, budget, 5000 + seed, max_contrast, &est) == 0);
+        never += isinf(est.threshold);
+    }
+    return never;
+}
+
+static void check_afc_never_visible_near_reach(void)
+{
+    int inside = afc_never_visible_share(-0.1, 6), beyond = afc_never_visible_share(0.5, 30);
+    printf("2afc, never visible: threshold 0.1 inside the reach, 6 trials: %d of 200; 0.5 beyond, "
+           "30 trials: %d of 200\n",
+           inside, beyond);
+    CHECK(inside <= 4);
+    CHECK(beyond >= 180);
+}
+
 int main(void)
 {
     csf_cell cells[N_CELLS];
@@ -247,6 +288,7 @@ int main(void)
     check_fade_forced_choice_checks(cells, 0);
     check_fade_forced_choice_checks(cells, 1);
     check_afc_invisible_budget(cells);
+    check_afc_never_visible_near_reach();
     check_coverage(&csf_procedure_fade, cells, n_alt, 2);
     check_coverage(&csf_procedure_2afc, cells, n_alt, 2);
     const csf_procedure_ops *bayes = csf_procedure_find("bayes");
