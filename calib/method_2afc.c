@@ -379,6 +379,6 @@ const csf_procedure_ops csf_procedure_2afc = {
     .estimate = afc_estimate,
     .destroy = afc_destroy,
     .reach_log10 = 0.45,    /* each cell on its own */
-    .time_spread_lo = 0.78, /* BENCHMARKS.md, "Person time" (20 people) */
-    .time_spread_hi = 1.32,
+    .time_spread_lo = 0.79, /* BENCHMARKS.md, "Person time" (20 people) */
+    .time_spread_hi = 1.37,
 };

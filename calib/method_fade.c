@@ -959,6 +959,6 @@ const csf_procedure_ops csf_procedure_fade = {
     .destroy = fade_destroy,
     .task_offset = fade_task_offset,
     .reach_log10 = 0.32,    /* a ramp says more than a choice */
-    .time_spread_lo = 0.76, /* BENCHMARKS.md, "Person time" (20 people) */
-    .time_spread_hi = 1.22,
+    .time_spread_lo = 0.77, /* BENCHMARKS.md, "Person time" (20 people) */
+    .time_spread_hi = 1.21,
 };

@@ -378,11 +378,30 @@ static double expected_trial_s(const obs_run *R, int four)
     return obs_trial_expected_s(R->S.ops->task, four);
 }
 
-/* The whole session's expected person time, share_four of its trials with four places. */
+/* Told before a fade session's forced-choice anchors. */
+#define ANCHOR_INSTRUCTIONS                                                                                  \
+    "Last part: the pattern now appears in one of two intervals,\n"                                          \
+    "at the place a ring marks just before.\n"                                                               \
+    "Press 1 or Left for the first interval, 2 or Right for the second.\n"                                   \
+    "Two easy practice trials first. When unsure, guess.\n"                                                  \
+    "Escape pauses. Press a key to go on."
+
+static const char *instructions(const obs_run *R);
+
+/* The time to read what the session shows before its trials: the instructions, and for fade the
+ * anchors' (when it plans them). */
+static double expected_reading_s(const obs_run *R)
+{
+    int anchors = R->S.ops->task == CSF_TASK_FADE && R->set.fade_anchors > 0;
+    return obs_reading_s(instructions(R)) + (anchors ? obs_reading_s(ANCHOR_INSTRUCTIONS) : 0.0);
+}
+
+/* The whole session's expected person time, share_four of its trials with four places: reading,
+ * practice and trials. */
 static double expected_session_s(const obs_run *R, int trials, double share_four)
 {
     double per = (1.0 - share_four) * expected_trial_s(R, 0) + share_four * expected_trial_s(R, 1);
-    return R->set.practice * expected_trial_s(R, 0) + trials * per;
+    return expected_reading_s(R) + R->set.practice * expected_trial_s(R, 0) + trials * per;
 }
 
 /* A drifting grid on this display: the cells it cannot show (their temporal frequency would
@@ -737,13 +756,7 @@ static csf_status before_trial(obs_run *R, const csf_trial_plan *plan, int *told
     if (R->S.ops->task != CSF_TASK_FADE || plan->task != CSF_TASK_2AFC || *told_anchors) return CSF_OK;
     /* The fade method's forced-choice anchors: a new task, so the person is told. */
     *told_anchors = 1;
-    st = obs_person_screen(who,
-                           "Last part: the pattern now appears in one of two intervals,\n"
-                           "at the place a ring marks just before.\n"
-                           "Press 1 or Left for the first interval, 2 or Right for the second.\n"
-                           "Two easy practice trials first. When unsure, guess.\n"
-                           "Escape pauses. Press a key to go on.",
-                           err);
+    st = obs_person_screen(who, ANCHOR_INSTRUCTIONS, err);
     if (st != CSF_OK) return st;
     if (who->paused && !obs_ask_resume(who, ti, set->trials)) return *stop = 1, CSF_OK;
     st = anchor_practice(&R->S, &R->run, R->sid, set->method, R->seed, R->mean_lum_cdm2, &R->seq, &R->n_stored, err);
@@ -962,7 +975,8 @@ static void say_expected_time(obs_run *R)
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
     R->res->expected_person_s = expected_session_s(R, left, share_four);
-    if (done > 0) R->res->expected_person_s -= R->set.practice * expected_trial_s(R, 0);
+    if (done > 0)
+        R->res->expected_person_s -= expected_reading_s(R) + R->set.practice * expected_trial_s(R, 0);
     /* a precision stop's length is the person's: how steep their psychometric function is shows
      * only in their answers, so the range most people fall in is said beside the plan */
     const csf_procedure_ops *ops = R->S.ops;

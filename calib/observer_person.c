@@ -1,6 +1,7 @@
 /* The person of an observer session (see observer_person.h). */
 #include "calib/observer_person.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -110,11 +111,23 @@ csf_status obs_person_click(person *p, double *x_deg, double *y_deg, csf_error *
     return CSF_OK;
 }
 
-/* Text screen; a human reads it and presses a key (Escape = pause), a simulation moves on. */
+#define READING_WORDS_PER_MIN 238.0
+double obs_reading_s(const char *text)
+{
+    int words = 0;
+    for (const char *c = text; c && *c; c++)
+        if (!isspace((unsigned char)*c) && (c == text || isspace((unsigned char)c[-1]))) words++;
+    return words * 60.0 / READING_WORDS_PER_MIN;
+}
+
+/* Text screen; a human reads it and presses a key (Escape = pause); a simulated person takes the
+ * time to read it, and nothing is drawn (cairo's font machinery is skipped). */
 csf_status obs_person_screen(person *p, const char *text, csf_error *err)
 {
-    /* A simulated person reads nothing: skip the screen (and cairo's font machinery). */
-    if (p->sim) return CSF_OK;
+    if (p->sim) {
+        p->sim_rt_total_s += obs_reading_s(text);
+        return CSF_OK;
+    }
     csf_trial_io io = {p->pres, p->resp, &obs_stop_requested, 0};
     csf_status st = csf_trial_io_screen(&io, text, err);
     if (io.paused) p->paused = 1;

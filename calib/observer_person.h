@@ -30,9 +30,13 @@ typedef struct {
     int first_frame;
     double period_s;
     int catch_trial;
-    double sim_rt_total_s; /* simulated forced-choice answers' times, which no frame clock counts */
+    double sim_rt_total_s; /* simulated answers' and reading times, which no frame clock counts */
 } person;
 
+/* The seconds a person takes to read a text screen: its words at 238 a minute, the mean silent
+ * reading rate of adults for non-fiction (Brysbaert 2019). A simulated person spends that on every
+ * screen, as a real one does on the session's clock. */
+double obs_reading_s(const char *text);
 /* Called for every frame of a fade trial (presenter callback or our own blank frames). */
 int obs_person_fade_frame(person *p, double t_s, double contrast_shown);
 int obs_fade_stop_cb(void *ctx, const csf_frame_info *f);
