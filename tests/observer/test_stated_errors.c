@@ -242,11 +242,10 @@ static void check_afc_invisible_budget(const csf_cell *cells)
  * older eye), at a cell whose threshold is 0.1 log10 inside the display's reach, answers wrong at
  * the top contrast about one time in twelve and wrong near it more often. Weighed against the
  * prior's visible side (mostly far below the reach, where the top contrast is always seen) a few
- * such answers looked like proof; weighed against thresholds near the reach they do not. Over
- * 200 sessions of 6 trials (a 120-trial session's share of one cell, slope and lapse unknown to
- * the method) it must be written never visible in at most 2 %: 8 of 200 before the odds were
- * weighed near the reach. A cell 0.5 log10 beyond the reach must still be written so in at least
- * 90 % of 200 sessions of 30 trials. */
+ * such answers look like proof (8 of these 200 sessions); weighed against thresholds near the
+ * reach they do not. Over 200 sessions of 6 trials (a 120-trial session's share of one cell, slope
+ * and lapse unknown to the method) it must be written never visible in at most 2 %. A cell 0.5
+ * log10 beyond the reach must still be written so in at least 90 % of 200 sessions of 30 trials. */
 static int afc_never_visible_share(double beyond_reach_log10, int budget)
 {
     csf_model_params poorer = csf_model_default();
