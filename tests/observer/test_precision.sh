@@ -71,6 +71,21 @@ check "... saying so" grep -q "the replayed plan asks for another cell" <<<"$err
 check "... its trials kept" test "$(sqlite3 "$T/q.sqlite" "SELECT count(*) FROM trials")" -eq "$n"
 check "... no table" test ! -e "$T/q.csflut"
 
+# A fade session resumed before its anchors: the time said for the rest counts their screen (the
+# instructions are not shown again, the anchors' are), so it is near what the person then spends.
+# The pause is made in the store (the last four main trials removed), so no race decides where.
+run --method fade --trials 16 --freqs 1,2 --eccs 0 --seed 7 --store "$T/h.sqlite" --out "$T/h.csflut" >/dev/null 2>&1
+sqlite3 "$T/h.sqlite" "DELETE FROM trials WHERE session_id = 1 AND seq >= 15;
+  DELETE FROM frame_intervals WHERE session_id = 1 AND trial_seq >= 15; DELETE FROM thresholds WHERE session_id = 1;
+  UPDATE sessions SET state = 'paused' WHERE id = 1"
+rm -f "$T/h.csflut"
+out=$("$CSFCAL" observer calibrate --headless --resume 1 --store "$T/h.sqlite" --out "$T/h.csflut" --json 2>/dev/null)
+check "resumed fade: the time said includes the anchors' screen" python3 -c '
+import json,sys
+d=json.loads(sys.argv[1])
+assert d["status"]=="ok" and d["fade_anchor_trials"] > 0, d
+assert 0.8 <= d["expected_person_s"] / d["person_s"] <= 1.25, d' "$out"
+
 for bad in 0 -0.1 nan 3; do
     err=$(run --store "$T/r.sqlite" --precision "$bad" --out "$T/r.csflut" 2>&1 >/dev/null); rc=$?
     check "--precision $bad refused" test $rc -ne 0
