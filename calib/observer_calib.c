@@ -388,23 +388,23 @@ static double expected_trial_s(const obs_run *R, int four)
 
 static const char *instructions(const obs_run *R);
 
-/* The time to read what a run shows around its trials: the instructions (not on a resume with
- * trials stored: run_practice goes straight to the trials), and for fade the anchors' whenever it
- * plans them (every run tells them before its first forced-choice trial). */
-static double expected_reading_s(const obs_run *R, int resumed)
+/* The time to read what a run shows around its trials: the instructions when it shows them
+ * (run_practice: not on a resume with trials stored), and for fade the anchors' whenever it plans
+ * them (every run tells them before its first forced-choice trial). */
+static double expected_reading_s(const obs_run *R, int instructions_shown)
 {
     int anchors = R->S.ops->task == CSF_TASK_FADE && R->set.fade_anchors > 0;
-    return (resumed ? 0.0 : obs_reading_s(instructions(R))) +
+    return (instructions_shown ? obs_reading_s(instructions(R)) : 0.0) +
            (anchors ? obs_reading_s(ANCHOR_INSTRUCTIONS) : 0.0);
 }
 
-/* A run's expected person time, share_four of its trials with four places: reading, practice and
- * trials (a resume with trials stored has done its practice). */
-static double expected_session_s(const obs_run *R, int trials, double share_four, int resumed)
+/* A run's expected person time, share_four of its trials with four places: reading, the practice
+ * trials it still runs and its main trials. */
+static double expected_session_s(const obs_run *R, int trials, double share_four, int instructions_shown,
+                                 int practice)
 {
     double per = (1.0 - share_four) * expected_trial_s(R, 0) + share_four * expected_trial_s(R, 1);
-    return expected_reading_s(R, resumed) + (resumed ? 0 : R->set.practice) * expected_trial_s(R, 0) +
-           trials * per;
+    return expected_reading_s(R, instructions_shown) + practice * expected_trial_s(R, 0) + trials * per;
 }
 
 /* A drifting grid on this display: the cells it cannot show (their temporal frequency would
@@ -448,7 +448,8 @@ static csf_status check_motion_grid(obs_run *R, csf_error *err)
             "--trials %d: the grid has %d cells this display can show and --method %s needs at "
             "least %d trials for it (about %.1f minutes of the person's time); give --trials %d "
             "or fewer cells",
-            set->trials, n_shown, set->method, need, expected_session_s(R, need, 0.0, 0) / 60.0, need);
+            set->trials, n_shown, set->method, need,
+            expected_session_s(R, need, 0.0, 1, set->practice) / 60.0, need);
     if (n_alias > 0 && !R->opt->quiet)
         fprintf(stderr,
                 "csfcal: observer: %d of %d cells cannot be shown (%s); the table holds the "
@@ -966,8 +967,11 @@ static csf_status run_main_trials(obs_run *R, csf_error *err)
 /* Before the first trial: how long the trials still to run should take the person. */
 static void say_expected_time(obs_run *R)
 {
-    int done = 0;
-    for (size_t i = 0; i < R->n_stored; i++) done += !R->S.stored[i].is_practice;
+    int done = 0, practice_done = 0;
+    for (size_t i = 0; i < R->n_stored; i++) {
+        done += !R->S.stored[i].is_practice;
+        practice_done += R->S.stored[i].is_practice;
+    }
     int left = R->set.trials - done;
     if (R->set.precision > 0) {
         /* the trials the precision should take, within the cap */
@@ -977,7 +981,9 @@ static void say_expected_time(obs_run *R)
     }
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
-    R->res->expected_person_s = expected_session_s(R, left, share_four, done > 0);
+    int practice_left = R->set.practice > practice_done ? R->set.practice - practice_done : 0;
+    R->res->expected_person_s =
+        expected_session_s(R, left, share_four, !R->opt->resume_id || R->n_stored == 0, practice_left);
     /* a precision stop's length is the person's: how steep their psychometric function is shows
      * only in their answers, so the range most people fall in is said beside the plan */
     const csf_procedure_ops *ops = R->S.ops;
