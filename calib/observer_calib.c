@@ -977,7 +977,7 @@ static void say_expected_time(obs_run *R)
         /* the trials the precision should take, within the cap */
         int need = csf_precision_planned_trials(R->S.ops, R->n_cells - R->n_not_shown, R->set.precision,
                                                 R->set.trials);
-        if (need < left) left = need - done;
+        if (need - done < left) left = need - done;
     }
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;

@@ -86,6 +86,29 @@ d=json.loads(sys.argv[1])
 assert d["status"]=="ok" and d["fade_anchor_trials"] > 0, d
 assert 0.8 <= d["expected_person_s"] / d["person_s"] <= 1.25, d' "$out"
 
+# A resumed --precision session says the trials its plan still holds, within what the cap leaves: the
+# same grid's fixed budgets of 20 and 30 give a trial's time, and two resumes of one session, at 5 and
+# at 20 trials done, must differ by 15 of them (cap 70, the plan's trials between 50 and 65).
+ept() { python3 -c 'import json,sys; print(json.load(sys.stdin)["expected_person_s"])'; }
+e20=$(run --trials 20 --freqs 1,2 --eccs 0 --seed 3 --store "$T/j.sqlite" --out "$T/j.csflut" --json 2>/dev/null | ept)
+e30=$(run --trials 30 --freqs 1,2 --eccs 0 --seed 3 --store "$T/k.sqlite" --out "$T/k.csflut" --json 2>/dev/null | ept)
+run --precision 0.05 --trials 70 --freqs 1,2 --eccs 0 --seed 3 --store "$T/l.sqlite" --out "$T/l.csflut" >/dev/null 2>&1
+said=()
+for done in 5 20; do
+    cp "$T/l.sqlite" "$T/l$done.sqlite"
+    keep=$((3 + done)) # the three practice trials come first
+    sqlite3 "$T/l$done.sqlite" "DELETE FROM trials WHERE session_id = 1 AND seq >= $keep;
+      DELETE FROM frame_intervals WHERE session_id = 1 AND trial_seq >= $keep;
+      DELETE FROM thresholds WHERE session_id = 1; UPDATE sessions SET state = 'paused' WHERE id = 1"
+    said+=("$("$CSFCAL" observer calibrate --headless --resume 1 --store "$T/l$done.sqlite" --out "$T/l$done.csflut" \
+        --json 2>/dev/null | ept)")
+done
+check "resumed precision session: the time said follows the plan's trials left" python3 -c '
+import sys
+e20, e30, s5, s20 = map(float, sys.argv[1:5])
+per = (e30 - e20) / 10
+assert per > 0 and abs((s5 - s20) - 15 * per) < 0.01, (per, s5, s20)' "$e20" "$e30" "${said[0]}" "${said[1]}"
+
 for bad in 0 -0.1 nan 3; do
     err=$(run --store "$T/r.sqlite" --precision "$bad" --out "$T/r.csflut" 2>&1 >/dev/null); rc=$?
     check "--precision $bad refused" test $rc -ne 0
