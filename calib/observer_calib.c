@@ -388,8 +388,15 @@ static double expected_trial_s(const obs_run *R, int four)
 
 static const char *instructions(const obs_run *R);
 
+/* Whether this run shows the instructions: not on a resume with trials stored, which goes
+ * straight to the trials (run_practice). */
+static int shows_instructions(const obs_run *R)
+{
+    return !R->opt->resume_id || R->n_stored == 0;
+}
+
 /* The time to read what a run shows around its trials: the instructions when it shows them
- * (run_practice: not on a resume with trials stored), and for fade the anchors' whenever it plans
+ * (shows_instructions), and for fade the anchors' whenever it plans
  * them (every run tells them before its first forced-choice trial). */
 static double expected_reading_s(const obs_run *R, int instructions_shown)
 {
@@ -603,7 +610,7 @@ static csf_status run_practice(obs_run *R, csf_error *err)
         if (S->stored[i].seq >= R->seq) R->seq = S->stored[i].seq + 1;
     }
     csf_status st;
-    if (!R->opt->resume_id || R->n_stored == 0) {
+    if (shows_instructions(R)) {
         st = obs_person_screen(who, instructions(R), err);
         if (st != CSF_OK) return st;
         if (who->paused) obs_ask_resume(who, 0, set->trials);
@@ -982,8 +989,7 @@ static void say_expected_time(obs_run *R)
     if (left < 0) left = 0;
     double share_four = R->n_cells > 0 ? (double)R->res->n_cells_four_place / R->n_cells : 0.0;
     int practice_left = R->set.practice > practice_done ? R->set.practice - practice_done : 0;
-    R->res->expected_person_s =
-        expected_session_s(R, left, share_four, !R->opt->resume_id || R->n_stored == 0, practice_left);
+    R->res->expected_person_s = expected_session_s(R, left, share_four, shows_instructions(R), practice_left);
     /* a precision stop's length is the person's: how steep their psychometric function is shows
      * only in their answers, so the range most people fall in is said beside the plan */
     const csf_procedure_ops *ops = R->S.ops;
