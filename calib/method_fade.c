@@ -633,11 +633,21 @@ static int needs_check(fade_state *f, int i, double *x_log10)
  * reach, then (visible) near its forced-choice estimate. What the table promises is the
  * forced-choice threshold, and near the reach only a forced choice shows which side it is on.
  * Under a precision stop, where the session's length follows the evidence, no such cell is
- * written never visible before its checks. Returns 0 when no cell needs one. */
+ * written never visible before its checks; at a fixed budget the checks share the anchor block,
+ * and a cell whose checks the block ended is written on the side its answers so far lean to.
+ * Returns 0 when no cell needs one. */
 static int plan_check(fade_state *f, int trial_index, csf_trial_plan *plan)
 {
-    if (!(f->anchor_share > 0) || f->n_anchor_plan <= 0) return 0; /* no forced choice planned */
+    if (f->n_anchor_plan <= 0) return 0; /* no forced choice planned */
     int n = f->s.n_cells;
+    if (!(f->anchor_share > 0)) {
+        /* A fixed budget: the checks come out of the anchor block, not the ramps (at 5 trials a
+         * cell the ramps cannot spare them), and take at most half of it, so that the offset every
+         * cell's table threshold rests on is still measured. */
+        int n_checks = 0;
+        for (int i = 0; i < n; i++) n_checks += f->n_check_cell[i];
+        if ((trial_index < f->anchor_from && f->n_anchor == 0) || n_checks >= f->n_anchor_plan / 2) return 0;
+    }
     int rot = (int)(csf_rng_u64(f->s.seed, ST_CHECK, 2 * (uint64_t)trial_index) % (uint64_t)n);
     for (int k = 0; k < n; k++) {
         int i = (k + rot) % n;

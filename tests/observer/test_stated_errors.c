@@ -151,24 +151,27 @@ static void check_fade_lapse_retest(const csf_cell *cells)
     csf_observer_sim_free(obs);
 }
 
-/* Fade under a precision stop (planned trials below the cap, as `--precision` sets them): the
- * target cell's ramps all end unanswered (a yes/no criterion too strict for it), though its truth
- * is far inside the reach. Its ramps alone would write it never visible. The method checks it with
- * forced choices at the display's highest contrast first: answered as the person sees it, the cell
- * is written visible; answered at chance (nothing to see there), it is still written never
- * visible, after a bounded number of checks. */
-static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance)
+/* Fade, the target cell's ramps all unanswered (a yes/no criterion too strict for it), though its
+ * truth is far inside the reach. Its ramps alone would write it never visible. The method checks it
+ * with forced choices at the display's highest contrast first: answered as the person sees it, the
+ * cell is written visible; answered at chance (nothing to see there), it is still written never
+ * visible, after a bounded number of checks. Under a precision stop (planned trials below the cap,
+ * as `--precision` sets them) the checks come when the cell needs them; at a fixed budget of 120
+ * they come out of the anchor block (its last 30 trials), at most half of it, and the ramps keep
+ * the rest of the budget. */
+enum { FADE_PRECISION, FADE_FIXED_BUDGET };
+static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance, int budget_kind)
 {
-    const int target = FADE_TARGET;
+    const int target = FADE_TARGET, fixed = budget_kind == FADE_FIXED_BUDGET;
     csf_observer_sim *obs = fade_check_person();
     csf_error err;
-    csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, 960, 82, CSF_TASK_FADE);
-    s.planned_trials = 300;
+    csf_procedure_setup s = sim_loop_setup(cells, N_CELLS, fixed ? 120 : 960, 82, CSF_TASK_FADE);
+    if (!fixed) s.planned_trials = 300;
     void *st = NULL;
     CHECK(csf_procedure_fade.create(&s, &st, &err) == CSF_OK);
-    int checks_at_top = 0, fc_on_target = 0;
+    int checks_at_top = 0, fc_on_target = 0, first_fc = -1;
     double clock_s = 0;
-    for (int i = 0; i < 400; i++) {
+    for (int i = 0; i < (fixed ? s.trial_budget : 400); i++) {
         csf_trial_plan plan;
         if (csf_procedure_fade.next(st, i, &plan) != CSF_OK) break;
         csf_trial_outcome out = {0, NAN, NAN, 1};
@@ -180,7 +183,7 @@ static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance
         } else {
             afc_answer(obs, i, c, &plan, &out);
             if (plan.cell == target) {
-                fc_on_target++;
+                if (fc_on_target++ == 0) first_fc = i;
                 checks_at_top += plan.contrast >= s.max_contrast;
                 if (at_chance) out.response = csf_rng_uniform(82, 0xc4ec, (uint64_t)i) < 0.5;
             }
@@ -189,11 +192,13 @@ static void check_fade_forced_choice_checks(const csf_cell *cells, int at_chance
     }
     csf_cell_estimate est[N_CELLS];
     CHECK(csf_procedure_fade.estimate(st, est, &err) == CSF_OK);
-    printf("fade, precision plan, target's ramps unanswered, forced choices %s: %d forced-choice trials on "
-           "it (%d at the top); written %.3f log10\n",
-           at_chance ? "at chance" : "as seen", fc_on_target, checks_at_top, log10(est[target].threshold));
+    printf("fade, %s, target's ramps unanswered, forced choices %s: %d forced-choice trials on it (%d at "
+           "the top, the first at trial %d); written %.3f log10 (stated error %.3f)\n",
+           fixed ? "120-trial budget" : "precision plan", at_chance ? "at chance" : "as seen", fc_on_target,
+           checks_at_top, first_fc, log10(est[target].threshold), est[target].stderr_log10);
     CHECK(checks_at_top >= 4);
-    CHECK(fc_on_target <= 30);
+    CHECK(fc_on_target <= (fixed ? 15 : 30));
+    if (fixed) CHECK(first_fc >= 90);
     if (at_chance) CHECK(isinf(est[target].threshold));
     else CHECK(isfinite(est[target].threshold));
     csf_procedure_fade.destroy(st);
@@ -284,8 +289,10 @@ int main(void)
     CHECK(sim2afc_default_grid(cells) == N_CELLS);
     CHECK(sim2afc_default_layouts(cells, N_CELLS, 4, n_alt) == 0);
     check_fade_lapse_retest(cells);
-    check_fade_forced_choice_checks(cells, 0);
-    check_fade_forced_choice_checks(cells, 1);
+    check_fade_forced_choice_checks(cells, 0, FADE_PRECISION);
+    check_fade_forced_choice_checks(cells, 1, FADE_PRECISION);
+    check_fade_forced_choice_checks(cells, 0, FADE_FIXED_BUDGET);
+    check_fade_forced_choice_checks(cells, 1, FADE_FIXED_BUDGET);
     check_afc_invisible_budget(cells);
     check_afc_never_visible_near_reach();
     check_coverage(&csf_procedure_fade, cells, n_alt, 2);
