@@ -342,6 +342,7 @@ typedef struct {
     double *loglik;  /* [n_cells*n_grid] log L_c(t_g), slope and lapse marginalised */
     double *logconv; /* [N_LEVELS][n_cells*n_grid] log Z_c(m = t_g) per offset level */
     int *n_trials;
+    int *n_top;                     /* of those, at the display's highest contrast (the checks') */
     int n_answers[2], n_correct[2]; /* valid trials and correct answers, [0] two intervals, [1] four places */
 
     /* particles */
@@ -1029,7 +1030,7 @@ static void bayes_destroy(void *state)
 {
     bayes_state *s = state;
     if (!s) return;
-    free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials);
+    free(s->cells), free(s->loglik), free(s->logconv), free(s->n_trials), free(s->n_top);
     for (int l = 0; l < N_LEVELS; l++) free(s->kn[l]);
     free(s->kw), free(s->ptab), free(s->htab), free(s->n_alt), free(s->tclip), free(s->level), free(s->hist);
     free(s->trial_s), free(s->cost_bf);
@@ -1135,6 +1136,7 @@ static int alloc_core(bayes_state *s)
     s->loglik = calloc((size_t)nc * G, sizeof(double));
     s->logconv = calloc((size_t)N_LEVELS * nc * G, sizeof(double));
     s->n_trials = calloc((size_t)nc, sizeof(int));
+    s->n_top = calloc((size_t)nc, sizeof(int));
     s->theta = malloc(sizeof(double) * (size_t)n * NPAR);
     s->m = malloc(sizeof(double) * (size_t)n * nc);
     s->logz = calloc((size_t)n * nc, sizeof(double));
@@ -1156,10 +1158,10 @@ static int alloc_core(bayes_state *s)
     s->loglik_eta = calloc((size_t)s->n_eta * nc * G, sizeof(double));
     s->ptab_eta = malloc(sizeof(double) * (size_t)s->n_eta * tab);
     return s->kw && kn_ok && s->ptab && s->htab && s->tclip && s->level && s->hist && s->loglik &&
-           s->logconv && s->n_trials && s->theta && s->m && s->logz && s->logw && s->post && s->surf &&
-           s->weak && s->scratch_a && s->scratch_b && s->scratch_idx && s->gp_mu && s->gp_var && s->kern &&
-           s->eta_ht && s->eta_slope && s->eta_lapse && s->eta_w && s->eta_w_used && s->loglik_eta &&
-           s->ptab_eta;
+           s->logconv && s->n_trials && s->n_top && s->theta && s->m && s->logz && s->logw && s->post &&
+           s->surf && s->weak && s->scratch_a && s->scratch_b && s->scratch_idx && s->gp_mu && s->gp_var &&
+           s->kern && s->eta_ht && s->eta_slope && s->eta_lapse && s->eta_w && s->eta_w_used &&
+           s->loglik_eta && s->ptab_eta;
 }
 
 /* The arrays of the compile-time experiments that are on (CROSS_CELL_INFO, TEMPER_SD,
@@ -1644,9 +1646,12 @@ static double check_contrast(bayes_state *s, int c)
     if (s->not_shown[c] || n >= CHECK_MEASURE_MAX || !called_invisible(s, c) || !neighbour_visible(s, c))
         return NAN;
     double odds = own_odds(s, c);
-    if (n < CHECK_MIN) return s->log_cmax;
-    if (odds >= CHECK_BF || (n >= CHECK_MAX && odds >= 1.0)) return NAN; /* never visible */
-    if (odds > 1.0 / CHECK_BF && n < CHECK_MAX) return s->log_cmax;
+    /* the check counts answers at the top contrast only: a cell the surface moved past the reach
+     * after many trials lower down has answers that say little about thresholds near the reach */
+    int n_top = s->n_top[c];
+    if (n_top < CHECK_MIN) return s->log_cmax;
+    if (odds >= CHECK_BF || (n_top >= CHECK_MAX && odds >= 1.0)) return NAN; /* never visible */
+    if (odds > 1.0 / CHECK_BF && n_top < CHECK_MAX) return s->log_cmax;
     double *post = s->scratch_b, m, sd, p_inv, cum = 0, med = s->log_cmax;
     own_posterior(s, c, post);
     summarise(s, post, &m, &sd, &p_inv);
@@ -1770,6 +1775,7 @@ static void bayes_update(void *state, int trial_index, const csf_trial_plan *pla
         }
     }
     s->n_trials[c]++;
+    s->n_top[c] += x >= s->log_cmax - 1e-6;
     s->n_answers[s->n_alt[c] == 4]++, s->n_correct[s->n_alt[c] == 4] += correct;
     int rebuild_all = 0;
     if (s->n_eta > 1) {

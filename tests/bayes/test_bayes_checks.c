@@ -1,10 +1,11 @@
-/* A cell is written never visible only on its own answers. A person like the model's own but who
- * sees 8 cpd at 20 deg at contrast 0.5, where the surface puts the threshold 1.5 log10 beyond the
- * display's reach: once the person's answers are above chance, the cell is checked at the top
- * contrast beside its visible neighbours, found visible and measured, in every seed, under a
- * precision stop (trials priced by the person's time) and at a fixed budget alike; the surface alone
- * would give it no trial and write it never visible. The model's own person keeps its invisible cells (16 cpd at 10 and
- * 20 deg) never visible, and a person who sees nothing is still written never visible everywhere. */
+/* A cell is written never visible only on its own answers at the display's highest contrast. A person like
+ * the model's own but who sees 8 cpd at 20 deg at contrast 0.5, where the surface puts the threshold 1.5
+ * log10 beyond the display's reach: once the person's answers are above chance, the cell is checked at the
+ * top contrast beside its visible neighbours, found visible and measured, in every seed, under a precision
+ * stop (trials priced by the person's time) and at a fixed budget alike; the surface alone would give it
+ * no trial and write it never visible. The model's own person keeps its invisible cells (16 cpd at 10 and
+ * 20 deg) never visible, and a person who sees nothing is still written never visible everywhere. Answers
+ * lower down are no check: a cell with 14 of them is still checked at the top. */
 #include "tests/bayes/sim_2afc.h"
 #include "tests/check.h"
 
@@ -68,6 +69,50 @@ static int run(const sim2afc *o, const csf_cell *cells, int priced, uint64_t see
     return at_top;
 }
 
+/* A cell with many answers below the top contrast before the surface moves it past the reach: a
+ * person who sees 16 cpd at 5 deg just inside the reach (truth -0.05; the model's person just beyond
+ * it) has answered it wrong 14 times at contrast 0.5 (the session's first trials: a block of lapses).
+ * Whatever those answers say, the documented rule holds: no cell beside a visible one is written
+ * never visible before CHECK_MIN answers at the display's highest contrast.
+ * Returns the cell's trials at the top contrast; est gets the table. */
+static int run_answered_lower_down(const csf_cell *cells, uint64_t seed, int c, double truth,
+                                   csf_cell_estimate *est)
+{
+    sim2afc o;
+    person(&o, c % 6, c / 6, truth, seed);
+    csf_procedure_setup setup = {.cells = cells,
+                                 .n_cells = N_CELLS,
+                                 .trial_budget = TRIALS,
+                                 .seed = 100 + seed,
+                                 .max_contrast = 1.0,
+                                 .min_contrast = 0.0005,
+                                 .slope_beta = 3.5,
+                                 .lapse = 0.02,
+                                 .guess = 0.5};
+    csf_error err = {0};
+    void *st = NULL;
+    CHECK_INT_EQ(csf_procedure_bayes.create(&setup, &st, &err), CSF_OK);
+    if (!st) return -1;
+    int at_top = 0;
+    for (int k = 0; k < TRIALS; k++) {
+        csf_trial_plan plan;
+        csf_trial_outcome out;
+        if (k < 14) {
+            memset(&plan, 0, sizeof plan);
+            plan.cell = c, plan.contrast = 0.5, plan.n_alternatives = 2, plan.signal_interval = k % 2;
+            out = (csf_trial_outcome){.response = 1 - plan.signal_interval, .rt_s = 0.6, .valid = 1};
+        } else {
+            if (csf_procedure_bayes.next(st, k, &plan) != CSF_OK) break;
+            out = sim2afc_respond_cell(&o, &plan, &cells[plan.cell], k);
+        }
+        at_top += plan.cell == c && plan.contrast >= 1.0;
+        csf_procedure_bayes.update(st, k, &plan, &out);
+    }
+    CHECK_INT_EQ(csf_procedure_bayes.estimate(st, est, &err), CSF_OK);
+    csf_procedure_bayes.destroy(st);
+    return at_top;
+}
+
 int main(void)
 {
     csf_cell cells[N_CELLS];
@@ -92,6 +137,26 @@ int main(void)
                   "seed %d, fixed budget: %d checks at the top, written %g", (int)seed, fixed_top,
                   est[c].threshold);
     }
+    int right = 0;
+    for (int beyond = 0; beyond <= 1; beyond++)
+        for (uint64_t seed = 1; seed <= 4; seed++) {
+            const int lower = 1 * 6 + 5; /* 16 cpd, 5 deg */
+            const double truth = beyond ? 0.05 : -0.05;
+            csf_cell_estimate est[N_CELLS];
+            int top = run_answered_lower_down(cells, seed, lower, truth, est);
+            printf("seed %d: 16 cpd 5 deg (truth %+.2f) after 14 wrong answers at 0.5: %d at the top, "
+                   "written %.3f\n",
+                   (int)seed, truth, top, log10(est[lower].threshold));
+            CHECK_MSG(
+                isfinite(est[lower].threshold) || top >= 4,
+                "seed %d, truth %+.2f: written never visible after %d answers at the top (14 lower down)",
+                (int)seed, truth, top);
+            right += isinf(est[lower].threshold) == beyond;
+        }
+    /* the checks at the top tell the two apart where the answers lower down cannot */
+    CHECK_MSG(right >= 7,
+              "16 cpd 5 deg, truth 0.05 inside or beyond the reach: %d of 8 written on the right side",
+              right);
     double sorted[4];
     memcpy(sorted, err, sizeof sorted);
     for (int i = 0; i < 4; i++)
