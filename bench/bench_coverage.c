@@ -28,7 +28,7 @@
 #include "precision_run.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { N_CELLS = PR_CELLS, MAX_SPECS = 16, MAX_SETS = 18, N_SHIFTS = PR_N_SHIFTS };
+enum { N_CELLS = PR_CELLS, MAX_SPECS = 16, MAX_SETS = 19, N_SHIFTS = PR_N_SHIFTS };
 #define SHIFTS PR_SHIFTS
 #define CMAX PR_CMAX
 typedef coverage_tally tally;

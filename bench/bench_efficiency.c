@@ -17,6 +17,7 @@
  *
  * Usage: bench_efficiency [--sets 1,2,...] [--layouts 4,2] [--seeds N] [--first-seed S] [--every K]
  *                         [--cap N] [--people N] [--check]
+ * --sets: default every seen set (1 to N_SEEN_SETS, honest_sets.h); an unseen one only when named.
  * Person seed s, method seed 1000 + s, as bench_observer. --people: the first N held-out people of
  * each set (reduced runs); --check: exit 1 if a stop breaks the benchmark's own rules (an anchor
  * stopped above its level or off a checkpoint, a level reached later than a lower one...). Run
@@ -32,7 +33,7 @@
 #include "precision_run.h"
 #include "tests/bayes/sim_2afc.h"
 
-enum { N_LEVELS = 2, N_SDS = 3, MAX_SEEDS = 8, MAX_SAMPLES = MAX_HONEST_OBS * MAX_SEEDS, MAX_SETS = 18 };
+enum { N_LEVELS = 2, N_SDS = 3, MAX_SEEDS = 8, MAX_SAMPLES = MAX_HONEST_OBS * MAX_SEEDS, MAX_SETS = 19 };
 enum { MAX_CHECKPOINTS = PR_CAP_PER_CELL * PR_CELLS };
 static const double LEVELS[N_LEVELS] = {0.15, 0.10};
 static const double QUEST_SDS[N_SDS] = {0.3, 0.5, 1.0};
@@ -508,8 +509,8 @@ int main(int argc, char **argv)
                   .every = 5,
                   .cap = PR_CAP_PER_CELL * PR_CELLS,
                   .people = MAX_HONEST_OBS};
-    for (int k = 0; k < (int)N_HONEST_SETS; k++) op.sets[k] = k + 1;
-    op.n_sets = N_HONEST_SETS;
+    for (int k = 0; k < (int)N_SEEN_SETS; k++) op.sets[k] = k + 1;
+    op.n_sets = N_SEEN_SETS;
     if (parse_args(argc, argv, &op)) {
         fprintf(stderr,
                 "usage: bench_efficiency [--sets 1,2,...] [--layouts 4,2] [--seeds 1-%d] [--first-seed S] "

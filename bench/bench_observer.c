@@ -1,7 +1,7 @@
 /* Observer calibration accuracy: RMS error of log10 threshold over the visible cells of the default
  * 6 x 4 grid against simulated people's truths, for each method and trial budget, beside per-cell
  * QUEST and joint QUEST+ (--honest: tuned-on vs held-out observers). Usage, options, the truths and
- * how the fifteen held-out sets were made: bench/data/README.md. Figures: BENCHMARKS.md. */
+ * how the nineteen held-out sets were made: bench/data/README.md. Figures: BENCHMARKS.md. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -565,7 +565,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "usage: bench_observer [--seeds N] [--budgets 60,80,120,240,480] "
                             "[--table CSV] [--table2 CSV] [--observers 0,1,2] [--quest] [--quest-sd SD] "
                             "[--methods bayes,2afc] [--octave PATH] [--first-seed N] [--layouts 4,2] "
-                            "[--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-16] [--quick]]\n");
+                            "[--cells] [--sim SPEC ...] [--honest [--fresh | --heldout 1-19] [--quick]]\n");
             return !!strcmp(argv[i], "--help");
         }
     }
