@@ -5,8 +5,10 @@
  *     10th), one session serving both levels; the achieved RMS against the truth at that stop;
  *   - per-cell QUEST (told the person's slope and lapse) at each prior sd, and joint QUEST+ (told
  *     the lapse), both bench/anchor_run.h, stopped by an ORACLE: the first checkpoint (every K
- *     trials) at which their achieved RMS against the truth reaches the level. No session can know
- *     that; it flatters them, as does picking QUEST's best prior sd on the same people.
+ *     trials) at which their achieved RMS against the truth reaches the level, or (matched) reaches
+ *     what bayes achieved at its own stop on the same person and seed: the tables compared are then
+ *     equally good. No session can know either; it flatters them, as does picking QUEST's best
+ *     prior sd on the same people.
  * An anchor that has not reached a level at the cap (960 trials, --precision's cap) counts as the
  * cap and is marked. Achieved RMS: over the truly visible cells, a visible cell called never
  * visible counting with the max contrast as its estimate (bench_observer's score). Per set, at each
@@ -47,8 +49,20 @@ typedef struct {
 } stop_at;
 
 /* The stops: bayes's own; each anchor's first oracle stop and its settled one (from the first
- * checkpoint after which its RMS never again rises above the level, up to the cap). */
-enum { M_BAYES, M_QUEST, M_QPLUS, M_QUEST_SETTLED, M_QPLUS_SETTLED, N_METHODS };
+ * checkpoint after which its RMS never again rises above the level, up to the cap); and its matched
+ * one: the first checkpoint at which its achieved RMS is no worse than what bayes achieved at its own
+ * stop for that level, on the same person and seed (the two tables then equally good: bayes's stop
+ * is on its predicted RMS, so what it achieves there lies on either side of the level). */
+enum {
+    M_BAYES,
+    M_QUEST,
+    M_QPLUS,
+    M_QUEST_SETTLED,
+    M_QPLUS_SETTLED,
+    M_QUEST_MATCHED,
+    M_QPLUS_MATCHED,
+    N_METHODS
+};
 
 typedef struct {                                         /* one (set, layout): every person x seed */
     stop_at at[N_METHODS][N_SDS][MAX_SAMPLES][N_LEVELS]; /* sd index 0 but for QUEST */
@@ -79,6 +93,9 @@ typedef struct {
     stop_at *first, *settled;   /* [N_LEVELS] */
     int settled_from[N_LEVELS]; /* checkpoint since which the RMS stays at or below the level; 0: above now */
     double settled_ach[N_LEVELS];
+    const stop_at *bayes; /* [N_LEVELS]: bayes's stops on this person and seed */
+    stop_at *matched;     /* [N_LEVELS] */
+    int matched_done[N_LEVELS];
 } oracle;
 
 static int oracle_check(void *ctx, int trials, const double *est_log10)
@@ -92,22 +109,28 @@ static int oracle_check(void *ctx, int trials, const double *est_log10)
     for (int l = 0; l < N_LEVELS; l++) {
         if (!(ora->last <= LEVELS[l])) ora->settled_from[l] = 0;
         else if (!ora->settled_from[l]) ora->settled_from[l] = trials, ora->settled_ach[l] = ora->last;
+        if (!ora->matched_done[l] && ora->last <= ora->bayes[l].ach)
+            ora->matched[l] = (stop_at){trials, 0, ora->last}, ora->matched_done[l] = 1;
     }
     return 0;
 }
 
-static void oracle_start(oracle *ora, const double *truth, stop_at *first, stop_at *settled)
+static void oracle_start(oracle *ora, const double *truth, const stop_at *bayes, stop_at *first,
+                         stop_at *settled, stop_at *matched)
 {
-    *ora = (oracle){.truth = truth, .last = NAN, .first = first, .settled = settled};
+    *ora = (oracle){
+        .truth = truth, .last = NAN, .first = first, .settled = settled, .bayes = bayes, .matched = matched};
 }
 
 /* The levels never reached count as the cap. */
 static void oracle_finish(const oracle *ora, int cap)
 {
     for (int l = ora->next; l < N_LEVELS; l++) ora->first[l] = (stop_at){cap, 1, ora->last};
-    for (int l = 0; l < N_LEVELS; l++)
+    for (int l = 0; l < N_LEVELS; l++) {
         ora->settled[l] = ora->settled_from[l] ? (stop_at){ora->settled_from[l], 0, ora->settled_ach[l]}
                                                : (stop_at){cap, 1, ora->last};
+        if (!ora->matched_done[l]) ora->matched[l] = (stop_at){cap, 1, ora->last};
+    }
 }
 
 /* ---- one person, one seed ------------------------------------------------------------------ */
@@ -161,14 +184,17 @@ static int run_anchors(const options *op, const char *spec, int seed, const csf_
                     .check = oracle_check,
                     .check_ctx = &ora};
     anchor_psychometric(o, &slope, &lapse);
+    const stop_at *bayes = g->at[M_BAYES][0][g->n]; /* run_bayes ran first */
     for (int k = 0; k < N_SDS; k++) {
-        oracle_start(&ora, truth, g->at[M_QUEST][k][g->n], g->at[M_QUEST_SETTLED][k][g->n]);
+        oracle_start(&ora, truth, bayes, g->at[M_QUEST][k][g->n], g->at[M_QUEST_SETTLED][k][g->n],
+                     g->at[M_QUEST_MATCHED][k][g->n]);
         anchor_quest_cells(&r, guess, QUEST_SDS[k], slope, lapse, est, NULL);
         oracle_finish(&ora, op->cap);
     }
     questplus *q = questplus_create(cells, PR_CELLS, n_alt, lapse, log10(CMIN), log10(PR_CMAX));
     if (q) {
-        oracle_start(&ora, truth, g->at[M_QPLUS][0][g->n], g->at[M_QPLUS_SETTLED][0][g->n]);
+        oracle_start(&ora, truth, bayes, g->at[M_QPLUS][0][g->n], g->at[M_QPLUS_SETTLED][0][g->n],
+                     g->at[M_QPLUS_MATCHED][0][g->n]);
         anchor_questplus(&r, q, est);
         oracle_finish(&ora, op->cap);
         questplus_free(q);
@@ -177,17 +203,20 @@ static int run_anchors(const options *op, const char *spec, int seed, const csf_
     return q ? 0 : -1;
 }
 
-/* The benchmark's own rules for one method's stops; a message on stderr for each one broken. */
-static int check_stops(const options *op, const stop_at *at, const char *method, int oracle_stop,
-                       const char *spec, int seed)
+/* The benchmark's own rules for one method's stops; a message on stderr for each one broken.
+ * target: the RMS each oracle stop must have reached (the levels, or bayes's achieved for a matched
+ * stop, which need not fall from one level to the next). */
+static int check_stops(const options *op, const stop_at *at, const double *target, const char *method,
+                       int oracle_stop, const char *spec, int seed)
 {
     int bad = 0;
     for (int l = 0; l < N_LEVELS; l++) {
         const stop_at *s = &at[l];
         const char *why = NULL;
         if (s->capped && s->trials != op->cap) why = "marked capped below the cap";
-        else if (l && s->trials < at[l - 1].trials) why = "the lower level reached first";
-        else if (!s->capped && oracle_stop && !(s->ach <= LEVELS[l])) why = "stopped above its level";
+        else if (l && s->trials < at[l - 1].trials && target[l] <= target[l - 1])
+            why = "the lower level reached first";
+        else if (!s->capped && oracle_stop && !(s->ach <= target[l])) why = "stopped above its level";
         else if (!s->capped && oracle_stop && s->trials % op->every && s->trials != op->cap)
             why = "stopped off a checkpoint";
         else if (!s->capped && !oracle_stop && s->trials < PR_MIN_TRIALS) why = "stopped before trial 10";
@@ -222,10 +251,15 @@ static int run_person(const options *op, const char *spec, int seed, const csf_c
     if (run_bayes(op, spec, seed, cells, n_alt, g) || run_anchors(op, spec, seed, cells, n_alt, g)) return -1;
     int bad = 0;
     if (op->check) {
-        static const char *name[N_METHODS] = {"bayes", "QUEST", "QUEST+", "QUEST settled", "QUEST+ settled"};
+        static const char *name[N_METHODS] = {
+            "bayes", "QUEST", "QUEST+", "QUEST settled", "QUEST+ settled", "QUEST matched", "QUEST+ matched"};
+        double matched[N_LEVELS];
+        for (int l = 0; l < N_LEVELS; l++) matched[l] = g->at[M_BAYES][0][g->n][l].ach;
         for (int m = 0; m < N_METHODS; m++)
-            for (int k = 0; k < (m == M_QUEST || m == M_QUEST_SETTLED ? N_SDS : 1); k++)
-                bad += check_stops(op, g->at[m][k][g->n], name[m], m != M_BAYES, spec, seed);
+            for (int k = 0; k < (m == M_QUEST || m == M_QUEST_SETTLED || m == M_QUEST_MATCHED ? N_SDS : 1);
+                 k++)
+                bad += check_stops(op, g->at[m][k][g->n], m >= M_QUEST_MATCHED ? matched : LEVELS, name[m],
+                                   m != M_BAYES, spec, seed);
         for (int k = 0; k < N_SDS; k++)
             bad += check_settled(g->at[M_QUEST][k][g->n], g->at[M_QUEST_SETTLED][k][g->n], spec, seed);
         bad += check_settled(g->at[M_QPLUS][0][g->n], g->at[M_QPLUS_SETTLED][0][g->n], spec, seed);
@@ -332,21 +366,24 @@ static void format_stated(const group *const *g, int n_g, int level, char *buf, 
              sqrt(t.pred_sq / (t.ach_sq > 0 ? t.ach_sq : 1)), 100.0 * t.fail_open[shift_index()] / nv);
 }
 
-/* An anchor at a level: first passage, then settled ("med / p90 (sd)"). */
-static void print_anchor(const options *op, const group *const *g, int n_g, int first, int settled, int level)
+/* An anchor at a level: first passage, settled, then matched ("med / p90 (sd)"); methods[3] are its
+ * first, settled and matched stops. */
+static void print_anchor(const options *op, const group *const *g, int n_g, const int methods[3], int level)
 {
-    char b1[96], b2[96], sd1[16] = "", sd2[16] = "";
-    int k1 = first == M_QUEST ? best_sd(g, n_g, first, level) : 0;
-    int k2 = first == M_QUEST ? best_sd(g, n_g, settled, level) : 0;
-    summary s1 = pooled(g, n_g, first, k1, level), s2 = pooled(g, n_g, settled, k2, level);
-    format_trials(&s1, op->cap, b1, sizeof b1);
-    format_trials(&s2, op->cap, b2, sizeof b2);
-    if (first == M_QUEST) {
-        snprintf(sd1, sizeof sd1, " (sd %.1f)", QUEST_SDS[k1]);
-        snprintf(sd2, sizeof sd2, " (sd %.1f)", QUEST_SDS[k2]);
+    static const char *const label[3] = {"", "; settled ", "; matched "};
+    for (int k = 0; k < 3; k++) {
+        char b[96], sd[16] = "";
+        int best = methods[0] == M_QUEST ? best_sd(g, n_g, methods[k], level) : 0;
+        summary s = pooled(g, n_g, methods[k], best, level);
+        format_trials(&s, op->cap, b, sizeof b);
+        if (methods[0] == M_QUEST) snprintf(sd, sizeof sd, " (sd %.1f)", QUEST_SDS[best]);
+        printf("%s%s%s", k ? label[k] : " ", b, sd);
     }
-    printf(" %s%s; settled %s%s |", b1, sd1, b2, sd2);
+    printf(" |");
 }
+
+static const int QUEST_STOPS[3] = {M_QUEST, M_QUEST_SETTLED, M_QUEST_MATCHED};
+static const int QPLUS_STOPS[3] = {M_QPLUS, M_QPLUS_SETTLED, M_QPLUS_MATCHED};
 
 /* One row of the table: the groups g[0..n_g) pooled (one set, or all of a layout's). */
 static void print_row(const options *op, const char *label, int layout, const group *const *g, int n_g)
@@ -360,8 +397,8 @@ static void print_row(const options *op, const char *label, int layout, const gr
         format_trials(&s, op->cap, b, sizeof b);
         printf(" %s | %.3f |", b, s.ach_med);
     }
-    for (int l = 0; l < N_LEVELS; l++) print_anchor(op, g, n_g, M_QUEST, M_QUEST_SETTLED, l);
-    for (int l = 0; l < N_LEVELS; l++) print_anchor(op, g, n_g, M_QPLUS, M_QPLUS_SETTLED, l);
+    for (int l = 0; l < N_LEVELS; l++) print_anchor(op, g, n_g, QUEST_STOPS, l);
+    for (int l = 0; l < N_LEVELS; l++) print_anchor(op, g, n_g, QPLUS_STOPS, l);
     for (int l = 0; l < N_LEVELS; l++) {
         char b[96];
         format_stated(g, n_g, l, b, sizeof b);
@@ -371,12 +408,14 @@ static void print_row(const options *op, const char *label, int layout, const gr
 }
 
 /* The efficiency targets over all sets of a layout: bayes's median against each anchor's, with the
- * anchors' first oracle stop (the target's terms) and their settled one. */
+ * anchors' first oracle stop at the level, their settled one, and the one matched to what bayes
+ * achieved (the target asks for the anchors stopped "at the same achieved RMS"). */
 static void print_targets(int layout, const group *const *g, int n_g)
 {
+    static const char *const stop_name[3] = {"first oracle", "settled", "matched"};
     for (int l = 0; l < N_LEVELS; l++)
-        for (int settled = 0; settled < 2; settled++) {
-            int mq = settled ? M_QUEST_SETTLED : M_QUEST, mp = settled ? M_QPLUS_SETTLED : M_QPLUS;
+        for (int k = 0; k < 3; k++) {
+            int mq = QUEST_STOPS[k], mp = QPLUS_STOPS[k];
             summary b = pooled(g, n_g, M_BAYES, 0, l), qp = pooled(g, n_g, mp, 0, l);
             int sd = best_sd(g, n_g, mq, l);
             summary qc = pooled(g, n_g, mq, sd, l);
@@ -384,7 +423,7 @@ static void print_targets(int layout, const group *const *g, int n_g)
             printf("layout %d, to %.2f log10, all sets (%d sessions), anchors' %s stop: bayes median %.0f "
                    "trials; QUEST+ %.0f%s: %.2f x (target <= 0.6: %s); best QUEST (sd %.1f) %.0f%s: %.2f x "
                    "(target <= 0.35: %s)\n",
-                   layout, LEVELS[l], b.n, settled ? "settled" : "first oracle", b.med, qp.med,
+                   layout, LEVELS[l], b.n, stop_name[k], b.med, qp.med,
                    qp.med >= g[0]->cap_seen ? " (the cap)" : "", r_qp, r_qp <= 0.6 ? "met" : "NOT met",
                    QUEST_SDS[sd], qc.med, qc.med >= g[0]->cap_seen ? " (the cap)" : "", r_qc,
                    r_qc <= 0.35 ? "met" : "NOT met");
@@ -399,9 +438,10 @@ static void print_header(const options *op)
         "bayes: stopped by its own predicted RMS (observer calibrate --precision), not told slope or lapse. "
         "QUEST (told slope and lapse; best prior sd picked on these people) and QUEST+ (told the lapse): "
         "stopped by an ORACLE, the first multiple of %d trials at which their achieved RMS against the "
-        "truth reaches the level (first), and the first from which it stays at or below the level up to "
-        "the cap (settled). No session can know either: they flatter them. A figure at the cap is "
-        "marked +.\n"
+        "truth reaches the level (first), the first from which it stays at or below the level up to "
+        "the cap (settled), and the first at which it is no worse than what bayes achieved at its own "
+        "stop on the same person and seed (matched). No session can know any of them: they flatter "
+        "them. A figure at the cap is marked +.\n"
         "Trials: median / 90th percentile over people x seeds; ach: median achieved RMS at bayes's stop. "
         "Stated errors (bayes, at each level's stop): coverage of the 95 %% interval, predicted/achieved "
         "RMS, fail-open of the conservative view at the recommended shift K = %.1f.\n\n",
