@@ -370,14 +370,14 @@ static void format_stated(const group *const *g, int n_g, int level, char *buf, 
  * first, settled and matched stops. */
 static void print_anchor(const options *op, const group *const *g, int n_g, const int methods[3], int level)
 {
-    static const char *const label[3] = {"", "; settled ", "; matched "};
+    static const char *const label[3] = {" ", "; settled ", "; matched "};
     for (int k = 0; k < 3; k++) {
         char b[96], sd[16] = "";
         int best = methods[0] == M_QUEST ? best_sd(g, n_g, methods[k], level) : 0;
         summary s = pooled(g, n_g, methods[k], best, level);
         format_trials(&s, op->cap, b, sizeof b);
         if (methods[0] == M_QUEST) snprintf(sd, sizeof sd, " (sd %.1f)", QUEST_SDS[best]);
-        printf("%s%s%s", k ? label[k] : " ", b, sd);
+        printf("%s%s%s", label[k], b, sd);
     }
     printf(" |");
 }
@@ -413,10 +413,11 @@ static void print_row(const options *op, const char *label, int layout, const gr
 static void print_targets(int layout, const group *const *g, int n_g)
 {
     static const char *const stop_name[3] = {"first oracle", "settled", "matched"};
-    for (int l = 0; l < N_LEVELS; l++)
+    for (int l = 0; l < N_LEVELS; l++) {
+        summary b = pooled(g, n_g, M_BAYES, 0, l);
         for (int k = 0; k < 3; k++) {
             int mq = QUEST_STOPS[k], mp = QPLUS_STOPS[k];
-            summary b = pooled(g, n_g, M_BAYES, 0, l), qp = pooled(g, n_g, mp, 0, l);
+            summary qp = pooled(g, n_g, mp, 0, l);
             int sd = best_sd(g, n_g, mq, l);
             summary qc = pooled(g, n_g, mq, sd, l);
             double r_qp = b.med / qp.med, r_qc = b.med / qc.med;
@@ -428,6 +429,7 @@ static void print_targets(int layout, const group *const *g, int n_g)
                    QUEST_SDS[sd], qc.med, qc.med >= g[0]->cap_seen ? " (the cap)" : "", r_qc,
                    r_qc <= 0.35 ? "met" : "NOT met");
         }
+    }
 }
 
 static void print_header(const options *op)
